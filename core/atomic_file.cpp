@@ -1,0 +1,71 @@
+// Atomic file writes with POSIX rename.
+#include "core/atomic_file.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "core/errors.h"
+
+namespace cellform::core {
+
+namespace fs = std::filesystem;
+
+void ensure_directory(const fs::path& dir) {
+  if (dir.empty()) return;
+  std::error_code ec;
+  if (fs::exists(dir, ec)) {
+    if (!fs::is_directory(dir, ec)) throw FileError("'" + dir.string() + "' exists and is not a directory");
+    return;
+  }
+  fs::create_directories(dir, ec);
+  if (ec) throw FileError("cannot create directory '" + dir.string() + "': " + ec.message());
+}
+
+void write_file_atomically(const fs::path& path, const std::function<void(std::ostream&)>& write) {
+  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw FileError("cannot write '" + path.string() + "': '" + dir.string() + "' is not a directory");
+  if (fs::is_directory(path, ec)) throw FileError("cannot write '" + path.string() + "': it is a directory");
+  fs::path tmp = path;
+  tmp += ".tmp-" + std::to_string(::getpid());
+  try {
+    {
+      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+      if (!out) throw FileError("cannot write '" + path.string() + "': " + std::strerror(errno));
+      write(out);
+      out.flush();
+      if (!out) throw FileError("cannot write '" + path.string() + "': write failed (disk full?)");
+    }
+    const int fd = ::open(tmp.c_str(), O_RDONLY);
+    if (fd >= 0) {
+      const int rc = ::fsync(fd);
+      const int err = errno;
+      ::close(fd);
+      if (rc != 0) throw FileError("cannot write '" + path.string() + "': " + std::strerror(err));
+    }
+    fs::rename(tmp, path, ec);
+    if (ec) throw FileError("cannot write '" + path.string() + "': " + ec.message());
+  } catch (...) {
+    fs::remove(tmp, ec);
+    throw;
+  }
+}
+
+std::string read_file(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw FileError("file '" + path.string() + "' does not exist");
+  if (fs::is_directory(path, ec)) throw FileError("'" + path.string() + "' is a directory, not a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw FileError("cannot read '" + path.string() + "': " + std::strerror(errno));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw FileError("cannot read '" + path.string() + "'");
+  return ss.str();
+}
+
+}  // namespace cellform::core

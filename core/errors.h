@@ -1,0 +1,52 @@
+// The small exception hierarchy every module throws for problems a user can act on.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace cellform::core {
+
+/// Bad input from a user: a parameter, a script, a file. The message says what, where and what is allowed.
+class InvalidInput : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+/// A simulation left the range where its numbers mean anything (NaN, infinite or exploding values).
+class SimulationDiverged : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A file could not be read or written (missing, unwritable, full disk, corrupt, foreign format).
+class FileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A long operation was asked to stop by its progress callback (Ctrl-C on the command line).
+class Cancelled : public std::runtime_error {
+ public:
+  Cancelled() : std::runtime_error("cancelled") {}
+};
+
+/// Levenshtein distance; used to suggest the closest valid name for a misspelt one.
+std::size_t edit_distance(const std::string& a, const std::string& b);
+
+/// The candidate closest to `name` by edit distance, or "" if none is reasonably close.
+template <class Range>
+std::string closest_name(const std::string& name, const Range& candidates) {
+  std::string best;
+  std::size_t best_d = name.size() / 2 + 2;
+  for (const auto& c : candidates) {
+    std::string s(c);
+    const std::size_t d = edit_distance(name, s);
+    if (d < best_d) {
+      best_d = d;
+      best = s;
+    }
+  }
+  return best;
+}
+
+}  // namespace cellform::core

@@ -1,0 +1,32 @@
+// parallel_for over TBB task arenas.
+#include "core/parallel.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <thread>
+
+namespace cellform::core {
+
+int hardware_threads() {
+  const unsigned n = std::thread::hardware_concurrency();
+  return n == 0 ? 1 : static_cast<int>(n);
+}
+
+void parallel_for(std::size_t n, int threads, const std::function<void(std::size_t, std::size_t)>& body,
+                  std::size_t grain) {
+  if (n == 0) return;
+  if (threads == 1 || n <= grain) {
+    body(0, n);
+    return;
+  }
+  const int t = threads <= 0 ? hardware_threads() : threads;
+  tbb::task_arena arena(t);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
+                      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+  });
+}
+
+}  // namespace cellform::core

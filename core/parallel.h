@@ -1,0 +1,18 @@
+// One parallel-for over TBB with a serial fallback; callers write only their own slots.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+
+namespace cellform::core {
+
+/// Calls body(begin, end) on disjoint sub-ranges of [0, n), using at most `threads` threads
+/// (0 = all cores, 1 = serial on the calling thread). Ranges below `grain` items run serially.
+/// Results are deterministic as long as body writes only to slots of its own range.
+void parallel_for(std::size_t n, int threads, const std::function<void(std::size_t, std::size_t)>& body,
+                  std::size_t grain = 2048);
+
+/// Number of hardware threads.
+int hardware_threads();
+
+}  // namespace cellform::core
