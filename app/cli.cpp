@@ -1,0 +1,147 @@
+// Argument parsing for cellform run, resume, params, --help, --version.
+#include "app/cli.h"
+
+#include <charconv>
+
+#include "app/run.h"
+#include "app/schema.h"
+#include "core/errors.h"
+
+namespace cellform::app {
+
+namespace {
+
+const char* const kUsage =
+    "usage: cellform <command> [options]\n"
+    "\n"
+    "Grows forms from cells and veins and writes them for printing and modelling.\n"
+    "\n"
+    "commands:\n"
+    "  run SCRIPT        run a growth script (examples/*.lua)\n"
+    "  resume CHECKPOINT continue an interrupted or finished run\n"
+    "  params            print every script parameter with its default, range and unit (Markdown)\n"
+    "\n"
+    "options:\n"
+    "  -h, --help        show help (cellform run --help for run options)\n"
+    "  --version         print the version\n"
+    "\n"
+    "exit codes: 0 success, 1 runtime failure, 2 usage or input error, 130 interrupted\n";
+
+const char* const kRunUsage =
+    "usage: cellform run SCRIPT [options]\n"
+    "       cellform resume CHECKPOINT [options]\n"
+    "\n"
+    "options:\n"
+    "  --out DIR               output directory (default out/<script name>/; resume: the run's own)\n"
+    "  --seed N                seed of every random choice (default: run.seed of the script, 1)\n"
+    "  --steps N               steps to run (resume: the total to reach)\n"
+    "  --threads N             worker threads, 0 = all cores (results are identical for any N)\n"
+    "  --set NAME=VALUE        override a script parameter: a params{} knob or section.name,\n"
+    "                          e.g. --set cells.spring=2 --set division.max_cells=5000 (repeatable)\n"
+    "  --checkpoint-every N    write a checkpoint every N steps (default output.checkpoint_every)\n"
+    "  --lua-instructions N    instruction budget of the script (default 500000000)\n"
+    "  --lua-memory MB         memory limit of the script (default 512)\n"
+    "  --quiet                 no progress output\n"
+    "\n"
+    "Outputs: cells.ply, cells.obj, run.json (everything needed to reproduce the run) and\n"
+    "checkpoint.cfck in the output directory. Ctrl-C stops after the current step, writes the outputs\n"
+    "and a checkpoint; `cellform resume DIR/checkpoint.cfck` continues to the identical result.\n";
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+std::uint64_t parse_count(const std::string& flag, const std::string& text, std::uint64_t max) {
+  std::uint64_t v = 0;
+  const auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || p != text.data() + text.size() || v > max)
+    throw UsageError(flag + " takes a whole number from 0 to " + std::to_string(max) + ", got '" + text + "'");
+  return v;
+}
+
+}  // namespace
+
+int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  try {
+    if (args.empty()) {
+      err << kUsage;
+      return usage;
+    }
+    const std::string& cmd = args[0];
+    if (cmd == "-h" || cmd == "--help" || cmd == "help") {
+      out << kUsage;
+      return ok;
+    }
+    if (cmd == "--version" || cmd == "version") {
+      out << "cellform " << version() << "\n";
+      return ok;
+    }
+    if (cmd == "params") {
+      out << "# cellform script parameters\n" << schema_markdown();
+      return ok;
+    }
+    if (cmd != "run" && cmd != "resume") {
+      const std::string near = core::closest_name(cmd, std::vector<std::string>{"run", "resume", "params"});
+      throw UsageError("unknown command '" + cmd + "'" + (near.empty() ? "" : "; did you mean '" + near + "'?") +
+                       " (see cellform --help)");
+    }
+    RunOptions o;
+    std::vector<std::string> positional;
+    for (std::size_t i = 1; i < args.size(); ++i) {
+      const std::string& a = args[i];
+      auto value = [&]() -> const std::string& {
+        if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
+        return args[++i];
+      };
+      if (a == "-h" || a == "--help") {
+        out << kRunUsage;
+        return ok;
+      } else if (a == "--out") {
+        o.out = value();
+      } else if (a == "--seed") {
+        o.seed = parse_count(a, value(), ~0ull);
+      } else if (a == "--steps") {
+        o.steps = parse_count(a, value(), 1'000'000'000ull);
+      } else if (a == "--threads") {
+        o.threads = static_cast<int>(parse_count(a, value(), 256));
+      } else if (a == "--checkpoint-every") {
+        o.checkpoint_every = parse_count(a, value(), 1'000'000'000ull);
+      } else if (a == "--lua-instructions") {
+        o.limits.instructions = parse_count(a, value(), ~0ull);
+        if (o.limits.instructions == 0) throw UsageError("--lua-instructions must be at least 1");
+      } else if (a == "--lua-memory") {
+        const std::uint64_t mb = parse_count(a, value(), 65536);
+        if (mb == 0) throw UsageError("--lua-memory must be at least 1 (MB)");
+        o.limits.memory_bytes = static_cast<std::size_t>(mb) << 20;
+      } else if (a == "--set") {
+        const std::string& kv = value();
+        const auto eq = kv.find('=');
+        if (eq == std::string::npos || eq == 0) throw UsageError("--set takes NAME=VALUE, got '" + kv + "'");
+        o.sets[kv.substr(0, eq)] = kv.substr(eq + 1);
+      } else if (a == "--quiet" || a == "-q") {
+        o.quiet = true;
+      } else if (a.size() > 1 && a[0] == '-') {
+        const std::string near = core::closest_name(
+            a, std::vector<std::string>{"--out", "--seed", "--steps", "--threads", "--set", "--quiet", "--help",
+                                        "--checkpoint-every", "--lua-instructions", "--lua-memory"});
+        throw UsageError("unknown option '" + a + "'" + (near.empty() ? "" : "; did you mean '" + near + "'?"));
+      } else {
+        positional.push_back(a);
+      }
+    }
+    if (positional.size() != 1)
+      throw UsageError(cmd == "run" ? "cellform run takes one SCRIPT (see cellform run --help)"
+                                    : "cellform resume takes one CHECKPOINT (see cellform run --help)");
+    if (cmd == "run") o.script = positional[0];
+    else o.checkpoint = positional[0];
+    return run_command(o, out, err);
+  } catch (const UsageError& e) {
+    err << "cellform: " << e.what() << "\n";
+    return usage;
+  } catch (const std::exception& e) {
+    err << "cellform: " << e.what() << "\n";
+    return failure;
+  }
+}
+
+}  // namespace cellform::app

@@ -1,0 +1,60 @@
+// Progress bar and periodic progress lines.
+#include "app/progress.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace cellform::app {
+
+namespace {
+std::string duration(double s) {
+  char buf[32];
+  if (!std::isfinite(s) || s < 0) return "?";
+  if (s < 60) std::snprintf(buf, sizeof buf, "%.0fs", s);
+  else if (s < 3600) std::snprintf(buf, sizeof buf, "%dm%02ds", static_cast<int>(s) / 60, static_cast<int>(s) % 60);
+  else std::snprintf(buf, sizeof buf, "%dh%02dm", static_cast<int>(s) / 3600, static_cast<int>(s) / 60 % 60);
+  return buf;
+}
+}  // namespace
+
+Progress::Progress(std::ostream& out, bool terminal, bool quiet, std::uint64_t first_step, std::uint64_t last_step)
+    : out_(out), terminal_(terminal), quiet_(quiet), first_(first_step), last_(last_step) {
+  start_ = last_print_ = std::chrono::steady_clock::now();
+}
+
+void Progress::update(std::uint64_t step, std::size_t cells) {
+  if (quiet_) return;
+  const auto now = std::chrono::steady_clock::now();
+  const double since = std::chrono::duration<double>(now - last_print_).count();
+  if (since < (terminal_ ? 0.1 : 5.0) && step != last_) return;
+  last_print_ = now;
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const double done = static_cast<double>(step - first_);
+  const double rate = elapsed > 0 ? done / elapsed : 0;
+  const double left = rate > 0 ? static_cast<double>(last_ - step) / rate : NAN;
+  const double frac = last_ > first_ ? done / static_cast<double>(last_ - first_) : 1.0;
+  char buf[160];
+  if (terminal_) {
+    const int width = 30;
+    const int fill = static_cast<int>(frac * width);
+    std::string bar(static_cast<std::size_t>(fill), '#');
+    bar.resize(width, '.');
+    std::snprintf(buf, sizeof buf, "\r[%s] step %llu/%llu  %zu cells  %.1f steps/s  %s left   ", bar.c_str(),
+                  static_cast<unsigned long long>(step), static_cast<unsigned long long>(last_), cells, rate,
+                  duration(left).c_str());
+    out_ << buf << std::flush;
+  } else {
+    std::snprintf(buf, sizeof buf, "step %llu/%llu (%.0f%%), %zu cells, %.1f steps/s, %s left\n",
+                  static_cast<unsigned long long>(step), static_cast<unsigned long long>(last_), 100 * frac, cells, rate,
+                  duration(left).c_str());
+    out_ << buf << std::flush;
+  }
+  printed_ = true;
+}
+
+void Progress::finish() {
+  if (!quiet_ && terminal_ && printed_) out_ << "\n" << std::flush;
+}
+
+}  // namespace cellform::app

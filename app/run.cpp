@@ -1,0 +1,312 @@
+// The run and resume commands.
+#include "app/run.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <iostream>
+#include <set>
+
+#include "app/progress.h"
+#include "cells/serialize.h"
+#include "cells/surface.h"
+#include "core/atomic_file.h"
+#include "core/chunk_file.h"
+#include "core/errors.h"
+#include "export/cell_files.h"
+
+#ifndef CELLFORM_VERSION
+#define CELLFORM_VERSION "0.0.0"
+#endif
+
+namespace cellform::app {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::atomic<bool> g_interrupt{false};
+
+std::string version() { return CELLFORM_VERSION; }
+
+namespace {
+
+constexpr std::uint32_t kCheckpointVersion = 1;
+constexpr const char* kCheckpointKind = "CKPT";
+constexpr const char* kCheckpointName = "checkpoint.cfck";
+
+/// An input problem (bad script, parameter or input file): exit code 2.
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// What a run is continuing from or starting with.
+struct Start {
+  std::string source;
+  fs::path script_path;
+  Overrides sets;
+  std::optional<std::uint64_t> seed;
+  std::uint64_t target_steps = 0;
+  bool has_target = false;
+  fs::path out_dir;
+  std::string cells_bytes;  // resume only
+  std::uint64_t step = 0;   // resume only
+  bool resume = false;
+};
+
+Start start_from(const RunOptions& o) {
+  Start s;
+  try {
+    if (!o.checkpoint.empty()) {
+      const std::string what = "checkpoint '" + o.checkpoint.string() + "'";
+      const core::ChunkFile f = core::read_chunk_file(core::read_file(o.checkpoint), kCheckpointKind,
+                                                      kCheckpointVersion, what);
+      json meta;
+      try {
+        meta = json::parse(f.at("meta", what));
+        s.script_path = meta.at("script").get<std::string>();
+        s.sets = meta.at("overrides").get<Overrides>();
+        s.seed = meta.at("seed").get<std::uint64_t>();
+        s.target_steps = meta.at("target_steps").get<std::uint64_t>();
+        s.step = meta.at("step").get<std::uint64_t>();
+        s.out_dir = meta.at("out").get<std::string>();
+      } catch (const json::exception&) {
+        throw core::FileError(what + " is corrupt (bad metadata)");
+      }
+      s.source = f.at("script", what);
+      s.cells_bytes = f.at("cells", what);
+      s.has_target = true;
+      s.resume = true;
+      if (o.steps) s.target_steps = *o.steps;
+      if (o.out) s.out_dir = *o.out;
+      for (const auto& [k, v] : o.sets) s.sets[k] = v;
+      return s;
+    }
+    s.script_path = o.script;
+    s.source = core::read_file(o.script);
+  } catch (const core::FileError& e) {
+    throw InputError(e.what());
+  }
+  s.sets = o.sets;
+  s.seed = o.seed;
+  if (o.steps) {
+    s.target_steps = *o.steps;
+    s.has_target = true;
+  }
+  s.out_dir = o.out ? *o.out : fs::path("out") / o.script.stem();
+  return s;
+}
+
+std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t target, const forms::Scene& scene) {
+  json meta = {{"program", "cellform"},
+               {"version", version()},
+               {"script", s.script_path.string()},
+               {"overrides", s.sets},
+               {"seed", seed},
+               {"target_steps", target},
+               {"step", scene.simulation().step_count()},
+               {"out", s.out_dir.string()}};
+  return core::write_chunk_file(kCheckpointKind, kCheckpointVersion,
+                                {{"meta", meta.dump()}, {"script", s.source}, {"cells", cells::save(scene.simulation().cells())}});
+}
+
+void write_checkpoint(const fs::path& path, const std::string& bytes) {
+  core::write_file_atomically(path, [&](std::ostream& os) { os.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); });
+}
+
+/// Writes the cell outputs of the current state into `dir`; returns their names.
+std::vector<std::string> write_outputs(const fs::path& dir, const OutputSpec& spec, const cells::Cells& c) {
+  std::vector<std::string> names;
+  const cells::Surface surface = cells::triangulate(c);
+  if (spec.ply) {
+    exporters::write_cells_ply(dir / "cells.ply", c, surface);
+    names.push_back("cells.ply");
+  }
+  if (spec.obj) {
+    exporters::write_cells_obj(dir / "cells.obj", c, surface);
+    names.push_back("cells.obj");
+  }
+  return names;
+}
+
+/// Moves every file of `staging` (recursively) into `dir`, then removes the outputs of an earlier run
+/// (listed in its run.json) that this run did not write again.
+void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vector<std::string>& names) {
+  std::set<std::string> fresh(names.begin(), names.end());
+  std::vector<std::string> stale;
+  try {
+    std::ifstream old(dir / "run.json");
+    if (old) {
+      const json j = json::parse(old);
+      for (const auto& n : j.value("outputs", json::array())) stale.push_back(n.get<std::string>());
+    }
+  } catch (...) {
+    // an unreadable old run.json only means we cannot clean up after it
+  }
+  for (const std::string& n : names) {
+    const fs::path to = dir / n;
+    core::ensure_directory(to.parent_path());
+    std::error_code ec;
+    fs::rename(staging / n, to, ec);
+    if (ec) throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': " + ec.message());
+  }
+  for (const std::string& n : stale) {
+    if (fresh.count(n) || n.find("..") != std::string::npos) continue;
+    std::error_code ec;
+    fs::remove(dir / n, ec);
+  }
+  std::error_code ec;
+  fs::remove_all(staging, ec);
+}
+
+}  // namespace
+
+int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Start s;
+  SceneConfig cfg;
+  ScriptHost host(o.limits);
+  host.set_print([&err](const std::string& line) { err << "script: " << line << "\n"; });
+  std::unique_ptr<forms::Scene> scene;
+  std::uint64_t seed = 0, target = 0;
+  fs::path staging;
+  try {
+    s = start_from(o);
+    cfg = host.load(s.source, s.script_path, s.sets);
+    seed = s.seed ? *s.seed : cfg.seed;
+    target = s.has_target ? s.target_steps : cfg.steps;
+    if (o.checkpoint_every) cfg.output.checkpoint_every = *o.checkpoint_every;
+    scene = std::make_unique<forms::Scene>(cfg.scene, seed);
+    cells::Simulation& sim = scene->simulation();
+    sim.set_threads(o.threads);
+    if (s.resume) {
+      sim.cells() = cells::load(s.cells_bytes, "checkpoint '" + o.checkpoint.string() + "'");
+      sim.set_step_count(s.step);
+    } else {
+      if (cfg.initial_cells.empty() && cfg.petioles.empty())
+        throw core::InvalidInput(s.script_path.string() +
+                                 ": the script places no cells; start with a shape such as disc{radius = 3}");
+      for (const InitialCell& c : cfg.initial_cells) cells::add_cell(sim.cells(), c.position, cells::CellType::general, c.fixed);
+      for (const PetioleSpec& p : cfg.petioles) forms::make_petiole(sim.cells(), p.at, p.fixed, cfg.scene.cells.rest_length);
+    }
+    sim.rules() = host.rules();
+  } catch (const InputError& e) {
+    err << "cellform: " << e.what() << "\n";
+    return usage;
+  } catch (const core::InvalidInput& e) {
+    err << "cellform: " << e.what() << "\n";
+    return usage;
+  } catch (const core::FileError& e) {
+    err << "cellform: " << e.what() << "\n";
+    return usage;
+  } catch (const std::exception& e) {
+    err << "cellform: " << e.what() << "\n";
+    return failure;
+  }
+
+  cells::Simulation& sim = scene->simulation();
+  const fs::path dir = s.out_dir;
+  try {
+    core::ensure_directory(dir);
+    staging = dir / (".partial-" + std::to_string(::getpid()));
+    core::ensure_directory(staging);
+  } catch (const std::exception& e) {
+    err << "cellform: cannot write outputs: " << e.what() << "\n";
+    return failure;
+  }
+
+  const std::uint64_t first = sim.step_count();
+  const std::size_t initial_cells = sim.cells().size();
+  if (!o.quiet)
+    err << (s.resume ? "resuming " : "running ") << s.script_path.string() << " from step " << first << " to " << target
+        << " (" << initial_cells << " cells, seed " << seed << ")\n";
+  Progress progress(err, ::isatty(2) != 0, o.quiet, first, target);
+  std::vector<std::string> outputs;
+  const fs::path checkpoint = dir / kCheckpointName;
+  std::string status = "complete";
+  double sim_seconds = 0;
+  int code = ok;
+  try {
+    while (sim.step_count() < target) {
+      if (g_interrupt.load()) {
+        status = "interrupted";
+        code = interrupted;
+        break;
+      }
+      host.set_step(sim.step_count() + 1);
+      const auto a = std::chrono::steady_clock::now();
+      try {
+        scene->step();
+      } catch (const core::SimulationDiverged& e) {
+        write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
+        err << (o.quiet ? "" : "\n") << "cellform: the simulation diverged: " << e.what()
+            << "\n  (a smaller cells.time_step or more drag usually helps; the state of step " << sim.step_count()
+            << " is saved in " << checkpoint.string() << ")\n";
+        std::error_code ec;
+        fs::remove_all(staging, ec);
+        return failure;
+      }
+      sim_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+      const std::uint64_t step = sim.step_count();
+      progress.update(step, sim.cells().size());
+      if (cfg.output.every > 0 && step % cfg.output.every == 0 && cfg.output.ply) {
+        const std::string name = "frames/" + exporters::frame_name("cells", step, "ply");
+        core::ensure_directory(staging / "frames");
+        exporters::write_cells_ply(staging / name, sim.cells(), cells::triangulate(sim.cells()));
+        outputs.push_back(name);
+      }
+      if (cfg.output.checkpoint_every > 0 && step % cfg.output.checkpoint_every == 0 && step < target)
+        write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
+    }
+    progress.finish();
+    const auto b = std::chrono::steady_clock::now();
+    for (const std::string& n : write_outputs(staging, cfg.output, sim.cells())) outputs.push_back(n);
+    write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
+    const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - b).count();
+    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const std::uint64_t done = sim.step_count() - first;
+    json run = {{"program", "cellform"},
+                {"version", version()},
+                {"command", s.resume ? "resume" : "run"},
+                {"script", {{"path", s.script_path.string()},
+                            {"hash", "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size()))}}},
+                {"seed", seed},
+                {"threads", o.threads},
+                {"status", status},
+                {"steps", {{"first", first}, {"completed", sim.step_count()}, {"target", target}}},
+                {"cells", {{"initial", initial_cells}, {"final", sim.cells().size()}}},
+                {"overrides", s.sets},
+                {"parameters", cfg.resolved},
+                {"timings", {{"total_s", total},
+                             {"simulation_s", sim_seconds},
+                             {"output_s", output_seconds},
+                             {"steps_per_s", sim_seconds > 0 ? static_cast<double>(done) / sim_seconds : 0.0}}},
+                {"checkpoint", kCheckpointName}};
+    outputs.push_back("run.json");
+    run["outputs"] = outputs;
+    core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
+    commit_outputs(staging, dir, outputs);
+    if (!o.quiet || code != ok) {
+      std::ostream& where = code == ok ? out : err;
+      where << (code == interrupted ? "interrupted at step " : "done: step ") << sim.step_count() << ", "
+            << sim.cells().size() << " cells; outputs in " << dir.string() << "/\n";
+      if (code == interrupted)
+        err << "continue with: cellform resume " << checkpoint.string() << "\n";
+    }
+    return code;
+  } catch (const core::InvalidInput& e) {
+    progress.finish();
+    err << "cellform: " << e.what() << "\n";
+    if (fs::exists(checkpoint)) err << "  (the last checkpoint is " << checkpoint.string() << ")\n";
+    code = usage;
+  } catch (const std::exception& e) {
+    progress.finish();
+    err << "cellform: " << e.what() << "\n";
+    code = failure;
+  }
+  std::error_code ec;
+  fs::remove_all(staging, ec);
+  return code;
+}
+
+}  // namespace cellform::app

@@ -1,0 +1,42 @@
+// `cellform run` and `cellform resume`: script -> scene -> steps -> outputs, checkpoint and run.json.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include "app/script_host.h"
+
+namespace cellform::app {
+
+/// Options of one run, as the command line gives them.
+struct RunOptions {
+  std::filesystem::path script;               ///< the growth script (run)
+  std::filesystem::path checkpoint;           ///< the checkpoint to continue (resume)
+  std::optional<std::filesystem::path> out;   ///< output directory (default out/<script name>/)
+  std::optional<std::uint64_t> seed;          ///< overrides run.seed
+  std::optional<std::uint64_t> steps;         ///< overrides run.steps (resume: the total to reach)
+  int threads = 0;                            ///< 0 = all cores
+  Overrides sets;                             ///< --set key=value
+  bool quiet = false;
+  ScriptLimits limits;
+  std::optional<std::uint64_t> checkpoint_every;  ///< overrides output.checkpoint_every
+};
+
+/// Exit codes of the command.
+enum ExitCode : int { ok = 0, failure = 1, usage = 2, interrupted = 130 };
+
+/// Set by the SIGINT handler; the run stops after the current step, writes outputs and a checkpoint.
+extern std::atomic<bool> g_interrupt;
+
+/// Runs a script (or resumes a checkpoint when options.checkpoint is set); reports to `out`/`err`
+/// and returns an exit code. Never throws.
+int run_command(const RunOptions& options, std::ostream& out, std::ostream& err);
+
+/// Program version string.
+std::string version();
+
+}  // namespace cellform::app

@@ -1,0 +1,187 @@
+// The parameter table of the script API.
+#include "app/schema.h"
+
+#include <sstream>
+
+namespace cellform::app {
+
+namespace {
+
+constexpr double kInf = 1e300;
+
+Field num(const char* s, const char* n, const char* def, double lo, double hi, bool lo_open, const char* unit,
+          const char* doc) {
+  return Field{s, n, Kind::number, def, lo, hi, lo_open, "", unit, doc};
+}
+Field integer(const char* s, const char* n, const char* def, double lo, double hi, const char* unit, const char* doc) {
+  return Field{s, n, Kind::integer, def, lo, hi, false, "", unit, doc};
+}
+Field vec(const char* s, const char* n, const char* def, double lo, double hi, const char* unit, const char* doc) {
+  return Field{s, n, Kind::vec3, def, lo, hi, false, "", unit, doc};
+}
+Field boolean(const char* s, const char* n, const char* def, const char* doc) {
+  return Field{s, n, Kind::boolean, def, 0, 1, false, "", "", doc};
+}
+Field choice(const char* s, const char* n, Kind k, const char* def, const char* choices, const char* doc) {
+  return Field{s, n, k, def, 0, 0, false, choices, "", doc};
+}
+Field text(const char* s, const char* n, const char* def, const char* doc) {
+  return Field{s, n, Kind::text, def, 0, 0, false, "", "", doc};
+}
+
+std::vector<Field> build() {
+  std::vector<Field> f;
+  // run{}
+  f.push_back(integer("run", "steps", "200", 0, 1e9, "steps", "how many steps to simulate (--steps overrides)"));
+  f.push_back(integer("run", "seed", "1", 0, 9.2e18, "", "seed of every random choice (--seed overrides)"));
+
+  // cells{}
+  f.push_back(num("cells", "rest_length", "1", 0, kInf, true, "model units", "d of Eq. 2: target distance between linked cells"));
+  f.push_back(integer("cells", "neighbours", "6", 3, 32, "cells", "k: links per cell, the k nearest (dynamic neighbourhood)"));
+  f.push_back(choice("cells", "integrator", Kind::choice, "velocity_acceleration", "velocity|velocity_acceleration",
+                     "velocity-only or velocity-acceleration model"));
+  f.push_back(num("cells", "time_step", "0.1", 0, kInf, true, "time units", "integration step; too large is refused as unstable"));
+  f.push_back(num("cells", "spring", "1", 0, kInf, false, "1/time^2", "weight of the spring force (Eq. 2)"));
+  f.push_back(num("cells", "planar", "0.5", 0, kInf, false, "1/time^2", "weight of planarisation towards the plane of the 3 closest (Eq. 3)"));
+  f.push_back(num("cells", "cohesion", "0", 0, kInf, false, "units^2/time^2", "weight of cohesion to the neighbours (Eq. 4)"));
+  f.push_back(num("cells", "separation", "0", 0, kInf, false, "units^2/time^2", "weight of separation from neighbours of neighbours (Eq. 5)"));
+  f.push_back(vec("cells", "unary", "{0, 0, 0}", -kInf, kInf, "units/time^2", "constant acceleration, e.g. gravity {0,0,-g} or reverse gravity (Eq. 6)"));
+  f.push_back(vec("cells", "drag", "{0.9, 0.9, 0.9}", 0, 1, "factor per step", "velocity factors a, b, c per axis (Eq. 7); 1 = no drag"));
+  f.push_back(num("cells", "vein_cohesion", "4", 0, kInf, false, "factor", "extra cohesion of a vein cell to its vein parent and children"));
+  f.push_back(num("cells", "vein_separation", "4", 0, kInf, false, "factor", "extra separation of a vein cell from its grandparent and grandchildren"));
+  f.push_back(num("cells", "max_speed", "1e6", 0, kInf, true, "units/time", "a faster cell stops the run as diverged"));
+  f.push_back(Field{"cells", "petiole", Kind::table, "{}", 0, 0, false, "", "", "force weights of petiole cells: {spring=, planar=, cohesion=, separation=}"});
+  f.push_back(Field{"cells", "vein", Kind::table, "{}", 0, 0, false, "", "", "force weights of vein cells: {spring=, planar=, cohesion=, separation=}"});
+
+  // per-type weights (cells{petiole = {...}}, cells{vein = {...}}); defaults are the general weights
+  for (const char* s : {"cells.petiole", "cells.vein"}) {
+    f.push_back(num(s, "spring", "cells.spring", 0, kInf, false, "1/time^2", "spring weight for this cell type"));
+    f.push_back(num(s, "planar", "cells.planar", 0, kInf, false, "1/time^2", "planarisation weight for this cell type"));
+    f.push_back(num(s, "cohesion", "cells.cohesion", 0, kInf, false, "units^2/time^2", "cohesion weight for this cell type"));
+    f.push_back(num(s, "separation", "cells.separation", 0, kInf, false, "units^2/time^2", "separation weight for this cell type"));
+  }
+
+  // division{}
+  f.push_back(choice("division", "trigger", Kind::choice, "age", "none|age|neighbours",
+                     "what makes a cell divide: its age, or few neighbours nearby (marginal growth)"));
+  f.push_back(integer("division", "age", "20", 1, 1e9, "steps", "trigger = age: steps between divisions of a cell"));
+  f.push_back(num("division", "radius", "1.5", 0, kInf, true, "model units", "trigger = neighbours: radius in which neighbours are counted"));
+  f.push_back(integer("division", "min_neighbours", "6", 1, 1000, "cells", "trigger = neighbours: divide when fewer cells than this are within radius"));
+  f.push_back(integer("division", "min_age", "5", 0, 1e9, "steps", "a cell waits this long after its birth or division"));
+  f.push_back(num("division", "probability", "1", 0, 1, true, "0..1", "chance that a triggered cell divides this step (seeded)"));
+  f.push_back(choice("division", "direction", Kind::choice_or_function, "random", "random|axis|radial|circumferential",
+                     "split direction; or function(cell) returning {x, y, z}"));
+  f.push_back(vec("division", "axis", "{1, 0, 0}", -kInf, kInf, "direction", "split axis (axis, circumferential)"));
+  f.push_back(vec("division", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "field centre (radial, circumferential)"));
+  f.push_back(integer("division", "max_cells", "100000", 1, 5e7, "cells", "growth stops at this many cells"));
+  f.push_back(Field{"division", "rule", Kind::function, "", 0, 0, false, "", "",
+                    "function(cell) returning true when the cell divides; replaces the trigger"});
+
+  // initial shapes
+  f.push_back(num("disc", "radius", "", 0, kInf, true, "model units", "cells on a hexagonal lattice inside this radius"));
+  f.push_back(num("disc", "spacing", "cells.rest_length", 0, kInf, true, "model units", "lattice spacing"));
+  f.push_back(vec("disc", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "centre of the disc"));
+  f.push_back(vec("disc", "normal", "{0, 0, 1}", -kInf, kInf, "direction", "normal of the disc's plane"));
+  f.push_back(num("rectangle", "width", "", 0, kInf, true, "model units", "extent along the plane's first axis"));
+  f.push_back(num("rectangle", "height", "", 0, kInf, true, "model units", "extent along the plane's second axis"));
+  f.push_back(num("rectangle", "spacing", "cells.rest_length", 0, kInf, true, "model units", "lattice spacing"));
+  f.push_back(vec("rectangle", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "centre"));
+  f.push_back(vec("rectangle", "normal", "{0, 0, 1}", -kInf, kInf, "direction", "normal of the plane"));
+  f.push_back(num("sphere", "radius", "", 0, kInf, true, "model units", "cells evenly spread on a sphere of this radius"));
+  f.push_back(num("sphere", "spacing", "cells.rest_length", 0, kInf, true, "model units", "distance between cells"));
+  f.push_back(vec("sphere", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "centre"));
+  f.push_back(vec("line", "from", "", -kInf, kInf, "model units", "first cell"));
+  f.push_back(vec("line", "to", "", -kInf, kInf, "model units", "last cell"));
+  f.push_back(num("line", "spacing", "cells.rest_length", 0, kInf, true, "model units", "distance between cells"));
+  f.push_back(vec("cell", "at", "", -kInf, kInf, "model units", "one cell at this position"));
+  f.push_back(boolean("cell", "fixed", "false", "a fixed (static) cell never moves"));
+  f.push_back(vec("petiole", "at", "{0, 0, 0}", -kInf, kInf, "model units", "the nearest cell becomes a petiole (a new one if none is near)"));
+  f.push_back(boolean("petiole", "fixed", "true", "the petiole stays where it is"));
+
+  // constraints
+  f.push_back(num("ground", "height", "0", -kInf, kInf, false, "model units", "cells stay above the plane z = height"));
+  f.push_back(vec("half_space", "point", "{0, 0, 0}", -kInf, kInf, "model units", "a point on the boundary plane"));
+  f.push_back(vec("half_space", "normal", "{0, 0, 1}", -kInf, kInf, "direction", "cells stay on this side"));
+  f.push_back(vec("ball", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "centre of a solid ball cells stay out of"));
+  f.push_back(num("ball", "radius", "", 0, kInf, true, "model units", "its radius"));
+  f.push_back(vec("box", "min", "", -kInf, kInf, "model units", "lower corner of a solid box cells stay out of"));
+  f.push_back(vec("box", "max", "", -kInf, kInf, "model units", "upper corner"));
+  f.push_back(text("mesh", "file", "", "STL or OBJ triangle mesh cells cannot cross (path relative to the script)"));
+  f.push_back(num("mesh", "scale", "1", 0, kInf, true, "factor", "scales the mesh's coordinates into model units"));
+  f.push_back(vec("attractor", "position", "", -kInf, kInf, "model units", "point that pulls cells"));
+  f.push_back(num("attractor", "strength", "0.1", -kInf, kInf, false, "units/time^2", "acceleration towards it (negative repels)"));
+  f.push_back(num("attractor", "radius", "0", 0, kInf, false, "model units", "range of influence; 0 = everywhere"));
+
+  // output{}
+  f.push_back(boolean("output", "ply", "true", "write cells.ply (cells, triangles, links, per-cell attributes)"));
+  f.push_back(boolean("output", "obj", "true", "write cells.obj (the cell surface)"));
+  f.push_back(integer("output", "every", "0", 0, 1e9, "steps", "also write frames/cells_NNNNNN.ply every this many steps (0 = none)"));
+  f.push_back(integer("output", "checkpoint_every", "1000", 0, 1e9, "steps", "write checkpoint.cfck every this many steps (0 = only at the end)"));
+  return f;
+}
+
+}  // namespace
+
+const std::vector<Field>& schema() {
+  static const std::vector<Field> fields = build();
+  return fields;
+}
+
+std::vector<const Field*> section_fields(const std::string& section) {
+  std::vector<const Field*> out;
+  for (const Field& f : schema())
+    if (f.section == section) out.push_back(&f);
+  return out;
+}
+
+const Field* find_field(const std::string& section, const std::string& name) {
+  for (const Field& f : schema())
+    if (f.section == section && f.name == name) return &f;
+  return nullptr;
+}
+
+std::string allowed_text(const Field& f) {
+  std::ostringstream s;
+  auto number = [](double v) {
+    std::ostringstream t;
+    t << v;
+    return t.str();
+  };
+  switch (f.kind) {
+    case Kind::number:
+    case Kind::integer:
+    case Kind::vec3: {
+      const bool lo = f.min > -1e299, hi = f.max < 1e299;
+      const std::string what = f.kind == Kind::integer ? "a whole number" : f.kind == Kind::vec3 ? "{x, y, z} with each" : "a number";
+      s << what;
+      if (lo && hi) s << " from " << number(f.min) << (f.min_exclusive ? " (exclusive)" : "") << " to " << number(f.max);
+      else if (lo) s << (f.min_exclusive ? " > " : " >= ") << number(f.min);
+      else if (hi) s << " <= " << number(f.max);
+      else if (f.kind == Kind::vec3) s << " finite";
+      break;
+    }
+    case Kind::boolean: s << "true or false"; break;
+    case Kind::text: s << "a string"; break;
+    case Kind::choice: s << "one of " << f.choices; break;
+    case Kind::choice_or_function: s << "one of " << f.choices << ", or a function"; break;
+    case Kind::function: s << "a function"; break;
+    case Kind::table: s << "a table"; break;
+  }
+  return s.str();
+}
+
+std::string schema_markdown() {
+  std::ostringstream s;
+  std::string section;
+  for (const Field& f : schema()) {
+    if (f.section != section) {
+      section = f.section;
+      s << "\n### `" << section << "{...}`\n\n| parameter | default | allowed | unit | meaning |\n|---|---|---|---|---|\n";
+    }
+    s << "| `" << f.name << "` | " << (f.default_text.empty() ? "required" : "`" + f.default_text + "`") << " | "
+      << allowed_text(f) << " | " << f.unit << " | " << f.doc << " |\n";
+  }
+  return s.str();
+}
+
+}  // namespace cellform::app

@@ -1,0 +1,95 @@
+// The embedded, sandboxed Lua 5.4 host that turns a growth script into a scene configuration.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cells/simulation.h"
+#include "forms/scene.h"
+
+struct lua_State;
+
+namespace cellform::app {
+
+/// Limits that stop a runaway script with a clear error.
+struct ScriptLimits {
+  std::uint64_t instructions = 500'000'000;   ///< Lua VM instructions for running the script itself
+  std::uint64_t rule_instructions = 10'000'000;///< per call of a rule function
+  std::size_t memory_bytes = 512u << 20;       ///< Lua heap, bytes
+};
+
+/// A cell the script places before the first step.
+struct InitialCell {
+  core::Vec3 position;
+  bool fixed = false;
+};
+
+/// A petiole request: the nearest cell to `at` becomes a petiole.
+struct PetioleSpec {
+  core::Vec3 at;
+  bool fixed = true;
+};
+
+/// What the script asked for.
+struct OutputSpec {
+  bool ply = true;
+  bool obj = true;
+  std::uint64_t every = 0;             ///< frame interval in steps (0 = no frames)
+  std::uint64_t checkpoint_every = 1000;///< checkpoint interval in steps (0 = only at the end)
+};
+
+/// Everything a script describes, resolved (script values, then --set overrides, then defaults).
+struct SceneConfig {
+  forms::SceneDescription scene;
+  std::vector<InitialCell> initial_cells;
+  std::vector<PetioleSpec> petioles;
+  std::uint64_t steps = 200;
+  std::uint64_t seed = 1;
+  OutputSpec output;
+  nlohmann::json resolved = nlohmann::json::object();  ///< every resolved parameter, by section
+};
+
+/// --set overrides: "name" for params{} knobs, "section.name" for script functions' parameters.
+using Overrides = std::map<std::string, std::string>;
+
+/// Runs growth scripts in a sandbox: only the cellform API and the safe parts of the base, string,
+/// table, math, utf8 and coroutine libraries; no files, processes, OS, module loading or binary chunks.
+/// Errors are core::InvalidInput with "file:line:" first.
+class ScriptHost {
+ public:
+  explicit ScriptHost(ScriptLimits limits = {});
+  ~ScriptHost();
+  ScriptHost(const ScriptHost&) = delete;
+  ScriptHost& operator=(const ScriptHost&) = delete;
+
+  /// Runs `source` (named `script_path` in messages; relative file names resolve beside it) and returns
+  /// the scene it describes. Every override must match a parameter, else InvalidInput with a suggestion.
+  SceneConfig load(const std::string& source, const std::filesystem::path& script_path, const Overrides& overrides);
+
+  /// Rule functions of the loaded script as cells::Rules (empty members where the script gave none).
+  /// A rule that errors throws core::InvalidInput naming the rule, the step and the cell id.
+  cells::Rules rules();
+
+  /// The step number that rule errors report.
+  void set_step(std::uint64_t step) { step_ = step; }
+
+  /// Where print() in a script goes (default: nowhere).
+  void set_print(std::function<void(const std::string&)> print);
+
+  // Internal state used by the Lua C functions.
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+  std::uint64_t step_ = 0;
+};
+
+}  // namespace cellform::app

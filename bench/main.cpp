@@ -1,0 +1,104 @@
+// cellform-bench: runs named benchmarks, prints median/min/max, writes JSON.
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "bench/bench.h"
+#include "core/atomic_file.h"
+
+namespace cellform::bench {
+
+std::vector<Benchmark>& registry() {
+  static std::vector<Benchmark> r;
+  return r;
+}
+
+namespace {
+double status_field(const char* key) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(key, 0) == 0) return std::stod(line.substr(std::strlen(key))) * 1024.0;
+  return 0;
+}
+}  // namespace
+
+double peak_rss_bytes() { return status_field("VmHWM:"); }
+double current_rss_bytes() { return status_field("VmRSS:"); }
+double process_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+}  // namespace cellform::bench
+
+int main(int argc, char** argv) {
+  using namespace cellform::bench;
+  std::vector<std::string> names;
+  std::string json_path;
+  int reps_override = 0;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--json" && i + 1 < argc) json_path = argv[++i];
+    else if (a == "--repetitions" && i + 1 < argc) reps_override = std::atoi(argv[++i]);
+    else if (a == "--list") {
+      for (const Benchmark& b : registry()) std::cout << b.name << "\t" << b.unit << "\t" << b.doc << "\n";
+      return 0;
+    } else if (a == "-h" || a == "--help") {
+      std::cout << "usage: cellform-bench [NAME-PREFIX...] [--json FILE] [--repetitions N] [--list]\n"
+                   "Runs the benchmarks whose names start with a given prefix (all if none), prints the\n"
+                   "median, min and max of several repetitions, and writes them as JSON.\n";
+      return 0;
+    } else if (!a.empty() && a[0] == '-') {
+      std::cerr << "cellform-bench: unknown option '" << a << "'\n";
+      return 2;
+    } else names.push_back(a);
+  }
+  std::vector<const Benchmark*> chosen;
+  for (const Benchmark& b : registry()) {
+    bool match = names.empty();
+    for (const std::string& n : names) match = match || b.name.rfind(n, 0) == 0;
+    if (match) chosen.push_back(&b);
+  }
+  if (chosen.empty()) {
+    std::cerr << "cellform-bench: no benchmark matches; see cellform-bench --list\n";
+    return 2;
+  }
+  nlohmann::json results = nlohmann::json::array();
+  std::printf("%-34s %14s %14s %14s  %s\n", "benchmark", "median", "min", "max", "unit");
+  for (const Benchmark* b : chosen) {
+    const int reps = reps_override > 0 ? reps_override : b->repetitions;
+    std::vector<double> v;
+    try {
+      for (int r = 0; r < reps; ++r) v.push_back(b->run());
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "cellform-bench: %s failed: %s\n", b->name.c_str(), e.what());
+      return 1;
+    }
+    std::sort(v.begin(), v.end());
+    const double median = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+    std::printf("%-34s %14.4g %14.4g %14.4g  %s\n", b->name.c_str(), median, v.front(), v.back(), b->unit.c_str());
+    std::fflush(stdout);
+    results.push_back({{"name", b->name}, {"value", median}, {"unit", b->unit}, {"min", v.front()}, {"max", v.back()},
+                       {"repetitions", reps}});
+  }
+  if (!json_path.empty()) {
+    try {
+      cellform::core::write_file_atomically(json_path, [&](std::ostream& os) {
+        os << nlohmann::json{{"results", results}}.dump(2) << "\n";
+      });
+    } catch (const std::exception& e) {
+      std::cerr << "cellform-bench: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  return 0;
+}

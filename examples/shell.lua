@@ -1,0 +1,37 @@
+-- A shell grown under reverse gravity from a ground plane: a ring of fixed cells on the ground
+-- anchors the sheet, an upward unary force lifts it, and growth at the rim closes it into a vault.
+
+local P = params {
+  size = 6000,
+  lift = 0.02,    -- upward acceleration (model units per time unit squared)
+}
+
+run { steps = 600, seed = 2 }
+
+cells {
+  rest_length = 1.0,
+  time_step = 0.2,
+  spring = 1.0,
+  planar = 0.6,
+  separation = 0.05,
+  unary = {0, 0, P.lift},       -- reverse gravity
+  drag = {0.85, 0.85, 0.85},
+}
+
+division {
+  trigger = "neighbours",
+  radius = 1.6,
+  min_neighbours = 6,
+  min_age = 6,
+  probability = 0.5,
+  max_cells = P.size,
+}
+
+ground { height = 0 }
+disc { radius = 6, centre = {0, 0, 0.5} }
+
+-- the supports: fixed cells around the rim of the footprint
+for i = 0, 11 do
+  local a = i / 12 * 2 * math.pi
+  cell { at = {7 * math.cos(a), 7 * math.sin(a), 0.5}, fixed = true }
+end

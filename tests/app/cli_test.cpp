@@ -1,0 +1,195 @@
+// Tests of the cellform command line: exit codes, help, outputs, run.json, checkpoints and resume.
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "core/chunk_file.h"
+#include "tests/app/test_util.h"
+
+using namespace cellform::test;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+const char* kSmall =
+    "local P = params { size = 400 }\n"
+    "cells { time_step = 0.2, separation = 0.05, drag = {0.8, 0.8, 0.5} }\n"
+    "division { trigger = 'age', age = 6, min_age = 3, probability = 0.5, max_cells = P.size }\n"
+    "run { steps = 30 }\n"
+    "disc { radius = 3 }\n"
+    "petiole { at = {0, 0, 0} }\n";
+}
+
+TEST_CASE("help, version and usage errors", "[cli]") {
+  auto r = cli({"--help"});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.out, Contains("usage: cellform"));
+  r = cli({"run", "--help"});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.out, Contains("--set NAME=VALUE"));
+  r = cli({"--version"});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.out, Contains("cellform 0."));
+  CHECK(cli({}).code == 2);
+  r = cli({"rnu", "x.lua"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("did you mean 'run'"));
+  r = cli({"run", "x.lua", "--steps", "many"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--steps takes a whole number"));
+  r = cli({"run", "x.lua", "--sed", "3"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("did you mean '--seed'"));
+  r = cli({"run"});
+  CHECK(r.code == 2);
+  r = cli({"params"});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.out, Contains("rest_length"));
+}
+
+TEST_CASE("input errors exit with 2 and one clear line", "[cli]") {
+  TempDir t("cli-input");
+  auto r = cli({"run", (t.path / "missing.lua").string(), "--out", (t.path / "o").string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("missing.lua"));
+  CHECK_THAT(r.err, Contains("does not exist"));
+  const auto bad = t.write("bad.lua", "cells { spring = }\n");
+  r = cli({"run", bad.string(), "--out", (t.path / "o").string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("bad.lua:1:"));
+  CHECK_FALSE(fs::exists(t.path / "o"));  // nothing written on an input error
+  const auto empty = t.write("empty.lua", "cells {}\n");
+  r = cli({"run", empty.string(), "--out", (t.path / "o").string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("places no cells"));
+  const auto ok = t.write("ok.lua", kSmall);
+  r = cli({"run", ok.string(), "--set", "sise=3", "--out", (t.path / "o").string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("did you mean 'size'"));
+}
+
+TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {
+  TempDir t("cli-run");
+  const auto script = t.write("small.lua", kSmall);
+  const fs::path out = t.path / "out";
+  auto r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--seed", "4", "--set", "size=300"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  for (const char* f : {"cells.ply", "cells.obj", "run.json", "checkpoint.cfck"}) CHECK(fs::exists(out / f));
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["seed"] == 4);
+  CHECK(run["steps"]["completed"] == 30);
+  CHECK(run["cells"]["final"].get<int>() <= 300);
+  CHECK(run["cells"]["final"].get<int>() > run["cells"]["initial"].get<int>());
+  CHECK(run["parameters"]["params"]["size"] == 300.0);
+  CHECK(run["parameters"]["cells"]["spring"] == 1.0);
+  CHECK(run["overrides"]["size"] == "300");
+  CHECK(run["script"]["hash"].get<std::string>().rfind("fnv1a64:", 0) == 0);
+  // no temporary files are left behind
+  for (const auto& e : fs::directory_iterator(out)) CHECK(e.path().filename().string().find("partial") == std::string::npos);
+
+  SECTION("the same inputs and seed give identical outputs; a re-run replaces the old outputs") {
+    const fs::path out2 = t.path / "out2";
+    REQUIRE(cli({"run", script.string(), "--out", out2.string(), "--quiet", "--seed", "4", "--set", "size=300",
+                 "--threads", "1"}).code == 0);
+    CHECK(slurp(out / "cells.ply") == slurp(out2 / "cells.ply"));
+    CHECK(slurp(out / "cells.obj") == slurp(out2 / "cells.obj"));
+    REQUIRE(cli({"run", script.string(), "--out", out2.string(), "--quiet", "--seed", "5", "--set", "size=300"}).code == 0);
+    CHECK(slurp(out / "cells.ply") != slurp(out2 / "cells.ply"));
+  }
+  SECTION("frames every N steps") {
+    const fs::path out3 = t.path / "out3";
+    REQUIRE(cli({"run", script.string(), "--out", out3.string(), "--quiet", "--set", "output.every=10"}).code == 0);
+    for (const char* f : {"frames/cells_000010.ply", "frames/cells_000020.ply", "frames/cells_000030.ply"})
+      CHECK(fs::exists(out3 / f));
+    // a re-run without frames removes the old frames
+    REQUIRE(cli({"run", script.string(), "--out", out3.string(), "--quiet"}).code == 0);
+    CHECK_FALSE(fs::exists(out3 / "frames/cells_000010.ply"));
+  }
+}
+
+TEST_CASE("resume continues to the bit-identical result", "[cli][checkpoint]") {
+  TempDir t("cli-resume");
+  const auto script = t.write("small.lua", kSmall);
+  const fs::path whole = t.path / "whole", part = t.path / "part";
+  REQUIRE(cli({"run", script.string(), "--out", whole.string(), "--quiet", "--steps", "40"}).code == 0);
+  REQUIRE(cli({"run", script.string(), "--out", part.string(), "--quiet", "--steps", "17"}).code == 0);
+  auto r = cli({"resume", (part / "checkpoint.cfck").string(), "--steps", "40", "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(slurp(whole / "cells.ply") == slurp(part / "cells.ply"));
+  CHECK(nlohmann::json::parse(slurp(part / "run.json"))["command"] == "resume");
+}
+
+TEST_CASE("corrupt, foreign and truncated checkpoints are refused clearly", "[cli][checkpoint]") {
+  TempDir t("cli-corrupt");
+  const auto script = t.write("small.lua", kSmall);
+  const fs::path out = t.path / "o";
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "5"}).code == 0);
+  std::string bytes = slurp(out / "checkpoint.cfck");
+  const auto truncated = t.write("truncated.cfck", bytes.substr(0, bytes.size() / 2));
+  auto r = cli({"resume", truncated.string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("corrupt"));
+  bytes[bytes.size() / 2] ^= 0x55;
+  r = cli({"resume", t.write("flipped.cfck", bytes).string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("checksum"));
+  r = cli({"resume", script.string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("not a cellform file"));
+  r = cli({"resume", (t.path / "nothing.cfck").string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("does not exist"));
+}
+
+TEST_CASE("an unwritable output location fails clearly", "[cli]") {
+  TempDir t("cli-unwritable");
+  const auto script = t.write("small.lua", kSmall);
+  const auto file = t.write("a-file", "x");
+  auto r = cli({"run", script.string(), "--out", file.string(), "--quiet", "--steps", "2"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("is not a directory"));
+  CHECK(slurp(file) == "x");
+}
+
+TEST_CASE("Ctrl-C stops cleanly with outputs and a checkpoint that resumes identically", "[cli][signal]") {
+  TempDir t("cli-signal");
+  const auto script = t.write("long.lua",
+                              "cells { time_step = 0.2, drag = {0.8, 0.8, 0.5} }\n"
+                              "division { trigger = 'none' }\n"
+                              "run { steps = 1000000 }\n"
+                              "disc { radius = 40 }\n");
+  const fs::path out = t.path / "o";
+  const std::string exe = std::string(CELLFORM_BINARY_DIR) + "/bin/cellform";
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    execl(exe.c_str(), exe.c_str(), "run", script.c_str(), "--out", out.c_str(), "--quiet", "--threads", "2",
+          static_cast<char*>(nullptr));
+    _exit(99);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 130);
+  REQUIRE(fs::exists(out / "checkpoint.cfck"));
+  REQUIRE(fs::exists(out / "cells.ply"));
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["status"] == "interrupted");
+  const std::uint64_t stopped = run["steps"]["completed"];
+  REQUIRE(stopped > 0);
+  // resuming to a few steps further equals an uninterrupted run to the same step
+  const std::uint64_t target = stopped + 3;
+  const fs::path whole = t.path / "whole";
+  REQUIRE(cli({"run", script.string(), "--out", whole.string(), "--quiet", "--steps", std::to_string(target)}).code == 0);
+  REQUIRE(cli({"resume", (out / "checkpoint.cfck").string(), "--steps", std::to_string(target), "--quiet"}).code == 0);
+  CHECK(slurp(whole / "cells.ply") == slurp(out / "cells.ply"));
+}

@@ -1,0 +1,176 @@
+// Tests of the Lua script host: the API, every error path, the sandbox, limits and overrides.
+#include "app/script_host.h"
+
+#include <catch2/catch.hpp>
+
+#include "core/errors.h"
+
+using cellform::app::Overrides;
+using cellform::app::ScriptHost;
+using cellform::app::ScriptLimits;
+using Catch::Matchers::Contains;
+
+namespace {
+
+cellform::app::SceneConfig load(const std::string& src, const Overrides& o = {}, ScriptLimits limits = {}) {
+  ScriptHost host(limits);
+  return host.load(src, "test/leaf.lua", o);
+}
+
+std::string load_error(const std::string& src, const Overrides& o = {}, ScriptLimits limits = {}) {
+  try {
+    load(src, o, limits);
+  } catch (const cellform::core::InvalidInput& e) {
+    return e.what();
+  }
+  FAIL("no error for: " << src);
+  return {};
+}
+
+}  // namespace
+
+TEST_CASE("a script sets parameters, shapes and defaults", "[script]") {
+  const auto cfg = load(
+      "cells { rest_length = 2, spring = 3, drag = {1, 1, 0.5}, vein = { planar = 0 } }\n"
+      "division { trigger = 'neighbours', max_cells = 500 }\n"
+      "run { steps = 42, seed = 9 }\n"
+      "disc { radius = 5 }\n"
+      "petiole { at = {0, -5, 0} }\n");
+  CHECK(cfg.scene.cells.rest_length == 2);
+  CHECK(cfg.scene.cells.weights[0].spring == 3);
+  CHECK(cfg.scene.cells.weights[0].planar == 0.5);  // default
+  CHECK(cfg.scene.cells.weights[2].spring == 3);    // vein inherits general
+  CHECK(cfg.scene.cells.weights[2].planar == 0);
+  CHECK(cfg.scene.cells.drag.z() == 0.5);
+  CHECK(cfg.scene.cells.division.trigger == cellform::cells::DivisionTrigger::neighbours);
+  CHECK(cfg.scene.cells.division.max_cells == 500);
+  CHECK(cfg.steps == 42);
+  CHECK(cfg.seed == 9);
+  // disc of radius 5 at spacing = rest length 2: the centre, one ring of 6, and part of the next
+  REQUIRE(cfg.initial_cells.size() > 7);
+  for (const auto& c : cfg.initial_cells) CHECK(c.position.norm() <= 5 + 1e-9);
+  REQUIRE(cfg.petioles.size() == 1);
+  CHECK(cfg.resolved["cells"]["time_step"] == 0.1);  // every resolved parameter is recorded
+  CHECK(cfg.resolved["division"]["probability"] == 1.0);
+}
+
+TEST_CASE("script errors name the file and line", "[script]") {
+  SECTION("syntax error") { CHECK_THAT(load_error("cells {\n  spring = = 1 }\n"), Contains("test/leaf.lua:2:")); }
+  SECTION("runtime error") { CHECK_THAT(load_error("\n\nlocal x = nil + 1\n"), Contains("test/leaf.lua:3:")); }
+  SECTION("misspelt parameter suggests the closest") {
+    const std::string e = load_error("\ncells { sprng = 1 }\n");
+    CHECK_THAT(e, Contains("test/leaf.lua:2:"));
+    CHECK_THAT(e, Contains("'sprng'"));
+    CHECK_THAT(e, Contains("did you mean 'spring'"));
+  }
+  SECTION("wrong type") {
+    const std::string e = load_error("cells { spring = 'strong' }");
+    CHECK_THAT(e, Contains("test/leaf.lua:1:"));
+    CHECK_THAT(e, Contains("cells.spring must be a number"));
+    CHECK_THAT(e, Contains("\"strong\""));
+  }
+  SECTION("out of range") {
+    CHECK_THAT(load_error("cells { drag = {1, 1, 1.5} }"), Contains("cells.drag must be {x, y, z} with each from 0 to 1"));
+    CHECK_THAT(load_error("cells { rest_length = 0 }"), Contains("cells.rest_length must be a number > 0"));
+    CHECK_THAT(load_error("cells { neighbours = 2 }"), Contains("cells.neighbours"));
+    CHECK_THAT(load_error("cells { neighbours = 6.5 }"), Contains("whole number"));
+  }
+  SECTION("bad choice suggests the closest") {
+    CHECK_THAT(load_error("division { trigger = 'neighbors' }"), Contains("did you mean \"neighbours\""));
+  }
+  SECTION("missing required parameter") { CHECK_THAT(load_error("disc { }"), Contains("needs 'radius'")); }
+  SECTION("section twice") { CHECK_THAT(load_error("cells {}\ncells {}\n"), Contains("given twice")); }
+  SECTION("vector of the wrong shape") { CHECK_THAT(load_error("cells { unary = {0, 1} }"), Contains("cells.unary")); }
+}
+
+TEST_CASE("the sandbox offers no files, processes, OS or module loading", "[script][sandbox]") {
+  for (const char* name : {"io", "os", "package", "debug", "require", "dofile", "loadfile", "load", "collectgarbage"}) {
+    INFO(name);
+    CHECK_NOTHROW(load(std::string("assert(") + name + " == nil)"));
+  }
+  CHECK_NOTHROW(load("assert(string.dump == nil)"));
+  CHECK_THAT(load_error("os.execute('touch /tmp/x')"), Contains("global 'os'"));
+  CHECK_THAT(load_error("io.open('/etc/passwd')"), Contains("global 'io'"));
+  SECTION("precompiled chunks are refused") {
+    CHECK_THAT(load_error(std::string("\x1bLua\x54\x00", 6) + "junk"), Contains("precompiled"));
+  }
+  SECTION("the safe libraries are there") { CHECK_NOTHROW(load("assert(math.sqrt(4) == 2 and string.rep('a', 3) == 'aaa')")); }
+}
+
+TEST_CASE("runaway scripts are stopped", "[script][limits]") {
+  ScriptLimits limits;
+  limits.instructions = 1'000'000;
+  limits.memory_bytes = 16u << 20;
+  CHECK_THAT(load_error("while true do end", {}, limits), Contains("instruction budget"));
+  ScriptLimits memory = limits;
+  memory.instructions = 2'000'000'000;
+  CHECK_THAT(load_error("local t = {} for i = 1, 1e9 do t[i] = i end", {}, memory), Contains("memory limit of 16 MiB"));
+  CHECK_THAT(load_error("local s = 'x' while true do s = s .. s end", {}, memory), Contains("memory limit"));
+  // the host is usable after a limit error
+  ScriptHost host(limits);
+  CHECK_THROWS(host.load("while true do end", "a.lua", {}));
+  CHECK_NOTHROW(host.load("disc { radius = 2 }", "b.lua", {}));
+}
+
+TEST_CASE("--set overrides script parameters", "[script][overrides]") {
+  const std::string src =
+      "local P = params { size = 100, flat = true, name = 'a' }\n"
+      "division { max_cells = P.size }\n"
+      "cells { spring = 1 }\n"
+      "assert(P.flat == false)\n";
+  const auto cfg = load(src, {{"size", "250"}, {"flat", "false"}, {"cells.spring", "2.5"}, {"cells.drag", "1,1,0.25"}});
+  CHECK(cfg.scene.cells.division.max_cells == 250);
+  CHECK(cfg.scene.cells.weights[0].spring == 2.5);
+  CHECK(cfg.scene.cells.drag.z() == 0.25);
+  CHECK(cfg.resolved["params"]["size"] == 250.0);
+  SECTION("an unknown name suggests the closest") {
+    CHECK_THAT(load_error(src, {{"flat", "false"}, {"sise", "3"}}), Contains("did you mean 'size'"));
+    CHECK_THAT(load_error(src, {{"flat", "false"}, {"cells.sprin", "3"}}), Contains("did you mean 'cells.spring'"));
+  }
+  SECTION("a value of the wrong type") {
+    CHECK_THAT(load_error(src, {{"flat", "false"}, {"size", "big"}}), Contains("--set size"));
+    CHECK_THAT(load_error(src, {{"flat", "false"}, {"cells.spring", "-1"}}), Contains("cells.spring must be a number >= 0"));
+  }
+  SECTION("a section the script does not call still takes overrides") {
+    const auto c = load("disc { radius = 2 }", {{"run.steps", "7"}});
+    CHECK(c.steps == 7);
+  }
+}
+
+TEST_CASE("rule functions run per cell and report errors with step and cell", "[script][rules]") {
+  ScriptHost host;
+  const auto cfg = host.load(
+      "division { rule = function(cell) return cell.age > 2 and cell.x > 0 end,\n"
+      "           direction = function(cell) return {0, 1, 0} end }\n"
+      "disc { radius = 2 }\n",
+      "r.lua", {});
+  CHECK(cfg.scene.cells.division.direction == cellform::cells::SplitDirection::rule);
+  cellform::cells::Cells c;
+  cellform::cells::add_cell(c, {1, 0, 0});
+  cellform::cells::add_cell(c, {-1, 0, 0});
+  c.age = {3, 3};
+  auto rules = host.rules();
+  REQUIRE(rules.divides);
+  CHECK(rules.divides(c, 0));
+  CHECK_FALSE(rules.divides(c, 1));
+  CHECK(rules.split_direction(c, 0) == cellform::core::Vec3(0, 1, 0));
+
+  ScriptHost bad;
+  bad.load("division { rule = function(cell)\n  if cell.id == 1 then error('boom') end\n  return 1 end }\n", "bad.lua", {});
+  bad.set_step(17);
+  auto r2 = bad.rules();
+  try {
+    r2.divides(c, 1);
+    FAIL("no error");
+  } catch (const cellform::core::InvalidInput& e) {
+    CHECK_THAT(e.what(), Contains("bad.lua:2: boom"));
+    CHECK_THAT(e.what(), Contains("step 17"));
+    CHECK_THAT(e.what(), Contains("cell 1"));
+  }
+  CHECK_THROWS_WITH(r2.divides(c, 0), Contains("must return true or false, got number"));
+  ScriptLimits tight;
+  tight.rule_instructions = 10000;
+  ScriptHost loop(tight);
+  loop.load("division { rule = function(cell) while true do end end }", "loop.lua", {});
+  CHECK_THROWS_WITH(loop.rules().divides(c, 0), Contains("instruction budget"));
+}
