@@ -1,16 +1,22 @@
-// Scene stepping: forces, attractors, integration, obstacles, division.
+// Scene stepping: forces, attractors, integration, obstacles, division, petioles, canalisation.
 #include "forms/scene.h"
 
+#include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "core/errors.h"
+#include "core/random.h"
 
 namespace cellform::forms {
 
 void validate(const SceneDescription& description) {
   cells::validate(description.cells);
+  if (description.venation) venation::validate(*description.venation);
   validate(description.obstacles);
   validate(description.attractors);
+  for (const PetioleSpec& p : description.petioles)
+    if (!p.at.allFinite()) throw core::InvalidInput("petiole.at must be a finite position");
   if (!(description.obstacle_margin >= 0) || !std::isfinite(description.obstacle_margin))
     throw core::InvalidInput("obstacle margin must be a finite number >= 0 (model units)");
 }
@@ -26,21 +32,61 @@ core::Index make_petiole(cells::Cells& cells, const Vec3& at, bool fixed, double
       best = static_cast<core::Index>(i);
     }
   }
+  if (best != core::kNoIndex && best_d2 > 9 * rest_length * rest_length) {
+    std::ostringstream s;
+    s << "petiole at {" << at.x() << ", " << at.y() << ", " << at.z() << "} is " << std::sqrt(best_d2)
+      << " model units from the nearest cell; a petiole must be a cell of the form (within 3 rest lengths of one)";
+    throw core::InvalidInput(s.str());
+  }
   if (best == core::kNoIndex || best_d2 > 0.25 * rest_length * rest_length)
     return cells::add_cell(cells, at, cells::CellType::petiole, fixed);
   cells.type[best] = cells::CellType::petiole;
   cells.fixed[best] = fixed ? 1 : 0;
+  cells.vein_parent[best] = core::kNoIndex;  // a new sink roots the veins that drain into it
   return best;
 }
 
 Scene::Scene(SceneDescription description, std::uint64_t seed)
-    : desc_((validate(description), std::move(description))), sim_(desc_.cells, seed), obstacles_(desc_.obstacles) {}
+    : desc_((validate(description), std::move(description))),
+      seed_(seed),
+      sim_(desc_.cells, seed),
+      obstacles_(desc_.obstacles) {
+  if (desc_.split_along_auxin) {
+    // divide along the local auxin flow; cells without flow yet split in a seeded random direction
+    sim_.rules().split_direction = [this](const cells::Cells& c, core::Index i) -> Vec3 {
+      auto get = [&](const char* name) {
+        auto it = c.attributes.find(name);
+        return it == c.attributes.end() ? 0.0 : it->second[i];
+      };
+      const Vec3 d(get(venation::kFlowX), get(venation::kFlowY), get(venation::kFlowZ));
+      if (d.squaredNorm() > 0.25) return d;
+      core::Rng rng(core::stream_key(seed_, c.id[i], c.generation[i]));
+      return rng.unit_vector();
+    };
+  }
+}
+
+void Scene::apply_petioles(std::uint64_t step) {
+  for (const PetioleSpec& p : desc_.petioles)
+    if (p.step == step) make_petiole(sim_.cells(), p.at, p.fixed, desc_.cells.rest_length);
+}
+
+void Scene::start() {
+  apply_petioles(sim_.step_count());
+  if (desc_.venation) {
+    bool any = false;
+    for (const cells::CellType t : sim_.cells().type) any = any || t == cells::CellType::petiole;
+    if (!any)
+      throw core::InvalidInput(
+          "venation needs a petiole (the sink of the auxin flow) before the first step; add petiole{at = {x, y, z}}");
+  }
+}
 
 cells::StepReport Scene::step() {
-  const int threads = sim_.threads();
   const double margin = desc_.obstacle_margin > 0 ? desc_.obstacle_margin : 0.01 * desc_.cells.rest_length;
   const bool has_obstacles = !desc_.obstacles.empty();
-  return sim_.step(
+  const int threads = sim_.threads();
+  cells::StepReport report = sim_.step(
       [&](cells::Cells& c) {
         if (has_obstacles) previous_ = c.position;
         if (!desc_.attractors.empty()) apply_attractors(c, desc_.attractors);
@@ -48,6 +94,9 @@ cells::StepReport Scene::step() {
       [&](cells::Cells& c) {
         if (has_obstacles) obstacles_.apply(c, previous_, margin, threads);
       });
+  apply_petioles(sim_.step_count());
+  if (desc_.venation) vein_report_ = venation::canalise(sim_.cells(), *desc_.venation, source_rule_, vein_ws_);
+  return report;
 }
 
 }  // namespace cellform::forms

@@ -1,0 +1,184 @@
+// PLY (binary) and OBJ writers for the cell sheet; every write is atomic.
+#include "export/cell_files.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cctype>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <set>
+#include <type_traits>
+#include <unordered_set>
+#include <vector>
+
+#include "core/atomic_file.h"
+#include "core/errors.h"
+
+namespace cellform::exporters {
+
+namespace {
+
+using cells::Cells;
+using cells::Surface;
+using core::Index;
+
+// Refuses to write a file whose connectivity or attributes do not match the cells.
+void check_consistent(const std::filesystem::path& path, const Cells& cells, const Surface& surface) {
+  const std::size_t n = cells.size();
+  const auto where = "cannot write '" + path.string() + "': ";
+  if (n > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+    throw core::InvalidInput(where + "too many cells for 32-bit vertex indices");
+  for (std::size_t t = 0; t < surface.triangles.size(); ++t)
+    for (Index v : surface.triangles[t])
+      if (v >= n)
+        throw core::InvalidInput(where + "triangle " + std::to_string(t) + " uses cell " + std::to_string(v) +
+                                 " of " + std::to_string(n));
+  for (std::size_t e = 0; e < surface.edges.size(); ++e)
+    for (Index v : surface.edges[e])
+      if (v >= n)
+        throw core::InvalidInput(where + "edge " + std::to_string(e) + " uses cell " + std::to_string(v) + " of " +
+                                 std::to_string(n));
+  for (const auto& [name, values] : cells.attributes)
+    if (values.size() != n)
+      throw core::InvalidInput(where + "attribute '" + name + "' has " + std::to_string(values.size()) +
+                               " values for " + std::to_string(n) + " cells");
+}
+
+// Appends `value` to `out` in little-endian byte order, whatever the host order.
+template <class T>
+void put(std::string& out, T value) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  unsigned char bytes[sizeof(T)];
+  std::memcpy(bytes, &value, sizeof(T));
+  if constexpr (std::endian::native == std::endian::big) std::reverse(bytes, bytes + sizeof(T));
+  out.append(reinterpret_cast<const char*>(bytes), sizeof(T));
+}
+
+std::string sanitise(const std::string& raw) {
+  std::string s;
+  for (unsigned char c : raw) s += (std::isalnum(c) || c == '_') && c < 128 ? static_cast<char>(c) : '_';
+  if (s.empty()) s = "attribute";
+  if (std::isdigit(static_cast<unsigned char>(s[0]))) s.insert(s.begin(), '_');
+  return s;
+}
+
+// PLY property names of the attributes, in cells.attributes order, distinct from each other and the fixed ones.
+std::vector<std::string> attribute_names(const Cells& cells) {
+  std::set<std::string> taken = {"x", "y", "z", "type", "age", "generation", "id", "fixed"};
+  std::vector<std::string> names;
+  for (const auto& entry : cells.attributes) {
+    const std::string base = sanitise(entry.first);
+    std::string name = base;
+    for (int k = 2; taken.count(name); ++k) name = base + "_" + std::to_string(k);
+    taken.insert(name);
+    names.push_back(name);
+  }
+  return names;
+}
+
+void append_format(std::string& out, const char* format, double a, double b, double c) {
+  char buf[128];
+  const int len = std::snprintf(buf, sizeof buf, format, a, b, c);
+  out.append(buf, static_cast<std::size_t>(std::max(0, len)));
+}
+
+}  // namespace
+
+void write_cells_ply(const std::filesystem::path& path, const Cells& cells, const Surface& surface) {
+  check_consistent(path, cells, surface);
+  const std::size_t n = cells.size();
+  const std::vector<std::string> names = attribute_names(cells);
+
+  std::string header = "ply\nformat binary_little_endian 1.0\ncomment cellform cell sheet\n";
+  header += "comment id is the low 32 bits of the 64-bit cell id\n";
+  header += "element vertex " + std::to_string(n) + "\n";
+  header += "property float x\nproperty float y\nproperty float z\n";
+  header += "property uchar type\nproperty uint age\nproperty uint generation\nproperty uint id\n";
+  header += "property uchar fixed\n";
+  for (const std::string& name : names) header += "property float " + name + "\n";
+  header += "element face " + std::to_string(surface.triangles.size()) + "\n";
+  header += "property list uchar int vertex_indices\n";
+  header += "element edge " + std::to_string(surface.edges.size()) + "\n";
+  header += "property int vertex1\nproperty int vertex2\n";
+  header += "end_header\n";
+
+  std::vector<const std::vector<double>*> columns;
+  for (const auto& entry : cells.attributes) columns.push_back(&entry.second);
+
+  std::string body;
+  body.reserve(n * (22 + 4 * columns.size()) + surface.triangles.size() * 13 + surface.edges.size() * 8);
+  for (std::size_t i = 0; i < n; ++i) {
+    const core::Vec3& p = cells.position[i];
+    put(body, static_cast<float>(p.x()));
+    put(body, static_cast<float>(p.y()));
+    put(body, static_cast<float>(p.z()));
+    put(body, static_cast<std::uint8_t>(cells.type[i]));
+    put(body, cells.age[i]);
+    put(body, cells.generation[i]);
+    put(body, static_cast<std::uint32_t>(cells.id[i] & 0xffffffffu));
+    put(body, static_cast<std::uint8_t>(cells.fixed[i] ? 1 : 0));
+    for (const auto* column : columns) put(body, static_cast<float>((*column)[i]));
+  }
+  for (const auto& t : surface.triangles) {
+    put(body, std::uint8_t{3});
+    for (Index v : t) put(body, static_cast<std::int32_t>(v));
+  }
+  for (const auto& e : surface.edges) {
+    put(body, static_cast<std::int32_t>(e[0]));
+    put(body, static_cast<std::int32_t>(e[1]));
+  }
+
+  core::write_file_atomically(path, [&](std::ostream& out) {
+    out.write(header.data(), static_cast<std::streamsize>(header.size()));
+    out.write(body.data(), static_cast<std::streamsize>(body.size()));
+  });
+}
+
+void write_cells_obj(const std::filesystem::path& path, const Cells& cells, const Surface& surface) {
+  check_consistent(path, cells, surface);
+  const std::size_t n = cells.size();
+
+  // Links that are a side of some triangle are drawn by the faces already.
+  std::unordered_set<std::uint64_t> sides;
+  const auto key = [](Index a, Index b) {
+    if (a > b) std::swap(a, b);
+    return (static_cast<std::uint64_t>(a) << 32) | b;
+  };
+  for (const auto& t : surface.triangles) {
+    sides.insert(key(t[0], t[1]));
+    sides.insert(key(t[1], t[2]));
+    sides.insert(key(t[2], t[0]));
+  }
+  std::vector<std::array<Index, 2>> lines;
+  for (const auto& e : surface.edges)
+    if (!sides.count(key(e[0], e[1]))) lines.push_back(e);
+
+  std::string text;
+  text.reserve(n * 40 + surface.triangles.size() * 24 + lines.size() * 16);
+  text += "# cellform cell sheet\n";
+  text += "# " + std::to_string(n) + " vertices, " + std::to_string(surface.triangles.size()) + " faces, " +
+          std::to_string(lines.size()) + " lines\n";
+  for (std::size_t i = 0; i < n; ++i) {
+    const core::Vec3& p = cells.position[i];
+    append_format(text, "v %.9g %.9g %.9g\n", p.x(), p.y(), p.z());
+  }
+  for (const auto& t : surface.triangles)
+    text += "f " + std::to_string(t[0] + 1ull) + " " + std::to_string(t[1] + 1ull) + " " +
+            std::to_string(t[2] + 1ull) + "\n";
+  for (const auto& l : lines)
+    text += "l " + std::to_string(l[0] + 1ull) + " " + std::to_string(l[1] + 1ull) + "\n";
+
+  core::write_file_atomically(path, [&](std::ostream& out) { out.write(text.data(), static_cast<std::streamsize>(text.size())); });
+}
+
+std::string frame_name(const std::string& stem, std::uint64_t step, const std::string& ext) {
+  char digits[32];
+  std::snprintf(digits, sizeof digits, "%06llu", static_cast<unsigned long long>(step));
+  std::string name = stem + "_" + digits;
+  if (!ext.empty()) name += (ext.front() == '.' ? "" : ".") + ext;
+  return name;
+}
+
+}  // namespace cellform::exporters

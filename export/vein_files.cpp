@@ -1,0 +1,63 @@
+// Writers for the vein graph.
+#include "export/vein_files.h"
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include "core/atomic_file.h"
+
+namespace cellform::exporters {
+
+namespace {
+template <class T>
+void put(std::string& out, T v) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));  // little-endian hosts only (x86-64, arm64), as the header says
+  out.append(b, sizeof(T));
+}
+}  // namespace
+
+void write_veins_ply(const std::filesystem::path& path, const venation::VeinGraph& g, const cells::Cells& cells) {
+  std::string body;
+  body.reserve(g.cell.size() * 28 + g.edges.size() * 8);
+  for (std::size_t i = 0; i < g.cell.size(); ++i) {
+    put<float>(body, static_cast<float>(g.position[i].x()));
+    put<float>(body, static_cast<float>(g.position[i].y()));
+    put<float>(body, static_cast<float>(g.position[i].z()));
+    put<float>(body, static_cast<float>(g.flow[i]));
+    put<float>(body, static_cast<float>(g.radius[i]));
+    put<std::int32_t>(body, g.order[i]);
+    put<std::uint32_t>(body, static_cast<std::uint32_t>(cells.id[g.cell[i]]));
+  }
+  for (const auto& e : g.edges) {
+    put<std::int32_t>(body, static_cast<std::int32_t>(e[0]));
+    put<std::int32_t>(body, static_cast<std::int32_t>(e[1]));
+  }
+  const std::string header = "ply\nformat binary_little_endian 1.0\ncomment cellform vein graph: edges run child -> parent\n"
+                             "element vertex " + std::to_string(g.cell.size()) +
+                             "\nproperty float x\nproperty float y\nproperty float z\nproperty float flow\n"
+                             "property float radius\nproperty int order\nproperty uint id\n"
+                             "element edge " + std::to_string(g.edges.size()) +
+                             "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
+  core::write_file_atomically(path, [&](std::ostream& os) {
+    os << header;
+    os.write(body.data(), static_cast<std::streamsize>(body.size()));
+  });
+}
+
+void write_veins_obj(const std::filesystem::path& path, const venation::VeinGraph& g) {
+  core::write_file_atomically(path, [&](std::ostream& os) {
+    os << "# cellform vein graph: " << g.cell.size() << " nodes, " << g.edges.size() << " segments\n"
+       << "# per vertex: '#a flow radius order' follows its 'v' line\no veins\n";
+    char buf[160];
+    for (std::size_t i = 0; i < g.cell.size(); ++i) {
+      std::snprintf(buf, sizeof buf, "v %.9g %.9g %.9g\n#a %.9g %.9g %d\n", g.position[i].x(), g.position[i].y(),
+                    g.position[i].z(), g.flow[i], g.radius[i], g.order[i]);
+      os << buf;
+    }
+    for (const auto& e : g.edges) os << "l " << e[0] + 1 << " " << e[1] + 1 << "\n";
+  });
+}
+
+}  // namespace cellform::exporters

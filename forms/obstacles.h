@@ -1,0 +1,107 @@
+// Solids and surfaces the cells cannot enter or cross (ground, spheres, boxes, triangle meshes).
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include "cells/cells.h"
+#include "core/types.h"
+
+namespace cellform::forms {
+
+using core::Index;
+using core::Vec3;
+
+/// The solid side of a plane: cells stay on the side `normal` points to. A ground plane is a half-space.
+struct HalfSpace {
+  Vec3 point = Vec3::Zero();    ///< any point of the plane, model units
+  Vec3 normal = Vec3::UnitZ();  ///< points away from the solid (need not be unit length, must not be zero)
+};
+
+/// A solid ball; cells stay outside.
+struct Sphere {
+  Vec3 centre = Vec3::Zero();  ///< model units
+  double radius = 1.0;         ///< model units, > 0
+};
+
+/// A solid axis-aligned box; cells stay outside.
+struct Box {
+  Vec3 min = Vec3::Zero();  ///< lowest corner, model units
+  Vec3 max = Vec3::Ones();  ///< highest corner, model units; min <= max in every coordinate
+};
+
+/// A triangle surface, open or closed, manifold or not: cells cannot cross it in either direction.
+struct TriangleMesh {
+  std::vector<Vec3> vertices;                   ///< model units
+  std::vector<std::array<Index, 3>> triangles;  ///< indices into vertices
+};
+
+/// Every obstacle of a scene.
+struct Obstacles {
+  std::vector<HalfSpace> half_spaces;
+  std::vector<Sphere> spheres;
+  std::vector<Box> boxes;
+  std::vector<TriangleMesh> meshes;
+
+  bool empty() const { return half_spaces.empty() && spheres.empty() && boxes.empty() && meshes.empty(); }
+};
+
+/// Throws core::InvalidInput naming the obstacle ("ground 0", "sphere 2", "box 1", "mesh 0") and what is
+/// allowed, for a zero or non-finite normal, a radius <= 0, a box with min > max, non-finite coordinates,
+/// or a mesh triangle index out of range.
+void validate(const Obstacles& obstacles);
+
+/// Obstacles prepared for repeated use: a bounding-volume hierarchy over every mesh triangle.
+/// Build once per scene and call apply() every step; apply_obstacles() builds one per call.
+class PreparedObstacles {
+ public:
+  /// Copies the obstacles and builds the mesh hierarchy (O(T log T) for T triangles).
+  /// Throws core::InvalidInput as validate() does.
+  explicit PreparedObstacles(Obstacles obstacles);
+  ~PreparedObstacles();
+  PreparedObstacles(PreparedObstacles&&) noexcept;
+  PreparedObstacles& operator=(PreparedObstacles&&) noexcept;
+
+  /// See apply_obstacles().
+  void apply(cells::Cells& cells, const std::vector<Vec3>& previous_positions, double margin,
+             int threads = 0) const;
+
+  /// True if `position` lies inside a solid (closer than `margin` minus a rounding tolerance, model units).
+  bool inside_solid(const Vec3& position, double margin) const;
+
+  /// True if the straight move from `from` to `to` crosses (or touches) a mesh triangle.
+  bool crosses_mesh(const Vec3& from, const Vec3& to) const;
+
+  const Obstacles& obstacles() const { return obstacles_; }
+
+ private:
+  struct MeshIndex;
+  Obstacles obstacles_;
+  std::unique_ptr<MeshIndex> index_;
+};
+
+/// Enforces the obstacles after integration. For every non-fixed cell:
+/// - a move from `previous_positions[i]` that crosses a mesh triangle puts the cell back on the side it
+///   came from, at the crossing point offset by `margin` along the triangle normal;
+/// - a cell that enters a sphere or box during the move (even one it passes right through) is stopped
+///   on the surface where it entered, keeping its motion along that surface; a cell already inside a
+///   solid, or below a ground plane, is moved to the nearest point of the surface;
+/// - solids count as grown by `margin`: cells end at least `margin` model units away from them;
+/// - the velocity component into the obstacle is removed.
+/// Corrections repeat until no constraint is violated; a cell that cannot be placed (wedged between
+/// obstacles) returns to its previous position with zero velocity. Fixed cells are untouched.
+/// Each cell writes only its own slot: any thread count (0 = all cores) gives identical results.
+/// `margin`: model units, >= 0. Throws core::InvalidInput for a bad obstacle, a negative margin or a
+/// previous_positions of the wrong size.
+void apply_obstacles(cells::Cells& cells, const std::vector<Vec3>& previous_positions, const Obstacles& obstacles,
+                     double margin, int threads = 0);
+
+/// Reads a triangle mesh from STL (ASCII or binary) or OBJ, chosen by the file extension. Polygons are
+/// split into triangle fans; non-manifold and open meshes are kept as they are. Throws core::FileError for a
+/// missing or unreadable file, core::InvalidInput for an unsupported extension, a malformed file, a file
+/// without triangles ("not a mesh") or non-finite coordinates; every message names the file.
+TriangleMesh load_mesh(const std::filesystem::path& path);
+
+}  // namespace cellform::forms

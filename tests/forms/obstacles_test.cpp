@@ -1,0 +1,570 @@
+// Tests of forms/obstacles.h: no cell ends inside or beyond an obstacle; mesh files load or fail clearly.
+#include "forms/obstacles.h"
+
+#include <unistd.h>
+
+#include <Eigen/Geometry>
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "core/errors.h"
+#include "core/random.h"
+
+using namespace cellform;
+using cells::Cells;
+using core::Vec3;
+using forms::Box;
+using forms::HalfSpace;
+using forms::Obstacles;
+using forms::Sphere;
+using forms::TriangleMesh;
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kTol = 1e-9;
+
+Vec3 random_point(core::Rng& rng, double half_width) {
+  return Vec3(rng.uniform(-half_width, half_width), rng.uniform(-half_width, half_width),
+              rng.uniform(-half_width, half_width));
+}
+
+// Cells at `current` with random velocities; the caller keeps `previous`.
+Cells make_cells(const std::vector<Vec3>& current, core::Rng& rng) {
+  Cells cells;
+  for (const Vec3& p : current) cells::add_cell(cells, p);
+  for (auto& v : cells.velocity) v = random_point(rng, 2.0);
+  return cells;
+}
+
+// Closest distance between the segment a-b and point c.
+double segment_point_distance(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 d = b - a;
+  const double len2 = d.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((c - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * d - c).norm();
+}
+
+// Does the segment a-b pass through the open box (lo, hi)? Independent slab test.
+bool segment_enters_box(const Vec3& a, const Vec3& b, const Vec3& lo, const Vec3& hi) {
+  double t0 = 0, t1 = 1;
+  for (int k = 0; k < 3; ++k) {
+    const double d = b[k] - a[k];
+    if (std::abs(d) < 1e-300) {
+      if (a[k] <= lo[k] || a[k] >= hi[k]) return false;
+      continue;
+    }
+    double u = (lo[k] - a[k]) / d, w = (hi[k] - a[k]) / d;
+    if (u > w) std::swap(u, w);
+    t0 = std::max(t0, u);
+    t1 = std::min(t1, w);
+  }
+  return t0 < t1;
+}
+
+// Möller-Trumbore: does the closed segment a-b meet triangle (p, q, r)? The oracle for mesh crossings.
+bool segment_hits_triangle(const Vec3& a, const Vec3& b, const Vec3& p, const Vec3& q, const Vec3& r) {
+  const Vec3 dir = b - a;
+  const Vec3 e1 = q - p, e2 = r - p;
+  const Vec3 h = dir.cross(e2);
+  const double det = e1.dot(h);
+  if (std::abs(det) < 1e-14) return false;
+  const double f = 1.0 / det;
+  const Vec3 s = a - p;
+  const double u = f * s.dot(h);
+  if (u < 0 || u > 1) return false;
+  const Vec3 qv = s.cross(e1);
+  const double v = f * dir.dot(qv);
+  if (v < 0 || u + v > 1) return false;
+  const double t = f * e2.dot(qv);
+  return t >= 0 && t <= 1;
+}
+
+bool segment_hits_mesh(const Vec3& a, const Vec3& b, const TriangleMesh& m) {
+  for (const auto& t : m.triangles)
+    if (segment_hits_triangle(a, b, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]])) return true;
+  return false;
+}
+
+// Inside a closed mesh: parity of crossings of a ray in a fixed, generic direction.
+bool inside_closed_mesh(const Vec3& p, const TriangleMesh& m) {
+  const Vec3 far = p + 1e3 * Vec3(0.5372, 0.2913, 0.7911).normalized();
+  int count = 0;
+  for (const auto& t : m.triangles)
+    if (segment_hits_triangle(p, far, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]])) ++count;
+  return count % 2 == 1;
+}
+
+// Euclidean distance from p to the nearest point of the mesh.
+double distance_to_mesh(const Vec3& p, const TriangleMesh& m) {
+  double best = 1e300;
+  for (const auto& t : m.triangles) {
+    const Vec3 a = m.vertices[t[0]], b = m.vertices[t[1]], c = m.vertices[t[2]];
+    const Vec3 n = (b - a).cross(c - a).normalized();
+    const double plane = std::abs((p - a).dot(n));
+    const Vec3 proj = p - ((p - a).dot(n)) * n;
+    const Vec3 v0 = b - a, v1 = c - a, v2 = proj - a;
+    const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
+    const double den = d00 * d11 - d01 * d01;
+    const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den;
+    if (v >= 0 && w >= 0 && v + w <= 1) best = std::min(best, plane);
+    best = std::min({best, segment_point_distance(a, b, p), segment_point_distance(b, c, p),
+                     segment_point_distance(c, a, p)});
+  }
+  return best;
+}
+
+// An icosphere-like closed mesh: an octahedron subdivided twice and pushed onto a sphere.
+TriangleMesh closed_sphere_mesh(const Vec3& centre, double radius) {
+  TriangleMesh m;
+  m.vertices = {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)};
+  m.triangles = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  for (int level = 0; level < 2; ++level) {
+    std::map<std::pair<core::Index, core::Index>, core::Index> mid;
+    auto midpoint = [&](core::Index a, core::Index b) {
+      const auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      m.vertices.push_back((m.vertices[a] + m.vertices[b]).normalized());
+      const auto idx = static_cast<core::Index>(m.vertices.size() - 1);
+      mid[key] = idx;
+      return idx;
+    };
+    std::vector<std::array<core::Index, 3>> next;
+    for (const auto& t : m.triangles) {
+      const core::Index ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]), ca = midpoint(t[2], t[0]);
+      next.push_back({t[0], ab, ca});
+      next.push_back({t[1], bc, ab});
+      next.push_back({t[2], ca, bc});
+      next.push_back({ab, bc, ca});
+    }
+    m.triangles = next;
+  }
+  for (Vec3& v : m.vertices) v = centre + radius * v;
+  return m;
+}
+
+// An open, wavy sheet of 2 * n * n triangles over [-w, w]^2 at height z = 0.3 sin(x) cos(y).
+TriangleMesh open_sheet(int n, double w) {
+  TriangleMesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = -w + 2 * w * i / n, y = -w + 2 * w * j / n;
+      m.vertices.emplace_back(x, y, 0.3 * std::sin(x) * std::cos(y));
+    }
+  const auto at = [n](int i, int j) { return static_cast<core::Index>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  return m;
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("cellform-forms-test-" + std::to_string(::getpid()) + "-" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+template <class T>
+void put(std::string& s, T v) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  s.append(b, sizeof(T));
+}
+
+std::string binary_stl(const std::vector<std::array<Vec3, 3>>& tris) {
+  std::string s(80, ' ');
+  put(s, static_cast<std::uint32_t>(tris.size()));
+  for (const auto& t : tris) {
+    for (int k = 0; k < 3; ++k) put(s, 0.0f);
+    for (const Vec3& v : t)
+      for (int k = 0; k < 3; ++k) put(s, static_cast<float>(v[k]));
+    put(s, std::uint16_t{0});
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("validate names the bad obstacle and what is allowed", "[forms][obstacles]") {
+  Obstacles o;
+  o.half_spaces.push_back({Vec3::Zero(), Vec3::Zero()});
+  CHECK_THROWS_WITH(forms::validate(o), Catch::Contains("ground 0") && Catch::Contains("non-zero"));
+  o = {};
+  o.spheres.push_back({Vec3::Zero(), 0.0});
+  CHECK_THROWS_AS(forms::validate(o), core::InvalidInput);
+  CHECK_THROWS_WITH(forms::validate(o), Catch::Contains("sphere 0") && Catch::Contains("> 0"));
+  o = {};
+  o.boxes.push_back({Vec3(0, 2, 0), Vec3(1, 1, 1)});
+  CHECK_THROWS_WITH(forms::validate(o), Catch::Contains("box 0") && Catch::Contains("min.y") &&
+                                            Catch::Contains("min <= max"));
+  o = {};
+  o.meshes.push_back({{Vec3::Zero(), Vec3::UnitX()}, {{0, 1, 2}}});
+  CHECK_THROWS_WITH(forms::validate(o), Catch::Contains("mesh 0") && Catch::Contains("vertex 2"));
+  o = {};
+  o.half_spaces.push_back({});
+  o.spheres.push_back({});
+  o.boxes.push_back({});
+  CHECK_NOTHROW(forms::validate(o));
+}
+
+TEST_CASE("apply_obstacles checks its arguments", "[forms][obstacles]") {
+  core::Rng rng(1);
+  Cells cells = make_cells({Vec3::Zero()}, rng);
+  Obstacles o;
+  o.half_spaces.push_back({});
+  CHECK_THROWS_AS(forms::apply_obstacles(cells, {}, o, 0.0), core::InvalidInput);
+  CHECK_THROWS_AS(forms::apply_obstacles(cells, {Vec3::Zero()}, o, -1.0), core::InvalidInput);
+}
+
+TEST_CASE("cells never end below a ground plane", "[forms][obstacles]") {
+  core::Rng rng(11);
+  Obstacles o;
+  const Vec3 normal = Vec3(0.2, -0.3, 1.0).normalized();
+  o.half_spaces.push_back({Vec3(0.5, 0.5, -1.0), normal * 3.0});  // normal need not be unit length
+  const double margin = 0.05;
+  std::vector<Vec3> prev, cur;
+  while (prev.size() < 5000) {
+    const Vec3 p = random_point(rng, 5.0);
+    if ((p - o.half_spaces[0].point).dot(normal) < margin) continue;
+    prev.push_back(p);
+    cur.push_back(p + random_point(rng, 4.0));
+  }
+  Cells cells = make_cells(cur, rng);
+  const Cells before = cells;
+  forms::apply_obstacles(cells, prev, o, margin);
+  int corrected = 0;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const double d = (cells.position[i] - o.half_spaces[0].point).dot(normal);
+    REQUIRE(d >= margin - kTol);
+    if (cells.position[i] != before.position[i]) {
+      ++corrected;
+      // Projected straight up: the motion along the plane is kept, only the normal part changes.
+      const Vec3 shift = cells.position[i] - before.position[i];
+      CHECK((shift - shift.dot(normal) * normal).norm() < 1e-9);
+      CHECK(cells.velocity[i].dot(normal) >= -1e-12);
+    } else {
+      CHECK(cells.velocity[i] == before.velocity[i]);
+    }
+  }
+  CHECK(corrected > 500);
+}
+
+TEST_CASE("cells never end inside or pass through a sphere", "[forms][obstacles]") {
+  core::Rng rng(12);
+  Obstacles o;
+  o.spheres.push_back({Vec3(0.3, -0.2, 0.1), 1.5});
+  const Sphere& s = o.spheres[0];
+  for (double margin : {0.0, 0.1}) {
+    std::vector<Vec3> prev, cur;
+    while (prev.size() < 5000) {
+      const Vec3 p = random_point(rng, 4.0);
+      if ((p - s.centre).norm() < s.radius + margin) continue;
+      prev.push_back(p);
+      cur.push_back(p + random_point(rng, 5.0));  // many pass right through
+    }
+    Cells cells = make_cells(cur, rng);
+    const Cells before = cells;
+    forms::apply_obstacles(cells, prev, o, margin);
+    int corrected = 0;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      REQUIRE((cells.position[i] - s.centre).norm() >= s.radius + margin - kTol);
+      REQUIRE(segment_point_distance(prev[i], cells.position[i], s.centre) >= s.radius + margin - 1e-7);
+      if (cells.position[i] != before.position[i]) {
+        ++corrected;
+        CHECK(cells.velocity[i].norm() <= before.velocity[i].norm() + 1e-12);
+      }
+    }
+    CHECK(corrected > 150);
+  }
+}
+
+TEST_CASE("cells never end inside or pass through a box", "[forms][obstacles]") {
+  core::Rng rng(13);
+  Obstacles o;
+  o.boxes.push_back({Vec3(-1.0, -0.5, -0.2), Vec3(1.0, 0.5, 0.2)});  // thin in z: easy to tunnel through
+  const Box& b = o.boxes[0];
+  for (double margin : {0.0, 0.05}) {
+    const Vec3 lo = b.min - Vec3::Constant(margin), hi = b.max + Vec3::Constant(margin);
+    std::vector<Vec3> prev, cur;
+    while (prev.size() < 5000) {
+      const Vec3 p = random_point(rng, 3.0);
+      if ((p.array() > lo.array()).all() && (p.array() < hi.array()).all()) continue;
+      prev.push_back(p);
+      cur.push_back(p + random_point(rng, 4.0));
+    }
+    Cells cells = make_cells(cur, rng);
+    const Cells before = cells;
+    forms::apply_obstacles(cells, prev, o, margin);
+    int corrected = 0;
+    const Vec3 shrink = Vec3::Constant(1e-9);
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const Vec3& p = cells.position[i];
+      REQUIRE_FALSE(((p.array() > (lo + shrink).array()).all() && (p.array() < (hi - shrink).array()).all()));
+      REQUIRE_FALSE(segment_enters_box(prev[i], p, lo + shrink, hi - shrink));
+      if (p != before.position[i]) {
+        ++corrected;
+        CHECK(cells.velocity[i].norm() <= before.velocity[i].norm() + 1e-12);
+      }
+    }
+    CHECK(corrected > 60);
+  }
+}
+
+TEST_CASE("cells never cross a closed or an open mesh", "[forms][obstacles]") {
+  core::Rng rng(14);
+  const TriangleMesh ball = closed_sphere_mesh(Vec3(0.1, 0.2, -0.1), 1.3);
+  const TriangleMesh sheet = open_sheet(12, 2.5);
+  for (const TriangleMesh* mesh : {&ball, &sheet}) {
+    for (double margin : {0.0, 0.02}) {
+      Obstacles o;
+      o.meshes.push_back(*mesh);
+      std::vector<Vec3> prev, cur;
+      while (prev.size() < 3000) {
+        const Vec3 p = random_point(rng, 3.0);
+        if (distance_to_mesh(p, *mesh) < 1e-6) continue;
+        prev.push_back(p);
+        cur.push_back(p + random_point(rng, 3.0));
+      }
+      Cells cells = make_cells(cur, rng);
+      const Cells before = cells;
+      forms::apply_obstacles(cells, prev, o, margin);
+      int corrected = 0;
+      for (std::size_t i = 0; i < cells.size(); ++i) {
+        const Vec3& p = cells.position[i];
+        REQUIRE_FALSE(segment_hits_mesh(prev[i], p, *mesh));
+        if (mesh == &ball) REQUIRE(inside_closed_mesh(p, *mesh) == inside_closed_mesh(prev[i], *mesh));
+        if (p != before.position[i]) {
+          ++corrected;
+          // Backed off the surface (by the margin along the crossed triangle's normal; neighbouring
+          // triangles on a concave side may come closer).
+          CHECK(distance_to_mesh(p, *mesh) > 0);
+          CHECK(cells.velocity[i].norm() <= before.velocity[i].norm() + 1e-12);
+        } else {
+          CHECK(cells.velocity[i] == before.velocity[i]);
+        }
+      }
+      CHECK(corrected > 150);
+    }
+  }
+}
+
+TEST_CASE("cells pressed against a mesh with zero margin for many steps stay on their side", "[forms][obstacles]") {
+  core::Rng rng(18);
+  Obstacles o;
+  o.meshes.push_back(closed_sphere_mesh(Vec3::Zero(), 1.0));
+  const TriangleMesh& mesh = o.meshes[0];
+  const forms::PreparedObstacles prepared(o);
+  std::vector<Vec3> start;
+  std::vector<bool> was_inside;
+  while (start.size() < 1000) {
+    const Vec3 p = rng.unit_vector() * rng.uniform(0.8, 1.2);
+    if (distance_to_mesh(p, mesh) < 1e-3) continue;
+    start.push_back(p);
+    was_inside.push_back(inside_closed_mesh(p, mesh));
+  }
+  Cells cells = make_cells(start, rng);
+  for (int step = 0; step < 100; ++step) {
+    const std::vector<Vec3> prev = cells.position;
+    // Push every cell towards the surface, with some jitter, so most end up resting on it.
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const double towards = was_inside[i] ? 1.0 : -1.0;
+      cells.position[i] += 0.05 * towards * cells.position[i].normalized() + random_point(rng, 0.02);
+    }
+    prepared.apply(cells, prev, 0.0);
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      REQUIRE_FALSE(segment_hits_mesh(prev[i], cells.position[i], mesh));
+      REQUIRE(inside_closed_mesh(cells.position[i], mesh) == was_inside[i]);
+    }
+  }
+}
+
+TEST_CASE("all obstacle kinds together, repeated steps, fixed cells untouched", "[forms][obstacles]") {
+  core::Rng rng(15);
+  Obstacles o;
+  o.half_spaces.push_back({Vec3(0, 0, -2.0), Vec3::UnitZ()});
+  o.spheres.push_back({Vec3(1.5, 0, -1.0), 0.8});
+  o.boxes.push_back({Vec3(-2.5, -1, -2.0), Vec3(-1.0, 1, -0.5)});
+  o.meshes.push_back(open_sheet(10, 3.0));  // z in [-0.3, 0.3], above the solids
+  o.meshes.push_back(closed_sphere_mesh(Vec3(0, 2.0, 1.5), 0.6));
+  const forms::PreparedObstacles prepared(o);
+  const double margin = 0.03;
+
+  // Start valid: above the ground and outside solids.
+  std::vector<Vec3> start;
+  while (start.size() < 2000) {
+    const Vec3 p = random_point(rng, 3.0);
+    if (prepared.inside_solid(p, margin)) continue;
+    start.push_back(p);
+  }
+  Cells cells = make_cells(start, rng);
+  for (std::size_t i = 0; i < cells.size(); i += 10) cells.fixed[i] = 1;
+  const Cells initial = cells;
+  for (int step = 0; step < 20; ++step) {
+    const std::vector<Vec3> prev = cells.position;
+    for (std::size_t i = 0; i < cells.size(); ++i) cells.position[i] += random_point(rng, 1.0);
+    for (std::size_t i = 0; i < cells.size(); i += 10) cells.position[i] = prev[i];  // as the integrator does
+    prepared.apply(cells, prev, margin);
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const Vec3& p = cells.position[i];
+      REQUIRE_FALSE(prepared.inside_solid(p, margin));
+      for (const auto& m : o.meshes) REQUIRE_FALSE(segment_hits_mesh(prev[i], p, m));
+      REQUIRE(p.z() >= -2.0 + margin - kTol);
+    }
+  }
+  for (std::size_t i = 0; i < cells.size(); i += 10) {
+    CHECK(cells.position[i] == initial.position[i]);
+    CHECK(cells.velocity[i] == initial.velocity[i]);
+  }
+}
+
+TEST_CASE("obstacles give bitwise identical results with 1 and 2 threads", "[forms][obstacles]") {
+  core::Rng rng(16);
+  Obstacles o;
+  o.half_spaces.push_back({Vec3(0, 0, -2.0), Vec3::UnitZ()});
+  o.spheres.push_back({Vec3(1.5, 0, -1.0), 0.8});
+  o.meshes.push_back(open_sheet(20, 3.0));
+  std::vector<Vec3> prev, cur;
+  for (int i = 0; i < 20000; ++i) {
+    prev.push_back(random_point(rng, 3.0));
+    cur.push_back(prev.back() + random_point(rng, 1.0));
+  }
+  Cells a = make_cells(cur, rng);
+  Cells b = a;
+  forms::apply_obstacles(a, prev, o, 0.01, 1);
+  forms::apply_obstacles(b, prev, o, 0.01, 2);
+  CHECK(a.position == b.position);
+  CHECK(a.velocity == b.velocity);
+}
+
+TEST_CASE("mesh crossings are fast for 1e5 cells and 2e4 triangles", "[forms][obstacles][slow]") {
+  core::Rng rng(17);
+  Obstacles o;
+  o.meshes.push_back(open_sheet(100, 50.0));  // 20000 triangles, cells about one unit apart
+  std::vector<Vec3> prev, cur;
+  for (int i = 0; i < 100000; ++i) {
+    prev.emplace_back(rng.uniform(-50, 50), rng.uniform(-50, 50), rng.uniform(-2, 2));
+    cur.push_back(prev.back() + random_point(rng, 0.5));
+  }
+  Cells cells = make_cells(cur, rng);
+  const forms::PreparedObstacles prepared(o);
+  const auto t0 = std::chrono::steady_clock::now();
+  prepared.apply(cells, prev, 0.01, 1);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  CHECK(seconds < 2.0);  // about 0.05 s on one core; brute force would be ~2e9 triangle tests
+  for (std::size_t i = 0; i < cells.size(); i += 97) REQUIRE_FALSE(segment_hits_mesh(prev[i], cells.position[i], o.meshes[0]));
+}
+
+TEST_CASE("load_mesh reads ASCII STL, binary STL and OBJ", "[forms][mesh_io]") {
+  const fs::path dir = temp_dir("load");
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0), d(0, 0, 1);
+  const std::vector<std::array<Vec3, 3>> tet = {{a, c, b}, {a, b, d}, {a, d, c}, {b, c, d}};
+
+  std::string ascii = "solid tet\n";
+  for (const auto& t : tet) {
+    ascii += "facet normal 0 0 0\n outer loop\n";
+    for (const Vec3& v : t) ascii += "  vertex " + std::to_string(v.x()) + " " + std::to_string(v.y()) + " " + std::to_string(v.z()) + "\n";
+    ascii += " endloop\nendfacet\n";
+  }
+  ascii += "endsolid tet\n";
+  write_text(dir / "tet_ascii.stl", ascii);
+  write_text(dir / "tet_binary.STL", binary_stl(tet));
+  // OBJ with a quad (split into two triangles), a comment, and negative (relative) indices.
+  write_text(dir / "quad.obj",
+             "# a unit square and a triangle\nv 0 0 0\nv 2 0 0\nv 2 3 0\nv 0 3 0\nv 1 1 5\nf 1 2 3 4\nf -5 -4 -1\n");
+
+  for (const char* name : {"tet_ascii.stl", "tet_binary.STL"}) {
+    INFO(name);
+    const TriangleMesh m = forms::load_mesh(dir / name);
+    REQUIRE(m.triangles.size() == 4);
+    // Same triangles, corner by corner, whatever the vertex numbering.
+    for (std::size_t t = 0; t < 4; ++t)
+      for (int k = 0; k < 3; ++k) CHECK((m.vertices[m.triangles[t][k]] - tet[t][k]).norm() < 1e-6);
+    // A closed tetrahedron: stops a cell moving from inside to outside.
+    Obstacles o;
+    o.meshes.push_back(m);
+    core::Rng rng(3);
+    Cells cells = make_cells({Vec3(2, 2, 2)}, rng);
+    forms::apply_obstacles(cells, {Vec3(0.1, 0.1, 0.1)}, o, 0.01);
+    CHECK(cells.position[0].sum() < 1.0);
+  }
+
+  const TriangleMesh q = forms::load_mesh(dir / "quad.obj");
+  REQUIRE(q.vertices.size() == 5);
+  REQUIRE(q.triangles.size() == 3);
+  CHECK(q.vertices[2] == Vec3(2, 3, 0));
+  CHECK(q.vertices[4] == Vec3(1, 1, 5));
+  double area = 0;
+  for (std::size_t t = 0; t < 2; ++t) {
+    const auto& tr = q.triangles[t];
+    area += 0.5 * (q.vertices[tr[1]] - q.vertices[tr[0]]).cross(q.vertices[tr[2]] - q.vertices[tr[0]]).norm();
+  }
+  CHECK(area == Approx(6.0));
+  CHECK(q.triangles[2] == std::array<core::Index, 3>{0, 1, 4});
+  fs::remove_all(dir);
+}
+
+TEST_CASE("load_mesh keeps non-manifold triangles", "[forms][mesh_io]") {
+  const fs::path dir = temp_dir("nonmanifold");
+  // Three triangles on one edge: a half-edge mesh would drop one of them.
+  write_text(dir / "fin.obj", "v 0 0 0\nv 0 0 1\nv 1 0 0\nv -1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\nf 1 2 5\n");
+  CHECK(forms::load_mesh(dir / "fin.obj").triangles.size() == 3);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("load_mesh errors name the file and the problem", "[forms][mesh_io]") {
+  const fs::path dir = temp_dir("errors");
+  const fs::path missing = dir / "missing.stl";
+  CHECK_THROWS_AS(forms::load_mesh(missing), core::FileError);
+  CHECK_THROWS_WITH(forms::load_mesh(missing), Catch::Contains("missing.stl") && Catch::Contains("does not exist"));
+
+  write_text(dir / "empty.obj", "");
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "empty.obj"), Catch::Contains("empty.obj") && Catch::Contains("not a mesh"));
+
+  write_text(dir / "points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+  CHECK_THROWS_AS(forms::load_mesh(dir / "points.obj"), core::InvalidInput);
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "points.obj"), Catch::Contains("points.obj") && Catch::Contains("not a mesh"));
+
+  write_text(dir / "garbage.stl", "this is not\nan STL file at all\n\x01\x02\x03");
+  CHECK_THROWS_AS(forms::load_mesh(dir / "garbage.stl"), core::InvalidInput);
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "garbage.stl"), Catch::Contains("garbage.stl"));
+
+  write_text(dir / "bad_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "bad_index.obj"), Catch::Contains("bad_index.obj"));
+
+  const double nan = std::nan("");
+  write_text(dir / "nan.stl", binary_stl({{Vec3(0, 0, 0), Vec3(1, nan, 0), Vec3(0, 1, 0)}}));
+  CHECK_THROWS_AS(forms::load_mesh(dir / "nan.stl"), core::InvalidInput);
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "nan.stl"), Catch::Contains("nan.stl") && Catch::Contains("non-finite"));
+
+  write_text(dir / "nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "nan.obj"), Catch::Contains("nan.obj") && Catch::Contains("NaN"));
+
+  std::string truncated = binary_stl({{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}});
+  truncated.resize(truncated.size() - 20);
+  write_text(dir / "truncated.stl", truncated);
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "truncated.stl"),
+                    Catch::Contains("truncated.stl") && Catch::Contains("damaged binary STL"));
+
+  write_text(dir / "mesh.ply", "ply\n");
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "mesh.ply"), Catch::Contains("mesh.ply") && Catch::Contains(".obj"));
+
+  CHECK_THROWS_AS(forms::load_mesh(dir), core::InvalidInput);  // no extension: unsupported format
+  fs::create_directories(dir / "folder.stl");
+  CHECK_THROWS_AS(forms::load_mesh(dir / "folder.stl"), core::FileError);
+  fs::remove_all(dir);
+}

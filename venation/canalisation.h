@@ -1,0 +1,86 @@
+// Auxin-flux canalisation inside the cell system (cell-division venation paper, "Venation Growth").
+#pragma once
+
+#include <cstdint>
+#include <array>
+#include <functional>
+#include <vector>
+
+#include "cells/cells.h"
+
+namespace cellform::venation {
+
+using cells::Cells;
+using core::Index;
+using core::kNoIndex;
+using core::Vec3;
+
+/// Parameters of canalisation. Flows are in units of auxin per step (one general cell makes `source`).
+struct Params {
+  double threshold = 40.0;     ///< flow a cell next to a vein must exceed to become a vein cell (≈ upstream cells); sets vein spacing
+  double source = 1.0;         ///< auxin each cell produces per step (every cell is an equal source)
+  double murray_exponent = 3;  ///< n of Murray's law r_parent^n = sum r_child^n (2 or 3 typical)
+  double radius_scale = 0.05;  ///< model units: radius of a vein carrying unit flow; r = radius_scale * flow^(1/n)
+  double min_radius = 0.05;    ///< model units: no vein is thinner
+};
+
+/// Throws core::InvalidInput naming "venation.<name>" and what is allowed.
+void validate(const Params& params);
+
+/// Per-cell source strength; empty = params.source for every cell. Must return a finite number >= 0.
+using SourceRule = std::function<double(const Cells&, Index)>;
+
+/// What one canalisation step did.
+struct Report {
+  std::size_t promoted = 0;      ///< cells that became vein cells this step
+  std::size_t vein_cells = 0;    ///< vein cells after the step (petioles not counted)
+  double total_source = 0;       ///< auxin produced by the cells connected to a petiole
+  double petiole_inflow = 0;     ///< auxin arriving at all petioles (equals total_source)
+  std::size_t unconnected = 0;   ///< cells with no path to any petiole (their auxin goes nowhere)
+};
+
+/// Scratch kept between steps so a step allocates nothing once warm.
+struct Workspace {
+  std::vector<Index> adj_start, adj;  // symmetric link graph (CSR)
+  std::vector<std::int32_t> layer;
+  std::vector<Index> order, frontier, next;
+  std::vector<double> source, key;
+  std::vector<Index> downstream;
+};
+
+/// Names of the per-cell attributes canalisation maintains in Cells::attributes.
+inline constexpr const char* kFlow = "flow";            ///< auxin flow through the cell (per step)
+inline constexpr const char* kRadius = "vein_radius";   ///< Murray radius of vein cells, model units (0 elsewhere)
+inline constexpr const char* kOrder = "vein_order";     ///< 1 = primary, 2 = secondary, ... (0 = not a vein)
+inline constexpr const char* kFlowX = "flow_dx";        ///< unit direction of the flow (towards downstream)
+inline constexpr const char* kFlowY = "flow_dy";
+inline constexpr const char* kFlowZ = "flow_dz";
+
+/// One step of canalisation, in the paper's two phases, in time linear in the number of cells and links.
+///  1. Towards the veins: starting at the cells adjacent to a vein and moving outward layer by layer
+///     (breadth first over the links), each cell picks as downstream the neighbour of the previous
+///     layer with the largest flow so far (for the first layer: the neighbouring vein cell with the
+///     largest vein flow of the previous step); ties go to the smaller index. Its auxin is added to
+///     that neighbour and, transitively, to everything downstream.
+///  2. Through the veins: flows accumulate from the vein tips to the petioles.
+/// Then every cell adjacent to a vein whose flow exceeds the threshold becomes a vein cell whose vein
+/// parent is its downstream vein cell. Petiole cells are the sinks and roots of the vein forest.
+/// Writes the attributes above. Throws core::InvalidInput if there is no petiole, or a source rule
+/// returns a negative or non-finite value (naming the cell id).
+Report canalise(Cells& cells, const Params& params, const SourceRule& source, Workspace& workspace);
+
+/// Radius from flow: max(min_radius, radius_scale * flow^(1/n)). With the flow additive along the vein
+/// tree, r_parent^n = sum of r_child^n over every inflow (vein children and the cells draining in).
+double murray_radius(double flow, const Params& params);
+
+/// The vein graph as a polyline set: nodes are vein and petiole cells, edges join each to its parent.
+struct VeinGraph {
+  std::vector<Index> cell;  ///< node -> cell index
+  std::vector<Vec3> position;
+  std::vector<double> flow, radius;
+  std::vector<int> order;
+  std::vector<std::array<std::uint32_t, 2>> edges;  ///< (child node, parent node)
+};
+VeinGraph vein_graph(const Cells& cells);
+
+}  // namespace cellform::venation
