@@ -15,6 +15,7 @@
 #include "core/chunk_file.h"
 #include "core/errors.h"
 #include "export/cell_files.h"
+#include "export/vein_files.h"
 
 #ifndef CELLFORM_VERSION
 #define CELLFORM_VERSION "0.0.0"
@@ -115,8 +116,20 @@ void write_checkpoint(const fs::path& path, const std::string& bytes) {
 }
 
 /// Writes the cell outputs of the current state into `dir`; returns their names.
-std::vector<std::string> write_outputs(const fs::path& dir, const OutputSpec& spec, const cells::Cells& c) {
+std::vector<std::string> write_outputs(const fs::path& dir, const OutputSpec& spec, const cells::Cells& c,
+                                       bool veins) {
   std::vector<std::string> names;
+  if (veins) {
+    const venation::VeinGraph g = venation::vein_graph(c);
+    if (spec.ply) {
+      exporters::write_veins_ply(dir / "veins.ply", g, c);
+      names.push_back("veins.ply");
+    }
+    if (spec.obj) {
+      exporters::write_veins_obj(dir / "veins.obj", g);
+      names.push_back("veins.obj");
+    }
+  }
   const cells::Surface surface = cells::triangulate(c);
   if (spec.ply) {
     exporters::write_cells_ply(dir / "cells.ply", c, surface);
@@ -183,13 +196,16 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       sim.cells() = cells::load(s.cells_bytes, "checkpoint '" + o.checkpoint.string() + "'");
       sim.set_step_count(s.step);
     } else {
-      if (cfg.initial_cells.empty() && cfg.petioles.empty())
+      if (cfg.initial_cells.empty() && cfg.scene.petioles.empty())
         throw core::InvalidInput(s.script_path.string() +
                                  ": the script places no cells; start with a shape such as disc{radius = 3}");
       for (const InitialCell& c : cfg.initial_cells) cells::add_cell(sim.cells(), c.position, cells::CellType::general, c.fixed);
-      for (const PetioleSpec& p : cfg.petioles) forms::make_petiole(sim.cells(), p.at, p.fixed, cfg.scene.cells.rest_length);
+      scene->start();
     }
-    sim.rules() = host.rules();
+    const cells::Rules rules = host.rules();
+    if (rules.divides) sim.rules().divides = rules.divides;
+    if (rules.split_direction) sim.rules().split_direction = rules.split_direction;
+    scene->set_source_rule(host.source_rule());
   } catch (const InputError& e) {
     err << "cellform: " << e.what() << "\n";
     return usage;
@@ -260,7 +276,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     }
     progress.finish();
     const auto b = std::chrono::steady_clock::now();
-    for (const std::string& n : write_outputs(staging, cfg.output, sim.cells())) outputs.push_back(n);
+    for (const std::string& n : write_outputs(staging, cfg.output, sim.cells(), cfg.scene.venation.has_value())) outputs.push_back(n);
     write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
     const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - b).count();
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -275,6 +291,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                 {"status", status},
                 {"steps", {{"first", first}, {"completed", sim.step_count()}, {"target", target}}},
                 {"cells", {{"initial", initial_cells}, {"final", sim.cells().size()}}},
+                {"veins", {{"vein_cells", scene->venation_report().vein_cells},
+                           {"petiole_inflow", scene->venation_report().petiole_inflow},
+                           {"unconnected_cells", scene->venation_report().unconnected}}},
                 {"overrides", s.sets},
                 {"parameters", cfg.resolved},
                 {"timings", {{"total_s", total},

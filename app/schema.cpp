@@ -69,8 +69,8 @@ std::vector<Field> build() {
   f.push_back(integer("division", "min_neighbours", "6", 1, 1000, "cells", "trigger = neighbours: divide when fewer cells than this are within radius"));
   f.push_back(integer("division", "min_age", "5", 0, 1e9, "steps", "a cell waits this long after its birth or division"));
   f.push_back(num("division", "probability", "1", 0, 1, true, "0..1", "chance that a triggered cell divides this step (seeded)"));
-  f.push_back(choice("division", "direction", Kind::choice_or_function, "random", "random|axis|radial|circumferential",
-                     "split direction; or function(cell) returning {x, y, z}"));
+  f.push_back(choice("division", "direction", Kind::choice_or_function, "random", "random|axis|radial|circumferential|auxin",
+                     "split direction (auxin: along the local auxin flow); or function(cell) returning {x, y, z}"));
   f.push_back(vec("division", "axis", "{1, 0, 0}", -kInf, kInf, "direction", "split axis (axis, circumferential)"));
   f.push_back(vec("division", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "field centre (radial, circumferential)"));
   f.push_back(integer("division", "max_cells", "100000", 1, 5e7, "cells", "growth stops at this many cells"));
@@ -97,6 +97,14 @@ std::vector<Field> build() {
   f.push_back(boolean("cell", "fixed", "false", "a fixed (static) cell never moves"));
   f.push_back(vec("petiole", "at", "{0, 0, 0}", -kInf, kInf, "model units", "the nearest cell becomes a petiole (a new one if none is near)"));
   f.push_back(boolean("petiole", "fixed", "true", "the petiole stays where it is"));
+  f.push_back(integer("petiole", "step", "0", 0, 1e9, "steps", "when the petiole appears (0 = at the start)"));
+
+  // venation{}
+  f.push_back(num("venation", "threshold", "40", 0, kInf, true, "auxin units", "flow a cell next to a vein must exceed to become a vein cell (about its upstream cells); sets vein spacing"));
+  f.push_back(Field{"venation", "source", Kind::number_or_function, "1", 0, kInf, false, "", "auxin per step", "auxin every cell produces; or function(cell) returning it"});
+  f.push_back(num("venation", "murray_exponent", "3", 1, 4, false, "", "n of Murray's law r_parent^n = sum r_child^n"));
+  f.push_back(num("venation", "radius_scale", "0.05", 0, kInf, true, "model units", "radius of a vein carrying unit flow: r = radius_scale * flow^(1/n)"));
+  f.push_back(num("venation", "min_radius", "0.05", 0, kInf, false, "model units", "no vein is thinner"));
 
   // constraints
   f.push_back(num("ground", "height", "0", -kInf, kInf, false, "model units", "cells stay above the plane z = height"));
@@ -114,7 +122,7 @@ std::vector<Field> build() {
 
   // output{}
   f.push_back(boolean("output", "ply", "true", "write cells.ply (cells, triangles, links, per-cell attributes)"));
-  f.push_back(boolean("output", "obj", "true", "write cells.obj (the cell surface)"));
+  f.push_back(boolean("output", "obj", "true", "write cells.obj (the cell surface) and, with venation, veins.obj"));
   f.push_back(integer("output", "every", "0", 0, 1e9, "steps", "also write frames/cells_NNNNNN.ply every this many steps (0 = none)"));
   f.push_back(integer("output", "checkpoint_every", "1000", 0, 1e9, "steps", "write checkpoint.cfck every this many steps (0 = only at the end)"));
   return f;
@@ -165,6 +173,11 @@ std::string allowed_text(const Field& f) {
     case Kind::choice: s << "one of " << f.choices; break;
     case Kind::choice_or_function: s << "one of " << f.choices << ", or a function"; break;
     case Kind::function: s << "a function"; break;
+    case Kind::number_or_function:
+      s << "a number";
+      if (f.min > -1e299) s << " >= " << number(f.min);
+      s << ", or a function";
+      break;
     case Kind::table: s << "a table"; break;
   }
   return s.str();

@@ -7,7 +7,7 @@
 namespace cellform::app {
 
 /// What kind of value a parameter takes.
-enum class Kind { number, integer, boolean, vec3, text, choice, function, choice_or_function, table };
+enum class Kind { number, integer, boolean, vec3, text, choice, function, choice_or_function, number_or_function, table };
 
 /// One parameter of one script function (a "section" such as cells{} or division{}).
 struct Field {

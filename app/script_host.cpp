@@ -94,6 +94,7 @@ nlohmann::json to_json(const Field& f, const Value& v) {
     case Kind::choice: return v.str;
     case Kind::choice_or_function: return v.ref != LUA_NOREF ? std::string("<function>") : v.str;
     case Kind::function: return v.ref != LUA_NOREF ? nlohmann::json("<function>") : nlohmann::json();
+    case Kind::number_or_function: return v.ref != LUA_NOREF ? nlohmann::json("<function>") : nlohmann::json(v.num);
     case Kind::table: return nlohmann::json::object();
   }
   return {};
@@ -124,6 +125,7 @@ struct ScriptHost::Impl {
   // rule functions
   int divides_ref = LUA_NOREF;
   int direction_ref = LUA_NOREF;
+  int source_ref = LUA_NOREF;
   int cell_table_ref = LUA_NOREF;
 
   static void* alloc(void* ud, void* ptr, std::size_t osize, std::size_t nsize) {
@@ -228,6 +230,16 @@ struct ScriptHost::Impl {
         if (t != LUA_TSTRING) throw fail(got);
         v.str = lua_tostring(L, idx);
         break;
+      case Kind::number_or_function:
+        if (t == LUA_TFUNCTION) {
+          lua_pushvalue(L, idx);
+          v.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+        } else if (t == LUA_TNUMBER) {
+          v.num = lua_tonumber(L, idx);
+        } else {
+          throw fail(got);
+        }
+        break;
       case Kind::function:
         if (t != LUA_TFUNCTION) throw fail(got);
         lua_pushvalue(L, idx);
@@ -248,6 +260,7 @@ struct ScriptHost::Impl {
     switch (f.kind) {
       case Kind::number:
       case Kind::integer:
+      case Kind::number_or_function:
         if (!parse_double(text, v.num)) throw fail();
         break;
       case Kind::boolean:
@@ -274,7 +287,7 @@ struct ScriptHost::Impl {
       return !std::isfinite(x) || x < f.min || x > f.max || (f.min_exclusive && x <= f.min);
     };
     auto fail = [&](const std::string& got) { return InvalidInput(at + name + " must be " + allowed_text(f) + ", got " + got); };
-    if (f.kind == Kind::number || f.kind == Kind::integer) {
+    if (f.kind == Kind::number || f.kind == Kind::integer || (f.kind == Kind::number_or_function && v.ref == LUA_NOREF)) {
       std::ostringstream g;
       g << v.num;
       if (bad(v.num)) throw fail(g.str());
@@ -437,7 +450,9 @@ void section_division(Impl& I, const std::string& at) {
     d.direction = dir.str == "axis" ? cells::SplitDirection::axis
                   : dir.str == "radial" ? cells::SplitDirection::radial
                   : dir.str == "circumferential" ? cells::SplitDirection::circumferential
+                  : dir.str == "auxin"           ? cells::SplitDirection::rule
                                                  : cells::SplitDirection::random;
+    I.cfg->scene.split_along_auxin = dir.str == "auxin";
   }
   if ((d.direction == cells::SplitDirection::axis || d.direction == cells::SplitDirection::circumferential) &&
       d.axis.norm() == 0)
@@ -450,6 +465,19 @@ void section_run(Impl& I, const std::string& at) {
   Values v = I.read_section("run", 1, at, &I.cfg->resolved["run"]);
   I.cfg->steps = static_cast<std::uint64_t>(v["steps"].num);
   I.cfg->seed = static_cast<std::uint64_t>(v["seed"].num);
+}
+
+void section_venation(Impl& I, const std::string& at) {
+  I.once("venation", at);
+  Values v = I.read_section("venation", 1, at, &I.cfg->resolved["venation"]);
+  venation::Params p;
+  p.threshold = v["threshold"].num;
+  if (v["source"].ref != LUA_NOREF) I.source_ref = v["source"].ref;
+  else p.source = v["source"].num;
+  p.murray_exponent = v["murray_exponent"].num;
+  p.radius_scale = v["radius_scale"].num;
+  p.min_radius = v["min_radius"].num;
+  I.cfg->scene.venation = p;
 }
 
 void section_output(Impl& I, const std::string& at) {
@@ -514,6 +542,7 @@ int api_section(lua_State* L) {
       else if (section == "division") section_division(I, at);
       else if (section == "run") section_run(I, at);
       else if (section == "output") section_output(I, at);
+      else if (section == "venation") section_venation(I, at);
       else if (section == "disc" || section == "rectangle" || section == "sphere" || section == "line" ||
                section == "cell" || section == "petiole")
         section_shape(I, section, at);
@@ -614,7 +643,7 @@ namespace cellform::app {
 
 namespace {
 
-const char* const kSections[] = {"run",  "cells", "division", "output", "disc", "rectangle", "sphere", "line", "cell",
+const char* const kSections[] = {"run",  "cells", "division", "output", "venation", "disc", "rectangle", "sphere", "line", "cell",
                                  "petiole", "ground", "half_space", "ball", "box", "mesh", "attractor"};
 
 Vec3 unit_or(const Vec3& n, const Vec3& fallback) { return n.norm() > 0 ? Vec3(n.normalized()) : fallback; }
@@ -648,9 +677,10 @@ void build_shapes(Impl& I) {
         cfg.initial_cells.push_back({v["at"].vec, v["fixed"].flag});
         r["at"] = {v["at"].vec.x(), v["at"].vec.y(), v["at"].vec.z()};
       } else if (s.kind == "petiole") {
-        cfg.petioles.push_back({v["at"].vec, v["fixed"].flag});
+        cfg.scene.petioles.push_back({v["at"].vec, v["fixed"].flag, static_cast<std::uint64_t>(v["step"].num)});
         r["at"] = {v["at"].vec.x(), v["at"].vec.y(), v["at"].vec.z()};
         r["fixed"] = v["fixed"].flag;
+        r["step"] = v["step"].num;
       }
     } catch (const std::exception& e) {
       throw InvalidInput(s.where + s.kind + ": " + e.what());
@@ -862,6 +892,32 @@ cells::Rules ScriptHost::rules() {
     };
   }
   return r;
+}
+
+venation::SourceRule ScriptHost::source_rule() {
+  Impl* I = impl_.get();
+  if (I->source_ref == LUA_NOREF) return {};
+  return [this, I](const cells::Cells& c, core::Index i) {
+    lua_State* L = I->L;
+    lua_rawgeti(L, LUA_REGISTRYINDEX, I->source_ref);
+    fill_cell_table(*I, c, i, step_);
+    const std::string err = I->protected_call(1, 1, I->limits.rule_instructions);
+    auto where = [&] {
+      return " (in venation.source at step " + std::to_string(step_) + " for cell " + std::to_string(c.id[i]) + ")";
+    };
+    if (!err.empty()) throw InvalidInput(err + where());
+    if (lua_type(L, -1) != LUA_TNUMBER) {
+      const std::string got = luaL_typename(L, -1);
+      lua_pop(L, 1);
+      throw InvalidInput(I->script_name + ": venation.source must return a number >= 0, got " + got + where());
+    }
+    const double v = lua_tonumber(L, -1);
+    lua_pop(L, 1);
+    if (!std::isfinite(v) || v < 0)
+      throw InvalidInput(I->script_name + ": venation.source must return a finite number >= 0, got " +
+                         std::to_string(v) + where());
+    return v;
+  };
 }
 
 }  // namespace cellform::app

@@ -32,12 +32,6 @@ struct InitialCell {
   bool fixed = false;
 };
 
-/// A petiole request: the nearest cell to `at` becomes a petiole.
-struct PetioleSpec {
-  core::Vec3 at;
-  bool fixed = true;
-};
-
 /// What the script asked for.
 struct OutputSpec {
   bool ply = true;
@@ -50,7 +44,6 @@ struct OutputSpec {
 struct SceneConfig {
   forms::SceneDescription scene;
   std::vector<InitialCell> initial_cells;
-  std::vector<PetioleSpec> petioles;
   std::uint64_t steps = 200;
   std::uint64_t seed = 1;
   OutputSpec output;
@@ -77,6 +70,9 @@ class ScriptHost {
   /// Rule functions of the loaded script as cells::Rules (empty members where the script gave none).
   /// A rule that errors throws core::InvalidInput naming the rule, the step and the cell id.
   cells::Rules rules();
+
+  /// The venation source rule of the loaded script (empty if it gave a number).
+  venation::SourceRule source_rule();
 
   /// The step number that rule errors report.
   void set_step(std::uint64_t step) { step_ = step; }

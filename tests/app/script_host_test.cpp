@@ -3,7 +3,11 @@
 
 #include <catch2/catch.hpp>
 
+#include "app/schema.h"
 #include "core/errors.h"
+
+#include <fstream>
+#include <sstream>
 
 using cellform::app::Overrides;
 using cellform::app::ScriptHost;
@@ -49,7 +53,7 @@ TEST_CASE("a script sets parameters, shapes and defaults", "[script]") {
   // disc of radius 5 at spacing = rest length 2: the centre, one ring of 6, and part of the next
   REQUIRE(cfg.initial_cells.size() > 7);
   for (const auto& c : cfg.initial_cells) CHECK(c.position.norm() <= 5 + 1e-9);
-  REQUIRE(cfg.petioles.size() == 1);
+  REQUIRE(cfg.scene.petioles.size() == 1);
   CHECK(cfg.resolved["cells"]["time_step"] == 0.1);  // every resolved parameter is recorded
   CHECK(cfg.resolved["division"]["probability"] == 1.0);
 }
@@ -173,4 +177,12 @@ TEST_CASE("rule functions run per cell and report errors with step and cell", "[
   ScriptHost loop(tight);
   loop.load("division { rule = function(cell) while true do end end }", "loop.lua", {});
   CHECK_THROWS_WITH(loop.rules().divides(c, 0), Contains("instruction budget"));
+}
+
+TEST_CASE("docs/scripting.md documents every parameter as the program knows it", "[script][docs]") {
+  std::ifstream in(std::string(CELLFORM_SOURCE_DIR) + "/docs/scripting.md");
+  std::stringstream s;
+  s << in.rdbuf();
+  // the reference tables are `cellform params` output pasted verbatim; regenerate them when this fails
+  CHECK_THAT(s.str(), Contains(cellform::app::schema_markdown()));
 }
