@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "core/errors.h"
+#include "core/parallel.h"
 
 namespace cellform::core {
 
@@ -53,16 +54,19 @@ std::uint64_t spread_bits(std::uint64_t v) {
 long PointGrid::coord(double v) const {
   // clamp so that huge, infinite or NaN coordinates cannot overflow the conversion (undefined behaviour)
   constexpr double kLimit = 1e15;
-  const double c = std::floor(v * inv_cell_);
+  const double c = std::floor(v * inv_cell_ + 0.5);  // cells are centred on multiples of the size
   if (!(c > -kLimit)) return static_cast<long>(-kLimit);
   if (!(c < kLimit)) return static_cast<long>(kLimit);
   return static_cast<long>(c);
 }
 
+// Blocks of 4 x 4 x 4 grid cells are hashed; the 64 cells of a block occupy consecutive buckets, so a
+// query's 3 x 3 x 3 neighbourhood touches a few contiguous runs of the table instead of 27 random ones.
 std::size_t PointGrid::bucket_of(long ix, long iy, long iz) const {
-  const auto h = static_cast<std::uint64_t>(ix) * 73856093ull ^ static_cast<std::uint64_t>(iy) * 19349663ull ^
-                 static_cast<std::uint64_t>(iz) * 83492791ull;
-  return static_cast<std::size_t>(h) & mask_;
+  const auto h = static_cast<std::uint64_t>(ix >> 2) * 73856093ull ^ static_cast<std::uint64_t>(iy >> 2) * 19349663ull ^
+                 static_cast<std::uint64_t>(iz >> 2) * 83492791ull;
+  const auto local = static_cast<std::size_t>((ix & 3) | (iy & 3) << 2 | (iz & 3) << 4);
+  return ((static_cast<std::size_t>(h) << 6) | local) & mask_;
 }
 
 void PointGrid::build(std::span<const Vec3> points, double cell_size) {
@@ -71,8 +75,9 @@ void PointGrid::build(std::span<const Vec3> points, double cell_size) {
   points_ = points;
   cell_size_ = cell_size;
   inv_cell_ = 1.0 / cell_size;
-  std::size_t buckets = 16;
-  while (buckets < 2 * points.size()) buckets *= 2;
+  // about four buckets per point: blocks on a sheet are only partly filled
+  std::size_t buckets = 64;
+  while (buckets < 4 * points.size()) buckets *= 2;
   mask_ = buckets - 1;
   start_.assign(buckets + 1, 0);
   std::vector<Index> bucket(points.size());
@@ -83,50 +88,187 @@ void PointGrid::build(std::span<const Vec3> points, double cell_size) {
   }
   for (std::size_t b = 0; b < buckets; ++b) start_[b + 1] += start_[b];
   order_.resize(points.size());
-  std::vector<Index> fill(start_.begin(), start_.end() - 1);
-  for (std::size_t i = 0; i < points.size(); ++i) order_[fill[bucket[i]]++] = static_cast<Index>(i);
+  for (std::size_t i = 0; i < points.size(); ++i) order_[start_[bucket[i]]++] = static_cast<Index>(i);
+  // the fill above advanced every start to the next bucket's start: shift back
+  for (std::size_t b = buckets; b > 0; --b) start_[b] = start_[b - 1];
+  start_[0] = 0;
 }
 
 int PointGrid::nearest(const Vec3& q, Index self, int k, Index* out, double* out_d2) const {
   TopK top{out, out_d2, k};
   if (k <= 0) return 0;
-  const long cx = coord(q.x()), cy = coord(q.y()), cz = coord(q.z());
-  auto scan_cell = [&](long ix, long iy, long iz) {
-    const std::size_t b = bucket_of(ix, iy, iz);
+  const long c[3] = {coord(q.x()), coord(q.y()), coord(q.z())};
+  // distance from q to the low and high faces of its own grid cell, per axis
+  double lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = std::max(0.0, q[a] - (static_cast<double>(c[a]) - 0.5) * cell_size_);
+    hi[a] = std::max(0.0, (static_cast<double>(c[a]) + 0.5) * cell_size_ - q[a]);
+  }
+  const double face = std::min({lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]});
+  // distance along axis a from q to the slab of cells at offset d
+  auto axis_gap = [&](int a, long d) {
+    if (d > 0) return static_cast<double>(d - 1) * cell_size_ + hi[a];
+    if (d < 0) return static_cast<double>(-d - 1) * cell_size_ + lo[a];
+    return 0.0;
+  };
+  // a cell is skipped only if it is clearly farther than the k-th best (margin for rounding in coord())
+  constexpr double kMargin = 1e-9;
+  auto too_far = [&](double gap2) { return top.n == k && gap2 > top.worst() * (1 + kMargin); };
+  auto scan_cell = [&](long dx, long dy, long dz, double gap2_xy) {
+    const double gz = axis_gap(2, dz);
+    if (too_far(gap2_xy + gz * gz)) return;
+    const std::size_t b = bucket_of(c[0] + dx, c[1] + dy, c[2] + dz);
     for (Index s = start_[b]; s < start_[b + 1]; ++s) {
       const Index i = order_[s];
       if (i == self) continue;
       top.offer(i, (points_[i] - q).squaredNorm());
     }
   };
+  auto brute_force = [&] {
+    for (std::size_t i = 0; i < points_.size(); ++i)
+      if (static_cast<Index>(i) != self) top.offer(static_cast<Index>(i), (points_[i] - q).squaredNorm());
+    return top.n;
+  };
+  const std::size_t available = points_.size() - (self < points_.size() ? 1 : 0);
+  if (available <= static_cast<std::size_t>(k)) return brute_force();  // every point is a result
   for (long s = 0;; ++s) {
-    if (s > kMaxShell) {  // sparse outlier: finish by brute force
-      for (std::size_t i = 0; i < points_.size(); ++i)
-        if (static_cast<Index>(i) != self) top.offer(static_cast<Index>(i), (points_[i] - q).squaredNorm());
-      return top.n;
-    }
-    // visit the shell of cells at Chebyshev distance exactly s from the centre cell
-    for (long dx = -s; dx <= s; ++dx)
+    if (s > kMaxShell) return brute_force();  // sparse outlier
+    // visit the shell of cells at Chebyshev distance exactly s from the centre cell, skipping whole
+    // slabs and rows that lie beyond the current k-th distance
+    for (long dx = -s; dx <= s; ++dx) {
+      const double gx = axis_gap(0, dx);
+      if (too_far(gx * gx)) continue;
       for (long dy = -s; dy <= s; ++dy) {
+        const double gy = axis_gap(1, dy);
+        const double gxy = gx * gx + gy * gy;
+        if (too_far(gxy)) continue;
         const bool edge = std::abs(dx) == s || std::abs(dy) == s;
         if (edge) {
-          for (long dz = -s; dz <= s; ++dz) scan_cell(cx + dx, cy + dy, cz + dz);
+          for (long dz = -s; dz <= s; ++dz) scan_cell(dx, dy, dz, gxy);
         } else {
-          scan_cell(cx + dx, cy + dy, cz - s);
-          if (s > 0) scan_cell(cx + dx, cy + dy, cz + s);
+          scan_cell(dx, dy, -s, gxy);
+          if (s > 0) scan_cell(dx, dy, s, gxy);
         }
       }
-    // every point within s * cell_size of q lies in the scanned cube
-    const double covered = static_cast<double>(s) * cell_size_;
-    const std::size_t available = points_.size() - (self < points_.size() ? 1 : 0);
-    if (top.n == k && top.worst() <= covered * covered) return top.n;
-    if (static_cast<std::size_t>(top.n) == available && available < static_cast<std::size_t>(k)) {
-      // all points may already be found, but only a full scan proves it; finish by brute force
-      for (std::size_t i = 0; i < points_.size(); ++i)
-        if (static_cast<Index>(i) != self) top.offer(static_cast<Index>(i), (points_[i] - q).squaredNorm());
-      return top.n;
     }
+    // every point outside the scanned cube is at least this far from q
+    const double bound = static_cast<double>(s) * cell_size_ + face;
+    if (top.n == k && top.worst() < bound * bound * (1 - kMargin)) return top.n;
   }
+}
+
+void PointGrid::nearest_all(int k, Index* out, int threads) const {
+  if (k <= 0) return;
+  const std::size_t n = points_.size();
+  const auto stride = static_cast<std::size_t>(k);
+  constexpr std::size_t kCapacity = 512;  // candidates gathered per grid cell; more falls back to nearest()
+  constexpr double kMargin = 1e-9;
+  // Slots of order_ are grouped by bucket, so consecutive slots mostly share a grid cell: the points of
+  // its 3 x 3 x 3 neighbourhood are gathered once and every query in the cell selects from them.
+  parallel_for(
+      n, threads,
+      [&](std::size_t begin, std::size_t end) {
+        std::vector<Index> cand(kCapacity), sel(kCapacity);
+        std::vector<Vec3> cand_pos(kCapacity);
+        std::vector<double> dist(kCapacity), scratch_d2(stride);
+        std::size_t count = 0;
+        bool overflow = false, have = false;
+        long cell[3] = {0, 0, 0};
+        for (std::size_t slot = begin; slot < end; ++slot) {
+          const Index i = order_[slot];
+          const Vec3& q = points_[i];
+          const long c[3] = {coord(q.x()), coord(q.y()), coord(q.z())};
+          Index* row = out + static_cast<std::size_t>(i) * stride;
+          if (!have || c[0] != cell[0] || c[1] != cell[1] || c[2] != cell[2]) {
+            // The 27 cells lie in at most 8 blocks; only if two of those blocks share a hash slot can a
+            // bucket repeat, and only then are repeated buckets looked for.
+            std::size_t slots[8];
+            int ns = 0;
+            for (long bx : {(c[0] - 1) >> 2, (c[0] + 1) >> 2})
+              for (long by : {(c[1] - 1) >> 2, (c[1] + 1) >> 2})
+                for (long bz : {(c[2] - 1) >> 2, (c[2] + 1) >> 2}) slots[ns++] = bucket_of(bx << 2, by << 2, bz << 2);
+            bool collide = false;
+            for (int x = 0; x < ns; ++x)
+              for (int y = x + 1; y < ns; ++y) {
+                // identical block coordinates give identical slots: not a collision
+                const bool same_block = ((x ^ y) & 4 ? ((c[0] - 1) >> 2) == ((c[0] + 1) >> 2) : true) &&
+                                        ((x ^ y) & 2 ? ((c[1] - 1) >> 2) == ((c[1] + 1) >> 2) : true) &&
+                                        ((x ^ y) & 1 ? ((c[2] - 1) >> 2) == ((c[2] + 1) >> 2) : true);
+                if (!same_block && slots[x] == slots[y]) collide = true;
+              }
+            std::size_t seen[27];
+            int nseen = 0;
+            count = 0;
+            overflow = false;
+            for (long dx = -1; dx <= 1; ++dx)
+              for (long dy = -1; dy <= 1; ++dy)
+                for (long dz = -1; dz <= 1; ++dz) {
+                  const std::size_t b = bucket_of(c[0] + dx, c[1] + dy, c[2] + dz);
+                  if (collide) {
+                    bool repeat = false;
+                    for (int j = 0; j < nseen; ++j) repeat = repeat || seen[j] == b;
+                    if (repeat) continue;
+                    seen[nseen++] = b;
+                  }
+                  const Index first = start_[b], last = start_[b + 1];
+                  if (count + (last - first) > kCapacity) {
+                    overflow = true;
+                    continue;
+                  }
+                  for (Index s = first; s < last; ++s) {
+                    cand[count] = order_[s];
+                    cand_pos[count] = points_[order_[s]];
+                    ++count;
+                  }
+                }
+            cell[0] = c[0], cell[1] = c[1], cell[2] = c[2];
+            have = true;
+          }
+          bool done = false;
+          if (!overflow) {
+            // Only points closer than `bound` can be accepted (farther ones may be beaten by points outside
+            // the gathered cube), so only those are kept and sorted.
+            double face = INFINITY;
+            for (int a = 0; a < 3; ++a) {
+              face = std::min(face, q[a] - (static_cast<double>(c[a]) - 0.5) * cell_size_);
+              face = std::min(face, (static_cast<double>(c[a]) + 0.5) * cell_size_ - q[a]);
+            }
+            const double bound = cell_size_ + std::max(0.0, face);
+            const double limit = bound * bound * (1 - kMargin);
+            std::size_t m = 0;
+            for (std::size_t j = 0; j < count; ++j) {
+              const double d = (cand_pos[j] - q).squaredNorm();
+              sel[m] = cand[j];
+              dist[m] = d;
+              m += (d < limit) & (cand[j] != i);  // branch-free compaction
+            }
+            if (m >= stride) {
+              // keep the k best by (distance, index) in the front of the arrays: insertion with early reject
+              std::size_t kept = 0;
+              for (std::size_t j = 0; j < m; ++j) {
+                const double d = dist[j];
+                const Index id = sel[j];
+                if (kept == stride && (d > dist[kept - 1] || (d == dist[kept - 1] && id > sel[kept - 1]))) continue;
+                std::size_t x = kept < stride ? kept++ : stride - 1;
+                while (x > 0 && (dist[x - 1] > d || (dist[x - 1] == d && sel[x - 1] > id))) {
+                  dist[x] = dist[x - 1];
+                  sel[x] = sel[x - 1];
+                  --x;
+                }
+                dist[x] = d;
+                sel[x] = id;
+              }
+              std::copy(sel.begin(), sel.begin() + static_cast<long>(stride), row);
+              done = true;
+            }
+          }
+          if (!done) {  // far neighbours, few points or a crowded cell: the general search
+            const int found = nearest(q, i, k, row, scratch_d2.data());
+            for (int j = found; j < k; ++j) row[j] = kNoIndex;
+          }
+        }
+      },
+      1024);
 }
 
 void PointGrid::within(const Vec3& q, double radius, Index self, std::vector<Index>& out) const {
@@ -163,13 +305,23 @@ int PointGrid::count_within(const Vec3& q, double radius, Index self) const {
 
 std::vector<Index> spatial_order(std::span<const Vec3> points, double cell_size) {
   if (points.empty()) return {};
-  Vec3 lo = points[0];
-  for (const Vec3& p : points) lo = lo.cwiseMin(p);
+  // non-finite points (a diverging run) are sorted last instead of converting NaN to an integer
+  Vec3 lo = Vec3::Constant(INFINITY);
+  for (const Vec3& p : points)
+    if (p.allFinite()) lo = lo.cwiseMin(p);
   std::vector<std::uint64_t> key(points.size());
+  constexpr double kMaxCell = 0x1fffff;  // 21 bits per axis
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const Vec3 c = ((points[i] - lo) / cell_size).array().floor();
-    key[i] = spread_bits(static_cast<std::uint64_t>(c.x())) | spread_bits(static_cast<std::uint64_t>(c.y())) << 1 |
-             spread_bits(static_cast<std::uint64_t>(c.z())) << 2;
+    if (!points[i].allFinite()) {
+      key[i] = ~0ull;
+      continue;
+    }
+    std::uint64_t k = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double c = std::min(kMaxCell, std::floor((points[i][a] - lo[a]) / cell_size));
+      k |= spread_bits(static_cast<std::uint64_t>(std::max(0.0, c))) << a;
+    }
+    key[i] = k;
   }
   std::vector<Index> perm(points.size());
   std::iota(perm.begin(), perm.end(), 0);

@@ -23,6 +23,12 @@ class PointGrid {
   /// and returns how many were found (fewer than k only when the set has fewer points).
   int nearest(const Vec3& query, Index self, int k, Index* out, double* out_d2) const;
 
+  /// nearest() for every indexed point, excluding the point itself: row i of `out` (k entries) holds the
+  /// k nearest of point i, padded with kNoIndex. Same results as calling nearest() per point, but the
+  /// candidates of a grid cell are gathered once for all points in it. Uses up to `threads` threads
+  /// (0 = all); each row is written by one thread only, so the result does not depend on the count.
+  void nearest_all(int k, Index* out, int threads) const;
+
   /// Number of points within `radius` of `query` (distance <= radius), not counting `self`.
   int count_within(const Vec3& query, double radius, Index self) const;
 
@@ -40,8 +46,8 @@ class PointGrid {
   double cell_size_ = 1.0;
   double inv_cell_ = 1.0;
   std::size_t mask_ = 0;
-  std::vector<Index> start_;   // bucket -> first slot in order_
-  std::vector<Index> order_;   // point indices grouped by bucket
+  std::vector<Index> start_;  // bucket -> first slot in order_
+  std::vector<Index> order_;  // point indices grouped by bucket
 };
 
 /// A permutation that sorts points along a Z-order (Morton) curve of grid cells of `cell_size`;

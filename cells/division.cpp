@@ -1,0 +1,105 @@
+// Cell proliferation (section "Cell Proliferation"): triggers, split directions, daughters.
+#include <Eigen/Geometry>  // cross products
+#include <cmath>
+#include <string>
+
+#include "cells/simulation.h"
+#include "core/errors.h"
+#include "core/parallel.h"
+#include "core/random.h"
+
+namespace cellform::cells {
+
+namespace {
+
+// Degenerate field directions (a cell at the centre or on the axis) fall back to a random one.
+Vec3 normalised_or_random(const Vec3& v, core::Rng& rng) {
+  const double n = v.norm();
+  if (n > 1e-12 && std::isfinite(n)) return v / n;
+  return rng.unit_vector();
+}
+
+Vec3 split_direction(const Cells& cells, const Params& params, const Rules& rules, Index i, core::Rng& rng) {
+  const DivisionParams& d = params.division;
+  switch (d.direction) {
+    case SplitDirection::random:
+      return rng.unit_vector();
+    case SplitDirection::axis:
+      return d.axis.normalized();
+    case SplitDirection::radial:
+      return normalised_or_random(cells.position[i] - d.centre, rng);
+    case SplitDirection::circumferential:
+      return normalised_or_random(d.axis.cross(cells.position[i] - d.centre), rng);
+    case SplitDirection::rule: {
+      if (!rules.split_direction)
+        throw core::InvalidInput("cells.division.direction is 'rule' but no split direction rule is set");
+      const Vec3 v = rules.split_direction(cells, i);
+      const double n = v.norm();
+      if (!(n > 0) || !std::isfinite(n))
+        throw core::InvalidInput("the split direction rule returned a zero or non-finite vector for cell " +
+                                 std::to_string(cells.id[i]));
+      return v / n;
+    }
+  }
+  return rng.unit_vector();
+}
+
+}  // namespace
+
+std::size_t divide(Cells& cells, const Params& params, const Rules& rules, std::uint64_t seed, std::uint64_t step,
+                   const core::PointGrid& grid, int threads) {
+  const DivisionParams& d = params.division;
+  const std::size_t n = cells.size();
+  for (auto& a : cells.age) ++a;
+  if (!rules.divides && d.trigger == DivisionTrigger::none) return 0;
+  if (n >= d.max_cells) return 0;
+
+  // The built-in triggers depend only on the state before this pass, so they are evaluated in
+  // parallel; the rule (possibly impure) and the divisions themselves run serially in index order.
+  thread_local std::vector<std::uint8_t> fires_storage;  // reused between steps
+  std::vector<std::uint8_t>& fires = fires_storage;      // the caller's copy, also inside worker threads
+  fires.assign(n, 0);
+  if (!rules.divides) {
+    core::parallel_for(n, threads, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const std::uint32_t age = cells.age[i];
+        if (age < d.min_age) continue;
+        if (d.trigger == DivisionTrigger::age) {
+          fires[i] = age >= d.division_age;
+        } else {
+          fires[i] = grid.count_within(cells.position[i], d.radius, static_cast<Index>(i)) < d.min_neighbours;
+        }
+      }
+    });
+  }
+
+  const std::size_t stride = static_cast<std::size_t>(cells.link_stride);
+  std::size_t divisions = 0;
+  for (std::size_t i = 0; i < n && cells.size() < d.max_cells; ++i) {
+    const auto mother = static_cast<Index>(i);
+    if (rules.divides ? !rules.divides(cells, mother) : !fires[i]) continue;
+    core::Rng rng(core::stream_key(seed, step, cells.id[i]));
+    const double draw = rng.uniform();  // drawn always, so directions do not depend on the probability
+    if (d.probability < 1 && !(draw < d.probability)) continue;
+    const Vec3 dir = split_direction(cells, params, rules, mother, rng);
+
+    const Vec3 pos = cells.position[i] + (0.5 * params.rest_length) * dir;
+    cells.position.push_back(pos);
+    cells.velocity.push_back(Vec3(cells.velocity[i]));
+    cells.acceleration.push_back(Vec3(cells.acceleration[i]));
+    cells.age[i] = 0;
+    cells.age.push_back(0);
+    cells.generation[i] += 1;
+    cells.generation.push_back(cells.generation[i]);
+    cells.type.push_back(CellType::general);
+    cells.fixed.push_back(0);
+    cells.id.push_back(cells.next_id++);
+    cells.vein_parent.push_back(kNoIndex);
+    for (std::size_t j = 0; j < stride; ++j) cells.links.push_back(cells.links[i * stride + j]);
+    for (auto& [name, values] : cells.attributes) values.push_back(values[i]);
+    ++divisions;
+  }
+  return divisions;
+}
+
+}  // namespace cellform::cells

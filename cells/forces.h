@@ -1,0 +1,62 @@
+// The intercellular force terms (Eqs. 2-5 of the cell-division venation paper) as pure per-cell kernels.
+#pragma once
+
+#include <Eigen/Geometry>  // cross products
+#include <span>
+#include <vector>
+
+#include "cells/cells.h"
+#include "cells/params.h"
+
+namespace cellform::cells {
+
+/// Eq. 2, spring towards the rest length, unweighted: (1/n) sum_r (|P_r - C| - d) (P_r - C) / |P_r - C|
+/// over the cells `neighbours` (indices into `positions`). A compressed pair pushes apart, a stretched
+/// pair pulls together (the printed formula lost its signs; this is what the paper's text says).
+/// A neighbour at exactly the position of C pushes C along -x if its index is larger than `self`, +x
+/// otherwise, so coincident cells separate symmetrically instead of producing NaN.
+Vec3 spring_kernel(std::span<const Vec3> positions, Index self, std::span<const Index> neighbours, double rest_length);
+
+/// Eq. 3, planarisation, unweighted: -((C - P1) . u) u, the vector from C to the plane through P1, P2, P3
+/// (u its unit normal). Zero when the three points are (nearly) collinear or coincident.
+Vec3 planar_kernel(const Vec3& c, const Vec3& p1, const Vec3& p2, const Vec3& p3);
+
+/// Eq. 4, cohesion, unweighted: (1/n) sum_r (P_r - C) / |P_r - C|^2. Coincident neighbours are skipped
+/// (they still count in n). Units: 1 / model unit.
+Vec3 cohesion_kernel(std::span<const Vec3> positions, Index self, std::span<const Index> neighbours);
+
+/// Eq. 5, separation, unweighted: (1/m) sum_r (C - P_r) / |C - P_r|^2 over `others`. Coincident ones are
+/// skipped (they still count in m). Units: 1 / model unit.
+Vec3 separation_kernel(std::span<const Vec3> positions, Index self, std::span<const Index> others);
+
+/// Direct neighbours of cell i: its links (kNoIndex padding dropped), then its vein parent and vein
+/// children that are not already linked. Appends to `out` (cleared first) in that order.
+void direct_neighbours(const Cells& cells, const VeinChildren& children, Index i, std::vector<Index>& out);
+
+/// Neighbours of the direct neighbours (their links only), excluding i and its direct neighbours
+/// `direct`, deduplicated, in first-seen order. Appends to `out` (cleared first).
+void second_ring(const Cells& cells, Index i, std::span<const Index> direct, std::vector<Index>& out);
+
+/// Vein grandparent and grandchildren of i (the cells a vein cell straightens against). Appends to
+/// `out` (cleared first).
+void vein_second_ring(const Cells& cells, const VeinChildren& children, Index i, std::vector<Index>& out);
+
+/// Scratch reused between cells so the force loop does not allocate per cell.
+struct ForceScratch {
+  std::vector<Index> direct, ring, vein, vein_ring;
+  std::vector<Index> set_keys;         ///< open-addressing set used by second_ring
+  std::vector<std::uint32_t> set_tag;  ///< entry valid when equal to set_stamp
+  std::uint32_t set_stamp = 0;
+};
+
+/// second_ring() with a reusable hash set: same result, O(candidates) instead of O(candidates^2).
+void second_ring(const Cells& cells, Index i, std::span<const Index> direct, std::vector<Index>& out,
+                 ForceScratch& scratch);
+
+/// Total acceleration of one cell from Eqs. 2-6 with the weights of its type plus the vein
+/// straightening terms (cohesion * vein_cohesion_factor towards the vein parent and children,
+/// separation * vein_separation_factor from the vein grandparent and grandchildren). Zero for fixed cells.
+Vec3 cell_acceleration(const Cells& cells, const Params& params, const VeinChildren& children, Index i,
+                       ForceScratch& scratch);
+
+}  // namespace cellform::cells

@@ -1,0 +1,85 @@
+// Parameters of the cell system, each with its unit and default (cell-division venation paper).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "core/types.h"
+
+namespace cellform::cells {
+
+using core::Vec3;
+
+/// How velocities follow from forces (section "Basic Cell Behaviour").
+enum class Integrator {
+  velocity,               ///< velocity-only: v = a (drag applied), x += v dt
+  velocity_acceleration,  ///< semi-implicit Euler: v += a dt, v *= drag, x += v dt
+};
+
+/// Weights of the intercellular forces for one cell type (accelerations are weight * kernel).
+struct ForceWeights {
+  double spring = 1.0;      ///< Eq. 2, per time unit squared
+  double planar = 0.5;      ///< Eq. 3, towards the plane of the three closest neighbours
+  double cohesion = 0.0;    ///< Eq. 4, towards neighbours (model units^2 per time unit^2)
+  double separation = 0.0;  ///< Eq. 5, away from neighbours of neighbours (model units^2 per time unit^2)
+};
+
+/// What triggers a division (section "Cell Proliferation").
+enum class DivisionTrigger {
+  none,        ///< no growth
+  age,         ///< a cell divides when its age reaches division_age steps
+  neighbours,  ///< marginal growth: a cell divides when fewer than min_neighbours cells lie within radius
+};
+
+/// Which way a dividing cell splits.
+enum class SplitDirection {
+  random,         ///< uniform growth: a random unit vector per division (seeded)
+  axis,           ///< uniform anisotropic growth: along `axis`
+  radial,         ///< away from `centre` (a field)
+  circumferential,///< around the line through `centre` along `axis` (a field)
+  rule,           ///< non-uniform anisotropic: a rule function supplies the direction
+};
+
+struct DivisionParams {
+  DivisionTrigger trigger = DivisionTrigger::age;
+  std::uint32_t division_age = 20;  ///< steps between divisions of a cell (trigger = age)
+  double radius = 1.5;              ///< model units; neighbourhood counted for trigger = neighbours
+  int min_neighbours = 6;           ///< divide when fewer cells than this lie within radius
+  std::uint32_t min_age = 5;        ///< steps a cell waits after its birth or division before dividing again
+  double probability = 1.0;         ///< chance (0..1] that a triggered cell divides this step (seeded)
+  SplitDirection direction = SplitDirection::random;
+  Vec3 axis = Vec3::UnitX();        ///< split axis (axis, circumferential)
+  Vec3 centre = Vec3::Zero();       ///< field centre (radial, circumferential), model units
+  std::uint64_t max_cells = 100000; ///< growth stops (no more divisions) at this many cells
+};
+
+/// All parameters of the cell system.
+struct Params {
+  double rest_length = 1.0;  ///< d of Eq. 2: target distance between linked cells, model units
+  int neighbours = 6;        ///< k: links per cell (the six closest in the paper); at least 3
+  Integrator integrator = Integrator::velocity_acceleration;
+  double time_step = 0.1;  ///< time units per step
+
+  /// Force weights per cell type, indexed by CellType (general, petiole, vein).
+  std::array<ForceWeights, 3> weights{};
+
+  Vec3 unary = Vec3::Zero();        ///< Eq. 6: constant acceleration, e.g. gravity (model units / time^2)
+  Vec3 drag = Vec3(0.9, 0.9, 0.9);  ///< Eq. 7: factors (a, b, c) multiplying velocity each step, in [0, 1]
+
+  double vein_cohesion_factor = 4.0;    ///< extra cohesion of a vein cell to its vein parent and children
+  double vein_separation_factor = 4.0;  ///< extra separation of a vein cell from its grandparent and grandchildren
+
+  double max_speed = 1e6;  ///< model units per time unit; faster (or NaN) stops the run as diverged
+
+  DivisionParams division;
+};
+
+/// Throws core::InvalidInput naming the parameter and what is allowed, for any value out of range
+/// (rest length <= 0, k < 3, drag outside [0, 1], a time step that makes the integrator unstable, ...).
+void validate(const Params& params);
+
+/// Largest stable time step for these weights (explicit integration of the spring and planar terms).
+double stable_time_step(const Params& params);
+
+}  // namespace cellform::cells

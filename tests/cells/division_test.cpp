@@ -1,0 +1,159 @@
+// Division triggers, daughter placement, ids, max_cells and rules.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <set>
+
+#include "cells/simulation.h"
+#include "core/errors.h"
+#include "tests/fixtures.h"
+
+using namespace cellform::cells;
+
+namespace {
+
+Cells line_of(int n) {
+  Cells c;
+  for (int i = 0; i < n; ++i) add_cell(c, Vec3(3.0 * i, 0, 0));
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("age trigger: every old enough cell divides once, daughter half a rest length along the axis", "[division]") {
+  Cells c = line_of(10);
+  auto& flow = attribute(c, "flow");
+  for (std::size_t i = 0; i < 10; ++i) flow[i] = static_cast<double>(i);
+  for (std::size_t i = 0; i < 10; ++i) c.age[i] = i < 4 ? 19 : 3;  // cells 0-3 reach 20 this step
+  c.velocity[2] = Vec3(0.1, 0.2, 0.3);
+  c.generation[2] = 4;
+  Params p;
+  p.rest_length = 0.8;
+  p.division.direction = SplitDirection::axis;
+  p.division.axis = Vec3(0, 0, 2);
+  cellform::core::PointGrid grid;
+  update_links(c, p, grid, 1);
+  const auto links2 = std::vector<Index>(c.links.begin() + 12, c.links.begin() + 18);
+  const std::size_t divisions = divide(c, p, Rules{}, 5, 1, grid);
+  REQUIRE(divisions == 4);
+  REQUIRE(c.size() == 14);
+  REQUIRE(c.links.size() == 14 * 6);
+  for (std::size_t k = 0; k < 4; ++k) {
+    const std::size_t d = 10 + k;  // daughters appended in mother index order
+    REQUIRE(c.position[d] == c.position[k] + Vec3(0, 0, 0.4));
+    REQUIRE(c.type[d] == CellType::general);
+    REQUIRE(c.age[d] == 0);
+    REQUIRE(c.age[k] == 0);
+    REQUIRE(c.attributes["flow"][d] == static_cast<double>(k));
+  }
+  REQUIRE(c.velocity[12] == Vec3(0.1, 0.2, 0.3));
+  REQUIRE(c.generation[2] == 5);
+  REQUIRE(c.generation[12] == 5);
+  REQUIRE(std::vector<Index>(c.links.begin() + 12 * 6, c.links.begin() + 13 * 6) == links2);
+  REQUIRE(c.age[5] == 4);  // everyone aged
+  std::set<std::uint64_t> ids(c.id.begin(), c.id.end());
+  REQUIRE(ids.size() == c.size());
+  REQUIRE(c.next_id == 14);
+}
+
+TEST_CASE("min_age holds back young cells; max_cells caps growth", "[division]") {
+  Cells c = line_of(10);
+  Params p;
+  p.division.division_age = 0;
+  p.division.min_age = 2;
+  cellform::core::PointGrid grid;
+  REQUIRE(divide(c, p, Rules{}, 1, 1, grid) == 0);  // age 1 < min_age
+  REQUIRE(divide(c, p, Rules{}, 1, 2, grid) == 10);
+  p.division.max_cells = 25;
+  for (std::size_t i = 0; i < c.size(); ++i) c.age[i] = 10;
+  REQUIRE(divide(c, p, Rules{}, 1, 3, grid) == 5);
+  REQUIRE(c.size() == 25);
+  REQUIRE(divide(c, p, Rules{}, 1, 4, grid) == 0);
+}
+
+TEST_CASE("neighbour trigger divides the cells with few neighbours (the margin)", "[division]") {
+  Cells c = cellform::testing::hex_sheet(7, 7);
+  for (auto& a : c.age) a = 10;
+  Params p;
+  p.division.trigger = DivisionTrigger::neighbours;
+  p.division.radius = 1.01;
+  p.division.min_neighbours = 6;
+  cellform::core::PointGrid grid;
+  grid.build(c.position, p.rest_length);
+  const std::size_t n0 = c.size();
+  const std::size_t divisions = divide(c, p, Rules{}, 1, 1, grid, 2);
+  REQUIRE(divisions == n0 - 25);  // all but the 5x5 interior
+  REQUIRE(c.size() == n0 + divisions);
+}
+
+TEST_CASE("split directions: radial, circumferential, random are unit and seeded", "[division]") {
+  Params p;
+  p.division.division_age = 1;
+  p.division.min_age = 0;
+  cellform::core::PointGrid grid;
+  SECTION("radial") {
+    Cells c = line_of(3);
+    p.division.direction = SplitDirection::radial;
+    p.division.centre = Vec3(-1, 0, 0);
+    divide(c, p, Rules{}, 1, 1, grid);
+    for (std::size_t k = 0; k < 3; ++k) REQUIRE((c.position[3 + k] - c.position[k]).x() == Approx(0.5));
+  }
+  SECTION("circumferential") {
+    Cells c = line_of(3);
+    p.division.direction = SplitDirection::circumferential;
+    p.division.axis = Vec3(0, 0, 1);
+    p.division.centre = Vec3(-1, 0, 0);
+    divide(c, p, Rules{}, 1, 1, grid);
+    for (std::size_t k = 0; k < 3; ++k) REQUIRE((c.position[3 + k] - c.position[k]).y() == Approx(0.5));
+  }
+  SECTION("random, also at a degenerate radial centre") {
+    for (auto dir : {SplitDirection::random, SplitDirection::radial}) {
+      p.division.direction = dir;
+      p.division.centre = Vec3(0, 0, 0);  // cell 0 sits at the centre
+      Cells a = line_of(3), b = line_of(3);
+      divide(a, p, Rules{}, 9, 4, grid);
+      divide(b, p, Rules{}, 9, 4, grid);
+      for (std::size_t k = 0; k < 3; ++k) {
+        REQUIRE((a.position[3 + k] - a.position[k]).norm() == Approx(0.5));
+        REQUIRE(a.position[3 + k] == b.position[3 + k]);
+      }
+      Cells other = line_of(3);
+      divide(other, p, Rules{}, 10, 4, grid);
+      REQUIRE(other.position[3] != a.position[3]);
+    }
+  }
+}
+
+TEST_CASE("probability thins divisions deterministically", "[division]") {
+  Params p;
+  p.division.division_age = 1;
+  p.division.min_age = 0;
+  p.division.probability = 0.3;
+  cellform::core::PointGrid grid;
+  Cells a = line_of(1000), b = line_of(1000);
+  const std::size_t da = divide(a, p, Rules{}, 3, 1, grid);
+  REQUIRE(divide(b, p, Rules{}, 3, 1, grid) == da);
+  REQUIRE(da > 200);
+  REQUIRE(da < 400);
+  REQUIRE(a.position == b.position);
+}
+
+TEST_CASE("rules override the trigger and supply split directions", "[division]") {
+  Cells c = line_of(6);
+  Params p;
+  p.division.direction = SplitDirection::rule;
+  Rules rules;
+  rules.divides = [](const Cells& cells, Index i) { return cells.id[i] % 2 == 1; };
+  rules.split_direction = [](const Cells&, Index) { return Vec3(0, 3, 0); };
+  cellform::core::PointGrid grid;
+  REQUIRE(divide(c, p, rules, 1, 1, grid) == 3);
+  REQUIRE(c.position[6] == c.position[1] + Vec3(0, 0.5, 0));
+  rules.split_direction = [](const Cells&, Index) { return Vec3(0, 0, 0); };
+  Cells d = line_of(6);
+  d.id[1] = 77;
+  try {
+    divide(d, p, rules, 1, 1, grid);
+    FAIL("no exception");
+  } catch (const cellform::core::InvalidInput& e) {
+    REQUIRE(std::string(e.what()).find("cell 77") != std::string::npos);
+  }
+}

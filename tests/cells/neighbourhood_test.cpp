@@ -1,0 +1,77 @@
+// update_links against a brute-force k-nearest oracle.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <utility>
+
+#include "cells/simulation.h"
+#include "core/random.h"
+#include "tests/fixtures.h"
+
+using namespace cellform::cells;
+
+namespace {
+
+void check_links(const Cells& c, int k) {
+  REQUIRE(c.link_stride == k);
+  REQUIRE(c.links.size() == c.size() * static_cast<std::size_t>(k));
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    std::vector<std::pair<double, Index>> all;
+    for (std::size_t j = 0; j < c.size(); ++j)
+      if (j != i) all.push_back({(c.position[j] - c.position[i]).squaredNorm(), static_cast<Index>(j)});
+    const auto keep = std::min<std::size_t>(static_cast<std::size_t>(k), all.size());
+    std::partial_sort(all.begin(), all.begin() + static_cast<long>(keep), all.end());
+    for (int s = 0; s < k; ++s) {
+      const Index expected = s < static_cast<int>(all.size()) ? all[static_cast<std::size_t>(s)].second : kNoIndex;
+      INFO("cell " << i << " slot " << s);
+      REQUIRE(c.links[i * static_cast<std::size_t>(k) + static_cast<std::size_t>(s)] == expected);
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("update_links equals the brute-force oracle (random cloud)", "[neighbourhood]") {
+  cellform::core::Rng rng(42);
+  Cells c;
+  for (int i = 0; i < 3000; ++i) add_cell(c, Vec3(rng.uniform(0, 20), rng.uniform(0, 20), rng.uniform(-0.3, 0.3)));
+  Params p;
+  cellform::core::PointGrid grid;
+  for (int threads : {1, 2}) {
+    update_links(c, p, grid, threads);
+    check_links(c, 6);
+  }
+  p.neighbours = 9;
+  update_links(c, p, grid, 2);
+  check_links(c, 9);
+}
+
+TEST_CASE("update_links on a lattice breaks ties by index; pads when cells are few", "[neighbourhood]") {
+  Cells c = cellform::testing::hex_sheet(12, 12);
+  Params p;
+  cellform::core::PointGrid grid;
+  update_links(c, p, grid, 1);
+  check_links(c, 6);
+
+  Cells few;
+  add_cell(few, Vec3(0, 0, 0));
+  add_cell(few, Vec3(1, 0, 0));
+  add_cell(few, Vec3(0, 5, 0));
+  update_links(few, p, grid, 1);
+  check_links(few, 6);
+  REQUIRE(few.links[0] == 1);
+  REQUIRE(few.links[2] == kNoIndex);
+}
+
+TEST_CASE("links follow cells that come closer", "[neighbourhood]") {
+  Cells c = cellform::testing::hex_sheet(6, 6);
+  Params p;
+  cellform::core::PointGrid grid;
+  update_links(c, p, grid, 1);
+  const Index far = 35, centre = 14;
+  REQUIRE(std::find(c.links.begin() + centre * 6, c.links.begin() + centre * 6 + 6, far) ==
+          c.links.begin() + centre * 6 + 6);
+  c.position[far] = c.position[centre] + Vec3(0, 0, 0.3);
+  update_links(c, p, grid, 1);
+  REQUIRE(c.links[centre * 6] == far);
+  check_links(c, 6);
+}

@@ -1,0 +1,70 @@
+// save/load round trips bit for bit and rejects damaged bytes.
+#include "cells/serialize.h"
+
+#include <catch2/catch.hpp>
+#include <cstring>
+
+#include "cells/simulation.h"
+#include "core/errors.h"
+#include "tests/fixtures.h"
+
+using namespace cellform::cells;
+
+namespace {
+
+bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (std::memcmp(a[i].data(), b[i].data(), 24) != 0) return false;
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("round trip is bit-exact", "[serialize]") {
+  Params p;
+  p.division.division_age = 6;
+  p.division.min_age = 3;
+  Simulation sim(p, 4);
+  sim.cells() = cellform::testing::hex_sheet(6, 6);
+  attribute(sim.cells(), "flow", 0.25);
+  sim.cells().type[3] = CellType::vein;
+  sim.cells().vein_parent[3] = 2;
+  sim.cells().fixed[0] = 1;
+  for (int s = 0; s < 15; ++s) sim.step();
+  const Cells& c = sim.cells();
+  const std::string bytes = save(c);
+  const Cells d = load(bytes, "test checkpoint");
+  REQUIRE(same_bits(c.position, d.position));
+  REQUIRE(same_bits(c.velocity, d.velocity));
+  REQUIRE(same_bits(c.acceleration, d.acceleration));
+  REQUIRE(c.age == d.age);
+  REQUIRE(c.generation == d.generation);
+  REQUIRE(c.type == d.type);
+  REQUIRE(c.fixed == d.fixed);
+  REQUIRE(c.id == d.id);
+  REQUIRE(c.vein_parent == d.vein_parent);
+  REQUIRE(c.links == d.links);
+  REQUIRE(c.link_stride == d.link_stride);
+  REQUIRE(c.next_id == d.next_id);
+  REQUIRE(c.attributes == d.attributes);
+  REQUIRE(save(d) == bytes);
+
+  REQUIRE(save(load(save(Cells{}), "empty")) == save(Cells{}));
+}
+
+TEST_CASE("damaged bytes throw FileError naming the source", "[serialize]") {
+  Cells c = cellform::testing::hex_sheet(3, 3);
+  const std::string bytes = save(c);
+  for (std::size_t cut : {std::size_t{0}, std::size_t{5}, bytes.size() / 2, bytes.size() - 1}) {
+    try {
+      load(bytes.substr(0, cut), "cells.bin");
+      FAIL("accepted truncated bytes");
+    } catch (const cellform::core::FileError& e) {
+      REQUIRE(std::string(e.what()).find("cells.bin") != std::string::npos);
+    }
+  }
+  std::string bad = bytes;
+  bad[0] = 'X';
+  REQUIRE_THROWS_AS(load(bad, "x"), cellform::core::FileError);
+}

@@ -1,0 +1,86 @@
+// Triangulation of the link graph: exact counts and consistent orientation on a hex sheet.
+#include "cells/surface.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <map>
+
+#include "cells/simulation.h"
+#include "tests/fixtures.h"
+
+using namespace cellform::cells;
+
+TEST_CASE("hex sheet: exact triangle and edge counts, consistent orientation", "[surface]") {
+  const int rows = 6, cols = 7;
+  Cells c = cellform::testing::hex_sheet(rows, cols);
+  cellform::testing::link_lattice(c);
+  const Surface s = triangulate(c);
+  REQUIRE(s.triangles.size() == static_cast<std::size_t>((rows - 1) * 2 * (cols - 1)));
+  // edges: rows*(cols-1) horizontal + (rows-1)*(2*cols-1) between rows
+  REQUIRE(s.edges.size() == static_cast<std::size_t>(rows * (cols - 1) + (rows - 1) * (2 * cols - 1)));
+  for (const auto& e : s.edges) REQUIRE(e[0] < e[1]);
+  REQUIRE(std::is_sorted(s.edges.begin(), s.edges.end()));
+
+  std::map<std::pair<Index, Index>, int> directed;
+  for (const auto& t : s.triangles) {
+    REQUIRE(t[0] < t[1]);
+    REQUIRE(t[0] < t[2]);
+    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+    const Vec3 normal = (c.position[t[1]] - c.position[t[0]]).cross(c.position[t[2]] - c.position[t[0]]);
+    REQUIRE(normal.z() * ((c.position[s.triangles[0][1]] - c.position[s.triangles[0][0]])
+                              .cross(c.position[s.triangles[0][2]] - c.position[s.triangles[0][0]])
+                              .z()) >
+            0);
+  }
+  std::size_t interior = 0;
+  for (const auto& [edge, count] : directed) {
+    REQUIRE(count == 1);  // no directed edge twice
+    if (directed.count({edge.second, edge.first})) ++interior;
+  }
+  // every edge used by two triangles is used once in each direction
+  REQUIRE(interior / 2 == s.edges.size() - (2 * (cols - 1) + 2 * (rows - 1)));
+  REQUIRE(
+      std::is_sorted(s.triangles.begin(), s.triangles.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; }));
+}
+
+TEST_CASE("vein parent links are edges; deterministic output", "[surface]") {
+  Cells c;
+  add_cell(c, Vec3(0, 0, 0));
+  add_cell(c, Vec3(1, 0, 0));
+  add_cell(c, Vec3(0, 1, 0));
+  c.vein_parent = {kNoIndex, 0, 1};
+  c.links[0] = 2;
+  const Surface s = triangulate(c);
+  REQUIRE(s.edges.size() == 3);
+  REQUIRE(s.triangles.size() == 1);
+  const Surface again = triangulate(c);
+  REQUIRE(again.triangles == s.triangles);
+}
+
+TEST_CASE("non-manifold fan: three triangles on one edge", "[surface]") {
+  Cells c;
+  add_cell(c, Vec3(0, 0, 0));
+  add_cell(c, Vec3(1, 0, 0));
+  add_cell(c, Vec3(0.5, 1, 0));
+  add_cell(c, Vec3(0.5, -1, 0));
+  add_cell(c, Vec3(0.5, 0, 1));
+  c.links[0] = 1;
+  for (Index t = 2; t < 5; ++t) {
+    c.links[t * 6] = 0;
+    c.links[t * 6 + 1] = 1;
+  }
+  const Surface s = triangulate(c);
+  REQUIRE(s.triangles.size() == 3);
+  REQUIRE(s.edges.size() == 7);
+}
+
+TEST_CASE("triangulate a relaxed simulated sheet: every edge has at most one triangle per direction", "[surface]") {
+  Params p;
+  p.division.trigger = DivisionTrigger::none;
+  Simulation sim(p, 1);
+  sim.cells() = cellform::testing::hex_sheet(20, 20);
+  sim.step();
+  const Surface s = triangulate(sim.cells());
+  REQUIRE(s.triangles.size() >= static_cast<std::size_t>(19 * 39));
+}
