@@ -116,7 +116,7 @@ TEST_CASE("runaway scripts are stopped", "[script][limits]") {
   CHECK_NOTHROW(host.load("disc { radius = 2 }", "b.lua", {}));
 }
 
-TEST_CASE("--set overrides script parameters", "[script][overrides]") {
+TEST_CASE("command-line overrides (--set) replace script parameters", "[script][overrides]") {
   const std::string src =
       "local P = params { size = 100, flat = true, name = 'a' }\n"
       "division { max_cells = P.size }\n"

@@ -1,0 +1,115 @@
+#!/usr/bin/python3
+"""Renders a cellform output directory (cells.ply, veins.ply) to a PNG preview.
+
+usage: scripts/preview.py OUT_DIR [PNG] [--elev DEG] [--azim DEG]
+Needs Debian's python3-matplotlib (apt-get install python3-matplotlib).
+"""
+import struct
+import sys
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
+
+TYPES = {"char": "b", "uchar": "B", "short": "h", "ushort": "H", "int": "i", "uint": "I", "float": "f", "double": "d",
+         "int8": "b", "uint8": "B", "int32": "i", "uint32": "I", "float32": "f", "float64": "d"}
+
+
+def read_ply(path):
+    data = Path(path).read_bytes()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    elements = []
+    for line in data[:end].decode().splitlines():
+        w = line.split()
+        if w[0] == "element":
+            elements.append((w[1], int(w[2]), []))
+        elif w[0] == "property":
+            elements[-1][2].append(w[1:])
+    pos, out = end, {}
+    for name, count, props in elements:
+        rows = []
+        for _ in range(count):
+            row = {}
+            for p in props:
+                if p[0] == "list":
+                    (n,) = struct.unpack_from("<" + TYPES[p[1]], data, pos)
+                    pos += struct.calcsize(TYPES[p[1]])
+                    fmt = "<%d%s" % (n, TYPES[p[2]])
+                    row[p[3]] = struct.unpack_from(fmt, data, pos)
+                    pos += struct.calcsize(fmt)
+                else:
+                    fmt = "<" + TYPES[p[0]]
+                    (row[p[1]],) = struct.unpack_from(fmt, data, pos)
+                    pos += struct.calcsize(fmt)
+            rows.append(row)
+        out[name] = rows
+    return out
+
+
+def top_view(fig, cells, v, out_dir, png):
+    """Orthographic view from +z: the sheet in green, veins in brown with widths by radius."""
+    from matplotlib.collections import LineCollection, PolyCollection
+    ax = fig.add_subplot()
+    polys = [[v[i][:2] for i in f["vertex_indices"]] for f in cells.get("face", [])]
+    ax.add_collection(PolyCollection(polys, facecolor=(0.6, 0.8, 0.5, 0.5), edgecolor=(0.3, 0.5, 0.3, 0.3),
+                                     linewidths=0.2))
+    veins = out_dir / "veins.ply"
+    if veins.exists():
+        g = read_ply(veins)
+        vv = g["vertex"]
+        segs, widths = [], []
+        for e in g.get("edge", []):
+            a, b = vv[e["vertex1"]], vv[e["vertex2"]]
+            segs.append([(a["x"], a["y"]), (b["x"], b["y"])])
+            widths.append(0.5 + 8 * min(a["radius"], b["radius"]))
+        ax.add_collection(LineCollection(segs, colors=[(0.45, 0.1, 0.05)], linewidths=widths, capstyle="round"))
+    xs, ys, _ = zip(*v)
+    ax.set_xlim(min(xs) - 1, max(xs) + 1)
+    ax.set_ylim(min(ys) - 1, max(ys) + 1)
+    ax.set_aspect("equal")
+    ax.set_axis_off()
+    fig.tight_layout()
+    fig.savefig(png)
+    print(png)
+
+
+def main():
+    args = [a for a in sys.argv[1:] if not a.startswith("--")]
+    opts = dict(zip(sys.argv[1::2], sys.argv[2::2]))
+    out_dir = Path(args[0])
+    png = Path(args[1]) if len(args) > 1 else out_dir / "preview.png"
+    cells = read_ply(out_dir / "cells.ply")
+    v = [(r["x"], r["y"], r["z"]) for r in cells["vertex"]]
+    faces = [[v[i] for i in f["vertex_indices"]] for f in cells.get("face", [])]
+    fig = plt.figure(figsize=(8, 8), dpi=100)
+    if "--top" in sys.argv:
+        return top_view(fig, cells, v, out_dir, png)
+    ax = fig.add_subplot(projection="3d")
+    ax.add_collection3d(Poly3DCollection(faces, facecolor=(0.55, 0.75, 0.45, 0.55), edgecolor=(0.2, 0.35, 0.2, 0.25),
+                                         linewidths=0.2))
+    veins = out_dir / "veins.ply"
+    if veins.exists():
+        g = read_ply(veins)
+        vv = g["vertex"]
+        for e in g.get("edge", []):
+            a, b = vv[e["vertex1"]], vv[e["vertex2"]]
+            ax.plot([a["x"], b["x"]], [a["y"], b["y"]], [a["z"], b["z"]], color=(0.45, 0.1, 0.05),
+                    linewidth=0.4 + 6 * min(a["radius"], b["radius"]))
+    xs, ys, zs = zip(*v)
+    c = [(max(t) + min(t)) / 2 for t in (xs, ys, zs)]
+    r = max(max(t) - min(t) for t in (xs, ys, zs)) / 2 or 1
+    ax.set_xlim(c[0] - r, c[0] + r)
+    ax.set_ylim(c[1] - r, c[1] + r)
+    ax.set_zlim(c[2] - r, c[2] + r)
+    ax.view_init(elev=float(opts.get("--elev", 35)), azim=float(opts.get("--azim", -60)))
+    ax.set_axis_off()
+    fig.tight_layout()
+    fig.savefig(png)
+    print(png)
+
+
+if __name__ == "__main__":
+    main()
