@@ -2,6 +2,7 @@
 #include "app/schema.h"
 
 #include <sstream>
+#include <string>
 
 namespace cellform::app {
 
@@ -47,18 +48,23 @@ std::vector<Field> build() {
   f.push_back(num("cells", "separation", "0", 0, kInf, false, "units^2/time^2", "weight of separation from neighbours of neighbours (Eq. 5)"));
   f.push_back(vec("cells", "unary", "{0, 0, 0}", -kInf, kInf, "units/time^2", "constant acceleration, e.g. gravity {0,0,-g} or reverse gravity (Eq. 6)"));
   f.push_back(vec("cells", "drag", "{0.9, 0.9, 0.9}", 0, 1, "factor per step", "velocity factors a, b, c per axis (Eq. 7); 1 = no drag"));
-  f.push_back(num("cells", "vein_cohesion", "4", 0, kInf, false, "factor", "extra cohesion of a vein cell to its vein parent and children"));
-  f.push_back(num("cells", "vein_separation", "4", 0, kInf, false, "factor", "extra separation of a vein cell from its grandparent and grandchildren"));
+  f.push_back(num("cells", "vein_cohesion", "4", 0, kInf, false, "factor", "factor on the vein cells' cohesion towards their vein parent and children (straightening)"));
+  f.push_back(num("cells", "vein_separation", "4", 0, kInf, false, "factor", "factor on the vein cells' separation from their grandparent and grandchildren (straightening)"));
   f.push_back(num("cells", "max_speed", "1e6", 0, kInf, true, "units/time", "a faster cell stops the run as diverged"));
   f.push_back(Field{"cells", "petiole", Kind::table, "{}", 0, 0, false, "", "", "force weights of petiole cells: {spring=, planar=, cohesion=, separation=}"});
   f.push_back(Field{"cells", "vein", Kind::table, "{}", 0, 0, false, "", "", "force weights of vein cells: {spring=, planar=, cohesion=, separation=}"});
 
   // per-type weights (cells{petiole = {...}}, cells{vein = {...}}); defaults are the general weights
   for (const char* s : {"cells.petiole", "cells.vein"}) {
+    const bool vein = std::string(s) == "cells.vein";
     f.push_back(num(s, "spring", "cells.spring", 0, kInf, false, "1/time^2", "spring weight for this cell type"));
     f.push_back(num(s, "planar", "cells.planar", 0, kInf, false, "1/time^2", "planarisation weight for this cell type"));
-    f.push_back(num(s, "cohesion", "cells.cohesion", 0, kInf, false, "units^2/time^2", "cohesion weight for this cell type"));
-    f.push_back(num(s, "separation", "cells.separation", 0, kInf, false, "units^2/time^2", "separation weight for this cell type"));
+    f.push_back(num(s, "cohesion", vein ? "0.05" : "cells.cohesion", 0, kInf, false, "units^2/time^2",
+                    vein ? "cohesion weight of vein cells; times vein_cohesion towards their vein parent and children"
+                         : "cohesion weight for this cell type"));
+    f.push_back(num(s, "separation", vein ? "0.05" : "cells.separation", 0, kInf, false, "units^2/time^2",
+                    vein ? "separation weight of vein cells; times vein_separation from grandparent and grandchildren"
+                         : "separation weight for this cell type"));
   }
 
   // division{}
@@ -105,6 +111,7 @@ std::vector<Field> build() {
   f.push_back(num("venation", "murray_exponent", "3", 1, 4, false, "", "n of Murray's law r_parent^n = sum r_child^n"));
   f.push_back(num("venation", "radius_scale", "0.05", 0, kInf, true, "model units", "radius of a vein carrying unit flow: r = radius_scale * flow^(1/n)"));
   f.push_back(num("venation", "min_radius", "0.05", 0, kInf, false, "model units", "no vein is thinner"));
+  f.push_back(integer("venation", "every", "1", 1, 1e6, "steps", "run canalisation every this many steps (auxin is slower than mechanics)"));
 
   // constraints
   f.push_back(num("ground", "height", "0", -kInf, kInf, false, "model units", "cells stay above the plane z = height"));

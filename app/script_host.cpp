@@ -417,6 +417,10 @@ void section_cells(Impl& I, const std::string& at) {
     Values w = I.read_section(std::string("cells.") + name, idx, at, &rec[name]);
     lua_pop(I.L, 1);
     cells::ForceWeights tw = general;
+    if (type == cells::CellType::vein) {  // vein cells straighten by default (schema defaults 0.05)
+      tw.cohesion = w["cohesion"].num;
+      tw.separation = w["separation"].num;
+    }
     if (w["spring"].present) tw.spring = w["spring"].num;
     if (w["planar"].present) tw.planar = w["planar"].num;
     if (w["cohesion"].present) tw.cohesion = w["cohesion"].num;
@@ -477,6 +481,7 @@ void section_venation(Impl& I, const std::string& at) {
   p.murray_exponent = v["murray_exponent"].num;
   p.radius_scale = v["radius_scale"].num;
   p.min_radius = v["min_radius"].num;
+  p.every = static_cast<std::uint32_t>(v["every"].num);
   I.cfg->scene.venation = p;
 }
 

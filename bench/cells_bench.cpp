@@ -14,6 +14,8 @@ namespace cellform::bench {
 
 namespace {
 
+using core::Vec3;
+
 /// A flat hexagonal sheet of about n cells, slightly perturbed so forces are not all zero.
 std::unique_ptr<cells::Simulation> sheet(std::size_t n, bool grow) {
   cells::Params p;

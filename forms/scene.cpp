@@ -95,7 +95,8 @@ cells::StepReport Scene::step() {
         if (has_obstacles) obstacles_.apply(c, previous_, margin, threads);
       });
   apply_petioles(sim_.step_count());
-  if (desc_.venation) vein_report_ = venation::canalise(sim_.cells(), *desc_.venation, source_rule_, vein_ws_);
+  if (desc_.venation && sim_.step_count() % desc_.venation->every == 0)
+    vein_report_ = venation::canalise(sim_.cells(), *desc_.venation, source_rule_, vein_ws_);
   return report;
 }
 

@@ -22,6 +22,7 @@ void validate(const Params& p) {
        "a number from 1 to 4", p.murray_exponent);
   need(std::isfinite(p.radius_scale) && p.radius_scale > 0, "radius_scale", "a number > 0 (model units)", p.radius_scale);
   need(std::isfinite(p.min_radius) && p.min_radius >= 0, "min_radius", "a number >= 0 (model units)", p.min_radius);
+  need(p.every >= 1, "every", "a whole number >= 1 (steps)", p.every);
 }
 
 double murray_radius(double flow, const Params& p) {
@@ -32,7 +33,7 @@ namespace {
 
 bool is_vein_node(CellType t) { return t == CellType::vein || t == CellType::petiole; }
 
-/// Symmetric adjacency from the k-nearest links and the vein parent links, rows sorted and unique.
+/// Symmetric adjacency from the k-nearest links and the vein parent links (CSR).
 void build_adjacency(const Cells& c, Workspace& w) {
   const std::size_t n = c.size();
   const std::size_t stride = static_cast<std::size_t>(c.link_stride);
@@ -58,20 +59,7 @@ void build_adjacency(const Cells& c, Workspace& w) {
     w.adj[w.next[a]++] = b;
     w.adj[w.next[b]++] = a;
   });
-  // sort and deduplicate each row in place, compacting the array
-  Index out = 0;
-  Index row_begin = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Index b = row_begin, e = w.adj_start[i + 1];
-    std::sort(w.adj.begin() + b, w.adj.begin() + e);
-    const Index start = out;
-    for (Index s = b; s < e; ++s)
-      if (s == b || w.adj[s] != w.adj[s - 1]) w.adj[out++] = w.adj[s];
-    row_begin = e;
-    w.adj_start[i] = start;
-  }
-  w.adj_start[n] = out;
-  w.adj.resize(out);
+  // rows may hold a neighbour twice (linked both ways); harmless: choices break ties by index
 }
 
 }  // namespace
@@ -95,7 +83,11 @@ Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Worksp
   std::vector<double>& src = w.source;
   src.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const double s = source_rule ? source_rule(c, static_cast<Index>(i)) : p.source;
+    if (!source_rule) {
+      src[i] = p.source;
+      continue;
+    }
+    const double s = source_rule(c, static_cast<Index>(i));
     if (!std::isfinite(s) || s < 0)
       throw core::InvalidInput("venation.source must give a finite number >= 0 for every cell; cell " +
                                std::to_string(c.id[i]) + " got " + std::to_string(s));
@@ -129,7 +121,6 @@ Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Worksp
           w.next.push_back(j);
         }
       }
-    std::sort(w.next.begin(), w.next.end());
     for (const Index j : w.next) {
       Index best = kNoIndex;
       double best_key = -1;

@@ -22,6 +22,7 @@ struct Params {
   double murray_exponent = 3;  ///< n of Murray's law r_parent^n = sum r_child^n (2 or 3 typical)
   double radius_scale = 0.05;  ///< model units: radius of a vein carrying unit flow; r = radius_scale * flow^(1/n)
   double min_radius = 0.05;    ///< model units: no vein is thinner
+  std::uint32_t every = 1;     ///< steps between canalisation passes (the scene runs it when step % every == 0)
 };
 
 /// Throws core::InvalidInput naming "venation.<name>" and what is allowed.
@@ -60,7 +61,8 @@ inline constexpr const char* kFlowZ = "flow_dz";
 ///  1. Towards the veins: starting at the cells adjacent to a vein and moving outward layer by layer
 ///     (breadth first over the links), each cell picks as downstream the neighbour of the previous
 ///     layer with the largest flow so far (for the first layer: the neighbouring vein cell with the
-///     largest vein flow of the previous step); ties go to the smaller index. Its auxin is added to
+///     largest vein flow of the previous step); ties go to the smaller index. Within a layer, cells are
+///     taken in the order the breadth-first search reached them (deterministic). Its auxin is added to
 ///     that neighbour and, transitively, to everything downstream.
 ///  2. Through the veins: flows accumulate from the vein tips to the petioles.
 /// Then every cell adjacent to a vein whose flow exceeds the threshold becomes a vein cell whose vein

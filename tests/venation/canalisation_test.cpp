@@ -79,9 +79,9 @@ TEST_CASE("a chain turns into a vein from the petiole outward, one cell per step
 }
 
 TEST_CASE("a cell drains into the neighbour of the previous layer with the largest flow", "[venation]") {
-  // petiole 0; cells 1 and 2 next to it (layer 1); cell 3 drains into 2 (its only option), so when
-  // cell 5, which touches both 1 and 2, chooses, 2 already carries more than 1 and wins despite its
-  // larger index. Cell 4 hangs on 3.
+  // petiole 0 links to 2 then 1, so the search reaches 2 first and then, from 2, cells 3 and 5 (layer 2,
+  // in that order). Cell 3 drains into 2 (its only option), so when cell 5, which touches both 1 and 2,
+  // chooses, 2 already carries more than 1 and wins despite its larger index. Cell 4 hangs on 3.
   cells::Cells c;
   c.link_stride = 2;
   for (int i = 0; i < 6; ++i) cells::add_cell(c, core::Vec3(i, 0, 0));
@@ -90,8 +90,7 @@ TEST_CASE("a cell drains into the neighbour of the previous layer with the large
     int k = 0;
     for (Index x : b) c.links[a * 2 + k++] = x;
   };
-  link(1, {0});
-  link(2, {0});
+  link(0, {2, 1});
   link(3, {2});
   link(4, {3});
   link(5, {1, 2});

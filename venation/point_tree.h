@@ -1,0 +1,97 @@
+// Incremental k-d tree over vein nodes: nearest, radius, relative (Eq. 2) and Delaunay neighbourhoods.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/types.h"
+
+namespace cellform::venation {
+
+using core::Index;
+using core::kNoIndex;
+using core::Vec3;
+
+/// A k-d tree that only grows: points are appended (index = insertion order) and never move, so the
+/// index is updated in O(log n) per vein node instead of being rebuilt every step. Leaves hold up to 16
+/// points and split at the middle of their widest extent; every node keeps the tight box of its points.
+/// Works in 3-D; 2-D input simply has z = 0. All queries are exact and break distance ties by index.
+///
+/// nanoflann (Debian libnanoflann-dev) was considered: its dynamic index answers k-nearest and radius
+/// queries, but the relative-neighbourhood query below needs a best-first traversal with cone pruning
+/// that nanoflann does not expose.
+class PointTree {
+ public:
+  /// Appends `p` and returns its index.
+  Index insert(const Vec3& p);
+  /// Removes every point.
+  void clear();
+
+  std::size_t size() const { return points_.size(); }
+  const std::vector<Vec3>& points() const { return points_; }
+  const Vec3& point(Index i) const { return points_[i]; }
+
+  /// The nearest point to `q` (ties: smaller index). Start from a known candidate (`best`, `best_d2`)
+  /// to prune: with last step's nearest point as the candidate only newer points are examined.
+  /// Returns false if the tree is empty and no candidate was given.
+  bool nearest(const Vec3& q, Index& best, double& best_d2) const;
+
+  /// True if a point other than `exclude` lies at squared distance <= r2 from `q`.
+  bool any_within(const Vec3& q, double r2, Index exclude = kNoIndex) const;
+
+  /// Appends every point at squared distance <= r2 from `q` to `out` (unsorted).
+  void within(const Vec3& q, double r2, std::vector<Index>& out) const;
+
+  /// True if some point u other than `v` lies in the closed lune of `s` and `v`: |u - s| <= |v - s| and
+  /// |u - v| <= |v - s|, i.e. u excludes v from the relative neighbourhood of s (Eq. 2 of Runions et al.
+  /// 2005 is violated).
+  bool lune_occupied(const Vec3& s, Index v) const;
+
+  /// The relative neighbourhood V(s) of a query point s among the tree's points (Eq. 2 of Runions et
+  /// al. 2005, evaluated exactly, in 2-D or 3-D): v is in V(s) iff for every other point u,
+  /// |v - s| < max(|u - s|, |v - u|). Points are visited in order of distance from s; a subtree is
+  /// skipped when every point in it lies behind an already visited point u within 60 degrees of the
+  /// direction of u (such points are all excluded by u), and every accepted point is checked once more
+  /// with lune_occupied(). Result sorted by index. `scratch` avoids allocation between calls.
+  struct Scratch {
+    std::vector<std::pair<double, std::int64_t>> heap;  // (squared distance, node id or ~point id)
+    std::vector<Index> found;
+    std::vector<double> found_d2;
+    std::vector<Vec3> corner_dir;
+  };
+  void relative_neighbourhood(const Vec3& s, std::vector<Index>& out, Scratch& scratch) const;
+
+  /// The Delaunay neighbourhood of a query point s among the tree's points in the plane z = 0: the
+  /// points whose Voronoi cells share an edge with the cell of s in the Voronoi diagram of the points
+  /// and s. Computed by clipping a square of `half_extent` around s with bisectors in order of
+  /// distance (neighbours whose Voronoi edge lies wholly outside that square are missed, so pass a
+  /// square that covers the domain generously). Points coinciding with s are ignored. Sorted by index.
+  void delaunay_neighbourhood(const Vec3& s, double half_extent, std::vector<Index>& out, Scratch& scratch) const;
+
+  /// Urquhart's approximation of V(s) (Section 5.2 of Runions et al. 2005): the Delaunay neighbours of s
+  /// tested with Eq. 2 only against each other, not against every point. A superset of the exact
+  /// relative neighbourhood, a subset of the Delaunay neighbourhood. 2-D (z = 0) only.
+  void urquhart_neighbourhood(const Vec3& s, double half_extent, std::vector<Index>& out, Scratch& scratch) const;
+
+ private:
+  static constexpr int kBucket = 16;
+  struct Node {
+    Vec3 lo, hi;          // tight box of the points below
+    int child[2] = {-1, -1};
+    int dim = 0;
+    double split = 0;
+    std::vector<Index> pts;  // leaves only
+  };
+  void split_leaf(int n);
+  bool nearest_rec(int n, const Vec3& q, Index& best, double& best_d2) const;
+  double mindist2(const Node& nd, const Vec3& q) const;
+
+  std::vector<Vec3> points_;
+  std::vector<Node> nodes_;
+};
+
+/// Eq. 2 by brute force, O(n^2): the test oracle for PointTree::relative_neighbourhood. Sorted by index.
+std::vector<Index> relative_neighbourhood_brute_force(std::span<const Vec3> points, const Vec3& s);
+
+}  // namespace cellform::venation
