@@ -3,6 +3,7 @@
 
 #include <charconv>
 
+#include "app/check.h"
 #include "app/run.h"
 #include "app/schema.h"
 #include "core/errors.h"
@@ -19,6 +20,7 @@ const char* const kUsage =
     "commands:\n"
     "  run SCRIPT        run a growth script (examples/*.lua)\n"
     "  resume CHECKPOINT continue an interrupted or finished run\n"
+    "  check FILE        is an STL, OBJ or PLY mesh printable? (exit 0 yes, 1 no, 2 unreadable)\n"
     "  params            print every script parameter with its default, range and unit (Markdown)\n"
     "\n"
     "options:\n"
@@ -80,8 +82,26 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       out << "# cellform script parameters\n" << schema_markdown();
       return ok;
     }
+    if (cmd == "check") {
+      bool json = false;
+      std::vector<std::string> files;
+      for (std::size_t i = 1; i < args.size(); ++i) {
+        if (args[i] == "--json") json = true;
+        else if (args[i] == "-h" || args[i] == "--help") {
+          out << "usage: cellform check FILE [--json]\n"
+                 "Reports triangles, vertices, parts, holes (boundary edges), non-manifold edges and vertices,\n"
+                 "orientation, self-intersections, volume, bounding box and genus of an STL, OBJ or PLY mesh.\n"
+                 "Exit code 0: printable (watertight, 2-manifold, oriented outward, no self-intersections);\n"
+                 "1: not printable; 2: the file cannot be read.\n";
+          return ok;
+        } else if (!args[i].empty() && args[i][0] == '-') throw UsageError("unknown option '" + args[i] + "' for check");
+        else files.push_back(args[i]);
+      }
+      if (files.size() != 1) throw UsageError("cellform check takes one FILE (see cellform check --help)");
+      return check_command(files[0], json, out, err);
+    }
     if (cmd != "run" && cmd != "resume") {
-      const std::string near = core::closest_name(cmd, std::vector<std::string>{"run", "resume", "params"});
+      const std::string near = core::closest_name(cmd, std::vector<std::string>{"run", "resume", "params", "check"});
       throw UsageError("unknown command '" + cmd + "'" + (near.empty() ? "" : "; did you mean '" + near + "'?") +
                        " (see cellform --help)");
     }

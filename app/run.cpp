@@ -15,6 +15,8 @@
 #include "core/chunk_file.h"
 #include "core/errors.h"
 #include "export/cell_files.h"
+#include "export/mesh_files.h"
+#include "export/printable.h"
 #include "export/vein_files.h"
 
 #ifndef CELLFORM_VERSION
@@ -140,6 +142,46 @@ std::vector<std::string> write_outputs(const fs::path& dir, const OutputSpec& sp
     names.push_back("cells.obj");
   }
   return names;
+}
+
+/// Thickens the veins (and the sheet, if asked) into a printable solid and writes the requested formats
+/// into `dir`. Appends the file names to `names`; returns what run.json records. Throws on failure.
+json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Cells& c, bool has_veins, int threads,
+                     std::vector<std::string>& names, std::ostream& err, bool quiet) {
+  exporters::ThickenParams tp;
+  tp.scale = spec.scale;
+  tp.auto_extent = spec.size;
+  tp.voxel_size = spec.voxel_size;
+  tp.min_radius = spec.min_radius;
+  tp.shell_thickness = spec.shell_thickness;
+  tp.adaptivity = spec.adaptivity;
+  tp.max_memory_bytes = spec.max_memory_mb * 1e6;
+  tp.threads = threads;
+  std::vector<exporters::Segment> segments;
+  if (spec.veins && has_veins) segments = exporters::vein_segments(venation::vein_graph(c));
+  std::vector<std::array<core::Vec3, 3>> shell;
+  if (spec.shell) shell = exporters::shell_triangles(c, cells::triangulate(c));
+  if (segments.empty() && shell.empty())
+    throw core::InvalidInput("print: nothing to print yet (no vein has grown; run longer, lower venation.threshold, or use shell = true)");
+  if (!quiet) err << "thickening " << segments.size() << " vein segments" << (spec.shell ? " and the cell sheet" : "") << "...\n";
+  exporters::ThickenReport rep;
+  const exporters::LevelSet level_set = exporters::voxelise(segments, shell, tp, &rep);
+  const exporters::PrintableMesh mesh = exporters::mesh_level_set(level_set, tp, &rep);
+  if (rep.parts > 1 && spec.pieces == "one")
+    throw core::InvalidInput("print{pieces = \"one\"}: the form falls apart into " + std::to_string(rep.parts) +
+                             " parts (raise print.min_radius or cells.neighbours, or set pieces = \"warn\")");
+  if (rep.parts > 1 && spec.pieces == "warn")
+    err << "cellform: warning: the printable form has " << rep.parts << " separate parts\n";
+  for (const std::string& f : spec.formats) {
+    const std::string name = "printable." + f;
+    if (f == "vdb") exporters::write_vdb(dir / name, level_set);
+    else exporters::write_mesh(dir / name, mesh);
+    names.push_back(name);
+  }
+  return {{"scale_mm_per_unit", rep.scale}, {"voxel_size_mm", rep.voxel_size},   {"segments", rep.segments},
+          {"shell_triangles", rep.shell_triangles}, {"raised_radii", rep.raised_radii}, {"triangles", rep.triangles},
+          {"parts", rep.parts},  {"volume_mm3", rep.volume}, {"area_mm2", rep.area},
+          {"seconds", rep.voxelise_seconds + rep.mesh_seconds}};
 }
 
 /// Moves every file of `staging` (recursively) into `dir`, then removes the outputs of an earlier run
@@ -278,6 +320,20 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     const auto b = std::chrono::steady_clock::now();
     for (const std::string& n : write_outputs(staging, cfg.output, sim.cells(), cfg.scene.venation.has_value())) outputs.push_back(n);
     write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
+    json printed;
+    if (cfg.print) {
+      try {
+        printed = write_printable(staging, *cfg.print, sim.cells(), cfg.scene.venation.has_value(), o.threads, outputs,
+                                  err, o.quiet);
+        if (!o.quiet)
+          err << "printable solid: " << printed["triangles"] << " triangles, " << printed["parts"] << " part(s), scale "
+              << printed["scale_mm_per_unit"] << " mm per model unit\n";
+      } catch (const std::exception& e) {
+        err << "cellform: " << e.what() << "\n  (the other outputs and the checkpoint are written)\n";
+        printed = {{"error", e.what()}};
+        code = failure;
+      }
+    }
     const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - b).count();
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::uint64_t done = sim.step_count() - first;
@@ -301,6 +357,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                              {"output_s", output_seconds},
                              {"steps_per_s", sim_seconds > 0 ? static_cast<double>(done) / sim_seconds : 0.0}}},
                 {"checkpoint", kCheckpointName}};
+    if (cfg.print) run["print"] = printed;
     outputs.push_back("run.json");
     run["outputs"] = outputs;
     core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });

@@ -127,6 +127,20 @@ std::vector<Field> build() {
   f.push_back(num("attractor", "strength", "0.1", -kInf, kInf, false, "units/time^2", "acceleration towards it (negative repels)"));
   f.push_back(num("attractor", "radius", "0", 0, kInf, false, "model units", "range of influence; 0 = everywhere"));
 
+  // print{}
+  f.push_back(boolean("print", "veins", "true", "veins become solid tapered members with their Murray radii"));
+  f.push_back(boolean("print", "shell", "false", "the cell sheet becomes a shell of shell_thickness"));
+  f.push_back(num("print", "size", "120", 0, 1e5, true, "mm", "largest extent of the printed form when scale = 0"));
+  f.push_back(num("print", "scale", "0", 0, 1e9, false, "mm per model unit", "0 = automatic from size"));
+  f.push_back(num("print", "min_radius", "0.4", 0, 1e3, true, "mm", "thinner veins are raised to this printable minimum"));
+  f.push_back(num("print", "shell_thickness", "0.6", 0, 1e3, true, "mm", "wall thickness of the shell"));
+  f.push_back(num("print", "voxel_size", "0", 0, 1e3, false, "mm", "level-set resolution; 0 = min_radius / 2"));
+  f.push_back(num("print", "adaptivity", "0.2", 0, 1, false, "0..1", "mesh simplification of flat areas (OpenVDB)"));
+  f.push_back(num("print", "max_memory", "2000", 1, 1e6, false, "MB", "refuse a voxel size whose grid would need more"));
+  f.push_back(text("print", "formats", "stl", "comma-separated: stl, obj, ply, scad, vdb"));
+  f.push_back(choice("print", "pieces", Kind::choice, "warn", "any|warn|one",
+                     "one: a form that falls apart is an error; warn: a warning with the part count"));
+
   // output{}
   f.push_back(boolean("output", "ply", "true", "write cells.ply (cells, triangles, links, per-cell attributes)"));
   f.push_back(boolean("output", "obj", "true", "write cells.obj (the cell surface) and, with venation, veins.obj"));

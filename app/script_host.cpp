@@ -3,6 +3,7 @@
 
 #include <lua.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -485,6 +486,39 @@ void section_venation(Impl& I, const std::string& at) {
   I.cfg->scene.venation = p;
 }
 
+void section_print(Impl& I, const std::string& at) {
+  I.once("print", at);
+  Values v = I.read_section("print", 1, at, &I.cfg->resolved["print"]);
+  PrintSpec p;
+  p.veins = v["veins"].flag;
+  p.shell = v["shell"].flag;
+  p.size = v["size"].num;
+  p.scale = v["scale"].num;
+  p.min_radius = v["min_radius"].num;
+  p.shell_thickness = v["shell_thickness"].num;
+  p.voxel_size = v["voxel_size"].num;
+  p.adaptivity = v["adaptivity"].num;
+  p.max_memory_mb = v["max_memory"].num;
+  p.pieces = v["pieces"].str;
+  p.formats.clear();
+  std::stringstream ss(v["formats"].str);
+  std::string f;
+  const std::vector<std::string> known{"stl", "obj", "ply", "scad", "vdb"};
+  while (std::getline(ss, f, ',')) {
+    f = trim(f);
+    if (f.empty()) continue;
+    if (std::find(known.begin(), known.end(), f) == known.end()) {
+      const std::string near = core::closest_name(f, known);
+      throw InvalidInput(at + "print.formats: unknown format '" + f + "' (allowed: stl, obj, ply, scad, vdb)" +
+                         (near.empty() ? "" : "; did you mean '" + near + "'?"));
+    }
+    p.formats.push_back(f);
+  }
+  if (p.formats.empty()) throw InvalidInput(at + "print.formats must name at least one of stl, obj, ply, scad, vdb");
+  if (!p.veins && !p.shell) throw InvalidInput(at + "print{...} with veins = false needs shell = true (nothing to print)");
+  I.cfg->print = p;
+}
+
 void section_output(Impl& I, const std::string& at) {
   I.once("output", at);
   Values v = I.read_section("output", 1, at, &I.cfg->resolved["output"]);
@@ -548,6 +582,7 @@ int api_section(lua_State* L) {
       else if (section == "run") section_run(I, at);
       else if (section == "output") section_output(I, at);
       else if (section == "venation") section_venation(I, at);
+      else if (section == "print") section_print(I, at);
       else if (section == "disc" || section == "rectangle" || section == "sphere" || section == "line" ||
                section == "cell" || section == "petiole")
         section_shape(I, section, at);
@@ -648,7 +683,7 @@ namespace cellform::app {
 
 namespace {
 
-const char* const kSections[] = {"run",  "cells", "division", "output", "venation", "disc", "rectangle", "sphere", "line", "cell",
+const char* const kSections[] = {"run",  "cells", "division", "output", "venation", "print", "disc", "rectangle", "sphere", "line", "cell",
                                  "petiole", "ground", "half_space", "ball", "box", "mesh", "attractor"};
 
 Vec3 unit_or(const Vec3& n, const Vec3& fallback) { return n.norm() > 0 ? Vec3(n.normalized()) : fallback; }
@@ -802,6 +837,8 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
                                        (near.empty() ? "" : "; did you mean '" + near + "'?")));
   }
   build_shapes(I);
+  if (cfg.print && cfg.print->veins && !cfg.print->shell && !cfg.scene.venation)
+    throw InvalidInput(I.sections_seen["print"] + "print{veins = true} needs veins: add venation{...}, or print the sheet with shell = true");
   return cfg;
 }
 

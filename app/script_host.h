@@ -40,6 +40,21 @@ struct OutputSpec {
   std::uint64_t checkpoint_every = 1000;///< checkpoint interval in steps (0 = only at the end)
 };
 
+/// A printable solid requested by print{...}.
+struct PrintSpec {
+  bool veins = true;
+  bool shell = false;
+  double size = 120;             ///< mm, largest extent when scale = 0
+  double scale = 0;              ///< mm per model unit (0 = auto)
+  double min_radius = 0.4;       ///< mm
+  double shell_thickness = 0.6;  ///< mm
+  double voxel_size = 0;         ///< mm (0 = auto)
+  double adaptivity = 0.2;
+  double max_memory_mb = 2000;
+  std::vector<std::string> formats{"stl"};  ///< stl, obj, ply, scad, vdb
+  std::string pieces = "warn";              ///< any, warn, one
+};
+
 /// Everything a script describes, resolved (script values, then --set overrides, then defaults).
 struct SceneConfig {
   forms::SceneDescription scene;
@@ -47,6 +62,7 @@ struct SceneConfig {
   std::uint64_t steps = 200;
   std::uint64_t seed = 1;
   OutputSpec output;
+  std::optional<PrintSpec> print;
   nlohmann::json resolved = nlohmann::json::object();  ///< every resolved parameter, by section
 };
 

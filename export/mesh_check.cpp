@@ -1,0 +1,634 @@
+// Mesh checks for printing (topology, orientation, self-intersections) and the triangle-soup readers.
+#include "export/mesh_check.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <numeric>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/errors.h"
+#include "core/parallel.h"
+
+#include <tbb/parallel_sort.h>
+#include <tbb/task_arena.h>
+
+namespace cellform::exporters {
+
+using core::Vec3;
+using Tri = std::array<std::uint32_t, 3>;
+
+namespace {
+
+struct UnionFind {
+  std::vector<std::uint32_t> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  std::uint32_t find(std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(std::uint32_t a, std::uint32_t b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);  // smallest index is the root: deterministic
+  }
+};
+
+// Canonical vertex index per input vertex: the first input vertex at exactly the same position.
+std::vector<std::uint32_t> weld(const std::vector<Vec3>& v) {
+  std::vector<std::uint32_t> order(v.size());
+  std::iota(order.begin(), order.end(), 0u);
+  const auto less = [&](std::uint32_t a, std::uint32_t b) {
+    if (v[a].x() != v[b].x()) return v[a].x() < v[b].x();
+    if (v[a].y() != v[b].y()) return v[a].y() < v[b].y();
+    if (v[a].z() != v[b].z()) return v[a].z() < v[b].z();
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<std::uint32_t> canon(v.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    canon[order[k]] = (k > 0 && v[order[k]] == v[order[k - 1]]) ? canon[order[k - 1]] : order[k];
+  return canon;
+}
+
+double orient(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) { return (b - a).cross(c - a).dot(d - a); }
+
+int sign(double x) { return (x > 0) - (x < 0); }
+
+using P2 = Eigen::Vector2d;
+double cross2(const P2& a, const P2& b, const P2& c) { return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x(); }
+
+bool segments_cross_2d(const P2& p, const P2& q, const P2& a, const P2& b) {
+  const int o1 = sign(cross2(p, q, a)), o2 = sign(cross2(p, q, b)), o3 = sign(cross2(a, b, p)), o4 = sign(cross2(a, b, q));
+  return o1 * o2 < 0 && o3 * o4 < 0;
+}
+
+bool inside_2d(const P2& p, const P2& a, const P2& b, const P2& c) {
+  const int s1 = sign(cross2(a, b, p)), s2 = sign(cross2(b, c, p)), s3 = sign(cross2(c, a, p));
+  return (s1 > 0 && s2 > 0 && s3 > 0) || (s1 < 0 && s2 < 0 && s3 < 0);
+}
+
+// Projection dropping the dominant axis of the normal of triangle T.
+struct Projection {
+  int drop = 2;
+  explicit Projection(const Vec3* T) {
+    const Vec3 n = (T[1] - T[0]).cross(T[2] - T[0]).cwiseAbs();
+    drop = n.x() >= n.y() && n.x() >= n.z() ? 0 : (n.y() >= n.z() ? 1 : 2);
+  }
+  P2 operator()(const Vec3& v) const { return drop == 0 ? P2(v.y(), v.z()) : drop == 1 ? P2(v.x(), v.z()) : P2(v.x(), v.y()); }
+};
+
+// Does segment pq meet triangle T? dp, dq: sides of p and q relative to T's plane, 0 when within the
+// tolerance; a point on the plane meets T if it lies inside T (projected), so nearly parallel segments
+// are never extended to a far-away crossing. Not for a segment lying in the plane (handled in 2D).
+bool segment_meets_triangle(const Vec3& p, const Vec3& q, int dp, int dq, const Vec3* T) {
+  if (dp * dq > 0 || (dp == 0 && dq == 0)) return false;
+  if (dp == 0 || dq == 0) {
+    const Projection pr(T);
+    return inside_2d(pr(dp == 0 ? p : q), pr(T[0]), pr(T[1]), pr(T[2]));
+  }
+  const int s1 = sign(orient(p, q, T[0], T[1])), s2 = sign(orient(p, q, T[1], T[2])), s3 = sign(orient(p, q, T[2], T[0]));
+  if (s1 == 0 && s2 == 0 && s3 == 0) return false;
+  return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
+}
+
+// Sides of the points P[0..2] relative to the plane of T, 0 within `tol` (a length).
+void sides(const Vec3* T, const Vec3* P, double tol, int* out) {
+  const Vec3 n = (T[1] - T[0]).cross(T[2] - T[0]);
+  const double len = n.norm();
+  for (int i = 0; i < 3; ++i) {
+    const double d = n.dot(P[i] - T[0]);
+    out[i] = std::abs(d) <= tol * len ? 0 : sign(d);
+  }
+}
+
+// Triangle-triangle intersection (Moller's separating-plane rejection first): two triangles in general
+// position meet iff an edge of one meets the other; coplanar pairs are tested in 2D. Points within a
+// rounding tolerance of the other plane count as on it, so that coplanar neighbours written through
+// float or decimal files are not reported.
+bool triangles_intersect(const Vec3* A, const Vec3* B) {
+  double scale = 0, edge = 0;
+  for (int i = 0; i < 3; ++i) {
+    scale = std::max({scale, A[i].cwiseAbs().maxCoeff(), B[i].cwiseAbs().maxCoeff()});
+    edge = std::max({edge, (A[i] - A[(i + 1) % 3]).norm(), (B[i] - B[(i + 1) % 3]).norm()});
+  }
+  const double tol = 8 * std::numeric_limits<float>::epsilon() * scale + 1e-9 * edge;
+  int da[3], db[3];
+  sides(B, A, tol, da);
+  if (da[0] == da[1] && da[1] == da[2] && da[0] != 0) return false;
+  sides(A, B, tol, db);
+  if (db[0] == db[1] && db[1] == db[2] && db[0] != 0) return false;
+  if ((da[0] == 0 && da[1] == 0 && da[2] == 0) || (db[0] == 0 && db[1] == 0 && db[2] == 0)) {
+    const Projection pr(A);
+    P2 a[3], b[3];
+    for (int i = 0; i < 3; ++i) a[i] = pr(A[i]), b[i] = pr(B[i]);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (segments_cross_2d(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3])) return true;
+    for (int i = 0; i < 3; ++i)
+      if (inside_2d(a[i], b[0], b[1], b[2]) || inside_2d(b[i], a[0], a[1], a[2])) return true;
+    return false;
+  }
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3;
+    if (segment_meets_triangle(A[i], A[j], da[i], da[j], B) || segment_meets_triangle(B[i], B[j], db[i], db[j], A))
+      return true;
+  }
+  return false;
+}
+
+struct CellRef {
+  std::uint64_t cell;
+  std::uint32_t tri;
+  bool operator<(const CellRef& o) const { return cell != o.cell ? cell < o.cell : tri < o.tri; }
+};
+
+using Pairs = std::vector<std::array<std::uint32_t, 2>>;
+
+Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tris, const std::vector<char>& skip,
+                         int threads) {
+  const std::size_t n = tris.size();
+  if (n < 2) return {};
+  std::vector<Vec3> lo(n), hi(n);
+  Vec3 glo = Vec3::Constant(std::numeric_limits<double>::infinity()), ghi = -glo;
+  double mean_extent = 0;
+  for (std::size_t t = 0; t < n; ++t) {
+    const Vec3 &a = v[tris[t][0]], &b = v[tris[t][1]], &c = v[tris[t][2]];
+    lo[t] = a.cwiseMin(b).cwiseMin(c);
+    hi[t] = a.cwiseMax(b).cwiseMax(c);
+    glo = glo.cwiseMin(lo[t]);
+    ghi = ghi.cwiseMax(hi[t]);
+    mean_extent += (hi[t] - lo[t]).maxCoeff();
+  }
+  mean_extent /= static_cast<double>(n);
+  const double span = (ghi - glo).maxCoeff();
+  if (!(span > 0)) return {};
+  const double h = std::max({2 * mean_extent, span / double(1 << 20), span * 1e-12});
+  const auto cell_of = [&](const Vec3& p) -> Eigen::Vector3i {
+    return ((p - glo) / h).array().floor().cast<int>().min((1 << 21) - 1).max(0);
+  };
+  const auto key = [](const Eigen::Vector3i& c) {
+    return (std::uint64_t(c.x()) << 42) | (std::uint64_t(c.y()) << 21) | std::uint64_t(c.z());
+  };
+  std::vector<std::size_t> offset(n + 1, 0);
+  for (std::size_t t = 0; t < n; ++t) {
+    const Eigen::Vector3i a = cell_of(lo[t]), b = cell_of(hi[t]);
+    offset[t + 1] = offset[t] + (skip[t] ? 0 : std::size_t(b.x() - a.x() + 1) * std::size_t(b.y() - a.y() + 1) * std::size_t(b.z() - a.z() + 1));
+  }
+  std::vector<CellRef> refs(offset[n]);
+  core::parallel_for(n, threads, [&](std::size_t b0, std::size_t e0) {
+    for (std::size_t t = b0; t < e0; ++t) {
+      if (skip[t]) continue;
+      const Eigen::Vector3i a = cell_of(lo[t]), b = cell_of(hi[t]);
+      std::size_t k = offset[t];
+      for (int x = a.x(); x <= b.x(); ++x)
+        for (int y = a.y(); y <= b.y(); ++y)
+          for (int z = a.z(); z <= b.z(); ++z) refs[k++] = {key({x, y, z}), static_cast<std::uint32_t>(t)};
+    }
+  });
+  {
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    arena.execute([&] { tbb::parallel_sort(refs.begin(), refs.end()); });  // unique elements: one order
+  }
+  std::vector<std::size_t> runs;
+  for (std::size_t k = 0; k < refs.size(); ++k)
+    if (k == 0 || refs[k].cell != refs[k - 1].cell) runs.push_back(k);
+  const std::size_t nruns = runs.size();
+  runs.push_back(refs.size());
+  std::vector<Pairs> found(nruns);
+  core::parallel_for(nruns, threads, [&](std::size_t b0, std::size_t e0) {
+    for (std::size_t r = b0; r < e0; ++r)
+      for (std::size_t i = runs[r]; i < runs[r + 1]; ++i)
+        for (std::size_t j = i + 1; j < runs[r + 1]; ++j) {
+          const Tri &s = tris[refs[i].tri], &t = tris[refs[j].tri];
+          const std::uint32_t ti = refs[i].tri, tj = refs[j].tri;
+          if (((lo[ti].array() > hi[tj].array()) || (lo[tj].array() > hi[ti].array())).any()) continue;
+          // count each pair once: in the cell holding the low corner of the boxes' overlap
+          if (key(cell_of(lo[ti].cwiseMax(lo[tj]))) != refs[runs[r]].cell) continue;
+          bool shared = false;
+          for (int p = 0; p < 3; ++p)
+            for (int q = 0; q < 3; ++q) shared = shared || s[p] == t[q];
+          if (shared) continue;
+          const Vec3 A[3] = {v[s[0]], v[s[1]], v[s[2]]}, B[3] = {v[t[0]], v[t[1]], v[t[2]]};
+          if (triangles_intersect(A, B)) found[r].push_back({std::min(ti, tj), std::max(ti, tj)});
+        }
+  }, 64);
+  Pairs all;
+  for (const Pairs& f : found) all.insert(all.end(), f.begin(), f.end());
+  return all;
+}
+
+}  // namespace
+
+std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(const std::vector<Vec3>& vertices,
+                                                                   const std::vector<Tri>& triangles, int threads) {
+  std::vector<char> skip(triangles.size(), 0);
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const Tri& w = triangles[t];
+    const Vec3 &a = vertices[w[0]], &b = vertices[w[1]], &c = vertices[w[2]];
+    skip[t] = w[0] == w[1] || w[1] == w[2] || w[0] == w[2] || (b - a).cross(c - a).squaredNorm() == 0;
+  }
+  return intersecting_pairs(vertices, triangles, skip, threads);
+}
+
+std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(const PrintableMesh& mesh, int threads) {
+  return self_intersecting_pairs(mesh.vertices, mesh.triangles, threads);
+}
+
+double signed_volume(const PrintableMesh& m) {
+  double s = 0;
+  for (const Tri& t : m.triangles) s += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]]));
+  return s / 6;
+}
+
+double surface_area(const PrintableMesh& m) {
+  double s = 0;
+  for (const Tri& t : m.triangles)
+    s += (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
+  return s / 2;
+}
+
+std::size_t count_parts(const PrintableMesh& m) {
+  UnionFind uf(m.vertices.size());
+  std::vector<char> used(m.vertices.size(), 0);
+  for (const Tri& t : m.triangles) {
+    uf.unite(t[0], t[1]);
+    uf.unite(t[0], t[2]);
+    used[t[0]] = used[t[1]] = used[t[2]] = 1;
+  }
+  std::size_t parts = 0;
+  for (std::uint32_t i = 0; i < m.vertices.size(); ++i) parts += used[i] && uf.find(i) == i;
+  return parts;
+}
+
+MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
+  MeshReport r;
+  const std::size_t nv = mesh.vertices.size(), nt = mesh.triangles.size();
+  r.triangles = nt;
+  for (const Tri& t : mesh.triangles)
+    for (std::uint32_t i : t)
+      if (i >= nv) throw core::InvalidInput("check_mesh: a triangle refers to vertex " + std::to_string(i) + " of " + std::to_string(nv));
+  if (nt == 0) return r;
+
+  const std::vector<std::uint32_t> canon = weld(mesh.vertices);
+  std::vector<Tri> tris(nt);
+  std::vector<char> degenerate(nt, 0);
+  std::vector<char> used(nv, 0);
+  for (std::size_t t = 0; t < nt; ++t) {
+    for (int k = 0; k < 3; ++k) used[tris[t][k] = canon[mesh.triangles[t][k]]] = 1;
+    const Tri& w = tris[t];
+    const Vec3 &a = mesh.vertices[w[0]], &b = mesh.vertices[w[1]], &c = mesh.vertices[w[2]];
+    degenerate[t] = w[0] == w[1] || w[1] == w[2] || w[0] == w[2] || (b - a).cross(c - a).squaredNorm() == 0;
+    r.degenerate_triangles += degenerate[t];
+  }
+  r.welded_vertices = 0;
+  for (std::size_t i = 0; i < nv; ++i) {
+    r.vertices += used[i] && canon[i] == i;
+    r.welded_vertices += canon[i] != i;
+  }
+  r.volume = signed_volume(mesh);
+  r.area = surface_area(mesh);
+  r.bbox_min = Vec3::Constant(std::numeric_limits<double>::infinity());
+  r.bbox_max = -r.bbox_min;
+  for (std::size_t i = 0; i < nv; ++i)
+    if (used[i]) {
+      r.bbox_min = r.bbox_min.cwiseMin(mesh.vertices[i]);
+      r.bbox_max = r.bbox_max.cwiseMax(mesh.vertices[i]);
+    }
+
+  // Edges: every triangle side as (low, high, forward?), sorted so equal edges are adjacent.
+  struct Side {
+    std::uint32_t lo, hi, tri;
+    bool forward;
+    bool operator<(const Side& o) const { return lo != o.lo ? lo < o.lo : hi != o.hi ? hi < o.hi : tri < o.tri; }
+  };
+  const auto collapsed = [&](std::size_t t) {
+    const Tri& w = tris[t];
+    return w[0] == w[1] || w[1] == w[2] || w[0] == w[2];
+  };
+  std::vector<Side> sides;
+  sides.reserve(3 * nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const Tri& w = tris[t];
+    if (collapsed(t)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = w[k], b = w[(k + 1) % 3];
+      sides.push_back({std::min(a, b), std::max(a, b), static_cast<std::uint32_t>(t), a < b});
+    }
+  }
+  std::sort(sides.begin(), sides.end());
+  std::vector<char> bad_vertex(nv, 0);  // touches a boundary or non-manifold edge
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;  // unique undirected edges
+  for (std::size_t k = 0; k < sides.size();) {
+    std::size_t e = k;
+    while (e < sides.size() && sides[e].lo == sides[k].lo && sides[e].hi == sides[k].hi) ++e;
+    const std::size_t uses = e - k;
+    edges.emplace_back(sides[k].lo, sides[k].hi);
+    if (uses == 1) ++r.boundary_edges;
+    else if (uses > 2) ++r.nonmanifold_edges;
+    else if (sides[k].forward == sides[k + 1].forward) ++r.misoriented_edges;
+    if (uses != 2) bad_vertex[sides[k].lo] = bad_vertex[sides[k].hi] = 1;
+    k = e;
+  }
+  r.consistently_oriented = r.misoriented_edges == 0;
+
+  // Non-manifold vertices: the triangles around a vertex must form one fan (connected through edges at it).
+  std::vector<std::uint32_t> start(nv + 1, 0), around;
+  for (std::size_t t = 0; t < nt; ++t)
+    if (!collapsed(t))
+      for (std::uint32_t i : tris[t]) ++start[i + 1];
+  for (std::size_t i = 0; i < nv; ++i) start[i + 1] += start[i];
+  around.resize(start[nv]);
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t t = 0; t < nt; ++t)
+      if (!collapsed(t))
+        for (std::uint32_t i : tris[t]) around[fill[i]++] = static_cast<std::uint32_t>(t);
+  }
+  std::vector<char> fan_broken(nv, 0);
+  core::parallel_for(nv, threads, [&](std::size_t b0, std::size_t e0) {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> spokes;  // (other vertex, local triangle)
+    for (std::size_t v = b0; v < e0; ++v) {
+      const std::uint32_t n = start[v + 1] - start[v];
+      if (n == 0) continue;
+      spokes.clear();
+      for (std::uint32_t j = 0; j < n; ++j) {
+        const Tri& w = tris[around[start[v] + j]];
+        for (std::uint32_t o : w)
+          if (o != v) spokes.emplace_back(o, j);
+      }
+      std::sort(spokes.begin(), spokes.end());
+      UnionFind uf(n);
+      for (std::size_t k = 1; k < spokes.size(); ++k)
+        if (spokes[k].first == spokes[k - 1].first) uf.unite(spokes[k].second, spokes[k - 1].second);
+      std::uint32_t fans = 0;
+      for (std::uint32_t j = 0; j < n; ++j) fans += uf.find(j) == j;
+      fan_broken[v] = fans > 1;
+    }
+  }, 4096);
+  for (std::size_t v = 0; v < nv; ++v) {
+    r.nonmanifold_vertices += fan_broken[v];
+    if (fan_broken[v]) bad_vertex[v] = 1;
+  }
+
+  // Parts and the genus of each closed manifold part: V - E + F = 2 - 2g.
+  UnionFind uf(nv);
+  for (const Tri& w : tris) {
+    uf.unite(w[0], w[1]);
+    uf.unite(w[0], w[2]);
+  }
+  std::vector<std::int64_t> part_of(nv, -1);
+  for (std::uint32_t i = 0; i < nv; ++i)
+    if (used[i] && uf.find(i) == i) part_of[i] = static_cast<std::int64_t>(r.parts++);
+  std::vector<std::int64_t> V(r.parts, 0), E(r.parts, 0), F(r.parts, 0);
+  std::vector<char> closed(r.parts, 1);
+  for (std::uint32_t i = 0; i < nv; ++i)
+    if (used[i] && canon[i] == i) {
+      const auto p = part_of[uf.find(i)];
+      ++V[p];
+      if (bad_vertex[i]) closed[p] = 0;
+    }
+  for (const auto& e : edges) ++E[part_of[uf.find(e.first)]];
+  for (std::size_t t = 0; t < nt; ++t)
+    if (!collapsed(t)) ++F[part_of[uf.find(tris[t][0])]];
+  r.genus.resize(r.parts);
+  for (std::size_t p = 0; p < r.parts; ++p) {
+    const std::int64_t chi = V[p] - E[p] + F[p];
+    r.genus[p] = closed[p] && chi % 2 == 0 ? static_cast<int>((2 - chi) / 2) : -1;
+  }
+
+  const Pairs pairs = intersecting_pairs(mesh.vertices, tris, degenerate, threads);
+  r.self_intersections = pairs.size();
+  r.intersecting_pairs.assign(pairs.begin(), pairs.begin() + static_cast<std::ptrdiff_t>(std::min<std::size_t>(pairs.size(), 16)));
+  return r;
+}
+
+std::string MeshReport::summary() const {
+  std::ostringstream s;
+  s << triangles << " triangles, " << vertices << " vertices, " << parts << (parts == 1 ? " part" : " parts")
+    << "; volume " << volume << ", area " << area << "; bounding box " << (bbox_max - bbox_min).transpose() << "\n";
+  s << "boundary edges " << boundary_edges << ", non-manifold edges " << nonmanifold_edges << ", non-manifold vertices "
+    << nonmanifold_vertices << ", misoriented edges " << misoriented_edges << ", self-intersecting pairs "
+    << self_intersections << ", degenerate triangles " << degenerate_triangles << "\n";
+  s << "genus per part:";
+  for (std::size_t p = 0; p < genus.size() && p < 20; ++p) s << " " << (genus[p] < 0 ? std::string("open") : std::to_string(genus[p]));
+  if (genus.size() > 20) s << " ...";
+  s << "\n" << (printable() ? "printable" : "NOT printable") << "\n";
+  return s.str();
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Readers
+
+namespace {
+
+[[noreturn]] void malformed(const std::filesystem::path& path, const std::string& what) {
+  throw core::FileError(path.string() + ": " + what);
+}
+
+PrintableMesh weld_soup(std::vector<Vec3> corners) {  // 3 corners per triangle -> indexed, exact welding
+  const std::vector<std::uint32_t> canon = weld(corners);
+  PrintableMesh m;
+  std::vector<std::uint32_t> index(corners.size());
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    if (canon[i] == i) {
+      index[i] = static_cast<std::uint32_t>(m.vertices.size());
+      m.vertices.push_back(corners[i]);
+    }
+  }
+  for (std::size_t i = 0; i < corners.size(); ++i) index[i] = index[canon[i]];
+  m.triangles.resize(corners.size() / 3);
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) m.triangles[t] = {index[3 * t], index[3 * t + 1], index[3 * t + 2]};
+  return m;
+}
+
+template <class T>
+T get(const std::string& s, std::size_t at) {
+  T v;
+  std::memcpy(&v, s.data() + at, sizeof(T));
+  return v;
+}
+
+PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s) {
+  if (s.size() >= 84) {
+    const std::uint32_t n = get<std::uint32_t>(s, 80);
+    if (s.size() == 84 + 50 * std::size_t{n}) {
+      std::vector<Vec3> corners(3 * std::size_t{n});
+      for (std::size_t t = 0; t < n; ++t)
+        for (int k = 0; k < 3; ++k) {
+          const std::size_t at = 84 + 50 * t + 12 + 12 * k;
+          corners[3 * t + k] = Vec3(get<float>(s, at), get<float>(s, at + 4), get<float>(s, at + 8));
+        }
+      return weld_soup(std::move(corners));
+    }
+  }
+  std::istringstream in(s);
+  std::string word;
+  if (!(in >> word) || word != "solid") malformed(path, "not an STL file (neither binary nor ASCII 'solid')");
+  std::vector<Vec3> corners;
+  while (in >> word)
+    if (word == "vertex") {
+      Vec3 p;
+      if (!(in >> p.x() >> p.y() >> p.z())) malformed(path, "ASCII STL vertex without three numbers");
+      corners.push_back(p);
+    }
+  if (corners.size() % 3 != 0) malformed(path, "ASCII STL facet without exactly three vertices");
+  if (corners.empty()) malformed(path, "no facets in the STL file");
+  return weld_soup(std::move(corners));
+}
+
+PrintableMesh read_obj(const std::filesystem::path& path, const std::string& s) {
+  PrintableMesh m;
+  std::istringstream in(s);
+  std::string line;
+  std::size_t line_no = 0;
+  std::vector<std::int64_t> poly;
+  while (std::getline(in, line)) {
+    ++line_no;
+    std::istringstream ls(line);
+    std::string tag;
+    if (!(ls >> tag)) continue;
+    if (tag == "v") {
+      Vec3 p;
+      if (!(ls >> p.x() >> p.y() >> p.z())) malformed(path, "line " + std::to_string(line_no) + ": 'v' needs three numbers");
+      m.vertices.push_back(p);
+    } else if (tag == "f") {
+      poly.clear();
+      std::string tok;
+      while (ls >> tok) {
+        std::int64_t i = 0;
+        try {
+          i = std::stoll(tok.substr(0, tok.find('/')));
+        } catch (const std::exception&) {
+          malformed(path, "line " + std::to_string(line_no) + ": bad face index '" + tok + "'");
+        }
+        if (i < 0) i += static_cast<std::int64_t>(m.vertices.size()) + 1;
+        if (i < 1 || i > static_cast<std::int64_t>(m.vertices.size()))
+          malformed(path, "line " + std::to_string(line_no) + ": face index " + tok + " out of range");
+        poly.push_back(i - 1);
+      }
+      if (poly.size() < 3) malformed(path, "line " + std::to_string(line_no) + ": a face needs three vertices");
+      for (std::size_t k = 1; k + 1 < poly.size(); ++k)
+        m.triangles.push_back({std::uint32_t(poly[0]), std::uint32_t(poly[k]), std::uint32_t(poly[k + 1])});
+    }
+  }
+  if (m.triangles.empty()) malformed(path, "no faces in the OBJ file");
+  return m;
+}
+
+PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) {
+  struct Property {
+    std::string name, type, count_type;  // count_type non-empty for lists
+  };
+  struct Element {
+    std::string name;
+    std::size_t count = 0;
+    std::vector<Property> props;
+  };
+  std::size_t end = s.find("end_header");
+  if (s.rfind("ply", 0) != 0 || end == std::string::npos) malformed(path, "not a PLY file");
+  std::istringstream head(s.substr(0, end));
+  std::string line, format;
+  std::vector<Element> elements;
+  while (std::getline(head, line)) {
+    std::istringstream ls(line);
+    std::string w;
+    ls >> w;
+    if (w == "format") ls >> format;
+    else if (w == "element") {
+      elements.push_back({});
+      ls >> elements.back().name >> elements.back().count;
+    } else if (w == "property") {
+      if (elements.empty()) malformed(path, "PLY property before any element");
+      Property p;
+      ls >> p.type;
+      if (p.type == "list") ls >> p.count_type >> p.type;
+      ls >> p.name;
+      elements.back().props.push_back(p);
+    }
+  }
+  const bool ascii = format == "ascii";
+  if (!ascii && format != "binary_little_endian")
+    malformed(path, "PLY format '" + format + "' is not supported (ascii or binary_little_endian)");
+  std::size_t at = s.find('\n', end);
+  if (at == std::string::npos) malformed(path, "PLY header not terminated");
+  ++at;
+  std::istringstream body(ascii ? s.substr(at) : std::string());
+  const auto size_of = [&](const std::string& t) -> std::size_t {
+    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+    if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
+    if (t == "double" || t == "float64") return 8;
+    malformed(path, "unknown PLY property type '" + t + "'");
+  };
+  const auto read = [&](const std::string& t) -> double {
+    if (ascii) {
+      double v;
+      if (!(body >> v)) malformed(path, "PLY data ends early");
+      return v;
+    }
+    const std::size_t n = size_of(t);
+    if (at + n > s.size()) malformed(path, "PLY data ends early");
+    double v = 0;
+    if (t == "char" || t == "int8") v = get<std::int8_t>(s, at);
+    else if (t == "uchar" || t == "uint8") v = get<std::uint8_t>(s, at);
+    else if (t == "short" || t == "int16") v = get<std::int16_t>(s, at);
+    else if (t == "ushort" || t == "uint16") v = get<std::uint16_t>(s, at);
+    else if (t == "int" || t == "int32") v = get<std::int32_t>(s, at);
+    else if (t == "uint" || t == "uint32") v = get<std::uint32_t>(s, at);
+    else if (t == "float" || t == "float32") v = get<float>(s, at);
+    else v = get<double>(s, at);
+    at += n;
+    return v;
+  };
+  PrintableMesh m;
+  std::vector<double> list;
+  for (const Element& e : elements)
+    for (std::size_t i = 0; i < e.count; ++i) {
+      Vec3 p = Vec3::Zero();
+      for (const Property& pr : e.props) {
+        if (pr.count_type.empty()) {
+          const double v = read(pr.type);
+          if (e.name == "vertex" && pr.name.size() == 1 && pr.name[0] >= 'x' && pr.name[0] <= 'z') p[pr.name[0] - 'x'] = v;
+          continue;
+        }
+        const double n = read(pr.count_type);
+        if (!(n >= 0 && n < 1e6)) malformed(path, "bad PLY list length");
+        list.resize(static_cast<std::size_t>(n));
+        for (double& x : list) x = read(pr.type);
+        if (e.name == "face" && (pr.name == "vertex_indices" || pr.name == "vertex_index")) {
+          if (list.size() < 3) malformed(path, "PLY face with fewer than three vertices");
+          for (double x : list)
+            if (!(x >= 0 && x < 4294967295.0)) malformed(path, "PLY face index out of range");
+          for (std::size_t k = 1; k + 1 < list.size(); ++k)
+            m.triangles.push_back({std::uint32_t(list[0]), std::uint32_t(list[k]), std::uint32_t(list[k + 1])});
+        }
+      }
+      if (e.name == "vertex") m.vertices.push_back(p);
+    }
+  for (const Tri& t : m.triangles)
+    for (std::uint32_t i : t)
+      if (i >= m.vertices.size()) malformed(path, "PLY face index " + std::to_string(i) + " out of range");
+  if (m.triangles.empty()) malformed(path, "no faces in the PLY file");
+  return m;
+}
+
+}  // namespace
+
+PrintableMesh read_mesh(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".stl" && ext != ".obj" && ext != ".ply")
+    throw core::FileError(path.string() + ": unknown mesh format '" + ext + "' (use .stl, .obj or .ply)");
+  const std::string s = core::read_file(path);
+  if (ext == ".stl") return read_stl(path, s);
+  if (ext == ".obj") return read_obj(path, s);
+  return read_ply(path, s);
+}
+
+}  // namespace cellform::exporters

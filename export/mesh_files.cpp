@@ -1,0 +1,112 @@
+// Writers for printable meshes.
+#include "export/mesh_files.h"
+
+#include <cctype>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include "core/atomic_file.h"
+#include "core/errors.h"
+
+namespace cellform::exporters {
+
+using core::Vec3;
+
+namespace {
+
+template <class T>
+void put(std::string& out, T v) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));  // little-endian hosts only (x86-64, arm64)
+  out.append(b, sizeof(T));
+}
+
+void put_vec(std::string& out, const Vec3& v) {
+  put<float>(out, static_cast<float>(v.x()));
+  put<float>(out, static_cast<float>(v.y()));
+  put<float>(out, static_cast<float>(v.z()));
+}
+
+}  // namespace
+
+void write_stl(const std::filesystem::path& path, const PrintableMesh& m) {
+  std::string out;
+  out.reserve(84 + 50 * m.triangles.size());
+  std::string header = "binary STL from cellform, units: mm";
+  header.resize(80, ' ');
+  out += header;
+  put<std::uint32_t>(out, static_cast<std::uint32_t>(m.triangles.size()));
+  for (const auto& t : m.triangles) {
+    const Vec3 &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
+    const Vec3 n = (b - a).cross(c - a).normalized();
+    put_vec(out, n.allFinite() ? n : Vec3::Zero());
+    put_vec(out, a);
+    put_vec(out, b);
+    put_vec(out, c);
+    put<std::uint16_t>(out, 0);
+  }
+  core::write_file_atomically(path, [&](std::ostream& os) { os.write(out.data(), static_cast<std::streamsize>(out.size())); });
+}
+
+void write_obj(const std::filesystem::path& path, const PrintableMesh& m) {
+  core::write_file_atomically(path, [&](std::ostream& os) {
+    os << "# cellform printable mesh, units: mm\n# " << m.vertices.size() << " vertices, " << m.triangles.size()
+       << " triangles\n";
+    char buf[128];
+    for (const Vec3& v : m.vertices) {
+      std::snprintf(buf, sizeof buf, "v %.9g %.9g %.9g\n", v.x(), v.y(), v.z());
+      os << buf;
+    }
+    for (const auto& t : m.triangles) os << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
+  });
+}
+
+void write_ply(const std::filesystem::path& path, const PrintableMesh& m) {
+  std::string body;
+  body.reserve(12 * m.vertices.size() + 13 * m.triangles.size());
+  for (const Vec3& v : m.vertices) put_vec(body, v);
+  for (const auto& t : m.triangles) {
+    put<std::uint8_t>(body, 3);
+    for (std::uint32_t i : t) put<std::int32_t>(body, static_cast<std::int32_t>(i));
+  }
+  const std::string header = "ply\nformat binary_little_endian 1.0\ncomment cellform printable mesh, units: mm\n"
+                             "element vertex " + std::to_string(m.vertices.size()) +
+                             "\nproperty float x\nproperty float y\nproperty float z\n"
+                             "element face " + std::to_string(m.triangles.size()) +
+                             "\nproperty list uchar int vertex_indices\nend_header\n";
+  core::write_file_atomically(path, [&](std::ostream& os) {
+    os << header;
+    os.write(body.data(), static_cast<std::streamsize>(body.size()));
+  });
+}
+
+void write_scad(const std::filesystem::path& path, const PrintableMesh& m) {
+  core::write_file_atomically(path, [&](std::ostream& os) {
+    os << "// cellform printable mesh, units: mm. Render: openscad -o out.stl this.scad\npolyhedron(points = [\n";
+    char buf[128];
+    for (std::size_t i = 0; i < m.vertices.size(); ++i) {
+      const Vec3& v = m.vertices[i];
+      std::snprintf(buf, sizeof buf, "[%.9g,%.9g,%.9g]%s\n", v.x(), v.y(), v.z(), i + 1 < m.vertices.size() ? "," : "");
+      os << buf;
+    }
+    os << "], faces = [\n";
+    for (std::size_t i = 0; i < m.triangles.size(); ++i) {
+      const auto& t = m.triangles[i];
+      os << "[" << t[0] << "," << t[2] << "," << t[1] << "]" << (i + 1 < m.triangles.size() ? ",\n" : "\n");
+    }
+    os << "], convexity = 10);\n";
+  });
+}
+
+void write_mesh(const std::filesystem::path& path, const PrintableMesh& mesh) {
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".stl") write_stl(path, mesh);
+  else if (ext == ".obj") write_obj(path, mesh);
+  else if (ext == ".ply") write_ply(path, mesh);
+  else if (ext == ".scad") write_scad(path, mesh);
+  else throw core::InvalidInput(path.string() + ": unknown mesh format '" + ext + "' (use .stl, .obj, .ply or .scad)");
+}
+
+}  // namespace cellform::exporters

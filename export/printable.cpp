@@ -1,0 +1,542 @@
+// Thickening into a level set and meshing it: the only file of cellform that includes OpenVDB.
+#include "export/printable.h"
+
+#include <openvdb/io/Stream.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/SignedFloodFill.h>
+#include <openvdb/tools/VolumeToMesh.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <mutex>
+#include <string>
+
+#include "core/atomic_file.h"
+#include "core/errors.h"
+#include "export/mesh_check.h"
+
+namespace cellform::exporters {
+
+struct LevelSet::Impl {
+  openvdb::FloatGrid::Ptr grid;
+  double voxel_size = 0;
+  double scale = 0;
+  std::size_t active_voxels = 0;
+};
+
+LevelSet::LevelSet() = default;
+LevelSet::LevelSet(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
+double LevelSet::voxel_size() const { return impl_ ? impl_->voxel_size : 0.0; }
+double LevelSet::scale() const { return impl_ ? impl_->scale : 0.0; }
+std::size_t LevelSet::active_voxels() const { return impl_ ? impl_->active_voxels : 0; }
+
+namespace {
+
+constexpr int kHalfWidth = 3;  // narrow band half width in voxels (OpenVDB's LEVEL_SET_HALF_WIDTH)
+constexpr int kLeafLog2 = 3;   // 8^3 voxels per leaf
+using FloatLeaf = openvdb::FloatTree::LeafNodeType;
+static_assert(FloatLeaf::DIM == (1 << kLeafLog2));
+
+// Bytes per narrow-band voxel (leaf values, masks, partly filled leaves) and per surface quad before
+// adaptivity (volumeToMesh scratch and output, our triangles); measured on the export benchmarks and rounded up.
+constexpr double kBytesPerActiveVoxel = 14;
+constexpr double kBytesPerQuad = 160;
+
+std::string fmt(const char* f, double x) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, x);
+  return b;
+}
+
+std::string bytes_text(double b) {
+  return b >= 1e9 ? fmt("%.1f GB", b / 1e9) : fmt("%.0f MB", std::ceil(b / 1e6));
+}
+
+void init_openvdb() {
+  static std::once_flag once;
+  std::call_once(once, [] { openvdb::initialize(); });
+}
+
+// Exact signed distance to a round cone, after Inigo Quilez's sdRoundCone (one square root per voxel);
+// falls back to a sphere when one end sphere contains the other.
+struct Capsule {
+  Vec3 a, ba;
+  double r1 = 0, r2 = 0, l2 = 0, rr = 0, a2 = 0, il2 = 0;
+  bool sphere = false;
+  Vec3 lo, hi;  // bounding box of the solid, mm
+
+  Capsule(const Vec3& pa, const Vec3& pb, double ra, double rb) {
+    lo = pa.cwiseMin(pb) - Vec3::Constant(std::max(ra, rb));
+    hi = pa.cwiseMax(pb) + Vec3::Constant(std::max(ra, rb));
+    const double len = (pb - pa).norm();
+    if (len <= std::abs(ra - rb) * (1 + 1e-9) + 1e-12) {  // one sphere swallows the other
+      sphere = true;
+      a = ra >= rb ? pa : pb;
+      r1 = std::max(ra, rb);
+      return;
+    }
+    a = pa;
+    ba = pb - pa;
+    r1 = ra;
+    r2 = rb;
+    l2 = ba.squaredNorm();
+    rr = r1 - r2;
+    a2 = l2 - rr * rr;
+    il2 = 1.0 / l2;
+  }
+
+  double distance(const Vec3& p) const {
+    const Vec3 pa = p - a;
+    if (sphere) return pa.norm() - r1;
+    const double y = pa.dot(ba);
+    const double z = y - l2;
+    const double x2 = (pa * l2 - ba * y).squaredNorm();
+    const double y2 = y * y * l2;
+    const double z2 = z * z * l2;
+    const double k = (rr > 0 ? 1.0 : rr < 0 ? -1.0 : 0.0) * rr * rr * x2;
+    const double sz = z > 0 ? 1.0 : z < 0 ? -1.0 : 0.0;
+    const double sy = y > 0 ? 1.0 : y < 0 ? -1.0 : 0.0;
+    if (sz * a2 * z2 > k) return std::sqrt(x2 + z2) * il2 - r2;
+    if (sy * a2 * y2 < k) return std::sqrt(x2 + y2) * il2 - r1;
+    return (std::sqrt(x2 * a2 * il2) + y * rr) * il2 - r1;
+  }
+};
+
+// A slab of half thickness h around a triangle: unsigned distance to the triangle minus h.
+struct Slab {
+  Vec3 p0, p1, p2;
+  double h = 0;
+  Vec3 lo, hi;
+
+  Slab(const Vec3& a, const Vec3& b, const Vec3& c, double half_width) : p0(a), p1(b), p2(c), h(half_width) {
+    lo = a.cwiseMin(b).cwiseMin(c) - Vec3::Constant(h);
+    hi = a.cwiseMax(b).cwiseMax(c) + Vec3::Constant(h);
+  }
+
+  // Closest point on a triangle, Ericson, Real-Time Collision Detection 5.1.5 (degenerate triangles too).
+  double distance(const Vec3& p) const {
+    const Vec3 ab = p1 - p0, ac = p2 - p0, ap = p - p0;
+    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0 && d2 <= 0) return ap.norm() - h;
+    const Vec3 bp = p - p1;
+    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0 && d4 <= d3) return bp.norm() - h;
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+      const double v = d1 / (d1 - d3);
+      return (ap - v * ab).norm() - h;
+    }
+    const Vec3 cp = p - p2;
+    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0 && d5 <= d6) return cp.norm() - h;
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+      const double w = d2 / (d2 - d6);
+      return (ap - w * ac).norm() - h;
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+      const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+      return (bp - w * (p2 - p1)).norm() - h;
+    }
+    const double denom = va + vb + vc;
+    if (!(std::abs(denom) > 0)) return ap.norm() - h;  // all three points coincide
+    const double v = vb / denom, w = vc / denom;
+    return (ap - ab * v - ac * w).norm() - h;
+  }
+};
+
+struct Box {
+  openvdb::Coord lo, hi;  // inclusive voxel index range
+};
+
+// A (leaf, primitive) pair; primitives are numbered capsules first, then slabs.
+struct LeafRef {
+  std::uint64_t leaf;
+  std::uint32_t prim;
+  bool operator<(const LeafRef& o) const { return leaf != o.leaf ? leaf < o.leaf : prim < o.prim; }
+};
+
+constexpr int kKeyBits = 21;
+constexpr std::int64_t kKeyOffset = std::int64_t{1} << (kKeyBits - 1);
+
+std::uint64_t leaf_key(int x, int y, int z) {
+  return (static_cast<std::uint64_t>(x + kKeyOffset) << (2 * kKeyBits)) |
+         (static_cast<std::uint64_t>(y + kKeyOffset) << kKeyBits) | static_cast<std::uint64_t>(z + kKeyOffset);
+}
+
+openvdb::Coord leaf_origin(std::uint64_t key) {
+  const std::uint64_t mask = (std::uint64_t{1} << kKeyBits) - 1;
+  const auto c = [&](int shift) {
+    return static_cast<int>(static_cast<std::int64_t>((key >> shift) & mask) - kKeyOffset) * (1 << kLeafLog2);
+  };
+  return {c(2 * kKeyBits), c(kKeyBits), c(0)};
+}
+
+bool finite(const Vec3& v) { return v.allFinite(); }
+
+void check_params(const ThickenParams& p) {
+  const auto bad = [](const std::string& what) { throw core::InvalidInput("thicken: " + what); };
+  if (!(std::isfinite(p.scale) && p.scale >= 0)) bad("scale must be >= 0 mm per model unit (0 = auto), got " + fmt("%g", p.scale));
+  if (!(std::isfinite(p.auto_extent) && p.auto_extent > 0)) bad("auto_extent must be > 0 mm, got " + fmt("%g", p.auto_extent));
+  if (!(std::isfinite(p.min_radius) && p.min_radius > 0)) bad("min_radius must be > 0 mm, got " + fmt("%g", p.min_radius));
+  if (!(std::isfinite(p.voxel_size) && p.voxel_size >= 0)) bad("voxel_size must be >= 0 mm (0 = auto), got " + fmt("%g", p.voxel_size));
+  if (p.voxel_size > p.min_radius)
+    bad("voxel_size " + fmt("%g", p.voxel_size) + " mm exceeds min_radius " + fmt("%g", p.min_radius) +
+        " mm: the thinnest veins would vanish; use a voxel size of at most min_radius");
+  if (!(std::isfinite(p.shell_thickness) && p.shell_thickness > 0))
+    bad("shell_thickness must be > 0 mm, got " + fmt("%g", p.shell_thickness));
+  if (!(p.adaptivity >= 0 && p.adaptivity <= 1)) bad("adaptivity must be in [0, 1], got " + fmt("%g", p.adaptivity));
+  if (!(p.max_memory_bytes > 0)) bad("max_memory_bytes must be > 0");
+  if (p.threads < 0) bad("threads must be >= 0 (0 = all cores)");
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+int arena_threads(int threads) { return threads > 0 ? threads : tbb::task_arena::automatic; }
+
+}  // namespace
+
+LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell,
+                  const ThickenParams& params, ThickenReport* report) {
+  const auto t0 = std::chrono::steady_clock::now();
+  check_params(params);
+  if (segments.empty() && shell.empty())
+    throw core::InvalidInput("thicken: nothing to thicken: the form has no vein segments and no shell triangles");
+
+  // Validate and find the model's bounding box (radii included) for the automatic scale.
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    const Segment& s = segments[i];
+    if (!finite(s.a) || !finite(s.b) || !std::isfinite(s.ra) || !std::isfinite(s.rb))
+      throw core::InvalidInput("thicken: vein segment " + std::to_string(i) + " has a non-finite end point or radius");
+    if (s.ra < 0 || s.rb < 0)
+      throw core::InvalidInput("thicken: vein segment " + std::to_string(i) + " has a negative radius");
+    lo = lo.cwiseMin(s.a - Vec3::Constant(s.ra)).cwiseMin(s.b - Vec3::Constant(s.rb));
+    hi = hi.cwiseMax(s.a + Vec3::Constant(s.ra)).cwiseMax(s.b + Vec3::Constant(s.rb));
+  }
+  for (std::size_t i = 0; i < shell.size(); ++i)
+    for (const Vec3& p : shell[i]) {
+      if (!finite(p)) throw core::InvalidInput("thicken: shell triangle " + std::to_string(i) + " has a non-finite corner");
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  const double extent = (hi - lo).maxCoeff();
+  const double scale = params.scale > 0 ? params.scale : (extent > 0 ? params.auto_extent / extent : 1.0);
+  const double voxel = params.voxel_size > 0 ? params.voxel_size : params.min_radius / 2;
+  const double band = kHalfWidth * voxel;  // mm, also the grid's background value
+  const double half_shell = params.shell_thickness / 2;
+
+  // Primitives in mm, with radii raised to the printable minimum.
+  std::vector<Capsule> caps;
+  caps.reserve(segments.size());
+  std::size_t raised = 0;
+  double area = 0;  // mm^2, sum of the primitives' surfaces (overlaps counted twice: an upper bound)
+  for (const Segment& s : segments) {
+    const double ra = std::max(s.ra * scale, params.min_radius), rb = std::max(s.rb * scale, params.min_radius);
+    raised += (s.ra * scale < params.min_radius) + (s.rb * scale < params.min_radius);
+    caps.emplace_back(s.a * scale, s.b * scale, ra, rb);
+    const double len = (s.b - s.a).norm() * scale;
+    area += M_PI * (ra + rb) * std::hypot(len, ra - rb) + 4 * M_PI * std::max(ra, rb) * std::max(ra, rb);
+  }
+  std::vector<Slab> slabs;
+  slabs.reserve(shell.size());
+  for (const auto& t : shell) {
+    slabs.emplace_back(t[0] * scale, t[1] * scale, t[2] * scale, half_shell);
+    const Vec3 a = t[0] * scale, b = t[1] * scale, c = t[2] * scale;
+    area += (b - a).cross(c - a).norm() + M_PI * half_shell * ((b - a).norm() + (c - b).norm() + (a - c).norm());
+  }
+
+  // Memory: narrow-band voxels (both sides of the surface) and surface quads both scale as voxel^-2.
+  const double active_estimate = area * 2 * band / (voxel * voxel * voxel);
+  const double quads_estimate = area / (voxel * voxel);
+  const double estimate = active_estimate * kBytesPerActiveVoxel + quads_estimate * kBytesPerQuad +
+                          static_cast<double>(caps.size() + slabs.size()) * 200;
+  if (report) {
+    report->scale = scale;
+    report->voxel_size = voxel;
+    report->segments = caps.size();
+    report->shell_triangles = slabs.size();
+    report->raised_radii = raised;
+    report->estimated_bytes = estimate;
+  }
+  if (estimate > params.max_memory_bytes)
+    throw core::InvalidInput("thicken: at a voxel size of " + fmt("%.3g", voxel) + " mm the form needs about " +
+                             bytes_text(estimate) + " of memory, more than the limit of " +
+                             bytes_text(params.max_memory_bytes) + "; use a voxel size of at least " +
+                             fmt("%.3g", voxel * std::sqrt(estimate / params.max_memory_bytes) * 1.05) +
+                             " mm, a smaller scale, or raise the memory limit");
+
+  // Index boxes of the primitives widened by the band; voxel (i, j, k) sits at (i, j, k) * voxel mm.
+  const std::size_t nprim = caps.size() + slabs.size();
+  std::vector<Box> boxes(nprim);
+  const double max_index = static_cast<double>(kKeyOffset - 2) * (1 << kLeafLog2);
+  for (std::size_t i = 0; i < nprim; ++i) {
+    const Vec3& plo = i < caps.size() ? caps[i].lo : slabs[i - caps.size()].lo;
+    const Vec3& phi = i < caps.size() ? caps[i].hi : slabs[i - caps.size()].hi;
+    const Vec3 ilo = ((plo.array() - band) / voxel).ceil(), ihi = ((phi.array() + band) / voxel).floor();
+    if (ilo.cwiseAbs().maxCoeff() > max_index || ihi.cwiseAbs().maxCoeff() > max_index)
+      throw core::InvalidInput("thicken: the form spans more than " + fmt("%.0f", max_index) +
+                               " voxels from the origin; use a larger voxel size or a smaller scale");
+    boxes[i].lo = openvdb::Coord(static_cast<int>(ilo.x()), static_cast<int>(ilo.y()), static_cast<int>(ilo.z()));
+    boxes[i].hi = openvdb::Coord(static_cast<int>(ihi.x()), static_cast<int>(ihi.y()), static_cast<int>(ihi.z()));
+  }
+
+  init_openvdb();
+  auto grid = openvdb::FloatGrid::create(static_cast<float>(band));
+  grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+  grid->setGridClass(openvdb::GRID_LEVEL_SET);
+  grid->setName("cellform");
+
+  tbb::task_arena arena(arena_threads(params.threads));
+  arena.execute([&] {
+    // Gather: list every (leaf, primitive) overlap, sort by leaf, then each leaf takes the minimum
+    // over its primitives. Every leaf is computed by one task from sorted input: no races, no order effects.
+    std::vector<std::size_t> offset(nprim + 1, 0);
+    for (std::size_t i = 0; i < nprim; ++i) {
+      const openvdb::Coord a = boxes[i].lo >> kLeafLog2, b = boxes[i].hi >> kLeafLog2;
+      offset[i + 1] = offset[i] + static_cast<std::size_t>(b.x() - a.x() + 1) * static_cast<std::size_t>(b.y() - a.y() + 1) *
+                                      static_cast<std::size_t>(b.z() - a.z() + 1);
+    }
+    std::vector<LeafRef> refs(offset[nprim]);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nprim, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+        const openvdb::Coord a = boxes[i].lo >> kLeafLog2, b = boxes[i].hi >> kLeafLog2;
+        std::size_t k = offset[i];
+        for (int x = a.x(); x <= b.x(); ++x)
+          for (int y = a.y(); y <= b.y(); ++y)
+            for (int z = a.z(); z <= b.z(); ++z) refs[k++] = {leaf_key(x, y, z), static_cast<std::uint32_t>(i)};
+      }
+    });
+    tbb::parallel_sort(refs.begin(), refs.end());  // unique elements: the sorted order is unique too
+    std::vector<std::size_t> runs;
+    for (std::size_t k = 0; k < refs.size(); ++k)
+      if (k == 0 || refs[k].leaf != refs[k - 1].leaf) runs.push_back(k);
+    runs.push_back(refs.size());
+
+    const std::size_t nleaves = runs.size() - 1;
+    std::vector<std::unique_ptr<FloatLeaf>> leaves(nleaves);
+    const float bg = static_cast<float>(band);
+    const double nudge = 1e-3 * voxel;  // mm: moves the surface by at most this much
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaves, 16), [&](const tbb::blocked_range<std::size_t>& r) {
+      std::array<double, FloatLeaf::SIZE> d;
+      for (std::size_t l = r.begin(); l < r.end(); ++l) {
+        const openvdb::Coord origin = leaf_origin(refs[runs[l]].leaf);
+        const openvdb::Coord last = origin.offsetBy(FloatLeaf::DIM - 1);
+        d.fill(band);
+        for (std::size_t k = runs[l]; k < runs[l + 1]; ++k) {
+          const std::uint32_t i = refs[k].prim;
+          const openvdb::Coord a = openvdb::Coord::maxComponent(boxes[i].lo, origin);
+          const openvdb::Coord b = openvdb::Coord::minComponent(boxes[i].hi, last);
+          for (int x = a.x(); x <= b.x(); ++x)
+            for (int y = a.y(); y <= b.y(); ++y)
+              for (int z = a.z(); z <= b.z(); ++z) {
+                const Vec3 p(x * voxel, y * voxel, z * voxel);
+                const double dist = i < caps.size() ? caps[i].distance(p) : slabs[i - caps.size()].distance(p);
+                double& slot = d[FloatLeaf::coordToOffset(openvdb::Coord(x, y, z))];
+                slot = std::min(slot, dist);
+              }
+        }
+        bool any = false;
+        for (double v : d) any = any || std::abs(v) < band;
+        if (!any) continue;  // entirely inside or outside: the flood fill below supplies the sign
+        auto leaf = std::make_unique<FloatLeaf>(origin, bg, false);
+        for (openvdb::Index n = 0; n < FloatLeaf::SIZE; ++n) {
+          const double v = d[n];
+          // A value at or next to 0 puts the crossings of several voxel edges on the same point and
+          // volumeToMesh then emits distinct vertices at one position (zero-area triangles); push it off.
+          if (std::abs(v) < nudge) leaf->setValueOn(n, static_cast<float>(v < 0 ? -nudge : nudge));
+          else if (std::abs(v) < band) leaf->setValueOn(n, static_cast<float>(v));
+          else leaf->setValueOff(n, v < 0 ? -bg : bg);
+        }
+        leaves[l] = std::move(leaf);
+      }
+    });
+    auto& tree = grid->tree();
+    for (auto& leaf : leaves)
+      if (leaf) tree.addLeaf(leaf.release());
+    openvdb::tools::signedFloodFill(tree);
+  });
+
+  auto impl = std::make_shared<LevelSet::Impl>();
+  impl->grid = grid;
+  impl->voxel_size = voxel;
+  impl->scale = scale;
+  impl->active_voxels = static_cast<std::size_t>(grid->activeVoxelCount());
+  if (report) {
+    report->active_voxels = impl->active_voxels;
+    report->voxelise_seconds = seconds_since(t0);
+  }
+  return LevelSet(std::move(impl));
+}
+
+namespace {
+
+// One volumeToMesh pass; voxels active in `no_merge` are meshed without adaptivity. Quads are split
+// along their shorter diagonal; triangles with a repeated vertex (from merged points) are dropped.
+PrintableMesh mesh_once(const openvdb::FloatGrid& grid, double adaptivity, const openvdb::BoolTree::Ptr& no_merge) {
+  openvdb::tools::VolumeToMesh mesher(0.0, adaptivity, true);
+  if (no_merge) mesher.setAdaptivityMask(no_merge);
+  mesher(grid);
+  PrintableMesh mesh;
+  mesh.vertices.resize(mesher.pointListSize());
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const openvdb::Vec3s& p = mesher.pointList()[i];
+    mesh.vertices[i] = Vec3(p.x(), p.y(), p.z());
+  }
+  const auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    if (a != b && b != c && c != a) mesh.triangles.push_back({a, b, c});
+  };
+  const auto& v = mesh.vertices;
+  for (std::size_t n = 0; n < mesher.polygonPoolListSize(); ++n) {
+    const openvdb::tools::PolygonPool& pool = mesher.polygonPoolList()[n];
+    for (std::size_t i = 0; i < pool.numQuads(); ++i) {
+      const openvdb::Vec4I& q = pool.quad(i);
+      if ((v[q[0]] - v[q[2]]).squaredNorm() <= (v[q[1]] - v[q[3]]).squaredNorm()) {
+        add(q[0], q[1], q[2]);
+        add(q[0], q[2], q[3]);
+      } else {
+        add(q[0], q[1], q[3]);
+        add(q[1], q[2], q[3]);
+      }
+    }
+    for (std::size_t i = 0; i < pool.numTriangles(); ++i) {
+      const openvdb::Vec3I& t = pool.triangle(i);
+      add(t[0], t[1], t[2]);
+    }
+  }
+  return mesh;
+}
+
+}  // namespace
+
+PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& params, ThickenReport* report) {
+  const auto t0 = std::chrono::steady_clock::now();
+  check_params(params);
+  const auto& grid = *level_set.impl().grid;
+  const double voxel = level_set.voxel_size();
+  PrintableMesh mesh;
+  std::size_t repaired = 0, intersections = 0;
+  tbb::task_arena arena(arena_threads(params.threads));
+  arena.execute([&] {
+    mesh = mesh_once(grid, params.adaptivity, nullptr);
+    if (params.adaptivity <= 0) return;  // uniform dual contouring: no folds seen in any test
+    // Adaptive merging can fold triangles into each other at creases. Find every intersecting pair and
+    // mesh the voxels around them again without merging, until none is left (at most a few passes).
+    auto no_merge = std::make_shared<openvdb::BoolTree>(false);
+    openvdb::BoolTree recheck(false);  // the re-meshed regions widened by 3 voxels: only there can new folds appear
+    auto pairs = self_intersecting_pairs(mesh, params.threads);
+    for (int pass = 0; pass < 4 && !pairs.empty(); ++pass) {
+      const double a = pass < 3 ? params.adaptivity : 0.0;  // last resort: no merging anywhere
+      const int margin = 2 + 2 * pass;                      // voxels
+      const auto box = [&](std::uint32_t t, int m) {
+        Vec3 lo = mesh.vertices[mesh.triangles[t][0]], hi = lo;
+        for (std::uint32_t i : mesh.triangles[t]) {
+          lo = lo.cwiseMin(mesh.vertices[i]);
+          hi = hi.cwiseMax(mesh.vertices[i]);
+        }
+        return openvdb::CoordBBox(
+            openvdb::Coord(static_cast<int>(std::floor(lo.x() / voxel)) - m, static_cast<int>(std::floor(lo.y() / voxel)) - m,
+                           static_cast<int>(std::floor(lo.z() / voxel)) - m),
+            openvdb::Coord(static_cast<int>(std::ceil(hi.x() / voxel)) + m, static_cast<int>(std::ceil(hi.y() / voxel)) + m,
+                           static_cast<int>(std::ceil(hi.z() / voxel)) + m));
+      };
+      for (const auto& pr : pairs)
+        for (std::uint32_t t : pr) {
+          no_merge->sparseFill(box(t, margin), true, true);
+          recheck.sparseFill(box(t, margin + 3), true, true);
+          ++repaired;
+        }
+      mesh = mesh_once(grid, a, no_merge);
+      // Re-check only triangles touching the widened regions; elsewhere the mesh is as before.
+      openvdb::tree::ValueAccessor<const openvdb::BoolTree> acc(recheck);
+      std::vector<std::array<std::uint32_t, 3>> near;
+      std::vector<std::uint32_t> near_id;
+      for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+        const auto& t = mesh.triangles[k];
+        bool in = false;
+        for (std::uint32_t i : t) {
+          const Vec3& p = mesh.vertices[i];
+          in = in || acc.isValueOn(openvdb::Coord(static_cast<int>(std::floor(p.x() / voxel + 0.5)),
+                                                  static_cast<int>(std::floor(p.y() / voxel + 0.5)),
+                                                  static_cast<int>(std::floor(p.z() / voxel + 0.5))));
+        }
+        if (in) {
+          near.push_back(t);
+          near_id.push_back(static_cast<std::uint32_t>(k));
+        }
+      }
+      pairs = self_intersecting_pairs(mesh.vertices, near, params.threads);
+      for (auto& pr : pairs)  // back to indices of mesh.triangles
+        for (auto& t : pr) t = near_id[t];
+    }
+    intersections = pairs.size();
+  });
+  // volumeToMesh winds level sets inward. Flip the whole mesh, never single parts: an inner wall of a
+  // hollow part correctly has negative volume on its own.
+  double volume = signed_volume(mesh);
+  if (volume < 0) {
+    for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+    volume = -volume;
+  }
+  if (report) {
+    report->triangles = mesh.triangles.size();
+    report->vertices = mesh.vertices.size();
+    report->parts = count_parts(mesh);
+    report->volume = volume;
+    report->area = surface_area(mesh);
+    report->remeshed_triangles = repaired;
+    report->self_intersections = intersections;
+    report->mesh_seconds = seconds_since(t0);
+  }
+  return mesh;
+}
+
+PrintableMesh thicken(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell_triangles,
+                      const ThickenParams& params, ThickenReport* report) {
+  return mesh_level_set(voxelise(segments, shell_triangles, params, report), params, report);
+}
+
+void write_vdb(const std::filesystem::path& path, const LevelSet& level_set) {
+  init_openvdb();
+  openvdb::GridPtrVec grids{level_set.impl().grid};
+  core::write_file_atomically(path, [&](std::ostream& os) {
+    try {
+      openvdb::io::Stream(os).write(grids);
+    } catch (const openvdb::Exception& e) {
+      throw core::FileError(path.string() + ": cannot write the level set: " + e.what());
+    }
+  });
+}
+
+std::vector<Segment> vein_segments(const venation::VeinGraph& g) {
+  std::vector<Segment> out;
+  out.reserve(g.edges.size());
+  std::vector<char> used(g.position.size(), 0);
+  for (const auto& e : g.edges) {
+    out.push_back({g.position[e[0]], g.position[e[1]], g.radius[e[0]], g.radius[e[1]]});
+    used[e[0]] = used[e[1]] = 1;
+  }
+  for (std::size_t i = 0; i < g.position.size(); ++i)
+    if (!used[i]) out.push_back({g.position[i], g.position[i], g.radius[i], g.radius[i]});
+  return out;
+}
+
+std::vector<std::array<Vec3, 3>> shell_triangles(const cells::Cells& cells, const cells::Surface& surface) {
+  std::vector<std::array<Vec3, 3>> out;
+  out.reserve(surface.triangles.size());
+  for (const auto& t : surface.triangles)
+    out.push_back({cells.position[t[0]], cells.position[t[1]], cells.position[t[2]]});
+  return out;
+}
+
+}  // namespace cellform::exporters

@@ -1,0 +1,108 @@
+// Printable structural meshes: vein segments thickened into tapered capsules and sheets into shells, as one watertight mesh in mm.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include "cells/cells.h"
+#include "cells/surface.h"
+#include "core/types.h"
+#include "export/mesh.h"
+#include "venation/canalisation.h"
+
+namespace cellform::exporters {
+
+using core::Vec3;
+
+/// A tapered capsule (round cone): the convex hull of a sphere of radius `ra` at `a` and one of radius
+/// `rb` at `b`. Model units. a == b gives a sphere of radius max(ra, rb).
+struct Segment {
+  Vec3 a, b;          ///< end points, model units
+  double ra = 0, rb = 0;  ///< radii at a and b, model units (raised to ThickenParams::min_radius after scaling)
+};
+
+/// Settings of thicken(). Lengths are in millimetres of the printed part unless stated otherwise.
+struct ThickenParams {
+  double scale = 0;             ///< mm per model unit; 0 = auto: the form's largest extent (radii included) becomes `auto_extent`
+  double auto_extent = 120;     ///< mm: size of the largest side of the bounding box when scale = 0
+  double voxel_size = 0;        ///< mm; 0 = auto: min_radius / 2 (a minimum-radius vein is 4 voxels across)
+  double min_radius = 0.4;      ///< mm: thinner veins are raised to this printable minimum
+  double shell_thickness = 0.6; ///< mm: total wall thickness of the shell around shell triangles (half on each side)
+  double adaptivity = 0.2;      ///< 0..1: OpenVDB volumeToMesh adaptivity; 0 = uniform quads, higher = fewer triangles
+  double max_memory_bytes = 2e9;///< refuse (core::InvalidInput) when the estimated peak memory exceeds this
+  int threads = 0;              ///< worker threads; 0 = all cores. Output is bitwise identical for any value
+};
+
+/// What thicken() did.
+struct ThickenReport {
+  double scale = 0;                 ///< mm per model unit actually used
+  double voxel_size = 0;            ///< mm actually used
+  std::size_t segments = 0;         ///< capsules voxelised
+  std::size_t shell_triangles = 0;  ///< shell triangles voxelised
+  std::size_t raised_radii = 0;     ///< segment end radii raised to min_radius
+  std::size_t active_voxels = 0;    ///< narrow-band voxels of the level set
+  double estimated_bytes = 0;       ///< memory estimate the refusal check used
+  std::size_t triangles = 0;        ///< triangles of the output mesh
+  std::size_t vertices = 0;         ///< vertices of the output mesh
+  std::size_t parts = 0;            ///< connected components of the output mesh
+  double volume = 0;                ///< mm^3, enclosed by the output mesh (positive)
+  double area = 0;                  ///< mm^2, surface area of the output mesh
+  std::size_t remeshed_triangles = 0; ///< triangles of intersecting pairs whose neighbourhood was meshed again without adaptivity
+  std::size_t self_intersections = 0; ///< intersecting triangle pairs left in the output (0 unless the repair gave up)
+  double voxelise_seconds = 0;      ///< wall time of voxelisation
+  double mesh_seconds = 0;          ///< wall time of meshing
+};
+
+/// A narrow-band signed distance grid (OpenVDB FloatGrid, mm, background = 3 voxels) kept behind an
+/// opaque handle so that only printable.cpp includes OpenVDB.
+class LevelSet {
+ public:
+  struct Impl;
+  LevelSet();
+  explicit LevelSet(std::shared_ptr<const Impl> impl);
+  const Impl& impl() const { return *impl_; }
+  double voxel_size() const;    ///< mm
+  double scale() const;         ///< mm per model unit
+  std::size_t active_voxels() const;
+
+ private:
+  std::shared_ptr<const Impl> impl_;
+};
+
+/// Voxelises the union of the tapered capsules and of a shell of `shell_thickness` around the triangles
+/// (any soup: non-manifold and open input is fine) into a level set in mm. Each leaf of the grid takes
+/// the minimum of the exact signed distances of the primitives overlapping it (gather, not scatter), so
+/// the grid is bitwise identical for any thread count.
+/// Throws core::InvalidInput: no segments and no shell triangles; a non-finite coordinate or radius
+/// (naming the segment or triangle); a negative radius; bad parameters; an estimated memory need above
+/// max_memory_bytes (the message gives the need and a voxel size that fits).
+LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell_triangles,
+                  const ThickenParams& params, ThickenReport* report = nullptr);
+
+/// Meshes the zero level set (OpenVDB volumeToMesh with params.adaptivity), splits quads along their
+/// shorter diagonal, orients the result outward (positive signed volume). Vertices in mm.
+/// Adaptive merging can fold triangles into each other at creases; every intersecting pair is found
+/// (self_intersecting_pairs) and the voxels around it are meshed again without merging, for up to three
+/// passes, then once without merging anywhere near the remaining ones. report->self_intersections says
+/// what is left (0 in every case tested).
+PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& params, ThickenReport* report = nullptr);
+
+/// voxelise() then mesh_level_set(). Throws as voxelise().
+PrintableMesh thicken(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell_triangles,
+                      const ThickenParams& params, ThickenReport* report = nullptr);
+
+/// Writes the level set as an OpenVDB .vdb file (one FloatGrid named "cellform", class level set, mm).
+/// Atomic; core::FileError on failure.
+void write_vdb(const std::filesystem::path& path, const LevelSet& level_set);
+
+/// One segment per vein edge (child node to parent node) with the nodes' radii, plus a zero-length
+/// segment (a sphere) for every node that has no edge. Model units.
+std::vector<Segment> vein_segments(const venation::VeinGraph& graph);
+
+/// The surface triangles of the cell sheet as positions (model units), for the shell.
+std::vector<std::array<Vec3, 3>> shell_triangles(const cells::Cells& cells, const cells::Surface& surface);
+
+}  // namespace cellform::exporters

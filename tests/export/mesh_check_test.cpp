@@ -1,0 +1,243 @@
+// Tests of export/mesh_check.h on meshes whose defects and genus are known by construction.
+#include "export/mesh_check.h"
+
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "core/errors.h"
+#include "export/mesh_files.h"
+
+using namespace cellform;
+using exporters::PrintableMesh;
+using core::Vec3;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("cellform-meshcheck-test-" + std::to_string(::getpid()) + "-" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+PrintableMesh tetrahedron(const Vec3& shift = Vec3::Zero(), double size = 1) {
+  PrintableMesh m;
+  m.vertices = {shift, shift + size * Vec3::UnitX(), shift + size * Vec3::UnitY(), shift + size * Vec3::UnitZ()};
+  m.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  return m;
+}
+
+void append(PrintableMesh& to, const PrintableMesh& m) {
+  const auto base = static_cast<std::uint32_t>(to.vertices.size());
+  to.vertices.insert(to.vertices.end(), m.vertices.begin(), m.vertices.end());
+  for (auto t : m.triangles) to.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+}
+
+// A torus of n x m quads (genus 1), outward.
+PrintableMesh torus(int n, int m, double R = 3, double r = 1) {
+  PrintableMesh t;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      const double u = 2 * M_PI * i / n, v = 2 * M_PI * j / m;
+      t.vertices.emplace_back((R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v));
+    }
+  const auto id = [&](int i, int j) { return static_cast<std::uint32_t>(((i + n) % n) * m + (j + m) % m); };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      t.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      t.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return t;
+}
+
+// A UV sphere: `rings` x `sectors`, poles as single vertices, outward.
+PrintableMesh uv_sphere(int rings, int sectors, double radius = 1) {
+  PrintableMesh s;
+  s.vertices.emplace_back(0, 0, radius);
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < sectors; ++j) {
+      const double th = M_PI * i / rings, ph = 2 * M_PI * j / sectors;
+      s.vertices.emplace_back(radius * std::sin(th) * std::cos(ph), radius * std::sin(th) * std::sin(ph), radius * std::cos(th));
+    }
+  s.vertices.emplace_back(0, 0, -radius);
+  const auto south = static_cast<std::uint32_t>(s.vertices.size() - 1);
+  const auto id = [&](int i, int j) { return static_cast<std::uint32_t>(1 + (i - 1) * sectors + (j % sectors)); };
+  for (int j = 0; j < sectors; ++j) s.triangles.push_back({0, id(1, j), id(1, j + 1)});
+  for (int i = 1; i + 1 < rings; ++i)
+    for (int j = 0; j < sectors; ++j) {
+      s.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      s.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  for (int j = 0; j < sectors; ++j) s.triangles.push_back({south, id(rings - 1, j + 1), id(rings - 1, j)});
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("a tetrahedron is printable, genus 0, volume 1/6", "[mesh_check]") {
+  const auto r = exporters::check_mesh(tetrahedron());
+  CHECK(r.printable());
+  CHECK(r.parts == 1);
+  REQUIRE(r.genus.size() == 1);
+  CHECK(r.genus[0] == 0);
+  CHECK(r.volume == Approx(1.0 / 6));
+  CHECK(r.bbox_max == Vec3(1, 1, 1));
+}
+
+TEST_CASE("a torus has genus 1 and a sphere genus 0", "[mesh_check]") {
+  const auto t = exporters::check_mesh(torus(40, 20));
+  CHECK(t.printable());
+  REQUIRE(t.genus.size() == 1);
+  CHECK(t.genus[0] == 1);
+  CHECK(t.volume == Approx(2 * M_PI * M_PI * 3).epsilon(0.03));
+  const auto s = exporters::check_mesh(uv_sphere(30, 60));
+  CHECK(s.printable());
+  CHECK(s.genus == std::vector<int>{0});
+}
+
+TEST_CASE("check_mesh finds each kind of defect", "[mesh_check]") {
+  SECTION("inside out: consistent but negative volume") {
+    auto m = tetrahedron();
+    for (auto& t : m.triangles) std::swap(t[1], t[2]);
+    const auto r = exporters::check_mesh(m);
+    CHECK(r.consistently_oriented);
+    CHECK(r.volume < 0);
+    CHECK_FALSE(r.printable());
+  }
+  SECTION("one face flipped") {
+    auto m = tetrahedron();
+    std::swap(m.triangles[3][1], m.triangles[3][2]);
+    const auto r = exporters::check_mesh(m);
+    CHECK(r.misoriented_edges == 3);
+    CHECK_FALSE(r.consistently_oriented);
+    CHECK_FALSE(r.printable());
+  }
+  SECTION("a hole") {
+    auto m = tetrahedron();
+    m.triangles.pop_back();
+    const auto r = exporters::check_mesh(m);
+    CHECK(r.boundary_edges == 3);
+    CHECK(r.genus == std::vector<int>{-1});
+    CHECK_FALSE(r.printable());
+  }
+  SECTION("three triangles on one edge") {
+    PrintableMesh m;
+    m.vertices = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0}, {0.5, 0, 1}};
+    m.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
+    const auto r = exporters::check_mesh(m);
+    CHECK(r.nonmanifold_edges == 1);
+    CHECK(r.boundary_edges == 6);
+  }
+  SECTION("two tetrahedra touching at a vertex") {
+    auto m = tetrahedron();
+    append(m, tetrahedron(Vec3(1, 0, 0)));  // its corner (1,0,0) welds to the first one's
+    const auto r = exporters::check_mesh(m);
+    CHECK(r.welded_vertices == 1);
+    CHECK(r.parts == 1);
+    CHECK(r.nonmanifold_vertices == 1);
+    CHECK(r.nonmanifold_edges == 0);
+    CHECK_FALSE(r.printable());
+  }
+  SECTION("two interpenetrating tetrahedra") {
+    auto m = tetrahedron();
+    append(m, tetrahedron(Vec3(0.2, 0.2, 0.2)));
+    const auto r = exporters::check_mesh(m);
+    CHECK(r.parts == 2);
+    CHECK(r.self_intersections > 0);
+    CHECK_FALSE(r.printable());
+  }
+  SECTION("coplanar overlapping triangles") {
+    PrintableMesh m;
+    m.vertices = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0.5, 0.5, 0}, {3, 0.5, 0}, {0.5, 3, 0}};
+    m.triangles = {{0, 1, 2}, {3, 4, 5}};
+    CHECK(exporters::check_mesh(m).self_intersections == 1);
+  }
+  SECTION("a zero-area triangle") {
+    auto m = tetrahedron();
+    m.vertices.emplace_back(0.5, 0, 0);
+    m.triangles.push_back({0, 4, 1});
+    CHECK(exporters::check_mesh(m).degenerate_triangles == 1);
+  }
+}
+
+TEST_CASE("two disjoint parts do not intersect, each has its genus", "[mesh_check]") {
+  auto m = torus(30, 12);
+  append(m, tetrahedron(Vec3(10, 0, 0)));
+  const auto r = exporters::check_mesh(m);
+  CHECK(r.printable());
+  CHECK(r.parts == 2);
+  CHECK(r.genus == std::vector<int>{1, 0});
+}
+
+TEST_CASE("check_mesh takes about a second for 500k triangles and gives no false intersections", "[mesh_check]") {
+  const auto m = uv_sphere(500, 500);
+  REQUIRE(m.triangles.size() > 490000);
+  const auto a = std::chrono::steady_clock::now();
+  const auto r1 = exporters::check_mesh(m, 1);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+  WARN("check_mesh of " << m.triangles.size() << " triangles, 1 thread: " << s << " s");
+  CHECK(r1.printable());
+  CHECK(s < 10);
+  const auto r2 = exporters::check_mesh(m, 2);
+  CHECK(r2.self_intersections == r1.self_intersections);
+  CHECK(r2.nonmanifold_vertices == r1.nonmanifold_vertices);
+}
+
+TEST_CASE("read_mesh reads what the writers wrote, and welds STL soups", "[mesh_check][files]") {
+  const fs::path dir = temp_dir("roundtrip");
+  const auto m = torus(24, 10);
+  for (const char* name : {"t.stl", "t.obj", "t.ply"}) {
+    exporters::write_mesh(dir / name, m);
+    const auto back = exporters::read_mesh(dir / name);
+    INFO(name);
+    CHECK(back.triangles.size() == m.triangles.size());
+    CHECK(back.vertices.size() == m.vertices.size());
+    const auto r = exporters::check_mesh(back);
+    CHECK(r.printable());
+    CHECK(r.volume == Approx(exporters::signed_volume(m)).epsilon(1e-5));
+  }
+  // an ASCII STL soup: every facet carries its own corners
+  {
+    std::ofstream f(dir / "a.stl");
+    const auto t = tetrahedron();
+    f << "solid t\n";
+    for (const auto& tri : t.triangles) {
+      f << " facet normal 0 0 0\n  outer loop\n";
+      for (auto i : tri) f << "   vertex " << t.vertices[i].x() << " " << t.vertices[i].y() << " " << t.vertices[i].z() << "\n";
+      f << "  endloop\n endfacet\n";
+    }
+    f << "endsolid t\n";
+  }
+  const auto a = exporters::read_mesh(dir / "a.stl");
+  CHECK(a.vertices.size() == 4);
+  CHECK(exporters::check_mesh(a).printable());
+  // non-manifold input is read as is, not dropped
+  {
+    std::ofstream f(dir / "nm.obj");
+    f << "v 0 0 0\nv 1 0 0\nv 0.5 1 0\nv 0.5 -1 0\nv 0.5 0 1\nf 1 2 3\nf 2 1 4\nf 1/1/1 2/2/2 5/5/5\n";
+  }
+  const auto nm = exporters::read_mesh(dir / "nm.obj");
+  CHECK(nm.triangles.size() == 3);
+  CHECK(exporters::check_mesh(nm).nonmanifold_edges == 1);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
+  const fs::path dir = temp_dir("bad");
+  CHECK_THROWS_AS(exporters::read_mesh(dir / "missing.stl"), core::FileError);
+  { std::ofstream(dir / "text.stl") << "hello, not a mesh\n"; }
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "text.stl"), Catch::Contains("text.stl"));
+  { std::ofstream(dir / "x.step") << "ISO-10303-21;\n"; }
+  CHECK_THROWS_AS(exporters::read_mesh(dir / "x.step"), core::FileError);
+  { std::ofstream(dir / "bad.obj") << "v 0 0 0\nf 1 2 3\n"; }
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "bad.obj"), Catch::Contains("bad.obj") && Catch::Contains("line 2"));
+  { std::ofstream(dir / "bad.ply") << "ply\nformat binary_big_endian 1.0\nend_header\n"; }
+  CHECK_THROWS_AS(exporters::read_mesh(dir / "bad.ply"), core::FileError);
+  fs::remove_all(dir);
+}

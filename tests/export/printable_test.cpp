@@ -1,0 +1,369 @@
+// Tests of export/printable.h: closed-form volumes and areas, topology of thickened vein graphs and shells,
+// and the files checked by check_mesh, admesh and OpenSCAD.
+#include "export/printable.h"
+
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <string>
+
+#include "core/errors.h"
+#include "core/random.h"
+#include "export/mesh_check.h"
+#include "export/mesh_files.h"
+
+using namespace cellform;
+using core::Vec3;
+using exporters::PrintableMesh;
+using exporters::Segment;
+using exporters::ThickenParams;
+using exporters::ThickenReport;
+namespace fs = std::filesystem;
+
+namespace {
+
+using Shell = std::vector<std::array<Vec3, 3>>;
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("cellform-printable-test-" + std::to_string(::getpid()) + "-" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// 1 mm per model unit, a fine voxel, no radius raising: geometry as given.
+ThickenParams exact(double voxel = 0.05) {
+  ThickenParams p;
+  p.scale = 1;
+  p.voxel_size = voxel;
+  p.min_radius = voxel;
+  p.adaptivity = 0;
+  return p;
+}
+
+// Volume and area of a round cone (hull of spheres ra at 0 and rb at d on an axis), closed form:
+// a frustum between the tangent circles plus the two outer spherical caps.
+std::pair<double, double> round_cone(double d, double ra, double rb) {
+  const double s = (ra - rb) / d, c = std::sqrt(1 - s * s);
+  const double x1 = ra * s, x2 = d + rb * s, R1 = ra * c, R2 = rb * c, h = x2 - x1;
+  const double ha = ra * (1 + s), hb = rb * (1 - s);  // cap heights
+  const double volume = M_PI * h / 3 * (R1 * R1 + R1 * R2 + R2 * R2) + M_PI * ha * ha * (3 * ra - ha) / 3 +
+                        M_PI * hb * hb * (3 * rb - hb) / 3;
+  const double area = M_PI * (R1 + R2) * std::hypot(h, R1 - R2) + 2 * M_PI * ra * ha + 2 * M_PI * rb * hb;
+  return {volume, area};
+}
+
+// The same volume by quadrature of the profile of revolution rho(x) = max of the two spheres' profiles
+// and the straight flank between the tangent circles.
+double round_cone_volume_numeric(double d, double ra, double rb) {
+  const double s = (ra - rb) / d, c = std::sqrt(1 - s * s);
+  const double x1 = ra * s, x2 = d + rb * s;
+  const int n = 200000;
+  const double a = -ra, b = d + rb, dx = (b - a) / n;
+  double v = 0;
+  for (int i = 0; i < n; ++i) {
+    const double x = a + (i + 0.5) * dx;
+    double rho = 0;
+    if (std::abs(x) < ra) rho = std::max(rho, std::sqrt(ra * ra - x * x));
+    if (std::abs(x - d) < rb) rho = std::max(rho, std::sqrt(rb * rb - (x - d) * (x - d)));
+    if (x >= x1 && x <= x2) rho = std::max(rho, ra * c + (x - x1) / (x2 - x1) * (rb * c - ra * c));
+    v += M_PI * rho * rho * dx;
+  }
+  return v;
+}
+
+exporters::MeshReport require_printable(const PrintableMesh& m) {
+  const auto r = exporters::check_mesh(m);
+  INFO(r.summary());
+  CHECK(r.printable());
+  CHECK(r.boundary_edges == 0);
+  CHECK(r.nonmanifold_edges == 0);
+  CHECK(r.nonmanifold_vertices == 0);
+  CHECK(r.consistently_oriented);
+  CHECK(r.self_intersections == 0);
+  CHECK(r.volume > 0);
+  return r;
+}
+
+std::vector<Segment> y_tree() {
+  return {{{0, 0, 0}, {0, 10, 0}, 1.2, 0.9}, {{0, 10, 0}, {-5, 18, 1}, 0.9, 0.5}, {{0, 10, 0}, {5, 18, -1}, 0.9, 0.6}};
+}
+
+std::vector<Segment> square_loop() {
+  const Vec3 c[4] = {{0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}};
+  std::vector<Segment> s;
+  for (int i = 0; i < 4; ++i) s.push_back({c[i], c[(i + 1) % 4], 1.0, 1.0});
+  return s;
+}
+
+// A random branching tree of about n segments in a 60-unit cube (seeded).
+std::vector<Segment> random_tree(std::size_t n, std::uint64_t seed) {
+  core::Rng rng(seed);
+  std::vector<Vec3> node{Vec3::Zero()};
+  std::vector<Segment> s;
+  while (s.size() < n) {
+    const std::size_t parent = static_cast<std::size_t>(rng.uniform(0, 1) * static_cast<double>(node.size())) % node.size();
+    const Vec3 dir(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    Vec3 p = node[parent] + 3 * dir;
+    p = p.cwiseMax(Vec3::Constant(-30)).cwiseMin(Vec3::Constant(30));
+    s.push_back({node[parent], p, rng.uniform(0.2, 0.8), rng.uniform(0.2, 0.8)});
+    node.push_back(p);
+  }
+  return s;
+}
+
+bool have(const char* program) { return std::system((std::string("command -v ") + program + " >/dev/null 2>&1").c_str()) == 0; }
+
+std::string run(const std::string& command) {
+  std::string out;
+  FILE* p = ::popen((command + " 2>&1").c_str(), "r");
+  REQUIRE(p);
+  char buf[4096];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  ::pclose(p);
+  return out;
+}
+
+// admesh's "Processing Statistics": every repair counter must be 0.
+void require_admesh_clean(const fs::path& stl) {
+  if (!have("admesh")) {
+    WARN("admesh is not installed; skipping the admesh check");
+    return;
+  }
+  const std::string out = run("admesh '" + stl.string() + "'");
+  INFO(out);
+  for (const char* counter : {"Degenerate facets", "Edges fixed", "Facets removed", "Facets added", "Facets reversed",
+                              "Backwards edges"}) {
+    std::smatch m;
+    REQUIRE(std::regex_search(out, m, std::regex(std::string(counter) + R"(\s*:\s*(\d+))")));
+    CHECK(m[1] == "0");
+  }
+  std::smatch m;
+  REQUIRE(std::regex_search(out, m, std::regex(R"(Total disconnected facets\s*:\s*(\d+))")));
+  CHECK(m[1] == "0");
+}
+
+}  // namespace
+
+TEST_CASE("a capsule's volume and area match the closed form within voxel error", "[printable]") {
+  const double L = 10, r = 1, v = 0.05;
+  ThickenReport rep;
+  const auto m = exporters::thicken({{{0, 0, 0}, {L, 0, 0}, r, r}}, {}, exact(v), &rep);
+  const auto check = require_printable(m);
+  const double volume = M_PI * r * r * L + 4.0 / 3 * M_PI * r * r * r;
+  const double area = 2 * M_PI * r * L + 4 * M_PI * r * r;
+  CHECK(check.volume == Approx(volume).epsilon(0.01));
+  CHECK(check.area == Approx(area).epsilon(0.01));
+  CHECK(rep.volume == Approx(check.volume));
+  CHECK(rep.parts == 1);
+  CHECK(check.genus == std::vector<int>{0});
+  CHECK(rep.scale == 1);
+  CHECK(rep.voxel_size == v);
+  CHECK(check.bbox_min.x() == Approx(-r).margin(v));
+  CHECK(check.bbox_max.x() == Approx(L + r).margin(v));
+}
+
+TEST_CASE("a tapered capsule's volume matches the round cone", "[printable]") {
+  const double d = 8, ra = 2, rb = 0.7;
+  const auto [volume, area] = round_cone(d, ra, rb);
+  REQUIRE(round_cone_volume_numeric(d, ra, rb) == Approx(volume).epsilon(1e-5));
+  const auto m = exporters::thicken({{{1, 2, 3}, Vec3(1, 2, 3) + d * Vec3(1, 1, 0.5).normalized(), ra, rb}}, {}, exact(0.05));
+  const auto check = require_printable(m);
+  CHECK(check.volume == Approx(volume).epsilon(0.01));
+  CHECK(check.area == Approx(area).epsilon(0.01));
+}
+
+TEST_CASE("zero-length segments are spheres and zero radii are raised to the minimum", "[printable]") {
+  ThickenParams p = exact(0.05);
+  p.min_radius = 1.0;
+  ThickenReport rep;
+  const auto m = exporters::thicken({{{0, 0, 0}, {0, 0, 0}, 0, 0}}, {}, p, &rep);
+  const auto check = require_printable(m);
+  CHECK(rep.raised_radii == 2);
+  CHECK(check.volume == Approx(4.0 / 3 * M_PI).epsilon(0.01));
+}
+
+TEST_CASE("automatic scale makes the largest extent 120 mm", "[printable]") {
+  ThickenParams p;
+  p.voxel_size = 0.4;
+  ThickenReport rep;
+  const auto m = exporters::thicken(y_tree(), {}, p, &rep);
+  const auto check = require_printable(m);
+  const Vec3 size = check.bbox_max - check.bbox_min;
+  CHECK(size.maxCoeff() == Approx(120).margin(2 * p.voxel_size));
+  CHECK(rep.scale > 1);
+}
+
+TEST_CASE("a Y-shaped vein tree is one watertight part of genus 0", "[printable]") {
+  ThickenReport rep;
+  const auto m = exporters::thicken(y_tree(), {}, exact(0.1), &rep);
+  const auto check = require_printable(m);
+  CHECK(check.parts == 1);
+  CHECK(check.genus == std::vector<int>{0});
+  CHECK(rep.parts == 1);
+}
+
+TEST_CASE("a closed square vein loop has genus 1", "[printable]") {
+  ThickenParams p = exact(0.1);
+  p.adaptivity = 0.3;
+  const auto m = exporters::thicken(square_loop(), {}, p);
+  const auto check = require_printable(m);
+  CHECK(check.parts == 1);
+  CHECK(check.genus == std::vector<int>{1});
+}
+
+TEST_CASE("a shell around three triangles sharing an edge is watertight", "[printable]") {
+  const Shell shell{{Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(5, 8, 0)},
+                    {Vec3(10, 0, 0), Vec3(0, 0, 0), Vec3(5, -8, 0)},
+                    {Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(5, 0, 8)}};
+  REQUIRE(exporters::check_mesh({{Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(5, 8, 0), Vec3(5, -8, 0), Vec3(5, 0, 8)},
+                                 {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}}})
+              .nonmanifold_edges == 1);
+  ThickenParams p = exact(0.1);
+  p.shell_thickness = 0.6;
+  const auto m = exporters::thicken({}, shell, p);
+  const auto check = require_printable(m);
+  CHECK(check.parts == 1);
+  CHECK(check.genus == std::vector<int>{0});
+  // three slabs 0.6 thick over 3 x 40 mm^2, with rounded rims: a little more than 3 * 40 * 0.6
+  CHECK(check.volume == Approx(3 * 40 * 0.6).epsilon(0.15));
+
+  SECTION("with veins along the shared edge") {
+    const auto both = exporters::thicken({{{0, 0, 0}, {10, 0, 0}, 0.8, 0.4}}, shell, p);
+    const auto c2 = require_printable(both);
+    CHECK(c2.parts == 1);
+    CHECK(c2.volume > check.volume);
+  }
+}
+
+TEST_CASE("thickened meshes pass check_mesh, admesh and OpenSCAD, and survive the file round trip", "[printable][files]") {
+  const fs::path dir = temp_dir("files");
+  ThickenParams p;  // defaults: auto scale to 120 mm, auto voxel
+  p.adaptivity = 0.2;
+  ThickenReport rep;
+  const auto m = exporters::thicken(square_loop(), {}, p, &rep);
+  const auto check = require_printable(m);
+  CHECK(check.genus == std::vector<int>{1});
+  for (const char* name : {"loop.stl", "loop.obj", "loop.ply"}) {
+    INFO(name);
+    exporters::write_mesh(dir / name, m);
+    const auto back = exporters::read_mesh(dir / name);
+    CHECK(back.triangles.size() == m.triangles.size());
+    CHECK(back.vertices.size() == m.vertices.size());
+    const auto r = require_printable(back);
+    CHECK(r.volume == Approx(check.volume).epsilon(1e-5));
+    CHECK(r.genus == check.genus);
+  }
+  require_admesh_clean(dir / "loop.stl");
+  exporters::write_scad(dir / "loop.scad", m);
+
+  if (!have("openscad")) {
+    WARN("openscad is not installed; skipping the OpenSCAD checks");
+  } else {
+    // the polyhedron renders with positive volume (faces clockwise seen from outside)
+    const std::string out = run("openscad -o '" + (dir / "from_scad.stl").string() + "' '" + (dir / "loop.scad").string() + "'");
+    INFO(out);
+    REQUIRE(fs::exists(dir / "from_scad.stl"));
+    const auto rendered = exporters::read_mesh(dir / "from_scad.stl");
+    const auto rr = exporters::check_mesh(rendered);
+    CHECK(rr.volume == Approx(check.volume).epsilon(1e-3));
+    CHECK(rr.closed_manifold());
+    // and it imports our STL
+    { std::ofstream(dir / "import.scad") << "import(\"" << (dir / "loop.stl").string() << "\");\n"; }
+    const std::string out2 = run("openscad -o '" + (dir / "imported.stl").string() + "' '" + (dir / "import.scad").string() + "'");
+    INFO(out2);
+    REQUIRE(fs::exists(dir / "imported.stl"));
+    CHECK(exporters::check_mesh(exporters::read_mesh(dir / "imported.stl")).volume == Approx(check.volume).epsilon(1e-3));
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("write_vdb writes the level set", "[printable][files]") {
+  const fs::path dir = temp_dir("vdb");
+  const auto ls = exporters::voxelise(y_tree(), {}, exact(0.1));
+  CHECK(ls.active_voxels() > 1000);
+  exporters::write_vdb(dir / "tree.vdb", ls);
+  REQUIRE(fs::exists(dir / "tree.vdb"));
+  CHECK(fs::file_size(dir / "tree.vdb") > 1000);
+  CHECK_THROWS_AS(exporters::write_vdb(dir / "no" / "such" / "dir.vdb", ls), core::FileError);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("bad input is refused with a message a user can act on", "[printable]") {
+  CHECK_THROWS_AS(exporters::thicken({}, {}, ThickenParams{}), core::InvalidInput);
+  auto nan = y_tree();
+  nan[1].b.y() = std::nan("");
+  CHECK_THROWS_WITH(exporters::thicken(nan, {}, ThickenParams{}), Catch::Contains("segment 1"));
+  auto negative = y_tree();
+  negative[2].ra = -1;
+  CHECK_THROWS_AS(exporters::thicken(negative, {}, ThickenParams{}), core::InvalidInput);
+  ThickenParams coarse;
+  coarse.voxel_size = 1;  // coarser than min_radius 0.4
+  CHECK_THROWS_WITH(exporters::thicken(y_tree(), {}, coarse), Catch::Contains("min_radius"));
+}
+
+TEST_CASE("the memory estimate refuses and suggests a voxel size that fits", "[printable]") {
+  ThickenParams p = exact(0.05);
+  p.max_memory_bytes = 1e6;
+  const std::vector<Segment> capsule{{{0, 0, 0}, {10, 0, 0}, 1, 1}};
+  std::string message;
+  try {
+    exporters::thicken(capsule, {}, p);
+  } catch (const core::InvalidInput& e) {
+    message = e.what();
+  }
+  INFO(message);
+  std::smatch m;
+  REQUIRE(std::regex_search(message, m, std::regex(R"(voxel size of at least ([0-9.eE+-]+) mm)")));
+  const double suggested = std::stod(m[1]);
+  CHECK(suggested > p.voxel_size);
+  p.voxel_size = suggested;
+  p.min_radius = suggested;
+  ThickenReport rep;
+  CHECK_NOTHROW(exporters::thicken(capsule, {}, p, &rep));
+  CHECK(rep.estimated_bytes <= p.max_memory_bytes);
+}
+
+TEST_CASE("thickening is bitwise identical with 1 and 2 threads", "[printable]") {
+  const auto tree = random_tree(800, 11);
+  const Shell shell{{Vec3(-30, -30, 0), Vec3(30, -30, 0), Vec3(0, 30, 0)}};
+  ThickenParams p;
+  p.voxel_size = 0.3;
+  p.threads = 1;
+  const auto a = exporters::thicken(tree, shell, p);
+  p.threads = 2;
+  const auto b = exporters::thicken(tree, shell, p);
+  REQUIRE(a.vertices.size() == b.vertices.size());
+  REQUIRE(a.triangles.size() == b.triangles.size());
+  CHECK(a.triangles == b.triangles);
+  bool same = true;
+  for (std::size_t i = 0; i < a.vertices.size(); ++i) same = same && a.vertices[i] == b.vertices[i];
+  CHECK(same);
+  require_printable(a);
+}
+
+TEST_CASE("vein_segments and shell_triangles turn the model into primitives", "[printable]") {
+  venation::VeinGraph g;
+  g.position = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {5, 5, 5}};
+  g.radius = {0.3, 0.2, 0.1, 0.4};
+  g.cell = {0, 1, 2, 3};
+  g.flow = {3, 2, 1, 1};
+  g.order = {1, 1, 1, 1};
+  g.edges = {{1, 0}, {2, 1}};
+  const auto s = exporters::vein_segments(g);
+  REQUIRE(s.size() == 3);
+  CHECK(s[0].a == g.position[1]);
+  CHECK(s[0].b == g.position[0]);
+  CHECK(s[0].ra == 0.2);
+  CHECK(s[0].rb == 0.3);
+  CHECK(s[2].a == s[2].b);  // the lone node becomes a sphere
+  CHECK(s[2].ra == 0.4);
+}
