@@ -157,6 +157,7 @@ json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Ce
   tp.adaptivity = spec.adaptivity;
   tp.max_memory_bytes = spec.max_memory_mb * 1e6;
   tp.threads = threads;
+  tp.fill_cavities = spec.fill_cavities;
   std::vector<exporters::Segment> segments;
   if (spec.veins && has_veins) segments = exporters::vein_segments(venation::vein_graph(c));
   std::vector<std::array<core::Vec3, 3>> shell;
@@ -167,11 +168,11 @@ json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Ce
   exporters::ThickenReport rep;
   const exporters::LevelSet level_set = exporters::voxelise(segments, shell, tp, &rep);
   const exporters::PrintableMesh mesh = exporters::mesh_level_set(level_set, tp, &rep);
-  if (rep.parts > 1 && spec.pieces == "one")
-    throw core::InvalidInput("print{pieces = \"one\"}: the form falls apart into " + std::to_string(rep.parts) +
-                             " parts (raise print.min_radius or cells.neighbours, or set pieces = \"warn\")");
-  if (rep.parts > 1 && spec.pieces == "warn")
-    err << "cellform: warning: the printable form has " << rep.parts << " separate parts\n";
+  if (rep.pieces > 1 && spec.pieces == "one")
+    throw core::InvalidInput("print{pieces = \"one\"}: the form falls apart into " + std::to_string(rep.pieces) +
+                             " parts (raise print.min_radius, grow longer, or set pieces = \"warn\")");
+  if (rep.pieces > 1 && spec.pieces == "warn")
+    err << "cellform: warning: the printable form has " << rep.pieces << " separate parts\n";
   for (const std::string& f : spec.formats) {
     const std::string name = "printable." + f;
     if (f == "vdb") exporters::write_vdb(dir / name, level_set);
@@ -180,7 +181,8 @@ json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Ce
   }
   return {{"scale_mm_per_unit", rep.scale}, {"voxel_size_mm", rep.voxel_size},   {"segments", rep.segments},
           {"shell_triangles", rep.shell_triangles}, {"raised_radii", rep.raised_radii}, {"triangles", rep.triangles},
-          {"parts", rep.parts},  {"volume_mm3", rep.volume}, {"area_mm2", rep.area},
+          {"parts", rep.pieces}, {"cavities", rep.cavities}, {"filled_cavities", rep.filled_cavities},
+          {"volume_mm3", rep.volume}, {"area_mm2", rep.area},
           {"seconds", rep.voxelise_seconds + rep.mesh_seconds}};
 }
 
@@ -326,7 +328,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         printed = write_printable(staging, *cfg.print, sim.cells(), cfg.scene.venation.has_value(), o.threads, outputs,
                                   err, o.quiet);
         if (!o.quiet)
-          err << "printable solid: " << printed["triangles"] << " triangles, " << printed["parts"] << " part(s), scale "
+          err << "printable solid: " << printed["triangles"] << " triangles, " << printed["parts"] << " part(s), "
+              << printed["cavities"] << " closed cavities, scale "
               << printed["scale_mm_per_unit"] << " mm per model unit\n";
       } catch (const std::exception& e) {
         err << "cellform: " << e.what() << "\n  (the other outputs and the checkpoint are written)\n";

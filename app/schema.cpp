@@ -138,6 +138,7 @@ std::vector<Field> build() {
   f.push_back(num("print", "adaptivity", "0.2", 0, 1, false, "0..1", "mesh simplification of flat areas (OpenVDB)"));
   f.push_back(num("print", "max_memory", "2000", 1, 1e6, false, "MB", "refuse a voxel size whose grid would need more"));
   f.push_back(text("print", "formats", "stl", "comma-separated: stl, obj, ply, scad, vdb"));
+  f.push_back(boolean("print", "fill_cavities", "false", "fill closed pockets inside the solid (a shell around a closed sheet becomes solid)"));
   f.push_back(choice("print", "pieces", Kind::choice, "warn", "any|warn|one",
                      "one: a form that falls apart is an error; warn: a warning with the part count"));
 

@@ -53,6 +53,7 @@ struct PrintSpec {
   double max_memory_mb = 2000;
   std::vector<std::string> formats{"stl"};  ///< stl, obj, ply, scad, vdb
   std::string pieces = "warn";              ///< any, warn, one
+  bool fill_cavities = false;               ///< fill closed pockets inside the solid
 };
 
 /// Everything a script describes, resolved (script values, then --set overrides, then defaults).

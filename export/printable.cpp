@@ -419,6 +419,71 @@ PrintableMesh mesh_once(const openvdb::FloatGrid& grid, double adaptivity, const
 
 }  // namespace
 
+namespace {
+
+/// Signed volume of each connected part (through shared vertices), keyed by its root vertex.
+std::vector<double> part_volumes(const PrintableMesh& mesh, std::vector<std::uint32_t>& root) {
+  const std::size_t nv = mesh.vertices.size();
+  root.resize(nv);
+  for (std::size_t i = 0; i < nv; ++i) root[i] = static_cast<std::uint32_t>(i);
+  auto find = [&](std::uint32_t x) {
+    while (root[x] != x) x = root[x] = root[root[x]];
+    return x;
+  };
+  for (const auto& t : mesh.triangles) {
+    const std::uint32_t a = find(t[0]), b = find(t[1]);
+    root[b] = a;
+    root[find(t[2])] = a;
+  }
+  for (std::size_t i = 0; i < nv; ++i) root[i] = find(static_cast<std::uint32_t>(i));
+  std::vector<double> volume(nv, 0.0);
+  for (const auto& t : mesh.triangles) {
+    const Vec3& a = mesh.vertices[t[0]];
+    volume[root[t[0]]] += a.dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]])) / 6.0;
+  }
+  return volume;
+}
+
+/// Parts of positive volume (pieces) and of negative volume (walls of cavities).
+void count_pieces(const PrintableMesh& mesh, std::size_t& pieces, std::size_t& cavities) {
+  std::vector<std::uint32_t> root;
+  const std::vector<double> volume = part_volumes(mesh, root);
+  pieces = cavities = 0;
+  std::vector<char> used(root.size(), 0);
+  for (const auto& t : mesh.triangles) used[root[t[0]]] = 1;
+  for (std::size_t i = 0; i < root.size(); ++i)
+    if (root[i] == i && used[i]) (volume[i] < 0 ? cavities : pieces) += 1;
+}
+
+}  // namespace
+
+std::size_t fill_cavities(PrintableMesh& mesh) {
+  std::vector<std::uint32_t> root;
+  const std::vector<double> part_volume = part_volumes(mesh, root);
+  const std::size_t nv = mesh.vertices.size();
+  auto find = [&](std::uint32_t x) { return root[x]; };
+  std::size_t removed = 0;
+  for (std::size_t i = 0; i < nv; ++i) removed += find(static_cast<std::uint32_t>(i)) == i && part_volume[i] < 0;
+  if (removed == 0) return 0;
+  std::vector<std::array<std::uint32_t, 3>> kept;
+  kept.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles)
+    if (part_volume[find(t[0])] >= 0) kept.push_back(t);
+  std::vector<std::uint32_t> remap(nv, 0xffffffffu);
+  std::vector<Vec3> vertices;
+  for (auto& t : kept)
+    for (auto& v : t) {
+      if (remap[v] == 0xffffffffu) {
+        remap[v] = static_cast<std::uint32_t>(vertices.size());
+        vertices.push_back(mesh.vertices[v]);
+      }
+      v = remap[v];
+    }
+  mesh.vertices.swap(vertices);
+  mesh.triangles.swap(kept);
+  return removed;
+}
+
 PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& params, ThickenReport* report) {
   const auto t0 = std::chrono::steady_clock::now();
   check_params(params);
@@ -488,7 +553,18 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
     volume = -volume;
   }
+  // Closed cavities inside the solid (thick capsules walling in a pocket, or a shell around a closed
+  // sheet) mesh as separate parts of negative volume: they are not separate pieces. Filled on request.
+  std::size_t cavities = 0, pieces = 0;
+  count_pieces(mesh, pieces, cavities);
+  if (params.fill_cavities && cavities > 0) {
+    fill_cavities(mesh);
+    volume = signed_volume(mesh);
+  }
   if (report) {
+    report->pieces = pieces;
+    report->cavities = cavities;
+    report->filled_cavities = params.fill_cavities ? cavities : 0;
     report->triangles = mesh.triangles.size();
     report->vertices = mesh.vertices.size();
     report->parts = count_parts(mesh);

@@ -34,6 +34,7 @@ struct ThickenParams {
   double adaptivity = 0.2;      ///< 0..1: OpenVDB volumeToMesh adaptivity; 0 = uniform quads, higher = fewer triangles
   double max_memory_bytes = 2e9;///< refuse (core::InvalidInput) when the estimated peak memory exceeds this
   int threads = 0;              ///< worker threads; 0 = all cores. Output is bitwise identical for any value
+  bool fill_cavities = false;   ///< fill closed pockets inside the solid (drop their inner walls)
 };
 
 /// What thicken() did.
@@ -48,6 +49,9 @@ struct ThickenReport {
   std::size_t triangles = 0;        ///< triangles of the output mesh
   std::size_t vertices = 0;         ///< vertices of the output mesh
   std::size_t parts = 0;            ///< connected components of the output mesh
+  std::size_t pieces = 0;           ///< parts of positive volume: separate solid pieces
+  std::size_t cavities = 0;         ///< parts of negative volume: walls of closed pockets inside a piece
+  std::size_t filled_cavities = 0;  ///< cavities filled (fill_cavities) by removing their walls
   double volume = 0;                ///< mm^3, enclosed by the output mesh (positive)
   double area = 0;                  ///< mm^2, surface area of the output mesh
   std::size_t remeshed_triangles = 0; ///< triangles of intersecting pairs whose neighbourhood was meshed again without adaptivity
@@ -71,6 +75,11 @@ class LevelSet {
  private:
   std::shared_ptr<const Impl> impl_;
 };
+
+/// Removes every connected part (through shared vertices) of negative signed volume, i.e. the inner
+/// walls of closed cavities, and the vertices only they used, so the cavities become solid.
+/// Returns how many parts were removed.
+std::size_t fill_cavities(PrintableMesh& mesh);
 
 /// Voxelises the union of the tapered capsules and of a shell of `shell_thickness` around the triangles
 /// (any soup: non-manifold and open input is fine) into a level set in mm. Each leaf of the grid takes

@@ -367,3 +367,31 @@ TEST_CASE("vein_segments and shell_triangles turn the model into primitives", "[
   CHECK(s[2].a == s[2].b);  // the lone node becomes a sphere
   CHECK(s[2].ra == 0.4);
 }
+
+TEST_CASE("a shell around a closed surface has a cavity, counted apart from the pieces and fillable", "[printable]") {
+  // the closed surface of a 10 mm tetrahedron: its shell is a hollow solid with one sealed pocket
+  const Vec3 a(0, 0, 0), b(10, 0, 0), c(0, 10, 0), d(0, 0, 10);
+  const Shell shell{{a, c, b}, {a, b, d}, {b, c, d}, {a, d, c}};
+  ThickenParams p = exact(0.1);
+  p.shell_thickness = 0.8;
+  exporters::ThickenReport hollow_report;
+  const auto hollow = exporters::thicken({}, shell, p, &hollow_report);
+  const auto hollow_check = exporters::check_mesh(hollow);
+  CHECK(hollow_check.closed_manifold());
+  CHECK(hollow_check.parts == 2);  // outer wall and the wall of the pocket
+  CHECK(hollow_report.pieces == 1);
+  CHECK(hollow_report.cavities == 1);
+  CHECK(hollow_report.filled_cavities == 0);
+  // the walls enclose roughly area x thickness, far less than the whole tetrahedron (1000/6 mm^3)
+  const double area = 3 * 50 + std::sqrt(3.0) / 4 * 200;
+  CHECK(hollow_report.volume == Approx(area * 0.8).epsilon(0.25));
+
+  p.fill_cavities = true;
+  exporters::ThickenReport solid_report;
+  const auto solid = exporters::thicken({}, shell, p, &solid_report);
+  const auto solid_check = require_printable(solid);
+  CHECK(solid_check.parts == 1);
+  CHECK(solid_report.filled_cavities == 1);
+  // the pocket (the tetrahedron, 1000/6 mm^3, less the inner half of the walls) is now solid
+  CHECK(solid_report.volume > hollow_report.volume + 50);
+}
