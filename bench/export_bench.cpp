@@ -8,6 +8,10 @@
 #include "core/random.h"
 #include "export/mesh_check.h"
 #include "export/printable.h"
+#include "forms/shapes.h"
+#include "venation/canalisation.h"
+#include "cells/simulation.h"
+#include "cells/surface.h"
 
 namespace cellform::bench {
 
@@ -71,32 +75,93 @@ double seconds(const std::function<void()>& f) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
 }
 
-const Register r1{{"export.thicken.50k", "s",
-                   "thicken a synthetic 50k-segment vein tree to a printable mesh at default settings (120 mm, "
+const Register r1{{"export.thicken.tree44k", "s",
+                   "stress: thicken a synthetic 44k-segment 3-D vein tree to a printable mesh at default settings (120 mm, "
                    "voxel 0.2 mm, adaptivity 0.2, intersection repair included)",
                    3, [] { return seconds([] { thicken_once(0); }); }}};
-const Register r2{{"export.thicken.50k.peak_mb", "MB",
+const Register r2{{"export.thicken.tree44k.peak_mb", "MB",
                    "peak resident memory while thickening the 50k-segment tree at default settings", 1, [] {
                      tree50k();
                      reset_peak_rss();
                      thicken_once(0);
                      return peak_rss_bytes() / 1e6;
                    }}};
-const Register r3{{"export.thicken.50k.fine", "s", "thicken the 50k-segment tree with 0.16 mm voxels (the finest the 2 GB estimate allows)", 1,
+const Register r3{{"export.thicken.tree44k.fine", "s", "thicken the 50k-segment tree with 0.16 mm voxels (the finest the 2 GB estimate allows)", 1,
                    [] { return seconds([] { thicken_once(0.16); }); }}};
-const Register r4{{"export.thicken.50k.fine.peak_mb", "MB", "peak resident memory thickening with 0.16 mm voxels", 1,
+const Register r4{{"export.thicken.tree44k.fine.peak_mb", "MB", "peak resident memory thickening with 0.16 mm voxels", 1,
                    [] {
                      tree50k();
                      reset_peak_rss();
                      thicken_once(0.16);
                      return peak_rss_bytes() / 1e6;
                    }}};
-const Register r5{{"export.check.50k", "s", "check_mesh of the 50k-segment tree's printable mesh (default settings)", 3,
+const Register r5{{"export.check.tree44k", "s", "check_mesh of the 50k-segment tree's printable mesh (default settings)", 3,
                    [] {
                      static exporters::PrintableMesh mesh;
                      if (mesh.triangles.empty()) thicken_once(0, &mesh);
                      return seconds([] { exporters::check_mesh(mesh); });
                    }}};
+
+/// A grown form: a disc of cells divided by age up to 50,000 cells with auxin canalisation every step
+/// (threshold 30), as a script would grow it. Returns its veins as segments (Murray radii) and its sheet.
+struct GrownForm {
+  std::vector<Segment> veins;
+  std::vector<std::array<Vec3, 3>> sheet;
+  std::size_t cells = 0;
+};
+const GrownForm& leaf50k() {
+  static const GrownForm form = [] {
+    cells::Params p;
+    p.weights[0].separation = 0.05;
+    p.drag = Vec3(0.85, 0.85, 0.3);
+    p.time_step = 0.2;
+    p.division.trigger = cells::DivisionTrigger::age;
+    p.division.division_age = 10;
+    p.division.probability = 0.5;
+    p.division.max_cells = 50000;
+    cells::Simulation sim(p, 11);
+    sim.set_threads(2);
+    for (const Vec3& q : forms::hex_disc(Vec3::Zero(), Vec3::UnitZ(), 7, 1.0)) cells::add_cell(sim.cells(), q);
+    sim.cells().type[0] = cells::CellType::petiole;
+    sim.cells().fixed[0] = 1;
+    venation::Params vp;
+    vp.threshold = 30;
+    venation::Workspace ws;
+    while (sim.cells().size() < 50000) {
+      sim.step();
+      venation::canalise(sim.cells(), vp, {}, ws);
+    }
+    GrownForm f;
+    f.cells = sim.cells().size();
+    f.veins = exporters::vein_segments(venation::vein_graph(sim.cells()));
+    f.sheet = exporters::shell_triangles(sim.cells(), cells::triangulate(sim.cells()));
+    return f;
+  }();
+  return form;
+}
+
+double thicken_leaf(double voxel, bool sheet) {
+  exporters::ThickenParams p;
+  p.voxel_size = voxel;
+  const GrownForm& f = leaf50k();
+  return seconds([&] { exporters::thicken(f.veins, sheet ? f.sheet : std::vector<std::array<Vec3, 3>>{}, p); });
+}
+
+const Register r6{{"export.thicken.leaf50k", "s",
+                   "thicken the veins of a grown 50,000-cell form (cells + canalisation) at default settings", 3,
+                   [] { return thicken_leaf(0, false); }}};
+const Register r7{{"export.thicken.leaf50k.peak_mb", "MB", "peak resident memory of export.thicken.leaf50k", 1, [] {
+                     leaf50k();
+                     reset_peak_rss();
+                     thicken_leaf(0, false);
+                     return peak_rss_bytes() / 1e6;
+                   }}};
+const Register r8{{"export.thicken.leaf50k.fine", "s", "the same with 0.1 mm voxels (half the default)", 1,
+                   [] { return thicken_leaf(0.1, false); }}};
+const Register r9{{"export.thicken.leaf50k.shell", "s", "veins and the cell sheet as a 0.6 mm shell, default settings", 1,
+                   [] { return thicken_leaf(0, true); }}};
+const Register r10{{"export.thicken.leaf50k.segments", "segments", "vein segments of the grown 50,000-cell form", 1,
+                    [] { return static_cast<double>(leaf50k().veins.size()); }}};
 
 }  // namespace
 

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -240,20 +241,29 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   std::vector<Capsule> caps;
   caps.reserve(segments.size());
   std::size_t raised = 0;
-  double area = 0;  // mm^2, sum of the primitives' surfaces (overlaps counted twice: an upper bound)
+  // mm^2, the surface of the union: lateral areas, plus a hemisphere at each free end (an end shared with
+  // another segment is inside the union). Overlaps are still counted twice, so this errs high.
+  double area = 0;
+  std::map<std::array<double, 3>, int> ends;
+  for (const Segment& s : segments) {
+    ++ends[{s.a.x(), s.a.y(), s.a.z()}];
+    ++ends[{s.b.x(), s.b.y(), s.b.z()}];
+  }
   for (const Segment& s : segments) {
     const double ra = std::max(s.ra * scale, params.min_radius), rb = std::max(s.rb * scale, params.min_radius);
     raised += (s.ra * scale < params.min_radius) + (s.rb * scale < params.min_radius);
     caps.emplace_back(s.a * scale, s.b * scale, ra, rb);
     const double len = (s.b - s.a).norm() * scale;
-    area += M_PI * (ra + rb) * std::hypot(len, ra - rb) + 4 * M_PI * std::max(ra, rb) * std::max(ra, rb);
+    area += M_PI * (ra + rb) * std::hypot(len, ra - rb);
+    if (ends[{s.a.x(), s.a.y(), s.a.z()}] == 1) area += 2 * M_PI * ra * ra;
+    if (ends[{s.b.x(), s.b.y(), s.b.z()}] == 1) area += 2 * M_PI * rb * rb;
   }
   std::vector<Slab> slabs;
   slabs.reserve(shell.size());
   for (const auto& t : shell) {
     slabs.emplace_back(t[0] * scale, t[1] * scale, t[2] * scale, half_shell);
     const Vec3 a = t[0] * scale, b = t[1] * scale, c = t[2] * scale;
-    area += (b - a).cross(c - a).norm() + M_PI * half_shell * ((b - a).norm() + (c - b).norm() + (a - c).norm());
+    area += (b - a).cross(c - a).norm();  // both faces; rims are mostly shared with neighbours
   }
 
   // Memory: narrow-band voxels (both sides of the surface) and surface quads both scale as voxel^-2.
