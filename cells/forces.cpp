@@ -101,39 +101,43 @@ void second_ring(const Cells& cells, Index i, std::span<const Index> direct, std
   }
 }
 
-void second_ring(const Cells& cells, Index i, std::span<const Index> direct, std::vector<Index>& out, ForceScratch& s) {
-  out.clear();
+namespace {
+
+// second_ring() into `dst` (room for direct.size() * link_stride entries); returns the count. mark[n]
+// stands for every index that is not a cell (kNoIndex padding): marked up front, so never added.
+std::size_t second_ring_into(const Cells& cells, Index i, std::span<const Index> direct, Index* dst, ForceScratch& s) {
+  const std::size_t n = cells.size();
   const std::size_t stride = static_cast<std::size_t>(cells.link_stride);
-  std::size_t size = 16;
-  while (size < 2 * (1 + direct.size() * (stride + 1))) size *= 2;
-  if (s.set_keys.size() < size) {
-    s.set_keys.assign(size, kNoIndex);
-    s.set_tag.assign(size, 0);
-    s.set_stamp = 0;
+  if (s.mark.size() < n + 1) s.mark.resize(n + 1, 0);
+  if (++s.stamp == 0) {  // wrapped: forget every old mark
+    std::fill(s.mark.begin(), s.mark.end(), 0);
+    s.stamp = 1;
   }
-  const std::size_t mask = s.set_keys.size() - 1;
-  if (++s.set_stamp == 0) {  // wrapped: forget every old tag
-    std::fill(s.set_tag.begin(), s.set_tag.end(), 0);
-    s.set_stamp = 1;
-  }
-  // inserts x; returns false if it was present already
-  auto insert = [&](Index x) {
-    std::size_t h = (static_cast<std::size_t>(x) * 0x9e3779b1u) & mask;
-    while (s.set_tag[h] == s.set_stamp) {
-      if (s.set_keys[h] == x) return false;
-      h = (h + 1) & mask;
-    }
-    s.set_tag[h] = s.set_stamp;
-    s.set_keys[h] = x;
-    return true;
-  };
-  insert(i);
-  for (const Index r : direct) insert(r);
+  const std::uint32_t stamp = s.stamp;
+  std::uint32_t* mark = s.mark.data();
+  mark[n] = stamp;
+  if (i < n) mark[i] = stamp;
+  for (const Index r : direct)
+    if (r < n) mark[r] = stamp;
+  std::size_t count = 0;
   for (const Index r : direct) {
     const Index* links = cells.links.data() + static_cast<std::size_t>(r) * stride;
-    for (std::size_t j = 0; j < stride; ++j)
-      if (links[j] != kNoIndex && insert(links[j])) out.push_back(links[j]);
+    for (std::size_t j = 0; j < stride; ++j) {  // branch-free: always write, advance only when new
+      const Index q = links[j] < n ? links[j] : static_cast<Index>(n);
+      const bool fresh = mark[q] != stamp;
+      mark[q] = stamp;
+      dst[count] = q;
+      count += fresh;
+    }
   }
+  return count;
+}
+
+}  // namespace
+
+void second_ring(const Cells& cells, Index i, std::span<const Index> direct, std::vector<Index>& out, ForceScratch& s) {
+  out.resize(direct.size() * static_cast<std::size_t>(cells.link_stride));
+  out.resize(second_ring_into(cells, i, direct, out.data(), s));
 }
 
 void vein_second_ring(const Cells& cells, const VeinChildren& children, Index i, std::vector<Index>& out) {
@@ -164,8 +168,11 @@ Vec3 cell_acceleration(const Cells& cells, const Params& params, const VeinChild
   }
   if (w.cohesion != 0) a += w.cohesion * cohesion_kernel(pos, i, s.direct);
   if (w.separation != 0) {
-    second_ring(cells, i, s.direct, s.ring, s);
-    a += w.separation * separation_kernel(pos, i, s.ring);
+    // s.ring only grows, so no element is initialised per cell
+    const std::size_t room = s.direct.size() * static_cast<std::size_t>(cells.link_stride);
+    if (s.ring.size() < room) s.ring.resize(std::max<std::size_t>(room, 256));
+    const std::size_t count = second_ring_into(cells, i, s.direct, s.ring.data(), s);
+    a += w.separation * separation_kernel(pos, i, std::span<const Index>(s.ring.data(), count));
   }
   const bool in_vein = cells.vein_parent[i] != kNoIndex || !children_of(children, i).empty();
   if (in_vein) {
@@ -189,9 +196,9 @@ void compute_accelerations(Cells& cells, const Params& params, const VeinChildre
   const std::size_t n = cells.size();
   cells.acceleration.resize(n);
   core::parallel_for(n, threads, [&](std::size_t begin, std::size_t end) {
-    ForceScratch scratch;  // per range, not per cell
+    // per thread and kept between steps: the stamp array of second_ring has one entry per cell
+    thread_local ForceScratch scratch;
     scratch.direct.reserve(64);
-    scratch.ring.reserve(256);
     for (std::size_t i = begin; i < end; ++i)
       cells.acceleration[i] = cell_acceleration(cells, params, children, static_cast<Index>(i), scratch);
   });

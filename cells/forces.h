@@ -41,15 +41,15 @@ void second_ring(const Cells& cells, Index i, std::span<const Index> direct, std
 /// `out` (cleared first).
 void vein_second_ring(const Cells& cells, const VeinChildren& children, Index i, std::vector<Index>& out);
 
-/// Scratch reused between cells so the force loop does not allocate per cell.
+/// Scratch reused between cells (and steps) so the force loop does not allocate per cell.
 struct ForceScratch {
   std::vector<Index> direct, ring, vein, vein_ring;
-  std::vector<Index> set_keys;         ///< open-addressing set used by second_ring
-  std::vector<std::uint32_t> set_tag;  ///< entry valid when equal to set_stamp
-  std::uint32_t set_stamp = 0;
+  std::vector<std::uint32_t> mark;  ///< one entry per cell: equal to `stamp` once seen by the current second_ring
+  std::uint32_t stamp = 0;
 };
 
-/// second_ring() with a reusable hash set: same result, O(candidates) instead of O(candidates^2).
+/// second_ring() with a reusable per-cell stamp array: same result, O(candidates) instead of
+/// O(candidates^2), with no clearing between calls (the array grows to the cell count once).
 void second_ring(const Cells& cells, Index i, std::span<const Index> direct, std::vector<Index>& out,
                  ForceScratch& scratch);
 

@@ -8,15 +8,14 @@ namespace cellform::cells {
 
 namespace {
 
-// Grid cell size for the k-nearest search: 1.5 times the typical distance to the k-th neighbour, so
-// the k nearest almost always lie in the 27 grid cells around a cell (gathered once per grid cell).
-// The typical distance comes from the previous links of every 64th cell; the size only affects speed,
-// never the (exact) result, and depends on the cells alone, not on the thread count.
-double link_grid_cell(const Cells& cells, const Params& params) {
+// Typical distance to the k-th neighbour, from the previous links of every 64th cell (rest length when
+// there are none). It sets the grid cell size, which only affects speed, never the (exact) result, and
+// depends on the cells alone, not on the thread count.
+double typical_kth_distance(const Cells& cells, const Params& params) {
   const double rest = params.rest_length;
   const std::size_t n = cells.size();
   const auto stride = static_cast<std::size_t>(cells.link_stride);
-  if (stride == 0 || cells.links.size() != n * stride) return 1.5 * rest;
+  if (stride == 0 || cells.links.size() != n * stride) return rest;
   double sample[256];
   std::size_t m = 0;
   const std::size_t step = std::max<std::size_t>(64, n / 256 + 1);
@@ -26,9 +25,9 @@ double link_grid_cell(const Cells& cells, const Params& params) {
     const double d = (cells.position[last] - cells.position[i]).norm();
     if (std::isfinite(d)) sample[m++] = d;
   }
-  if (m < 8) return 1.5 * rest;
+  if (m < 8) return rest;
   std::nth_element(sample, sample + m / 2, sample + m);
-  return std::clamp(1.5 * sample[m / 2], 0.25 * rest, 2.0 * rest);
+  return std::clamp(sample[m / 2], rest / 6, 4.0 * rest / 3);
 }
 
 }  // namespace
@@ -36,11 +35,16 @@ double link_grid_cell(const Cells& cells, const Params& params) {
 void update_links(Cells& cells, const Params& params, core::PointGrid& grid, int threads) {
   const std::size_t n = cells.size();
   const int k = params.neighbours;
-  const double cell = link_grid_cell(cells, params);
+  const double kth = typical_kth_distance(cells, params);
+  // Last step's links (still k distinct cells each) bound every search radius; the dense grid scans the
+  // box of that ball, so cells about as large as the k-th distance keep the box small. The hashed grid
+  // gathers the 27 cells around each cell instead, which must usually hold the k nearest: 1.5 times.
+  const bool hinted = cells.link_stride == k && cells.links.size() == n * static_cast<std::size_t>(k);
   cells.link_stride = k;
   cells.links.resize(n * static_cast<std::size_t>(k));
-  grid.build(cells.position, cell);
-  grid.nearest_all(k, cells.links.data(), threads);
+  grid.build(cells.position, kth);
+  if (!grid.dense()) grid.build(cells.position, 1.5 * kth);
+  grid.nearest_all(k, cells.links.data(), threads, hinted ? cells.links.data() : nullptr);
 }
 
 }  // namespace cellform::cells

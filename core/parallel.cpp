@@ -5,9 +5,27 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <map>
+#include <memory>
+#include <mutex>
 #include <thread>
 
 namespace cellform::core {
+
+namespace {
+
+// One arena per thread count, created on first use and kept: constructing and initialising an arena
+// per call costs more than a small loop. Arenas are thread-safe, so callers may share them.
+tbb::task_arena& arena_for(int threads) {
+  static std::mutex mutex;
+  static std::map<int, std::unique_ptr<tbb::task_arena>> arenas;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::unique_ptr<tbb::task_arena>& arena = arenas[threads];
+  if (!arena) arena = std::make_unique<tbb::task_arena>(threads);
+  return *arena;
+}
+
+}  // namespace
 
 int hardware_threads() {
   const unsigned n = std::thread::hardware_concurrency();
@@ -22,8 +40,7 @@ void parallel_for(std::size_t n, int threads, const std::function<void(std::size
     return;
   }
   const int t = threads <= 0 ? hardware_threads() : threads;
-  tbb::task_arena arena(t);
-  arena.execute([&] {
+  arena_for(t).execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
                       [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
   });

@@ -37,6 +37,16 @@ struct TopK {
   }
 };
 
+// Squared distance summed in the order Eigen's squaredNorm() uses for a Vec3, ((x + y) + z), so that
+// rows scanned from the coordinate arrays rank points exactly as (p - q).squaredNorm() does.
+inline double distance2(double x, double y, double z, const Vec3& q) {
+  const double dx = x - q.x(), dy = y - q.y(), dz = z - q.z();
+  return dx * dx + dy * dy + dz * dz;
+}
+
+// Orders (squared distance, index) pairs as every query here does: by distance, ties by index.
+inline bool before(double da, Index ia, double db, Index ib) { return da < db || (da == db && ia < ib); }
+
 constexpr long kMaxShell = 12;  // beyond this many grid cells, scanning everything is cheaper
 
 std::uint64_t spread_bits(std::uint64_t v) {
@@ -54,15 +64,24 @@ std::uint64_t spread_bits(std::uint64_t v) {
 long PointGrid::coord(double v) const {
   // clamp so that huge, infinite or NaN coordinates cannot overflow the conversion (undefined behaviour)
   constexpr double kLimit = 1e15;
-  const double c = std::floor(v * inv_cell_ + 0.5);  // cells are centred on multiples of the size
+  const double c = v * inv_cell_ + 0.5;  // cells are centred on multiples of the size
   if (!(c > -kLimit)) return static_cast<long>(-kLimit);
   if (!(c < kLimit)) return static_cast<long>(kLimit);
-  return static_cast<long>(c);
+  const auto t = static_cast<long>(c);  // floor(c) without a library call: truncate, then fix negatives
+  return t - (c < static_cast<double>(t) ? 1 : 0);
 }
 
-// Blocks of 4 x 4 x 4 grid cells are hashed; the 64 cells of a block occupy consecutive buckets, so a
-// query's 3 x 3 x 3 neighbourhood touches a few contiguous runs of the table instead of 27 random ones.
+// Hashed layout: blocks of 4 x 4 x 4 grid cells are hashed; the 64 cells of a block occupy consecutive
+// buckets, so a query's 3 x 3 x 3 neighbourhood touches a few contiguous runs of the table instead of 27
+// random ones. Dense layout: row-major buckets over the bounding box, one empty bucket for the outside.
 std::size_t PointGrid::bucket_of(long ix, long iy, long iz) const {
+  if (dense_) {
+    const long x = ix - lo_[0], y = iy - lo_[1], z = iz - lo_[2];
+    if (x < 0 || y < 0 || z < 0 || x >= dim_[0] || y >= dim_[1] || z >= dim_[2]) return outside_;
+    return (static_cast<std::size_t>(z) * static_cast<std::size_t>(dim_[1]) + static_cast<std::size_t>(y)) *
+               static_cast<std::size_t>(dim_[0]) +
+           static_cast<std::size_t>(x);
+  }
   const auto h = static_cast<std::uint64_t>(ix >> 2) * 73856093ull ^ static_cast<std::uint64_t>(iy >> 2) * 19349663ull ^
                  static_cast<std::uint64_t>(iz >> 2) * 83492791ull;
   const auto local = static_cast<std::size_t>((ix & 3) | (iy & 3) << 2 | (iz & 3) << 4);
@@ -75,23 +94,69 @@ void PointGrid::build(std::span<const Vec3> points, double cell_size) {
   points_ = points;
   cell_size_ = cell_size;
   inv_cell_ = 1.0 / cell_size;
-  // about four buckets per point: blocks on a sheet are only partly filled
-  std::size_t buckets = 64;
-  while (buckets < 4 * points.size()) buckets *= 2;
-  mask_ = buckets - 1;
+  const std::size_t n = points.size();
+
+  // Dense when every point is finite and the bounding box has few grid cells per point (a sheet, a
+  // blob); a sparse or unbounded set (distant clusters, NaN) is hashed instead.
+  dense_ = false;
+  bool finite = n > 0;
+  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+  for (const Vec3& p : points) {
+    if (!p.allFinite()) {
+      finite = false;
+      break;
+    }
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  std::size_t buckets = 0;
+  if (finite) {
+    double cells = 1;
+    for (int a = 0; a < 3; ++a) {
+      lo_[a] = coord(lo[a]);  // coord() is monotone, so the box of the extremes holds every point
+      dim_[a] = coord(hi[a]) - lo_[a] + 1;
+      cells *= static_cast<double>(dim_[a]);
+    }
+    if (cells <= std::max(4096.0, 8.0 * static_cast<double>(n))) {
+      dense_ = true;
+      outside_ = static_cast<std::size_t>(cells);
+      buckets = outside_ + 1;
+    }
+  }
+  if (!dense_) {
+    // about four buckets per point: blocks on a sheet are only partly filled
+    buckets = 64;
+    while (buckets < 4 * n) buckets *= 2;
+    mask_ = buckets - 1;
+  }
   start_.assign(buckets + 1, 0);
-  std::vector<Index> bucket(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
+  bucket_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
     const Vec3& p = points[i];
-    bucket[i] = static_cast<Index>(bucket_of(coord(p.x()), coord(p.y()), coord(p.z())));
-    ++start_[bucket[i] + 1];
+    bucket_[i] = static_cast<Index>(bucket_of(coord(p.x()), coord(p.y()), coord(p.z())));
+    ++start_[bucket_[i] + 1];
   }
   for (std::size_t b = 0; b < buckets; ++b) start_[b + 1] += start_[b];
-  order_.resize(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) order_[start_[bucket[i]]++] = static_cast<Index>(i);
+  order_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) order_[start_[bucket_[i]]++] = static_cast<Index>(i);
   // the fill above advanced every start to the next bucket's start: shift back
   for (std::size_t b = buckets; b > 0; --b) start_[b] = start_[b - 1];
   start_[0] = 0;
+  if (dense_) {
+    slot_x_.resize(n);
+    slot_y_.resize(n);
+    slot_z_.resize(n);
+    for (std::size_t s = 0; s < n; ++s) {
+      const Vec3& p = points[order_[s]];
+      slot_x_[s] = p.x();
+      slot_y_[s] = p.y();
+      slot_z_[s] = p.z();
+    }
+  } else {
+    slot_x_.clear();
+    slot_y_.clear();
+    slot_z_.clear();
+  }
 }
 
 int PointGrid::nearest(const Vec3& q, Index self, int k, Index* out, double* out_d2) const {
@@ -157,8 +222,169 @@ int PointGrid::nearest(const Vec3& q, Index self, int k, Index* out, double* out
   }
 }
 
-void PointGrid::nearest_all(int k, Index* out, int threads) const {
+void PointGrid::nearest_all(int k, Index* out, int threads) const { nearest_all(k, out, threads, nullptr); }
+
+void PointGrid::nearest_all(int k, Index* out, int threads, const Index* hint) const {
   if (k <= 0) return;
+  if (dense_)
+    nearest_all_dense(k, out, threads, hint);
+  else
+    nearest_all_hashed(k, out, threads);
+}
+
+void PointGrid::nearest_all_dense(int k, Index* out, int threads, const Index* hint) const {
+  const std::size_t n = points_.size();
+  const auto stride = static_cast<std::size_t>(k);
+  constexpr double kMargin = 1e-9;
+  constexpr double kMaxCells = 64;  // a query box with more grid cells goes to the general search
+  // Each query scans the rows (runs of consecutive buckets along x, contiguous in order_ and the slot
+  // coordinates) of a box of grid cells around it and keeps the points with squared distance <= limit.
+  // The result is exact whenever at least k points besides the query pass, because the box holds every
+  // point that can pass:
+  // - hinted: limit = the largest squared distance to the k hinted points, the box covers that ball;
+  // - otherwise: the 3 x 3 x 3 cells around the query's cell, limit = distance to the cube's nearest face.
+  parallel_for(
+      n, threads,
+      [&](std::size_t begin, std::size_t end) {
+        std::vector<double> cand_d2(256), dist(256), hint_d2(stride), scratch_d2(stride);
+        std::vector<Index> sel(256), hint_id(stride);
+        struct Run {
+          Index first, last;
+        } runs[static_cast<int>(kMaxCells)];
+        for (std::size_t i = begin; i < end; ++i) {
+          const Vec3 q = points_[i];
+          const auto self = static_cast<Index>(i);
+          Index* row = out + i * stride;
+          long a0[3], a1[3];
+          double limit = 0;
+          bool hinted = false;
+          if (hint != nullptr) {
+            const Index* h = hint + i * stride;
+            double b2 = 0;
+            bool valid = true;
+            for (std::size_t j = 0; j < stride; ++j) {
+              const Index x = h[j];
+              if (x >= n || x == self) {
+                valid = false;
+                break;
+              }
+              const Vec3& p = points_[x];
+              hint_d2[j] = distance2(p.x(), p.y(), p.z(), q);
+              hint_id[j] = x;
+              b2 = std::max(b2, hint_d2[j]);
+            }
+            if (valid) {
+              // A point p with computed |p - q|^2 <= b2 has |p_a - q_a| <= r on every axis (the relative
+              // margin covers rounding, the absolute one underflow), and coord() is monotone.
+              const double r = std::sqrt(b2) * (1 + kMargin) + 1e-150;
+              double cells = 1;  // in double: a huge radius could overflow a product of longs
+              for (int a = 0; a < 3; ++a) {
+                a0[a] = std::max(coord(q[a] - r), lo_[a]);
+                a1[a] = std::min(coord(q[a] + r), lo_[a] + dim_[a] - 1);
+                cells *= static_cast<double>(a1[a] - a0[a] + 1);
+              }
+              if (cells <= kMaxCells) {
+                limit = b2;
+                hinted = true;
+              }
+            }
+          }
+          if (!hinted) {
+            double face = INFINITY;
+            for (int a = 0; a < 3; ++a) {
+              const long c = coord(q[a]);
+              face = std::min(face, q[a] - (static_cast<double>(c) - 0.5) * cell_size_);
+              face = std::min(face, (static_cast<double>(c) + 0.5) * cell_size_ - q[a]);
+              a0[a] = std::max(c - 1, lo_[a]);
+              a1[a] = std::min(c + 1, lo_[a] + dim_[a] - 1);
+            }
+            const double bound = cell_size_ + std::max(0.0, face);
+            limit = bound * bound * (1 - kMargin);
+          }
+          // Distances of every point in the box (vectorised per row), and how many pass. The query itself
+          // lies in the box and passes (distance 0), so `passed - 1` others do.
+          int nruns = 0;
+          std::size_t count = 0, passed = 0;
+          for (long z = a0[2]; z <= a1[2]; ++z)
+            for (long y = a0[1]; y <= a1[1]; ++y) {
+              const std::size_t row_start =
+                  (static_cast<std::size_t>(z - lo_[2]) * static_cast<std::size_t>(dim_[1]) +
+                   static_cast<std::size_t>(y - lo_[1])) *
+                  static_cast<std::size_t>(dim_[0]);
+              const Index first = start_[row_start + static_cast<std::size_t>(a0[0] - lo_[0])];
+              const Index last = start_[row_start + static_cast<std::size_t>(a1[0] - lo_[0]) + 1];
+              const std::size_t len = last - first;
+              if (count + len > cand_d2.size()) cand_d2.resize(2 * (count + len));
+              runs[nruns++] = {first, last};
+              const double *xs = slot_x_.data() + first, *ys = slot_y_.data() + first, *zs = slot_z_.data() + first;
+              double* d2 = cand_d2.data() + count;
+              for (std::size_t t = 0; t < len; ++t) d2[t] = distance2(xs[t], ys[t], zs[t], q);
+              for (std::size_t t = 0; t < len; ++t) passed += d2[t] <= limit;
+              count += len;
+            }
+          const std::size_t others = passed - 1;
+          if (others < stride) {  // too few certain candidates (few points, an outlier): the general search
+            const int found = nearest(q, self, k, row, scratch_d2.data());
+            for (int j = found; j < k; ++j) row[j] = kNoIndex;
+            continue;
+          }
+          if (hinted && others == stride) {
+            // Exactly k others pass, and every hinted point passes: if the hint has no repeats, the result
+            // is the hint sorted. It was sorted last step, so the insertion below is nearly free.
+            for (std::size_t j = 1; j < stride; ++j) {
+              const double d = hint_d2[j];
+              const Index id = hint_id[j];
+              std::size_t x = j;
+              for (; x > 0 && before(d, id, hint_d2[x - 1], hint_id[x - 1]); --x) {
+                hint_d2[x] = hint_d2[x - 1];
+                hint_id[x] = hint_id[x - 1];
+              }
+              hint_d2[x] = d;
+              hint_id[x] = id;
+            }
+            bool repeats = false;
+            for (std::size_t j = 1; j < stride; ++j) repeats |= hint_id[j] == hint_id[j - 1];
+            if (!repeats) {
+              std::copy(hint_id.begin(), hint_id.begin() + static_cast<long>(stride), row);
+              continue;
+            }
+          }
+          // General case: gather the passing candidates, keep the k best by (distance, index) in the front
+          // of the arrays: insertion with early reject.
+          if (others > sel.size()) {
+            sel.resize(2 * others);
+            dist.resize(sel.size());
+          }
+          std::size_t m = 0, c = 0;
+          for (int r = 0; r < nruns; ++r)
+            for (Index s = runs[r].first; s < runs[r].last; ++s, ++c) {
+              const Index id = order_[s];
+              if (cand_d2[c] <= limit && id != self) {
+                sel[m] = id;
+                dist[m] = cand_d2[c];
+                ++m;
+              }
+            }
+          std::size_t kept = 0;
+          for (std::size_t j = 0; j < m; ++j) {
+            const double d = dist[j];
+            const Index id = sel[j];
+            if (kept == stride && !before(d, id, dist[kept - 1], sel[kept - 1])) continue;
+            std::size_t x = kept < stride ? kept++ : stride - 1;
+            for (; x > 0 && before(d, id, dist[x - 1], sel[x - 1]); --x) {
+              dist[x] = dist[x - 1];
+              sel[x] = sel[x - 1];
+            }
+            dist[x] = d;
+            sel[x] = id;
+          }
+          std::copy(sel.begin(), sel.begin() + static_cast<long>(stride), row);
+        }
+      },
+      1024);
+}
+
+void PointGrid::nearest_all_hashed(int k, Index* out, int threads) const {
   const std::size_t n = points_.size();
   const auto stride = static_cast<std::size_t>(k);
   constexpr std::size_t kCapacity = 512;  // candidates gathered per grid cell; more falls back to nearest()

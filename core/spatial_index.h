@@ -8,9 +8,10 @@
 
 namespace cellform::core {
 
-/// A uniform grid hashed into a table of about two buckets per point. Rebuilding costs O(n)
-/// (a counting sort), so it can be rebuilt every step of a simulation. Queries are exact:
-/// results equal a brute-force scan, with distance ties broken by the smaller index.
+/// A uniform grid: dense (one bucket per grid cell of the bounding box, rows along x contiguous) when
+/// the box has at most about eight grid cells per point, otherwise hashed into about four buckets per
+/// point. Rebuilding costs O(n) (a counting sort), so it can be rebuilt every step of a simulation.
+/// Queries are exact: results equal a brute-force scan, with distance ties broken by the smaller index.
 class PointGrid {
  public:
   /// Indexes `points` (kept by reference: they must outlive the queries) with grid cells of
@@ -29,6 +30,12 @@ class PointGrid {
   /// (0 = all); each row is written by one thread only, so the result does not depend on the count.
   void nearest_all(int k, Index* out, int threads) const;
 
+  /// nearest_all() with a hint: row i of `hint` (k entries, may be the same memory as `out`) names k
+  /// points, e.g. last step's neighbours of point i. Their distances bound the search radius, so a
+  /// good hint makes the search much cheaper; a stale or invalid hint (repeats, kNoIndex, i itself)
+  /// only costs time, never changes the result.
+  void nearest_all(int k, Index* out, int threads, const Index* hint) const;
+
   /// Number of points within `radius` of `query` (distance <= radius), not counting `self`.
   int count_within(const Vec3& query, double radius, Index self) const;
 
@@ -37,10 +44,14 @@ class PointGrid {
 
   std::size_t size() const { return points_.size(); }
   double cell_size() const { return cell_size_; }
+  /// True if the last build() chose the dense layout (small bounding box, all points finite).
+  bool dense() const { return dense_; }
 
  private:
   std::size_t bucket_of(long ix, long iy, long iz) const;
   long coord(double v) const;
+  void nearest_all_hashed(int k, Index* out, int threads) const;
+  void nearest_all_dense(int k, Index* out, int threads, const Index* hint) const;
 
   std::span<const Vec3> points_;
   double cell_size_ = 1.0;
@@ -48,6 +59,15 @@ class PointGrid {
   std::size_t mask_ = 0;
   std::vector<Index> start_;  // bucket -> first slot in order_
   std::vector<Index> order_;  // point indices grouped by bucket
+  // dense layout: bucket = ((z - lo_z) * dim_y + (y - lo_y)) * dim_x + (x - lo_x); one empty bucket past
+  // the box answers every coordinate outside it
+  bool dense_ = false;
+  long lo_[3] = {0, 0, 0};
+  long dim_[3] = {0, 0, 0};
+  std::size_t outside_ = 0;
+  // dense layout: coordinates of points_[order_[s]] by slot s, so row scans read memory in order (and vectorise)
+  std::vector<double> slot_x_, slot_y_, slot_z_;
+  std::vector<Index> bucket_;   // build scratch, kept to avoid reallocating every step
 };
 
 /// A permutation that sorts points along a Z-order (Morton) curve of grid cells of `cell_size`;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -202,4 +203,58 @@ TEST_CASE("spatial_order tolerates non-finite points", "[spatial_index]") {
   REQUIRE((perm[98] == 10 || perm[99] == 10));
   std::sort(perm.begin(), perm.end());
   for (std::size_t i = 0; i < perm.size(); ++i) REQUIRE(perm[i] == i);
+}
+
+TEST_CASE("nearest_all with a hint equals the oracle for good, stale and invalid hints", "[spatial_index]") {
+  std::vector<Vec3> pts;  // a jittered sheet (the dense layout) with a far cluster (a sparse box: hashed)
+  Rng rng(31);
+  for (int x = 0; x < 60; ++x)
+    for (int y = 0; y < 50; ++y)
+      pts.emplace_back(x + 0.1 * rng.uniform(-1, 1), y + 0.1 * rng.uniform(-1, 1), 0.05 * rng.uniform(-1, 1));
+  const std::size_t sheet = pts.size();
+  const int k = 6;
+  const auto stride = static_cast<std::size_t>(k);
+  for (double cell : {0.7, 1.0, 1.5}) {
+    PointGrid grid;
+    grid.build(std::span<const Vec3>(pts.data(), sheet), cell);
+    REQUIRE(grid.dense());
+    std::vector<Index> plain(sheet * stride), hinted(sheet * stride);
+    grid.nearest_all(k, plain.data(), 1);
+    for (std::size_t i = 0; i < sheet; ++i) {  // nearest_all without a hint is checked against nearest above
+      std::vector<Index> idx(stride);
+      std::vector<double> d2(stride);
+      grid.nearest(pts[i], static_cast<Index>(i), k, idx.data(), d2.data());
+      REQUIRE(std::equal(idx.begin(), idx.end(), plain.begin() + static_cast<long>(i * stride)));
+    }
+    // exact hint, in place (hint == out)
+    hinted = plain;
+    grid.nearest_all(k, hinted.data(), 2, hinted.data());
+    REQUIRE(hinted == plain);
+    // stale hints: rows of other points, shuffled rows, repeats, self, kNoIndex, out of range
+    for (int variant = 0; variant < 5; ++variant) {
+      std::vector<Index> hint(sheet * stride);
+      for (std::size_t i = 0; i < sheet; ++i)
+        for (std::size_t j = 0; j < stride; ++j) {
+          Index h = plain[((i + 7 * static_cast<std::size_t>(variant)) % sheet) * stride + (j * 5 + 1) % stride];
+          if (variant == 1 && j > 0) h = plain[i * stride];                        // repeats of the nearest
+          if (variant == 2 && j == 3) h = static_cast<Index>(i);                   // itself
+          if (variant == 3 && j == 5) h = kNoIndex;                                 // padding
+          if (variant == 4) h = static_cast<Index>((i + j * 977 + 1) % sheet);      // far away
+          hint[i * stride + j] = h;
+        }
+      std::vector<Index> got(sheet * stride);
+      grid.nearest_all(k, got.data(), 2, hint.data());
+      INFO("cell " << cell << ", hint variant " << variant);
+      REQUIRE(got == plain);
+    }
+  }
+  // a sparse set is hashed; the hint is then ignored but harmless
+  for (int i = 0; i < 40; ++i) pts.emplace_back(1e4 + i, 0, 0);
+  PointGrid grid;
+  grid.build(pts, 1.0);
+  REQUIRE_FALSE(grid.dense());
+  std::vector<Index> plain(pts.size() * stride), hinted(pts.size() * stride, 0);
+  grid.nearest_all(k, plain.data(), 1);
+  grid.nearest_all(k, hinted.data(), 2, hinted.data());
+  REQUIRE(hinted == plain);
 }
