@@ -39,6 +39,8 @@ std::vector<Field> build() {
   // cells{}
   f.push_back(num("cells", "rest_length", "1", 0, kInf, true, "model units", "d of Eq. 2: target distance between linked cells"));
   f.push_back(integer("cells", "neighbours", "6", 3, 32, "cells", "k: links per cell, the k nearest (dynamic neighbourhood)"));
+  f.push_back(num("cells", "link_range", "1.5", 0, 1e6, false, "rest lengths",
+                  "links only reach cells this close (0 = no limit: rims then pull inward)"));
   f.push_back(choice("cells", "integrator", Kind::choice, "velocity_acceleration", "velocity|velocity_acceleration",
                      "velocity-only or velocity-acceleration model"));
   f.push_back(num("cells", "time_step", "0.1", 0, kInf, true, "time units", "integration step; too large is refused as unstable"));
@@ -75,8 +77,8 @@ std::vector<Field> build() {
   f.push_back(integer("division", "min_neighbours", "6", 1, 1000, "cells", "trigger = neighbours: divide when fewer cells than this are within radius"));
   f.push_back(integer("division", "min_age", "5", 0, 1e9, "steps", "a cell waits this long after its birth or division"));
   f.push_back(num("division", "probability", "1", 0, 1, true, "0..1", "chance that a triggered cell divides this step (seeded)"));
-  f.push_back(choice("division", "direction", Kind::choice_or_function, "random", "random|axis|radial|circumferential|auxin",
-                     "split direction (auxin: along the local auxin flow); or function(cell) returning {x, y, z}"));
+  f.push_back(choice("division", "direction", Kind::choice_or_function, "random", "random|tangent|axis|radial|circumferential|auxin",
+                     "split direction (tangent: random within the sheet; auxin: along the local auxin flow); or function(cell) returning {x, y, z}"));
   f.push_back(vec("division", "axis", "{1, 0, 0}", -kInf, kInf, "direction", "split axis (axis, circumferential)"));
   f.push_back(vec("division", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "field centre (radial, circumferential)"));
   f.push_back(integer("division", "max_cells", "100000", 1, 5e7, "cells", "growth stops at this many cells"));

@@ -400,6 +400,7 @@ void section_cells(Impl& I, const std::string& at) {
   cells::Params& p = I.cfg->scene.cells;
   p.rest_length = v["rest_length"].num;
   p.neighbours = static_cast<int>(v["neighbours"].num);
+  p.link_range = v["link_range"].num;
   p.integrator = v["integrator"].str == "velocity" ? cells::Integrator::velocity : cells::Integrator::velocity_acceleration;
   p.time_step = v["time_step"].num;
   const cells::ForceWeights general = weights_from(v);
@@ -453,6 +454,7 @@ void section_division(Impl& I, const std::string& at) {
     I.direction_ref = dir.ref;
   } else {
     d.direction = dir.str == "axis" ? cells::SplitDirection::axis
+                  : dir.str == "tangent" ? cells::SplitDirection::tangent
                   : dir.str == "radial" ? cells::SplitDirection::radial
                   : dir.str == "circumferential" ? cells::SplitDirection::circumferential
                   : dir.str == "auxin"           ? cells::SplitDirection::rule

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "cells/simulation.h"
+#include "core/parallel.h"
 
 namespace cellform::cells {
 
@@ -45,6 +46,19 @@ void update_links(Cells& cells, const Params& params, core::PointGrid& grid, int
   grid.build(cells.position, kth);
   if (!grid.dense()) grid.build(cells.position, 1.5 * kth);
   grid.nearest_all(k, cells.links.data(), threads, hinted ? cells.links.data() : nullptr);
+  if (params.link_range > 0) {
+    // links are sorted by distance: drop the tail beyond the range (each cell writes its own row)
+    const double r2 = params.link_range * params.link_range * params.rest_length * params.rest_length;
+    core::parallel_for(n, threads, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+        for (int s = k - 1; s >= 0; --s) {
+          Index& j = cells.links[i * static_cast<std::size_t>(k) + static_cast<std::size_t>(s)];
+          if (j == kNoIndex) continue;
+          if ((cells.position[j] - cells.position[i]).squaredNorm() <= r2) break;
+          j = kNoIndex;
+        }
+    });
+  }
 }
 
 }  // namespace cellform::cells

@@ -64,6 +64,8 @@ void validate(const Params& params) {
     fail("cells.rest_length", "positive and finite (model units)", str(p.rest_length));
   if (p.neighbours < 3 || p.neighbours > 32)
     fail("cells.neighbours", "an integer from 3 to 32", std::to_string(p.neighbours));
+  if (!(p.link_range == 0 || (p.link_range >= 1 && std::isfinite(p.link_range))))
+    fail("cells.link_range", "0 (no limit) or a number >= 1 (rest lengths)", str(p.link_range));
   if (p.integrator != Integrator::velocity && p.integrator != Integrator::velocity_acceleration)
     fail("cells.integrator", "'velocity' or 'velocity_acceleration'", std::to_string(static_cast<int>(p.integrator)));
   if (!(p.time_step > 0) || !std::isfinite(p.time_step))

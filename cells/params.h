@@ -35,6 +35,7 @@ enum class DivisionTrigger {
 /// Which way a dividing cell splits.
 enum class SplitDirection {
   random,         ///< uniform growth: a random unit vector per division (seeded)
+  tangent,        ///< uniform growth within the sheet: random, in the plane of the three closest neighbours
   axis,           ///< uniform anisotropic growth: along `axis`
   radial,         ///< away from `centre` (a field)
   circumferential,///< around the line through `centre` along `axis` (a field)
@@ -58,6 +59,9 @@ struct DivisionParams {
 struct Params {
   double rest_length = 1.0;  ///< d of Eq. 2: target distance between linked cells, model units
   int neighbours = 6;        ///< k: links per cell (the six closest in the paper); at least 3
+  /// Links reach only cells within link_range * rest_length ("if available, the six closest"); 0 = the k
+  /// nearest at any distance (rim cells then link across the sheet and pull the rim inward).
+  double link_range = 1.5;
   Integrator integrator = Integrator::velocity_acceleration;
   double time_step = 0.1;  ///< time units per step
 

@@ -157,3 +157,26 @@ TEST_CASE("rules override the trigger and supply split directions", "[division]"
     REQUIRE(std::string(e.what()).find("cell 77") != std::string::npos);
   }
 }
+
+TEST_CASE("tangent splits stay in the plane of the sheet", "[division]") {
+  Cells c = cellform::testing::hex_sheet(8, 8);
+  for (auto& a : c.age) a = 100;
+  Params p;
+  p.division.direction = SplitDirection::tangent;
+  cellform::core::PointGrid grid;
+  update_links(c, p, grid, 1);
+  const std::size_t n = c.size();
+  std::vector<bool> has_plane(n);  // corner cells have only two links in range: no plane to split in
+  for (std::size_t i = 0; i < n; ++i) has_plane[i] = c.links[i * 6 + 2] != kNoIndex;
+  REQUIRE(divide(c, p, Rules{}, 3, 1, grid) == n);
+  std::set<long> directions;
+  for (std::size_t d = n; d < c.size(); ++d) {
+    const Index mother = static_cast<Index>(d - n);
+    if (!has_plane[mother]) continue;
+    CHECK(c.position[d].z() == 0.0);  // exactly in the sheet
+    CHECK((c.position[d] - c.position[mother]).norm() == Approx(0.5 * p.rest_length));
+    directions.insert(std::lround(std::atan2(c.position[d].y() - c.position[mother].y(),
+                                             c.position[d].x() - c.position[mother].x()) * 4));
+  }
+  CHECK(directions.size() > 10);  // random within the plane, not one axis
+}

@@ -35,6 +35,7 @@ TEST_CASE("update_links equals the brute-force oracle (random cloud)", "[neighbo
   Cells c;
   for (int i = 0; i < 3000; ++i) add_cell(c, Vec3(rng.uniform(0, 20), rng.uniform(0, 20), rng.uniform(-0.3, 0.3)));
   Params p;
+  p.link_range = 0;  // pure k nearest, as the oracle
   cellform::core::PointGrid grid;
   for (int threads : {1, 2}) {
     update_links(c, p, grid, threads);
@@ -48,6 +49,7 @@ TEST_CASE("update_links equals the brute-force oracle (random cloud)", "[neighbo
 TEST_CASE("update_links on a lattice breaks ties by index; pads when cells are few", "[neighbourhood]") {
   Cells c = cellform::testing::hex_sheet(12, 12);
   Params p;
+  p.link_range = 0;  // pure k nearest, as the oracle
   cellform::core::PointGrid grid;
   update_links(c, p, grid, 1);
   check_links(c, 6);
@@ -65,6 +67,7 @@ TEST_CASE("update_links on a lattice breaks ties by index; pads when cells are f
 TEST_CASE("links follow cells that come closer", "[neighbourhood]") {
   Cells c = cellform::testing::hex_sheet(6, 6);
   Params p;
+  p.link_range = 0;  // pure k nearest, as the oracle
   cellform::core::PointGrid grid;
   update_links(c, p, grid, 1);
   const Index far = 35, centre = 14;
@@ -74,4 +77,36 @@ TEST_CASE("links follow cells that come closer", "[neighbourhood]") {
   update_links(c, p, grid, 1);
   REQUIRE(c.links[centre * 6] == far);
   check_links(c, 6);
+}
+
+TEST_CASE("link_range keeps only the k nearest within range, over several steps", "[neighbourhood]") {
+  // a hex sheet: interior cells have six neighbours at 1; rim cells' sixth-nearest lie at sqrt(3) or 2
+  Cells c = cellform::testing::hex_sheet(9, 9);
+  Params p;
+  p.link_range = 1.5;
+  cellform::core::PointGrid grid;
+  for (int step = 0; step < 3; ++step) {  // later steps use the truncated links as hints
+    update_links(c, p, grid, 1);
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      std::vector<std::pair<double, Index>> all;
+      for (std::size_t j = 0; j < c.size(); ++j)
+        if (j != i) all.push_back({(c.position[j] - c.position[i]).squaredNorm(), static_cast<Index>(j)});
+      std::sort(all.begin(), all.end());
+      for (int s = 0; s < 6; ++s) {
+        const bool in_range = all[static_cast<std::size_t>(s)].first <= 1.5 * 1.5;
+        INFO("cell " << i << " slot " << s);
+        CHECK(c.links[i * 6 + static_cast<std::size_t>(s)] == (in_range ? all[static_cast<std::size_t>(s)].second : kNoIndex));
+      }
+    }
+  }
+  // a corner cell of the lattice has 2 or 3 neighbours within range, never more
+  int fewest = 6;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    int n = 0;
+    for (int s = 0; s < 6; ++s) n += c.links[i * 6 + static_cast<std::size_t>(s)] != kNoIndex;
+    fewest = std::min(fewest, n);
+  }
+  CHECK(fewest <= 3);
+  p.link_range = 0.5;
+  CHECK_THROWS_WITH(validate(p), Catch::Matchers::Contains("cells.link_range"));
 }

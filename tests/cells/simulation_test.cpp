@@ -101,6 +101,7 @@ TEST_CASE("step report, hooks and the spatial reorder", "[simulation]") {
 TEST_CASE("three cells relax to an equilateral triangle of rest-length sides", "[simulation]") {
   Params p;
   p.rest_length = 1.3;
+  p.link_range = 0;  // the far cell starts beyond the default range
   p.division.trigger = DivisionTrigger::none;
   Simulation sim(p, 1);
   add_cell(sim.cells(), Vec3(0, 0, 0));
