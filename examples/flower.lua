@@ -9,7 +9,7 @@ run { steps = 500, seed = 5 }
 
 cells {
   rest_length = 1.0,
-  time_step = 0.2,
+  time_step = 0.15,
   spring = 1.0,
   planar = 0.5,
   separation = 0.05,

@@ -1,18 +1,20 @@
--- A flat, waving leaf-like surface (the paper's figures 2 and 3).
--- Marginal growth: cells at the rim have few neighbours and divide. Strong drag in z keeps the sheet
--- nearly horizontal, so it grows out as a broad blade that ripples where the rim grows faster than
--- the middle can make room.
+-- A flat, waving leaf with its veins, printed as a structural lattice (the paper's figures 2 and 3).
+-- Marginal growth: cells at the rim have few neighbours nearby and divide within the sheet. Drag in z
+-- (Eq. 7) keeps the blade nearly horizontal while it waves a little where the rim outgrows the middle.
+-- Auxin flows from every cell to the petiole; where it concentrates, cells become veins, and the veins
+-- are thickened with their Murray radii into printable.stl.
 
 local P = params {
-  size = 6000,       -- cells at the end of growth
-  vertical_drag = 0.2, -- velocity factor in z per step (1 = free, 0 = flat)
+  size = 6000,          -- cells when growth stops
+  vertical_drag = 0.3,  -- velocity factor in z per step (1 = free, 0 = perfectly flat)
+  vein_spacing = 30,    -- canalisation threshold: upstream cells needed to make a vein
 }
 
-run { steps = 600, seed = 1 }
+run { steps = 1800, seed = 1 }
 
 cells {
   rest_length = 1.0,
-  time_step = 0.2,
+  time_step = 0.15,
   spring = 1.0,
   planar = 0.6,
   separation = 0.05,
@@ -20,15 +22,18 @@ cells {
 }
 
 division {
-  trigger = "neighbours",  -- rim cells have fewer neighbours nearby
-  radius = 1.6,
+  trigger = "neighbours",   -- marginal growth
+  radius = 1.25,
   min_neighbours = 6,
-  min_age = 6,
-  probability = 0.5,
+  min_age = 5,
+  probability = 0.3,
+  direction = "tangent",    -- daughters stay in the blade
   max_cells = P.size,
 }
+
+venation { threshold = P.vein_spacing }
 
 disc { radius = 4 }
 petiole { at = {0, -4, 0} }
 
-output { every = 0 }
+print { veins = true, size = 120, formats = "stl,scad" }

@@ -6,11 +6,11 @@ local P = params {
   lift = 0.02,    -- upward acceleration (model units per time unit squared)
 }
 
-run { steps = 600, seed = 2 }
+run { steps = 1500, seed = 2 }
 
 cells {
   rest_length = 1.0,
-  time_step = 0.2,
+  time_step = 0.15,
   spring = 1.0,
   planar = 0.6,
   separation = 0.05,
@@ -19,11 +19,12 @@ cells {
 }
 
 division {
-  trigger = "neighbours",
-  radius = 1.6,
+  trigger = "neighbours",  -- growth at the rim
+  radius = 1.25,
   min_neighbours = 6,
-  min_age = 6,
-  probability = 0.5,
+  min_age = 5,
+  probability = 0.3,
+  direction = "tangent",
   max_cells = P.size,
 }
 
