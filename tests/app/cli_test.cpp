@@ -215,3 +215,69 @@ TEST_CASE("cells and veins are bit-identical for 1 and 2 threads", "[cli][determ
   CHECK(run["veins"]["vein_cells"].get<int>() > 0);
   CHECK(run["veins"]["petiole_inflow"].get<double>() > 5000);
 }
+
+TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli][print]") {
+  TempDir t("cli-print");
+  const auto script = t.write("print.lua",
+                              "cells { time_step = 0.2, separation = 0.05, drag = {0.8, 0.8, 0.3} }\n"
+                              "division { trigger = 'age', age = 6, min_age = 3, probability = 0.5, max_cells = 600 }\n"
+                              "venation { threshold = 15 }\n"
+                              "run { steps = 80 }\n"
+                              "disc { radius = 4 }\n"
+                              "petiole { at = {0, -4, 0} }\n"
+                              "print { formats = 'stl,obj,ply,scad' }\n");
+  const fs::path out = t.path / "o";
+  auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  for (const char* f : {"printable.stl", "printable.obj", "printable.ply", "printable.scad"}) CHECK(fs::exists(out / f));
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["print"]["parts"] == 1);
+  CHECK(run["print"]["volume_mm3"].get<double>() > 0);
+  for (const char* f : {"printable.stl", "printable.obj", "printable.ply"}) {
+    r = cli({"check", (out / f).string()});
+    INFO(f << ": " << r.out << r.err);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.out, Contains("printable"));
+  }
+  r = cli({"check", (out / "printable.stl").string(), "--json"});
+  CHECK(nlohmann::json::parse(r.out)["printable"] == true);
+
+  SECTION("a form that falls apart is an error when one piece is required") {
+    const auto two = t.write("two.lua",
+                             "cells { time_step = 0.2, drag = {0.8, 0.8, 0.3} }\n"
+                             "division { trigger = 'none' }\n"
+                             "venation { threshold = 6 }\n"
+                             "run { steps = 40 }\n"
+                             "line { from = {-30, 0, 0}, to = {-20, 0, 0} }\n"
+                             "line { from = {20, 0, 0}, to = {30, 0, 0} }\n"
+                             "petiole { at = {-30, 0, 0} }\n"
+                             "petiole { at = {30, 0, 0} }\n"
+                             "print { pieces = 'one' }\n");
+    r = cli({"run", two.string(), "--out", (t.path / "two").string(), "--quiet"});
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Contains("falls apart into 2 parts"));
+    CHECK(fs::exists(t.path / "two" / "checkpoint.cfck"));  // nothing else is lost
+    CHECK(fs::exists(t.path / "two" / "cells.ply"));
+  }
+}
+
+TEST_CASE("cellform check reports broken and unreadable meshes", "[cli][check]") {
+  TempDir t("cli-check");
+  // a tetrahedron with one face missing: a hole
+  const auto open = t.write("open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\n");
+  auto r = cli({"check", open.string()});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.out, Contains("NOT printable"));
+  CHECK_THAT(r.out, Contains("boundary edges 3"));
+  const auto closed = t.write("closed.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n");
+  r = cli({"check", closed.string()});
+  INFO(r.out);
+  CHECK(r.code == 0);
+  const auto garbage = t.write("garbage.stl", "this is not a mesh");
+  r = cli({"check", garbage.string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("garbage.stl"));
+  CHECK(cli({"check"}).code == 2);
+  CHECK(cli({"check", (t.path / "none.stl").string()}).code == 2);
+}
