@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Renders a cellform output directory (cells.ply, veins.ply) to a PNG preview.
 
-usage: scripts/preview.py OUT_DIR [PNG] [--elev DEG] [--azim DEG]
+usage: scripts/preview.py OUT_DIR [PNG] [--top] [--elev DEG] [--azim DEG] [--dpi N]
 Needs Debian's python3-matplotlib (apt-get install python3-matplotlib).
 """
 import struct
@@ -49,7 +49,7 @@ def read_ply(path):
     return out
 
 
-def top_view(fig, cells, v, out_dir, png):
+def top_view(fig, cells, v, out_dir, png):  # noqa: C901
     """Orthographic view from +z: the sheet in green, veins in brown with widths by radius."""
     from matplotlib.collections import LineCollection, PolyCollection
     ax = fig.add_subplot()
@@ -77,15 +77,22 @@ def top_view(fig, cells, v, out_dir, png):
 
 
 def main():
-    args = [a for a in sys.argv[1:] if not a.startswith("--")]
-    opts = dict(zip(sys.argv[1::2], sys.argv[2::2]))
+    args, opts, argv = [], {}, sys.argv[1:]
+    while argv:
+        a = argv.pop(0)
+        if a == "--top":
+            opts[a] = True
+        elif a.startswith("--"):
+            opts[a] = argv.pop(0)
+        else:
+            args.append(a)
     out_dir = Path(args[0])
     png = Path(args[1]) if len(args) > 1 else out_dir / "preview.png"
     cells = read_ply(out_dir / "cells.ply")
     v = [(r["x"], r["y"], r["z"]) for r in cells["vertex"]]
     faces = [[v[i] for i in f["vertex_indices"]] for f in cells.get("face", [])]
-    fig = plt.figure(figsize=(8, 8), dpi=100)
-    if "--top" in sys.argv:
+    fig = plt.figure(figsize=(8, 8), dpi=int(opts.get("--dpi", 100)))
+    if "--top" in opts:
         return top_view(fig, cells, v, out_dir, png)
     ax = fig.add_subplot(projection="3d")
     ax.add_collection3d(Poly3DCollection(faces, facecolor=(0.55, 0.75, 0.45, 0.55), edgecolor=(0.2, 0.35, 0.2, 0.25),
