@@ -349,10 +349,12 @@ struct ScriptHost::Impl {
     }
     for (const Field* f : fields) {
       const std::string key = f->section + "." + f->name;
+      std::string value_at = at;  // where a bad value is reported: the script line, or the --set option
       if (overrides) {
         auto it = overrides->find(key);
         if (it != overrides->end()) {
-          values[f->name] = from_text(*f, it->second, "--set " + key + ": ");
+          value_at = "--set " + key + "=" + it->second + ": ";
+          values[f->name] = from_text(*f, it->second, value_at);
           used_overrides.insert(key);
         }
       }
@@ -365,7 +367,7 @@ struct ScriptHost::Impl {
           v.num = d.num, v.vec = d.vec, v.flag = d.flag, v.str = d.str;
         }
       }
-      check_range(*f, v, at);
+      check_range(*f, v, value_at);
       if (record && f->kind != Kind::table && (v.present || f->default_text.find("cells.") == std::string::npos))
         (*record)[f->name] = to_json(*f, v);
     }

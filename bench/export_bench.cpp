@@ -80,13 +80,13 @@ const Register r1{{"export.thicken.tree44k", "s",
                    "voxel 0.2 mm, adaptivity 0.2, intersection repair included)",
                    3, [] { return seconds([] { thicken_once(0); }); }}};
 const Register r2{{"export.thicken.tree44k.peak_mb", "MB",
-                   "peak resident memory while thickening the 50k-segment tree at default settings", 1, [] {
+                   "peak resident memory while thickening the 44k-segment synthetic tree at default settings", 1, [] {
                      tree50k();
                      reset_peak_rss();
                      thicken_once(0);
                      return peak_rss_bytes() / 1e6;
                    }}};
-const Register r3{{"export.thicken.tree44k.fine", "s", "thicken the 50k-segment tree with 0.16 mm voxels (the finest the 2 GB estimate allows)", 1,
+const Register r3{{"export.thicken.tree44k.fine", "s", "thicken the 44k-segment synthetic tree with 0.16 mm voxels (the finest the 2 GB estimate allows)", 1,
                    [] { return seconds([] { thicken_once(0.16); }); }}};
 const Register r4{{"export.thicken.tree44k.fine.peak_mb", "MB", "peak resident memory thickening with 0.16 mm voxels", 1,
                    [] {
@@ -95,7 +95,7 @@ const Register r4{{"export.thicken.tree44k.fine.peak_mb", "MB", "peak resident m
                      thicken_once(0.16);
                      return peak_rss_bytes() / 1e6;
                    }}};
-const Register r5{{"export.check.tree44k", "s", "check_mesh of the 50k-segment tree's printable mesh (default settings)", 3,
+const Register r5{{"export.check.tree44k", "s", "check_mesh of the 44k-segment synthetic tree's printable mesh (default settings)", 3,
                    [] {
                      static exporters::PrintableMesh mesh;
                      if (mesh.triangles.empty()) thicken_once(0, &mesh);

@@ -14,8 +14,10 @@ using core::kNoIndex;
 using core::Vec3;
 
 /// A k-d tree that only grows: points are appended (index = insertion order) and never move, so the
-/// index is updated in O(log n) per vein node instead of being rebuilt every step. Leaves hold up to 16
-/// points and split at the middle of their widest extent; every node keeps the tight box of its points.
+/// index is updated in O(log^2 n) amortised per vein node instead of being rebuilt every step. Leaves
+/// hold up to 16 points and split at the middle of their widest extent; every node keeps the tight box
+/// of its points; a subtree whose one child holds over 3/4 of its points is rebuilt with median splits
+/// (scapegoat rule), since veins add points in a moving front that would otherwise grow a chain.
 /// Works in 3-D; 2-D input simply has z = 0. All queries are exact and break distance ties by index.
 ///
 /// nanoflann (Debian libnanoflann-dev) was considered: its dynamic index answers k-nearest and radius
@@ -25,6 +27,8 @@ class PointTree {
  public:
   /// Appends `p` and returns its index.
   Index insert(const Vec3& p);
+  /// Replaces the content by `points` in one balanced build (median splits), O(n log n).
+  void assign(std::span<const Vec3> points);
   /// Removes every point.
   void clear();
 
@@ -50,10 +54,12 @@ class PointTree {
 
   /// The relative neighbourhood V(s) of a query point s among the tree's points (Eq. 2 of Runions et
   /// al. 2005, evaluated exactly, in 2-D or 3-D): v is in V(s) iff for every other point u,
-  /// |v - s| < max(|u - s|, |v - u|). Points are visited in order of distance from s; a subtree is
-  /// skipped when every point in it lies behind an already visited point u within 60 degrees of the
-  /// direction of u (such points are all excluded by u), and every accepted point is checked once more
-  /// with lune_occupied(). Result sorted by index. `scratch` avoids allocation between calls.
+  /// |v - s| < max(|u - s|, |v - u|). Every candidate is confirmed with lune_occupied(). In the plane
+  /// (all points and s with one z) the candidates are the nearest points of six fixed 60-degree sectors
+  /// around s (a relative neighbour is the nearest point of its sector). In 3-D points are visited in
+  /// order of distance from s and a subtree is skipped when every point in it lies behind a visited
+  /// point u within 60 degrees of the direction of u (u excludes them all). Result sorted by index.
+  /// `scratch` avoids allocation between calls.
   struct Scratch {
     std::vector<std::pair<double, std::int64_t>> heap;  // (squared distance, node id or ~point id)
     std::vector<Index> found;
@@ -62,17 +68,35 @@ class PointTree {
   };
   void relative_neighbourhood(const Vec3& s, std::vector<Index>& out, Scratch& scratch) const;
 
+  /// Planar sector of a direction (dx, dy): k such that its angle lies in [60 k, 60 (k + 1)) degrees
+  /// (exact comparisons, no trigonometry); the zero vector is in sector 0.
+  static int sector(double dx, double dy);
+
+  /// In the plane z = s.z: the nearest point of each of the six sectors around s (ties: smaller index),
+  /// kNoIndex and infinity for empty sectors. The relative neighbourhood is the subset of these whose
+  /// lune is empty; keeping them per source lets new points be merged in without a new search.
+  /// With reset = false the arrays hold bests from elsewhere (positions in `best_pos`) that this tree's
+  /// points must beat; indices written are this tree's plus `offset`.
+  void sector_nearest(const Vec3& s, Index* best, double* best_d2, Scratch& scratch, bool reset = true,
+                      const Vec3* best_pos = nullptr, Index offset = 0) const;
+
+  /// True if a point lies in the closed lune of s and the position v (both distances <= |v - s|).
+  bool any_in_lune(const Vec3& s, const Vec3& v) const;
+
   /// The Delaunay neighbourhood of a query point s among the tree's points in the plane z = 0: the
   /// points whose Voronoi cells share an edge with the cell of s in the Voronoi diagram of the points
   /// and s. Computed by clipping a square of `half_extent` around s with bisectors in order of
   /// distance (neighbours whose Voronoi edge lies wholly outside that square are missed, so pass a
   /// square that covers the domain generously). Points coinciding with s are ignored. Sorted by index.
-  void delaunay_neighbourhood(const Vec3& s, double half_extent, std::vector<Index>& out, Scratch& scratch) const;
+  /// `max_points` limits the clipping to that many nearest points (an approximation when it binds).
+  void delaunay_neighbourhood(const Vec3& s, double half_extent, std::vector<Index>& out, Scratch& scratch,
+                              std::size_t max_points = static_cast<std::size_t>(-1)) const;
 
   /// Urquhart's approximation of V(s) (Section 5.2 of Runions et al. 2005): the Delaunay neighbours of s
   /// tested with Eq. 2 only against each other, not against every point. A superset of the exact
   /// relative neighbourhood, a subset of the Delaunay neighbourhood. 2-D (z = 0) only.
-  void urquhart_neighbourhood(const Vec3& s, double half_extent, std::vector<Index>& out, Scratch& scratch) const;
+  void urquhart_neighbourhood(const Vec3& s, double half_extent, std::vector<Index>& out, Scratch& scratch,
+                              std::size_t max_points = static_cast<std::size_t>(-1)) const;
 
  private:
   static constexpr int kBucket = 16;
@@ -82,13 +106,24 @@ class PointTree {
     int dim = 0;
     double split = 0;
     std::vector<Index> pts;  // leaves only
+    std::uint32_t count = 0;  // points below
   };
   void split_leaf(int n);
+  void rebuild(int n);
+  void collect(int n, std::vector<Index>& out);
+  void build(int n, Index* first, Index* last);
   bool nearest_rec(int n, const Vec3& q, Index& best, double& best_d2) const;
+  bool any_within_rec(int n, const Vec3& q, double r2, Index exclude) const;
+  bool lune_rec(int n, const Vec3& s, Index v, double r2) const;
+  bool lune_pos_rec(int n, const Vec3& s, const Vec3& v, double r2) const;
+  void relative_neighbourhood_planar(const Vec3& s, std::vector<Index>& out, Scratch& scratch) const;
   double mindist2(const Node& nd, const Vec3& q) const;
 
   std::vector<Vec3> points_;
   std::vector<Node> nodes_;
+  std::size_t garbage_ = 0;  // nodes orphaned by rebuilds; compacted when they are half the array
+  std::vector<int> path_;
+  std::vector<Index> scratch_ids_;
 };
 
 /// Eq. 2 by brute force, O(n^2): the test oracle for PointTree::relative_neighbourhood. Sorted by index.

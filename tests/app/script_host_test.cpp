@@ -133,7 +133,8 @@ TEST_CASE("command-line overrides (--set) replace script parameters", "[script][
   }
   SECTION("a value of the wrong type") {
     CHECK_THAT(load_error(src, {{"flat", "false"}, {"size", "big"}}), Contains("--set size"));
-    CHECK_THAT(load_error(src, {{"flat", "false"}, {"cells.spring", "-1"}}), Contains("cells.spring must be a number >= 0"));
+    const std::string e = load_error(src, {{"flat", "false"}, {"cells.spring", "-1"}});
+    CHECK_THAT(e, Contains("--set cells.spring=-1: cells.spring must be a number >= 0"));
   }
   SECTION("a section the script does not call still takes overrides") {
     const auto c = load("disc { radius = 2 }", {{"run.steps", "7"}});

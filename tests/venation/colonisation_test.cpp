@@ -1,0 +1,341 @@
+// Tests of space colonisation (Runions et al. 2005): trees, loops, kill distance, Murray widths, bad input.
+#include "venation/colonisation.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numeric>
+#include <sstream>
+
+#include "core/errors.h"
+#include "venation/vein_io.h"
+
+using namespace cellform;
+using core::Index;
+using core::kNoIndex;
+using core::Vec3;
+using Catch::Matchers::Contains;
+namespace v = cellform::venation;
+
+namespace {
+
+v::Leaf ellipse_leaf(double length, double width, v::ShapeKind kind = v::ShapeKind::ellipse) {
+  v::ShapeParams sp;
+  sp.kind = kind;
+  sp.length = length;
+  sp.width = width;
+  v::Leaf leaf;
+  leaf.outline = v::make_outline(sp);
+  return leaf;
+}
+
+v::ColonisationParams params(v::VenationType type, double kill, double birth = 3) {
+  v::ColonisationParams p;
+  p.type = type;
+  p.kill_distance = kill;
+  p.source_birth_distance = p.vein_birth_distance = birth;
+  p.node_distance = 1;
+  p.darts_per_area = 0.01;
+  p.seed = 42;
+  p.max_steps = 5000;
+  return p;
+}
+
+struct UnionFind {
+  std::vector<Index> up;
+  explicit UnionFind(std::size_t n) : up(n) { std::iota(up.begin(), up.end(), 0); }
+  Index find(Index a) { return up[a] == a ? a : up[a] = find(up[a]); }
+  bool unite(Index a, Index b) {
+    a = find(a);
+    b = find(b);
+    if (a == b) return false;
+    up[std::max(a, b)] = std::min(a, b);
+    return true;
+  }
+};
+
+/// Number of connected components and of independent cycles (E - V + C) of the vein graph.
+std::pair<std::size_t, std::size_t> components_and_cycles(const v::VeinTree& t) {
+  UnionFind uf(t.size());
+  std::size_t comps = t.size(), cycles = 0;
+  for (const auto& [a, b] : t.edges())
+    if (uf.unite(a, b)) --comps;
+    else ++cycles;
+  return {comps, cycles};
+}
+
+}  // namespace
+
+TEST_CASE("open patterns are trees and no source survives within the kill distance", "[colonisation]") {
+  const v::Leaf leaf = ellipse_leaf(60, 40);
+  v::Colonisation sim(leaf, params(v::VenationType::open, 2));
+  while (!sim.done()) {
+    sim.step();
+    // invariant after every step, brute force: no alive source within d_k of any node
+    const v::VeinTree t = sim.tree();
+    double closest = 1e300;
+    for (const Vec3& s : sim.sources())
+      for (const Vec3& q : t.positions) closest = std::min(closest, (q - s).norm());
+    REQUIRE(closest >= 2.0);
+  }
+  const auto& rep = sim.report();
+  INFO("steps " << rep.steps << " stalled " << rep.stalled << " max " << rep.hit_max_steps << " nodes " << rep.nodes);
+  // Eq. 1 can point away from a source (mean of opposing pulls): the node then stays nearest and would
+  // repeat its child forever; such growth is refused and those few sources end the run as stalled
+  CHECK((rep.finished || rep.stalled));
+  CHECK(rep.sources * 10 <= rep.sources_born);
+  const v::VeinTree t = sim.tree();
+  CHECK(t.size() > 300);
+  CHECK(t.anastomoses.empty());
+  CHECK(t.parent[0] == kNoIndex);
+  for (Index i = 1; i < t.size(); ++i) {
+    REQUIRE(t.parent[i] < i);  // parent precedes child: acyclic
+    CHECK((t.positions[i] - t.positions[t.parent[i]]).norm() == Approx(1.0));  // D, Eq. 1
+  }
+  const auto [comps, cycles] = components_and_cycles(t);
+  CHECK(comps == 1);
+  CHECK(cycles == 0);
+  // veins stay inside the blade (within one segment of it)
+  const v::OutlineIndex blade(sim.outline());
+  for (const Vec3& q : t.positions) CHECK((blade.contains({q.x(), q.y()}) || v::distance_to_boundary(sim.outline(), {q.x(), q.y()}) < 1.0 + 1e-9));
+}
+
+TEST_CASE("closed patterns are connected with loops where veins met at a shared source", "[colonisation]") {
+  for (v::Neighbourhood nb : {v::Neighbourhood::exact, v::Neighbourhood::urquhart}) {
+    v::ColonisationParams p = params(v::VenationType::closed, 1);
+    p.neighbourhood = nb;
+    const auto [t, rep] = v::colonise(ellipse_leaf(60, 40), p);
+    INFO("neighbourhood " << static_cast<int>(nb));
+    CHECK(rep.finished);
+    const auto [comps, cycles] = components_and_cycles(t);
+    CHECK(comps == 1);
+    CHECK(cycles > 0);
+    CHECK(cycles == t.anastomoses.size());  // every closing edge closes a loop (single seed)
+    CHECK(rep.loops == t.anastomoses.size());
+    for (const auto& [a, b] : t.anastomoses) CHECK((t.positions[a] - t.positions[b]).norm() <= 3.0 + 1e-9);
+  }
+}
+
+TEST_CASE("runs are deterministic for a seed", "[colonisation]") {
+  const v::Leaf leaf = ellipse_leaf(80, 60);
+  v::ColonisationParams p = params(v::VenationType::closed, 1);
+  const auto a = v::colonise(leaf, p).first;
+  const auto b = v::colonise(leaf, p).first;
+  REQUIRE(a.size() == b.size());
+  CHECK(a.positions == b.positions);
+  CHECK(a.parent == b.parent);
+  CHECK(a.anastomoses == b.anastomoses);
+  p.threads = 2;  // parallel neighbourhoods gather per source: bitwise the same
+  const auto d = v::colonise(leaf, p).first;
+  CHECK(d.positions == a.positions);
+  CHECK(d.anastomoses == a.anastomoses);
+  p.threads = 1;
+  p.seed = 43;
+  const auto c = v::colonise(leaf, p).first;
+  CHECK((c.size() != a.size() || c.positions != a.positions));
+}
+
+TEST_CASE("Figure 9 trend: a smaller kill distance gives more nodes and, closed, more loops", "[colonisation]") {
+  const v::Leaf leaf = ellipse_leaf(60, 40);
+  std::size_t last_nodes = 0, last_loops = 0;
+  for (double dk : {8.0, 4.0, 2.0, 1.0}) {
+    v::ColonisationParams p = params(v::VenationType::closed, dk, 3);
+    const auto [t, rep] = v::colonise(leaf, p);
+    INFO("d_k = " << dk << ": " << t.size() << " nodes, " << rep.loops << " loops");
+    CHECK(t.size() > last_nodes);
+    CHECK(rep.loops >= last_loops);
+    last_nodes = t.size();
+    last_loops = rep.loops;
+  }
+  CHECK(last_loops > 0);
+}
+
+TEST_CASE("widths follow Murray's law from the veinlets to the base", "[colonisation]") {
+  auto [t, rep] = v::colonise(ellipse_leaf(60, 40), params(v::VenationType::open, 2));
+  for (double n : {2.0, 3.0}) {
+    v::WidthParams w;
+    w.exponent = n;
+    w.tip_radius = 0.2;
+    v::compute_widths(t, w);
+    std::vector<double> sum(t.size(), 0.0);
+    std::vector<int> kids(t.size(), 0);
+    for (Index i = 0; i < t.size(); ++i)
+      if (t.parent[i] != kNoIndex) {
+        sum[t.parent[i]] += std::pow(t.radius[i], n);
+        ++kids[t.parent[i]];
+      }
+    for (Index i = 0; i < t.size(); ++i) {
+      if (kids[i] == 0) CHECK(t.radius[i] == Approx(0.2));
+      else CHECK(std::pow(t.radius[i], n) == Approx(sum[i]).epsilon(1e-9));
+      if (t.parent[i] != kNoIndex) CHECK(t.order[i] >= t.order[t.parent[i]]);
+    }
+    CHECK(t.order[0] == 1);
+    CHECK(t.radius[0] == Approx(0.2 * std::pow(static_cast<double>(std::count(kids.begin(), kids.end(), 0)), 1.0 / n)));
+  }
+  v::WidthParams extra;
+  extra.per_node_flow = 0.1;
+  v::compute_widths(t, extra);
+  for (Index i = 0; i < t.size(); ++i) CHECK(t.radius[i] >= 0.1 - 1e-12);
+  extra.exponent = 0;
+  CHECK_THROWS_WITH(v::compute_widths(t, extra), Contains("exponent"));
+}
+
+TEST_CASE("leaf growth: marginal and uniform patterns fill the final blade", "[colonisation]") {
+  for (v::GrowthMode g : {v::GrowthMode::marginal, v::GrowthMode::uniform}) {
+    v::ColonisationParams p = params(g == v::GrowthMode::marginal ? v::VenationType::open : v::VenationType::closed, 1, 2);
+    p.growth = g;
+    p.initial_scale = 0.2;
+    p.final_scale = 1;
+    p.scale_step = 0.01;
+    p.darts_per_area = 0.02;
+    v::Colonisation sim(ellipse_leaf(40, 30, v::ShapeKind::ovate), p);
+    sim.run();
+    INFO("growth " << static_cast<int>(g) << " steps " << sim.report().steps << " stalled " << sim.report().stalled << " sources "
+                   << sim.report().sources << " born " << sim.report().sources_born << " nodes " << sim.report().nodes);
+    CHECK((sim.report().finished || sim.report().stalled));
+    CHECK(sim.report().sources * 10 <= sim.report().sources_born);
+    CHECK(sim.report().steps >= 80);
+    CHECK(sim.report().scale == Approx(1));
+    const v::VeinTree t = sim.tree();
+    const v::OutlineIndex blade(sim.outline());
+    double ymax = 0;
+    for (const Vec3& q : t.positions) {
+      CHECK((blade.contains({q.x(), q.y()}) || v::distance_to_boundary(sim.outline(), {q.x(), q.y()}) < 1.5));
+      ymax = std::max(ymax, q.y());
+    }
+    CHECK(ymax > 30);  // veins reach into the grown part of the blade
+  }
+}
+
+TEST_CASE("nonuniform anisotropic growth (Appendix A) moves veins with the blade", "[colonisation]") {
+  v::ColonisationParams p = params(v::VenationType::closed, 0.5, 1);
+  p.node_distance = 0.5;
+  p.darts_per_area = 0.3;
+  p.growth = v::GrowthMode::nonuniform;
+  p.growth_x = {{0, 10}, {1.03, 1.0}};   // the base widens
+  p.growth_y = {{0, 10}, {1.01, 1.04}};  // the tip lengthens
+  p.growth_steps = 40;
+  v::Colonisation sim(ellipse_leaf(10, 6), p);
+  const double area0 = v::signed_area(sim.outline());
+  sim.run();
+  const auto& rep = sim.report();
+  INFO("steps " << rep.steps << " nodes " << rep.nodes << " sources " << rep.sources);
+  CHECK((rep.finished || rep.stalled));
+  CHECK(rep.scale == 40);
+  const v::Outline grown = sim.outline();
+  CHECK(v::signed_area(grown) > 2 * area0);
+  const v::VeinTree t = sim.tree();
+  CHECK(t.size() > 100);
+  CHECK(components_and_cycles(t).first == 1);
+  const v::OutlineIndex blade(grown);
+  std::size_t outside = 0;
+  for (const Vec3& q : t.positions) outside += !blade.contains({q.x(), q.y()}) && v::distance_to_boundary(grown, {q.x(), q.y()}) > 1.0;
+  CHECK(outside == 0);
+  double ymax = 0;
+  for (const Vec3& q : t.positions) ymax = std::max(ymax, q.y());
+  CHECK(ymax > 12);  // beyond the initial length 10
+
+  v::ColonisationParams bad = p;
+  bad.growth_y = {{0, 5, 4}, {1, 1, 1}};
+  CHECK_THROWS_WITH(v::Colonisation(ellipse_leaf(10, 6), bad), Contains("colonisation.growth_y.y") && Contains("monotone"));
+  bad = p;
+  bad.growth_x = {{0, 5}, {1, -0.5}};
+  CHECK_THROWS_WITH(v::Colonisation(ellipse_leaf(10, 6), bad), Contains("colonisation.growth_x"));
+  bad = p;
+  bad.growth_steps = 0;
+  CHECK_THROWS_WITH(v::Colonisation(ellipse_leaf(10, 6), bad), Contains("colonisation.growth_steps"));
+}
+
+TEST_CASE("several seed nodes give a forest (grass-like parallel veins)", "[colonisation]") {
+  v::Leaf leaf;
+  leaf.outline.points = {{-5, 0}, {5, 0}, {5, 80}, {-5, 80}};
+  leaf.petiole = {0, 0};
+  leaf.initial_nodes = {{-4, 0}, {-2, 0}, {0, 0}, {2, 0}, {4, 0}};
+  v::ColonisationParams p = params(v::VenationType::open, 1, 1.8);
+  p.darts_per_area = 0.05;
+  const auto [t, rep] = v::colonise(leaf, p);
+  CHECK(rep.finished);
+  const auto [comps, cycles] = components_and_cycles(t);
+  CHECK(comps == 5);
+  CHECK(cycles == 0);
+}
+
+TEST_CASE("a pattern that cannot grow ends with the stalled flag", "[colonisation]") {
+  v::Leaf leaf = ellipse_leaf(20, 20);
+  leaf.initial_nodes = {{0, 10}};
+  leaf.initial_sources = {{-5, 10}, {5, 10}};  // pulls cancel (Eq. 1 has no direction)
+  v::ColonisationParams p = params(v::VenationType::open, 1);
+  p.darts_per_area = 0;
+  const auto [t, rep] = v::colonise(leaf, p);
+  CHECK(rep.stalled);
+  CHECK(!rep.finished);
+  CHECK(rep.steps == p.settle_steps);
+  CHECK(t.size() == 1);
+  p.max_steps = 2;
+  p.settle_steps = 10;
+  CHECK(v::colonise(leaf, p).second.hit_max_steps);
+}
+
+TEST_CASE("bad input names the parameter", "[colonisation]") {
+  const v::Leaf leaf = ellipse_leaf(20, 10);
+  auto bad = [&](auto edit, const char* name) {
+    v::ColonisationParams p = params(v::VenationType::closed, 1);
+    edit(p);
+    CHECK_THROWS_AS(v::Colonisation(leaf, p), core::InvalidInput);
+    CHECK_THROWS_WITH(v::Colonisation(leaf, p), Contains(name));
+  };
+  bad([](auto& p) { p.kill_distance = 0.4; }, "colonisation.kill_distance");
+  bad([](auto& p) { p.node_distance = 0; }, "colonisation.node_distance");
+  bad([](auto& p) { p.source_birth_distance = -1; }, "colonisation.source_birth_distance");
+  bad([](auto& p) { p.vein_birth_distance = NAN; }, "colonisation.vein_birth_distance");
+  bad([](auto& p) { p.darts_per_area = -1; }, "colonisation.darts_per_area");
+  bad([](auto& p) { p.growth = v::GrowthMode::marginal; p.final_scale = 2; p.scale_step = 0; }, "colonisation.scale_step");
+  bad([](auto& p) { p.growth = v::GrowthMode::uniform; p.initial_scale = 2; p.final_scale = 1; p.scale_step = 0.1; }, "colonisation.final_scale");
+  // d_k > b_s is allowed (Table 1, ginkgo and Figure 9a)
+  v::ColonisationParams ginkgo = params(v::VenationType::open, 30, 1);
+  CHECK_NOTHROW(v::Colonisation(leaf, ginkgo));
+
+  v::Leaf outside = leaf;
+  outside.petiole = {0, -3};
+  CHECK_THROWS_WITH(v::Colonisation(outside, params(v::VenationType::open, 1)), Contains("leaf.petiole"));
+  v::Leaf seed_out = leaf;
+  seed_out.initial_nodes = {{0, 1}, {50, 50}};
+  CHECK_THROWS_WITH(v::Colonisation(seed_out, params(v::VenationType::open, 1)), Contains("leaf.initial_nodes[2]"));
+  v::Leaf bow;
+  bow.outline.points = {{0, 0}, {2, 2}, {2, 0}, {0, 1}};
+  CHECK_THROWS_WITH(v::Colonisation(bow, params(v::VenationType::open, 1)), Contains("leaf.outline") && Contains("intersects"));
+}
+
+TEST_CASE("SVG, PLY and OBJ output", "[colonisation]") {
+  auto [t, rep] = v::colonise(ellipse_leaf(30, 20), params(v::VenationType::closed, 1));
+  v::compute_widths(t, {});
+  const auto dir = std::filesystem::temp_directory_path() / "cellform_colonisation_test";
+  std::filesystem::create_directories(dir);
+  v::write_svg(dir / "leaf.svg", t, ellipse_leaf(30, 20).outline);
+  v::write_vein_ply(dir / "veins.ply", t);
+  v::write_vein_obj(dir / "veins.obj", t);
+  std::ifstream svg(dir / "leaf.svg");
+  std::stringstream s;
+  s << svg.rdbuf();
+  const std::string text = s.str();
+  CHECK_THAT(text, Contains("<svg") && Contains("</svg>"));
+  const auto edges = t.edges();
+  CHECK(std::count(text.begin(), text.end(), '\n') >= static_cast<long>(edges.size()));
+  std::ifstream ply(dir / "veins.ply");
+  std::string line;
+  std::getline(ply, line);
+  CHECK(line == "ply");
+  std::stringstream all;
+  all << ply.rdbuf();
+  CHECK_THAT(all.str(), Contains("element vertex " + std::to_string(t.size())) && Contains("element edge " + std::to_string(edges.size())));
+  std::ifstream obj(dir / "veins.obj");
+  std::size_t v_lines = 0, l_lines = 0;
+  while (std::getline(obj, line)) {
+    v_lines += line.rfind("v ", 0) == 0;
+    l_lines += line.rfind("l ", 0) == 0;
+  }
+  CHECK(v_lines == t.size());
+  CHECK(l_lines == edges.size());
+  std::filesystem::remove_all(dir);
+}

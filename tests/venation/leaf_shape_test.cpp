@@ -1,0 +1,90 @@
+// Tests of leaf outlines: parametric shapes are simple and enclose the petiole, files parse or fail clearly.
+#include "venation/leaf_shape.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "core/errors.h"
+
+using namespace cellform;
+using venation::Outline;
+using venation::ShapeKind;
+using venation::Vec2;
+using Catch::Matchers::Contains;
+
+TEST_CASE("every parametric shape is a simple counter-clockwise outline with the petiole on it", "[leaf_shape]") {
+  for (ShapeKind k : {ShapeKind::ellipse, ShapeKind::ovate, ShapeKind::cordate, ShapeKind::lobed, ShapeKind::palmate}) {
+    venation::ShapeParams sp;
+    sp.kind = k;
+    sp.length = 10;
+    sp.width = 6;
+    const Outline o = venation::make_outline(sp);
+    INFO("kind " << static_cast<int>(k));
+    REQUIRE_NOTHROW(venation::validate_outline(o, "test"));
+    CHECK(venation::signed_area(o) > 0);
+    CHECK(venation::distance_to_boundary(o, Vec2(0, 0)) < 1e-9);
+    double xmin = 1e9, xmax = -1e9, ymax = -1e9;
+    for (const Vec2& p : o.points) {
+      xmin = std::min(xmin, p.x());
+      xmax = std::max(xmax, p.x());
+      ymax = std::max(ymax, p.y());
+    }
+    CHECK(xmax - xmin == Approx(6).epsilon(1e-9));
+    CHECK(ymax == Approx(10).epsilon(0.02));
+  }
+  venation::ShapeParams e;
+  e.length = 2;
+  e.width = 1;
+  e.samples = 4096;
+  CHECK(venation::signed_area(venation::make_outline(e)) == Approx(M_PI * 0.5 * 1).epsilon(1e-4));  // pi a b
+}
+
+TEST_CASE("toothed margins: summed triangular waves stay simple, a too deep tooth is rejected", "[leaf_shape]") {
+  venation::ShapeParams sp;
+  sp.length = 10;
+  sp.width = 6;
+  sp.teeth = {{0.3, 24}, {0.1, 96}};
+  const Outline o = venation::make_outline(sp);
+  CHECK(o.points.size() >= 16 * 96);
+  venation::ShapeParams bad = sp;
+  bad.kind = ShapeKind::palmate;
+  bad.lobe_depth = 0.9;
+  bad.teeth = {{3.0, 200}};
+  CHECK_THROWS_WITH(venation::make_outline(bad), Contains("shape.teeth"));
+  bad = sp;
+  bad.width = -1;
+  CHECK_THROWS_WITH(venation::make_outline(bad), Contains("shape.width"));
+}
+
+TEST_CASE("outline files: closed polygons parse, open, malformed and self-intersecting ones fail", "[leaf_shape]") {
+  const Outline sq = venation::parse_outline("# a square, clockwise\n0 0\n0 1\n1 1\n1 0\n0 0\n", "sq.txt");
+  CHECK(sq.points.size() == 4);
+  CHECK(venation::signed_area(sq) == Approx(1));  // reoriented
+  CHECK_THROWS_AS(venation::parse_outline("0 0\n1 0\n1 1\n0 1\n", "open.txt"), core::InvalidInput);
+  CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 0\n1 1\n0 1\n", "open.txt"), Contains("open.txt") && Contains("open"));
+  CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 zero\n1 1\n0 0\n", "bad.txt"), Contains("bad.txt:2"));
+  CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 0 3\n1 1\n0 0\n", "bad.txt"), Contains("bad.txt:2"));
+  CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 1\n1 0\n0 1\n0 0\n", "bow.txt"), Contains("intersects itself"));
+  CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 0\n2 0\n0 0\n", "line.txt"), Contains("no area") || Contains("folds back"));
+  CHECK_THROWS_AS(venation::read_outline("/nonexistent/outline.txt"), core::FileError);
+}
+
+TEST_CASE("OutlineIndex agrees with a plain crossing test", "[leaf_shape]") {
+  venation::ShapeParams sp;
+  sp.kind = ShapeKind::ovate;
+  sp.teeth = {{0.02, 40}};
+  const Outline o = venation::make_outline(sp);
+  const venation::OutlineIndex idx(o);
+  int inside = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Vec2 q(-0.6 + 1.2 * (i % 63) / 62.0, -0.3 + 1.4 * (i / 63) / 63.0);
+    bool c = false;
+    for (std::size_t a = 0, b = o.points.size() - 1; a < o.points.size(); b = a++)
+      if ((o.points[a].y() > q.y()) != (o.points[b].y() > q.y()) &&
+          q.x() < o.points[a].x() + (q.y() - o.points[a].y()) * (o.points[b].x() - o.points[a].x()) / (o.points[b].y() - o.points[a].y()))
+        c = !c;
+    CHECK(idx.contains(q) == c);
+    inside += c;
+  }
+  CHECK(inside > 100);
+}

@@ -1,0 +1,636 @@
+// Space-colonisation venation (Runions et al. 2005): dart throwing, Eq. 1 growth, open and closed removal.
+#include "venation/colonisation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <unordered_map>
+
+#include "core/errors.h"
+#include "core/parallel.h"
+#include "core/random.h"
+
+namespace cellform::venation {
+
+using core::InvalidInput;
+
+namespace {
+
+void require_distance(double v, const char* name) {
+  if (!(v > 0 && std::isfinite(v)))
+    throw InvalidInput(std::string("colonisation.") + name + " must be a positive, finite distance in model units, got " +
+                       std::to_string(v));
+}
+
+Vec3 lift(const Vec2& p) { return Vec3(p.x(), p.y(), 0.0); }
+
+/// Alive sources hashed by grid cell, for the birth-distance test of new darts.
+class SourceGrid {
+ public:
+  void reset(double cell) {
+    cell_ = cell;
+    cells_.clear();
+  }
+  double cell() const { return cell_; }
+  void insert(Index i, const Vec3& p) {
+    planar_ = planar_ && p.z() == 0;
+    cells_[key(cx(p.x()), cx(p.y()), cx(p.z()))].push_back(i);
+  }
+  void erase(Index i, const Vec3& p) {
+    auto it = cells_.find(key(cx(p.x()), cx(p.y()), cx(p.z())));
+    auto& v = it->second;
+    v.erase(std::find(v.begin(), v.end(), i));
+    if (v.empty()) cells_.erase(it);
+  }
+  /// Any source within squared distance r2 (r <= cell size) of p.
+  bool any_within(const Vec3& p, double r2, const std::vector<Vec3>& pos) const {
+    const long x = cx(p.x()), y = cx(p.y()), z = cx(p.z());
+    const long dz_max = planar_ ? 0 : 1;  // leaves: every point has z = 0
+    for (long dz = -dz_max; dz <= dz_max; ++dz)
+      for (long dy = -1; dy <= 1; ++dy)
+        for (long dx = -1; dx <= 1; ++dx) {
+          auto it = cells_.find(key(x + dx, y + dy, z + dz));
+          if (it == cells_.end()) continue;
+          for (Index i : it->second)
+            if ((pos[i] - p).squaredNorm() <= r2) return true;
+        }
+    return false;
+  }
+
+ private:
+  long cx(double v) const { return static_cast<long>(std::floor(v / cell_)); }
+  static std::uint64_t key(long x, long y, long z) {
+    return core::mix64(static_cast<std::uint64_t>(x) * 0x9e3779b1ull ^ static_cast<std::uint64_t>(y) * 0x85ebca77ull ^
+                       static_cast<std::uint64_t>(z) * 0xc2b2ae3dull);
+  }
+  double cell_ = 1;
+  bool planar_ = true;
+  std::unordered_map<std::uint64_t, std::vector<Index>> cells_;
+};
+
+}  // namespace
+
+void validate(const ColonisationParams& p) {
+  require_distance(p.source_birth_distance, "source_birth_distance");
+  require_distance(p.vein_birth_distance, "vein_birth_distance");
+  require_distance(p.kill_distance, "kill_distance");
+  require_distance(p.node_distance, "node_distance");
+  if (!(p.darts_per_area >= 0 && std::isfinite(p.darts_per_area)))
+    throw InvalidInput("colonisation.darts_per_area must be a finite number >= 0 of darts per unit area per step");
+  if (p.kill_distance < 0.5 * p.node_distance)
+    throw InvalidInput("colonisation.kill_distance (" + std::to_string(p.kill_distance) +
+                       ") must be at least half of colonisation.node_distance (" + std::to_string(p.node_distance) +
+                       "): otherwise a vein tip can step over a source and circle around it forever");
+  if (!(p.initial_scale > 0 && std::isfinite(p.initial_scale)))
+    throw InvalidInput("colonisation.initial_scale must be a positive, finite scale factor");
+  if (p.growth == GrowthMode::nonuniform) {
+    if (p.growth_steps == 0) throw InvalidInput("colonisation.growth_steps must be at least 1 for nonuniform growth");
+    for (const auto& [f, name] : {std::pair{&p.growth_x, "growth_x"}, std::pair{&p.growth_y, "growth_y"}}) {
+      const std::string n = std::string("colonisation.") + name;
+      if (f->y.empty() || f->y.size() != f->rate.size())
+        throw InvalidInput(n + " needs as many rates as heights, at least one (a lookup table y -> REG)");
+      for (std::size_t i = 0; i < f->y.size(); ++i) {
+        if (!std::isfinite(f->y[i]) || !(f->rate[i] > 0 && std::isfinite(f->rate[i])))
+          throw InvalidInput(n + ": entry " + std::to_string(i + 1) + " needs a finite height and a finite rate > 0");
+        if (i > 0 && !(f->y[i] > f->y[i - 1]))
+          throw InvalidInput(n + ".y must increase strictly (entry " + std::to_string(i + 1) +
+                             " is not above the one before): the lookup table must be monotone in y");
+      }
+    }
+  } else if (p.growth != GrowthMode::none) {
+    if (!(p.final_scale >= p.initial_scale && std::isfinite(p.final_scale)))
+      throw InvalidInput("colonisation.final_scale must be finite and at least colonisation.initial_scale");
+    if (!(p.scale_step > 0 && std::isfinite(p.scale_step)))
+      throw InvalidInput("colonisation.scale_step must be a positive scale increase per step when the leaf grows");
+  }
+  if (p.max_steps == 0) throw InvalidInput("colonisation.max_steps must be at least 1");
+  if (p.threads < 0) throw InvalidInput("colonisation.threads must be >= 0 (0 = all cores)");
+  if (p.settle_steps == 0) throw InvalidInput("colonisation.settle_steps must be at least 1");
+}
+
+double GrowthFunction::operator()(double y0) const {
+  if (y0 <= y.front()) return rate.front();
+  if (y0 >= y.back()) return rate.back();
+  const auto i = static_cast<std::size_t>(std::upper_bound(y.begin(), y.end(), y0) - y.begin());
+  const double t = (y0 - y[i - 1]) / (y[i] - y[i - 1]);
+  return rate[i - 1] + t * (rate[i] - rate[i - 1]);
+}
+
+void validate(const Leaf& leaf) {
+  validate_outline(leaf.outline, "leaf.outline");
+  const OutlineIndex index(leaf.outline);
+  const double size = (index.hi() - index.lo()).norm();
+  auto inside = [&](const Vec2& q) { return index.contains(q) || distance_to_boundary(leaf.outline, q) <= 1e-6 * size; };
+  if (!leaf.petiole.allFinite() || !inside(leaf.petiole))
+    throw InvalidInput("leaf.petiole (" + std::to_string(leaf.petiole.x()) + ", " + std::to_string(leaf.petiole.y()) +
+                       ") lies outside the blade outline; it must be inside or on it");
+  for (std::size_t i = 0; i < leaf.initial_nodes.size(); ++i)
+    if (!leaf.initial_nodes[i].allFinite() || !inside(leaf.initial_nodes[i]))
+      throw InvalidInput("leaf.initial_nodes[" + std::to_string(i + 1) + "] lies outside the blade outline");
+  for (std::size_t i = 0; i < leaf.initial_sources.size(); ++i)
+    if (!leaf.initial_sources[i].allFinite() || !inside(leaf.initial_sources[i]))
+      throw InvalidInput("leaf.initial_sources[" + std::to_string(i + 1) + "] lies outside the blade outline");
+}
+
+std::vector<std::pair<Index, Index>> VeinTree::edges() const {
+  std::vector<std::pair<Index, Index>> e;
+  for (Index i = 0; i < parent.size(); ++i)
+    if (parent[i] != kNoIndex) e.emplace_back(parent[i], i);
+  e.insert(e.end(), anastomoses.begin(), anastomoses.end());
+  return e;
+}
+
+struct Colonisation::Impl {
+  Leaf leaf;
+  ColonisationParams p;
+  OutlineIndex unit;  // outline at scale 1
+  Vec3 petiole;
+
+  PointTree nodes;
+  std::vector<Index> parent;
+  std::vector<Index> first_child, next_sibling;  // children lists, to refuse duplicate nodes
+  std::vector<std::uint32_t> birth;
+  std::vector<std::pair<Index, Index>> anastomoses;
+
+  std::vector<Vec3> src;
+  std::vector<char> alive, tagged;
+  std::vector<Index> active;  // alive sources, increasing index
+  std::vector<Index> near;    // per source: nearest vein node so far (a cache: nodes never move)
+  std::vector<double> near_d2;
+  std::vector<std::vector<Index>> tags, reached;  // closed: tagged veins, veins that reached
+  SourceGrid grid;
+
+  core::Rng rng;
+  double sigma;
+  // nonuniform growth (Appendix A): material coordinates (relative to the petiole at t_0), the number
+  // of growth steps applied, a table of Eq. 4 on a uniform grid of y_0, the current blade
+  bool nonuniform = false;
+  std::size_t grown = 0;
+  std::vector<Vec2> node_mat, src_mat;
+  double table_y0 = 0, table_dy = 1;
+  std::vector<double> table_y;  // y_t(y_0) at the grid heights
+  OutlineIndex current;
+  std::size_t quiet = 0;
+  ColonisationReport rep;
+
+  // Closed, exact, in the plane: per source the nearest node of each 60-degree sector and whether its
+  // lune is occupied. Nodes never move or vanish, so a node once excluded stays excluded, and V(s) of
+  // the next step is found among these bests after merging in only the nodes added since (time
+  // coherence, Section 5); the result equals a fresh PointTree::relative_neighbourhood().
+  struct Sectors {
+    Index best[6];
+    double d2[6];
+    bool blocked[6];
+    bool ready = false;
+  };
+  std::vector<Sectors> sectors;
+  Index synced = 0;  // nodes [0, synced) are merged into every ready Sectors
+  PointTree fresh;   // nodes [synced, size) of this step, indexed once for all sources
+
+  std::vector<std::vector<Index>> per_source;  // V(s) of the i-th active source this step
+  std::vector<Index> nb, infl_start, infl, touched, child;
+  std::vector<Vec3> acc;
+
+  Impl(const Leaf& l, const ColonisationParams& params) : leaf(l), p(params), unit(l.outline), rng(params.seed) {
+    petiole = lift(leaf.petiole);
+    sigma = p.initial_scale;
+    nonuniform = p.growth == GrowthMode::nonuniform;
+    if (nonuniform) {
+      table_y0 = (unit.lo().y() - leaf.petiole.y()) * p.initial_scale;
+      const double extent = (unit.hi().y() - unit.lo().y()) * p.initial_scale;
+      table_y0 -= 0.25 * extent;  // veins may stray a little outside the blade
+      table_dy = 1.5 * extent / 4096;
+      make_table();
+    }
+    std::vector<Vec2> seeds = leaf.initial_nodes;
+    if (seeds.empty()) seeds.push_back(leaf.petiole);
+    for (const Vec2& s : seeds) add_node(petiole + p.initial_scale * (lift(s) - petiole), kNoIndex, 0);
+    grid.reset(p.source_birth_distance * dist_factor());
+    for (const Vec2& s : leaf.initial_sources) add_source(petiole + p.initial_scale * (lift(s) - petiole));
+    rep.scale = sigma;
+    rep.nodes = nodes.size();
+  }
+
+  /// Eq. 4 at t = grown: y_t(y_0) by the trapezoid rule from 0 (the petiole), on 4097 heights.
+  void make_table() {
+    const auto t = static_cast<double>(grown);
+    table_y.assign(4097, 0.0);
+    for (std::size_t i = 1; i < table_y.size(); ++i) {
+      const double a = table_y0 + static_cast<double>(i - 1) * table_dy, b = a + table_dy;
+      table_y[i] = table_y[i - 1] + 0.5 * table_dy * (std::pow(p.growth_y(a), t) + std::pow(p.growth_y(b), t));
+    }
+    const double zero = table_at(0.0);
+    for (double& v : table_y) v -= zero;
+    Outline o = leaf.outline;
+    for (Vec2& q : o.points) q = to_current(p.initial_scale * (q - leaf.petiole));
+    current = OutlineIndex(o);
+  }
+  double table_at(double y0) const {  // linear, extrapolated with the end slopes
+    const double u = (y0 - table_y0) / table_dy;
+    const auto n = static_cast<double>(table_y.size() - 1);
+    const double c = std::clamp(std::floor(u), 0.0, n - 1);
+    const auto i = static_cast<std::size_t>(c);
+    return table_y[i] + (u - c) * (table_y[i + 1] - table_y[i]);
+  }
+  double table_inverse(double y) const {
+    const auto it = std::upper_bound(table_y.begin() + 1, table_y.end() - 1, y);
+    const auto i = static_cast<std::size_t>(it - table_y.begin()) - 1;
+    const double f = (y - table_y[i]) / (table_y[i + 1] - table_y[i]);
+    return table_y0 + (static_cast<double>(i) + f) * table_dy;
+  }
+  Vec2 to_current(const Vec2& m) const {
+    return leaf.petiole + Vec2(m.x() * std::pow(p.growth_x(m.y()), static_cast<double>(grown)), table_at(m.y()));
+  }
+  Vec2 to_material(const Vec3& q) const {
+    const double y0 = table_inverse(q.y() - leaf.petiole.y());
+    return {(q.x() - leaf.petiole.x()) / std::pow(p.growth_x(y0), static_cast<double>(grown)), y0};
+  }
+  /// One growth step of Appendix A: every node and source moves; indexes and neighbourhoods restart.
+  void grow_nonuniform() {
+    ++grown;
+    make_table();
+    std::vector<Vec3> moved(nodes.size());
+    for (std::size_t i = 0; i < moved.size(); ++i) moved[i] = lift(to_current(node_mat[i]));
+    nodes.assign(moved);
+    synced = static_cast<Index>(nodes.size());
+    grid.reset(grid.cell());
+    for (Index s : active) {
+      src[s] = lift(to_current(src_mat[s]));
+      grid.insert(s, src[s]);
+      near[s] = kNoIndex;
+      sectors[s].ready = false;
+    }
+  }
+
+  // Uniform growth keeps the blade at sigma_0 and shrinks distances instead (Section 3.3).
+  double dist_factor() const { return p.growth == GrowthMode::uniform ? p.initial_scale / sigma : 1.0; }
+  // Scale of the outline in the simulation frame.
+  double frame_scale() const { return p.growth == GrowthMode::uniform ? p.initial_scale : sigma; }
+  bool in_blade(const Vec3& q) const {
+    if (nonuniform) return current.contains(Vec2(q.x(), q.y()));
+    const Vec3 u = petiole + (q - petiole) / frame_scale();
+    return unit.contains(Vec2(u.x(), u.y()));
+  }
+  bool growth_over() const {
+    if (nonuniform) return grown >= p.growth_steps;
+    return p.growth == GrowthMode::none || sigma >= p.final_scale;
+  }
+
+  Index add_node(const Vec3& q, Index par, std::uint32_t step_no) {
+    const Index id = nodes.insert(q);
+    if (nonuniform) node_mat.push_back(to_material(q));
+    parent.push_back(par);
+    birth.push_back(step_no);
+    first_child.push_back(kNoIndex);
+    next_sibling.push_back(kNoIndex);
+    if (par != kNoIndex) {
+      next_sibling[id] = first_child[par];
+      first_child[par] = id;
+    }
+    return id;
+  }
+
+  /// True if v already has a child at q: Eq. 1 then gives the same node again (the mean direction points
+  /// away from the sources, so v stays their nearest node), and adding it would loop without progress.
+  bool has_child_at(Index v, const Vec3& q, double D) const {
+    for (Index c = first_child[v]; c != kNoIndex; c = next_sibling[c])
+      if ((nodes.point(c) - q).squaredNorm() < 1e-12 * D * D) return true;
+    return false;
+  }
+
+  void remove_source(Index s) {
+    alive[s] = 0;
+    grid.erase(s, src[s]);
+    ++rep.sources_removed;
+  }
+
+  void throw_darts(double bs2, double bv2) {
+    const double area = nonuniform ? current.area() : unit.area() * sigma * sigma;  // of the actual leaf
+    const double expected = p.darts_per_area * area;
+    auto count = static_cast<std::size_t>(std::floor(expected));
+    if (rng.uniform() < expected - std::floor(expected)) ++count;
+    const double fs = frame_scale();
+    const Vec3 lo = nonuniform ? lift(current.lo()) : Vec3(petiole + fs * (lift(unit.lo()) - petiole));
+    const Vec3 hi = nonuniform ? lift(current.hi()) : Vec3(petiole + fs * (lift(unit.hi()) - petiole));
+    for (std::size_t d = 0; d < count; ++d) {
+      Vec3 q;
+      do q = Vec3(rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), 0.0);
+      while (!in_blade(q));
+      ++rep.darts;
+      if (grid.any_within(q, bs2, src) || nodes.any_within(q, bv2)) continue;
+      add_source(q);
+    }
+  }
+
+  void add_source(const Vec3& q) {
+    const auto id = static_cast<Index>(src.size());
+    src.push_back(q);
+    if (nonuniform) src_mat.push_back(to_material(q));
+    alive.push_back(1);
+    tagged.push_back(0);
+    near.push_back(kNoIndex);
+    near_d2.push_back(0);
+    sectors.emplace_back();
+    if (p.type == VenationType::closed) {
+      tags.emplace_back();
+      reached.emplace_back();
+    }
+    grid.insert(id, q);
+    active.push_back(id);
+    ++rep.sources_born;
+  }
+
+  bool influenced_by(std::size_t a, Index v) const {
+    for (Index k = infl_start[a]; k < infl_start[a + 1]; ++k)
+      if (infl[k] == v) return true;
+    return false;
+  }
+
+  // Veins that reached s join (anastomose) if their tips met: within 3 D of each other. With a kill
+  // distance much larger than D the tips stay apart and end free, as in Figure 9a.
+  void close_source(Index s, double D) {
+    auto& r = reached[s];
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+    for (std::size_t i = 1; i < r.size(); ++i) {
+      const Index a = r[0], b = r[i];
+      if (parent[a] == b || parent[b] == a || (nodes.point(a) - nodes.point(b)).squaredNorm() > 9 * D * D) continue;
+      anastomoses.emplace_back(a, b);
+      ++rep.loops;
+    }
+    tags[s].clear();
+    tags[s].shrink_to_fit();
+    r.clear();
+    r.shrink_to_fit();
+    remove_source(s);
+  }
+
+  /// Brings the sector state of source s up to date with nodes [synced, size) (indexed by `fresh`) and
+  /// sets near[s]. Closed: writes V(s) (Eq. 2) to `out`, equal to PointTree::relative_neighbourhood().
+  void sector_update(Index s, std::vector<Index>& out, bool closed, PointTree::Scratch& scratch) {
+    Sectors& st = sectors[s];
+    const Vec3& q = src[s];
+    if (!st.ready) {
+      nodes.sector_nearest(q, st.best, st.d2, scratch);
+      for (int k = 0; k < 6; ++k) st.blocked[k] = st.best[k] == kNoIndex || (closed && nodes.lune_occupied(q, st.best[k]));
+      st.ready = true;
+    } else if (fresh.size() > 0) {
+      Index old[6];
+      Vec3 pos[6];
+      for (int k = 0; k < 6; ++k) {
+        old[k] = st.best[k];
+        pos[k] = st.best[k] != kNoIndex ? nodes.point(st.best[k]) : q;
+      }
+      fresh.sector_nearest(q, st.best, st.d2, scratch, false, pos, synced);
+      for (int k = 0; k < 6; ++k) {
+        if (st.best[k] == kNoIndex || !closed) continue;
+        if (st.best[k] != old[k]) {
+          // a point in the lune is within 90 degrees of the new best and nearer to s: if the four
+          // neighbouring sectors have no point that near, the lune is empty without a search
+          bool maybe = false;
+          for (int j = 1; j <= 2 && !maybe; ++j)
+            maybe = st.d2[(k + j) % 6] <= st.d2[k] || st.d2[(k + 6 - j) % 6] <= st.d2[k];
+          st.blocked[k] = maybe && nodes.lune_occupied(q, st.best[k]);
+        }
+        else if (!st.blocked[k])  // only a new node can newly occupy the lune
+          st.blocked[k] = fresh.any_in_lune(q, pos[k]);
+      }
+    }
+    near[s] = kNoIndex;
+    for (int k = 0; k < 6; ++k)
+      if (st.best[k] != kNoIndex && (near[s] == kNoIndex || st.d2[k] < near_d2[s] || (st.d2[k] == near_d2[s] && st.best[k] < near[s]))) {
+        near[s] = st.best[k];
+        near_d2[s] = st.d2[k];
+      }
+    if (!closed) return;
+    out.clear();
+    for (int k = 0; k < 6; ++k)
+      if (!st.blocked[k]) out.push_back(st.best[k]);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  }
+
+  void step() {
+    const double k = dist_factor();
+    const double bs = p.source_birth_distance * k;
+    if (bs < grid.cell() / 3) {  // uniform growth shrinks b_s: re-hash so queries stay 3 x 3 x 3 cells
+      grid.reset(bs);
+      for (Index s : active) grid.insert(s, src[s]);
+    }
+    const double sc = k;  // distances are model units of the actual leaf
+    const double bs2 = bs * bs, bv2 = std::pow(p.vein_birth_distance * sc, 2), dk2 = std::pow(p.kill_distance * sc, 2);
+    const double D = p.node_distance * sc;
+    const std::size_t born_before = rep.sources_born, removed_before = rep.sources_removed, nodes_before = nodes.size();
+
+    throw_darts(bs2, bv2);
+
+    // influence: S(v) for every vein node (Eq. 1 input); open: nearest node; closed: V(s), Eq. 2 and 3
+    const bool closed = p.type == VenationType::closed;
+    const double half_extent = 4 * ((lift(unit.hi()) - lift(unit.lo())).norm() + 1) * frame_scale();
+    infl_start.assign(1, 0);
+    infl.clear();
+    fresh.assign(std::span<const Vec3>(nodes.points()).subspan(synced));
+    // each source updates only its own state and result slot: any thread count gives the same bits
+    if (per_source.size() < active.size()) per_source.resize(active.size());
+    core::parallel_for(active.size(), p.threads, [&](std::size_t first, std::size_t last) {
+      PointTree::Scratch local;
+      for (std::size_t a = first; a < last; ++a) {
+        const Index s = active[a];
+        std::vector<Index>& out = per_source[a];
+        sector_update(s, out, closed && p.neighbourhood == Neighbourhood::exact, local);
+        if (closed && p.neighbourhood == Neighbourhood::urquhart)
+          nodes.urquhart_neighbourhood(src[s], std::min(half_extent, 2 * std::sqrt(near_d2[s]) + 4 * D), out, local, 48);
+      }
+    }, 64);
+    for (std::size_t a = 0; a < active.size(); ++a) {
+      const Index s = active[a];
+      if (!closed) {
+        infl.push_back(near[s]);
+      } else {
+        for (Index v : per_source[a])
+          if ((nodes.point(v) - src[s]).squaredNorm() >= dk2) infl.push_back(v);  // reached veins stop
+      }
+      infl_start.push_back(static_cast<Index>(infl.size()));
+    }
+    synced = static_cast<Index>(nodes.size());
+    acc.resize(nodes.size(), Vec3::Zero());
+    child.resize(nodes.size(), kNoIndex);
+    touched.clear();
+    for (std::size_t a = 0; a < active.size(); ++a) {
+      const Vec3& s = src[active[a]];
+      for (Index k2 = infl_start[a]; k2 < infl_start[a + 1]; ++k2) {
+        const Index v = infl[k2];
+        const Vec3 d = s - nodes.point(v);
+        const double len = d.norm();
+        if (!(len > 0)) continue;
+        touched.push_back(v);
+        acc[v] += d / len;
+      }
+    }
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    for (Index v : touched) {
+      const Vec3 n = acc[v];
+      acc[v].setZero();
+      const double len = n.norm();
+      if (!(len > 1e-9)) continue;  // opposite sources cancel: no direction (Eq. 1 undefined)
+      const Vec3 q = nodes.point(v) + D * n / len;
+      if (has_child_at(v, q, D)) continue;
+      child[v] = add_node(q, v, static_cast<std::uint32_t>(rep.steps + 1));
+    }
+
+    // removal (open) or tagging and removal (closed), with the nodes just added
+    for (std::size_t a = 0; a < active.size(); ++a) {
+      const Index s = active[a];
+      if (nodes.any_within(src[s], dk2)) nodes.nearest(src[s], near[s], near_d2[s]);  // near[s] is a valid start
+      if (!closed) {
+        if (near_d2[s] < dk2) remove_source(s);
+        continue;
+      }
+      auto reached_now = [&](Index t) { return (nodes.point(t) - src[s]).squaredNorm() < dk2; };
+      std::vector<Index>& T = tags[s];
+      if (tagged[s]) {
+        std::size_t w = 0;
+        for (Index t : T) {
+          if (reached_now(t)) {
+            reached[s].push_back(t);
+          } else if (influenced_by(a, t) && child[t] != kNoIndex) {  // the tag passes to the descendant
+            if (reached_now(child[t]))
+              reached[s].push_back(child[t]);
+            else
+              T[w++] = child[t];
+          }  // else: the vein left the zone of influence of s
+        }
+        T.resize(w);
+      } else if (near_d2[s] < dk2) {
+        tagged[s] = 1;
+        reached[s].push_back(near[s]);
+        for (Index k2 = infl_start[a]; k2 < infl_start[a + 1]; ++k2) {
+          const Index v = infl[k2];
+          const Index t = child[v] != kNoIndex ? child[v] : v;
+          if (reached_now(t))
+            reached[s].push_back(t);
+          else
+            T.push_back(t);
+        }
+      }
+      if (tagged[s] && T.empty()) close_source(s, D);
+    }
+    for (Index v : touched) child[v] = kNoIndex;
+    std::erase_if(active, [&](Index s) { return !alive[s]; });
+
+    if (nonuniform) {
+      if (grown < p.growth_steps) grow_nonuniform();
+    } else if (p.growth != GrowthMode::none && sigma < p.final_scale) {
+      sigma = std::min(p.final_scale, sigma + p.scale_step);
+    }
+    ++rep.steps;
+    rep.scale = nonuniform ? static_cast<double>(grown) : sigma;
+    rep.nodes = nodes.size();
+    rep.sources = active.size();
+    const bool changed = rep.sources_born != born_before || rep.sources_removed != removed_before || nodes.size() != nodes_before;
+    quiet = (growth_over() && !changed) ? quiet + 1 : 0;
+    if (quiet >= p.settle_steps) {
+      if (active.empty())
+        rep.finished = true;
+      else
+        rep.stalled = true;
+    }
+    if (rep.steps >= p.max_steps && !rep.finished && !rep.stalled) rep.hit_max_steps = true;
+    if (nodes.size() >= p.max_nodes && !rep.finished && !rep.stalled) rep.hit_max_nodes = true;
+  }
+
+  Vec3 to_output(const Vec3& q) const {
+    return p.growth == GrowthMode::uniform ? Vec3(petiole + (q - petiole) * (sigma / p.initial_scale)) : q;
+  }
+};
+
+Colonisation::Colonisation(const Leaf& leaf, const ColonisationParams& params) {
+  validate(params);
+  validate(leaf);
+  impl_ = std::make_unique<Impl>(leaf, params);
+}
+Colonisation::~Colonisation() = default;
+Colonisation::Colonisation(Colonisation&&) noexcept = default;
+Colonisation& Colonisation::operator=(Colonisation&&) noexcept = default;
+
+const ColonisationReport& Colonisation::step() {
+  if (!done()) impl_->step();
+  return impl_->rep;
+}
+
+bool Colonisation::done() const {
+  const auto& r = impl_->rep;
+  return r.finished || r.stalled || r.hit_max_steps || r.hit_max_nodes;
+}
+
+const ColonisationReport& Colonisation::run(const ColonisationProgress& progress) {
+  while (!done()) {
+    impl_->step();
+    if (progress && !progress(impl_->rep.steps, impl_->rep.nodes)) throw core::Cancelled();
+  }
+  return impl_->rep;
+}
+
+VeinTree Colonisation::tree() const {
+  VeinTree t;
+  t.positions.reserve(impl_->nodes.size());
+  for (const Vec3& q : impl_->nodes.points()) t.positions.push_back(impl_->to_output(q));
+  t.parent = impl_->parent;
+  t.birth_step = impl_->birth;
+  t.anastomoses = impl_->anastomoses;
+  return t;
+}
+
+std::vector<Vec3> Colonisation::sources() const {
+  std::vector<Vec3> out;
+  for (Index s : impl_->active) out.push_back(impl_->to_output(impl_->src[s]));
+  return out;
+}
+
+Outline Colonisation::outline() const {
+  if (impl_->nonuniform) return impl_->current.outline();
+  Outline o = impl_->leaf.outline;
+  for (Vec2& q : o.points) q = impl_->leaf.petiole + impl_->sigma * (q - impl_->leaf.petiole);
+  return o;
+}
+
+const ColonisationReport& Colonisation::report() const { return impl_->rep; }
+
+std::pair<VeinTree, ColonisationReport> colonise(const Leaf& leaf, const ColonisationParams& params,
+                                                  const ColonisationProgress& progress) {
+  Colonisation c(leaf, params);
+  c.run(progress);
+  return {c.tree(), c.report()};
+}
+
+void compute_widths(VeinTree& tree, const WidthParams& w) {
+  if (!(w.exponent > 0 && std::isfinite(w.exponent))) throw InvalidInput("widths.exponent (Murray's n) must be positive");
+  if (!(w.tip_radius > 0 && std::isfinite(w.tip_radius))) throw InvalidInput("widths.tip_radius must be a positive radius in model units");
+  if (!(w.per_node_flow >= 0 && std::isfinite(w.per_node_flow))) throw InvalidInput("widths.per_node_flow must be >= 0");
+  const std::size_t n = tree.size();
+  std::vector<std::uint32_t> children(n, 0);
+  for (Index i = 0; i < n; ++i)
+    if (tree.parent[i] != kNoIndex) ++children[tree.parent[i]];
+  // flow in units of tip_radius^n; children always follow their parent, so one reverse pass suffices
+  tree.flow.assign(n, 0.0);
+  for (Index i = static_cast<Index>(n); i-- > 0;) {
+    tree.flow[i] += children[i] == 0 ? 1.0 : w.per_node_flow;
+    if (tree.parent[i] != kNoIndex) tree.flow[tree.parent[i]] += tree.flow[i];
+  }
+  tree.radius.resize(n);
+  for (std::size_t i = 0; i < n; ++i) tree.radius[i] = w.tip_radius * std::pow(tree.flow[i], 1.0 / w.exponent);
+  // order: the child with the largest flow continues the parent's order
+  std::vector<Index> main_child(n, kNoIndex);
+  for (Index i = 0; i < n; ++i) {
+    const Index pa = tree.parent[i];
+    if (pa == kNoIndex) continue;
+    const Index m = main_child[pa];
+    if (m == kNoIndex || tree.flow[i] > tree.flow[m]) main_child[pa] = i;
+  }
+  tree.order.assign(n, 1);
+  for (Index i = 0; i < n; ++i)
+    if (tree.parent[i] != kNoIndex) tree.order[i] = tree.order[tree.parent[i]] + (main_child[tree.parent[i]] == i ? 0 : 1);
+}
+
+}  // namespace cellform::venation

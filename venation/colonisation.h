@@ -1,0 +1,179 @@
+// Space-colonisation leaf venation (Runions et al. 2005): auxin sources, vein nodes, open and closed patterns.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "core/types.h"
+#include "venation/leaf_shape.h"
+#include "venation/point_tree.h"
+
+namespace cellform::venation {
+
+/// Open (tree-like, Section 3) or closed (with anastomoses, Section 4) venation.
+enum class VenationType { open, closed };
+
+/// How closed patterns find the vein nodes a source influences (Section 5.2).
+enum class Neighbourhood {
+  exact,     ///< the relative neighbourhood of Eq. 2, exactly (up to exact distance ties), kept per source
+             ///< between steps and updated with each step's new nodes only
+  urquhart,  ///< Urquhart's approximation: Delaunay neighbours tested only against each other; the Delaunay
+             ///< neighbours come from the source's Voronoi cell clipped by its 48 nearest nodes inside a
+             ///< square of half-side 2 (nearest distance) + 4 D. Slower than exact here (no global Delaunay)
+};
+
+/// Leaf blade growth (Section 3.3). The growth scale sigma goes from initial_scale to final_scale by
+/// scale_step per step (sigma_{t+1} = sigma_t + delta sigma); Table 1's L_i, L_f, Delta L are these
+/// with an outline of length 1.
+enum class GrowthMode {
+  none,      ///< the blade keeps its initial size
+  marginal,  ///< the margin is scaled about the petiole; sources and veins stay where they are
+  uniform,   ///< isogonic: the whole leaf scales; computed by shrinking the unit distance lambda_t = lambda_0 sigma_0 / sigma_t
+  nonuniform,  ///< anisotropic, Appendix A: rates of growth in x and y depend on the initial height y_0
+};
+
+/// A relative elementary rate of growth per step as a function of the initial height y_0 above the
+/// petiole (Figure 5: REG = 1 + g), as a lookup table: piecewise linear between samples, constant
+/// beyond the ends. Appendix A: x_t = x_0 REG_x(y_0)^t and y_t = integral_0^{y_0} REG_y(y)^t dy (Eq. 4).
+struct GrowthFunction {
+  std::vector<double> y;     ///< model units (initial leaf, relative to the petiole), strictly increasing
+  std::vector<double> rate;  ///< REG per step at each y (> 0; > 1 grows, 1 keeps, < 1 shrinks)
+  double operator()(double y0) const;
+};
+
+/// Parameters of space colonisation. Distances are model units of the actual leaf, whose outline is the
+/// Leaf outline scaled by sigma about the petiole (Table 1: an outline of length 1, sigma = L, D = 1).
+struct ColonisationParams {
+  double source_birth_distance = 10;  ///< b_s: a new source must be farther than this from every source
+  double vein_birth_distance = 10;    ///< b_v: a new source must be farther than this from every vein node
+  double kill_distance = 1;           ///< d_k: a vein node closer than this reaches (open: removes) a source
+  double node_distance = 1;           ///< D: length of a vein segment, Eq. 1
+  double darts_per_area = 2e-4;       ///< rho: darts thrown per unit leaf area per step (Table 1 lists rho x 1e6)
+  VenationType type = VenationType::closed;
+  Neighbourhood neighbourhood = Neighbourhood::exact;
+  GrowthMode growth = GrowthMode::none;
+  double initial_scale = 1;  ///< sigma_0: outline scale factor at step 0 (about the petiole)
+  double final_scale = 1;    ///< sigma at which growth stops
+  double scale_step = 0;     ///< Delta sigma per step (>= 0; > 0 for marginal and uniform growth)
+  GrowthFunction growth_x;   ///< nonuniform: REG_x(y_0)
+  GrowthFunction growth_y;   ///< nonuniform: REG_y(y_0)
+  std::size_t growth_steps = 0;  ///< nonuniform: steps during which the leaf grows
+  std::uint64_t seed = 1;    ///< all randomness (dart positions) derives from this
+  int threads = 1;           ///< threads for the per-source neighbourhoods (0 = all cores); same result for any count
+  std::size_t max_steps = 100000;   ///< stop (report.hit_max_steps) after this many steps
+  std::size_t max_nodes = 5000000;  ///< stop (report.hit_max_nodes) once this many vein nodes exist
+  std::size_t settle_steps = 5;     ///< after growth ends: stop when this many steps in a row added no
+                                    ///< node and no source (finished if no source is left, else stalled)
+};
+
+/// Throws core::InvalidInput naming "colonisation.<field>" and what is allowed. Must hold: every distance
+/// positive and finite; d_k >= D / 2 (otherwise a vein tip can step over a lone source and oscillate
+/// around it). d_k may exceed b_s and b_v (Table 1: ginkgo d_k = 100, b_s = 1; Figure 9a closed with
+/// d_k = 40, b_s = 10): a source born that close to a vein is reached at once.
+void validate(const ColonisationParams& params);
+
+/// The leaf: its outline at scale 1, the petiole (growth centre), the seed vein nodes.
+struct Leaf {
+  Outline outline;                  ///< blade outline at growth scale 1, model units
+  Vec2 petiole = Vec2::Zero();      ///< attachment point of blade to petiole; marginal growth scales about it
+  std::vector<Vec2> initial_nodes;  ///< seed vein nodes (empty = the petiole); several along the base for grasses
+  std::vector<Vec2> initial_sources;  ///< sources present at step 0 (no birth-distance test), e.g. from a script
+};
+
+/// Positions in Leaf are in outline units at growth scale 1; they are scaled with the outline about the
+/// petiole to initial_scale.
+/// Throws core::InvalidInput naming "leaf.<field>": bad outline, petiole, seed node or source outside the blade
+/// (more than 1e-6 of the leaf size outside its closed outline).
+void validate(const Leaf& leaf);
+
+/// The vein graph. Nodes are in creation order, so a parent always precedes its children.
+struct VeinTree {
+  std::vector<Vec3> positions;        ///< model units (z = 0 for leaves), in the grown leaf's frame
+  std::vector<Index> parent;          ///< kNoIndex for the seed nodes (roots); edges point base -> tip
+  std::vector<std::uint32_t> birth_step;  ///< simulation step that created the node (0 = seed)
+  std::vector<std::pair<Index, Index>> anastomoses;  ///< closing edges of closed patterns (loops)
+  // Filled by compute_widths():
+  std::vector<double> flow;     ///< Murray flow r^n carried by the node's segment (sum over what it drains)
+  std::vector<double> radius;   ///< model units: vein radius at the node (segment node -> parent)
+  std::vector<std::uint32_t> order;  ///< 1 = primary; a branch that is not the largest at its node gets +1
+
+  std::size_t size() const { return positions.size(); }
+  /// All edges: (parent, child) pairs then the anastomoses.
+  std::vector<std::pair<Index, Index>> edges() const;
+};
+
+/// What a run (or one step) did.
+struct ColonisationReport {
+  std::size_t steps = 0;            ///< steps simulated
+  std::size_t nodes = 0;            ///< vein nodes at the end
+  std::size_t sources = 0;          ///< auxin sources still alive at the end
+  std::size_t sources_born = 0;     ///< sources accepted by dart throwing
+  std::size_t sources_removed = 0;  ///< sources removed (reached)
+  std::size_t darts = 0;            ///< darts thrown
+  std::size_t loops = 0;            ///< anastomosis edges added (independent cycles of the graph)
+  double scale = 1;                 ///< growth scale sigma at the end (nonuniform: steps of growth done)
+  bool finished = false;       ///< growth over and no source left: the pattern is complete
+  bool stalled = false;        ///< growth over, sources remain, but settle_steps steps changed nothing
+  bool hit_max_steps = false;  ///< stopped by max_steps
+  bool hit_max_nodes = false;  ///< stopped by max_nodes
+};
+
+/// Progress callback: (steps so far, vein nodes); return false to cancel (core::Cancelled).
+using ColonisationProgress = std::function<bool(std::size_t, std::size_t)>;
+
+/// The simulation as a stepping object, for animation and scripting; colonise() runs it to the end.
+class Colonisation {
+ public:
+  /// Validates both arguments (core::InvalidInput) and places the seed nodes.
+  Colonisation(const Leaf& leaf, const ColonisationParams& params);
+  ~Colonisation();
+  Colonisation(Colonisation&&) noexcept;
+  Colonisation& operator=(Colonisation&&) noexcept;
+
+  /// One step of Section 3.3 / 4: throw darts (b_s, b_v), find the nodes each source influences (open:
+  /// nearest node, ties by index; closed: relative neighbourhood, Eq. 2/3), add one node per influenced
+  /// node at distance D along the normalised mean direction (Eq. 1), remove (open) or tag and later
+  /// remove (closed) sources reached within d_k, grow the blade. Returns the cumulative report.
+  const ColonisationReport& step();
+  /// True once the report says finished, stalled or hit a limit.
+  bool done() const;
+  /// Steps until done(). Throws core::Cancelled if `progress` returns false.
+  const ColonisationReport& run(const ColonisationProgress& progress = {});
+
+  /// The vein graph in the grown leaf's frame (copies and scales the nodes for uniform growth).
+  VeinTree tree() const;
+  /// Alive sources, same frame.
+  std::vector<Vec3> sources() const;
+  /// The current blade outline, same frame.
+  Outline outline() const;
+  const ColonisationReport& report() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// One-off run: a Colonisation stepped until done. Returns the tree and the report.
+std::pair<VeinTree, ColonisationReport> colonise(const Leaf& leaf, const ColonisationParams& params,
+                                                  const ColonisationProgress& progress = {});
+
+/// Vein widths by Murray's law (Section 3.5).
+struct WidthParams {
+  double exponent = 2;         ///< n in r_parent^n = sum r_child^n (Table 1: 2, developmental model 3)
+  double tip_radius = 0.1;     ///< model units: radius of a free vein end (veinlet)
+  double per_node_flow = 0;    ///< extra r^n each node adds, in units of tip_radius^n: widens low orders
+                               ///< to stand in for veinlets not modelled (Section 3.5); 0 = pure Murray
+};
+
+/// Fills tree.flow, tree.radius and tree.order once, from the tips to the base: flow(v) = tip flow at a
+/// tip, else sum of the children's flows (+ per_node_flow), radius = flow^(1/n) * tip_radius, so
+/// r_parent^n = sum r_child^n holds at every branching. Every child entering a node contributes equally
+/// by its own flow (closed patterns); anastomosis edges carry no flow and get the tip radius. Order: seeds
+/// start at 1, at each node the child with the largest flow (ties: smaller index) keeps the order, the
+/// others get order + 1. Throws core::InvalidInput for exponent or tip_radius not positive.
+void compute_widths(VeinTree& tree, const WidthParams& params);
+
+}  // namespace cellform::venation

@@ -1,0 +1,279 @@
+// Leaf blade outlines: parametric shapes, triangular-wave teeth, outline files, simplicity checks.
+#include "venation/leaf_shape.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/errors.h"
+
+namespace cellform::venation {
+
+using core::InvalidInput;
+
+namespace {
+
+double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+int orient(const Vec2& a, const Vec2& b, const Vec2& c) {
+  const double v = cross(b - a, c - a);
+  return (v > 0) - (v < 0);
+}
+
+bool on_segment(const Vec2& a, const Vec2& b, const Vec2& p) {
+  return std::min(a.x(), b.x()) <= p.x() && p.x() <= std::max(a.x(), b.x()) && std::min(a.y(), b.y()) <= p.y() &&
+         p.y() <= std::max(a.y(), b.y());
+}
+
+bool segments_touch(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  const int o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
+  if (o1 != o2 && o3 != o4) return true;
+  return (o1 == 0 && on_segment(a, b, c)) || (o2 == 0 && on_segment(a, b, d)) || (o3 == 0 && on_segment(c, d, a)) ||
+         (o4 == 0 && on_segment(c, d, b));
+}
+
+double tri(double x) { return 1.0 - std::abs(2.0 * (x - std::floor(x)) - 1.0); }
+
+/// Adds triangular-wave teeth along the outward normal (outline counter-clockwise, starting at the petiole).
+Outline add_teeth(const Outline& smooth, const std::vector<TriangularWave>& teeth) {
+  int max_count = 1;
+  for (const auto& t : teeth) max_count = std::max(max_count, t.count);
+  const std::size_t n0 = smooth.points.size();
+  std::vector<double> cum(n0 + 1, 0.0);
+  for (std::size_t i = 0; i < n0; ++i) cum[i + 1] = cum[i] + (smooth.points[(i + 1) % n0] - smooth.points[i]).norm();
+  const double total = cum[n0];
+  const std::size_t n = std::max<std::size_t>(n0, static_cast<std::size_t>(16 * max_count));
+  Outline dense;
+  std::size_t seg = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double s = total * static_cast<double>(k) / static_cast<double>(n);
+    while (cum[seg + 1] < s) ++seg;
+    const Vec2& a = smooth.points[seg];
+    const Vec2& b = smooth.points[(seg + 1) % n0];
+    const double len = cum[seg + 1] - cum[seg];
+    dense.points.push_back(len > 0 ? Vec2(a + (b - a) * ((s - cum[seg]) / len)) : a);
+  }
+  Outline out;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec2 e = dense.points[(k + 1) % n] - dense.points[(k + n - 1) % n];
+    const Vec2 normal = Vec2(e.y(), -e.x()).normalized();
+    const double u = static_cast<double>(k) / static_cast<double>(n);
+    double offset = 0;
+    for (const auto& t : teeth) offset += t.amplitude * tri(t.count * u);
+    out.points.push_back(dense.points[k] + offset * normal);
+  }
+  return out;
+}
+
+}  // namespace
+
+double signed_area(const Outline& o) {
+  double a = 0;
+  const std::size_t n = o.points.size();
+  for (std::size_t i = 0; i < n; ++i) a += cross(o.points[i], o.points[(i + 1) % n]);
+  return 0.5 * a;
+}
+
+void validate_outline(const Outline& o, const std::string& what) {
+  const std::size_t n = o.points.size();
+  if (n < 3) throw InvalidInput(what + ": an outline needs at least 3 vertices, got " + std::to_string(n));
+  for (std::size_t i = 0; i < n; ++i)
+    if (!o.points[i].allFinite()) throw InvalidInput(what + ": vertex " + std::to_string(i) + " is not finite");
+  // sweep over edges sorted by their lower x: only edges overlapping in x are compared
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  auto lo_x = [&](std::size_t i) { return std::min(o.points[i].x(), o.points[(i + 1) % n].x()); };
+  auto hi_x = [&](std::size_t i) { return std::max(o.points[i].x(), o.points[(i + 1) % n].x()); };
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return lo_x(a) < lo_x(b) || (lo_x(a) == lo_x(b) && a < b); });
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t i = order[a];
+    for (std::size_t b = a + 1; b < n && lo_x(order[b]) <= hi_x(i); ++b) {
+      const std::size_t j = order[b];
+      const bool adjacent = (i + 1) % n == j || (j + 1) % n == i;
+      const Vec2 &p = o.points[i], &q = o.points[(i + 1) % n], &r = o.points[j], &s = o.points[(j + 1) % n];
+      if (adjacent) {
+        // adjacent edges share one vertex; they intersect elsewhere only by folding back along one line
+        const bool i_first = (i + 1) % n == j;
+        const Vec2& shared = i_first ? q : p;
+        const Vec2& before = i_first ? p : r;
+        const Vec2& after = i_first ? s : q;
+        if (n > 3 && orient(before, shared, after) == 0 && (after - shared).dot(before - shared) > 0)
+          throw InvalidInput(what + ": the outline folds back on itself at vertex " + std::to_string(i_first ? j : i));
+        continue;
+      }
+      if (segments_touch(p, q, r, s))
+        throw InvalidInput(what + ": the outline intersects itself (edges " + std::to_string(std::min(i, j)) + " and " +
+                           std::to_string(std::max(i, j)) + ")");
+    }
+  }
+  double extent = 0;
+  for (const auto& p : o.points) extent = std::max(extent, p.cwiseAbs().maxCoeff());
+  if (!(std::abs(signed_area(o)) > 1e-12 * extent * extent))
+    throw InvalidInput(what + ": the outline encloses no area (all vertices on a line?)");
+}
+
+double distance_to_boundary(const Outline& o, const Vec2& p) {
+  double best = std::numeric_limits<double>::infinity();
+  const std::size_t n = o.points.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2& a = o.points[i];
+    const Vec2 e = o.points[(i + 1) % n] - a;
+    const double l2 = e.squaredNorm();
+    const double t = l2 > 0 ? std::clamp((p - a).dot(e) / l2, 0.0, 1.0) : 0.0;
+    best = std::min(best, (a + t * e - p).norm());
+  }
+  return best;
+}
+
+Outline make_outline(const ShapeParams& sp) {
+  if (!(sp.length > 0 && std::isfinite(sp.length))) throw InvalidInput("shape.length must be a positive number of model units");
+  if (!(sp.width > 0 && std::isfinite(sp.width))) throw InvalidInput("shape.width must be a positive number of model units");
+  if (sp.samples < 16) throw InvalidInput("shape.samples must be at least 16");
+  if (!(sp.lobe_depth >= 0 && sp.lobe_depth < 1)) throw InvalidInput("shape.lobe_depth must be in [0, 1)");
+  if (sp.kind == ShapeKind::lobed && sp.lobes < 1) throw InvalidInput("shape.lobes must be at least 1 for a lobed leaf");
+  if (sp.kind == ShapeKind::palmate && sp.lobes < 2) throw InvalidInput("shape.lobes must be at least 2 for a palmate leaf");
+  for (const auto& t : sp.teeth)
+    if (!(t.amplitude >= 0 && std::isfinite(t.amplitude)) || t.count < 1)
+      throw InvalidInput("shape.teeth: each wave needs amplitude >= 0 (model units) and count >= 1");
+  const int n = sp.samples;
+  const double L = sp.length, W = sp.width;
+  Outline o;
+  for (int k = 0; k < n; ++k) {
+    const double t = 2 * M_PI * k / n;  // starts at the petiole, counter-clockwise
+    Vec2 p;
+    switch (sp.kind) {
+      case ShapeKind::ellipse:
+        p = Vec2(std::sin(t), 0.5 * L * (1 - std::cos(t)));
+        break;
+      case ShapeKind::ovate:
+        p = Vec2(std::sin(t) * (1 + 0.35 * std::cos(t)), 0.5 * L * (1 - std::cos(t)));
+        break;
+      case ShapeKind::cordate: {  // cardioid about the petiole, angle from the +y axis
+        const double th = t - M_PI;
+        const double r = L * 0.5 * (1 + std::cos(th));
+        p = Vec2(-r * std::sin(th), r * std::cos(th));
+        break;
+      }
+      case ShapeKind::lobed: {  // ellipse about its centre with an even number of waves: flat at petiole and tip
+        const double psi = t, phi = t - M_PI / 2;
+        const double a = 0.5 * W, b = 0.5 * L;
+        const double r = 1.0 / std::sqrt(std::pow(std::cos(phi) / a, 2) + std::pow(std::sin(phi) / b, 2));
+        const double f = 1 - sp.lobe_depth * 0.5 * (1 - std::cos((2.0 * sp.lobes + 2) * psi));
+        p = Vec2(r * f * std::cos(phi) / (0.5 * W), 0.5 * L + r * f * std::sin(phi));
+        break;
+      }
+      case ShapeKind::palmate: {  // lobes every 1.6 pi / (lobes - 1) radians about the petiole
+        const double th = t - M_PI;
+        const double spacing = 1.6 * M_PI / (sp.lobes - 1);
+        const double f = 1 - sp.lobe_depth * 0.5 * (1 - std::cos(2 * M_PI * th / spacing));
+        const double r = L * std::sqrt(std::max(0.0, std::cos(th / 2))) * f;
+        p = Vec2(-r * std::sin(th), r * std::cos(th));
+        break;
+      }
+    }
+    o.points.push_back(p);
+  }
+  if (sp.kind == ShapeKind::palmate || sp.kind == ShapeKind::cordate) {
+    // petiole vertex coincides with neighbours' limit r -> 0: keep it once
+    o.points.front() = Vec2::Zero();
+  }
+  // scale x to the requested width
+  double wmin = 0, wmax = 0;
+  for (const auto& p : o.points) {
+    wmin = std::min(wmin, p.x());
+    wmax = std::max(wmax, p.x());
+  }
+  for (auto& p : o.points) p.x() *= W / (wmax - wmin);
+  if (!sp.teeth.empty()) {
+    o = add_teeth(o, sp.teeth);
+    validate_outline(o, "shape.teeth");
+  } else {
+    validate_outline(o, "shape");
+  }
+  return o;
+}
+
+Outline parse_outline(const std::string& text, const std::string& source) {
+  Outline o;
+  std::istringstream in(text);
+  std::string line;
+  int line_no = 0, last_line = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+    std::istringstream ls(line);
+    double x, y;
+    std::string rest;
+    if (!(ls >> x)) {
+      ls.clear();
+      std::string word;
+      if (ls >> word) throw InvalidInput(source + ":" + std::to_string(line_no) + ": expected two numbers \"x y\", got '" + word + "'");
+      continue;  // blank or comment line
+    }
+    if (!(ls >> y)) throw InvalidInput(source + ":" + std::to_string(line_no) + ": expected two numbers \"x y\", got one");
+    if (ls >> rest) throw InvalidInput(source + ":" + std::to_string(line_no) + ": expected two numbers \"x y\", got more ('" + rest + "')");
+    if (!std::isfinite(x) || !std::isfinite(y)) throw InvalidInput(source + ":" + std::to_string(line_no) + ": coordinates must be finite");
+    o.points.emplace_back(x, y);
+    last_line = line_no;
+  }
+  if (o.points.size() < 4)
+    throw InvalidInput(source + ": an outline needs at least 3 vertices plus the first repeated at the end, got " +
+                       std::to_string(o.points.size()) + " lines of coordinates");
+  if (o.points.front() != o.points.back())
+    throw InvalidInput(source + ":" + std::to_string(last_line) +
+                       ": the outline is open: its last vertex must repeat the first one to close it");
+  o.points.pop_back();
+  validate_outline(o, source);
+  if (signed_area(o) < 0) std::reverse(o.points.begin(), o.points.end());
+  return o;
+}
+
+Outline read_outline(const std::filesystem::path& path) { return parse_outline(core::read_file(path), path.string()); }
+
+OutlineIndex::OutlineIndex(const Outline& outline) : outline_(outline) {
+  const auto& p = outline_.points;
+  const std::size_t n = p.size();
+  lo_ = hi_ = p.front();
+  for (const auto& q : p) {
+    lo_ = lo_.cwiseMin(q);
+    hi_ = hi_.cwiseMax(q);
+  }
+  area_ = std::abs(signed_area(outline_));
+  const std::size_t bands = std::max<std::size_t>(1, static_cast<std::size_t>(std::sqrt(static_cast<double>(n))) * 2);
+  band_height_ = std::max((hi_.y() - lo_.y()) / static_cast<double>(bands), 1e-300);
+  std::vector<std::vector<std::size_t>> lists(bands);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double y0 = std::min(p[i].y(), p[(i + 1) % n].y()), y1 = std::max(p[i].y(), p[(i + 1) % n].y());
+    const auto b0 = static_cast<std::size_t>(std::clamp((y0 - lo_.y()) / band_height_, 0.0, static_cast<double>(bands - 1)));
+    const auto b1 = static_cast<std::size_t>(std::clamp((y1 - lo_.y()) / band_height_, 0.0, static_cast<double>(bands - 1)));
+    for (std::size_t b = b0; b <= b1; ++b) lists[b].push_back(i);
+  }
+  band_start_.assign(1, 0);
+  for (const auto& l : lists) {
+    band_edges_.insert(band_edges_.end(), l.begin(), l.end());
+    band_start_.push_back(band_edges_.size());
+  }
+}
+
+bool OutlineIndex::contains(const Vec2& q) const {
+  if (outline_.points.empty() || q.x() < lo_.x() || q.x() > hi_.x() || q.y() < lo_.y() || q.y() > hi_.y()) return false;
+  const auto& p = outline_.points;
+  const std::size_t n = p.size();
+  const std::size_t bands = band_start_.size() - 1;
+  const auto b = static_cast<std::size_t>(std::clamp((q.y() - lo_.y()) / band_height_, 0.0, static_cast<double>(bands - 1)));
+  bool inside = false;
+  for (std::size_t k = band_start_[b]; k < band_start_[b + 1]; ++k) {
+    const std::size_t i = band_edges_[k];
+    const Vec2& a = p[i];
+    const Vec2& c = p[(i + 1) % n];
+    if ((a.y() > q.y()) != (c.y() > q.y())) {
+      const double x = a.x() + (q.y() - a.y()) * (c.x() - a.x()) / (c.y() - a.y());
+      if (q.x() < x) inside = !inside;
+    }
+  }
+  return inside;
+}
+
+}  // namespace cellform::venation
