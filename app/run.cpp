@@ -18,6 +18,7 @@
 #include "export/mesh_files.h"
 #include "export/printable.h"
 #include "export/vein_files.h"
+#include "venation/vein_io.h"
 
 #ifndef CELLFORM_VERSION
 #define CELLFORM_VERSION "0.0.0"
@@ -216,6 +217,122 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
   fs::remove_all(staging, ec);
 }
 
+/// A space-colonisation run: leaf outline, sources, veins (Runions et al. 2005). No cells, no checkpoint:
+/// Ctrl-C stops it with the pattern so far written out.
+int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std::uint64_t seed, std::ostream& out,
+                     std::ostream& err, std::chrono::steady_clock::time_point t0) {
+  const fs::path dir = s.out_dir;
+  fs::path staging;
+  try {
+    core::ensure_directory(dir);
+    staging = dir / (".partial-" + std::to_string(::getpid()));
+    core::ensure_directory(staging);
+  } catch (const std::exception& e) {
+    err << "cellform: cannot write outputs: " << e.what() << "\n";
+    return failure;
+  }
+  ColonisationSpec& spec = *cfg.colonisation;
+  spec.params.seed = seed;
+  spec.params.threads = o.threads;
+  if (o.steps) spec.params.max_steps = *o.steps;
+  int code = ok;
+  try {
+    venation::Colonisation col(spec.leaf, spec.params);
+    if (!o.quiet) err << "growing veins by space colonisation in " << s.script_path.string() << " (seed " << seed << ")\n";
+    const auto a = std::chrono::steady_clock::now();
+    std::size_t last_print = 0;
+    while (!col.done()) {
+      if (g_interrupt.load()) {
+        code = interrupted;
+        break;
+      }
+      const venation::ColonisationReport& r = col.step();
+      if (!o.quiet && (r.steps - last_print >= 50 || col.done())) {
+        last_print = r.steps;
+        err << "step " << r.steps << ": " << r.nodes << " vein nodes, " << r.sources << " sources, leaf length "
+            << r.scale << (::isatty(2) ? "\r" : "\n") << std::flush;
+      }
+    }
+    if (!o.quiet && ::isatty(2)) err << "\n";
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+    venation::VeinTree tree = col.tree();
+    venation::compute_widths(tree, spec.widths);
+    const venation::ColonisationReport rep = col.report();
+    std::vector<std::string> outputs{"veins.svg", "veins.ply", "veins.obj"};
+    venation::write_svg(staging / "veins.svg", tree, col.outline());
+    venation::write_vein_ply(staging / "veins.ply", tree);
+    venation::write_vein_obj(staging / "veins.obj", tree);
+    json printed;
+    if (cfg.print) {
+      try {
+        exporters::ThickenParams tp;
+        tp.scale = cfg.print->scale;
+        tp.auto_extent = cfg.print->size;
+        tp.voxel_size = cfg.print->voxel_size;
+        tp.min_radius = cfg.print->min_radius;
+        tp.adaptivity = cfg.print->adaptivity;
+        tp.max_memory_bytes = cfg.print->max_memory_mb * 1e6;
+        tp.threads = o.threads;
+        tp.fill_cavities = cfg.print->fill_cavities;
+        std::vector<exporters::Segment> segments;
+        for (const auto& [p, c] : tree.edges())
+          segments.push_back({tree.positions[p], tree.positions[c], tree.radius[p], tree.radius[c]});
+        exporters::ThickenReport tr;
+        const exporters::LevelSet ls = exporters::voxelise(segments, {}, tp, &tr);
+        const exporters::PrintableMesh mesh = exporters::mesh_level_set(ls, tp, &tr);
+        for (const std::string& f : cfg.print->formats) {
+          const std::string name = "printable." + f;
+          if (f == "vdb") exporters::write_vdb(staging / name, ls);
+          else exporters::write_mesh(staging / name, mesh);
+          outputs.push_back(name);
+        }
+        printed = {{"scale_mm_per_unit", tr.scale}, {"triangles", tr.triangles}, {"parts", tr.pieces},
+                   {"cavities", tr.cavities}, {"volume_mm3", tr.volume}};
+      } catch (const std::exception& e) {
+        err << "cellform: " << e.what() << "\n";
+        printed = {{"error", e.what()}};
+        code = failure;
+      }
+    }
+    json run = {{"program", "cellform"},
+                {"version", version()},
+                {"command", "run"},
+                {"mode", "colonisation"},
+                {"script", {{"path", s.script_path.string()},
+                            {"hash", "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size()))}}},
+                {"seed", seed},
+                {"threads", o.threads},
+                {"status", code == interrupted ? "interrupted" : rep.finished ? "complete" : rep.stalled ? "stalled" : "stopped"},
+                {"steps", {{"completed", rep.steps}}},
+                {"veins", {{"nodes", rep.nodes}, {"loops", rep.loops}, {"sources_left", rep.sources},
+                           {"sources_born", rep.sources_born}, {"leaf_length", rep.scale}}},
+                {"overrides", s.sets},
+                {"parameters", cfg.resolved},
+                {"timings", {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
+                             {"simulation_s", seconds}}}};
+    if (cfg.print) run["print"] = printed;
+    outputs.push_back("run.json");
+    run["outputs"] = outputs;
+    core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
+    commit_outputs(staging, dir, outputs);
+    std::ostream& where = code == ok ? out : err;
+    if (!o.quiet || code != ok)
+      where << (code == interrupted ? "interrupted" : rep.finished ? "done" : rep.stalled ? "done (stalled: some sources can no longer be reached)" : "stopped at max_steps")
+            << ": " << rep.steps << " steps, " << rep.nodes << " vein nodes, " << rep.loops << " loops; outputs in "
+            << dir.string() << "/\n";
+    return code;
+  } catch (const core::InvalidInput& e) {
+    err << "cellform: " << e.what() << "\n";
+    code = usage;
+  } catch (const std::exception& e) {
+    err << "cellform: " << e.what() << "\n";
+    code = failure;
+  }
+  std::error_code ec;
+  fs::remove_all(staging, ec);
+  return code;
+}
+
 }  // namespace
 
 int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
@@ -232,6 +349,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     cfg = host.load(s.source, s.script_path, s.sets);
     seed = s.seed ? *s.seed : cfg.seed;
     target = s.has_target ? s.target_steps : cfg.steps;
+    if (cfg.colonisation) {
+      if (s.resume) throw core::InvalidInput("space-colonisation runs have no checkpoints to resume");
+      return run_colonisation(o, s, cfg, seed, out, err, t0);
+    }
     if (o.checkpoint_every) cfg.output.checkpoint_every = *o.checkpoint_every;
     scene = std::make_unique<forms::Scene>(cfg.scene, seed);
     cells::Simulation& sim = scene->simulation();

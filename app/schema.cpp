@@ -129,6 +129,31 @@ std::vector<Field> build() {
   f.push_back(num("attractor", "strength", "0.1", -kInf, kInf, false, "units/time^2", "acceleration towards it (negative repels)"));
   f.push_back(num("attractor", "radius", "0", 0, kInf, false, "model units", "range of influence; 0 = everywhere"));
 
+  // leaf{} and colonisation{}: space-colonisation venation (Runions et al. 2005)
+  f.push_back(choice("leaf", "shape", Kind::choice, "ovate", "ellipse|ovate|cordate|lobed|palmate", "blade outline, petiole at the origin, tip along +y"));
+  f.push_back(num("leaf", "width", "0.6", 0, 10, true, "leaf lengths", "widest extent across the blade"));
+  f.push_back(integer("leaf", "lobes", "5", 1, 100, "", "lobed: lobes per side; palmate: lobes in all"));
+  f.push_back(num("leaf", "lobe_depth", "0.35", 0, 0.99, false, "fraction", "cut between lobes, of the radius"));
+  f.push_back(integer("leaf", "teeth", "0", 0, 10000, "", "teeth along the margin (0 = entire margin)"));
+  f.push_back(num("leaf", "tooth_depth", "0.02", 0, 1, false, "leaf lengths", "height of the teeth"));
+  f.push_back(text("leaf", "file", "(none)", "outline file (one 'x y' per line, closed; relative to the script) instead of a shape"));
+  f.push_back(integer("leaf", "seeds", "1", 1, 10000, "", "initial vein nodes spread along the base (several: grass-like parallel veins)"));
+  f.push_back(num("leaf", "seed_spread", "0.3", 0, 10, false, "leaf lengths", "width of the base the seeds are spread over"));
+  f.push_back(choice("colonisation", "type", Kind::choice, "open", "open|closed", "open: trees; closed: veins join into loops"));
+  f.push_back(choice("colonisation", "neighbourhood", Kind::choice, "exact", "exact|urquhart", "closed: relative neighbourhood (Eq. 2) or its Urquhart approximation"));
+  f.push_back(num("colonisation", "kill_distance", "1", 0, kInf, true, "vein segments", "d_k: a vein node this close reaches (open: removes) a source"));
+  f.push_back(num("colonisation", "birth_distance", "10", 0, kInf, true, "vein segments", "b_s: new sources keep this far from every source"));
+  f.push_back(num("colonisation", "vein_birth_distance", "0", 0, kInf, false, "vein segments", "b_v: new sources keep this far from every vein node; 0 = birth_distance"));
+  f.push_back(num("colonisation", "darts", "200", 0, kInf, true, "per 10^6 unit^2 per step", "rho x 10^6 of Table 1: darts per unit area per step"));
+  f.push_back(choice("colonisation", "growth", Kind::choice, "marginal", "none|marginal|isogonic", "how the blade grows"));
+  f.push_back(num("colonisation", "initial_length", "270", 0, kInf, true, "vein segments", "L_i: leaf length at the start"));
+  f.push_back(num("colonisation", "final_length", "1600", 0, kInf, true, "vein segments", "L_f: growth stops at this length"));
+  f.push_back(num("colonisation", "length_step", "8", 0, kInf, false, "vein segments per step", "Delta L: growth per step"));
+  f.push_back(integer("colonisation", "max_steps", "100000", 1, 1e9, "steps", "stop after this many steps"));
+  f.push_back(integer("colonisation", "max_nodes", "2000000", 1, 1e9, "nodes", "stop at this many vein nodes"));
+  f.push_back(num("colonisation", "murray_exponent", "2", 1, 4, false, "", "n of r_parent^n = sum r_child^n (Table 1: 2)"));
+  f.push_back(num("colonisation", "tip_radius", "0.15", 0, kInf, true, "vein segments", "radius of a free vein end"));
+
   // print{}
   f.push_back(boolean("print", "veins", "true", "veins become solid tapered members with their Murray radii"));
   f.push_back(boolean("print", "shell", "false", "the cell sheet becomes a shell of shell_thickness"));

@@ -272,7 +272,7 @@ struct ScriptHost::Impl {
       case Kind::vec3:
         if (!parse_vec(text, v.vec)) throw fail();
         break;
-      case Kind::text:
+      case Kind::text: v.str = text == "(none)" ? std::string() : text; break;  // an optional text
       case Kind::choice:
       case Kind::choice_or_function: v.str = text; break;
       case Kind::function:
@@ -490,6 +490,73 @@ void section_venation(Impl& I, const std::string& at) {
   I.cfg->scene.venation = p;
 }
 
+void section_leaf(Impl& I, const std::string& at) {
+  I.once("leaf", at);
+  Values v = I.read_section("leaf", 1, at, &I.cfg->resolved["leaf"]);
+  if (!I.cfg->colonisation) I.cfg->colonisation.emplace();
+  venation::Leaf& leaf = I.cfg->colonisation->leaf;
+  try {
+    if (!v["file"].str.empty()) {
+      std::filesystem::path file = v["file"].str;
+      if (file.is_relative()) file = I.script_dir / file;
+      leaf.outline = venation::read_outline(file);
+    } else {
+      venation::ShapeParams sp;
+      const std::string k = v["shape"].str;
+      sp.kind = k == "ellipse" ? venation::ShapeKind::ellipse
+                : k == "cordate" ? venation::ShapeKind::cordate
+                : k == "lobed" ? venation::ShapeKind::lobed
+                : k == "palmate" ? venation::ShapeKind::palmate
+                                 : venation::ShapeKind::ovate;
+      sp.length = 1;
+      sp.width = v["width"].num;
+      sp.lobes = static_cast<int>(v["lobes"].num);
+      sp.lobe_depth = v["lobe_depth"].num;
+      if (v["teeth"].num > 0) sp.teeth.push_back({v["tooth_depth"].num, static_cast<int>(v["teeth"].num)});
+      leaf.outline = venation::make_outline(sp);
+    }
+    const int seeds = static_cast<int>(v["seeds"].num);
+    leaf.initial_nodes.clear();
+    for (int i = 0; i < seeds && seeds > 1; ++i) {
+      const double spread = v["seed_spread"].num;
+      leaf.initial_nodes.push_back(venation::Vec2(-spread / 2 + spread * i / (seeds - 1), 0.001));
+    }
+    venation::validate(leaf);
+  } catch (const std::exception& e) {
+    throw InvalidInput(at + "leaf: " + e.what());
+  }
+}
+
+void section_colonisation(Impl& I, const std::string& at) {
+  I.once("colonisation", at);
+  Values v = I.read_section("colonisation", 1, at, &I.cfg->resolved["colonisation"]);
+  if (!I.cfg->colonisation) I.cfg->colonisation.emplace();
+  venation::ColonisationParams& p = I.cfg->colonisation->params;
+  p.type = v["type"].str == "closed" ? venation::VenationType::closed : venation::VenationType::open;
+  p.neighbourhood = v["neighbourhood"].str == "urquhart" ? venation::Neighbourhood::urquhart : venation::Neighbourhood::exact;
+  p.kill_distance = v["kill_distance"].num;
+  p.source_birth_distance = v["birth_distance"].num;
+  p.vein_birth_distance = v["vein_birth_distance"].num > 0 ? v["vein_birth_distance"].num : v["birth_distance"].num;
+  p.node_distance = 1;
+  p.darts_per_area = v["darts"].num * 1e-6;
+  const std::string g = v["growth"].str;
+  p.growth = g == "none" ? venation::GrowthMode::none
+             : g == "isogonic" ? venation::GrowthMode::uniform
+                               : venation::GrowthMode::marginal;
+  p.initial_scale = v["initial_length"].num;
+  p.final_scale = g == "none" ? p.initial_scale : v["final_length"].num;
+  p.scale_step = g == "none" ? 0 : v["length_step"].num;
+  p.max_steps = static_cast<std::size_t>(v["max_steps"].num);
+  p.max_nodes = static_cast<std::size_t>(v["max_nodes"].num);
+  I.cfg->colonisation->widths.exponent = v["murray_exponent"].num;
+  I.cfg->colonisation->widths.tip_radius = v["tip_radius"].num;
+  try {
+    venation::validate(p);
+  } catch (const std::exception& e) {
+    throw InvalidInput(at + e.what());
+  }
+}
+
 void section_print(Impl& I, const std::string& at) {
   I.once("print", at);
   Values v = I.read_section("print", 1, at, &I.cfg->resolved["print"]);
@@ -588,6 +655,8 @@ int api_section(lua_State* L) {
       else if (section == "output") section_output(I, at);
       else if (section == "venation") section_venation(I, at);
       else if (section == "print") section_print(I, at);
+      else if (section == "leaf") section_leaf(I, at);
+      else if (section == "colonisation") section_colonisation(I, at);
       else if (section == "disc" || section == "rectangle" || section == "sphere" || section == "line" ||
                section == "cell" || section == "petiole")
         section_shape(I, section, at);
@@ -688,7 +757,7 @@ namespace cellform::app {
 
 namespace {
 
-const char* const kSections[] = {"run",  "cells", "division", "output", "venation", "print", "disc", "rectangle", "sphere", "line", "cell",
+const char* const kSections[] = {"run",  "cells", "division", "output", "venation", "print", "leaf", "colonisation", "disc", "rectangle", "sphere", "line", "cell",
                                  "petiole", "ground", "half_space", "ball", "box", "mesh", "attractor"};
 
 Vec3 unit_or(const Vec3& n, const Vec3& fallback) { return n.norm() > 0 ? Vec3(n.normalized()) : fallback; }
@@ -842,7 +911,16 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
                                        (near.empty() ? "" : "; did you mean '" + near + "'?")));
   }
   build_shapes(I);
-  if (cfg.print && cfg.print->veins && !cfg.print->shell && !cfg.scene.venation)
+  if (cfg.colonisation && !I.sections_seen.count("colonisation"))
+    throw InvalidInput(I.sections_seen["leaf"] + "leaf{...} needs colonisation{...} to grow veins in it");
+  if (cfg.colonisation && !I.sections_seen.count("leaf")) {  // the default blade
+    lua_settop(L, 0);
+    section_leaf(I, I.script_name + ": ");
+  }
+  if (cfg.colonisation && (!cfg.initial_cells.empty() || I.sections_seen.count("venation")))
+    throw InvalidInput(I.sections_seen["colonisation"] +
+                       "colonisation{...} grows veins in a leaf{...} outline; it cannot be combined with cells or venation{...}");
+  if (cfg.print && cfg.print->veins && !cfg.print->shell && !cfg.scene.venation && !cfg.colonisation)
     throw InvalidInput(I.sections_seen["print"] + "print{veins = true} needs veins: add venation{...}, or print the sheet with shell = true");
   return cfg;
 }

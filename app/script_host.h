@@ -14,6 +14,8 @@
 
 #include "cells/simulation.h"
 #include "forms/scene.h"
+#include "venation/colonisation.h"
+#include "venation/leaf_shape.h"
 
 struct lua_State;
 
@@ -40,6 +42,13 @@ struct OutputSpec {
   std::uint64_t checkpoint_every = 1000;///< checkpoint interval in steps (0 = only at the end)
 };
 
+/// Space colonisation requested by leaf{...} and colonisation{...}.
+struct ColonisationSpec {
+  venation::Leaf leaf;
+  venation::ColonisationParams params;
+  venation::WidthParams widths;
+};
+
 /// A printable solid requested by print{...}.
 struct PrintSpec {
   bool veins = true;
@@ -64,6 +73,7 @@ struct SceneConfig {
   std::uint64_t seed = 1;
   OutputSpec output;
   std::optional<PrintSpec> print;
+  std::optional<ColonisationSpec> colonisation;  ///< set: the run grows veins by space colonisation, not cells
   nlohmann::json resolved = nlohmann::json::object();  ///< every resolved parameter, by section
 };
 

@@ -187,3 +187,21 @@ TEST_CASE("docs/scripting.md documents every parameter as the program knows it",
   // the reference tables are `cellform params` output pasted verbatim; regenerate them when this fails
   CHECK_THAT(s.str(), Contains(cellform::app::schema_markdown()));
 }
+
+TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[script][colonisation]") {
+  const auto cfg = load("leaf { shape = 'ellipse', teeth = 8 }\n"
+                        "colonisation { type = 'closed', neighbourhood = 'urquhart', darts = 500, growth = 'none',\n"
+                        "               initial_length = 40 }\n");
+  REQUIRE(cfg.colonisation);
+  CHECK(cfg.colonisation->params.type == cellform::venation::VenationType::closed);
+  CHECK(cfg.colonisation->params.neighbourhood == cellform::venation::Neighbourhood::urquhart);
+  CHECK(cfg.colonisation->params.darts_per_area == Approx(500e-6));
+  CHECK(cfg.colonisation->params.initial_scale == 40);
+  CHECK(cfg.colonisation->params.final_scale == 40);  // no growth
+  CHECK(cfg.colonisation->leaf.outline.points.size() > 16);
+  CHECK_THAT(load_error("leaf {}\ndisc { radius = 2 }\n"), Contains("needs colonisation{...}"));
+  CHECK_THAT(load_error("colonisation {}\ndisc { radius = 2 }\n"), Contains("cannot be combined"));
+  CHECK_THAT(load_error("leaf { file = 'nothere.txt' }\ncolonisation {}\n"), Contains("nothere.txt"));
+  CHECK_THAT(load_error("colonisation { kill_distance = 0.2 }\n"), Contains("kill_distance"));
+  CHECK_THAT(load_error("leaf { shape = 'ovat' }\ncolonisation {}\n"), Contains("did you mean \"ovate\""));
+}
