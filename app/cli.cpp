@@ -86,7 +86,8 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       bool json = false;
       std::vector<std::string> files;
       for (std::size_t i = 1; i < args.size(); ++i) {
-        if (args[i] == "--json") json = true;
+        if (args[i] == "--json")
+          json = true;
         else if (args[i] == "-h" || args[i] == "--help") {
           out << "usage: cellform check FILE [--json]\n"
                  "Reports triangles, vertices, parts, holes (boundary edges), non-manifold edges and vertices,\n"
@@ -94,8 +95,10 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
                  "Exit code 0: printable (watertight, 2-manifold, oriented outward, no self-intersections);\n"
                  "1: not printable; 2: the file cannot be read.\n";
           return ok;
-        } else if (!args[i].empty() && args[i][0] == '-') throw UsageError("unknown option '" + args[i] + "' for check");
-        else files.push_back(args[i]);
+        } else if (!args[i].empty() && args[i][0] == '-')
+          throw UsageError("unknown option '" + args[i] + "' for check");
+        else
+          files.push_back(args[i]);
       }
       if (files.size() != 1) throw UsageError("cellform check takes one FILE (see cellform check --help)");
       return check_command(files[0], json, out, err);
@@ -152,8 +155,10 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
     if (positional.size() != 1)
       throw UsageError(cmd == "run" ? "cellform run takes one SCRIPT (see cellform run --help)"
                                     : "cellform resume takes one CHECKPOINT (see cellform run --help)");
-    if (cmd == "run") o.script = positional[0];
-    else o.checkpoint = positional[0];
+    if (cmd == "run")
+      o.script = positional[0];
+    else
+      o.checkpoint = positional[0];
     return run_command(o, out, err);
   } catch (const UsageError& e) {
     err << "cellform: " << e.what() << "\n";

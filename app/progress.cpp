@@ -11,9 +11,12 @@ namespace {
 std::string duration(double s) {
   char buf[32];
   if (!std::isfinite(s) || s < 0) return "?";
-  if (s < 60) std::snprintf(buf, sizeof buf, "%.0fs", s);
-  else if (s < 3600) std::snprintf(buf, sizeof buf, "%dm%02ds", static_cast<int>(s) / 60, static_cast<int>(s) % 60);
-  else std::snprintf(buf, sizeof buf, "%dh%02dm", static_cast<int>(s) / 3600, static_cast<int>(s) / 60 % 60);
+  if (s < 60)
+    std::snprintf(buf, sizeof buf, "%.0fs", s);
+  else if (s < 3600)
+    std::snprintf(buf, sizeof buf, "%dm%02ds", static_cast<int>(s) / 60, static_cast<int>(s) % 60);
+  else
+    std::snprintf(buf, sizeof buf, "%dh%02dm", static_cast<int>(s) / 3600, static_cast<int>(s) / 60 % 60);
   return buf;
 }
 }  // namespace
@@ -46,8 +49,8 @@ void Progress::update(std::uint64_t step, std::size_t cells) {
     out_ << buf << std::flush;
   } else {
     std::snprintf(buf, sizeof buf, "step %llu/%llu (%.0f%%), %zu cells, %.1f steps/s, %s left\n",
-                  static_cast<unsigned long long>(step), static_cast<unsigned long long>(last_), 100 * frac, cells, rate,
-                  duration(left).c_str());
+                  static_cast<unsigned long long>(step), static_cast<unsigned long long>(last_), 100 * frac, cells,
+                  rate, duration(left).c_str());
     out_ << buf << std::flush;
   }
   printed_ = true;

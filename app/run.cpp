@@ -63,8 +63,8 @@ Start start_from(const RunOptions& o) {
   try {
     if (!o.checkpoint.empty()) {
       const std::string what = "checkpoint '" + o.checkpoint.string() + "'";
-      const core::ChunkFile f = core::read_chunk_file(core::read_file(o.checkpoint), kCheckpointKind,
-                                                      kCheckpointVersion, what);
+      const core::ChunkFile f =
+          core::read_chunk_file(core::read_file(o.checkpoint), kCheckpointKind, kCheckpointVersion, what);
       json meta;
       try {
         meta = json::parse(f.at("meta", what));
@@ -110,17 +110,18 @@ std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t t
                {"target_steps", target},
                {"step", scene.simulation().step_count()},
                {"out", s.out_dir.string()}};
-  return core::write_chunk_file(kCheckpointKind, kCheckpointVersion,
-                                {{"meta", meta.dump()}, {"script", s.source}, {"cells", cells::save(scene.simulation().cells())}});
+  return core::write_chunk_file(
+      kCheckpointKind, kCheckpointVersion,
+      {{"meta", meta.dump()}, {"script", s.source}, {"cells", cells::save(scene.simulation().cells())}});
 }
 
 void write_checkpoint(const fs::path& path, const std::string& bytes) {
-  core::write_file_atomically(path, [&](std::ostream& os) { os.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); });
+  core::write_file_atomically(
+      path, [&](std::ostream& os) { os.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); });
 }
 
 /// Writes the cell outputs of the current state into `dir`; returns their names.
-std::vector<std::string> write_outputs(const fs::path& dir, const OutputSpec& spec, const cells::Cells& c,
-                                       bool veins) {
+std::vector<std::string> write_outputs(const fs::path& dir, const OutputSpec& spec, const cells::Cells& c, bool veins) {
   std::vector<std::string> names;
   if (veins) {
     const venation::VeinGraph g = venation::vein_graph(c);
@@ -164,8 +165,10 @@ json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Ce
   std::vector<std::array<core::Vec3, 3>> shell;
   if (spec.shell) shell = exporters::shell_triangles(c, cells::triangulate(c));
   if (segments.empty() && shell.empty())
-    throw core::InvalidInput("print: nothing to print yet (no vein has grown; run longer, lower venation.threshold, or use shell = true)");
-  if (!quiet) err << "thickening " << segments.size() << " vein segments" << (spec.shell ? " and the cell sheet" : "") << "...\n";
+    throw core::InvalidInput(
+        "print: nothing to print yet (no vein has grown; run longer, lower venation.threshold, or use shell = true)");
+  if (!quiet)
+    err << "thickening " << segments.size() << " vein segments" << (spec.shell ? " and the cell sheet" : "") << "...\n";
   exporters::ThickenReport rep;
   const exporters::LevelSet level_set = exporters::voxelise(segments, shell, tp, &rep);
   const exporters::PrintableMesh mesh = exporters::mesh_level_set(level_set, tp, &rep);
@@ -176,14 +179,23 @@ json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Ce
     err << "cellform: warning: the printable form has " << rep.pieces << " separate parts\n";
   for (const std::string& f : spec.formats) {
     const std::string name = "printable." + f;
-    if (f == "vdb") exporters::write_vdb(dir / name, level_set);
-    else exporters::write_mesh(dir / name, mesh);
+    if (f == "vdb")
+      exporters::write_vdb(dir / name, level_set);
+    else
+      exporters::write_mesh(dir / name, mesh);
     names.push_back(name);
   }
-  return {{"scale_mm_per_unit", rep.scale}, {"voxel_size_mm", rep.voxel_size},   {"segments", rep.segments},
-          {"shell_triangles", rep.shell_triangles}, {"raised_radii", rep.raised_radii}, {"triangles", rep.triangles},
-          {"parts", rep.pieces}, {"cavities", rep.cavities}, {"filled_cavities", rep.filled_cavities},
-          {"volume_mm3", rep.volume}, {"area_mm2", rep.area},
+  return {{"scale_mm_per_unit", rep.scale},
+          {"voxel_size_mm", rep.voxel_size},
+          {"segments", rep.segments},
+          {"shell_triangles", rep.shell_triangles},
+          {"raised_radii", rep.raised_radii},
+          {"triangles", rep.triangles},
+          {"parts", rep.pieces},
+          {"cavities", rep.cavities},
+          {"filled_cavities", rep.filled_cavities},
+          {"volume_mm3", rep.volume},
+          {"area_mm2", rep.area},
           {"seconds", rep.voxelise_seconds + rep.mesh_seconds}};
 }
 
@@ -238,7 +250,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std:
   int code = ok;
   try {
     venation::Colonisation col(spec.leaf, spec.params);
-    if (!o.quiet) err << "growing veins by space colonisation in " << s.script_path.string() << " (seed " << seed << ")\n";
+    if (!o.quiet)
+      err << "growing veins by space colonisation in " << s.script_path.string() << " (seed " << seed << ")\n";
     const auto a = std::chrono::steady_clock::now();
     std::size_t last_print = 0;
     while (!col.done()) {
@@ -282,12 +295,17 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std:
         const exporters::PrintableMesh mesh = exporters::mesh_level_set(ls, tp, &tr);
         for (const std::string& f : cfg.print->formats) {
           const std::string name = "printable." + f;
-          if (f == "vdb") exporters::write_vdb(staging / name, ls);
-          else exporters::write_mesh(staging / name, mesh);
+          if (f == "vdb")
+            exporters::write_vdb(staging / name, ls);
+          else
+            exporters::write_mesh(staging / name, mesh);
           outputs.push_back(name);
         }
-        printed = {{"scale_mm_per_unit", tr.scale}, {"triangles", tr.triangles}, {"parts", tr.pieces},
-                   {"cavities", tr.cavities}, {"volume_mm3", tr.volume}};
+        printed = {{"scale_mm_per_unit", tr.scale},
+                   {"triangles", tr.triangles},
+                   {"parts", tr.pieces},
+                   {"cavities", tr.cavities},
+                   {"volume_mm3", tr.volume}};
       } catch (const std::exception& e) {
         err << "cellform: " << e.what() << "\n";
         printed = {{"error", e.what()}};
@@ -298,18 +316,27 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std:
                 {"version", version()},
                 {"command", "run"},
                 {"mode", "colonisation"},
-                {"script", {{"path", s.script_path.string()},
-                            {"hash", "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size()))}}},
+                {"script",
+                 {{"path", s.script_path.string()},
+                  {"hash", "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size()))}}},
                 {"seed", seed},
                 {"threads", o.threads},
-                {"status", code == interrupted ? "interrupted" : rep.finished ? "complete" : rep.stalled ? "stalled" : "stopped"},
+                {"status", code == interrupted ? "interrupted"
+                           : rep.finished      ? "complete"
+                           : rep.stalled       ? "stalled"
+                                               : "stopped"},
                 {"steps", {{"completed", rep.steps}}},
-                {"veins", {{"nodes", rep.nodes}, {"loops", rep.loops}, {"sources_left", rep.sources},
-                           {"sources_born", rep.sources_born}, {"leaf_length", rep.scale}}},
+                {"veins",
+                 {{"nodes", rep.nodes},
+                  {"loops", rep.loops},
+                  {"sources_left", rep.sources},
+                  {"sources_born", rep.sources_born},
+                  {"leaf_length", rep.scale}}},
                 {"overrides", s.sets},
                 {"parameters", cfg.resolved},
-                {"timings", {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
-                             {"simulation_s", seconds}}}};
+                {"timings",
+                 {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
+                  {"simulation_s", seconds}}}};
     if (cfg.print) run["print"] = printed;
     outputs.push_back("run.json");
     run["outputs"] = outputs;
@@ -317,7 +344,10 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std:
     commit_outputs(staging, dir, outputs);
     std::ostream& where = code == ok ? out : err;
     if (!o.quiet || code != ok)
-      where << (code == interrupted ? "interrupted" : rep.finished ? "done" : rep.stalled ? "done (stalled: some sources can no longer be reached)" : "stopped at max_steps")
+      where << (code == interrupted ? "interrupted"
+                : rep.finished      ? "done"
+                : rep.stalled       ? "done (stalled: some sources can no longer be reached)"
+                                    : "stopped at max_steps")
             << ": " << rep.steps << " steps, " << rep.nodes << " vein nodes, " << rep.loops << " loops; outputs in "
             << dir.string() << "/\n";
     return code;
@@ -364,7 +394,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       if (cfg.initial_cells.empty() && cfg.scene.petioles.empty())
         throw core::InvalidInput(s.script_path.string() +
                                  ": the script places no cells; start with a shape such as disc{radius = 3}");
-      for (const InitialCell& c : cfg.initial_cells) cells::add_cell(sim.cells(), c.position, cells::CellType::general, c.fixed);
+      for (const InitialCell& c : cfg.initial_cells)
+        cells::add_cell(sim.cells(), c.position, cells::CellType::general, c.fixed);
       scene->start();
     }
     const cells::Rules rules = host.rules();
@@ -441,7 +472,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     }
     progress.finish();
     const auto b = std::chrono::steady_clock::now();
-    for (const std::string& n : write_outputs(staging, cfg.output, sim.cells(), cfg.scene.venation.has_value())) outputs.push_back(n);
+    for (const std::string& n : write_outputs(staging, cfg.output, sim.cells(), cfg.scene.venation.has_value()))
+      outputs.push_back(n);
     write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
     json printed;
     if (cfg.print) {
@@ -450,8 +482,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                                   err, o.quiet);
         if (!o.quiet)
           err << "printable solid: " << printed["triangles"] << " triangles, " << printed["parts"] << " part(s), "
-              << printed["cavities"] << " closed cavities, scale "
-              << printed["scale_mm_per_unit"] << " mm per model unit\n";
+              << printed["cavities"] << " closed cavities, scale " << printed["scale_mm_per_unit"]
+              << " mm per model unit\n";
       } catch (const std::exception& e) {
         err << "cellform: " << e.what() << "\n  (the other outputs and the checkpoint are written)\n";
         printed = {{"error", e.what()}};
@@ -464,22 +496,25 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     json run = {{"program", "cellform"},
                 {"version", version()},
                 {"command", s.resume ? "resume" : "run"},
-                {"script", {{"path", s.script_path.string()},
-                            {"hash", "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size()))}}},
+                {"script",
+                 {{"path", s.script_path.string()},
+                  {"hash", "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size()))}}},
                 {"seed", seed},
                 {"threads", o.threads},
                 {"status", status},
                 {"steps", {{"first", first}, {"completed", sim.step_count()}, {"target", target}}},
                 {"cells", {{"initial", initial_cells}, {"final", sim.cells().size()}}},
-                {"veins", {{"vein_cells", scene->venation_report().vein_cells},
-                           {"petiole_inflow", scene->venation_report().petiole_inflow},
-                           {"unconnected_cells", scene->venation_report().unconnected}}},
+                {"veins",
+                 {{"vein_cells", scene->venation_report().vein_cells},
+                  {"petiole_inflow", scene->venation_report().petiole_inflow},
+                  {"unconnected_cells", scene->venation_report().unconnected}}},
                 {"overrides", s.sets},
                 {"parameters", cfg.resolved},
-                {"timings", {{"total_s", total},
-                             {"simulation_s", sim_seconds},
-                             {"output_s", output_seconds},
-                             {"steps_per_s", sim_seconds > 0 ? static_cast<double>(done) / sim_seconds : 0.0}}},
+                {"timings",
+                 {{"total_s", total},
+                  {"simulation_s", sim_seconds},
+                  {"output_s", output_seconds},
+                  {"steps_per_s", sim_seconds > 0 ? static_cast<double>(done) / sim_seconds : 0.0}}},
                 {"checkpoint", kCheckpointName}};
     if (cfg.print) run["print"] = printed;
     outputs.push_back("run.json");
@@ -490,8 +525,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       std::ostream& where = code == ok ? out : err;
       where << (code == interrupted ? "interrupted at step " : "done: step ") << sim.step_count() << ", "
             << sim.cells().size() << " cells; outputs in " << dir.string() << "/\n";
-      if (code == interrupted)
-        err << "continue with: cellform resume " << checkpoint.string() << "\n";
+      if (code == interrupted) err << "continue with: cellform resume " << checkpoint.string() << "\n";
     }
     return code;
   } catch (const core::InvalidInput& e) {

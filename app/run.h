@@ -14,13 +14,13 @@ namespace cellform::app {
 
 /// Options of one run, as the command line gives them.
 struct RunOptions {
-  std::filesystem::path script;               ///< the growth script (run)
-  std::filesystem::path checkpoint;           ///< the checkpoint to continue (resume)
-  std::optional<std::filesystem::path> out;   ///< output directory (default out/<script name>/)
-  std::optional<std::uint64_t> seed;          ///< overrides run.seed
-  std::optional<std::uint64_t> steps;         ///< overrides run.steps (resume: the total to reach)
-  int threads = 0;                            ///< 0 = all cores
-  Overrides sets;                             ///< --set key=value
+  std::filesystem::path script;              ///< the growth script (run)
+  std::filesystem::path checkpoint;          ///< the checkpoint to continue (resume)
+  std::optional<std::filesystem::path> out;  ///< output directory (default out/<script name>/)
+  std::optional<std::uint64_t> seed;         ///< overrides run.seed
+  std::optional<std::uint64_t> steps;        ///< overrides run.steps (resume: the total to reach)
+  int threads = 0;                           ///< 0 = all cores
+  Overrides sets;                            ///< --set key=value
   bool quiet = false;
   ScriptLimits limits;
   std::optional<std::uint64_t> checkpoint_every;  ///< overrides output.checkpoint_every

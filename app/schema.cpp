@@ -37,30 +37,43 @@ std::vector<Field> build() {
   f.push_back(integer("run", "seed", "1", 0, 9.2e18, "", "seed of every random choice (--seed overrides)"));
 
   // cells{}
-  f.push_back(num("cells", "rest_length", "1", 0, kInf, true, "model units", "d of Eq. 2: target distance between linked cells"));
-  f.push_back(integer("cells", "neighbours", "6", 3, 32, "cells", "k: links per cell, the k nearest (dynamic neighbourhood)"));
+  f.push_back(num("cells", "rest_length", "1", 0, kInf, true, "model units",
+                  "d of Eq. 2: target distance between linked cells"));
+  f.push_back(
+      integer("cells", "neighbours", "6", 3, 32, "cells", "k: links per cell, the k nearest (dynamic neighbourhood)"));
   f.push_back(num("cells", "link_range", "1.5", 0, 1e6, false, "rest lengths",
                   "links only reach cells this close (0 = no limit: rims then pull inward)"));
   f.push_back(choice("cells", "integrator", Kind::choice, "velocity_acceleration", "velocity|velocity_acceleration",
                      "velocity-only or velocity-acceleration model"));
-  f.push_back(num("cells", "time_step", "0.1", 0, kInf, true, "time units", "integration step; too large is refused as unstable"));
+  f.push_back(num("cells", "time_step", "0.1", 0, kInf, true, "time units",
+                  "integration step; too large is refused as unstable"));
   f.push_back(num("cells", "spring", "1", 0, kInf, false, "1/time^2", "weight of the spring force (Eq. 2)"));
-  f.push_back(num("cells", "planar", "0.5", 0, kInf, false, "1/time^2", "weight of planarisation towards the plane of the 3 closest (Eq. 3)"));
-  f.push_back(num("cells", "cohesion", "0", 0, kInf, false, "units^2/time^2", "weight of cohesion to the neighbours (Eq. 4)"));
-  f.push_back(num("cells", "separation", "0", 0, kInf, false, "units^2/time^2", "weight of separation from neighbours of neighbours (Eq. 5)"));
-  f.push_back(vec("cells", "unary", "{0, 0, 0}", -kInf, kInf, "units/time^2", "constant acceleration, e.g. gravity {0,0,-g} or reverse gravity (Eq. 6)"));
-  f.push_back(vec("cells", "drag", "{0.9, 0.9, 0.9}", 0, 1, "factor per step", "velocity factors a, b, c per axis (Eq. 7); 1 = no drag"));
-  f.push_back(num("cells", "vein_cohesion", "4", 0, kInf, false, "factor", "factor on the vein cells' cohesion towards their vein parent and children (straightening)"));
-  f.push_back(num("cells", "vein_separation", "4", 0, kInf, false, "factor", "factor on the vein cells' separation from their grandparent and grandchildren (straightening)"));
+  f.push_back(num("cells", "planar", "0.5", 0, kInf, false, "1/time^2",
+                  "weight of planarisation towards the plane of the 3 closest (Eq. 3)"));
+  f.push_back(
+      num("cells", "cohesion", "0", 0, kInf, false, "units^2/time^2", "weight of cohesion to the neighbours (Eq. 4)"));
+  f.push_back(num("cells", "separation", "0", 0, kInf, false, "units^2/time^2",
+                  "weight of separation from neighbours of neighbours (Eq. 5)"));
+  f.push_back(vec("cells", "unary", "{0, 0, 0}", -kInf, kInf, "units/time^2",
+                  "constant acceleration, e.g. gravity {0,0,-g} or reverse gravity (Eq. 6)"));
+  f.push_back(vec("cells", "drag", "{0.9, 0.9, 0.9}", 0, 1, "factor per step",
+                  "velocity factors a, b, c per axis (Eq. 7); 1 = no drag"));
+  f.push_back(num("cells", "vein_cohesion", "4", 0, kInf, false, "factor",
+                  "factor on the vein cells' cohesion towards their vein parent and children (straightening)"));
+  f.push_back(num("cells", "vein_separation", "4", 0, kInf, false, "factor",
+                  "factor on the vein cells' separation from their grandparent and grandchildren (straightening)"));
   f.push_back(num("cells", "max_speed", "1e6", 0, kInf, true, "units/time", "a faster cell stops the run as diverged"));
-  f.push_back(Field{"cells", "petiole", Kind::table, "{}", 0, 0, false, "", "", "force weights of petiole cells: {spring=, planar=, cohesion=, separation=}"});
-  f.push_back(Field{"cells", "vein", Kind::table, "{}", 0, 0, false, "", "", "force weights of vein cells: {spring=, planar=, cohesion=, separation=}"});
+  f.push_back(Field{"cells", "petiole", Kind::table, "{}", 0, 0, false, "", "",
+                    "force weights of petiole cells: {spring=, planar=, cohesion=, separation=}"});
+  f.push_back(Field{"cells", "vein", Kind::table, "{}", 0, 0, false, "", "",
+                    "force weights of vein cells: {spring=, planar=, cohesion=, separation=}"});
 
   // per-type weights (cells{petiole = {...}}, cells{vein = {...}}); defaults are the general weights
   for (const char* s : {"cells.petiole", "cells.vein"}) {
     const bool vein = std::string(s) == "cells.vein";
     f.push_back(num(s, "spring", "cells.spring", 0, kInf, false, "1/time^2", "spring weight for this cell type"));
-    f.push_back(num(s, "planar", "cells.planar", 0, kInf, false, "1/time^2", "planarisation weight for this cell type"));
+    f.push_back(
+        num(s, "planar", "cells.planar", 0, kInf, false, "1/time^2", "planarisation weight for this cell type"));
     f.push_back(num(s, "cohesion", vein ? "0.05" : "cells.cohesion", 0, kInf, false, "units^2/time^2",
                     vein ? "cohesion weight of vein cells; times vein_cohesion towards their vein parent and children"
                          : "cohesion weight for this cell type"));
@@ -73,20 +86,28 @@ std::vector<Field> build() {
   f.push_back(choice("division", "trigger", Kind::choice, "age", "none|age|neighbours",
                      "what makes a cell divide: its age, or few neighbours nearby (marginal growth)"));
   f.push_back(integer("division", "age", "20", 1, 1e9, "steps", "trigger = age: steps between divisions of a cell"));
-  f.push_back(num("division", "radius", "1.5", 0, kInf, true, "model units", "trigger = neighbours: radius in which neighbours are counted"));
-  f.push_back(integer("division", "min_neighbours", "6", 1, 1000, "cells", "trigger = neighbours: divide when fewer cells than this are within radius"));
-  f.push_back(integer("division", "min_age", "5", 0, 1e9, "steps", "a cell waits this long after its birth or division"));
-  f.push_back(num("division", "probability", "1", 0, 1, true, "0..1", "chance that a triggered cell divides this step (seeded)"));
-  f.push_back(choice("division", "direction", Kind::choice_or_function, "random", "random|tangent|axis|radial|circumferential|auxin",
-                     "split direction (tangent: random within the sheet; auxin: along the local auxin flow); or function(cell) returning {x, y, z}"));
+  f.push_back(num("division", "radius", "1.5", 0, kInf, true, "model units",
+                  "trigger = neighbours: radius in which neighbours are counted"));
+  f.push_back(integer("division", "min_neighbours", "6", 1, 1000, "cells",
+                      "trigger = neighbours: divide when fewer cells than this are within radius"));
+  f.push_back(
+      integer("division", "min_age", "5", 0, 1e9, "steps", "a cell waits this long after its birth or division"));
+  f.push_back(num("division", "probability", "1", 0, 1, true, "0..1",
+                  "chance that a triggered cell divides this step (seeded)"));
+  f.push_back(choice("division", "direction", Kind::choice_or_function, "random",
+                     "random|tangent|axis|radial|circumferential|auxin",
+                     "split direction (tangent: random within the sheet; auxin: along the local auxin flow); or "
+                     "function(cell) returning {x, y, z}"));
   f.push_back(vec("division", "axis", "{1, 0, 0}", -kInf, kInf, "direction", "split axis (axis, circumferential)"));
-  f.push_back(vec("division", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "field centre (radial, circumferential)"));
+  f.push_back(
+      vec("division", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "field centre (radial, circumferential)"));
   f.push_back(integer("division", "max_cells", "100000", 1, 5e7, "cells", "growth stops at this many cells"));
   f.push_back(Field{"division", "rule", Kind::function, "", 0, 0, false, "", "",
                     "function(cell) returning true when the cell divides; replaces the trigger"});
 
   // initial shapes
-  f.push_back(num("disc", "radius", "", 0, kInf, true, "model units", "cells on a hexagonal lattice inside this radius"));
+  f.push_back(
+      num("disc", "radius", "", 0, kInf, true, "model units", "cells on a hexagonal lattice inside this radius"));
   f.push_back(num("disc", "spacing", "cells.rest_length", 0, kInf, true, "model units", "lattice spacing"));
   f.push_back(vec("disc", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "centre of the disc"));
   f.push_back(vec("disc", "normal", "{0, 0, 1}", -kInf, kInf, "direction", "normal of the disc's plane"));
@@ -95,7 +116,8 @@ std::vector<Field> build() {
   f.push_back(num("rectangle", "spacing", "cells.rest_length", 0, kInf, true, "model units", "lattice spacing"));
   f.push_back(vec("rectangle", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "centre"));
   f.push_back(vec("rectangle", "normal", "{0, 0, 1}", -kInf, kInf, "direction", "normal of the plane"));
-  f.push_back(num("sphere", "radius", "", 0, kInf, true, "model units", "cells evenly spread on a sphere of this radius"));
+  f.push_back(
+      num("sphere", "radius", "", 0, kInf, true, "model units", "cells evenly spread on a sphere of this radius"));
   f.push_back(num("sphere", "spacing", "cells.rest_length", 0, kInf, true, "model units", "distance between cells"));
   f.push_back(vec("sphere", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "centre"));
   f.push_back(vec("line", "from", "", -kInf, kInf, "model units", "first cell"));
@@ -103,55 +125,78 @@ std::vector<Field> build() {
   f.push_back(num("line", "spacing", "cells.rest_length", 0, kInf, true, "model units", "distance between cells"));
   f.push_back(vec("cell", "at", "", -kInf, kInf, "model units", "one cell at this position"));
   f.push_back(boolean("cell", "fixed", "false", "a fixed (static) cell never moves"));
-  f.push_back(vec("petiole", "at", "{0, 0, 0}", -kInf, kInf, "model units", "the nearest cell becomes a petiole (a new one if none is near)"));
+  f.push_back(vec("petiole", "at", "{0, 0, 0}", -kInf, kInf, "model units",
+                  "the nearest cell becomes a petiole (a new one if none is near)"));
   f.push_back(boolean("petiole", "fixed", "true", "the petiole stays where it is"));
   f.push_back(integer("petiole", "step", "0", 0, 1e9, "steps", "when the petiole appears (0 = at the start)"));
 
   // venation{}
-  f.push_back(num("venation", "threshold", "40", 0, kInf, true, "auxin units", "flow a cell next to a vein must exceed to become a vein cell (about its upstream cells); sets vein spacing"));
-  f.push_back(Field{"venation", "source", Kind::number_or_function, "1", 0, kInf, false, "", "auxin per step", "auxin every cell produces; or function(cell) returning it"});
+  f.push_back(num(
+      "venation", "threshold", "40", 0, kInf, true, "auxin units",
+      "flow a cell next to a vein must exceed to become a vein cell (about its upstream cells); sets vein spacing"));
+  f.push_back(Field{"venation", "source", Kind::number_or_function, "1", 0, kInf, false, "", "auxin per step",
+                    "auxin every cell produces; or function(cell) returning it"});
   f.push_back(num("venation", "murray_exponent", "3", 1, 4, false, "", "n of Murray's law r_parent^n = sum r_child^n"));
-  f.push_back(num("venation", "radius_scale", "0.05", 0, kInf, true, "model units", "radius of a vein carrying unit flow: r = radius_scale * flow^(1/n)"));
+  f.push_back(num("venation", "radius_scale", "0.05", 0, kInf, true, "model units",
+                  "radius of a vein carrying unit flow: r = radius_scale * flow^(1/n)"));
   f.push_back(num("venation", "min_radius", "0.05", 0, kInf, false, "model units", "no vein is thinner"));
-  f.push_back(integer("venation", "every", "1", 1, 1e6, "steps", "run canalisation every this many steps (auxin is slower than mechanics)"));
+  f.push_back(integer("venation", "every", "1", 1, 1e6, "steps",
+                      "run canalisation every this many steps (auxin is slower than mechanics)"));
 
   // constraints
   f.push_back(num("ground", "height", "0", -kInf, kInf, false, "model units", "cells stay above the plane z = height"));
   f.push_back(vec("half_space", "point", "{0, 0, 0}", -kInf, kInf, "model units", "a point on the boundary plane"));
   f.push_back(vec("half_space", "normal", "{0, 0, 1}", -kInf, kInf, "direction", "cells stay on this side"));
-  f.push_back(vec("ball", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "centre of a solid ball cells stay out of"));
+  f.push_back(
+      vec("ball", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "centre of a solid ball cells stay out of"));
   f.push_back(num("ball", "radius", "", 0, kInf, true, "model units", "its radius"));
   f.push_back(vec("box", "min", "", -kInf, kInf, "model units", "lower corner of a solid box cells stay out of"));
   f.push_back(vec("box", "max", "", -kInf, kInf, "model units", "upper corner"));
   f.push_back(text("mesh", "file", "", "STL or OBJ triangle mesh cells cannot cross (path relative to the script)"));
   f.push_back(num("mesh", "scale", "1", 0, kInf, true, "factor", "scales the mesh's coordinates into model units"));
   f.push_back(vec("attractor", "position", "", -kInf, kInf, "model units", "point that pulls cells"));
-  f.push_back(num("attractor", "strength", "0.1", -kInf, kInf, false, "units/time^2", "acceleration towards it (negative repels)"));
+  f.push_back(num("attractor", "strength", "0.1", -kInf, kInf, false, "units/time^2",
+                  "acceleration towards it (negative repels)"));
   f.push_back(num("attractor", "radius", "0", 0, kInf, false, "model units", "range of influence; 0 = everywhere"));
 
   // leaf{} and colonisation{}: space-colonisation venation (Runions et al. 2005)
-  f.push_back(choice("leaf", "shape", Kind::choice, "ovate", "ellipse|ovate|cordate|lobed|palmate", "blade outline, petiole at the origin, tip along +y"));
+  f.push_back(choice("leaf", "shape", Kind::choice, "ovate", "ellipse|ovate|cordate|lobed|palmate",
+                     "blade outline, petiole at the origin, tip along +y"));
   f.push_back(num("leaf", "width", "0.6", 0, 10, true, "leaf lengths", "widest extent across the blade"));
   f.push_back(integer("leaf", "lobes", "5", 1, 100, "", "lobed: lobes per side; palmate: lobes in all"));
   f.push_back(num("leaf", "lobe_depth", "0.35", 0, 0.99, false, "fraction", "cut between lobes, of the radius"));
   f.push_back(integer("leaf", "teeth", "0", 0, 10000, "", "teeth along the margin (0 = entire margin)"));
   f.push_back(num("leaf", "tooth_depth", "0.02", 0, 1, false, "leaf lengths", "height of the teeth"));
-  f.push_back(text("leaf", "file", "(none)", "outline file (one 'x y' per line, closed; relative to the script) instead of a shape"));
-  f.push_back(integer("leaf", "seeds", "1", 1, 10000, "", "initial vein nodes spread along the base (several: grass-like parallel veins)"));
-  f.push_back(num("leaf", "seed_spread", "0.3", 0, 10, false, "leaf lengths", "width of the base the seeds are spread over"));
-  f.push_back(choice("colonisation", "type", Kind::choice, "open", "open|closed", "open: trees; closed: veins join into loops"));
-  f.push_back(choice("colonisation", "neighbourhood", Kind::choice, "exact", "exact|urquhart", "closed: relative neighbourhood (Eq. 2) or its Urquhart approximation"));
-  f.push_back(num("colonisation", "kill_distance", "1", 0, kInf, true, "vein segments", "d_k: a vein node this close reaches (open: removes) a source"));
-  f.push_back(num("colonisation", "birth_distance", "10", 0, kInf, true, "vein segments", "b_s: new sources keep this far from every source"));
-  f.push_back(num("colonisation", "vein_birth_distance", "0", 0, kInf, false, "vein segments", "b_v: new sources keep this far from every vein node; 0 = birth_distance"));
-  f.push_back(num("colonisation", "darts", "200", 0, kInf, true, "per 10^6 unit^2 per step", "rho x 10^6 of Table 1: darts per unit area per step"));
-  f.push_back(choice("colonisation", "growth", Kind::choice, "marginal", "none|marginal|isogonic", "how the blade grows"));
-  f.push_back(num("colonisation", "initial_length", "270", 0, kInf, true, "vein segments", "L_i: leaf length at the start"));
-  f.push_back(num("colonisation", "final_length", "1600", 0, kInf, true, "vein segments", "L_f: growth stops at this length"));
-  f.push_back(num("colonisation", "length_step", "8", 0, kInf, false, "vein segments per step", "Delta L: growth per step"));
+  f.push_back(text("leaf", "file", "(none)",
+                   "outline file (one 'x y' per line, closed; relative to the script) instead of a shape"));
+  f.push_back(integer("leaf", "seeds", "1", 1, 10000, "",
+                      "initial vein nodes spread along the base (several: grass-like parallel veins)"));
+  f.push_back(
+      num("leaf", "seed_spread", "0.3", 0, 10, false, "leaf lengths", "width of the base the seeds are spread over"));
+  f.push_back(choice("colonisation", "type", Kind::choice, "open", "open|closed",
+                     "open: trees; closed: veins join into loops"));
+  f.push_back(choice("colonisation", "neighbourhood", Kind::choice, "exact", "exact|urquhart",
+                     "closed: relative neighbourhood (Eq. 2) or its Urquhart approximation"));
+  f.push_back(num("colonisation", "kill_distance", "1", 0, kInf, true, "vein segments",
+                  "d_k: a vein node this close reaches (open: removes) a source"));
+  f.push_back(num("colonisation", "birth_distance", "10", 0, kInf, true, "vein segments",
+                  "b_s: new sources keep this far from every source"));
+  f.push_back(num("colonisation", "vein_birth_distance", "0", 0, kInf, false, "vein segments",
+                  "b_v: new sources keep this far from every vein node; 0 = birth_distance"));
+  f.push_back(num("colonisation", "darts", "200", 0, kInf, true, "per 10^6 unit^2 per step",
+                  "rho x 10^6 of Table 1: darts per unit area per step"));
+  f.push_back(
+      choice("colonisation", "growth", Kind::choice, "marginal", "none|marginal|isogonic", "how the blade grows"));
+  f.push_back(
+      num("colonisation", "initial_length", "270", 0, kInf, true, "vein segments", "L_i: leaf length at the start"));
+  f.push_back(
+      num("colonisation", "final_length", "1600", 0, kInf, true, "vein segments", "L_f: growth stops at this length"));
+  f.push_back(
+      num("colonisation", "length_step", "8", 0, kInf, false, "vein segments per step", "Delta L: growth per step"));
   f.push_back(integer("colonisation", "max_steps", "100000", 1, 1e9, "steps", "stop after this many steps"));
   f.push_back(integer("colonisation", "max_nodes", "2000000", 1, 1e9, "nodes", "stop at this many vein nodes"));
-  f.push_back(num("colonisation", "murray_exponent", "2", 1, 4, false, "", "n of r_parent^n = sum r_child^n (Table 1: 2)"));
+  f.push_back(
+      num("colonisation", "murray_exponent", "2", 1, 4, false, "", "n of r_parent^n = sum r_child^n (Table 1: 2)"));
   f.push_back(num("colonisation", "tip_radius", "0.15", 0, kInf, true, "vein segments", "radius of a free vein end"));
 
   // print{}
@@ -159,21 +204,26 @@ std::vector<Field> build() {
   f.push_back(boolean("print", "shell", "false", "the cell sheet becomes a shell of shell_thickness"));
   f.push_back(num("print", "size", "120", 0, 1e5, true, "mm", "largest extent of the printed form when scale = 0"));
   f.push_back(num("print", "scale", "0", 0, 1e9, false, "mm per model unit", "0 = automatic from size"));
-  f.push_back(num("print", "min_radius", "0.4", 0, 1e3, true, "mm", "thinner veins are raised to this printable minimum"));
+  f.push_back(
+      num("print", "min_radius", "0.4", 0, 1e3, true, "mm", "thinner veins are raised to this printable minimum"));
   f.push_back(num("print", "shell_thickness", "0.6", 0, 1e3, true, "mm", "wall thickness of the shell"));
   f.push_back(num("print", "voxel_size", "0", 0, 1e3, false, "mm", "level-set resolution; 0 = min_radius / 2"));
   f.push_back(num("print", "adaptivity", "0.2", 0, 1, false, "0..1", "mesh simplification of flat areas (OpenVDB)"));
-  f.push_back(num("print", "max_memory", "2000", 1, 1e6, false, "MB", "refuse a voxel size whose grid would need more"));
+  f.push_back(
+      num("print", "max_memory", "2000", 1, 1e6, false, "MB", "refuse a voxel size whose grid would need more"));
   f.push_back(text("print", "formats", "stl", "comma-separated: stl, obj, ply, scad, vdb"));
-  f.push_back(boolean("print", "fill_cavities", "false", "fill closed pockets inside the solid (a shell around a closed sheet becomes solid)"));
+  f.push_back(boolean("print", "fill_cavities", "false",
+                      "fill closed pockets inside the solid (a shell around a closed sheet becomes solid)"));
   f.push_back(choice("print", "pieces", Kind::choice, "warn", "any|warn|one",
                      "one: a form that falls apart is an error; warn: a warning with the part count"));
 
   // output{}
   f.push_back(boolean("output", "ply", "true", "write cells.ply (cells, triangles, links, per-cell attributes)"));
   f.push_back(boolean("output", "obj", "true", "write cells.obj (the cell surface) and, with venation, veins.obj"));
-  f.push_back(integer("output", "every", "0", 0, 1e9, "steps", "also write frames/cells_NNNNNN.ply every this many steps (0 = none)"));
-  f.push_back(integer("output", "checkpoint_every", "1000", 0, 1e9, "steps", "write checkpoint.cfck every this many steps (0 = only at the end)"));
+  f.push_back(integer("output", "every", "0", 0, 1e9, "steps",
+                      "also write frames/cells_NNNNNN.ply every this many steps (0 = none)"));
+  f.push_back(integer("output", "checkpoint_every", "1000", 0, 1e9, "steps",
+                      "write checkpoint.cfck every this many steps (0 = only at the end)"));
   return f;
 }
 
@@ -209,25 +259,43 @@ std::string allowed_text(const Field& f) {
     case Kind::integer:
     case Kind::vec3: {
       const bool lo = f.min > -1e299, hi = f.max < 1e299;
-      const std::string what = f.kind == Kind::integer ? "a whole number" : f.kind == Kind::vec3 ? "{x, y, z} with each" : "a number";
+      const std::string what = f.kind == Kind::integer ? "a whole number"
+                               : f.kind == Kind::vec3  ? "{x, y, z} with each"
+                                                       : "a number";
       s << what;
-      if (lo && hi) s << " from " << number(f.min) << (f.min_exclusive ? " (exclusive)" : "") << " to " << number(f.max);
-      else if (lo) s << (f.min_exclusive ? " > " : " >= ") << number(f.min);
-      else if (hi) s << " <= " << number(f.max);
-      else if (f.kind == Kind::vec3) s << " finite";
+      if (lo && hi)
+        s << " from " << number(f.min) << (f.min_exclusive ? " (exclusive)" : "") << " to " << number(f.max);
+      else if (lo)
+        s << (f.min_exclusive ? " > " : " >= ") << number(f.min);
+      else if (hi)
+        s << " <= " << number(f.max);
+      else if (f.kind == Kind::vec3)
+        s << " finite";
       break;
     }
-    case Kind::boolean: s << "true or false"; break;
-    case Kind::text: s << "a string"; break;
-    case Kind::choice: s << "one of " << f.choices; break;
-    case Kind::choice_or_function: s << "one of " << f.choices << ", or a function"; break;
-    case Kind::function: s << "a function"; break;
+    case Kind::boolean:
+      s << "true or false";
+      break;
+    case Kind::text:
+      s << "a string";
+      break;
+    case Kind::choice:
+      s << "one of " << f.choices;
+      break;
+    case Kind::choice_or_function:
+      s << "one of " << f.choices << ", or a function";
+      break;
+    case Kind::function:
+      s << "a function";
+      break;
     case Kind::number_or_function:
       s << "a number";
       if (f.min > -1e299) s << " >= " << number(f.min);
       s << ", or a function";
       break;
-    case Kind::table: s << "a table"; break;
+    case Kind::table:
+      s << "a table";
+      break;
   }
   return s.str();
 }
@@ -238,7 +306,8 @@ std::string schema_markdown() {
   for (const Field& f : schema()) {
     if (f.section != section) {
       section = f.section;
-      s << "\n### `" << section << "{...}`\n\n| parameter | default | allowed | unit | meaning |\n|---|---|---|---|---|\n";
+      s << "\n### `" << section
+        << "{...}`\n\n| parameter | default | allowed | unit | meaning |\n|---|---|---|---|---|\n";
     }
     s << "| `" << f.name << "` | " << (f.default_text.empty() ? "required" : "`" + f.default_text + "`") << " | "
       << allowed_text(f) << " | " << f.unit << " | " << f.doc << " |\n";

@@ -7,20 +7,31 @@
 namespace cellform::app {
 
 /// What kind of value a parameter takes.
-enum class Kind { number, integer, boolean, vec3, text, choice, function, choice_or_function, number_or_function, table };
+enum class Kind {
+  number,
+  integer,
+  boolean,
+  vec3,
+  text,
+  choice,
+  function,
+  choice_or_function,
+  number_or_function,
+  table
+};
 
 /// One parameter of one script function (a "section" such as cells{} or division{}).
 struct Field {
   std::string section;  ///< the script function it belongs to, e.g. "cells"
   std::string name;     ///< e.g. "rest_length"
   Kind kind = Kind::number;
-  std::string default_text;  ///< default as the docs show it ("" = required or none)
-  double min = -1e300;       ///< smallest allowed value (numbers, integers, each vector component)
-  double max = 1e300;        ///< largest allowed value
-  bool min_exclusive = false;///< true: value must be strictly greater than min
-  std::string choices;       ///< allowed names for choice kinds, separated by '|'
-  std::string unit;          ///< unit or role, e.g. "model units"
-  std::string doc;           ///< one line
+  std::string default_text;    ///< default as the docs show it ("" = required or none)
+  double min = -1e300;         ///< smallest allowed value (numbers, integers, each vector component)
+  double max = 1e300;          ///< largest allowed value
+  bool min_exclusive = false;  ///< true: value must be strictly greater than min
+  std::string choices;         ///< allowed names for choice kinds, separated by '|'
+  std::string unit;            ///< unit or role, e.g. "model units"
+  std::string doc;             ///< one line
 };
 
 /// Every parameter of every script function, in documentation order.

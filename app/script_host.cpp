@@ -87,16 +87,25 @@ bool is_choice(const std::string& choices, const std::string& v) {
 
 nlohmann::json to_json(const Field& f, const Value& v) {
   switch (f.kind) {
-    case Kind::number: return v.num;
-    case Kind::integer: return static_cast<long long>(v.num);
-    case Kind::boolean: return v.flag;
-    case Kind::vec3: return nlohmann::json::array({v.vec.x(), v.vec.y(), v.vec.z()});
+    case Kind::number:
+      return v.num;
+    case Kind::integer:
+      return static_cast<long long>(v.num);
+    case Kind::boolean:
+      return v.flag;
+    case Kind::vec3:
+      return nlohmann::json::array({v.vec.x(), v.vec.y(), v.vec.z()});
     case Kind::text:
-    case Kind::choice: return v.str;
-    case Kind::choice_or_function: return v.ref != LUA_NOREF ? std::string("<function>") : v.str;
-    case Kind::function: return v.ref != LUA_NOREF ? nlohmann::json("<function>") : nlohmann::json();
-    case Kind::number_or_function: return v.ref != LUA_NOREF ? nlohmann::json("<function>") : nlohmann::json(v.num);
-    case Kind::table: return nlohmann::json::object();
+    case Kind::choice:
+      return v.str;
+    case Kind::choice_or_function:
+      return v.ref != LUA_NOREF ? std::string("<function>") : v.str;
+    case Kind::function:
+      return v.ref != LUA_NOREF ? nlohmann::json("<function>") : nlohmann::json();
+    case Kind::number_or_function:
+      return v.ref != LUA_NOREF ? nlohmann::json("<function>") : nlohmann::json(v.num);
+    case Kind::table:
+      return nlohmann::json::object();
   }
   return {};
 }
@@ -150,15 +159,16 @@ struct ScriptHost::Impl {
     Impl* self = *static_cast<Impl**>(lua_getextraspace(L));
     self->executed += kHookEvery;
     if (self->executed > self->budget)
-      luaL_error(L, "instruction budget of %I instructions exceeded (an endless loop?); raise it with --lua-instructions",
+      luaL_error(L,
+                 "instruction budget of %I instructions exceeded (an endless loop?); raise it with --lua-instructions",
                  static_cast<lua_Integer>(self->budget));
   }
 
   /// Turns a Lua error message into one line that names the script; adds the memory-limit hint.
   std::string describe(const std::string& lua_message) const {
     if (memory_exceeded || lua_message == "not enough memory")
-      return script_name + ": the script exceeded its memory limit of " +
-             std::to_string(limits.memory_bytes >> 20) + " MiB; raise it with --lua-memory";
+      return script_name + ": the script exceeded its memory limit of " + std::to_string(limits.memory_bytes >> 20) +
+             " MiB; raise it with --lua-memory";
     if (lua_message.find("attempt to load a binary chunk") != std::string::npos)
       return script_name + ": precompiled (binary) Lua chunks are not allowed; give the script as source text";
     return lua_message;
@@ -265,18 +275,26 @@ struct ScriptHost::Impl {
         if (!parse_double(text, v.num)) throw fail();
         break;
       case Kind::boolean:
-        if (text == "true" || text == "1") v.flag = true;
-        else if (text == "false" || text == "0") v.flag = false;
-        else throw fail();
+        if (text == "true" || text == "1")
+          v.flag = true;
+        else if (text == "false" || text == "0")
+          v.flag = false;
+        else
+          throw fail();
         break;
       case Kind::vec3:
         if (!parse_vec(text, v.vec)) throw fail();
         break;
-      case Kind::text: v.str = text == "(none)" ? std::string() : text; break;  // an optional text
+      case Kind::text:
+        v.str = text == "(none)" ? std::string() : text;
+        break;  // an optional text
       case Kind::choice:
-      case Kind::choice_or_function: v.str = text; break;
+      case Kind::choice_or_function:
+        v.str = text;
+        break;
       case Kind::function:
-      case Kind::table: throw InvalidInput(at + name + " cannot be set from the command line");
+      case Kind::table:
+        throw InvalidInput(at + name + " cannot be set from the command line");
     }
     return v;
   }
@@ -284,11 +302,12 @@ struct ScriptHost::Impl {
   void check_range(const Field& f, Value& v, const std::string& at) {
     if (!v.present) return;
     const std::string name = f.section + "." + f.name;
-    auto bad = [&](double x) {
-      return !std::isfinite(x) || x < f.min || x > f.max || (f.min_exclusive && x <= f.min);
+    auto bad = [&](double x) { return !std::isfinite(x) || x < f.min || x > f.max || (f.min_exclusive && x <= f.min); };
+    auto fail = [&](const std::string& got) {
+      return InvalidInput(at + name + " must be " + allowed_text(f) + ", got " + got);
     };
-    auto fail = [&](const std::string& got) { return InvalidInput(at + name + " must be " + allowed_text(f) + ", got " + got); };
-    if (f.kind == Kind::number || f.kind == Kind::integer || (f.kind == Kind::number_or_function && v.ref == LUA_NOREF)) {
+    if (f.kind == Kind::number || f.kind == Kind::integer ||
+        (f.kind == Kind::number_or_function && v.ref == LUA_NOREF)) {
       std::ostringstream g;
       g << v.num;
       if (bad(v.num)) throw fail(g.str());
@@ -360,7 +379,8 @@ struct ScriptHost::Impl {
       }
       Value& v = values[f->name];
       if (!v.present && f->kind != Kind::function && f->kind != Kind::table) {
-        if (f->default_text.empty()) throw InvalidInput(at + section + "{...} needs '" + f->name + "' (" + allowed_text(*f) + ")");
+        if (f->default_text.empty())
+          throw InvalidInput(at + section + "{...} needs '" + f->name + "' (" + allowed_text(*f) + ")");
         if (f->default_text.find("cells.") == std::string::npos) {
           Value d = from_text(*f, f->default_text, "schema default: ");
           d.present = false;
@@ -403,7 +423,8 @@ void section_cells(Impl& I, const std::string& at) {
   p.rest_length = v["rest_length"].num;
   p.neighbours = static_cast<int>(v["neighbours"].num);
   p.link_range = v["link_range"].num;
-  p.integrator = v["integrator"].str == "velocity" ? cells::Integrator::velocity : cells::Integrator::velocity_acceleration;
+  p.integrator =
+      v["integrator"].str == "velocity" ? cells::Integrator::velocity : cells::Integrator::velocity_acceleration;
   p.time_step = v["time_step"].num;
   const cells::ForceWeights general = weights_from(v);
   p.unary = v["unary"].vec;
@@ -415,8 +436,10 @@ void section_cells(Impl& I, const std::string& at) {
   const std::pair<const char*, cells::CellType> types[] = {{"petiole", cells::CellType::petiole},
                                                            {"vein", cells::CellType::vein}};
   for (const auto& [name, type] : types) {
-    if (lua_type(I.L, 1) == LUA_TTABLE) lua_getfield(I.L, 1, name);
-    else lua_pushnil(I.L);
+    if (lua_type(I.L, 1) == LUA_TTABLE)
+      lua_getfield(I.L, 1, name);
+    else
+      lua_pushnil(I.L);
     const int idx = lua_gettop(I.L);
     Values w = I.read_section(std::string("cells.") + name, idx, at, &rec[name]);
     lua_pop(I.L, 1);
@@ -429,7 +452,8 @@ void section_cells(Impl& I, const std::string& at) {
     if (w["planar"].present) tw.planar = w["planar"].num;
     if (w["cohesion"].present) tw.cohesion = w["cohesion"].num;
     if (w["separation"].present) tw.separation = w["separation"].num;
-    rec[name] = {{"spring", tw.spring}, {"planar", tw.planar}, {"cohesion", tw.cohesion}, {"separation", tw.separation}};
+    rec[name] = {
+        {"spring", tw.spring}, {"planar", tw.planar}, {"cohesion", tw.cohesion}, {"separation", tw.separation}};
     p.weights[static_cast<int>(type)] = tw;
   }
 }
@@ -439,7 +463,7 @@ void section_division(Impl& I, const std::string& at) {
   Values v = I.read_section("division", 1, at, &I.cfg->resolved["division"]);
   cells::DivisionParams& d = I.cfg->scene.cells.division;
   const std::string trig = v["trigger"].str;
-  d.trigger = trig == "none" ? cells::DivisionTrigger::none
+  d.trigger = trig == "none"         ? cells::DivisionTrigger::none
               : trig == "neighbours" ? cells::DivisionTrigger::neighbours
                                      : cells::DivisionTrigger::age;
   d.division_age = static_cast<std::uint32_t>(v["age"].num);
@@ -455,9 +479,9 @@ void section_division(Impl& I, const std::string& at) {
     d.direction = cells::SplitDirection::rule;
     I.direction_ref = dir.ref;
   } else {
-    d.direction = dir.str == "axis" ? cells::SplitDirection::axis
-                  : dir.str == "tangent" ? cells::SplitDirection::tangent
-                  : dir.str == "radial" ? cells::SplitDirection::radial
+    d.direction = dir.str == "axis"              ? cells::SplitDirection::axis
+                  : dir.str == "tangent"         ? cells::SplitDirection::tangent
+                  : dir.str == "radial"          ? cells::SplitDirection::radial
                   : dir.str == "circumferential" ? cells::SplitDirection::circumferential
                   : dir.str == "auxin"           ? cells::SplitDirection::rule
                                                  : cells::SplitDirection::random;
@@ -481,8 +505,10 @@ void section_venation(Impl& I, const std::string& at) {
   Values v = I.read_section("venation", 1, at, &I.cfg->resolved["venation"]);
   venation::Params p;
   p.threshold = v["threshold"].num;
-  if (v["source"].ref != LUA_NOREF) I.source_ref = v["source"].ref;
-  else p.source = v["source"].num;
+  if (v["source"].ref != LUA_NOREF)
+    I.source_ref = v["source"].ref;
+  else
+    p.source = v["source"].num;
   p.murray_exponent = v["murray_exponent"].num;
   p.radius_scale = v["radius_scale"].num;
   p.min_radius = v["min_radius"].num;
@@ -503,9 +529,9 @@ void section_leaf(Impl& I, const std::string& at) {
     } else {
       venation::ShapeParams sp;
       const std::string k = v["shape"].str;
-      sp.kind = k == "ellipse" ? venation::ShapeKind::ellipse
+      sp.kind = k == "ellipse"   ? venation::ShapeKind::ellipse
                 : k == "cordate" ? venation::ShapeKind::cordate
-                : k == "lobed" ? venation::ShapeKind::lobed
+                : k == "lobed"   ? venation::ShapeKind::lobed
                 : k == "palmate" ? venation::ShapeKind::palmate
                                  : venation::ShapeKind::ovate;
       sp.length = 1;
@@ -533,14 +559,15 @@ void section_colonisation(Impl& I, const std::string& at) {
   if (!I.cfg->colonisation) I.cfg->colonisation.emplace();
   venation::ColonisationParams& p = I.cfg->colonisation->params;
   p.type = v["type"].str == "closed" ? venation::VenationType::closed : venation::VenationType::open;
-  p.neighbourhood = v["neighbourhood"].str == "urquhart" ? venation::Neighbourhood::urquhart : venation::Neighbourhood::exact;
+  p.neighbourhood =
+      v["neighbourhood"].str == "urquhart" ? venation::Neighbourhood::urquhart : venation::Neighbourhood::exact;
   p.kill_distance = v["kill_distance"].num;
   p.source_birth_distance = v["birth_distance"].num;
   p.vein_birth_distance = v["vein_birth_distance"].num > 0 ? v["vein_birth_distance"].num : v["birth_distance"].num;
   p.node_distance = 1;
   p.darts_per_area = v["darts"].num * 1e-6;
   const std::string g = v["growth"].str;
-  p.growth = g == "none" ? venation::GrowthMode::none
+  p.growth = g == "none"       ? venation::GrowthMode::none
              : g == "isogonic" ? venation::GrowthMode::uniform
                                : venation::GrowthMode::marginal;
   p.initial_scale = v["initial_length"].num;
@@ -587,7 +614,8 @@ void section_print(Impl& I, const std::string& at) {
     p.formats.push_back(f);
   }
   if (p.formats.empty()) throw InvalidInput(at + "print.formats must name at least one of stl, obj, ply, scad, vdb");
-  if (!p.veins && !p.shell) throw InvalidInput(at + "print{...} with veins = false needs shell = true (nothing to print)");
+  if (!p.veins && !p.shell)
+    throw InvalidInput(at + "print{...} with veins = false needs shell = true (nothing to print)");
   I.cfg->print = p;
 }
 
@@ -649,18 +677,27 @@ int api_section(lua_State* L) {
     try {
       const std::string at = I.where(1);
       if (lua_gettop(L) > 1) throw InvalidInput(at + section + "{...} takes one table of named parameters");
-      if (section == "cells") section_cells(I, at);
-      else if (section == "division") section_division(I, at);
-      else if (section == "run") section_run(I, at);
-      else if (section == "output") section_output(I, at);
-      else if (section == "venation") section_venation(I, at);
-      else if (section == "print") section_print(I, at);
-      else if (section == "leaf") section_leaf(I, at);
-      else if (section == "colonisation") section_colonisation(I, at);
+      if (section == "cells")
+        section_cells(I, at);
+      else if (section == "division")
+        section_division(I, at);
+      else if (section == "run")
+        section_run(I, at);
+      else if (section == "output")
+        section_output(I, at);
+      else if (section == "venation")
+        section_venation(I, at);
+      else if (section == "print")
+        section_print(I, at);
+      else if (section == "leaf")
+        section_leaf(I, at);
+      else if (section == "colonisation")
+        section_colonisation(I, at);
       else if (section == "disc" || section == "rectangle" || section == "sphere" || section == "line" ||
                section == "cell" || section == "petiole")
         section_shape(I, section, at);
-      else section_constraint(I, section, at);
+      else
+        section_constraint(I, section, at);
     } catch (const std::exception& e) {
       I.pending_error = e.what();
       failed = true;
@@ -681,7 +718,8 @@ int api_params(lua_State* L) {
     try {
       const std::string at = I.where(1);
       I.once("params", at);
-      if (lua_type(L, 1) != LUA_TTABLE || lua_gettop(L) != 1) throw InvalidInput(at + "params{...} takes one table of name = default");
+      if (lua_type(L, 1) != LUA_TTABLE || lua_gettop(L) != 1)
+        throw InvalidInput(at + "params{...} takes one table of name = default");
       nlohmann::json& rec = I.cfg->resolved["params"];
       rec = nlohmann::json::object();
       lua_newtable(L);
@@ -701,11 +739,13 @@ int api_params(lua_State* L) {
           double x;
           lua_pop(L, 1);
           if (t == LUA_TNUMBER) {
-            if (!parse_double(text, x)) throw InvalidInput("--set " + key + ": expected a number, got \"" + text + "\"");
+            if (!parse_double(text, x))
+              throw InvalidInput("--set " + key + ": expected a number, got \"" + text + "\"");
             lua_pushnumber(L, x);
             rec[key] = x;
           } else if (t == LUA_TBOOLEAN) {
-            if (text != "true" && text != "false") throw InvalidInput("--set " + key + ": expected true or false, got \"" + text + "\"");
+            if (text != "true" && text != "false")
+              throw InvalidInput("--set " + key + ": expected true or false, got \"" + text + "\"");
             lua_pushboolean(L, text == "true");
             rec[key] = text == "true";
           } else if (t == LUA_TSTRING) {
@@ -715,10 +755,14 @@ int api_params(lua_State* L) {
             throw InvalidInput("--set " + key + ": only number, boolean and string params can be set");
           }
         } else {
-          if (t == LUA_TNUMBER) rec[key] = lua_tonumber(L, -1);
-          else if (t == LUA_TBOOLEAN) rec[key] = lua_toboolean(L, -1) != 0;
-          else if (t == LUA_TSTRING) rec[key] = lua_tostring(L, -1);
-          else rec[key] = luaL_typename(L, -1);
+          if (t == LUA_TNUMBER)
+            rec[key] = lua_tonumber(L, -1);
+          else if (t == LUA_TBOOLEAN)
+            rec[key] = lua_toboolean(L, -1) != 0;
+          else if (t == LUA_TSTRING)
+            rec[key] = lua_tostring(L, -1);
+          else
+            rec[key] = luaL_typename(L, -1);
         }
         lua_pushvalue(L, -2);  // key
         lua_insert(L, -2);     // key value
@@ -757,8 +801,9 @@ namespace cellform::app {
 
 namespace {
 
-const char* const kSections[] = {"run",  "cells", "division", "output", "venation", "print", "leaf", "colonisation", "disc", "rectangle", "sphere", "line", "cell",
-                                 "petiole", "ground", "half_space", "ball", "box", "mesh", "attractor"};
+const char* const kSections[] = {"run",          "cells",      "division",  "output", "venation", "print",    "leaf",
+                                 "colonisation", "disc",       "rectangle", "sphere", "line",     "cell",     "petiole",
+                                 "ground",       "half_space", "ball",      "box",    "mesh",     "attractor"};
 
 Vec3 unit_or(const Vec3& n, const Vec3& fallback) { return n.norm() > 0 ? Vec3(n.normalized()) : fallback; }
 
@@ -803,8 +848,9 @@ void build_shapes(Impl& I) {
     r["cells"] = points.size();
     for (const Vec3& p : points) cfg.initial_cells.push_back({p, false});
     if (cfg.initial_cells.size() > cfg.scene.cells.division.max_cells)
-      throw InvalidInput(s.where + s.kind + ": the initial shapes make " + std::to_string(cfg.initial_cells.size()) +
-                         " cells, more than division.max_cells = " + std::to_string(cfg.scene.cells.division.max_cells));
+      throw InvalidInput(
+          s.where + s.kind + ": the initial shapes make " + std::to_string(cfg.initial_cells.size()) +
+          " cells, more than division.max_cells = " + std::to_string(cfg.scene.cells.division.max_cells));
     rec.push_back(r);
   }
 }
@@ -818,9 +864,9 @@ ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
   if (!I.L) throw std::runtime_error("cannot create the Lua interpreter");
   *static_cast<Impl**>(lua_getextraspace(I.L)) = &I;
   lua_State* L = I.L;
-  const std::pair<const char*, lua_CFunction> libs[] = {{LUA_GNAME, luaopen_base},       {LUA_TABLIBNAME, luaopen_table},
-                                                        {LUA_STRLIBNAME, luaopen_string}, {LUA_MATHLIBNAME, luaopen_math},
-                                                        {LUA_UTF8LIBNAME, luaopen_utf8},  {LUA_COLIBNAME, luaopen_coroutine}};
+  const std::pair<const char*, lua_CFunction> libs[] = {
+      {LUA_GNAME, luaopen_base},       {LUA_TABLIBNAME, luaopen_table}, {LUA_STRLIBNAME, luaopen_string},
+      {LUA_MATHLIBNAME, luaopen_math}, {LUA_UTF8LIBNAME, luaopen_utf8}, {LUA_COLIBNAME, luaopen_coroutine}};
   for (const auto& [name, open] : libs) {
     luaL_requiref(L, name, open, 1);
     lua_pop(L, 1);
@@ -890,10 +936,14 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     if (I.sections_seen.count(section)) continue;
     lua_settop(L, 0);
     const std::string at = I.script_name + ": ";
-    if (std::string(section) == "cells") section_cells(I, at);
-    else if (std::string(section) == "division") section_division(I, at);
-    else if (std::string(section) == "run") section_run(I, at);
-    else section_output(I, at);
+    if (std::string(section) == "cells")
+      section_cells(I, at);
+    else if (std::string(section) == "division")
+      section_division(I, at);
+    else if (std::string(section) == "run")
+      section_run(I, at);
+    else
+      section_output(I, at);
   }
   lua_settop(L, 0);
 
@@ -903,7 +953,8 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     for (const Field& f : schema())
       if (f.kind != Kind::function && f.kind != Kind::table) names.push_back(f.section + "." + f.name);
     const std::string near = core::closest_name(key, names);
-    const bool is_shape = key.find('.') != std::string::npos && find_field(key.substr(0, key.find('.')), key.substr(key.find('.') + 1));
+    const bool is_shape =
+        key.find('.') != std::string::npos && find_field(key.substr(0, key.find('.')), key.substr(key.find('.') + 1));
     throw InvalidInput("--set " + key + "=" + value + ": " +
                        (is_shape ? "shapes and constraints may be called several times, so they cannot be set by name; "
                                    "declare a knob with params{...} in the script and use it"
@@ -918,10 +969,12 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     section_leaf(I, I.script_name + ": ");
   }
   if (cfg.colonisation && (!cfg.initial_cells.empty() || I.sections_seen.count("venation")))
-    throw InvalidInput(I.sections_seen["colonisation"] +
-                       "colonisation{...} grows veins in a leaf{...} outline; it cannot be combined with cells or venation{...}");
+    throw InvalidInput(
+        I.sections_seen["colonisation"] +
+        "colonisation{...} grows veins in a leaf{...} outline; it cannot be combined with cells or venation{...}");
   if (cfg.print && cfg.print->veins && !cfg.print->shell && !cfg.scene.venation && !cfg.colonisation)
-    throw InvalidInput(I.sections_seen["print"] + "print{veins = true} needs veins: add venation{...}, or print the sheet with shell = true");
+    throw InvalidInput(I.sections_seen["print"] +
+                       "print{veins = true} needs veins: add venation{...}, or print the sheet with shell = true");
   return cfg;
 }
 

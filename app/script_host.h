@@ -23,9 +23,9 @@ namespace cellform::app {
 
 /// Limits that stop a runaway script with a clear error.
 struct ScriptLimits {
-  std::uint64_t instructions = 500'000'000;   ///< Lua VM instructions for running the script itself
-  std::uint64_t rule_instructions = 10'000'000;///< per call of a rule function
-  std::size_t memory_bytes = 512u << 20;       ///< Lua heap, bytes
+  std::uint64_t instructions = 500'000'000;      ///< Lua VM instructions for running the script itself
+  std::uint64_t rule_instructions = 10'000'000;  ///< per call of a rule function
+  std::size_t memory_bytes = 512u << 20;         ///< Lua heap, bytes
 };
 
 /// A cell the script places before the first step.
@@ -38,8 +38,8 @@ struct InitialCell {
 struct OutputSpec {
   bool ply = true;
   bool obj = true;
-  std::uint64_t every = 0;             ///< frame interval in steps (0 = no frames)
-  std::uint64_t checkpoint_every = 1000;///< checkpoint interval in steps (0 = only at the end)
+  std::uint64_t every = 0;                ///< frame interval in steps (0 = no frames)
+  std::uint64_t checkpoint_every = 1000;  ///< checkpoint interval in steps (0 = only at the end)
 };
 
 /// Space colonisation requested by leaf{...} and colonisation{...}.
@@ -73,7 +73,7 @@ struct SceneConfig {
   std::uint64_t seed = 1;
   OutputSpec output;
   std::optional<PrintSpec> print;
-  std::optional<ColonisationSpec> colonisation;  ///< set: the run grows veins by space colonisation, not cells
+  std::optional<ColonisationSpec> colonisation;        ///< set: the run grows veins by space colonisation, not cells
   nlohmann::json resolved = nlohmann::json::object();  ///< every resolved parameter, by section
 };
 

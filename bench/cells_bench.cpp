@@ -65,13 +65,13 @@ const Register r5{{"cells.memory.1m", "bytes/cell",
                      (void)peak;
                      return (after - before) / static_cast<double>(sim->cells().size());
                    }}};
-const Register r6{{"cells.grow.20k", "s CPU", "CPU time to grow a disc of about 160 cells to 20,000 (division by age)", 3,
-                   [] {
-                     auto sim = sheet(160, true);
-                     const double a = process_cpu_seconds();
-                     while (sim->cells().size() < 20000) sim->step();
-                     return process_cpu_seconds() - a;
-                   }}};
+const Register r6{
+    {"cells.grow.20k", "s CPU", "CPU time to grow a disc of about 160 cells to 20,000 (division by age)", 3, [] {
+       auto sim = sheet(160, true);
+       const double a = process_cpu_seconds();
+       while (sim->cells().size() < 20000) sim->step();
+       return process_cpu_seconds() - a;
+     }}};
 
 }  // namespace
 

@@ -36,9 +36,10 @@ using venation::VenationType;
 const Register r1{{"venation.colonisation.open.50k", "nodes/s",
                    "open space colonisation, whole run, about 50,000 nodes (ellipse 1100 long, b = 10, rho = 0.002)", 3,
                    [] { return nodes_per_second(1100, VenationType::open, Neighbourhood::exact); }}};
-const Register r2{{"venation.colonisation.closed.exact.50k", "nodes/s",
-                   "closed space colonisation, exact relative neighbourhoods (Eq. 2), about 50,000 nodes (ellipse 935 long)", 3,
-                   [] { return nodes_per_second(935, VenationType::closed, Neighbourhood::exact); }}};
+const Register r2{
+    {"venation.colonisation.closed.exact.50k", "nodes/s",
+     "closed space colonisation, exact relative neighbourhoods (Eq. 2), about 50,000 nodes (ellipse 935 long)", 3,
+     [] { return nodes_per_second(935, VenationType::closed, Neighbourhood::exact); }}};
 const Register r3{{"venation.colonisation.closed.urquhart.10k", "nodes/s",
                    "closed space colonisation, Urquhart approximation, about 10,000 nodes (ellipse 420 long)", 1,
                    [] { return nodes_per_second(420, VenationType::closed, Neighbourhood::urquhart); }}};

@@ -5,13 +5,13 @@
 #include <map>
 
 #include "bench/bench.h"
+#include "cells/simulation.h"
+#include "cells/surface.h"
 #include "core/random.h"
 #include "export/mesh_check.h"
 #include "export/printable.h"
 #include "forms/shapes.h"
 #include "venation/canalisation.h"
-#include "cells/simulation.h"
-#include "cells/surface.h"
 
 namespace cellform::bench {
 
@@ -50,8 +50,7 @@ const std::vector<Segment>& tree50k() {
       if (b.level + 1 >= levels) continue;
       Vec3 axis = b.dir.cross(rng.unit_vector());
       axis.normalize();
-      for (double angle : {0.61, -0.61})
-        stack.push_back({p, Eigen::AngleAxisd(angle, axis) * b.dir, b.level + 1});
+      for (double angle : {0.61, -0.61}) stack.push_back({p, Eigen::AngleAxisd(angle, axis) * b.dir, b.level + 1});
     }
     return s;
   }();
@@ -75,10 +74,11 @@ double seconds(const std::function<void()>& f) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
 }
 
-const Register r1{{"export.thicken.tree44k", "s",
-                   "stress: thicken a synthetic 44k-segment 3-D vein tree to a printable mesh at default settings (120 mm, "
-                   "voxel 0.2 mm, adaptivity 0.2, intersection repair included)",
-                   3, [] { return seconds([] { thicken_once(0); }); }}};
+const Register r1{
+    {"export.thicken.tree44k", "s",
+     "stress: thicken a synthetic 44k-segment 3-D vein tree to a printable mesh at default settings (120 mm, "
+     "voxel 0.2 mm, adaptivity 0.2, intersection repair included)",
+     3, [] { return seconds([] { thicken_once(0); }); }}};
 const Register r2{{"export.thicken.tree44k.peak_mb", "MB",
                    "peak resident memory while thickening the 44k-segment synthetic tree at default settings", 1, [] {
                      tree50k();
@@ -86,17 +86,18 @@ const Register r2{{"export.thicken.tree44k.peak_mb", "MB",
                      thicken_once(0);
                      return peak_rss_bytes() / 1e6;
                    }}};
-const Register r3{{"export.thicken.tree44k.fine", "s", "thicken the 44k-segment synthetic tree with 0.16 mm voxels (the finest the 2 GB estimate allows)", 1,
-                   [] { return seconds([] { thicken_once(0.16); }); }}};
-const Register r4{{"export.thicken.tree44k.fine.peak_mb", "MB", "peak resident memory thickening with 0.16 mm voxels", 1,
-                   [] {
-                     tree50k();
-                     reset_peak_rss();
-                     thicken_once(0.16);
-                     return peak_rss_bytes() / 1e6;
-                   }}};
-const Register r5{{"export.check.tree44k", "s", "check_mesh of the 44k-segment synthetic tree's printable mesh (default settings)", 3,
-                   [] {
+const Register r3{{"export.thicken.tree44k.fine", "s",
+                   "thicken the 44k-segment synthetic tree with 0.16 mm voxels (the finest the 2 GB estimate allows)",
+                   1, [] { return seconds([] { thicken_once(0.16); }); }}};
+const Register r4{
+    {"export.thicken.tree44k.fine.peak_mb", "MB", "peak resident memory thickening with 0.16 mm voxels", 1, [] {
+       tree50k();
+       reset_peak_rss();
+       thicken_once(0.16);
+       return peak_rss_bytes() / 1e6;
+     }}};
+const Register r5{{"export.check.tree44k", "s",
+                   "check_mesh of the 44k-segment synthetic tree's printable mesh (default settings)", 3, [] {
                      static exporters::PrintableMesh mesh;
                      if (mesh.triangles.empty()) thicken_once(0, &mesh);
                      return seconds([] { exporters::check_mesh(mesh); });
@@ -158,8 +159,8 @@ const Register r7{{"export.thicken.leaf50k.peak_mb", "MB", "peak resident memory
                    }}};
 const Register r8{{"export.thicken.leaf50k.fine", "s", "the same with 0.1 mm voxels (half the default)", 1,
                    [] { return thicken_leaf(0.1, false); }}};
-const Register r9{{"export.thicken.leaf50k.shell", "s", "veins and the cell sheet as a 0.6 mm shell, default settings", 1,
-                   [] { return thicken_leaf(0, true); }}};
+const Register r9{{"export.thicken.leaf50k.shell", "s", "veins and the cell sheet as a 0.6 mm shell, default settings",
+                   1, [] { return thicken_leaf(0, true); }}};
 const Register r10{{"export.thicken.leaf50k.segments", "segments", "vein segments of the grown 50,000-cell form", 1,
                     [] { return static_cast<double>(leaf50k().veins.size()); }}};
 

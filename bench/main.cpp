@@ -47,8 +47,10 @@ int main(int argc, char** argv) {
   int reps_override = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--json" && i + 1 < argc) json_path = argv[++i];
-    else if (a == "--repetitions" && i + 1 < argc) reps_override = std::atoi(argv[++i]);
+    if (a == "--json" && i + 1 < argc)
+      json_path = argv[++i];
+    else if (a == "--repetitions" && i + 1 < argc)
+      reps_override = std::atoi(argv[++i]);
     else if (a == "--list") {
       for (const Benchmark& b : registry()) std::cout << b.name << "\t" << b.unit << "\t" << b.doc << "\n";
       return 0;
@@ -60,7 +62,8 @@ int main(int argc, char** argv) {
     } else if (!a.empty() && a[0] == '-') {
       std::cerr << "cellform-bench: unknown option '" << a << "'\n";
       return 2;
-    } else names.push_back(a);
+    } else
+      names.push_back(a);
   }
   std::vector<const Benchmark*> chosen;
   for (const Benchmark& b : registry()) {
@@ -87,7 +90,11 @@ int main(int argc, char** argv) {
     const double median = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
     std::printf("%-34s %14.4g %14.4g %14.4g  %s\n", b->name.c_str(), median, v.front(), v.back(), b->unit.c_str());
     std::fflush(stdout);
-    results.push_back({{"name", b->name}, {"value", median}, {"unit", b->unit}, {"min", v.front()}, {"max", v.back()},
+    results.push_back({{"name", b->name},
+                       {"value", median},
+                       {"unit", b->unit},
+                       {"min", v.front()},
+                       {"max", v.back()},
                        {"repetitions", reps}});
   }
   if (!json_path.empty()) {

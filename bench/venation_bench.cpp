@@ -30,7 +30,8 @@ Sheet& sheet(std::size_t n) {
   p.division.max_cells = n * 2;
   s.sim = std::make_unique<cells::Simulation>(p, 1);
   const double radius = std::sqrt(static_cast<double>(n) * std::sqrt(3.0) / 2.0 / M_PI);
-  for (const core::Vec3& q : forms::hex_disc(core::Vec3::Zero(), core::Vec3::UnitZ(), radius, 1.0)) cells::add_cell(s.sim->cells(), q);
+  for (const core::Vec3& q : forms::hex_disc(core::Vec3::Zero(), core::Vec3::UnitZ(), radius, 1.0))
+    cells::add_cell(s.sim->cells(), q);
   s.sim->cells().type[0] = cells::CellType::petiole;
   s.sim->set_threads(2);
   s.sim->step();

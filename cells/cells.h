@@ -24,10 +24,10 @@ enum class CellType : std::uint8_t {
 /// All cells. Every per-cell vector has size() entries; `links` has size() * link_stride.
 /// Indices change when cells are reordered in memory; `id` never does.
 struct Cells {
-  std::vector<Vec3> position;      ///< model units
-  std::vector<Vec3> velocity;      ///< model units per time unit
-  std::vector<Vec3> acceleration;  ///< model units per time unit squared (last computed)
-  std::vector<std::uint32_t> age;  ///< steps since birth or last division
+  std::vector<Vec3> position;             ///< model units
+  std::vector<Vec3> velocity;             ///< model units per time unit
+  std::vector<Vec3> acceleration;         ///< model units per time unit squared (last computed)
+  std::vector<std::uint32_t> age;         ///< steps since birth or last division
   std::vector<std::uint32_t> generation;  ///< divisions between the initial cell and this one
   std::vector<CellType> type;
   std::vector<std::uint8_t> fixed;  ///< 1 = static cell: never moves, still divides if its rule says so

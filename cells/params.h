@@ -34,12 +34,12 @@ enum class DivisionTrigger {
 
 /// Which way a dividing cell splits.
 enum class SplitDirection {
-  random,         ///< uniform growth: a random unit vector per division (seeded)
-  tangent,        ///< uniform growth within the sheet: random, in the plane of the three closest neighbours
-  axis,           ///< uniform anisotropic growth: along `axis`
-  radial,         ///< away from `centre` (a field)
-  circumferential,///< around the line through `centre` along `axis` (a field)
-  rule,           ///< non-uniform anisotropic: a rule function supplies the direction
+  random,           ///< uniform growth: a random unit vector per division (seeded)
+  tangent,          ///< uniform growth within the sheet: random, in the plane of the three closest neighbours
+  axis,             ///< uniform anisotropic growth: along `axis`
+  radial,           ///< away from `centre` (a field)
+  circumferential,  ///< around the line through `centre` along `axis` (a field)
+  rule,             ///< non-uniform anisotropic: a rule function supplies the direction
 };
 
 struct DivisionParams {
@@ -50,9 +50,9 @@ struct DivisionParams {
   std::uint32_t min_age = 5;        ///< steps a cell waits after its birth or division before dividing again
   double probability = 1.0;         ///< chance (0..1] that a triggered cell divides this step (seeded)
   SplitDirection direction = SplitDirection::random;
-  Vec3 axis = Vec3::UnitX();        ///< split axis (axis, circumferential)
-  Vec3 centre = Vec3::Zero();       ///< field centre (radial, circumferential), model units
-  std::uint64_t max_cells = 100000; ///< growth stops (no more divisions) at this many cells
+  Vec3 axis = Vec3::UnitX();         ///< split axis (axis, circumferential)
+  Vec3 centre = Vec3::Zero();        ///< field centre (radial, circumferential), model units
+  std::uint64_t max_cells = 100000;  ///< growth stops (no more divisions) at this many cells
 };
 
 /// All parameters of the cell system.

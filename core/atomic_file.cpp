@@ -29,7 +29,8 @@ void ensure_directory(const fs::path& dir) {
 void write_file_atomically(const fs::path& path, const std::function<void(std::ostream&)>& write) {
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
   std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw FileError("cannot write '" + path.string() + "': '" + dir.string() + "' is not a directory");
+  if (!fs::is_directory(dir, ec))
+    throw FileError("cannot write '" + path.string() + "': '" + dir.string() + "' is not a directory");
   if (fs::is_directory(path, ec)) throw FileError("cannot write '" + path.string() + "': it is a directory");
   fs::path tmp = path;
   tmp += ".tmp-" + std::to_string(::getpid());

@@ -307,10 +307,9 @@ void PointGrid::nearest_all_dense(int k, Index* out, int threads, const Index* h
           std::size_t count = 0, passed = 0;
           for (long z = a0[2]; z <= a1[2]; ++z)
             for (long y = a0[1]; y <= a1[1]; ++y) {
-              const std::size_t row_start =
-                  (static_cast<std::size_t>(z - lo_[2]) * static_cast<std::size_t>(dim_[1]) +
-                   static_cast<std::size_t>(y - lo_[1])) *
-                  static_cast<std::size_t>(dim_[0]);
+              const std::size_t row_start = (static_cast<std::size_t>(z - lo_[2]) * static_cast<std::size_t>(dim_[1]) +
+                                             static_cast<std::size_t>(y - lo_[1])) *
+                                            static_cast<std::size_t>(dim_[0]);
               const Index first = start_[row_start + static_cast<std::size_t>(a0[0] - lo_[0])];
               const Index last = start_[row_start + static_cast<std::size_t>(a1[0] - lo_[0]) + 1];
               const std::size_t len = last - first;

@@ -67,7 +67,7 @@ class PointGrid {
   std::size_t outside_ = 0;
   // dense layout: coordinates of points_[order_[s]] by slot s, so row scans read memory in order (and vectorise)
   std::vector<double> slot_x_, slot_y_, slot_z_;
-  std::vector<Index> bucket_;   // build scratch, kept to avoid reallocating every step
+  std::vector<Index> bucket_;  // build scratch, kept to avoid reallocating every step
 };
 
 /// A permutation that sorts points along a Z-order (Morton) curve of grid cells of `cell_size`;

@@ -33,8 +33,8 @@ void check_consistent(const std::filesystem::path& path, const Cells& cells, con
   for (std::size_t t = 0; t < surface.triangles.size(); ++t)
     for (Index v : surface.triangles[t])
       if (v >= n)
-        throw core::InvalidInput(where + "triangle " + std::to_string(t) + " uses cell " + std::to_string(v) +
-                                 " of " + std::to_string(n));
+        throw core::InvalidInput(where + "triangle " + std::to_string(t) + " uses cell " + std::to_string(v) + " of " +
+                                 std::to_string(n));
   for (std::size_t e = 0; e < surface.edges.size(); ++e)
     for (Index v : surface.edges[e])
       if (v >= n)
@@ -165,12 +165,12 @@ void write_cells_obj(const std::filesystem::path& path, const Cells& cells, cons
     append_format(text, "v %.9g %.9g %.9g\n", p.x(), p.y(), p.z());
   }
   for (const auto& t : surface.triangles)
-    text += "f " + std::to_string(t[0] + 1ull) + " " + std::to_string(t[1] + 1ull) + " " +
-            std::to_string(t[2] + 1ull) + "\n";
-  for (const auto& l : lines)
-    text += "l " + std::to_string(l[0] + 1ull) + " " + std::to_string(l[1] + 1ull) + "\n";
+    text += "f " + std::to_string(t[0] + 1ull) + " " + std::to_string(t[1] + 1ull) + " " + std::to_string(t[2] + 1ull) +
+            "\n";
+  for (const auto& l : lines) text += "l " + std::to_string(l[0] + 1ull) + " " + std::to_string(l[1] + 1ull) + "\n";
 
-  core::write_file_atomically(path, [&](std::ostream& out) { out.write(text.data(), static_cast<std::streamsize>(text.size())); });
+  core::write_file_atomically(
+      path, [&](std::ostream& out) { out.write(text.data(), static_cast<std::streamsize>(text.size())); });
 }
 
 std::string frame_name(const std::string& stem, std::uint64_t step, const std::string& ext) {

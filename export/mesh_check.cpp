@@ -64,7 +64,8 @@ using P2 = Eigen::Vector2d;
 double cross2(const P2& a, const P2& b, const P2& c) { return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x(); }
 
 bool segments_cross_2d(const P2& p, const P2& q, const P2& a, const P2& b) {
-  const int o1 = sign(cross2(p, q, a)), o2 = sign(cross2(p, q, b)), o3 = sign(cross2(a, b, p)), o4 = sign(cross2(a, b, q));
+  const int o1 = sign(cross2(p, q, a)), o2 = sign(cross2(p, q, b)), o3 = sign(cross2(a, b, p)),
+            o4 = sign(cross2(a, b, q));
   return o1 * o2 < 0 && o3 * o4 < 0;
 }
 
@@ -80,7 +81,9 @@ struct Projection {
     const Vec3 n = (T[1] - T[0]).cross(T[2] - T[0]).cwiseAbs();
     drop = n.x() >= n.y() && n.x() >= n.z() ? 0 : (n.y() >= n.z() ? 1 : 2);
   }
-  P2 operator()(const Vec3& v) const { return drop == 0 ? P2(v.y(), v.z()) : drop == 1 ? P2(v.x(), v.z()) : P2(v.x(), v.y()); }
+  P2 operator()(const Vec3& v) const {
+    return drop == 0 ? P2(v.y(), v.z()) : drop == 1 ? P2(v.x(), v.z()) : P2(v.x(), v.y());
+  }
 };
 
 // Does segment pq meet triangle T? dp, dq: sides of p and q relative to T's plane, 0 when within the
@@ -92,7 +95,8 @@ bool segment_meets_triangle(const Vec3& p, const Vec3& q, int dp, int dq, const 
     const Projection pr(T);
     return inside_2d(pr(dp == 0 ? p : q), pr(T[0]), pr(T[1]), pr(T[2]));
   }
-  const int s1 = sign(orient(p, q, T[0], T[1])), s2 = sign(orient(p, q, T[1], T[2])), s3 = sign(orient(p, q, T[2], T[0]));
+  const int s1 = sign(orient(p, q, T[0], T[1])), s2 = sign(orient(p, q, T[1], T[2])),
+            s3 = sign(orient(p, q, T[2], T[0]));
   if (s1 == 0 && s2 == 0 && s3 == 0) return false;
   return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
 }
@@ -178,7 +182,9 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
   std::vector<std::size_t> offset(n + 1, 0);
   for (std::size_t t = 0; t < n; ++t) {
     const Eigen::Vector3i a = cell_of(lo[t]), b = cell_of(hi[t]);
-    offset[t + 1] = offset[t] + (skip[t] ? 0 : std::size_t(b.x() - a.x() + 1) * std::size_t(b.y() - a.y() + 1) * std::size_t(b.z() - a.z() + 1));
+    offset[t + 1] = offset[t] + (skip[t] ? 0
+                                         : std::size_t(b.x() - a.x() + 1) * std::size_t(b.y() - a.y() + 1) *
+                                               std::size_t(b.z() - a.z() + 1));
   }
   std::vector<CellRef> refs(offset[n]);
   core::parallel_for(n, threads, [&](std::size_t b0, std::size_t e0) {
@@ -201,23 +207,26 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
   const std::size_t nruns = runs.size();
   runs.push_back(refs.size());
   std::vector<Pairs> found(nruns);
-  core::parallel_for(nruns, threads, [&](std::size_t b0, std::size_t e0) {
-    for (std::size_t r = b0; r < e0; ++r)
-      for (std::size_t i = runs[r]; i < runs[r + 1]; ++i)
-        for (std::size_t j = i + 1; j < runs[r + 1]; ++j) {
-          const Tri &s = tris[refs[i].tri], &t = tris[refs[j].tri];
-          const std::uint32_t ti = refs[i].tri, tj = refs[j].tri;
-          if (((lo[ti].array() > hi[tj].array()) || (lo[tj].array() > hi[ti].array())).any()) continue;
-          // count each pair once: in the cell holding the low corner of the boxes' overlap
-          if (key(cell_of(lo[ti].cwiseMax(lo[tj]))) != refs[runs[r]].cell) continue;
-          bool shared = false;
-          for (int p = 0; p < 3; ++p)
-            for (int q = 0; q < 3; ++q) shared = shared || s[p] == t[q];
-          if (shared) continue;
-          const Vec3 A[3] = {v[s[0]], v[s[1]], v[s[2]]}, B[3] = {v[t[0]], v[t[1]], v[t[2]]};
-          if (triangles_intersect(A, B)) found[r].push_back({std::min(ti, tj), std::max(ti, tj)});
-        }
-  }, 64);
+  core::parallel_for(
+      nruns, threads,
+      [&](std::size_t b0, std::size_t e0) {
+        for (std::size_t r = b0; r < e0; ++r)
+          for (std::size_t i = runs[r]; i < runs[r + 1]; ++i)
+            for (std::size_t j = i + 1; j < runs[r + 1]; ++j) {
+              const Tri &s = tris[refs[i].tri], &t = tris[refs[j].tri];
+              const std::uint32_t ti = refs[i].tri, tj = refs[j].tri;
+              if (((lo[ti].array() > hi[tj].array()) || (lo[tj].array() > hi[ti].array())).any()) continue;
+              // count each pair once: in the cell holding the low corner of the boxes' overlap
+              if (key(cell_of(lo[ti].cwiseMax(lo[tj]))) != refs[runs[r]].cell) continue;
+              bool shared = false;
+              for (int p = 0; p < 3; ++p)
+                for (int q = 0; q < 3; ++q) shared = shared || s[p] == t[q];
+              if (shared) continue;
+              const Vec3 A[3] = {v[s[0]], v[s[1]], v[s[2]]}, B[3] = {v[t[0]], v[t[1]], v[t[2]]};
+              if (triangles_intersect(A, B)) found[r].push_back({std::min(ti, tj), std::max(ti, tj)});
+            }
+      },
+      64);
   Pairs all;
   for (const Pairs& f : found) all.insert(all.end(), f.begin(), f.end());
   return all;
@@ -226,7 +235,7 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
 }  // namespace
 
 std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(const std::vector<Vec3>& vertices,
-                                                                   const std::vector<Tri>& triangles, int threads) {
+                                                                  const std::vector<Tri>& triangles, int threads) {
   std::vector<char> skip(triangles.size(), 0);
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     const Tri& w = triangles[t];
@@ -272,7 +281,9 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
   r.triangles = nt;
   for (const Tri& t : mesh.triangles)
     for (std::uint32_t i : t)
-      if (i >= nv) throw core::InvalidInput("check_mesh: a triangle refers to vertex " + std::to_string(i) + " of " + std::to_string(nv));
+      if (i >= nv)
+        throw core::InvalidInput("check_mesh: a triangle refers to vertex " + std::to_string(i) + " of " +
+                                 std::to_string(nv));
   if (nt == 0) return r;
 
   const std::vector<std::uint32_t> canon = weld(mesh.vertices);
@@ -322,16 +333,19 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
     }
   }
   std::sort(sides.begin(), sides.end());
-  std::vector<char> bad_vertex(nv, 0);  // touches a boundary or non-manifold edge
+  std::vector<char> bad_vertex(nv, 0);                         // touches a boundary or non-manifold edge
   std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;  // unique undirected edges
   for (std::size_t k = 0; k < sides.size();) {
     std::size_t e = k;
     while (e < sides.size() && sides[e].lo == sides[k].lo && sides[e].hi == sides[k].hi) ++e;
     const std::size_t uses = e - k;
     edges.emplace_back(sides[k].lo, sides[k].hi);
-    if (uses == 1) ++r.boundary_edges;
-    else if (uses > 2) ++r.nonmanifold_edges;
-    else if (sides[k].forward == sides[k + 1].forward) ++r.misoriented_edges;
+    if (uses == 1)
+      ++r.boundary_edges;
+    else if (uses > 2)
+      ++r.nonmanifold_edges;
+    else if (sides[k].forward == sides[k + 1].forward)
+      ++r.misoriented_edges;
     if (uses != 2) bad_vertex[sides[k].lo] = bad_vertex[sides[k].hi] = 1;
     k = e;
   }
@@ -351,26 +365,29 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
         for (std::uint32_t i : tris[t]) around[fill[i]++] = static_cast<std::uint32_t>(t);
   }
   std::vector<char> fan_broken(nv, 0);
-  core::parallel_for(nv, threads, [&](std::size_t b0, std::size_t e0) {
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> spokes;  // (other vertex, local triangle)
-    for (std::size_t v = b0; v < e0; ++v) {
-      const std::uint32_t n = start[v + 1] - start[v];
-      if (n == 0) continue;
-      spokes.clear();
-      for (std::uint32_t j = 0; j < n; ++j) {
-        const Tri& w = tris[around[start[v] + j]];
-        for (std::uint32_t o : w)
-          if (o != v) spokes.emplace_back(o, j);
-      }
-      std::sort(spokes.begin(), spokes.end());
-      UnionFind uf(n);
-      for (std::size_t k = 1; k < spokes.size(); ++k)
-        if (spokes[k].first == spokes[k - 1].first) uf.unite(spokes[k].second, spokes[k - 1].second);
-      std::uint32_t fans = 0;
-      for (std::uint32_t j = 0; j < n; ++j) fans += uf.find(j) == j;
-      fan_broken[v] = fans > 1;
-    }
-  }, 4096);
+  core::parallel_for(
+      nv, threads,
+      [&](std::size_t b0, std::size_t e0) {
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> spokes;  // (other vertex, local triangle)
+        for (std::size_t v = b0; v < e0; ++v) {
+          const std::uint32_t n = start[v + 1] - start[v];
+          if (n == 0) continue;
+          spokes.clear();
+          for (std::uint32_t j = 0; j < n; ++j) {
+            const Tri& w = tris[around[start[v] + j]];
+            for (std::uint32_t o : w)
+              if (o != v) spokes.emplace_back(o, j);
+          }
+          std::sort(spokes.begin(), spokes.end());
+          UnionFind uf(n);
+          for (std::size_t k = 1; k < spokes.size(); ++k)
+            if (spokes[k].first == spokes[k - 1].first) uf.unite(spokes[k].second, spokes[k - 1].second);
+          std::uint32_t fans = 0;
+          for (std::uint32_t j = 0; j < n; ++j) fans += uf.find(j) == j;
+          fan_broken[v] = fans > 1;
+        }
+      },
+      4096);
   for (std::size_t v = 0; v < nv; ++v) {
     r.nonmanifold_vertices += fan_broken[v];
     if (fan_broken[v]) bad_vertex[v] = 1;
@@ -404,7 +421,8 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
 
   const Pairs pairs = intersecting_pairs(mesh.vertices, tris, degenerate, threads);
   r.self_intersections = pairs.size();
-  r.intersecting_pairs.assign(pairs.begin(), pairs.begin() + static_cast<std::ptrdiff_t>(std::min<std::size_t>(pairs.size(), 16)));
+  r.intersecting_pairs.assign(pairs.begin(),
+                              pairs.begin() + static_cast<std::ptrdiff_t>(std::min<std::size_t>(pairs.size(), 16)));
   return r;
 }
 
@@ -416,7 +434,8 @@ std::string MeshReport::summary() const {
     << nonmanifold_vertices << ", misoriented edges " << misoriented_edges << ", self-intersecting pairs "
     << self_intersections << ", degenerate triangles " << degenerate_triangles << "\n";
   s << "genus per part:";
-  for (std::size_t p = 0; p < genus.size() && p < 20; ++p) s << " " << (genus[p] < 0 ? std::string("open") : std::to_string(genus[p]));
+  for (std::size_t p = 0; p < genus.size() && p < 20; ++p)
+    s << " " << (genus[p] < 0 ? std::string("open") : std::to_string(genus[p]));
   if (genus.size() > 20) s << " ...";
   s << "\n" << (printable() ? "printable" : "NOT printable") << "\n";
   return s.str();
@@ -443,7 +462,8 @@ PrintableMesh weld_soup(std::vector<Vec3> corners) {  // 3 corners per triangle 
   }
   for (std::size_t i = 0; i < corners.size(); ++i) index[i] = index[canon[i]];
   m.triangles.resize(corners.size() / 3);
-  for (std::size_t t = 0; t < m.triangles.size(); ++t) m.triangles[t] = {index[3 * t], index[3 * t + 1], index[3 * t + 2]};
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    m.triangles[t] = {index[3 * t], index[3 * t + 1], index[3 * t + 2]};
   return m;
 }
 
@@ -495,7 +515,8 @@ PrintableMesh read_obj(const std::filesystem::path& path, const std::string& s) 
     if (!(ls >> tag)) continue;
     if (tag == "v") {
       Vec3 p;
-      if (!(ls >> p.x() >> p.y() >> p.z())) malformed(path, "line " + std::to_string(line_no) + ": 'v' needs three numbers");
+      if (!(ls >> p.x() >> p.y() >> p.z()))
+        malformed(path, "line " + std::to_string(line_no) + ": 'v' needs three numbers");
       m.vertices.push_back(p);
     } else if (tag == "f") {
       poly.clear();
@@ -539,7 +560,8 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
     std::istringstream ls(line);
     std::string w;
     ls >> w;
-    if (w == "format") ls >> format;
+    if (w == "format")
+      ls >> format;
     else if (w == "element") {
       elements.push_back({});
       ls >> elements.back().name >> elements.back().count;
@@ -575,14 +597,22 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
     const std::size_t n = size_of(t);
     if (at + n > s.size()) malformed(path, "PLY data ends early");
     double v = 0;
-    if (t == "char" || t == "int8") v = get<std::int8_t>(s, at);
-    else if (t == "uchar" || t == "uint8") v = get<std::uint8_t>(s, at);
-    else if (t == "short" || t == "int16") v = get<std::int16_t>(s, at);
-    else if (t == "ushort" || t == "uint16") v = get<std::uint16_t>(s, at);
-    else if (t == "int" || t == "int32") v = get<std::int32_t>(s, at);
-    else if (t == "uint" || t == "uint32") v = get<std::uint32_t>(s, at);
-    else if (t == "float" || t == "float32") v = get<float>(s, at);
-    else v = get<double>(s, at);
+    if (t == "char" || t == "int8")
+      v = get<std::int8_t>(s, at);
+    else if (t == "uchar" || t == "uint8")
+      v = get<std::uint8_t>(s, at);
+    else if (t == "short" || t == "int16")
+      v = get<std::int16_t>(s, at);
+    else if (t == "ushort" || t == "uint16")
+      v = get<std::uint16_t>(s, at);
+    else if (t == "int" || t == "int32")
+      v = get<std::int32_t>(s, at);
+    else if (t == "uint" || t == "uint32")
+      v = get<std::uint32_t>(s, at);
+    else if (t == "float" || t == "float32")
+      v = get<float>(s, at);
+    else
+      v = get<double>(s, at);
     at += n;
     return v;
   };
@@ -594,7 +624,8 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
       for (const Property& pr : e.props) {
         if (pr.count_type.empty()) {
           const double v = read(pr.type);
-          if (e.name == "vertex" && pr.name.size() == 1 && pr.name[0] >= 'x' && pr.name[0] <= 'z') p[pr.name[0] - 'x'] = v;
+          if (e.name == "vertex" && pr.name.size() == 1 && pr.name[0] >= 'x' && pr.name[0] <= 'z')
+            p[pr.name[0] - 'x'] = v;
           continue;
         }
         const double n = read(pr.count_type);

@@ -1,4 +1,5 @@
-// Is a mesh printable? Topology, orientation, self-intersection and volume checks, and a triangle-soup reader for STL, OBJ and PLY.
+// Is a mesh printable? Topology, orientation, self-intersection and volume checks, and a triangle-soup reader for STL,
+// OBJ and PLY.
 #pragma once
 
 #include <array>
@@ -25,12 +26,13 @@ struct MeshReport {
   std::size_t misoriented_edges = 0;     ///< edges whose two triangles run them in the same direction
   bool consistently_oriented = true;     ///< misoriented_edges == 0
   std::size_t self_intersections = 0;    ///< pairs of triangles without a shared vertex that intersect
-  std::vector<std::array<std::uint32_t, 2>> intersecting_pairs;  ///< up to 16 examples (triangle indices), deterministic
+  std::vector<std::array<std::uint32_t, 2>>
+      intersecting_pairs;                ///< up to 16 examples (triangle indices), deterministic
   std::size_t degenerate_triangles = 0;  ///< triangles with repeated (welded) vertices or zero area
   double volume = 0;                     ///< signed enclosed volume (units^3); positive when wound outward
   double area = 0;                       ///< surface area (units^2)
   core::Vec3 bbox_min = core::Vec3::Zero(), bbox_max = core::Vec3::Zero();  ///< bounding box
-  std::vector<int> genus;                ///< per part: genus from Euler's formula, -1 if the part is not a closed manifold
+  std::vector<int> genus;  ///< per part: genus from Euler's formula, -1 if the part is not a closed manifold
 
   /// No holes, no non-manifold edges or vertices.
   bool closed_manifold() const { return boundary_edges == 0 && nonmanifold_edges == 0 && nonmanifold_vertices == 0; }
@@ -52,9 +54,9 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads = 0);
 /// order; the test check_mesh() uses, without welding. Zero-area triangles are skipped.
 std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(const PrintableMesh& mesh, int threads = 0);
 /// The same for a subset of a mesh's triangles; pairs index into `triangles`.
-std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(const std::vector<core::Vec3>& vertices,
-                                                                   const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                                                                   int threads = 0);
+std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(
+    const std::vector<core::Vec3>& vertices, const std::vector<std::array<std::uint32_t, 3>>& triangles,
+    int threads = 0);
 
 /// Signed volume by the divergence theorem (units^3): positive for a closed mesh wound outward.
 double signed_volume(const PrintableMesh& mesh);

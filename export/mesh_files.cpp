@@ -46,7 +46,8 @@ void write_stl(const std::filesystem::path& path, const PrintableMesh& m) {
     put_vec(out, c);
     put<std::uint16_t>(out, 0);
   }
-  core::write_file_atomically(path, [&](std::ostream& os) { os.write(out.data(), static_cast<std::streamsize>(out.size())); });
+  core::write_file_atomically(
+      path, [&](std::ostream& os) { os.write(out.data(), static_cast<std::streamsize>(out.size())); });
 }
 
 void write_obj(const std::filesystem::path& path, const PrintableMesh& m) {
@@ -70,11 +71,13 @@ void write_ply(const std::filesystem::path& path, const PrintableMesh& m) {
     put<std::uint8_t>(body, 3);
     for (std::uint32_t i : t) put<std::int32_t>(body, static_cast<std::int32_t>(i));
   }
-  const std::string header = "ply\nformat binary_little_endian 1.0\ncomment cellform printable mesh, units: mm\n"
-                             "element vertex " + std::to_string(m.vertices.size()) +
-                             "\nproperty float x\nproperty float y\nproperty float z\n"
-                             "element face " + std::to_string(m.triangles.size()) +
-                             "\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\ncomment cellform printable mesh, units: mm\n"
+      "element vertex " +
+      std::to_string(m.vertices.size()) +
+      "\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face " +
+      std::to_string(m.triangles.size()) + "\nproperty list uchar int vertex_indices\nend_header\n";
   core::write_file_atomically(path, [&](std::ostream& os) {
     os << header;
     os.write(body.data(), static_cast<std::streamsize>(body.size()));
@@ -102,11 +105,16 @@ void write_scad(const std::filesystem::path& path, const PrintableMesh& m) {
 void write_mesh(const std::filesystem::path& path, const PrintableMesh& mesh) {
   std::string ext = path.extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == ".stl") write_stl(path, mesh);
-  else if (ext == ".obj") write_obj(path, mesh);
-  else if (ext == ".ply") write_ply(path, mesh);
-  else if (ext == ".scad") write_scad(path, mesh);
-  else throw core::InvalidInput(path.string() + ": unknown mesh format '" + ext + "' (use .stl, .obj, .ply or .scad)");
+  if (ext == ".stl")
+    write_stl(path, mesh);
+  else if (ext == ".obj")
+    write_obj(path, mesh);
+  else if (ext == ".ply")
+    write_ply(path, mesh);
+  else if (ext == ".scad")
+    write_scad(path, mesh);
+  else
+    throw core::InvalidInput(path.string() + ": unknown mesh format '" + ext + "' (use .stl, .obj, .ply or .scad)");
 }
 
 }  // namespace cellform::exporters

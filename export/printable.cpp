@@ -12,10 +12,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <map>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <string>
 
@@ -56,9 +56,7 @@ std::string fmt(const char* f, double x) {
   return b;
 }
 
-std::string bytes_text(double b) {
-  return b >= 1e9 ? fmt("%.1f GB", b / 1e9) : fmt("%.0f MB", std::ceil(b / 1e6));
-}
+std::string bytes_text(double b) { return b >= 1e9 ? fmt("%.1f GB", b / 1e9) : fmt("%.0f MB", std::ceil(b / 1e6)); }
 
 void init_openvdb() {
   static std::once_flag once;
@@ -185,10 +183,14 @@ bool finite(const Vec3& v) { return v.allFinite(); }
 
 void check_params(const ThickenParams& p) {
   const auto bad = [](const std::string& what) { throw core::InvalidInput("thicken: " + what); };
-  if (!(std::isfinite(p.scale) && p.scale >= 0)) bad("scale must be >= 0 mm per model unit (0 = auto), got " + fmt("%g", p.scale));
-  if (!(std::isfinite(p.auto_extent) && p.auto_extent > 0)) bad("auto_extent must be > 0 mm, got " + fmt("%g", p.auto_extent));
-  if (!(std::isfinite(p.min_radius) && p.min_radius > 0)) bad("min_radius must be > 0 mm, got " + fmt("%g", p.min_radius));
-  if (!(std::isfinite(p.voxel_size) && p.voxel_size >= 0)) bad("voxel_size must be >= 0 mm (0 = auto), got " + fmt("%g", p.voxel_size));
+  if (!(std::isfinite(p.scale) && p.scale >= 0))
+    bad("scale must be >= 0 mm per model unit (0 = auto), got " + fmt("%g", p.scale));
+  if (!(std::isfinite(p.auto_extent) && p.auto_extent > 0))
+    bad("auto_extent must be > 0 mm, got " + fmt("%g", p.auto_extent));
+  if (!(std::isfinite(p.min_radius) && p.min_radius > 0))
+    bad("min_radius must be > 0 mm, got " + fmt("%g", p.min_radius));
+  if (!(std::isfinite(p.voxel_size) && p.voxel_size >= 0))
+    bad("voxel_size must be >= 0 mm (0 = auto), got " + fmt("%g", p.voxel_size));
   if (p.voxel_size > p.min_radius)
     bad("voxel_size " + fmt("%g", p.voxel_size) + " mm exceeds min_radius " + fmt("%g", p.min_radius) +
         " mm: the thinnest veins would vanish; use a voxel size of at most min_radius");
@@ -227,7 +229,8 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   }
   for (std::size_t i = 0; i < shell.size(); ++i)
     for (const Vec3& p : shell[i]) {
-      if (!finite(p)) throw core::InvalidInput("thicken: shell triangle " + std::to_string(i) + " has a non-finite corner");
+      if (!finite(p))
+        throw core::InvalidInput("thicken: shell triangle " + std::to_string(i) + " has a non-finite corner");
       lo = lo.cwiseMin(p);
       hi = hi.cwiseMax(p);
     }
@@ -314,7 +317,8 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     std::vector<std::size_t> offset(nprim + 1, 0);
     for (std::size_t i = 0; i < nprim; ++i) {
       const openvdb::Coord a = boxes[i].lo >> kLeafLog2, b = boxes[i].hi >> kLeafLog2;
-      offset[i + 1] = offset[i] + static_cast<std::size_t>(b.x() - a.x() + 1) * static_cast<std::size_t>(b.y() - a.y() + 1) *
+      offset[i + 1] = offset[i] + static_cast<std::size_t>(b.x() - a.x() + 1) *
+                                      static_cast<std::size_t>(b.y() - a.y() + 1) *
                                       static_cast<std::size_t>(b.z() - a.z() + 1);
     }
     std::vector<LeafRef> refs(offset[nprim]);
@@ -364,9 +368,12 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
           const double v = d[n];
           // A value at or next to 0 puts the crossings of several voxel edges on the same point and
           // volumeToMesh then emits distinct vertices at one position (zero-area triangles); push it off.
-          if (std::abs(v) < nudge) leaf->setValueOn(n, static_cast<float>(v < 0 ? -nudge : nudge));
-          else if (std::abs(v) < band) leaf->setValueOn(n, static_cast<float>(v));
-          else leaf->setValueOff(n, v < 0 ? -bg : bg);
+          if (std::abs(v) < nudge)
+            leaf->setValueOn(n, static_cast<float>(v < 0 ? -nudge : nudge));
+          else if (std::abs(v) < band)
+            leaf->setValueOn(n, static_cast<float>(v));
+          else
+            leaf->setValueOff(n, v < 0 ? -bg : bg);
         }
         leaves[l] = std::move(leaf);
       }
@@ -519,11 +526,12 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
           lo = lo.cwiseMin(mesh.vertices[i]);
           hi = hi.cwiseMax(mesh.vertices[i]);
         }
-        return openvdb::CoordBBox(
-            openvdb::Coord(static_cast<int>(std::floor(lo.x() / voxel)) - m, static_cast<int>(std::floor(lo.y() / voxel)) - m,
-                           static_cast<int>(std::floor(lo.z() / voxel)) - m),
-            openvdb::Coord(static_cast<int>(std::ceil(hi.x() / voxel)) + m, static_cast<int>(std::ceil(hi.y() / voxel)) + m,
-                           static_cast<int>(std::ceil(hi.z() / voxel)) + m));
+        return openvdb::CoordBBox(openvdb::Coord(static_cast<int>(std::floor(lo.x() / voxel)) - m,
+                                                 static_cast<int>(std::floor(lo.y() / voxel)) - m,
+                                                 static_cast<int>(std::floor(lo.z() / voxel)) - m),
+                                  openvdb::Coord(static_cast<int>(std::ceil(hi.x() / voxel)) + m,
+                                                 static_cast<int>(std::ceil(hi.y() / voxel)) + m,
+                                                 static_cast<int>(std::ceil(hi.z() / voxel)) + m));
       };
       for (const auto& pr : pairs)
         for (std::uint32_t t : pr) {

@@ -1,4 +1,5 @@
-// Printable structural meshes: vein segments thickened into tapered capsules and sheets into shells, as one watertight mesh in mm.
+// Printable structural meshes: vein segments thickened into tapered capsules and sheets into shells, as one watertight
+// mesh in mm.
 #pragma once
 
 #include <array>
@@ -20,21 +21,21 @@ using core::Vec3;
 /// A tapered capsule (round cone): the convex hull of a sphere of radius `ra` at `a` and one of radius
 /// `rb` at `b`. Model units. a == b gives a sphere of radius max(ra, rb).
 struct Segment {
-  Vec3 a, b;          ///< end points, model units
+  Vec3 a, b;              ///< end points, model units
   double ra = 0, rb = 0;  ///< radii at a and b, model units (raised to ThickenParams::min_radius after scaling)
 };
 
 /// Settings of thicken(). Lengths are in millimetres of the printed part unless stated otherwise.
 struct ThickenParams {
-  double scale = 0;             ///< mm per model unit; 0 = auto: the form's largest extent (radii included) becomes `auto_extent`
-  double auto_extent = 120;     ///< mm: size of the largest side of the bounding box when scale = 0
-  double voxel_size = 0;        ///< mm; 0 = auto: min_radius / 2 (a minimum-radius vein is 4 voxels across)
-  double min_radius = 0.4;      ///< mm: thinner veins are raised to this printable minimum
-  double shell_thickness = 0.6; ///< mm: total wall thickness of the shell around shell triangles (half on each side)
-  double adaptivity = 0.2;      ///< 0..1: OpenVDB volumeToMesh adaptivity; 0 = uniform quads, higher = fewer triangles
-  double max_memory_bytes = 2e9;///< refuse (core::InvalidInput) when the estimated peak memory exceeds this
-  int threads = 0;              ///< worker threads; 0 = all cores. Output is bitwise identical for any value
-  bool fill_cavities = false;   ///< fill closed pockets inside the solid (drop their inner walls)
+  double scale = 0;  ///< mm per model unit; 0 = auto: the form's largest extent (radii included) becomes `auto_extent`
+  double auto_extent = 120;      ///< mm: size of the largest side of the bounding box when scale = 0
+  double voxel_size = 0;         ///< mm; 0 = auto: min_radius / 2 (a minimum-radius vein is 4 voxels across)
+  double min_radius = 0.4;       ///< mm: thinner veins are raised to this printable minimum
+  double shell_thickness = 0.6;  ///< mm: total wall thickness of the shell around shell triangles (half on each side)
+  double adaptivity = 0.2;       ///< 0..1: OpenVDB volumeToMesh adaptivity; 0 = uniform quads, higher = fewer triangles
+  double max_memory_bytes = 2e9;  ///< refuse (core::InvalidInput) when the estimated peak memory exceeds this
+  int threads = 0;                ///< worker threads; 0 = all cores. Output is bitwise identical for any value
+  bool fill_cavities = false;     ///< fill closed pockets inside the solid (drop their inner walls)
 };
 
 /// What thicken() did.
@@ -54,10 +55,11 @@ struct ThickenReport {
   std::size_t filled_cavities = 0;  ///< cavities filled (fill_cavities) by removing their walls
   double volume = 0;                ///< mm^3, enclosed by the output mesh (positive)
   double area = 0;                  ///< mm^2, surface area of the output mesh
-  std::size_t remeshed_triangles = 0; ///< triangles of intersecting pairs whose neighbourhood was meshed again without adaptivity
-  std::size_t self_intersections = 0; ///< intersecting triangle pairs left in the output (0 unless the repair gave up)
-  double voxelise_seconds = 0;      ///< wall time of voxelisation
-  double mesh_seconds = 0;          ///< wall time of meshing
+  std::size_t remeshed_triangles =
+      0;  ///< triangles of intersecting pairs whose neighbourhood was meshed again without adaptivity
+  std::size_t self_intersections = 0;  ///< intersecting triangle pairs left in the output (0 unless the repair gave up)
+  double voxelise_seconds = 0;         ///< wall time of voxelisation
+  double mesh_seconds = 0;             ///< wall time of meshing
 };
 
 /// A narrow-band signed distance grid (OpenVDB FloatGrid, mm, background = 3 voxels) kept behind an
@@ -68,8 +70,8 @@ class LevelSet {
   LevelSet();
   explicit LevelSet(std::shared_ptr<const Impl> impl);
   const Impl& impl() const { return *impl_; }
-  double voxel_size() const;    ///< mm
-  double scale() const;         ///< mm per model unit
+  double voxel_size() const;  ///< mm
+  double scale() const;       ///< mm per model unit
   std::size_t active_voxels() const;
 
  private:

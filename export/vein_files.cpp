@@ -34,12 +34,14 @@ void write_veins_ply(const std::filesystem::path& path, const venation::VeinGrap
     put<std::int32_t>(body, static_cast<std::int32_t>(e[0]));
     put<std::int32_t>(body, static_cast<std::int32_t>(e[1]));
   }
-  const std::string header = "ply\nformat binary_little_endian 1.0\ncomment cellform vein graph: edges run child -> parent\n"
-                             "element vertex " + std::to_string(g.cell.size()) +
-                             "\nproperty float x\nproperty float y\nproperty float z\nproperty float flow\n"
-                             "property float radius\nproperty int order\nproperty uint id\n"
-                             "element edge " + std::to_string(g.edges.size()) +
-                             "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\ncomment cellform vein graph: edges run child -> parent\n"
+      "element vertex " +
+      std::to_string(g.cell.size()) +
+      "\nproperty float x\nproperty float y\nproperty float z\nproperty float flow\n"
+      "property float radius\nproperty int order\nproperty uint id\n"
+      "element edge " +
+      std::to_string(g.edges.size()) + "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
   core::write_file_atomically(path, [&](std::ostream& os) {
     os << header;
     os.write(body.data(), static_cast<std::streamsize>(body.size()));

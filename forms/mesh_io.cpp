@@ -42,8 +42,8 @@ class SoupImporter final : public om::IO::BaseImporter {
     }
     const int first = static_cast<int>(mesh.triangles.size());
     for (std::size_t k = 1; k + 1 < ids.size(); ++k)  // fan
-      mesh.triangles.push_back({static_cast<Index>(ids[0].idx()), static_cast<Index>(ids[k].idx()),
-                                static_cast<Index>(ids[k + 1].idx())});
+      mesh.triangles.push_back(
+          {static_cast<Index>(ids[0].idx()), static_cast<Index>(ids[k].idx()), static_cast<Index>(ids[k + 1].idx())});
     return om::FaceHandle(first);
   }
 
@@ -140,7 +140,8 @@ void check_stl_size(std::istream& in, std::uintmax_t size, const std::string& na
   in.seekg(0);
   if (got < 84) {
     if (std::string(head, std::min<std::size_t>(got, 5)) != "solid")
-      throw core::InvalidInput("mesh " + name + " is not an STL file: too short for binary STL and does not start with 'solid'");
+      throw core::InvalidInput("mesh " + name +
+                               " is not an STL file: too short for binary STL and does not start with 'solid'");
     return;
   }
   std::uint32_t n = 0;
@@ -203,7 +204,8 @@ TriangleMesh load_mesh(const fs::path& path) {
                              std::to_string(vertex_lines - std::min(vertex_lines, importer.mesh.vertices.size())) +
                              " of " + std::to_string(vertex_lines) +
                              " vertex lines ('v x y z') are not three numbers (NaN and infinity are not allowed)");
-  if (importer.bad_index) throw core::InvalidInput("mesh " + name + " is malformed: a face uses a vertex that does not exist");
+  if (importer.bad_index)
+    throw core::InvalidInput("mesh " + name + " is malformed: a face uses a vertex that does not exist");
   TriangleMesh mesh = std::move(importer.mesh);
   if (mesh.triangles.empty()) throw core::InvalidInput("mesh " + name + " has no triangles: not a mesh");
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i)

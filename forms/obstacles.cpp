@@ -93,15 +93,15 @@ struct PreparedObstacles::MeshIndex {
     std::uint32_t right = 0;             // inner node: left child is this + 1
   };
   struct Hit {
-    double t;      // along the segment, in [0, 1]
-    Vec3 point;    // on the triangle plane
-    Vec3 normal;   // unit normal of the triangle
+    double t;     // along the segment, in [0, 1]
+    Vec3 point;   // on the triangle plane
+    Vec3 normal;  // unit normal of the triangle
   };
 
   std::vector<Triangle> triangles;  // in leaf order
   std::vector<Node> nodes;
-  double pad = 0;       // bounding boxes grow by this much, model units
-  double scale = 1;     // bounding-box diagonal of all meshes, model units
+  double pad = 0;    // bounding boxes grow by this much, model units
+  double scale = 1;  // bounding-box diagonal of all meshes, model units
 
   explicit MeshIndex(const std::vector<TriangleMesh>& meshes) {
     std::vector<Triangle> all;
@@ -137,8 +137,7 @@ struct PreparedObstacles::MeshIndex {
     std::vector<std::uint32_t> order(all.size());
     std::iota(order.begin(), order.end(), 0u);
     std::vector<Vec3> centroid(all.size());
-    for (std::size_t i = 0; i < all.size(); ++i)
-      centroid[i] = all[i].v0 + (all[i].e1 + all[i].e2) / 3.0;
+    for (std::size_t i = 0; i < all.size(); ++i) centroid[i] = all[i].v0 + (all[i].e1 + all[i].e2) / 3.0;
     nodes.reserve(2 * all.size() / 3 + 2);
     build(all, centroid, order, 0, static_cast<std::uint32_t>(all.size()));
     triangles.reserve(all.size());
@@ -182,8 +181,7 @@ struct PreparedObstacles::MeshIndex {
   }
 
   // Does the segment o + t d, t in [0, t_max], meet the box? inv = 1 / d componentwise (inf where d = 0).
-  static bool segment_box(const Vec3& o, const Vec3& d, const Vec3& inv, const Vec3& lo, const Vec3& hi,
-                          double t_max) {
+  static bool segment_box(const Vec3& o, const Vec3& d, const Vec3& inv, const Vec3& lo, const Vec3& hi, double t_max) {
     double t0 = 0, t1 = t_max;
     for (int k = 0; k < 3; ++k) {
       if (d[k] == 0) {
@@ -423,50 +421,53 @@ void PreparedObstacles::apply(cells::Cells& cells, const std::vector<Vec3>& prev
     throw InvalidInput("obstacle margin is " + fmt(margin) + ", allowed: a finite value >= 0 (model units)");
   const std::size_t n = cells.size();
   if (previous_positions.size() != n)
-    throw InvalidInput("apply_obstacles: " + std::to_string(previous_positions.size()) +
-                       " previous positions for " + std::to_string(n) + " cells");
+    throw InvalidInput("apply_obstacles: " + std::to_string(previous_positions.size()) + " previous positions for " +
+                       std::to_string(n) + " cells");
   if (obstacles_.empty()) return;
   const double mesh_backoff = index_ ? std::max(margin, 1e-9 * index_->scale) : margin;
 
-  core::parallel_for(n, threads, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      if (cells.fixed[i]) continue;
-      const Vec3& prev = previous_positions[i];
-      Vec3 p = cells.position[i];
-      Vec3 v = cells.velocity[i];
-      bool changed = false;
-      bool any_change = false;
-      for (int pass = 0; pass < kMaxPasses; ++pass) {
-        changed = false;
-        if (index_) {
-          if (const auto hit = index_->first_crossing(prev, p)) {
-            // Back on the side the cell came from; crossing requires prev off the plane, so side != 0.
-            const double side = (prev - hit->point).dot(hit->normal) >= 0 ? 1.0 : -1.0;
-            const Vec3 towards_prev = side * hit->normal;
-            p = hit->point + mesh_backoff * towards_prev;
-            remove_inward(v, towards_prev);
-            changed = true;
+  core::parallel_for(
+      n, threads,
+      [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+          if (cells.fixed[i]) continue;
+          const Vec3& prev = previous_positions[i];
+          Vec3 p = cells.position[i];
+          Vec3 v = cells.velocity[i];
+          bool changed = false;
+          bool any_change = false;
+          for (int pass = 0; pass < kMaxPasses; ++pass) {
+            changed = false;
+            if (index_) {
+              if (const auto hit = index_->first_crossing(prev, p)) {
+                // Back on the side the cell came from; crossing requires prev off the plane, so side != 0.
+                const double side = (prev - hit->point).dot(hit->normal) >= 0 ? 1.0 : -1.0;
+                const Vec3 towards_prev = side * hit->normal;
+                p = hit->point + mesh_backoff * towards_prev;
+                remove_inward(v, towards_prev);
+                changed = true;
+              }
+            }
+            for (const HalfSpace& h : obstacles_.half_spaces) changed |= constrain(h, margin, p, v);
+            for (const Sphere& s : obstacles_.spheres) changed |= constrain(s, margin, prev, p, v);
+            for (const Box& b : obstacles_.boxes) changed |= constrain(b, margin, prev, p, v);
+            any_change |= changed;
+            if (!changed) break;
+          }
+          if (changed && (inside_solid(p, margin) || crosses_mesh(prev, p))) {
+            // Wedged between obstacles: stay where the cell was, if that was a valid place.
+            if (!inside_solid(prev, margin)) {
+              p = prev;
+              v.setZero();
+            }
+          }
+          if (any_change) {
+            cells.position[i] = p;
+            cells.velocity[i] = v;
           }
         }
-        for (const HalfSpace& h : obstacles_.half_spaces) changed |= constrain(h, margin, p, v);
-        for (const Sphere& s : obstacles_.spheres) changed |= constrain(s, margin, prev, p, v);
-        for (const Box& b : obstacles_.boxes) changed |= constrain(b, margin, prev, p, v);
-        any_change |= changed;
-        if (!changed) break;
-      }
-      if (changed && (inside_solid(p, margin) || crosses_mesh(prev, p))) {
-        // Wedged between obstacles: stay where the cell was, if that was a valid place.
-        if (!inside_solid(prev, margin)) {
-          p = prev;
-          v.setZero();
-        }
-      }
-      if (any_change) {
-        cells.position[i] = p;
-        cells.velocity[i] = v;
-      }
-    }
-  }, 512);
+      },
+      512);
 }
 
 void apply_obstacles(cells::Cells& cells, const std::vector<Vec3>& previous_positions, const Obstacles& obstacles,

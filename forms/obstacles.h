@@ -65,8 +65,7 @@ class PreparedObstacles {
   PreparedObstacles& operator=(PreparedObstacles&&) noexcept;
 
   /// See apply_obstacles().
-  void apply(cells::Cells& cells, const std::vector<Vec3>& previous_positions, double margin,
-             int threads = 0) const;
+  void apply(cells::Cells& cells, const std::vector<Vec3>& previous_positions, double margin, int threads = 0) const;
 
   /// True if `position` lies inside a solid (closer than `margin` minus a rounding tolerance, model units).
   bool inside_solid(const Vec3& position, double margin) const;

@@ -14,20 +14,20 @@ namespace cellform::forms {
 
 /// A petiole: at `step` the cell nearest to `at` becomes a petiole (step 0 = before the first step).
 struct PetioleSpec {
-  Vec3 at = Vec3::Zero();      ///< model units
-  bool fixed = true;           ///< the petiole does not move
-  std::uint64_t step = 0;      ///< when it appears
+  Vec3 at = Vec3::Zero();  ///< model units
+  bool fixed = true;       ///< the petiole does not move
+  std::uint64_t step = 0;  ///< when it appears
 };
 
 /// Everything a scene is made of, as plain data.
 struct SceneDescription {
-  cells::Params cells;                            ///< the cell system
-  std::optional<venation::Params> venation;       ///< auxin canalisation; none = no veins
-  bool split_along_auxin = false;                 ///< divisions split along the local auxin flow
-  std::vector<PetioleSpec> petioles;              ///< sinks of the auxin flow and roots of the veins
-  Obstacles obstacles;                            ///< solids and surfaces cells cannot pass
-  std::vector<Attractor> attractors;              ///< points pulling cells
-  double obstacle_margin = 0.0;  ///< model units cells keep from obstacle surfaces; 0 = 1% of rest length
+  cells::Params cells;                       ///< the cell system
+  std::optional<venation::Params> venation;  ///< auxin canalisation; none = no veins
+  bool split_along_auxin = false;            ///< divisions split along the local auxin flow
+  std::vector<PetioleSpec> petioles;         ///< sinks of the auxin flow and roots of the veins
+  Obstacles obstacles;                       ///< solids and surfaces cells cannot pass
+  std::vector<Attractor> attractors;         ///< points pulling cells
+  double obstacle_margin = 0.0;              ///< model units cells keep from obstacle surfaces; 0 = 1% of rest length
 };
 
 /// Throws core::InvalidInput naming the parameter for anything out of range.

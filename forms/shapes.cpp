@@ -83,7 +83,8 @@ std::vector<Vec3> line_points(const Vec3& from, const Vec3& to, double spacing) 
   const auto n = static_cast<long>(std::ceil(len / spacing));
   if (n > 50'000'000) throw core::InvalidInput("line would need " + std::to_string(n) + " cells; raise the spacing");
   std::vector<Vec3> out;
-  for (long i = 0; i <= n; ++i) out.push_back(n == 0 ? from : from + (to - from) * (static_cast<double>(i) / static_cast<double>(n)));
+  for (long i = 0; i <= n; ++i)
+    out.push_back(n == 0 ? from : from + (to - from) * (static_cast<double>(i) / static_cast<double>(n)));
   return out;
 }
 

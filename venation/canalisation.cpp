@@ -20,7 +20,8 @@ void validate(const Params& p) {
   need(std::isfinite(p.source) && p.source >= 0, "source", "a number >= 0", p.source);
   need(std::isfinite(p.murray_exponent) && p.murray_exponent >= 1 && p.murray_exponent <= 4, "murray_exponent",
        "a number from 1 to 4", p.murray_exponent);
-  need(std::isfinite(p.radius_scale) && p.radius_scale > 0, "radius_scale", "a number > 0 (model units)", p.radius_scale);
+  need(std::isfinite(p.radius_scale) && p.radius_scale > 0, "radius_scale", "a number > 0 (model units)",
+       p.radius_scale);
   need(std::isfinite(p.min_radius) && p.min_radius >= 0, "min_radius", "a number >= 0 (model units)", p.min_radius);
   need(p.every >= 1, "every", "a whole number >= 1 (steps)", p.every);
 }
@@ -77,7 +78,8 @@ Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Worksp
   bool any_petiole = false;
   for (std::size_t i = 0; i < n; ++i) any_petiole = any_petiole || c.type[i] == CellType::petiole;
   if (!any_petiole)
-    throw core::InvalidInput("venation needs at least one petiole cell (the sink of the auxin flow); add petiole{at = {x, y, z}}");
+    throw core::InvalidInput(
+        "venation needs at least one petiole cell (the sink of the auxin flow); add petiole{at = {x, y, z}}");
 
   // sources
   std::vector<double>& src = w.source;
@@ -133,8 +135,8 @@ Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Worksp
         }
       }
       downstream[j] = best;
-      key[j] = src[j];                      // j's own auxin; its upstream attaches in the next layer
-      if (L > 0) key[best] += src[j];       // the chosen neighbour's flow so far grows
+      key[j] = src[j];                 // j's own auxin; its upstream attaches in the next layer
+      if (L > 0) key[best] += src[j];  // the chosen neighbour's flow so far grows
       w.order.push_back(j);
     }
     w.frontier.swap(w.next);
@@ -149,7 +151,8 @@ Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Worksp
   w.frontier.clear();
   for (std::size_t i = 0; i < n; ++i) {
     const Index par = c.vein_parent[i];
-    if (is_vein_node(c.type[i]) && (par == kNoIndex || !is_vein_node(c.type[par]))) w.frontier.push_back(static_cast<Index>(i));
+    if (is_vein_node(c.type[i]) && (par == kNoIndex || !is_vein_node(c.type[par])))
+      w.frontier.push_back(static_cast<Index>(i));
   }
   // breadth-first from the roots gives parents before children
   std::vector<Index>& vorder = w.next;

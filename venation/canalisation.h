@@ -1,8 +1,8 @@
 // Auxin-flux canalisation inside the cell system (cell-division venation paper, "Venation Growth").
 #pragma once
 
-#include <cstdint>
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -17,7 +17,8 @@ using core::Vec3;
 
 /// Parameters of canalisation. Flows are in units of auxin per step (one general cell makes `source`).
 struct Params {
-  double threshold = 40.0;     ///< flow a cell next to a vein must exceed to become a vein cell (≈ upstream cells); sets vein spacing
+  double threshold =
+      40.0;  ///< flow a cell next to a vein must exceed to become a vein cell (≈ upstream cells); sets vein spacing
   double source = 1.0;         ///< auxin each cell produces per step (every cell is an equal source)
   double murray_exponent = 3;  ///< n of Murray's law r_parent^n = sum r_child^n (2 or 3 typical)
   double radius_scale = 0.05;  ///< model units: radius of a vein carrying unit flow; r = radius_scale * flow^(1/n)
@@ -33,11 +34,11 @@ using SourceRule = std::function<double(const Cells&, Index)>;
 
 /// What one canalisation step did.
 struct Report {
-  std::size_t promoted = 0;      ///< cells that became vein cells this step
-  std::size_t vein_cells = 0;    ///< vein cells after the step (petioles not counted)
-  double total_source = 0;       ///< auxin produced by the cells connected to a petiole
-  double petiole_inflow = 0;     ///< auxin arriving at all petioles (equals total_source)
-  std::size_t unconnected = 0;   ///< cells with no path to any petiole (their auxin goes nowhere)
+  std::size_t promoted = 0;     ///< cells that became vein cells this step
+  std::size_t vein_cells = 0;   ///< vein cells after the step (petioles not counted)
+  double total_source = 0;      ///< auxin produced by the cells connected to a petiole
+  double petiole_inflow = 0;    ///< auxin arriving at all petioles (equals total_source)
+  std::size_t unconnected = 0;  ///< cells with no path to any petiole (their auxin goes nowhere)
 };
 
 /// Scratch kept between steps so a step allocates nothing once warm.
@@ -50,10 +51,10 @@ struct Workspace {
 };
 
 /// Names of the per-cell attributes canalisation maintains in Cells::attributes.
-inline constexpr const char* kFlow = "flow";            ///< auxin flow through the cell (per step)
-inline constexpr const char* kRadius = "vein_radius";   ///< Murray radius of vein cells, model units (0 elsewhere)
-inline constexpr const char* kOrder = "vein_order";     ///< 1 = primary, 2 = secondary, ... (0 = not a vein)
-inline constexpr const char* kFlowX = "flow_dx";        ///< unit direction of the flow (towards downstream)
+inline constexpr const char* kFlow = "flow";           ///< auxin flow through the cell (per step)
+inline constexpr const char* kRadius = "vein_radius";  ///< Murray radius of vein cells, model units (0 elsewhere)
+inline constexpr const char* kOrder = "vein_order";    ///< 1 = primary, 2 = secondary, ... (0 = not a vein)
+inline constexpr const char* kFlowX = "flow_dx";       ///< unit direction of the flow (towards downstream)
 inline constexpr const char* kFlowY = "flow_dy";
 inline constexpr const char* kFlowZ = "flow_dz";
 

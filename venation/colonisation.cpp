@@ -18,8 +18,8 @@ namespace {
 
 void require_distance(double v, const char* name) {
   if (!(v > 0 && std::isfinite(v)))
-    throw InvalidInput(std::string("colonisation.") + name + " must be a positive, finite distance in model units, got " +
-                       std::to_string(v));
+    throw InvalidInput(std::string("colonisation.") + name +
+                       " must be a positive, finite distance in model units, got " + std::to_string(v));
 }
 
 Vec3 lift(const Vec2& p) { return Vec3(p.x(), p.y(), 0.0); }
@@ -120,7 +120,9 @@ void validate(const Leaf& leaf) {
   validate_outline(leaf.outline, "leaf.outline");
   const OutlineIndex index(leaf.outline);
   const double size = (index.hi() - index.lo()).norm();
-  auto inside = [&](const Vec2& q) { return index.contains(q) || distance_to_boundary(leaf.outline, q) <= 1e-6 * size; };
+  auto inside = [&](const Vec2& q) {
+    return index.contains(q) || distance_to_boundary(leaf.outline, q) <= 1e-6 * size;
+  };
   if (!leaf.petiole.allFinite() || !inside(leaf.petiole))
     throw InvalidInput("leaf.petiole (" + std::to_string(leaf.petiole.x()) + ", " + std::to_string(leaf.petiole.y()) +
                        ") lies outside the blade outline; it must be inside or on it");
@@ -372,7 +374,8 @@ struct Colonisation::Impl {
     const Vec3& q = src[s];
     if (!st.ready) {
       nodes.sector_nearest(q, st.best, st.d2, scratch);
-      for (int k = 0; k < 6; ++k) st.blocked[k] = st.best[k] == kNoIndex || (closed && nodes.lune_occupied(q, st.best[k]));
+      for (int k = 0; k < 6; ++k)
+        st.blocked[k] = st.best[k] == kNoIndex || (closed && nodes.lune_occupied(q, st.best[k]));
       st.ready = true;
     } else if (fresh.size() > 0) {
       Index old[6];
@@ -391,14 +394,14 @@ struct Colonisation::Impl {
           for (int j = 1; j <= 2 && !maybe; ++j)
             maybe = st.d2[(k + j) % 6] <= st.d2[k] || st.d2[(k + 6 - j) % 6] <= st.d2[k];
           st.blocked[k] = maybe && nodes.lune_occupied(q, st.best[k]);
-        }
-        else if (!st.blocked[k])  // only a new node can newly occupy the lune
+        } else if (!st.blocked[k])  // only a new node can newly occupy the lune
           st.blocked[k] = fresh.any_in_lune(q, pos[k]);
       }
     }
     near[s] = kNoIndex;
     for (int k = 0; k < 6; ++k)
-      if (st.best[k] != kNoIndex && (near[s] == kNoIndex || st.d2[k] < near_d2[s] || (st.d2[k] == near_d2[s] && st.best[k] < near[s]))) {
+      if (st.best[k] != kNoIndex &&
+          (near[s] == kNoIndex || st.d2[k] < near_d2[s] || (st.d2[k] == near_d2[s] && st.best[k] < near[s]))) {
         near[s] = st.best[k];
         near_d2[s] = st.d2[k];
       }
@@ -432,16 +435,20 @@ struct Colonisation::Impl {
     fresh.assign(std::span<const Vec3>(nodes.points()).subspan(synced));
     // each source updates only its own state and result slot: any thread count gives the same bits
     if (per_source.size() < active.size()) per_source.resize(active.size());
-    core::parallel_for(active.size(), p.threads, [&](std::size_t first, std::size_t last) {
-      PointTree::Scratch local;
-      for (std::size_t a = first; a < last; ++a) {
-        const Index s = active[a];
-        std::vector<Index>& out = per_source[a];
-        sector_update(s, out, closed && p.neighbourhood == Neighbourhood::exact, local);
-        if (closed && p.neighbourhood == Neighbourhood::urquhart)
-          nodes.urquhart_neighbourhood(src[s], std::min(half_extent, 2 * std::sqrt(near_d2[s]) + 4 * D), out, local, 48);
-      }
-    }, 64);
+    core::parallel_for(
+        active.size(), p.threads,
+        [&](std::size_t first, std::size_t last) {
+          PointTree::Scratch local;
+          for (std::size_t a = first; a < last; ++a) {
+            const Index s = active[a];
+            std::vector<Index>& out = per_source[a];
+            sector_update(s, out, closed && p.neighbourhood == Neighbourhood::exact, local);
+            if (closed && p.neighbourhood == Neighbourhood::urquhart)
+              nodes.urquhart_neighbourhood(src[s], std::min(half_extent, 2 * std::sqrt(near_d2[s]) + 4 * D), out, local,
+                                           48);
+          }
+        },
+        64);
     for (std::size_t a = 0; a < active.size(); ++a) {
       const Index s = active[a];
       if (!closed) {
@@ -528,7 +535,8 @@ struct Colonisation::Impl {
     rep.scale = nonuniform ? static_cast<double>(grown) : sigma;
     rep.nodes = nodes.size();
     rep.sources = active.size();
-    const bool changed = rep.sources_born != born_before || rep.sources_removed != removed_before || nodes.size() != nodes_before;
+    const bool changed =
+        rep.sources_born != born_before || rep.sources_removed != removed_before || nodes.size() != nodes_before;
     quiet = (growth_over() && !changed) ? quiet + 1 : 0;
     if (quiet >= p.settle_steps) {
       if (active.empty())
@@ -598,16 +606,19 @@ Outline Colonisation::outline() const {
 const ColonisationReport& Colonisation::report() const { return impl_->rep; }
 
 std::pair<VeinTree, ColonisationReport> colonise(const Leaf& leaf, const ColonisationParams& params,
-                                                  const ColonisationProgress& progress) {
+                                                 const ColonisationProgress& progress) {
   Colonisation c(leaf, params);
   c.run(progress);
   return {c.tree(), c.report()};
 }
 
 void compute_widths(VeinTree& tree, const WidthParams& w) {
-  if (!(w.exponent > 0 && std::isfinite(w.exponent))) throw InvalidInput("widths.exponent (Murray's n) must be positive");
-  if (!(w.tip_radius > 0 && std::isfinite(w.tip_radius))) throw InvalidInput("widths.tip_radius must be a positive radius in model units");
-  if (!(w.per_node_flow >= 0 && std::isfinite(w.per_node_flow))) throw InvalidInput("widths.per_node_flow must be >= 0");
+  if (!(w.exponent > 0 && std::isfinite(w.exponent)))
+    throw InvalidInput("widths.exponent (Murray's n) must be positive");
+  if (!(w.tip_radius > 0 && std::isfinite(w.tip_radius)))
+    throw InvalidInput("widths.tip_radius must be a positive radius in model units");
+  if (!(w.per_node_flow >= 0 && std::isfinite(w.per_node_flow)))
+    throw InvalidInput("widths.per_node_flow must be >= 0");
   const std::size_t n = tree.size();
   std::vector<std::uint32_t> children(n, 0);
   for (Index i = 0; i < n; ++i)
@@ -630,7 +641,8 @@ void compute_widths(VeinTree& tree, const WidthParams& w) {
   }
   tree.order.assign(n, 1);
   for (Index i = 0; i < n; ++i)
-    if (tree.parent[i] != kNoIndex) tree.order[i] = tree.order[tree.parent[i]] + (main_child[tree.parent[i]] == i ? 0 : 1);
+    if (tree.parent[i] != kNoIndex)
+      tree.order[i] = tree.order[tree.parent[i]] + (main_child[tree.parent[i]] == i ? 0 : 1);
 }
 
 }  // namespace cellform::venation

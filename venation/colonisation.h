@@ -31,7 +31,8 @@ enum class Neighbourhood {
 enum class GrowthMode {
   none,      ///< the blade keeps its initial size
   marginal,  ///< the margin is scaled about the petiole; sources and veins stay where they are
-  uniform,   ///< isogonic: the whole leaf scales; computed by shrinking the unit distance lambda_t = lambda_0 sigma_0 / sigma_t
+  uniform,   ///< isogonic: the whole leaf scales; computed by shrinking the unit distance lambda_t = lambda_0 sigma_0 /
+             ///< sigma_t
   nonuniform,  ///< anisotropic, Appendix A: rates of growth in x and y depend on the initial height y_0
 };
 
@@ -55,14 +56,14 @@ struct ColonisationParams {
   VenationType type = VenationType::closed;
   Neighbourhood neighbourhood = Neighbourhood::exact;
   GrowthMode growth = GrowthMode::none;
-  double initial_scale = 1;  ///< sigma_0: outline scale factor at step 0 (about the petiole)
-  double final_scale = 1;    ///< sigma at which growth stops
-  double scale_step = 0;     ///< Delta sigma per step (>= 0; > 0 for marginal and uniform growth)
-  GrowthFunction growth_x;   ///< nonuniform: REG_x(y_0)
-  GrowthFunction growth_y;   ///< nonuniform: REG_y(y_0)
+  double initial_scale = 1;      ///< sigma_0: outline scale factor at step 0 (about the petiole)
+  double final_scale = 1;        ///< sigma at which growth stops
+  double scale_step = 0;         ///< Delta sigma per step (>= 0; > 0 for marginal and uniform growth)
+  GrowthFunction growth_x;       ///< nonuniform: REG_x(y_0)
+  GrowthFunction growth_y;       ///< nonuniform: REG_y(y_0)
   std::size_t growth_steps = 0;  ///< nonuniform: steps during which the leaf grows
-  std::uint64_t seed = 1;    ///< all randomness (dart positions) derives from this
-  int threads = 1;           ///< threads for the per-source neighbourhoods (0 = all cores); same result for any count
+  std::uint64_t seed = 1;        ///< all randomness (dart positions) derives from this
+  int threads = 1;  ///< threads for the per-source neighbourhoods (0 = all cores); same result for any count
   std::size_t max_steps = 100000;   ///< stop (report.hit_max_steps) after this many steps
   std::size_t max_nodes = 5000000;  ///< stop (report.hit_max_nodes) once this many vein nodes exist
   std::size_t settle_steps = 5;     ///< after growth ends: stop when this many steps in a row added no
@@ -77,9 +78,9 @@ void validate(const ColonisationParams& params);
 
 /// The leaf: its outline at scale 1, the petiole (growth centre), the seed vein nodes.
 struct Leaf {
-  Outline outline;                  ///< blade outline at growth scale 1, model units
-  Vec2 petiole = Vec2::Zero();      ///< attachment point of blade to petiole; marginal growth scales about it
-  std::vector<Vec2> initial_nodes;  ///< seed vein nodes (empty = the petiole); several along the base for grasses
+  Outline outline;                    ///< blade outline at growth scale 1, model units
+  Vec2 petiole = Vec2::Zero();        ///< attachment point of blade to petiole; marginal growth scales about it
+  std::vector<Vec2> initial_nodes;    ///< seed vein nodes (empty = the petiole); several along the base for grasses
   std::vector<Vec2> initial_sources;  ///< sources present at step 0 (no birth-distance test), e.g. from a script
 };
 
@@ -91,13 +92,13 @@ void validate(const Leaf& leaf);
 
 /// The vein graph. Nodes are in creation order, so a parent always precedes its children.
 struct VeinTree {
-  std::vector<Vec3> positions;        ///< model units (z = 0 for leaves), in the grown leaf's frame
-  std::vector<Index> parent;          ///< kNoIndex for the seed nodes (roots); edges point base -> tip
-  std::vector<std::uint32_t> birth_step;  ///< simulation step that created the node (0 = seed)
+  std::vector<Vec3> positions;                       ///< model units (z = 0 for leaves), in the grown leaf's frame
+  std::vector<Index> parent;                         ///< kNoIndex for the seed nodes (roots); edges point base -> tip
+  std::vector<std::uint32_t> birth_step;             ///< simulation step that created the node (0 = seed)
   std::vector<std::pair<Index, Index>> anastomoses;  ///< closing edges of closed patterns (loops)
   // Filled by compute_widths():
-  std::vector<double> flow;     ///< Murray flow r^n carried by the node's segment (sum over what it drains)
-  std::vector<double> radius;   ///< model units: vein radius at the node (segment node -> parent)
+  std::vector<double> flow;          ///< Murray flow r^n carried by the node's segment (sum over what it drains)
+  std::vector<double> radius;        ///< model units: vein radius at the node (segment node -> parent)
   std::vector<std::uint32_t> order;  ///< 1 = primary; a branch that is not the largest at its node gets +1
 
   std::size_t size() const { return positions.size(); }
@@ -115,10 +116,10 @@ struct ColonisationReport {
   std::size_t darts = 0;            ///< darts thrown
   std::size_t loops = 0;            ///< anastomosis edges added (independent cycles of the graph)
   double scale = 1;                 ///< growth scale sigma at the end (nonuniform: steps of growth done)
-  bool finished = false;       ///< growth over and no source left: the pattern is complete
-  bool stalled = false;        ///< growth over, sources remain, but settle_steps steps changed nothing
-  bool hit_max_steps = false;  ///< stopped by max_steps
-  bool hit_max_nodes = false;  ///< stopped by max_nodes
+  bool finished = false;            ///< growth over and no source left: the pattern is complete
+  bool stalled = false;             ///< growth over, sources remain, but settle_steps steps changed nothing
+  bool hit_max_steps = false;       ///< stopped by max_steps
+  bool hit_max_nodes = false;       ///< stopped by max_nodes
 };
 
 /// Progress callback: (steps so far, vein nodes); return false to cancel (core::Cancelled).
@@ -158,14 +159,14 @@ class Colonisation {
 
 /// One-off run: a Colonisation stepped until done. Returns the tree and the report.
 std::pair<VeinTree, ColonisationReport> colonise(const Leaf& leaf, const ColonisationParams& params,
-                                                  const ColonisationProgress& progress = {});
+                                                 const ColonisationProgress& progress = {});
 
 /// Vein widths by Murray's law (Section 3.5).
 struct WidthParams {
-  double exponent = 2;         ///< n in r_parent^n = sum r_child^n (Table 1: 2, developmental model 3)
-  double tip_radius = 0.1;     ///< model units: radius of a free vein end (veinlet)
-  double per_node_flow = 0;    ///< extra r^n each node adds, in units of tip_radius^n: widens low orders
-                               ///< to stand in for veinlets not modelled (Section 3.5); 0 = pure Murray
+  double exponent = 2;       ///< n in r_parent^n = sum r_child^n (Table 1: 2, developmental model 3)
+  double tip_radius = 0.1;   ///< model units: radius of a free vein end (veinlet)
+  double per_node_flow = 0;  ///< extra r^n each node adds, in units of tip_radius^n: widens low orders
+                             ///< to stand in for veinlets not modelled (Section 3.5); 0 = pure Murray
 };
 
 /// Fills tree.flow, tree.radius and tree.order once, from the tips to the base: flow(v) = tip flow at a

@@ -86,7 +86,8 @@ void validate_outline(const Outline& o, const std::string& what) {
   std::iota(order.begin(), order.end(), 0);
   auto lo_x = [&](std::size_t i) { return std::min(o.points[i].x(), o.points[(i + 1) % n].x()); };
   auto hi_x = [&](std::size_t i) { return std::max(o.points[i].x(), o.points[(i + 1) % n].x()); };
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return lo_x(a) < lo_x(b) || (lo_x(a) == lo_x(b) && a < b); });
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return lo_x(a) < lo_x(b) || (lo_x(a) == lo_x(b) && a < b); });
   for (std::size_t a = 0; a < n; ++a) {
     const std::size_t i = order[a];
     for (std::size_t b = a + 1; b < n && lo_x(order[b]) <= hi_x(i); ++b) {
@@ -128,12 +129,16 @@ double distance_to_boundary(const Outline& o, const Vec2& p) {
 }
 
 Outline make_outline(const ShapeParams& sp) {
-  if (!(sp.length > 0 && std::isfinite(sp.length))) throw InvalidInput("shape.length must be a positive number of model units");
-  if (!(sp.width > 0 && std::isfinite(sp.width))) throw InvalidInput("shape.width must be a positive number of model units");
+  if (!(sp.length > 0 && std::isfinite(sp.length)))
+    throw InvalidInput("shape.length must be a positive number of model units");
+  if (!(sp.width > 0 && std::isfinite(sp.width)))
+    throw InvalidInput("shape.width must be a positive number of model units");
   if (sp.samples < 16) throw InvalidInput("shape.samples must be at least 16");
   if (!(sp.lobe_depth >= 0 && sp.lobe_depth < 1)) throw InvalidInput("shape.lobe_depth must be in [0, 1)");
-  if (sp.kind == ShapeKind::lobed && sp.lobes < 1) throw InvalidInput("shape.lobes must be at least 1 for a lobed leaf");
-  if (sp.kind == ShapeKind::palmate && sp.lobes < 2) throw InvalidInput("shape.lobes must be at least 2 for a palmate leaf");
+  if (sp.kind == ShapeKind::lobed && sp.lobes < 1)
+    throw InvalidInput("shape.lobes must be at least 1 for a lobed leaf");
+  if (sp.kind == ShapeKind::palmate && sp.lobes < 2)
+    throw InvalidInput("shape.lobes must be at least 2 for a palmate leaf");
   for (const auto& t : sp.teeth)
     if (!(t.amplitude >= 0 && std::isfinite(t.amplitude)) || t.count < 1)
       throw InvalidInput("shape.teeth: each wave needs amplitude >= 0 (model units) and count >= 1");
@@ -209,12 +214,18 @@ Outline parse_outline(const std::string& text, const std::string& source) {
     if (!(ls >> x)) {
       ls.clear();
       std::string word;
-      if (ls >> word) throw InvalidInput(source + ":" + std::to_string(line_no) + ": expected two numbers \"x y\", got '" + word + "'");
+      if (ls >> word)
+        throw InvalidInput(source + ":" + std::to_string(line_no) + ": expected two numbers \"x y\", got '" + word +
+                           "'");
       continue;  // blank or comment line
     }
-    if (!(ls >> y)) throw InvalidInput(source + ":" + std::to_string(line_no) + ": expected two numbers \"x y\", got one");
-    if (ls >> rest) throw InvalidInput(source + ":" + std::to_string(line_no) + ": expected two numbers \"x y\", got more ('" + rest + "')");
-    if (!std::isfinite(x) || !std::isfinite(y)) throw InvalidInput(source + ":" + std::to_string(line_no) + ": coordinates must be finite");
+    if (!(ls >> y))
+      throw InvalidInput(source + ":" + std::to_string(line_no) + ": expected two numbers \"x y\", got one");
+    if (ls >> rest)
+      throw InvalidInput(source + ":" + std::to_string(line_no) + ": expected two numbers \"x y\", got more ('" + rest +
+                         "')");
+    if (!std::isfinite(x) || !std::isfinite(y))
+      throw InvalidInput(source + ":" + std::to_string(line_no) + ": coordinates must be finite");
     o.points.emplace_back(x, y);
     last_line = line_no;
   }
@@ -246,8 +257,10 @@ OutlineIndex::OutlineIndex(const Outline& outline) : outline_(outline) {
   std::vector<std::vector<std::size_t>> lists(bands);
   for (std::size_t i = 0; i < n; ++i) {
     const double y0 = std::min(p[i].y(), p[(i + 1) % n].y()), y1 = std::max(p[i].y(), p[(i + 1) % n].y());
-    const auto b0 = static_cast<std::size_t>(std::clamp((y0 - lo_.y()) / band_height_, 0.0, static_cast<double>(bands - 1)));
-    const auto b1 = static_cast<std::size_t>(std::clamp((y1 - lo_.y()) / band_height_, 0.0, static_cast<double>(bands - 1)));
+    const auto b0 =
+        static_cast<std::size_t>(std::clamp((y0 - lo_.y()) / band_height_, 0.0, static_cast<double>(bands - 1)));
+    const auto b1 =
+        static_cast<std::size_t>(std::clamp((y1 - lo_.y()) / band_height_, 0.0, static_cast<double>(bands - 1)));
     for (std::size_t b = b0; b <= b1; ++b) lists[b].push_back(i);
   }
   band_start_.assign(1, 0);
@@ -262,7 +275,8 @@ bool OutlineIndex::contains(const Vec2& q) const {
   const auto& p = outline_.points;
   const std::size_t n = p.size();
   const std::size_t bands = band_start_.size() - 1;
-  const auto b = static_cast<std::size_t>(std::clamp((q.y() - lo_.y()) / band_height_, 0.0, static_cast<double>(bands - 1)));
+  const auto b =
+      static_cast<std::size_t>(std::clamp((q.y() - lo_.y()) / band_height_, 0.0, static_cast<double>(bands - 1)));
   bool inside = false;
   for (std::size_t k = band_start_[b]; k < band_start_[b + 1]; ++k) {
     const std::size_t i = band_edges_[k];

@@ -36,12 +36,12 @@ struct TriangularWave {
 /// Parameters of make_outline(). Lengths are for growth scale 1.
 struct ShapeParams {
   ShapeKind kind = ShapeKind::ellipse;
-  double length = 1.0;       ///< model units: petiole to tip
-  double width = 0.6;        ///< model units: widest extent across the leaf axis
-  int lobes = 5;             ///< lobed: lobes per side (>= 1); palmate: lobes in all (>= 2)
-  double lobe_depth = 0.35;  ///< fraction of the radius cut between lobes, in [0, 1)
+  double length = 1.0;                ///< model units: petiole to tip
+  double width = 0.6;                 ///< model units: widest extent across the leaf axis
+  int lobes = 5;                      ///< lobed: lobes per side (>= 1); palmate: lobes in all (>= 2)
+  double lobe_depth = 0.35;           ///< fraction of the radius cut between lobes, in [0, 1)
   std::vector<TriangularWave> teeth;  ///< empty = entire (smooth) margin
-  int samples = 512;         ///< vertices of the smooth outline before teeth (>= 16)
+  int samples = 512;                  ///< vertices of the smooth outline before teeth (>= 16)
 };
 
 /// Samples a parametric outline. Throws core::InvalidInput naming "shape.<field>" for a bad parameter,

@@ -196,8 +196,8 @@ void PointTree::relative_neighbourhood_planar(const Vec3& s, std::vector<Index>&
   out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
-void PointTree::sector_nearest(const Vec3& s, Index* best, double* best_d2, Scratch& sc, bool reset, const Vec3* best_pos,
-                               Index offset) const {
+void PointTree::sector_nearest(const Vec3& s, Index* best, double* best_d2, Scratch& sc, bool reset,
+                               const Vec3* best_pos, Index offset) const {
   double best_dx[6], best_dy[6];
   bool have_pos[6];
   for (int k = 0; k < 6; ++k) {
@@ -309,7 +309,8 @@ bool PointTree::nearest(const Vec3& q, Index& best, double& best_d2) const {
 bool PointTree::any_within_rec(int n, const Vec3& q, double r2, Index exclude) const {
   const Node& nd = nodes_[n];
   if (mindist2(nd, q) > r2) return false;
-  if (nd.child[0] >= 0) return any_within_rec(nd.child[0], q, r2, exclude) || any_within_rec(nd.child[1], q, r2, exclude);
+  if (nd.child[0] >= 0)
+    return any_within_rec(nd.child[0], q, r2, exclude) || any_within_rec(nd.child[1], q, r2, exclude);
   for (Index i : nd.pts)
     if (i != exclude && (points_[i] - q).squaredNorm() <= r2) return true;
   return false;
@@ -407,7 +408,8 @@ void PointTree::relative_neighbourhood(const Vec3& s, std::vector<Index>& out, S
       if (!(sc.found_d2[k] > 0) || d2 < sc.found_d2[k] * (1 + kPruneSlack)) continue;
       if (!have_corners) {
         for (int c = 0; c < 8; ++c) {
-          const Vec3 p((c & 1) ? nd.hi.x() : nd.lo.x(), (c & 2) ? nd.hi.y() : nd.lo.y(), (c & 4) ? nd.hi.z() : nd.lo.z());
+          const Vec3 p((c & 1) ? nd.hi.x() : nd.lo.x(), (c & 2) ? nd.hi.y() : nd.lo.y(),
+                       (c & 4) ? nd.hi.z() : nd.lo.z());
           corners[c] = (p - s).normalized();
         }
         have_corners = true;

@@ -101,11 +101,11 @@ class PointTree {
  private:
   static constexpr int kBucket = 16;
   struct Node {
-    Vec3 lo, hi;          // tight box of the points below
+    Vec3 lo, hi;  // tight box of the points below
     int child[2] = {-1, -1};
     int dim = 0;
     double split = 0;
-    std::vector<Index> pts;  // leaves only
+    std::vector<Index> pts;   // leaves only
     std::uint32_t count = 0;  // points below
   };
   void split_leaf(int n);

@@ -30,11 +30,12 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
   auto X = [&](double x) { return (x - lo.x()) * s + sp.margin; };
   auto Y = [&](double y) { return (hi.y() - y) * s + sp.margin; };
   double tip = 0;
-  if (tree.radius.size() == tree.size() && !tree.radius.empty()) tip = *std::min_element(tree.radius.begin(), tree.radius.end());
+  if (tree.radius.size() == tree.size() && !tree.radius.empty())
+    tip = *std::min_element(tree.radius.begin(), tree.radius.end());
   core::write_file_atomically(path, [&](std::ostream& out) {
     out << std::fixed << std::setprecision(2);
-    out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << w << "\" height=\"" << h << "\" viewBox=\"0 0 " << w << ' ' << h
-        << "\">\n";
+    out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << w << "\" height=\"" << h << "\" viewBox=\"0 0 " << w
+        << ' ' << h << "\">\n";
     if (!outline.points.empty()) {
       out << "<path fill=\"#d8ecc0\" stroke=\"#4a7a2a\" stroke-width=\"1\" d=\"";
       for (std::size_t i = 0; i < outline.points.size(); ++i)
@@ -44,15 +45,17 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
     out << "<g stroke=\"#2b3a1a\" stroke-linecap=\"round\" fill=\"none\">\n";
     auto segment = [&](Index a, Index b, double r) {
       const double width = std::max(sp.min_stroke, 2 * r * s);
-      out << "<path stroke-width=\"" << width << "\" d=\"M" << X(tree.positions[a].x()) << ' ' << Y(tree.positions[a].y()) << " L"
-          << X(tree.positions[b].x()) << ' ' << Y(tree.positions[b].y()) << "\"/>\n";
+      out << "<path stroke-width=\"" << width << "\" d=\"M" << X(tree.positions[a].x()) << ' '
+          << Y(tree.positions[a].y()) << " L" << X(tree.positions[b].x()) << ' ' << Y(tree.positions[b].y())
+          << "\"/>\n";
     };
     for (Index i = 0; i < tree.size(); ++i)
       if (tree.parent[i] != kNoIndex) segment(tree.parent[i], i, radius_of(tree, i));
     for (const auto& [a, b] : tree.anastomoses) segment(a, b, tip);
     out << "</g>\n";
     if (sp.draw_sources)
-      for (const Vec3& q : sources) out << "<circle cx=\"" << X(q.x()) << "\" cy=\"" << Y(q.y()) << "\" r=\"2\" fill=\"#c03020\"/>\n";
+      for (const Vec3& q : sources)
+        out << "<circle cx=\"" << X(q.x()) << "\" cy=\"" << Y(q.y()) << "\" r=\"2\" fill=\"#c03020\"/>\n";
     out << "</svg>\n";
   });
 }
@@ -61,14 +64,15 @@ void write_vein_ply(const std::filesystem::path& path, const VeinTree& tree) {
   const auto edges = tree.edges();
   core::write_file_atomically(path, [&](std::ostream& out) {
     out << "ply\nformat ascii 1.0\ncomment cellform space-colonisation veins\nelement vertex " << tree.size()
-        << "\nproperty float x\nproperty float y\nproperty float z\nproperty float radius\nproperty float flow\nproperty int order\n"
+        << "\nproperty float x\nproperty float y\nproperty float z\nproperty float radius\nproperty float "
+           "flow\nproperty int order\n"
         << "element edge " << edges.size() << "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
     out << std::setprecision(9);
     for (Index i = 0; i < tree.size(); ++i) {
       const Vec3& q = tree.positions[i];
       out << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << radius_of(tree, i) << ' '
-          << (tree.flow.size() == tree.size() ? tree.flow[i] : 0.0) << ' ' << (tree.order.size() == tree.size() ? tree.order[i] : 0)
-          << '\n';
+          << (tree.flow.size() == tree.size() ? tree.flow[i] : 0.0) << ' '
+          << (tree.order.size() == tree.size() ? tree.order[i] : 0) << '\n';
     }
     for (const auto& [a, b] : edges) out << a << ' ' << b << '\n';
   });
@@ -76,13 +80,14 @@ void write_vein_ply(const std::filesystem::path& path, const VeinTree& tree) {
 
 void write_vein_obj(const std::filesystem::path& path, const VeinTree& tree) {
   core::write_file_atomically(path, [&](std::ostream& out) {
-    out << "# cellform space-colonisation veins: " << tree.size() << " nodes\n# per vertex: \"# r radius order flow\"\n";
+    out << "# cellform space-colonisation veins: " << tree.size()
+        << " nodes\n# per vertex: \"# r radius order flow\"\n";
     out << std::setprecision(9);
     for (Index i = 0; i < tree.size(); ++i) {
       const Vec3& q = tree.positions[i];
       out << "v " << q.x() << ' ' << q.y() << ' ' << q.z() << "\n# r " << radius_of(tree, i) << ' '
-          << (tree.order.size() == tree.size() ? tree.order[i] : 0) << ' ' << (tree.flow.size() == tree.size() ? tree.flow[i] : 0.0)
-          << '\n';
+          << (tree.order.size() == tree.size() ? tree.order[i] : 0) << ' '
+          << (tree.flow.size() == tree.size() ? tree.flow[i] : 0.0) << '\n';
     }
     for (const auto& [a, b] : tree.edges()) out << "l " << a + 1 << ' ' << b + 1 << '\n';
   });

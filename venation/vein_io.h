@@ -18,8 +18,8 @@ struct SvgParams {
 /// SVG of the outline (filled light green) and every vein segment as a stroked path of width 2 * radius
 /// of its child node (tip radius for anastomoses; min_stroke if widths were not computed), y pointing
 /// up. Written atomically; core::FileError on failure.
-void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline, const SvgParams& params = {},
-               const std::vector<Vec3>& sources = {});
+void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline,
+               const SvgParams& params = {}, const std::vector<Vec3>& sources = {});
 
 /// ASCII PLY: vertices (x, y, z, radius, flow as float; order as int) and an edge element (vertex1 =
 /// base-side node, vertex2 = tip-side node), anastomoses last. Atomic; core::FileError on failure.

@@ -91,15 +91,18 @@ TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {
   CHECK(run["overrides"]["size"] == "300");
   CHECK(run["script"]["hash"].get<std::string>().rfind("fnv1a64:", 0) == 0);
   // no temporary files are left behind
-  for (const auto& e : fs::directory_iterator(out)) CHECK(e.path().filename().string().find("partial") == std::string::npos);
+  for (const auto& e : fs::directory_iterator(out))
+    CHECK(e.path().filename().string().find("partial") == std::string::npos);
 
   SECTION("the same inputs and seed give identical outputs; a re-run replaces the old outputs") {
     const fs::path out2 = t.path / "out2";
     REQUIRE(cli({"run", script.string(), "--out", out2.string(), "--quiet", "--seed", "4", "--set", "size=300",
-                 "--threads", "1"}).code == 0);
+                 "--threads", "1"})
+                .code == 0);
     CHECK(slurp(out / "cells.ply") == slurp(out2 / "cells.ply"));
     CHECK(slurp(out / "cells.obj") == slurp(out2 / "cells.obj"));
-    REQUIRE(cli({"run", script.string(), "--out", out2.string(), "--quiet", "--seed", "5", "--set", "size=300"}).code == 0);
+    REQUIRE(cli({"run", script.string(), "--out", out2.string(), "--quiet", "--seed", "5", "--set", "size=300"}).code ==
+            0);
     CHECK(slurp(out / "cells.ply") != slurp(out2 / "cells.ply"));
   }
   SECTION("frames every N steps") {
@@ -189,7 +192,8 @@ TEST_CASE("Ctrl-C stops cleanly with outputs and a checkpoint that resumes ident
   // resuming to a few steps further equals an uninterrupted run to the same step
   const std::uint64_t target = stopped + 3;
   const fs::path whole = t.path / "whole";
-  REQUIRE(cli({"run", script.string(), "--out", whole.string(), "--quiet", "--steps", std::to_string(target)}).code == 0);
+  REQUIRE(cli({"run", script.string(), "--out", whole.string(), "--quiet", "--steps", std::to_string(target)}).code ==
+          0);
   REQUIRE(cli({"resume", (out / "checkpoint.cfck").string(), "--steps", std::to_string(target), "--quiet"}).code == 0);
   CHECK(slurp(whole / "cells.ply") == slurp(out / "cells.ply"));
 }
@@ -230,7 +234,8 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
   auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
   INFO(r.err);
   REQUIRE(r.code == 0);
-  for (const char* f : {"printable.stl", "printable.obj", "printable.ply", "printable.scad"}) CHECK(fs::exists(out / f));
+  for (const char* f : {"printable.stl", "printable.obj", "printable.ply", "printable.scad"})
+    CHECK(fs::exists(out / f));
   const auto run = nlohmann::json::parse(slurp(out / "run.json"));
   CHECK(run["print"]["parts"] == 1);
   CHECK(run["print"]["volume_mm3"].get<double>() > 0);

@@ -17,8 +17,8 @@ TEST_CASE("every example runs on small settings", "[examples]") {
   for (const fs::path& s : scripts) {
     DYNAMIC_SECTION(s.filename().string()) {
       const fs::path out = t.path / s.stem();
-      const auto r = cli({"run", s.string(), "--out", out.string(), "--quiet", "--steps", "60", "--set",
-                          "division.max_cells=1500"});
+      const auto r = cli(
+          {"run", s.string(), "--out", out.string(), "--quiet", "--steps", "60", "--set", "division.max_cells=1500"});
       INFO(r.err);
       REQUIRE(r.code == 0);
       const auto run = nlohmann::json::parse(slurp(out / "run.json"));

@@ -9,10 +9,10 @@
 #include <fstream>
 #include <sstream>
 
+using Catch::Matchers::Contains;
 using cellform::app::Overrides;
 using cellform::app::ScriptHost;
 using cellform::app::ScriptLimits;
-using Catch::Matchers::Contains;
 
 namespace {
 
@@ -74,7 +74,8 @@ TEST_CASE("script errors name the file and line", "[script]") {
     CHECK_THAT(e, Contains("\"strong\""));
   }
   SECTION("out of range") {
-    CHECK_THAT(load_error("cells { drag = {1, 1, 1.5} }"), Contains("cells.drag must be {x, y, z} with each from 0 to 1"));
+    CHECK_THAT(load_error("cells { drag = {1, 1, 1.5} }"),
+               Contains("cells.drag must be {x, y, z} with each from 0 to 1"));
     CHECK_THAT(load_error("cells { rest_length = 0 }"), Contains("cells.rest_length must be a number > 0"));
     CHECK_THAT(load_error("cells { neighbours = 2 }"), Contains("cells.neighbours"));
     CHECK_THAT(load_error("cells { neighbours = 6.5 }"), Contains("whole number"));
@@ -98,7 +99,9 @@ TEST_CASE("the sandbox offers no files, processes, OS or module loading", "[scri
   SECTION("precompiled chunks are refused") {
     CHECK_THAT(load_error(std::string("\x1bLua\x54\x00", 6) + "junk"), Contains("precompiled"));
   }
-  SECTION("the safe libraries are there") { CHECK_NOTHROW(load("assert(math.sqrt(4) == 2 and string.rep('a', 3) == 'aaa')")); }
+  SECTION("the safe libraries are there") {
+    CHECK_NOTHROW(load("assert(math.sqrt(4) == 2 and string.rep('a', 3) == 'aaa')"));
+  }
 }
 
 TEST_CASE("runaway scripts are stopped", "[script][limits]") {
@@ -161,7 +164,8 @@ TEST_CASE("rule functions run per cell and report errors with step and cell", "[
   CHECK(rules.split_direction(c, 0) == cellform::core::Vec3(0, 1, 0));
 
   ScriptHost bad;
-  bad.load("division { rule = function(cell)\n  if cell.id == 1 then error('boom') end\n  return 1 end }\n", "bad.lua", {});
+  bad.load("division { rule = function(cell)\n  if cell.id == 1 then error('boom') end\n  return 1 end }\n", "bad.lua",
+           {});
   bad.set_step(17);
   auto r2 = bad.rules();
   try {
@@ -189,9 +193,10 @@ TEST_CASE("docs/scripting.md documents every parameter as the program knows it",
 }
 
 TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[script][colonisation]") {
-  const auto cfg = load("leaf { shape = 'ellipse', teeth = 8 }\n"
-                        "colonisation { type = 'closed', neighbourhood = 'urquhart', darts = 500, growth = 'none',\n"
-                        "               initial_length = 40 }\n");
+  const auto cfg = load(
+      "leaf { shape = 'ellipse', teeth = 8 }\n"
+      "colonisation { type = 'closed', neighbourhood = 'urquhart', darts = 500, growth = 'none',\n"
+      "               initial_length = 40 }\n");
   REQUIRE(cfg.colonisation);
   CHECK(cfg.colonisation->params.type == cellform::venation::VenationType::closed);
   CHECK(cfg.colonisation->params.neighbourhood == cellform::venation::Neighbourhood::urquhart);

@@ -175,8 +175,8 @@ TEST_CASE("tangent splits stay in the plane of the sheet", "[division]") {
     if (!has_plane[mother]) continue;
     CHECK(c.position[d].z() == 0.0);  // exactly in the sheet
     CHECK((c.position[d] - c.position[mother]).norm() == Approx(0.5 * p.rest_length));
-    directions.insert(std::lround(std::atan2(c.position[d].y() - c.position[mother].y(),
-                                             c.position[d].x() - c.position[mother].x()) * 4));
+    directions.insert(std::lround(
+        std::atan2(c.position[d].y() - c.position[mother].y(), c.position[d].x() - c.position[mother].x()) * 4));
   }
   CHECK(directions.size() > 10);  // random within the plane, not one axis
 }

@@ -95,7 +95,8 @@ TEST_CASE("link_range keeps only the k nearest within range, over several steps"
       for (int s = 0; s < 6; ++s) {
         const bool in_range = all[static_cast<std::size_t>(s)].first <= 1.5 * 1.5;
         INFO("cell " << i << " slot " << s);
-        CHECK(c.links[i * 6 + static_cast<std::size_t>(s)] == (in_range ? all[static_cast<std::size_t>(s)].second : kNoIndex));
+        CHECK(c.links[i * 6 + static_cast<std::size_t>(s)] ==
+              (in_range ? all[static_cast<std::size_t>(s)].second : kNoIndex));
       }
     }
   }

@@ -236,10 +236,10 @@ TEST_CASE("nearest_all with a hint equals the oracle for good, stale and invalid
       for (std::size_t i = 0; i < sheet; ++i)
         for (std::size_t j = 0; j < stride; ++j) {
           Index h = plain[((i + 7 * static_cast<std::size_t>(variant)) % sheet) * stride + (j * 5 + 1) % stride];
-          if (variant == 1 && j > 0) h = plain[i * stride];                        // repeats of the nearest
-          if (variant == 2 && j == 3) h = static_cast<Index>(i);                   // itself
-          if (variant == 3 && j == 5) h = kNoIndex;                                 // padding
-          if (variant == 4) h = static_cast<Index>((i + j * 977 + 1) % sheet);      // far away
+          if (variant == 1 && j > 0) h = plain[i * stride];                     // repeats of the nearest
+          if (variant == 2 && j == 3) h = static_cast<Index>(i);                // itself
+          if (variant == 3 && j == 5) h = kNoIndex;                             // padding
+          if (variant == 4) h = static_cast<Index>((i + j * 977 + 1) % sheet);  // far away
           hint[i * stride + j] = h;
         }
       std::vector<Index> got(sheet * stride);

@@ -1,9 +1,9 @@
 // Tests of export/cell_files.h: files read back by an independent parser and by OpenMesh.
 #include "export/cell_files.h"
 
+#include <unistd.h>
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
-#include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <cstring>
@@ -80,8 +80,8 @@ std::string slurp(const fs::path& path) {
 
 // A tiny binary little-endian PLY reader: enough to check what write_cells_ply wrote.
 struct PlyProperty {
-  std::string type;       // scalar type, or the index type of a list
-  std::string count_type; // empty unless a list
+  std::string type;        // scalar type, or the index type of a list
+  std::string count_type;  // empty unless a list
   std::string name;
 };
 struct PlyElement {
@@ -215,12 +215,12 @@ TEST_CASE("binary PLY holds every cell field, the triangles and the links", "[ex
   CHECK(f.count == 4);
   CHECK(e.count == 10);
   // Attributes in name order ("auxin level", "flow", "x"), sanitised and made distinct from x.
-  CHECK(names(v) == std::vector<std::string>{"x", "y", "z", "type", "age", "generation", "id", "fixed",
-                                             "auxin_level", "flow", "x_2"});
+  CHECK(names(v) == std::vector<std::string>{"x", "y", "z", "type", "age", "generation", "id", "fixed", "auxin_level",
+                                             "flow", "x_2"});
   std::vector<std::string> types;
   for (const auto& p : v.properties) types.push_back(p.type);
-  CHECK(types == std::vector<std::string>{"float", "float", "float", "uchar", "uint", "uint", "uint", "uchar",
-                                          "float", "float", "float"});
+  CHECK(types == std::vector<std::string>{"float", "float", "float", "uchar", "uint", "uint", "uint", "uchar", "float",
+                                          "float", "float"});
   REQUIRE(f.properties.size() == 1);
   CHECK(f.properties[0].name == "vertex_indices");
   CHECK(f.properties[0].count_type == "uchar");

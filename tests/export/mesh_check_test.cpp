@@ -13,14 +13,15 @@
 #include "export/mesh_files.h"
 
 using namespace cellform;
-using exporters::PrintableMesh;
 using core::Vec3;
+using exporters::PrintableMesh;
 namespace fs = std::filesystem;
 
 namespace {
 
 fs::path temp_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("cellform-meshcheck-test-" + std::to_string(::getpid()) + "-" + name);
+  const fs::path dir =
+      fs::temp_directory_path() / ("cellform-meshcheck-test-" + std::to_string(::getpid()) + "-" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -45,7 +46,8 @@ PrintableMesh torus(int n, int m, double R = 3, double r = 1) {
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < m; ++j) {
       const double u = 2 * M_PI * i / n, v = 2 * M_PI * j / m;
-      t.vertices.emplace_back((R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v));
+      t.vertices.emplace_back((R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u),
+                              r * std::sin(v));
     }
   const auto id = [&](int i, int j) { return static_cast<std::uint32_t>(((i + n) % n) * m + (j + m) % m); };
   for (int i = 0; i < n; ++i)
@@ -63,7 +65,8 @@ PrintableMesh uv_sphere(int rings, int sectors, double radius = 1) {
   for (int i = 1; i < rings; ++i)
     for (int j = 0; j < sectors; ++j) {
       const double th = M_PI * i / rings, ph = 2 * M_PI * j / sectors;
-      s.vertices.emplace_back(radius * std::sin(th) * std::cos(ph), radius * std::sin(th) * std::sin(ph), radius * std::cos(th));
+      s.vertices.emplace_back(radius * std::sin(th) * std::cos(ph), radius * std::sin(th) * std::sin(ph),
+                              radius * std::cos(th));
     }
   s.vertices.emplace_back(0, 0, -radius);
   const auto south = static_cast<std::uint32_t>(s.vertices.size() - 1);
@@ -209,7 +212,8 @@ TEST_CASE("read_mesh reads what the writers wrote, and welds STL soups", "[mesh_
     f << "solid t\n";
     for (const auto& tri : t.triangles) {
       f << " facet normal 0 0 0\n  outer loop\n";
-      for (auto i : tri) f << "   vertex " << t.vertices[i].x() << " " << t.vertices[i].y() << " " << t.vertices[i].z() << "\n";
+      for (auto i : tri)
+        f << "   vertex " << t.vertices[i].x() << " " << t.vertices[i].y() << " " << t.vertices[i].z() << "\n";
       f << "  endloop\n endfacet\n";
     }
     f << "endsolid t\n";

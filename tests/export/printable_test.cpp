@@ -32,7 +32,8 @@ namespace {
 using Shell = std::vector<std::array<Vec3, 3>>;
 
 fs::path temp_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("cellform-printable-test-" + std::to_string(::getpid()) + "-" + name);
+  const fs::path dir =
+      fs::temp_directory_path() / ("cellform-printable-test-" + std::to_string(::getpid()) + "-" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -109,7 +110,8 @@ std::vector<Segment> random_tree(std::size_t n, std::uint64_t seed) {
   std::vector<Vec3> node{Vec3::Zero()};
   std::vector<Segment> s;
   while (s.size() < n) {
-    const std::size_t parent = static_cast<std::size_t>(rng.uniform(0, 1) * static_cast<double>(node.size())) % node.size();
+    const std::size_t parent =
+        static_cast<std::size_t>(rng.uniform(0, 1) * static_cast<double>(node.size())) % node.size();
     const Vec3 dir(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
     Vec3 p = node[parent] + 3 * dir;
     p = p.cwiseMax(Vec3::Constant(-30)).cwiseMin(Vec3::Constant(30));
@@ -119,7 +121,9 @@ std::vector<Segment> random_tree(std::size_t n, std::uint64_t seed) {
   return s;
 }
 
-bool have(const char* program) { return std::system((std::string("command -v ") + program + " >/dev/null 2>&1").c_str()) == 0; }
+bool have(const char* program) {
+  return std::system((std::string("command -v ") + program + " >/dev/null 2>&1").c_str()) == 0;
+}
 
 std::string run(const std::string& command) {
   std::string out;
@@ -140,8 +144,8 @@ void require_admesh_clean(const fs::path& stl) {
   }
   const std::string out = run("admesh '" + stl.string() + "'");
   INFO(out);
-  for (const char* counter : {"Degenerate facets", "Edges fixed", "Facets removed", "Facets added", "Facets reversed",
-                              "Backwards edges"}) {
+  for (const char* counter :
+       {"Degenerate facets", "Edges fixed", "Facets removed", "Facets added", "Facets reversed", "Backwards edges"}) {
     std::smatch m;
     REQUIRE(std::regex_search(out, m, std::regex(std::string(counter) + R"(\s*:\s*(\d+))")));
     CHECK(m[1] == "0");
@@ -175,7 +179,8 @@ TEST_CASE("a tapered capsule's volume matches the round cone", "[printable]") {
   const double d = 8, ra = 2, rb = 0.7;
   const auto [volume, area] = round_cone(d, ra, rb);
   REQUIRE(round_cone_volume_numeric(d, ra, rb) == Approx(volume).epsilon(1e-5));
-  const auto m = exporters::thicken({{{1, 2, 3}, Vec3(1, 2, 3) + d * Vec3(1, 1, 0.5).normalized(), ra, rb}}, {}, exact(0.05));
+  const auto m =
+      exporters::thicken({{{1, 2, 3}, Vec3(1, 2, 3) + d * Vec3(1, 1, 0.5).normalized(), ra, rb}}, {}, exact(0.05));
   const auto check = require_printable(m);
   CHECK(check.volume == Approx(volume).epsilon(0.01));
   CHECK(check.area == Approx(area).epsilon(0.01));
@@ -244,7 +249,8 @@ TEST_CASE("a shell around three triangles sharing an edge is watertight", "[prin
   }
 }
 
-TEST_CASE("thickened meshes pass check_mesh, admesh and OpenSCAD, and survive the file round trip", "[printable][files]") {
+TEST_CASE("thickened meshes pass check_mesh, admesh and OpenSCAD, and survive the file round trip",
+          "[printable][files]") {
   const fs::path dir = temp_dir("files");
   ThickenParams p;  // defaults: auto scale to 120 mm, auto voxel
   p.adaptivity = 0.2;
@@ -269,7 +275,8 @@ TEST_CASE("thickened meshes pass check_mesh, admesh and OpenSCAD, and survive th
     WARN("openscad is not installed; skipping the OpenSCAD checks");
   } else {
     // the polyhedron renders with positive volume (faces clockwise seen from outside)
-    const std::string out = run("openscad -o '" + (dir / "from_scad.stl").string() + "' '" + (dir / "loop.scad").string() + "'");
+    const std::string out =
+        run("openscad -o '" + (dir / "from_scad.stl").string() + "' '" + (dir / "loop.scad").string() + "'");
     INFO(out);
     REQUIRE(fs::exists(dir / "from_scad.stl"));
     const auto rendered = exporters::read_mesh(dir / "from_scad.stl");
@@ -278,10 +285,12 @@ TEST_CASE("thickened meshes pass check_mesh, admesh and OpenSCAD, and survive th
     CHECK(rr.closed_manifold());
     // and it imports our STL
     { std::ofstream(dir / "import.scad") << "import(\"" << (dir / "loop.stl").string() << "\");\n"; }
-    const std::string out2 = run("openscad -o '" + (dir / "imported.stl").string() + "' '" + (dir / "import.scad").string() + "'");
+    const std::string out2 =
+        run("openscad -o '" + (dir / "imported.stl").string() + "' '" + (dir / "import.scad").string() + "'");
     INFO(out2);
     REQUIRE(fs::exists(dir / "imported.stl"));
-    CHECK(exporters::check_mesh(exporters::read_mesh(dir / "imported.stl")).volume == Approx(check.volume).epsilon(1e-3));
+    CHECK(exporters::check_mesh(exporters::read_mesh(dir / "imported.stl")).volume ==
+          Approx(check.volume).epsilon(1e-3));
   }
   fs::remove_all(dir);
 }

@@ -13,8 +13,8 @@ using forms::Attractor;
 
 TEST_CASE("an attractor pulls with its strength, straight at itself", "[forms][attractors]") {
   Cells cells;
-  cells::add_cell(cells, Vec3(3, 4, 0));    // 5 from the origin
-  cells::add_cell(cells, Vec3(0, 0, -2));   // 2 from the origin
+  cells::add_cell(cells, Vec3(3, 4, 0));   // 5 from the origin
+  cells::add_cell(cells, Vec3(0, 0, -2));  // 2 from the origin
   cells::add_cell(cells, Vec3(1, 1, 1));
   cells.acceleration[2] = Vec3(0.5, 0, 0);  // pre-existing acceleration is added to, not replaced
   forms::apply_attractors(cells, {Attractor{Vec3::Zero(), 2.0, 0.0}});
@@ -29,11 +29,11 @@ TEST_CASE("attractor range, repulsion, sums, dead zone and fixed cells", "[forms
   Cells cells;
   cells::add_cell(cells, Vec3(1, 0, 0));
   cells::add_cell(cells, Vec3(3, 0, 0));
-  cells::add_cell(cells, Vec3(0, 0, 0));        // exactly on the attractor: no NaN, no pull
+  cells::add_cell(cells, Vec3(0, 0, 0));                                  // exactly on the attractor: no NaN, no pull
   cells::add_cell(cells, Vec3(2, 0, 0), cells::CellType::general, true);  // fixed
   const std::vector<Attractor> attractors = {
-      {Vec3::Zero(), 1.0, 2.0},      // reaches cells within distance 2 (boundary included)
-      {Vec3(0, 5, 0), -0.5, 0.0},    // repels, unlimited range
+      {Vec3::Zero(), 1.0, 2.0},    // reaches cells within distance 2 (boundary included)
+      {Vec3(0, 5, 0), -0.5, 0.0},  // repels, unlimited range
   };
   forms::apply_attractors(cells, attractors);
   const auto away = [](const Vec3& p) -> Vec3 { return 0.5 * (p - Vec3(0, 5, 0)).normalized(); };

@@ -114,8 +114,8 @@ double distance_to_mesh(const Vec3& p, const TriangleMesh& m) {
     const double den = d00 * d11 - d01 * d01;
     const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den;
     if (v >= 0 && w >= 0 && v + w <= 1) best = std::min(best, plane);
-    best = std::min({best, segment_point_distance(a, b, p), segment_point_distance(b, c, p),
-                     segment_point_distance(c, a, p)});
+    best = std::min(
+        {best, segment_point_distance(a, b, p), segment_point_distance(b, c, p), segment_point_distance(c, a, p)});
   }
   return best;
 }
@@ -210,8 +210,8 @@ TEST_CASE("validate names the bad obstacle and what is allowed", "[forms][obstac
   CHECK_THROWS_WITH(forms::validate(o), Catch::Contains("sphere 0") && Catch::Contains("> 0"));
   o = {};
   o.boxes.push_back({Vec3(0, 2, 0), Vec3(1, 1, 1)});
-  CHECK_THROWS_WITH(forms::validate(o), Catch::Contains("box 0") && Catch::Contains("min.y") &&
-                                            Catch::Contains("min <= max"));
+  CHECK_THROWS_WITH(forms::validate(o),
+                    Catch::Contains("box 0") && Catch::Contains("min.y") && Catch::Contains("min <= max"));
   o = {};
   o.meshes.push_back({{Vec3::Zero(), Vec3::UnitX()}, {{0, 1, 2}}});
   CHECK_THROWS_WITH(forms::validate(o), Catch::Contains("mesh 0") && Catch::Contains("vertex 2"));
@@ -466,7 +466,8 @@ TEST_CASE("mesh crossings are fast for 1e5 cells and 2e4 triangles", "[forms][ob
   prepared.apply(cells, prev, 0.01, 1);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   CHECK(seconds < 2.0);  // about 0.05 s on one core; brute force would be ~2e9 triangle tests
-  for (std::size_t i = 0; i < cells.size(); i += 97) REQUIRE_FALSE(segment_hits_mesh(prev[i], cells.position[i], o.meshes[0]));
+  for (std::size_t i = 0; i < cells.size(); i += 97)
+    REQUIRE_FALSE(segment_hits_mesh(prev[i], cells.position[i], o.meshes[0]));
 }
 
 TEST_CASE("load_mesh reads ASCII STL, binary STL and OBJ", "[forms][mesh_io]") {
@@ -477,7 +478,8 @@ TEST_CASE("load_mesh reads ASCII STL, binary STL and OBJ", "[forms][mesh_io]") {
   std::string ascii = "solid tet\n";
   for (const auto& t : tet) {
     ascii += "facet normal 0 0 0\n outer loop\n";
-    for (const Vec3& v : t) ascii += "  vertex " + std::to_string(v.x()) + " " + std::to_string(v.y()) + " " + std::to_string(v.z()) + "\n";
+    for (const Vec3& v : t)
+      ascii += "  vertex " + std::to_string(v.x()) + " " + std::to_string(v.y()) + " " + std::to_string(v.z()) + "\n";
     ascii += " endloop\nendfacet\n";
   }
   ascii += "endsolid tet\n";
@@ -537,7 +539,8 @@ TEST_CASE("load_mesh errors name the file and the problem", "[forms][mesh_io]") 
 
   write_text(dir / "points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
   CHECK_THROWS_AS(forms::load_mesh(dir / "points.obj"), core::InvalidInput);
-  CHECK_THROWS_WITH(forms::load_mesh(dir / "points.obj"), Catch::Contains("points.obj") && Catch::Contains("not a mesh"));
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "points.obj"),
+                    Catch::Contains("points.obj") && Catch::Contains("not a mesh"));
 
   write_text(dir / "garbage.stl", "this is not\nan STL file at all\n\x01\x02\x03");
   CHECK_THROWS_AS(forms::load_mesh(dir / "garbage.stl"), core::InvalidInput);
@@ -554,7 +557,8 @@ TEST_CASE("load_mesh errors name the file and the problem", "[forms][mesh_io]") 
   write_text(dir / "nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   CHECK_THROWS_WITH(forms::load_mesh(dir / "nan.obj"), Catch::Contains("nan.obj") && Catch::Contains("NaN"));
 
-  std::string truncated = binary_stl({{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}});
+  std::string truncated =
+      binary_stl({{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}});
   truncated.resize(truncated.size() - 20);
   write_text(dir / "truncated.stl", truncated);
   CHECK_THROWS_WITH(forms::load_mesh(dir / "truncated.stl"),

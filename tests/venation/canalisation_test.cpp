@@ -9,10 +9,10 @@
 #include "tests/fixtures.h"
 
 using namespace cellform;
+using Catch::Matchers::Contains;
 using cells::CellType;
 using core::Index;
 using core::kNoIndex;
-using Catch::Matchers::Contains;
 
 namespace {
 

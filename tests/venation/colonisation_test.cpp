@@ -12,10 +12,10 @@
 #include "venation/vein_io.h"
 
 using namespace cellform;
+using Catch::Matchers::Contains;
 using core::Index;
 using core::kNoIndex;
 using core::Vec3;
-using Catch::Matchers::Contains;
 namespace v = cellform::venation;
 
 namespace {
@@ -60,8 +60,10 @@ std::pair<std::size_t, std::size_t> components_and_cycles(const v::VeinTree& t) 
   UnionFind uf(t.size());
   std::size_t comps = t.size(), cycles = 0;
   for (const auto& [a, b] : t.edges())
-    if (uf.unite(a, b)) --comps;
-    else ++cycles;
+    if (uf.unite(a, b))
+      --comps;
+    else
+      ++cycles;
   return {comps, cycles};
 }
 
@@ -90,7 +92,7 @@ TEST_CASE("open patterns are trees and no source survives within the kill distan
   CHECK(t.anastomoses.empty());
   CHECK(t.parent[0] == kNoIndex);
   for (Index i = 1; i < t.size(); ++i) {
-    REQUIRE(t.parent[i] < i);  // parent precedes child: acyclic
+    REQUIRE(t.parent[i] < i);                                                  // parent precedes child: acyclic
     CHECK((t.positions[i] - t.positions[t.parent[i]]).norm() == Approx(1.0));  // D, Eq. 1
   }
   const auto [comps, cycles] = components_and_cycles(t);
@@ -98,7 +100,8 @@ TEST_CASE("open patterns are trees and no source survives within the kill distan
   CHECK(cycles == 0);
   // veins stay inside the blade (within one segment of it)
   const v::OutlineIndex blade(sim.outline());
-  for (const Vec3& q : t.positions) CHECK((blade.contains({q.x(), q.y()}) || v::distance_to_boundary(sim.outline(), {q.x(), q.y()}) < 1.0 + 1e-9));
+  for (const Vec3& q : t.positions)
+    CHECK((blade.contains({q.x(), q.y()}) || v::distance_to_boundary(sim.outline(), {q.x(), q.y()}) < 1.0 + 1e-9));
 }
 
 TEST_CASE("closed patterns are connected with loops where veins met at a shared source", "[colonisation]") {
@@ -166,8 +169,10 @@ TEST_CASE("widths follow Murray's law from the veinlets to the base", "[colonisa
         ++kids[t.parent[i]];
       }
     for (Index i = 0; i < t.size(); ++i) {
-      if (kids[i] == 0) CHECK(t.radius[i] == Approx(0.2));
-      else CHECK(std::pow(t.radius[i], n) == Approx(sum[i]).epsilon(1e-9));
+      if (kids[i] == 0)
+        CHECK(t.radius[i] == Approx(0.2));
+      else
+        CHECK(std::pow(t.radius[i], n) == Approx(sum[i]).epsilon(1e-9));
       if (t.parent[i] != kNoIndex) CHECK(t.order[i] >= t.order[t.parent[i]]);
     }
     CHECK(t.order[0] == 1);
@@ -183,7 +188,8 @@ TEST_CASE("widths follow Murray's law from the veinlets to the base", "[colonisa
 
 TEST_CASE("leaf growth: marginal and uniform patterns fill the final blade", "[colonisation]") {
   for (v::GrowthMode g : {v::GrowthMode::marginal, v::GrowthMode::uniform}) {
-    v::ColonisationParams p = params(g == v::GrowthMode::marginal ? v::VenationType::open : v::VenationType::closed, 1, 2);
+    v::ColonisationParams p =
+        params(g == v::GrowthMode::marginal ? v::VenationType::open : v::VenationType::closed, 1, 2);
     p.growth = g;
     p.initial_scale = 0.2;
     p.final_scale = 1;
@@ -191,8 +197,9 @@ TEST_CASE("leaf growth: marginal and uniform patterns fill the final blade", "[c
     p.darts_per_area = 0.02;
     v::Colonisation sim(ellipse_leaf(40, 30, v::ShapeKind::ovate), p);
     sim.run();
-    INFO("growth " << static_cast<int>(g) << " steps " << sim.report().steps << " stalled " << sim.report().stalled << " sources "
-                   << sim.report().sources << " born " << sim.report().sources_born << " nodes " << sim.report().nodes);
+    INFO("growth " << static_cast<int>(g) << " steps " << sim.report().steps << " stalled " << sim.report().stalled
+                   << " sources " << sim.report().sources << " born " << sim.report().sources_born << " nodes "
+                   << sim.report().nodes);
     CHECK((sim.report().finished || sim.report().stalled));
     CHECK(sim.report().sources * 10 <= sim.report().sources_born);
     CHECK(sim.report().steps >= 80);
@@ -230,7 +237,8 @@ TEST_CASE("nonuniform anisotropic growth (Appendix A) moves veins with the blade
   CHECK(components_and_cycles(t).first == 1);
   const v::OutlineIndex blade(grown);
   std::size_t outside = 0;
-  for (const Vec3& q : t.positions) outside += !blade.contains({q.x(), q.y()}) && v::distance_to_boundary(grown, {q.x(), q.y()}) > 1.0;
+  for (const Vec3& q : t.positions)
+    outside += !blade.contains({q.x(), q.y()}) && v::distance_to_boundary(grown, {q.x(), q.y()}) > 1.0;
   CHECK(outside == 0);
   double ymax = 0;
   for (const Vec3& q : t.positions) ymax = std::max(ymax, q.y());
@@ -238,7 +246,8 @@ TEST_CASE("nonuniform anisotropic growth (Appendix A) moves veins with the blade
 
   v::ColonisationParams bad = p;
   bad.growth_y = {{0, 5, 4}, {1, 1, 1}};
-  CHECK_THROWS_WITH(v::Colonisation(ellipse_leaf(10, 6), bad), Contains("colonisation.growth_y.y") && Contains("monotone"));
+  CHECK_THROWS_WITH(v::Colonisation(ellipse_leaf(10, 6), bad),
+                    Contains("colonisation.growth_y.y") && Contains("monotone"));
   bad = p;
   bad.growth_x = {{0, 5}, {1, -0.5}};
   CHECK_THROWS_WITH(v::Colonisation(ellipse_leaf(10, 6), bad), Contains("colonisation.growth_x"));
@@ -290,8 +299,21 @@ TEST_CASE("bad input names the parameter", "[colonisation]") {
   bad([](auto& p) { p.source_birth_distance = -1; }, "colonisation.source_birth_distance");
   bad([](auto& p) { p.vein_birth_distance = NAN; }, "colonisation.vein_birth_distance");
   bad([](auto& p) { p.darts_per_area = -1; }, "colonisation.darts_per_area");
-  bad([](auto& p) { p.growth = v::GrowthMode::marginal; p.final_scale = 2; p.scale_step = 0; }, "colonisation.scale_step");
-  bad([](auto& p) { p.growth = v::GrowthMode::uniform; p.initial_scale = 2; p.final_scale = 1; p.scale_step = 0.1; }, "colonisation.final_scale");
+  bad(
+      [](auto& p) {
+        p.growth = v::GrowthMode::marginal;
+        p.final_scale = 2;
+        p.scale_step = 0;
+      },
+      "colonisation.scale_step");
+  bad(
+      [](auto& p) {
+        p.growth = v::GrowthMode::uniform;
+        p.initial_scale = 2;
+        p.final_scale = 1;
+        p.scale_step = 0.1;
+      },
+      "colonisation.final_scale");
   // d_k > b_s is allowed (Table 1, ginkgo and Figure 9a)
   v::ColonisationParams ginkgo = params(v::VenationType::open, 30, 1);
   CHECK_NOTHROW(v::Colonisation(leaf, ginkgo));
@@ -304,7 +326,8 @@ TEST_CASE("bad input names the parameter", "[colonisation]") {
   CHECK_THROWS_WITH(v::Colonisation(seed_out, params(v::VenationType::open, 1)), Contains("leaf.initial_nodes[2]"));
   v::Leaf bow;
   bow.outline.points = {{0, 0}, {2, 2}, {2, 0}, {0, 1}};
-  CHECK_THROWS_WITH(v::Colonisation(bow, params(v::VenationType::open, 1)), Contains("leaf.outline") && Contains("intersects"));
+  CHECK_THROWS_WITH(v::Colonisation(bow, params(v::VenationType::open, 1)),
+                    Contains("leaf.outline") && Contains("intersects"));
 }
 
 TEST_CASE("SVG, PLY and OBJ output", "[colonisation]") {
@@ -328,7 +351,8 @@ TEST_CASE("SVG, PLY and OBJ output", "[colonisation]") {
   CHECK(line == "ply");
   std::stringstream all;
   all << ply.rdbuf();
-  CHECK_THAT(all.str(), Contains("element vertex " + std::to_string(t.size())) && Contains("element edge " + std::to_string(edges.size())));
+  CHECK_THAT(all.str(), Contains("element vertex " + std::to_string(t.size())) &&
+                            Contains("element edge " + std::to_string(edges.size())));
   std::ifstream obj(dir / "veins.obj");
   std::size_t v_lines = 0, l_lines = 0;
   while (std::getline(obj, line)) {

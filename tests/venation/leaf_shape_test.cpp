@@ -7,10 +7,10 @@
 #include "core/errors.h"
 
 using namespace cellform;
+using Catch::Matchers::Contains;
 using venation::Outline;
 using venation::ShapeKind;
 using venation::Vec2;
-using Catch::Matchers::Contains;
 
 TEST_CASE("every parametric shape is a simple counter-clockwise outline with the petiole on it", "[leaf_shape]") {
   for (ShapeKind k : {ShapeKind::ellipse, ShapeKind::ovate, ShapeKind::cordate, ShapeKind::lobed, ShapeKind::palmate}) {
@@ -61,11 +61,13 @@ TEST_CASE("outline files: closed polygons parse, open, malformed and self-inters
   CHECK(sq.points.size() == 4);
   CHECK(venation::signed_area(sq) == Approx(1));  // reoriented
   CHECK_THROWS_AS(venation::parse_outline("0 0\n1 0\n1 1\n0 1\n", "open.txt"), core::InvalidInput);
-  CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 0\n1 1\n0 1\n", "open.txt"), Contains("open.txt") && Contains("open"));
+  CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 0\n1 1\n0 1\n", "open.txt"),
+                    Contains("open.txt") && Contains("open"));
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 zero\n1 1\n0 0\n", "bad.txt"), Contains("bad.txt:2"));
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 0 3\n1 1\n0 0\n", "bad.txt"), Contains("bad.txt:2"));
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 1\n1 0\n0 1\n0 0\n", "bow.txt"), Contains("intersects itself"));
-  CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 0\n2 0\n0 0\n", "line.txt"), Contains("no area") || Contains("folds back"));
+  CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 0\n2 0\n0 0\n", "line.txt"),
+                    Contains("no area") || Contains("folds back"));
   CHECK_THROWS_AS(venation::read_outline("/nonexistent/outline.txt"), core::FileError);
 }
 
@@ -81,7 +83,8 @@ TEST_CASE("OutlineIndex agrees with a plain crossing test", "[leaf_shape]") {
     bool c = false;
     for (std::size_t a = 0, b = o.points.size() - 1; a < o.points.size(); b = a++)
       if ((o.points[a].y() > q.y()) != (o.points[b].y() > q.y()) &&
-          q.x() < o.points[a].x() + (q.y() - o.points[a].y()) * (o.points[b].x() - o.points[a].x()) / (o.points[b].y() - o.points[a].y()))
+          q.x() < o.points[a].x() + (q.y() - o.points[a].y()) * (o.points[b].x() - o.points[a].x()) /
+                                        (o.points[b].y() - o.points[a].y()))
         c = !c;
     CHECK(idx.contains(q) == c);
     inside += c;

@@ -1,8 +1,8 @@
 // Tests of the vein-node k-d tree: nearest, relative (Eq. 2), Delaunay and Urquhart neighbourhoods vs oracles.
 #include "venation/point_tree.h"
 
-#include <catch2/catch.hpp>
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 
 #include "core/random.h"
@@ -17,7 +17,8 @@ namespace {
 std::vector<Vec3> random_points(std::uint64_t seed, int n, bool three_d, double spread = 10) {
   core::Rng rng(seed);
   std::vector<Vec3> p;
-  for (int i = 0; i < n; ++i) p.emplace_back(rng.uniform(0, spread), rng.uniform(0, spread), three_d ? rng.uniform(0, spread) : 0.0);
+  for (int i = 0; i < n; ++i)
+    p.emplace_back(rng.uniform(0, spread), rng.uniform(0, spread), three_d ? rng.uniform(0, spread) : 0.0);
   return p;
 }
 
@@ -48,8 +49,10 @@ std::vector<Index> delaunay_brute_force(const std::vector<Vec3>& pts, const Vec3
       const Eigen::Vector2d U(pts[u].x(), pts[u].y());
       // |c - s|^2 <= |c - u|^2  <=>  2 c.(u - s) <= |u|^2 - |s|^2, with c = m + t d
       const double a = 2 * d.dot(U - S), b = U.squaredNorm() - S.squaredNorm() - 2 * m.dot(U - S);
-      if (a > 0) hi = std::min(hi, b / a);
-      else if (a < 0) lo = std::max(lo, b / a);
+      if (a > 0)
+        hi = std::min(hi, b / a);
+      else if (a < 0)
+        lo = std::max(lo, b / a);
       else if (b < 0) {
         lo = 1;
         hi = -1;
@@ -113,7 +116,8 @@ TEST_CASE("exact relative neighbourhood on vein-like near-collinear nodes", "[po
   }
 }
 
-TEST_CASE("Delaunay neighbourhood matches the Voronoi-edge oracle; RN within Urquhart within Delaunay", "[point_tree]") {
+TEST_CASE("Delaunay neighbourhood matches the Voronoi-edge oracle; RN within Urquhart within Delaunay",
+          "[point_tree]") {
   for (std::uint64_t seed : {11u, 12u, 13u}) {
     const auto pts = random_points(seed, 200, false);
     const PointTree t = build(pts);
@@ -165,6 +169,7 @@ TEST_CASE("lune and radius queries", "[point_tree]") {
     CHECK(t.any_within(s, r2) == any);
     std::vector<Index> w;
     t.within(s, r2, w);
-    CHECK(w.size() == static_cast<std::size_t>(std::count_if(pts.begin(), pts.end(), [&](const Vec3& p) { return (p - s).squaredNorm() <= r2; })));
+    CHECK(w.size() == static_cast<std::size_t>(std::count_if(
+                          pts.begin(), pts.end(), [&](const Vec3& p) { return (p - s).squaredNorm() <= r2; })));
   }
 }
