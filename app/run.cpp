@@ -146,10 +146,20 @@ std::vector<std::string> write_outputs(const fs::path& dir, const OutputSpec& sp
   return names;
 }
 
-/// Thickens the veins (and the sheet, if asked) into a printable solid and writes the requested formats
-/// into `dir`. Appends the file names to `names`; returns what run.json records. Throws on failure.
-json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Cells& c, bool has_veins, int threads,
-                     std::vector<std::string>& names, std::ostream& err, bool quiet) {
+/// Creates `dir` and a private staging folder inside it, where a run's outputs wait until all are complete.
+fs::path make_staging(const fs::path& dir) {
+  core::ensure_directory(dir);
+  const fs::path staging = dir / (".partial-" + std::to_string(::getpid()));
+  core::ensure_directory(staging);
+  return staging;
+}
+
+/// Thickens vein segments (model units, Murray radii) and shell triangles into a printable solid and
+/// writes the requested formats into `dir`. Appends the file names to `names`; returns what run.json
+/// records. Throws on failure.
+json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::vector<exporters::Segment>& segments,
+                       const std::vector<std::array<core::Vec3, 3>>& shell, int threads,
+                       std::vector<std::string>& names, std::ostream& err, bool quiet) {
   exporters::ThickenParams tp;
   tp.scale = spec.scale;
   tp.auto_extent = spec.size;
@@ -160,10 +170,6 @@ json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Ce
   tp.max_memory_bytes = spec.max_memory_mb * 1e6;
   tp.threads = threads;
   tp.fill_cavities = spec.fill_cavities;
-  std::vector<exporters::Segment> segments;
-  if (spec.veins && has_veins) segments = exporters::vein_segments(venation::vein_graph(c));
-  std::vector<std::array<core::Vec3, 3>> shell;
-  if (spec.shell) shell = exporters::shell_triangles(c, cells::triangulate(c));
   if (segments.empty() && shell.empty())
     throw core::InvalidInput(
         "print: nothing to print yet (no vein has grown; run longer, lower venation.threshold, or use shell = true)");
@@ -197,6 +203,16 @@ json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Ce
           {"volume_mm3", rep.volume},
           {"area_mm2", rep.area},
           {"seconds", rep.voxelise_seconds + rep.mesh_seconds}};
+}
+
+/// print{} for a cell run: the vein graph and, if asked, the cell sheet.
+json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Cells& c, bool has_veins, int threads,
+                     std::vector<std::string>& names, std::ostream& err, bool quiet) {
+  std::vector<exporters::Segment> segments;
+  if (spec.veins && has_veins) segments = exporters::vein_segments(venation::vein_graph(c));
+  std::vector<std::array<core::Vec3, 3>> shell;
+  if (spec.shell) shell = exporters::shell_triangles(c, cells::triangulate(c));
+  return thicken_and_write(dir, spec, segments, shell, threads, names, err, quiet);
 }
 
 /// Moves every file of `staging` (recursively) into `dir`, then removes the outputs of an earlier run
@@ -236,9 +252,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std:
   const fs::path dir = s.out_dir;
   fs::path staging;
   try {
-    core::ensure_directory(dir);
-    staging = dir / (".partial-" + std::to_string(::getpid()));
-    core::ensure_directory(staging);
+    staging = make_staging(dir);
   } catch (const std::exception& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
     return failure;
@@ -278,34 +292,10 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std:
     json printed;
     if (cfg.print) {
       try {
-        exporters::ThickenParams tp;
-        tp.scale = cfg.print->scale;
-        tp.auto_extent = cfg.print->size;
-        tp.voxel_size = cfg.print->voxel_size;
-        tp.min_radius = cfg.print->min_radius;
-        tp.adaptivity = cfg.print->adaptivity;
-        tp.max_memory_bytes = cfg.print->max_memory_mb * 1e6;
-        tp.threads = o.threads;
-        tp.fill_cavities = cfg.print->fill_cavities;
         std::vector<exporters::Segment> segments;
         for (const auto& [p, c] : tree.edges())
           segments.push_back({tree.positions[p], tree.positions[c], tree.radius[p], tree.radius[c]});
-        exporters::ThickenReport tr;
-        const exporters::LevelSet ls = exporters::voxelise(segments, {}, tp, &tr);
-        const exporters::PrintableMesh mesh = exporters::mesh_level_set(ls, tp, &tr);
-        for (const std::string& f : cfg.print->formats) {
-          const std::string name = "printable." + f;
-          if (f == "vdb")
-            exporters::write_vdb(staging / name, ls);
-          else
-            exporters::write_mesh(staging / name, mesh);
-          outputs.push_back(name);
-        }
-        printed = {{"scale_mm_per_unit", tr.scale},
-                   {"triangles", tr.triangles},
-                   {"parts", tr.pieces},
-                   {"cavities", tr.cavities},
-                   {"volume_mm3", tr.volume}};
+        printed = thicken_and_write(staging, *cfg.print, segments, {}, o.threads, outputs, err, o.quiet);
       } catch (const std::exception& e) {
         err << "cellform: " << e.what() << "\n";
         printed = {{"error", e.what()}};
@@ -419,9 +409,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   cells::Simulation& sim = scene->simulation();
   const fs::path dir = s.out_dir;
   try {
-    core::ensure_directory(dir);
-    staging = dir / (".partial-" + std::to_string(::getpid()));
-    core::ensure_directory(staging);
+    staging = make_staging(dir);
   } catch (const std::exception& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
     return failure;

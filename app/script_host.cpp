@@ -668,116 +668,113 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
   }
 }
 
-/// Every API function is this one C function with its section name as upvalue 2.
-int api_section(lua_State* L) {
+/// Runs `body` (which returns the number of Lua results) and turns a C++ exception into a Lua error.
+/// lua_error longjmps, so it is raised only after every C++ object of the body is destroyed.
+template <class Body>
+int guarded(lua_State* L, Body&& body) {
   Impl& I = *self_of(L);
-  const std::string section = lua_tostring(L, lua_upvalueindex(1));
+  int results = 0;
   bool failed = false;
-  {
-    try {
-      const std::string at = I.where(1);
-      if (lua_gettop(L) > 1) throw InvalidInput(at + section + "{...} takes one table of named parameters");
-      if (section == "cells")
-        section_cells(I, at);
-      else if (section == "division")
-        section_division(I, at);
-      else if (section == "run")
-        section_run(I, at);
-      else if (section == "output")
-        section_output(I, at);
-      else if (section == "venation")
-        section_venation(I, at);
-      else if (section == "print")
-        section_print(I, at);
-      else if (section == "leaf")
-        section_leaf(I, at);
-      else if (section == "colonisation")
-        section_colonisation(I, at);
-      else if (section == "disc" || section == "rectangle" || section == "sphere" || section == "line" ||
-               section == "cell" || section == "petiole")
-        section_shape(I, section, at);
-      else
-        section_constraint(I, section, at);
-    } catch (const std::exception& e) {
-      I.pending_error = e.what();
-      failed = true;
-    }
+  try {
+    results = body(I);
+  } catch (const std::exception& e) {
+    I.pending_error = e.what();
+    failed = true;
   }
   if (failed) {
     lua_pushstring(L, I.pending_error.c_str());
     return lua_error(L);
   }
-  return 0;
+  return results;
+}
+
+/// Every API function is this one C function with its section name as upvalue 1.
+int api_section(lua_State* L) {
+  return guarded(L, [L](Impl& I) {
+    const std::string section = lua_tostring(L, lua_upvalueindex(1));
+    const std::string at = I.where(1);
+    if (lua_gettop(L) > 1) throw InvalidInput(at + section + "{...} takes one table of named parameters");
+    if (section == "cells")
+      section_cells(I, at);
+    else if (section == "division")
+      section_division(I, at);
+    else if (section == "run")
+      section_run(I, at);
+    else if (section == "output")
+      section_output(I, at);
+    else if (section == "venation")
+      section_venation(I, at);
+    else if (section == "print")
+      section_print(I, at);
+    else if (section == "leaf")
+      section_leaf(I, at);
+    else if (section == "colonisation")
+      section_colonisation(I, at);
+    else if (section == "disc" || section == "rectangle" || section == "sphere" || section == "line" ||
+             section == "cell" || section == "petiole")
+      section_shape(I, section, at);
+    else
+      section_constraint(I, section, at);
+    return 0;
+  });
 }
 
 /// params{name = default, ...}: script-level knobs; returns the table with --set overrides applied.
 int api_params(lua_State* L) {
-  Impl& I = *self_of(L);
-  bool failed = false;
-  {
-    try {
-      const std::string at = I.where(1);
-      I.once("params", at);
-      if (lua_type(L, 1) != LUA_TTABLE || lua_gettop(L) != 1)
-        throw InvalidInput(at + "params{...} takes one table of name = default");
-      nlohmann::json& rec = I.cfg->resolved["params"];
-      rec = nlohmann::json::object();
-      lua_newtable(L);
-      lua_pushnil(L);
-      while (lua_next(L, 1) != 0) {
-        if (lua_type(L, -2) != LUA_TSTRING) {
-          lua_pop(L, 2);
-          throw InvalidInput(at + "params{...}: every parameter needs a name (name = default)");
-        }
-        const std::string key = lua_tostring(L, -2);
-        I.param_names.insert(key);
-        auto it = I.overrides->find(key);
-        const int t = lua_type(L, -1);
-        if (it != I.overrides->end()) {
-          I.used_overrides.insert(key);
-          const std::string& text = it->second;
-          double x;
-          lua_pop(L, 1);
-          if (t == LUA_TNUMBER) {
-            if (!parse_double(text, x))
-              throw InvalidInput("--set " + key + ": expected a number, got \"" + text + "\"");
-            lua_pushnumber(L, x);
-            rec[key] = x;
-          } else if (t == LUA_TBOOLEAN) {
-            if (text != "true" && text != "false")
-              throw InvalidInput("--set " + key + ": expected true or false, got \"" + text + "\"");
-            lua_pushboolean(L, text == "true");
-            rec[key] = text == "true";
-          } else if (t == LUA_TSTRING) {
-            lua_pushstring(L, text.c_str());
-            rec[key] = text;
-          } else {
-            throw InvalidInput("--set " + key + ": only number, boolean and string params can be set");
-          }
-        } else {
-          if (t == LUA_TNUMBER)
-            rec[key] = lua_tonumber(L, -1);
-          else if (t == LUA_TBOOLEAN)
-            rec[key] = lua_toboolean(L, -1) != 0;
-          else if (t == LUA_TSTRING)
-            rec[key] = lua_tostring(L, -1);
-          else
-            rec[key] = luaL_typename(L, -1);
-        }
-        lua_pushvalue(L, -2);  // key
-        lua_insert(L, -2);     // key value
-        lua_rawset(L, 2);      // result table at index 2
+  return guarded(L, [L](Impl& I) {
+    const std::string at = I.where(1);
+    I.once("params", at);
+    if (lua_type(L, 1) != LUA_TTABLE || lua_gettop(L) != 1)
+      throw InvalidInput(at + "params{...} takes one table of name = default");
+    nlohmann::json& rec = I.cfg->resolved["params"];
+    rec = nlohmann::json::object();
+    lua_newtable(L);
+    lua_pushnil(L);
+    while (lua_next(L, 1) != 0) {
+      if (lua_type(L, -2) != LUA_TSTRING) {
+        lua_pop(L, 2);
+        throw InvalidInput(at + "params{...}: every parameter needs a name (name = default)");
       }
-    } catch (const std::exception& e) {
-      I.pending_error = e.what();
-      failed = true;
+      const std::string key = lua_tostring(L, -2);
+      I.param_names.insert(key);
+      auto it = I.overrides->find(key);
+      const int t = lua_type(L, -1);
+      if (it != I.overrides->end()) {
+        I.used_overrides.insert(key);
+        const std::string& text = it->second;
+        double x;
+        lua_pop(L, 1);
+        if (t == LUA_TNUMBER) {
+          if (!parse_double(text, x)) throw InvalidInput("--set " + key + ": expected a number, got \"" + text + "\"");
+          lua_pushnumber(L, x);
+          rec[key] = x;
+        } else if (t == LUA_TBOOLEAN) {
+          if (text != "true" && text != "false")
+            throw InvalidInput("--set " + key + ": expected true or false, got \"" + text + "\"");
+          lua_pushboolean(L, text == "true");
+          rec[key] = text == "true";
+        } else if (t == LUA_TSTRING) {
+          lua_pushstring(L, text.c_str());
+          rec[key] = text;
+        } else {
+          throw InvalidInput("--set " + key + ": only number, boolean and string params can be set");
+        }
+      } else {
+        if (t == LUA_TNUMBER)
+          rec[key] = lua_tonumber(L, -1);
+        else if (t == LUA_TBOOLEAN)
+          rec[key] = lua_toboolean(L, -1) != 0;
+        else if (t == LUA_TSTRING)
+          rec[key] = lua_tostring(L, -1);
+        else
+          rec[key] = luaL_typename(L, -1);
+      }
+      lua_pushvalue(L, -2);  // key
+      lua_insert(L, -2);     // key value
+      lua_rawset(L, 2);      // result table at index 2
     }
-  }
-  if (failed) {
-    lua_pushstring(L, I.pending_error.c_str());
-    return lua_error(L);
-  }
-  return 1;
+    return 1;
+  });
 }
 
 int api_print(lua_State* L) {
