@@ -1,0 +1,421 @@
+// Private to app/: the script host's state, parameter values, and the sections of the script API.
+#pragma once
+
+#include <lua.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "app/schema.h"
+#include "app/script_host.h"
+#include "core/errors.h"
+
+namespace cellform::app {
+
+using core::InvalidInput;
+using core::Vec3;
+
+inline constexpr int kHookEvery = 1000;  // instructions between budget checks
+
+/// A parameter value after conversion from Lua or from a --set string.
+struct Value {
+  bool present = false;  // given by the script or --set (false: the schema default applies, if any)
+  double num = 0;
+  Vec3 vec = Vec3::Zero();
+  bool flag = false;
+  std::string str;
+  int ref = LUA_NOREF;  // a function in the registry
+};
+
+using Values = std::map<std::string, Value>;
+
+/// A call of a shape function, evaluated after the script has run (when rest_length is known).
+struct ShapeCall {
+  std::string kind;
+  Values values;
+  std::string where;
+};
+
+inline std::string trim(const std::string& s) {
+  const auto a = s.find_first_not_of(" \t");
+  const auto b = s.find_last_not_of(" \t");
+  return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
+}
+
+inline bool parse_double(const std::string& text, double& out) {
+  const std::string t = trim(text);
+  if (t.empty()) return false;
+  char* end = nullptr;
+  out = std::strtod(t.c_str(), &end);
+  return end == t.c_str() + t.size();
+}
+
+inline bool parse_vec(std::string text, Vec3& out) {
+  text = trim(text);
+  if (text.size() >= 2 && text.front() == '{' && text.back() == '}') text = text.substr(1, text.size() - 2);
+  std::stringstream ss(text);
+  std::string part;
+  int n = 0;
+  while (std::getline(ss, part, ',')) {
+    if (n == 3 || !parse_double(part, out[n])) return false;
+    ++n;
+  }
+  return n == 3;
+}
+
+inline std::string choices_list(const std::string& choices) {
+  std::string s = choices;
+  for (char& c : s)
+    if (c == '|') c = ',';
+  return s;
+}
+
+inline bool is_choice(const std::string& choices, const std::string& v) {
+  std::stringstream ss(choices);
+  std::string part;
+  while (std::getline(ss, part, '|'))
+    if (part == v) return true;
+  return false;
+}
+
+inline nlohmann::json to_json(const Field& f, const Value& v) {
+  switch (f.kind) {
+    case Kind::number:
+      return v.num;
+    case Kind::integer:
+      return static_cast<long long>(v.num);
+    case Kind::boolean:
+      return v.flag;
+    case Kind::vec3:
+      return nlohmann::json::array({v.vec.x(), v.vec.y(), v.vec.z()});
+    case Kind::text:
+    case Kind::choice:
+      return v.str;
+    case Kind::choice_or_function:
+      return v.ref != LUA_NOREF ? std::string("<function>") : v.str;
+    case Kind::function:
+      return v.ref != LUA_NOREF ? nlohmann::json("<function>") : nlohmann::json();
+    case Kind::number_or_function:
+      return v.ref != LUA_NOREF ? nlohmann::json("<function>") : nlohmann::json(v.num);
+    case Kind::table:
+      return nlohmann::json::object();
+  }
+  return {};
+}
+
+struct ScriptHost::Impl {
+  lua_State* L = nullptr;
+  ScriptLimits limits;
+  std::size_t used = 0;
+  bool memory_exceeded = false;
+  std::uint64_t executed = 0;
+  std::uint64_t budget = 0;
+  std::string script_name;
+  std::filesystem::path script_dir;
+  std::function<void(const std::string&)> print;
+
+  // state while a script loads
+  SceneConfig* cfg = nullptr;
+  const Overrides* overrides = nullptr;
+  std::set<std::string> used_overrides;
+  std::map<std::string, std::string> sections_seen;  // section -> where
+  std::vector<ShapeCall> shapes;
+  std::set<std::string> param_names;
+  std::string pending_error;
+
+  // rule functions
+  int divides_ref = LUA_NOREF;
+  int direction_ref = LUA_NOREF;
+  int source_ref = LUA_NOREF;
+  int cell_table_ref = LUA_NOREF;
+
+  static void* alloc(void* ud, void* ptr, std::size_t osize, std::size_t nsize) {
+    auto* self = static_cast<Impl*>(ud);
+    const std::size_t old = ptr ? osize : 0;
+    if (nsize == 0) {
+      self->used -= old;
+      std::free(ptr);
+      return nullptr;
+    }
+    if (nsize > old && self->used - old + nsize > self->limits.memory_bytes) {
+      self->memory_exceeded = true;
+      return nullptr;
+    }
+    void* p = std::realloc(ptr, nsize);
+    if (p) self->used = self->used - old + nsize;
+    return p;
+  }
+
+  static void hook(lua_State* L, lua_Debug*) {
+    Impl* self = *static_cast<Impl**>(lua_getextraspace(L));
+    self->executed += kHookEvery;
+    if (self->executed > self->budget)
+      luaL_error(L,
+                 "instruction budget of %I instructions exceeded (an endless loop?); raise it with --lua-instructions",
+                 static_cast<lua_Integer>(self->budget));
+  }
+
+  /// Turns a Lua error message into one line that names the script; adds the memory-limit hint.
+  std::string describe(const std::string& lua_message) const {
+    if (memory_exceeded || lua_message == "not enough memory")
+      return script_name + ": the script exceeded its memory limit of " + std::to_string(limits.memory_bytes >> 20) +
+             " MiB; raise it with --lua-memory";
+    if (lua_message.find("attempt to load a binary chunk") != std::string::npos)
+      return script_name + ": precompiled (binary) Lua chunks are not allowed; give the script as source text";
+    return lua_message;
+  }
+
+  /// pcall with the instruction budget reset to `budget`; returns "" or the error message.
+  std::string protected_call(int nargs, int nresults, std::uint64_t call_budget) {
+    executed = 0;
+    budget = call_budget;
+    memory_exceeded = false;
+    const int rc = lua_pcall(L, nargs, nresults, 0);
+    if (rc == LUA_OK) return {};
+    std::string msg = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "error object is not a string";
+    lua_pop(L, 1);
+    return describe(msg);
+  }
+
+  std::string where(int level = 1) {
+    luaL_where(L, level);
+    std::string w = lua_tostring(L, -1);
+    lua_pop(L, 1);
+    if (w.empty()) w = script_name + ": ";
+    return w;
+  }
+
+  /// Converts the Lua value at `idx` for field f; throws InvalidInput with `at` prefix.
+  Value from_lua(const Field& f, int idx, const std::string& at) {
+    Value v;
+    v.present = true;
+    const std::string name = f.section + "." + f.name;
+    auto fail = [&](const std::string& got) -> InvalidInput {
+      return InvalidInput(at + name + " must be " + allowed_text(f) + ", got " + got);
+    };
+    const int t = lua_type(L, idx);
+    const std::string got = t == LUA_TSTRING ? std::string("\"") + lua_tostring(L, idx) + "\"" : luaL_typename(L, idx);
+    switch (f.kind) {
+      case Kind::number:
+      case Kind::integer:
+        if (t != LUA_TNUMBER) throw fail(got);
+        v.num = lua_tonumber(L, idx);
+        break;
+      case Kind::boolean:
+        if (t != LUA_TBOOLEAN) throw fail(got);
+        v.flag = lua_toboolean(L, idx) != 0;
+        break;
+      case Kind::vec3: {
+        if (t != LUA_TTABLE || lua_rawlen(L, idx) != 3) throw fail(t == LUA_TTABLE ? "a table without 3 numbers" : got);
+        for (int i = 0; i < 3; ++i) {
+          lua_rawgeti(L, idx, i + 1);
+          if (lua_type(L, -1) != LUA_TNUMBER) {
+            lua_pop(L, 1);
+            throw fail("a non-number component");
+          }
+          v.vec[i] = lua_tonumber(L, -1);
+          lua_pop(L, 1);
+        }
+        break;
+      }
+      case Kind::text:
+        if (t != LUA_TSTRING) throw fail(got);
+        v.str = lua_tostring(L, idx);
+        break;
+      case Kind::choice:
+      case Kind::choice_or_function:
+        if (f.kind == Kind::choice_or_function && t == LUA_TFUNCTION) {
+          lua_pushvalue(L, idx);
+          v.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+          break;
+        }
+        if (t != LUA_TSTRING) throw fail(got);
+        v.str = lua_tostring(L, idx);
+        break;
+      case Kind::number_or_function:
+        if (t == LUA_TFUNCTION) {
+          lua_pushvalue(L, idx);
+          v.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+        } else if (t == LUA_TNUMBER) {
+          v.num = lua_tonumber(L, idx);
+        } else {
+          throw fail(got);
+        }
+        break;
+      case Kind::function:
+        if (t != LUA_TFUNCTION) throw fail(got);
+        lua_pushvalue(L, idx);
+        v.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+        break;
+      case Kind::table:
+        if (t != LUA_TTABLE) throw fail(got);
+        break;
+    }
+    return v;
+  }
+
+  Value from_text(const Field& f, const std::string& text, const std::string& at) {
+    Value v;
+    v.present = true;
+    const std::string name = f.section + "." + f.name;
+    auto fail = [&]() { return InvalidInput(at + name + " must be " + allowed_text(f) + ", got \"" + text + "\""); };
+    switch (f.kind) {
+      case Kind::number:
+      case Kind::integer:
+      case Kind::number_or_function:
+        if (!parse_double(text, v.num)) throw fail();
+        break;
+      case Kind::boolean:
+        if (text == "true" || text == "1")
+          v.flag = true;
+        else if (text == "false" || text == "0")
+          v.flag = false;
+        else
+          throw fail();
+        break;
+      case Kind::vec3:
+        if (!parse_vec(text, v.vec)) throw fail();
+        break;
+      case Kind::text:
+        v.str = text == "(none)" ? std::string() : text;
+        break;  // an optional text
+      case Kind::choice:
+      case Kind::choice_or_function:
+        v.str = text;
+        break;
+      case Kind::function:
+      case Kind::table:
+        throw InvalidInput(at + name + " cannot be set from the command line");
+    }
+    return v;
+  }
+
+  void check_range(const Field& f, Value& v, const std::string& at) {
+    if (!v.present) return;
+    const std::string name = f.section + "." + f.name;
+    auto bad = [&](double x) { return !std::isfinite(x) || x < f.min || x > f.max || (f.min_exclusive && x <= f.min); };
+    auto fail = [&](const std::string& got) {
+      return InvalidInput(at + name + " must be " + allowed_text(f) + ", got " + got);
+    };
+    if (f.kind == Kind::number || f.kind == Kind::integer ||
+        (f.kind == Kind::number_or_function && v.ref == LUA_NOREF)) {
+      std::ostringstream g;
+      g << v.num;
+      if (bad(v.num)) throw fail(g.str());
+      if (f.kind == Kind::integer && v.num != std::floor(v.num)) throw fail(g.str());
+    } else if (f.kind == Kind::vec3) {
+      for (int i = 0; i < 3; ++i) {
+        std::ostringstream g;
+        g << "{" << v.vec.x() << ", " << v.vec.y() << ", " << v.vec.z() << "}";
+        if (bad(v.vec[i])) throw fail(g.str());
+      }
+    } else if ((f.kind == Kind::choice || f.kind == Kind::choice_or_function) && v.ref == LUA_NOREF) {
+      if (!is_choice(f.choices, v.str)) {
+        std::vector<std::string> options;
+        std::stringstream ss(f.choices);
+        std::string part;
+        while (std::getline(ss, part, '|')) options.push_back(part);
+        const std::string near = core::closest_name(v.str, options);
+        throw InvalidInput(at + name + " must be one of " + choices_list(f.choices) + ", got \"" + v.str + "\"" +
+                           (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
+      }
+    }
+  }
+
+  /// Reads the table argument of a section function at stack index `idx` against the schema.
+  Values read_section(const std::string& section, int idx, const std::string& at, nlohmann::json* record) {
+    const auto fields = section_fields(section);
+    const int t = lua_type(L, idx);
+    if (t != LUA_TTABLE && t != LUA_TNONE && t != LUA_TNIL)
+      throw InvalidInput(at + section + "{...} takes a table of named parameters, got " + luaL_typename(L, idx));
+    Values values;
+    if (t == LUA_TTABLE) {
+      lua_pushnil(L);
+      while (lua_next(L, idx) != 0) {
+        if (lua_type(L, -2) != LUA_TSTRING) {
+          lua_pop(L, 2);
+          throw InvalidInput(at + section + "{...}: parameters are named (name = value); got a value without a name");
+        }
+        const std::string key = lua_tostring(L, -2);
+        const Field* f = find_field(section, key);
+        if (!f) {
+          lua_pop(L, 2);
+          std::vector<std::string> names;
+          for (const Field* g : fields) names.push_back(g->name);
+          const std::string near = core::closest_name(key, names);
+          std::string all;
+          for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
+          throw InvalidInput(at + section + "{...} has no parameter '" + key + "'" +
+                             (near.empty() ? "" : "; did you mean '" + near + "'?") + " (valid: " + all + ")");
+        }
+        try {
+          values[key] = from_lua(*f, lua_gettop(L), at);
+        } catch (...) {
+          lua_pop(L, 2);
+          throw;
+        }
+        lua_pop(L, 1);
+      }
+    }
+    for (const Field* f : fields) {
+      const std::string key = f->section + "." + f->name;
+      std::string value_at = at;  // where a bad value is reported: the script line, or the --set option
+      if (overrides) {
+        auto it = overrides->find(key);
+        if (it != overrides->end()) {
+          value_at = "--set " + key + "=" + it->second + ": ";
+          values[f->name] = from_text(*f, it->second, value_at);
+          used_overrides.insert(key);
+        }
+      }
+      Value& v = values[f->name];
+      if (!v.present && f->kind != Kind::function && f->kind != Kind::table) {
+        if (f->default_text.empty())
+          throw InvalidInput(at + section + "{...} needs '" + f->name + "' (" + allowed_text(*f) + ")");
+        if (f->default_text.find("cells.") == std::string::npos) {
+          Value d = from_text(*f, f->default_text, "schema default: ");
+          d.present = false;
+          v.num = d.num, v.vec = d.vec, v.flag = d.flag, v.str = d.str;
+        }
+      }
+      check_range(*f, v, value_at);
+      if (record && f->kind != Kind::table && (v.present || f->default_text.find("cells.") == std::string::npos))
+        (*record)[f->name] = to_json(*f, v);
+    }
+    return values;
+  }
+
+  void once(const std::string& section, const std::string& at) {
+    auto [it, fresh] = sections_seen.emplace(section, at);
+    if (!fresh) throw InvalidInput(at + section + "{...} is given twice (first at " + it->second + ")");
+  }
+};
+
+using Impl = ScriptHost::Impl;
+
+/// The host of the Lua state running now (kept in the state's extra space).
+inline Impl* self_of(lua_State* L) { return *static_cast<Impl**>(lua_getextraspace(L)); }
+
+// The script API's sections (script_sections.cpp): each reads the table at stack index 1 against the
+// schema and fills the scene configuration; `at` is "file:line: " of the call.
+void section_cells(Impl& I, const std::string& at);
+void section_division(Impl& I, const std::string& at);
+void section_run(Impl& I, const std::string& at);
+void section_venation(Impl& I, const std::string& at);
+void section_leaf(Impl& I, const std::string& at);
+void section_colonisation(Impl& I, const std::string& at);
+void section_print(Impl& I, const std::string& at);
+void section_output(Impl& I, const std::string& at);
+void section_shape(Impl& I, const std::string& kind, const std::string& at);
+void section_constraint(Impl& I, const std::string& kind, const std::string& at);
+/// Turns the recorded shape calls into initial cells and petioles (after the script ran).
+void build_shapes(Impl& I);
+
+}  // namespace cellform::app
