@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -39,7 +40,9 @@ void parallel_for(std::size_t n, int threads, const std::function<void(std::size
     body(0, n);
     return;
   }
-  const int t = threads <= 0 ? hardware_threads() : threads;
+  // more threads than cores cannot help, and TBB warns on stderr when asked for them; results do not
+  // depend on the count
+  const int t = threads <= 0 ? hardware_threads() : std::min(threads, hardware_threads());
   arena_for(t).execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
                       [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });

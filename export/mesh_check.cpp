@@ -198,7 +198,7 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
     }
   });
   {
-    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    tbb::task_arena arena(threads > 0 ? std::min(threads, core::hardware_threads()) : tbb::task_arena::automatic);
     arena.execute([&] { tbb::parallel_sort(refs.begin(), refs.end()); });  // unique elements: one order
   }
   std::vector<std::size_t> runs;

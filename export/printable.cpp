@@ -21,6 +21,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/parallel.h"
 #include "export/mesh_check.h"
 
 namespace cellform::exporters {
@@ -205,7 +206,10 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-int arena_threads(int threads) { return threads > 0 ? threads : tbb::task_arena::automatic; }
+// More threads than cores cannot help, and TBB warns on stderr when asked for them.
+int arena_threads(int threads) {
+  return threads > 0 ? std::min(threads, core::hardware_threads()) : tbb::task_arena::automatic;
+}
 
 }  // namespace
 
