@@ -237,7 +237,7 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
     if (ec) throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': " + ec.message());
   }
   for (const std::string& n : stale) {
-    if (fresh.count(n) || n.find("..") != std::string::npos) continue;
+    if (fresh.count(n) || n.find("..") != std::string::npos || fs::path(n).is_absolute()) continue;  // only inside dir
     std::error_code ec;
     fs::remove(dir / n, ec);
   }

@@ -159,6 +159,21 @@ void PointTree::split_leaf(int n) {
   nd.split = split;
 }
 
+void PointTree::expand(const Node& nd, const Vec3& s, std::vector<std::pair<double, std::int64_t>>& heap) const {
+  const auto cmp = std::greater<>();
+  if (nd.child[0] < 0) {
+    for (Index i : nd.pts) {
+      heap.emplace_back((points_[i] - s).squaredNorm(), ~static_cast<std::int64_t>(i));
+      std::push_heap(heap.begin(), heap.end(), cmp);
+    }
+  } else {
+    for (int c : nd.child) {
+      heap.emplace_back(mindist2(nodes_[c], s), c);
+      std::push_heap(heap.begin(), heap.end(), cmp);
+    }
+  }
+}
+
 double PointTree::mindist2(const Node& nd, const Vec3& q) const {
   double d2 = 0;
   for (int k = 0; k < 3; ++k) {
@@ -419,17 +434,7 @@ void PointTree::relative_neighbourhood(const Vec3& s, std::vector<Index>& out, S
         if (corners[c].dot(sc.corner_dir[k]) < 0.5 + kPruneSlack) pruned = false;
     }
     if (pruned) continue;
-    if (nd.child[0] < 0) {
-      for (Index i : nd.pts) {
-        heap.emplace_back((points_[i] - s).squaredNorm(), ~static_cast<std::int64_t>(i));
-        std::push_heap(heap.begin(), heap.end(), cmp);
-      }
-    } else {
-      for (int c : nd.child) {
-        heap.emplace_back(mindist2(nodes_[c], s), c);
-        std::push_heap(heap.begin(), heap.end(), cmp);
-      }
-    }
+    expand(nd, s, heap);
   }
   // exact final check (covers distance ties, where visiting order alone could miss a blocker)
   std::erase_if(out, [&](Index v) { return lune_occupied(s, v); });
@@ -462,17 +467,7 @@ void PointTree::delaunay_neighbourhood(const Vec3& s, double half_extent, std::v
     if (d2 > 4 * r2max) break;  // farther than twice the cell's radius: cannot clip it
     if (id >= 0) {
       const Node& nd = nodes_[id];
-      if (nd.child[0] < 0) {
-        for (Index i : nd.pts) {
-          heap.emplace_back((points_[i] - s).squaredNorm(), ~static_cast<std::int64_t>(i));
-          std::push_heap(heap.begin(), heap.end(), cmp);
-        }
-      } else {
-        for (int c : nd.child) {
-          heap.emplace_back(mindist2(nodes_[c], s), c);
-          std::push_heap(heap.begin(), heap.end(), cmp);
-        }
-      }
+      expand(nd, s, heap);
       continue;
     }
     if (!(d2 > 0)) continue;

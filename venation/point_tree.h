@@ -118,6 +118,8 @@ class PointTree {
   bool lune_pos_rec(int n, const Vec3& s, const Vec3& v, double r2) const;
   void relative_neighbourhood_planar(const Vec3& s, std::vector<Index>& out, Scratch& scratch) const;
   double mindist2(const Node& nd, const Vec3& q) const;
+  /// Best-first search step: pushes a leaf's points (as ~index) or an inner node's children onto a min-heap.
+  void expand(const Node& nd, const Vec3& s, std::vector<std::pair<double, std::int64_t>>& heap) const;
 
   std::vector<Vec3> points_;
   std::vector<Node> nodes_;
