@@ -411,6 +411,11 @@ void section_run(Impl& I, const std::string& at);
 void section_venation(Impl& I, const std::string& at);
 void section_leaf(Impl& I, const std::string& at);
 void section_colonisation(Impl& I, const std::string& at);
+void section_domain(Impl& I, const std::string& section, const std::string& at);  // volume{}, surface{}
+/// After the script ran: checks and completes a space-colonisation configuration.
+void finish_colonisation(Impl& I);
+/// Rewrites a venation::Domain message ("domain.initial_nodes[2] ...") with the script's names.
+std::string script_domain_message(const std::string& message, const std::string& section);
 void section_print(Impl& I, const std::string& at);
 void section_output(Impl& I, const std::string& at);
 void section_shape(Impl& I, const std::string& kind, const std::string& at);

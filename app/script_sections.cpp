@@ -3,6 +3,7 @@
 #include "app/script_impl.h"
 #include "forms/obstacles.h"
 #include "forms/shapes.h"
+#include "venation/domain.h"
 
 namespace cellform::app {
 
@@ -120,8 +121,193 @@ void section_venation(Impl& I, const std::string& at) {
   I.cfg->scene.venation = p;
 }
 
+namespace {
+
+/// Refuses a second source domain: a script grows veins in one leaf{}, volume{} or surface{}.
+void one_domain(Impl& I, const std::string& section, const std::string& at) {
+  for (const std::string other : {"leaf", "volume", "surface"})
+    if (other != section && I.sections_seen.count(other))
+      throw InvalidInput(at + section + "{...}: the veins already grow in " + other + "{...} (at " +
+                         I.sections_seen[other] + "); a script has one of leaf{}, volume{} and surface{}");
+}
+
+/// The seeds = {{x, y, z}, ...} field of the section table at stack index 1 (also one point {x, y, z}).
+std::vector<Vec3> read_points(Impl& I, const std::string& section, const std::string& at) {
+  lua_State* L = I.L;
+  std::vector<Vec3> out;
+  lua_getfield(L, 1, "seeds");
+  const int idx = lua_gettop(L);
+  auto fail = [&](const std::string& what) {
+    lua_settop(L, idx - 1);
+    return InvalidInput(at + section + ".seeds must be a list of points {{x, y, z}, ...} in model units; " + what);
+  };
+  if (lua_type(L, idx) == LUA_TNIL) {
+    lua_pop(L, 1);
+    return out;
+  }
+  auto read_point = [&](int t, const std::string& which) {
+    if (lua_type(L, t) != LUA_TTABLE || lua_rawlen(L, t) != 3) throw fail(which + " is not {x, y, z}");
+    Vec3 p;
+    for (int k = 0; k < 3; ++k) {
+      lua_rawgeti(L, t, k + 1);
+      if (lua_type(L, -1) != LUA_TNUMBER) throw fail(which + " has a component that is not a number");
+      p[k] = lua_tonumber(L, -1);
+      lua_pop(L, 1);
+    }
+    if (!p.allFinite()) throw fail(which + " is not finite");
+    return p;
+  };
+  lua_rawgeti(L, idx, 1);
+  const bool single = lua_type(L, -1) == LUA_TNUMBER;
+  lua_pop(L, 1);
+  if (single) {
+    out.push_back(read_point(idx, "the point"));
+  } else {
+    const auto n = static_cast<int>(lua_rawlen(L, idx));
+    if (n == 0) throw fail("got an empty table");
+    for (int i = 1; i <= n; ++i) {
+      lua_rawgeti(L, idx, i);
+      out.push_back(read_point(lua_gettop(L), "entry " + std::to_string(i)));
+      lua_pop(L, 1);
+    }
+  }
+  lua_settop(L, idx - 1);
+  return out;
+}
+
+venation::Mesh read_domain_mesh(Impl& I, const std::string& section, const Values& v, const std::string& at) {
+  std::filesystem::path file = v.at("file").str;
+  if (file.is_relative()) file = I.script_dir / file;
+  try {
+    forms::TriangleMesh m = forms::load_mesh(file);
+    venation::Mesh out;
+    out.vertices = std::move(m.vertices);
+    for (Vec3& p : out.vertices) p *= v.at("scale").num;
+    out.triangles = std::move(m.triangles);
+    return out;
+  } catch (const std::exception& e) {
+    throw InvalidInput(at + section + ".file: " + e.what());
+  }
+}
+
+}  // namespace
+
+std::string script_domain_message(const std::string& message, const std::string& section) {
+  std::string m = message;
+  const std::pair<std::string, std::string> names[] = {{"domain.initial_nodes", section + ".seeds"},
+                                                       {"domain.initial_sources", section + ".sources"},
+                                                       {"domain.box", "volume.box"},
+                                                       {"domain.ball", "volume.ball"},
+                                                       {"domain.volume", "volume.file"},
+                                                       {"domain.surface", section + ".file"}};
+  for (const auto& [from, to] : names)
+    for (std::size_t at = m.find(from); at != std::string::npos; at = m.find(from, at + to.size()))
+      m.replace(at, from.size(), to);
+  return m;
+}
+
+void section_domain(Impl& I, const std::string& section, const std::string& at) {
+  I.once(section, at);
+  one_domain(I, section, at);
+  nlohmann::json& rec = I.cfg->resolved[section];
+  Values v = I.read_section(section, 1, at, &rec);
+  if (!I.cfg->colonisation) I.cfg->colonisation.emplace();
+  ColonisationSpec& spec = *I.cfg->colonisation;
+  venation::Domain& d = spec.domain;
+  lua_State* L = I.L;
+  // a nested table such as volume{box = {min = ..., max = ...}}, read against the schema's "volume.box"
+  auto nested = [&](const char* name, Values& out) {
+    if (lua_type(L, 1) != LUA_TTABLE) return false;
+    lua_getfield(L, 1, name);
+    const int idx = lua_gettop(L);
+    if (lua_type(L, idx) == LUA_TNIL) {
+      lua_pop(L, 1);
+      return false;
+    }
+    try {
+      out = I.read_section(section + "." + name, idx, at, &rec[name]);
+    } catch (...) {
+      lua_settop(L, idx - 1);
+      throw;
+    }
+    lua_settop(L, idx - 1);
+    return true;
+  };
+  std::vector<Vec3> seeds = read_points(I, section, at);
+  const bool file = !v["file"].str.empty();
+  if (section == "volume") {
+    Values box, ball;
+    const bool is_box = nested("box", box), is_ball = nested("ball", ball);
+    if (int(is_box) + int(is_ball) + int(file) != 1)
+      throw InvalidInput(at +
+                         "volume{...} needs exactly one of box = {min = {x, y, z}, max = {x, y, z}}, "
+                         "ball = {centre = {x, y, z}, radius = r} or file = \"shape.stl\"");
+    if (is_box) {
+      d.kind = venation::DomainKind::box;
+      d.box_min = box["min"].vec;
+      d.box_max = box["max"].vec;
+      if ((d.box_min.array() >= d.box_max.array()).any())
+        throw InvalidInput(at + "volume.box.min must be below volume.box.max in x, y and z");
+      if (seeds.empty())
+        seeds.push_back(Vec3((d.box_min.x() + d.box_max.x()) / 2, (d.box_min.y() + d.box_max.y()) / 2, d.box_min.z()));
+    } else if (is_ball) {
+      d.kind = venation::DomainKind::ball;
+      d.centre = ball["centre"].vec;
+      d.radius = ball["radius"].num;
+      if (seeds.empty()) seeds.push_back(d.centre - d.radius * Vec3::UnitZ());
+    } else {
+      d.kind = venation::DomainKind::volume;
+      d.mesh = read_domain_mesh(I, section, v, at);
+      if (seeds.empty())
+        throw InvalidInput(at + "volume{file = ...} needs seeds = {{x, y, z}, ...}: the seed vein nodes inside it");
+    }
+  } else {
+    d.kind = venation::DomainKind::surface;
+    spec.on_cells = v["cells"].flag;
+    if (file == spec.on_cells)
+      throw InvalidInput(at + "surface{...} needs either file = \"shape.obj\" or cells = true (the grown cell sheet)");
+    if (file) {
+      d.mesh = read_domain_mesh(I, section, v, at);
+      if (seeds.empty())
+        throw InvalidInput(at + "surface{file = ...} needs seeds = {{x, y, z}, ...}: the seed vein nodes on it");
+    }
+  }
+  d.initial_nodes = seeds;
+  rec["seeds"] = nlohmann::json::array();
+  for (const Vec3& p : seeds) rec["seeds"].push_back({p.x(), p.y(), p.z()});
+  if (spec.on_cells) return;  // the sheet exists once the cells have grown
+  try {
+    venation::PreparedDomain check(d);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(at + script_domain_message(e.what(), section));
+  }
+}
+
+void finish_colonisation(Impl& I) {
+  ColonisationSpec& spec = *I.cfg->colonisation;
+  if (spec.domain.kind == venation::DomainKind::leaf) return;
+  const std::string at = I.sections_seen["colonisation"];
+  nlohmann::json& rec = I.cfg->resolved["colonisation"];
+  venation::ColonisationParams& p = spec.params;
+  if (spec.growth_given && p.growth != venation::GrowthMode::none)
+    throw InvalidInput(at + "colonisation.growth = \"" + rec.value("growth", std::string()) +
+                       "\" grows a leaf blade; a volume{...} or surface{...} does not grow (leave growth out or "
+                       "set it to \"none\")");
+  p.growth = venation::GrowthMode::none;
+  p.initial_scale = p.final_scale = 1;
+  p.scale_step = 0;
+  rec["growth"] = "none";
+  for (const char* unused : {"initial_length", "final_length", "length_step"}) rec.erase(unused);
+  try {
+    venation::validate(spec.domain, p);
+  } catch (const std::exception& e) {
+    throw InvalidInput(at + e.what());
+  }
+}
+
 void section_leaf(Impl& I, const std::string& at) {
   I.once("leaf", at);
+  one_domain(I, "leaf", at);
   Values v = I.read_section("leaf", 1, at, &I.cfg->resolved["leaf"]);
   if (!I.cfg->colonisation) I.cfg->colonisation.emplace();
   venation::Leaf& leaf = I.cfg->colonisation->leaf;
@@ -179,6 +365,7 @@ void section_colonisation(Impl& I, const std::string& at) {
   p.scale_step = g == "none" ? 0 : v["length_step"].num;
   p.max_steps = static_cast<std::size_t>(v["max_steps"].num);
   p.max_nodes = static_cast<std::size_t>(v["max_nodes"].num);
+  I.cfg->colonisation->growth_given = v["growth"].present;
   I.cfg->colonisation->widths.exponent = v["murray_exponent"].num;
   I.cfg->colonisation->widths.tip_radius = v["tip_radius"].num;
   try {

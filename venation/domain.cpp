@@ -95,7 +95,8 @@ void validate_shape(const Domain& d) {
   for (const auto& t : m.triangles) {
     const Index a = weld[t[0]], b = weld[t[1]], c = weld[t[2]];
     if (a == b || b == c || a == c) continue;  // degenerate: no area, no boundary
-    for (auto [u, v] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) edges.emplace_back(std::min(u, v), std::max(u, v));
+    for (auto [u, v] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}})
+      edges.emplace_back(std::min(u, v), std::max(u, v));
   }
   std::sort(edges.begin(), edges.end());
   for (std::size_t i = 0; i < edges.size();) {
@@ -175,9 +176,10 @@ void validate(const Domain& d, const ColonisationParams& p) {
     throw InvalidInput("colonisation.initial_scale must be 1 for " + where +
                        ": a 3-D domain is given in model units and does not grow");
   if (p.type == VenationType::closed && p.neighbourhood == Neighbourhood::urquhart)
-    throw InvalidInput("colonisation.neighbourhood = urquhart works only in the plane of a leaf (it needs a planar "
-                       "Delaunay triangulation); " +
-                       where + " needs neighbourhood = exact");
+    throw InvalidInput(
+        "colonisation.neighbourhood = urquhart works only in the plane of a leaf (it needs a planar "
+        "Delaunay triangulation); " +
+        where + " needs neighbourhood = exact");
 }
 
 struct PreparedDomain::Impl {
@@ -272,9 +274,10 @@ struct PreparedDomain::Impl {
     int dim = 0;
     (chi - clo).maxCoeff(&dim);
     const std::uint32_t mid = first + (last - first) / 2;
-    std::nth_element(order.begin() + first, order.begin() + mid, order.begin() + last, [&](std::uint32_t a, std::uint32_t b) {
-      return centroid[a][dim] < centroid[b][dim] || (centroid[a][dim] == centroid[b][dim] && a < b);
-    });
+    std::nth_element(order.begin() + first, order.begin() + mid, order.begin() + last,
+                     [&](std::uint32_t a, std::uint32_t b) {
+                       return centroid[a][dim] < centroid[b][dim] || (centroid[a][dim] == centroid[b][dim] && a < b);
+                     });
     const int l = build(first, mid, centroid);
     const int r = build(mid, last, centroid);
     nodes[id].child[0] = l;
@@ -282,9 +285,7 @@ struct PreparedDomain::Impl {
     return id;
   }
 
-  static double box_d2(const Node& n, const Vec3& q) {
-    return (q.cwiseMax(n.lo).cwiseMin(n.hi) - q).squaredNorm();
-  }
+  static double box_d2(const Node& n, const Vec3& q) { return (q.cwiseMax(n.lo).cwiseMin(n.hi) - q).squaredNorm(); }
 
   Vec3 closest(const Vec3& q) const {
     double best_d2 = std::numeric_limits<double>::infinity();
@@ -364,7 +365,8 @@ struct PreparedDomain::Impl {
     bool inside = false;
     for (std::uint32_t k = cell_start[c]; k < cell_start[c + 1]; ++k) {
       const auto& t = tri[cell_tris[k]];
-      const double area2 = (t[1].x() - t[0].x()) * (t[2].y() - t[0].y()) - (t[1].y() - t[0].y()) * (t[2].x() - t[0].x());
+      const double area2 =
+          (t[1].x() - t[0].x()) * (t[2].y() - t[0].y()) - (t[1].y() - t[0].y()) * (t[2].x() - t[0].x());
       if (area2 == 0) continue;  // vertical: the perturbed ray misses it
       const int s = area2 > 0 ? 1 : -1;
       if (orient_xy(t[0], t[1], q) != s || orient_xy(t[1], t[2], q) != s || orient_xy(t[2], t[0], q) != s) continue;
@@ -468,9 +470,7 @@ void PreparedDomain::throw_darts(double rho, core::Rng& rng, std::vector<Vec3>& 
 
 double PreparedDomain::dart_measure() const { return impl_->measure; }
 
-bool PreparedDomain::contains(const Vec3& q, double tolerance) const {
-  return impl_->distance_outside(q) <= tolerance;
-}
+bool PreparedDomain::contains(const Vec3& q, double tolerance) const { return impl_->distance_outside(q) <= tolerance; }
 
 Vec3 PreparedDomain::project(const Vec3& q) const { return impl_->project(q); }
 

@@ -47,14 +47,14 @@ enum class DomainKind {
 ///   the exact 3-D relative neighbourhood only (Urquhart's approximation is planar).
 struct Domain {
   DomainKind kind = DomainKind::leaf;
-  Leaf leaf;                           ///< kind leaf: the blade and its seeds
-  Vec3 box_min = Vec3::Zero();         ///< box: lowest corner, model units
-  Vec3 box_max = Vec3::Ones();         ///< box: highest corner, model units (> box_min in x, y and z)
-  Vec3 centre = Vec3::Zero();          ///< ball: centre, model units
-  double radius = 1;                   ///< ball: radius, model units (> 0)
-  Mesh mesh;                           ///< volume (closed) or surface
-  std::vector<Vec3> initial_nodes;     ///< 3-D kinds: seed vein nodes (at least one), model units
-  std::vector<Vec3> initial_sources;   ///< 3-D kinds: sources present at step 0 (no birth-distance test)
+  Leaf leaf;                          ///< kind leaf: the blade and its seeds
+  Vec3 box_min = Vec3::Zero();        ///< box: lowest corner, model units
+  Vec3 box_max = Vec3::Ones();        ///< box: highest corner, model units (> box_min in x, y and z)
+  Vec3 centre = Vec3::Zero();         ///< ball: centre, model units
+  double radius = 1;                  ///< ball: radius, model units (> 0)
+  Mesh mesh;                          ///< volume (closed) or surface
+  std::vector<Vec3> initial_nodes;    ///< 3-D kinds: seed vein nodes (at least one), model units
+  std::vector<Vec3> initial_sources;  ///< 3-D kinds: sources present at step 0 (no birth-distance test)
 };
 
 /// Throws core::InvalidInput naming "domain.<field>" and what is allowed: for a leaf as validate(Leaf);

@@ -22,10 +22,18 @@ TEST_CASE("every example runs on small settings", "[examples]") {
       INFO(r.err);
       REQUIRE(r.code == 0);
       const auto run = nlohmann::json::parse(slurp(out / "run.json"));
-      if (run.value("mode", "") == "colonisation") {  // space colonisation: veins in a leaf outline
+      if (run.value("mode", "") == "colonisation") {  // space colonisation: veins in a leaf, volume or surface
         CHECK(run["steps"]["completed"].get<int>() <= 60);
         CHECK(run["veins"]["nodes"].get<int>() > 10);
-        CHECK(fs::file_size(out / "veins.svg") > 0);
+        CHECK(fs::file_size(out / "veins.ply") > 0);
+        if (run["domain"] == "leaf") {
+          CHECK(fs::file_size(out / "veins.svg") > 0);
+        } else {  // a 3-D structural example prints as one watertight piece
+          REQUIRE(run.contains("print"));
+          CHECK(run["print"]["parts"] == 1);
+          const auto check = cli({"check", (out / "printable.stl").string(), "--json"});
+          CHECK(nlohmann::json::parse(check.out)["printable"] == true);
+        }
       } else {
         CHECK(run["steps"]["completed"] == 60);
         CHECK(run["cells"]["final"].get<int>() >= run["cells"]["initial"].get<int>());

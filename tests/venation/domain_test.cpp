@@ -196,8 +196,8 @@ TEST_CASE("surface darts are area-weighted: counts per triangle pass a chi-squar
     int k = -1;
     for (int t = 0; t < 5; ++t) {
       const auto& tri = d.mesh.triangles[static_cast<std::size_t>(t)];
-      const Vec3 c = v::closest_point_on_triangle(q, d.mesh.vertices[tri[0]], d.mesh.vertices[tri[1]],
-                                                  d.mesh.vertices[tri[2]]);
+      const Vec3 c =
+          v::closest_point_on_triangle(q, d.mesh.vertices[tri[0]], d.mesh.vertices[tri[1]], d.mesh.vertices[tri[2]]);
       if ((c - q).norm() < 1e-9) k = t;
     }
     REQUIRE(k >= 0);  // every dart lies on a triangle
@@ -246,7 +246,8 @@ TEST_CASE("volume darts fall inside at rho per unit volume", "[domain]") {
         4 * std::sqrt(6400 * (M_PI / 6) * (1 - M_PI / 6)));
 }
 
-TEST_CASE("open colonisation in 3-D volumes grows a forest from the seeds, inside the volume", "[domain][colonisation]") {
+TEST_CASE("open colonisation in 3-D volumes grows a forest from the seeds, inside the volume",
+          "[domain][colonisation]") {
   std::vector<v::Domain> domains(3);
   domains[0].kind = v::DomainKind::box;
   domains[0].box_min = Vec3(-6, -6, 0);
@@ -347,7 +348,8 @@ TEST_CASE("closed 3-D colonisation steps with the exact relative neighbourhood (
       c.step();
       const v::VeinTree after = c.tree();
       std::map<Index, Vec3> grown;
-      for (Index i = static_cast<Index>(before.size()); i < after.size(); ++i) grown[after.parent[i]] = after.positions[i];
+      for (Index i = static_cast<Index>(before.size()); i < after.size(); ++i)
+        grown[after.parent[i]] = after.positions[i];
       for (Index u = 0; u < before.size(); ++u) {
         if (!touched[u] || acc[u].norm() <= 1e-9) {
           REQUIRE(grown.count(u) == 0);
