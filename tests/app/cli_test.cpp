@@ -71,6 +71,14 @@ TEST_CASE("input errors exit with 2 and one clear line", "[cli]") {
   r = cli({"run", ok.string(), "--set", "sise=3", "--out", (t.path / "o").string()});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("did you mean 'size'"));
+  // a petiole placed away from the form is reported at its script line, also when it appears later
+  const auto far = t.write("far.lua",
+                           "venation {}\nrun { steps = 5 }\ndisc { radius = 3 }\npetiole { at = {0, -3, 0} }\n"
+                           "petiole { at = {50, 0, 0}, step = 2 }\n");
+  r = cli({"run", far.string(), "--out", (t.path / "far").string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("far.lua:5:"));
+  CHECK_THAT(r.err, Contains("from the nearest cell"));
 }
 
 TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {
