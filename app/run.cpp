@@ -171,13 +171,28 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   tp.max_memory_bytes = spec.max_memory_mb * 1e6;
   tp.threads = threads;
   tp.fill_cavities = spec.fill_cavities;
+  // Ctrl-C stops the thickening at the next block; on a terminal the stage shows its percentage.
+  const bool tty = !quiet && ::isatty(2) != 0;
+  auto stage_progress = [&](const char* stage) {
+    return [&err, tty, stage, shown = -1](double f) mutable {
+      const int pct = static_cast<int>(f * 100);
+      if (tty && pct != shown) {
+        shown = pct;
+        err << "\r" << stage << " " << pct << "%" << std::flush;
+        if (pct == 100) err << "\n";
+      }
+      return !g_interrupt.load();
+    };
+  };
   if (segments.empty() && shell.empty())
     throw core::InvalidInput(
         "print: nothing to print yet (no vein has grown; run longer, lower venation.threshold, or use shell = true)");
   if (!quiet)
     err << "thickening " << segments.size() << " vein segments" << (spec.shell ? " and the cell sheet" : "") << "...\n";
   exporters::ThickenReport rep;
+  tp.progress = stage_progress("voxelising");
   const exporters::LevelSet level_set = exporters::voxelise(segments, shell, tp, &rep);
+  tp.progress = stage_progress("meshing");
   const exporters::PrintableMesh mesh = exporters::mesh_level_set(level_set, tp, &rep);
   if (rep.pieces > 1 && spec.pieces == "one")
     throw core::InvalidInput("print{pieces = \"one\"}: the form falls apart into " + std::to_string(rep.pieces) +
@@ -377,6 +392,11 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
         std::vector<std::array<core::Vec3, 3>> shell;
         if (cfg.print->shell && sheet) shell = exporters::shell_triangles(*sheet, cells::triangulate(*sheet));
         printed = thicken_and_write(staging, *cfg.print, segments, shell, o.threads, outputs, err, o.quiet);
+      } catch (const core::Cancelled&) {
+        err << (o.quiet ? "" : "\n")
+            << "cellform: printing interrupted: no printable files (the vein files are written)\n";
+        printed = {{"error", "interrupted"}};
+        code = interrupted;
       } catch (const std::exception& e) {
         err << "cellform: " << e.what() << "\n";
         printed = {{"error", e.what()}};
@@ -555,6 +575,13 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
           err << "printable solid: " << printed["triangles"] << " triangles, " << printed["parts"] << " part(s), "
               << printed["cavities"] << " closed cavities, scale " << printed["scale_mm_per_unit"]
               << " mm per model unit\n";
+      } catch (const core::Cancelled&) {
+        err << (o.quiet ? "" : "\n")
+            << "cellform: printing interrupted: no printable files (the other outputs and the checkpoint are "
+               "written)\n";
+        printed = {{"error", "interrupted"}};
+        status = "interrupted";
+        code = interrupted;
       } catch (const std::exception& e) {
         err << "cellform: " << e.what() << "\n  (the other outputs and the checkpoint are written)\n";
         printed = {{"error", e.what()}};

@@ -493,7 +493,8 @@ void build_shapes(Impl& I) {
         cfg.initial_cells.push_back({v["at"].vec, v["fixed"].flag});
         r["at"] = {v["at"].vec.x(), v["at"].vec.y(), v["at"].vec.z()};
       } else if (s.kind == "petiole") {
-        cfg.scene.petioles.push_back({v["at"].vec, v["fixed"].flag, static_cast<std::uint64_t>(v["step"].num)});
+        cfg.scene.petioles.push_back(
+            {v["at"].vec, v["fixed"].flag, static_cast<std::uint64_t>(v["step"].num), s.where});
         r["at"] = {v["at"].vec.x(), v["at"].vec.y(), v["at"].vec.z()};
         r["fixed"] = v["fixed"].flag;
         r["step"] = v["step"].num;

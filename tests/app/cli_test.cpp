@@ -71,6 +71,14 @@ TEST_CASE("input errors exit with 2 and one clear line", "[cli]") {
   r = cli({"run", ok.string(), "--set", "sise=3", "--out", (t.path / "o").string()});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("did you mean 'size'"));
+  // a petiole placed away from the form is reported at its script line, also when it appears later
+  const auto far = t.write("far.lua",
+                           "venation {}\nrun { steps = 5 }\ndisc { radius = 3 }\npetiole { at = {0, -3, 0} }\n"
+                           "petiole { at = {50, 0, 0}, step = 2 }\n");
+  r = cli({"run", far.string(), "--out", (t.path / "far").string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("far.lua:5:"));
+  CHECK_THAT(r.err, Contains("from the nearest cell"));
 }
 
 TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {
@@ -246,7 +254,14 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
     CHECK_THAT(r.out, Contains("printable"));
   }
   r = cli({"check", (out / "printable.stl").string(), "--json"});
-  CHECK(nlohmann::json::parse(r.out)["printable"] == true);
+  const auto checked = nlohmann::json::parse(r.out);
+  CHECK(checked["printable"] == true);
+  // veins are raised to print.min_radius = 0.4 mm: about 0.8 mm through, less a voxel or two (0.2 mm)
+  const auto& wall = checked["wall_thickness_mm"];
+  INFO(wall.dump());
+  CHECK(wall["p01"].get<double>() > 0.6);
+  CHECK(wall["min"].get<double>() > 0.1);  // single rays at the crotch of a junction can be short
+  CHECK(wall["missed"].get<std::size_t>() * 20 < wall["samples"].get<std::size_t>());
 
   SECTION("a form that falls apart is an error when one piece is required") {
     const auto two = t.write("two.lua",
