@@ -427,6 +427,10 @@ struct Colonisation::Impl {
   /// Brings the sector state of source s up to date with nodes [synced, size) (indexed by `fresh`) and
   /// sets near[s]. Closed: writes V(s) (Eq. 2) to `out`, equal to PointTree::relative_neighbourhood().
   void sector_update(Index s, std::vector<Index>& out, bool closed, PointTree::Scratch& scratch) {
+    if (region) {  // 3-D: no planar sectors
+      influence_3d(s, out, closed, scratch);
+      return;
+    }
     Sectors& st = sectors[s];
     const Vec3& q = src[s];
     if (!st.ready) {
@@ -499,10 +503,6 @@ struct Colonisation::Impl {
           for (std::size_t a = first; a < last; ++a) {
             const Index s = active[a];
             std::vector<Index>& out = per_source[a];
-            if (region) {
-              influence_3d(s, out, closed, local);
-              continue;
-            }
             sector_update(s, out, closed && p.neighbourhood == Neighbourhood::exact, local);
             if (closed && p.neighbourhood == Neighbourhood::urquhart)
               nodes.urquhart_neighbourhood(src[s], std::min(half_extent, 2 * std::sqrt(near_d2[s]) + 4 * D), out, local,
