@@ -18,6 +18,7 @@
 #include "export/mesh_files.h"
 #include "export/printable.h"
 #include "export/vein_files.h"
+#include "export/vein_png.h"
 #include "venation/vein_io.h"
 
 #ifndef CELLFORM_VERSION
@@ -267,6 +268,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std:
     if (!o.quiet)
       err << "growing veins by space colonisation in " << s.script_path.string() << " (seed " << seed << ")\n";
     const auto a = std::chrono::steady_clock::now();
+    const bool nonuniform = spec.params.growth == venation::GrowthMode::nonuniform;
     std::size_t last_print = 0;
     while (!col.done()) {
       if (g_interrupt.load()) {
@@ -276,8 +278,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std:
       const venation::ColonisationReport& r = col.step();
       if (!o.quiet && (r.steps - last_print >= 50 || col.done())) {
         last_print = r.steps;
-        err << "step " << r.steps << ": " << r.nodes << " vein nodes, " << r.sources << " sources, leaf length "
-            << r.scale << (::isatty(2) ? "\r" : "\n") << std::flush;
+        err << "step " << r.steps << ": " << r.nodes << " vein nodes, " << r.sources << " sources, "
+            << (nonuniform ? "growth step " : "leaf length ") << r.scale << (::isatty(2) ? "\r" : "\n") << std::flush;
       }
     }
     if (!o.quiet && ::isatty(2)) err << "\n";
@@ -285,10 +287,23 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std:
     venation::VeinTree tree = col.tree();
     venation::compute_widths(tree, spec.widths);
     const venation::ColonisationReport rep = col.report();
+    double leaf_length = rep.scale;  // the outline is 1 long at scale 1; nonuniform growth reports steps
+    if (nonuniform) {
+      const venation::Outline grown = col.outline();
+      double lo = grown.points.front().y(), hi = lo;
+      for (const venation::Vec2& q : grown.points) lo = std::min(lo, q.y()), hi = std::max(hi, q.y());
+      leaf_length = hi - lo;
+    }
     std::vector<std::string> outputs{"veins.svg", "veins.ply", "veins.obj"};
     venation::write_svg(staging / "veins.svg", tree, col.outline());
     venation::write_vein_ply(staging / "veins.ply", tree);
     venation::write_vein_obj(staging / "veins.obj", tree);
+    if (cfg.output.png) {
+      exporters::PngParams png;
+      png.size = cfg.output.png_size;
+      exporters::write_vein_png(staging / "veins.png", tree, col.outline(), png);
+      outputs.push_back("veins.png");
+    }
     json printed;
     if (cfg.print) {
       try {
@@ -321,7 +336,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std:
                   {"loops", rep.loops},
                   {"sources_left", rep.sources},
                   {"sources_born", rep.sources_born},
-                  {"leaf_length", rep.scale}}},
+                  {"leaf_length", leaf_length}}},
                 {"overrides", s.sets},
                 {"parameters", cfg.resolved},
                 {"timings",
