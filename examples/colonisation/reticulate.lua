@@ -1,10 +1,16 @@
--- A closed (reticulate) venation pattern by space colonisation (Runions et al. 2005): every source
--- pulls all vein nodes in its relative neighbourhood (Eq. 2), so veins converge on shared sources and
--- join into loops. Isogonic growth, as the paper's reticulate and poplar patterns (Table 1), scaled down.
+-- Reticulate pattern (Runions et al. 2005, Table 1 row "Reticulate pattern", Figure 15): closed venation
+-- with a fine reticulate net of tertiary veins in an isogonically (uniformly) growing ovate leaf. Every
+-- source pulls all vein nodes in its relative neighbourhood (Eq. 2), so veins converge on shared sources
+-- and join into loops.
+-- Table 1: closed, d_k = 1, b_s = b_v = 15, L_i = 225, isogonic growth to L_f = 4500
+-- by Delta L = 40.5 per step, rho = 200 x 10^-6 darts per unit area per step, Murray n = 2.
+-- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
+-- b_s and rho stay, in vein segments). The full size is impractical here (hours, millions of vein nodes):
+-- the default, scale = 0.05, grows the leaf from 11.25 to 225; `--set scale=1` gives the paper's size.
 
 local P = params {
-  length = 100,          -- final leaf length in vein segments
-  neighbourhood = "exact", -- or "urquhart", the paper's faster approximation
+  neighbourhood = "exact",  -- or "urquhart", the faster approximation of Section 5.2
+  scale = 0.05,  -- fraction of Table 1's leaf size (1 = the paper's)
 }
 
 run { seed = 5 }
@@ -14,13 +20,14 @@ leaf { shape = "ovate", width = 0.7 }
 colonisation {
   type = "closed",
   neighbourhood = P.neighbourhood,
-  kill_distance = 1,
-  birth_distance = 4,
+  kill_distance = 1,   -- d_k
+  birth_distance = 15,  -- b_s = b_v
   growth = "isogonic",
-  initial_length = 20,
-  final_length = P.length,
-  length_step = 1,
-  darts = 2000,
+  initial_length = 225 * P.scale,  -- L_i
+  final_length = 4500 * P.scale,  -- L_f
+  length_step = 40.5 * P.scale,  -- Delta L
+  darts = 200,  -- rho x 10^6
+  murray_exponent = 2,
 }
 
 print { formats = "stl" }
