@@ -3,12 +3,12 @@
 -- Table 1: closed, d_k = 1, b_s = b_v = 30, leaf length L_i = 4500, no growth,
 -- rho = 100 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies the leaf length (d_k, b_s and rho stay, in vein segments). The full size is
--- impractical here (hours, millions of vein nodes): the default, scale = 0.1, makes the leaf
--- 450 long; `--set scale=1` gives the paper's size.
+-- impractical here (hours, millions of vein nodes): the default, scale = 0.3, makes the leaf
+-- 1350 long; `--set scale=1` gives the paper's size.
 
 local P = params {
   neighbourhood = "exact",  -- or "urquhart", the faster approximation of Section 5.2
-  scale = 0.1,  -- fraction of Table 1's leaf size (1 = the paper's)
+  scale = 0.3,  -- fraction of Table 1's leaf size (1 = the paper's)
 }
 
 run { seed = 21 }

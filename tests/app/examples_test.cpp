@@ -5,9 +5,11 @@
 #include <numeric>
 #include <sstream>
 
+#include "export/vein_png.h"
 #include "tests/app/test_util.h"
 
 using namespace cellform::test;
+using namespace cellform;
 namespace fs = std::filesystem;
 
 TEST_CASE("every example runs on small settings", "[examples]") {
@@ -128,8 +130,17 @@ TEST_CASE("every Table 1 preset runs small and keeps the paper's parameters", "[
       const fs::path script =
           fs::path(CELLFORM_SOURCE_DIR) / "examples" / "colonisation" / (std::string(p.file) + ".lua");
       const fs::path out = t.path / p.file;
-      std::vector<std::string> args{
-          "run", script.string(), "--out", out.string(), "--quiet", "--set", std::string("scale=") + p.test_scale};
+      std::vector<std::string> args{"run",
+                                    script.string(),
+                                    "--out",
+                                    out.string(),
+                                    "--quiet",
+                                    "--set",
+                                    std::string("scale=") + p.test_scale,
+                                    "--set",
+                                    "output.png=true",
+                                    "--set",
+                                    "output.png_size=256"};
       if (*p.extra) args.insert(args.end(), {"--set", p.extra});
       const auto r = cli(args);
       INFO(r.err);
@@ -160,6 +171,13 @@ TEST_CASE("every Table 1 preset runs small and keeps the paper's parameters", "[
         CHECK(g.cycles == 0);  // open: a tree from the one seed node
       }
       CHECK(fs::file_size(out / "veins.svg") > 0);
+      // the PNG preview beside it: the requested size on the longer side, background and veins drawn
+      const exporters::Image img = exporters::read_png(out / "veins.png");
+      CHECK(std::max(img.width, img.height) == 256);
+      CHECK((img.at(0, 0) & 0xffffff) == exporters::PngParams{}.background);
+      // vein pixels: dark green (G 0x3a; antialiased thin veins lighter), unlike blade (0xec) and margin (0x7a)
+      CHECK(std::count_if(img.pixels.begin(), img.pixels.end(),
+                          [](std::uint32_t px) { return ((px >> 8) & 0xff) < 0x60; }) > 20);
       REQUIRE(fs::exists(out / "printable.stl"));
       CHECK(run["print"]["parts"] == 1);
       const auto check = cli({"check", (out / "printable.stl").string(), "--json"});
