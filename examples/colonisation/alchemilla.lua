@@ -3,8 +3,9 @@
 -- Table 1: open, d_k = 10, b_s = b_v = 1, L_i = 3200, marginal growth to L_f = 4500
 -- by Delta L = 9 per step, rho = 200 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
--- b_s and rho stay, in vein segments). The full size is impractical here (hours, millions of vein nodes):
--- the default, scale = 0.1, grows the leaf from 320 to 450; `--set scale=1` gives the paper's size.
+-- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
+-- 1 / scale^2): the default, scale = 0.1, grows the leaf from 320 to 450 (about 5 s here);
+-- `--set scale=1` gives the paper's size.
 -- One departure: b_v = d_k = 10 instead of 1. The paper reveals precomputed sources at the growing
 -- margin; here darts fall on the whole blade every step, and with b_v = 1 each dart landing within d_k
 -- of a vein would still pull one vein node before it is removed, covering the blade in short spurs.
