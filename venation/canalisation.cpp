@@ -65,7 +65,8 @@ void build_adjacency(const Cells& c, Workspace& w) {
 
 }  // namespace
 
-Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Workspace& w) {
+Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Workspace& w, int threads) {
+  (void)threads;
   const std::size_t n = c.size();
   Report report;
   std::vector<double>& flow = cells::attribute(c, kFlow);

@@ -70,7 +70,7 @@ inline constexpr const char* kFlowZ = "flow_dz";
 /// parent is its downstream vein cell. Petiole cells are the sinks and roots of the vein forest.
 /// Writes the attributes above. Throws core::InvalidInput if there is no petiole, or a source rule
 /// returns a negative or non-finite value (naming the cell id).
-Report canalise(Cells& cells, const Params& params, const SourceRule& source, Workspace& workspace);
+Report canalise(Cells& cells, const Params& params, const SourceRule& source, Workspace& workspace, int threads = 0);
 
 /// Radius from flow: max(min_radius, radius_scale * flow^(1/n)). With the flow additive along the vein
 /// tree, r_parent^n = sum of r_child^n over every inflow (vein children and the cells draining in).
