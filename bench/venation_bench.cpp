@@ -36,7 +36,7 @@ Sheet& sheet(std::size_t n) {
   s.sim->set_threads(2);
   s.sim->step();
   s.params.threshold = 40;
-  for (int i = 0; i < 40; ++i) venation::canalise(s.sim->cells(), s.params, {}, s.ws);
+  for (int i = 0; i < 40; ++i) venation::canalise(s.sim->cells(), s.params, {}, s.ws, 2);
   return s;
 }
 
@@ -45,7 +45,7 @@ double canalise_ms(std::size_t n, int steps) {
   venation::Params frozen = s.params;
   frozen.threshold = 1e18;  // measure flow without changing the vein pattern between repetitions
   const auto a = std::chrono::steady_clock::now();
-  for (int i = 0; i < steps; ++i) venation::canalise(s.sim->cells(), frozen, {}, s.ws);
+  for (int i = 0; i < steps; ++i) venation::canalise(s.sim->cells(), frozen, {}, s.ws, 2);
   return 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count() / steps;
 }
 
