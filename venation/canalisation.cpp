@@ -52,6 +52,7 @@ constexpr std::size_t kChunk = 4096;       // cells per fixed chunk of the paral
 constexpr std::uint8_t kUnreached = 0xff;  // layer code of a cell the search has not reached
 constexpr std::uint8_t kNoLayer = 0xfe;    // matches no cell
 constexpr std::uint8_t kSentinel = 0xfd;   // layer code of the padding entry n of the rows
+constexpr std::size_t kAhead = 16;         // queue entries between a row's prefetch and its use
 
 // Layer codes: 0 and 1 exactly (vein nodes and the cells next to them), then 2, 3, 4 cyclically.
 // A cell of layer L has neighbours only in layers L - 1, L and L + 1, which get distinct codes.
@@ -166,6 +167,11 @@ void search(const Cells& c, const Source& src, Workspace& w) {
       layer_end = tail;
       prev = layer_code(L - 1);
       next = layer_code(L + 1);
+    }
+    if (head + kAhead < tail) {  // the queue jumps around the sheet: fetch rows early (large sheets)
+      const Index ahead = queue[head + kAhead];
+      __builtin_prefetch(w.row.data() + static_cast<std::size_t>(ahead) * width);
+      __builtin_prefetch(w.row_info.data() + ahead);
     }
     const Index x = queue[head++];
     Index best = kNoIndex;
