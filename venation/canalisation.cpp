@@ -79,10 +79,13 @@ bool row_holds(const Index* links, const Index* parent, std::size_t stride, Inde
 }
 
 // Per-cell row summary: how many mutual neighbours below the cell lead the row, the row's length
-// (entries past it are the padding n), and whether one-way in-links reach the cell.
+// (entries past it are the padding n), and whether the search must take the general path: one-way
+// in-links reach the cell, or its row is full (links and a vein parent; the fast path reads only as
+// many entries as there are link slots).
 constexpr std::uint32_t kCountBits = 11;  // row width <= 1025
 constexpr std::uint32_t kCountMask = (1u << kCountBits) - 1;
 constexpr std::uint32_t kHasExtra = 1u << 31;
+constexpr std::uint32_t kGeneral = 1u << 30;
 
 /// Row of every cell of chunk `ch` in search order, the extras it sends, its vein nodes; and the
 /// per-cell initial state of the search.
@@ -130,7 +133,8 @@ void prepare_chunk(const Cells& c, std::size_t ch, const Source& src, std::vecto
     }
     for (std::size_t k = 0; k < width; ++k)  // fixed trip count when S > 0
       row[k] = k < low ? lower[k] : k - low < rest_count ? rest[k - low] : static_cast<Index>(n);
-    w.row_info[i] = static_cast<std::uint32_t>(low) | static_cast<std::uint32_t>(low + rest_count) << kCountBits;
+    w.row_info[i] = static_cast<std::uint32_t>(low) | static_cast<std::uint32_t>(low + rest_count) << kCountBits |
+                    (low + rest_count == width ? kGeneral : 0u);
     w.downstream[i] = kNoIndex;
     if (is_vein_node(c.type[i])) {
       w.layer[i] = 0;
@@ -161,12 +165,20 @@ void search(const Cells& c, const Source& src, Workspace& w) {
     for (const Index v : ch.veins) queue[tail++] = v;
   std::size_t layer_end = tail, L = 0;
   std::uint8_t prev = kNoLayer, next = layer_code(1);
+  // per layer code: in the previous layer? not reached yet? the code after a visit (reached -> next)
+  std::array<std::uint8_t, 256> in_prev{}, unreached{}, after_visit{};
+  for (std::size_t v = 0; v < 256; ++v) after_visit[v] = static_cast<std::uint8_t>(v);
+  unreached[kUnreached] = 1;
+  after_visit[kUnreached] = next;
   while (head < tail) {
     if (head == layer_end) {
       ++L;
       layer_end = tail;
+      in_prev[prev] = 0;
       prev = layer_code(L - 1);
       next = layer_code(L + 1);
+      in_prev[prev] = 1;
+      after_visit[kUnreached] = next;
     }
     if (head + kAhead < tail) {  // the queue jumps around the sheet: fetch rows early (large sheets)
       const Index ahead = queue[head + kAhead];
@@ -185,20 +197,19 @@ void search(const Cells& c, const Source& src, Workspace& w) {
     const Index* row = w.row.data() + static_cast<std::size_t>(x) * width;
     const std::uint32_t info = w.row_info[x];
     const std::size_t low = info & kCountMask, count = (info >> kCountBits) & kCountMask;
-    if (!(info & kHasExtra)) {
+    if (!(info & (kHasExtra | kGeneral))) {
       // branch-free: neighbours are in the previous layer or not, reached or not, at random; the
       // previous-layer ones are collected and compared after the scan (their keys do not change in it)
-      std::size_t nc = 0, t = tail;                       // locals: byte stores into layer cannot alias them
-      const std::size_t entries = S > 0 ? width : count;  // padding visits the sentinel
+      std::size_t nc = 0, t = tail;                           // locals: byte stores into layer cannot alias them
+      const std::size_t entries = S > 0 ? width - 1 : count;  // padding visits the sentinel
       for (std::size_t k = 0; k < entries; ++k) {
         const Index m = row[k];
         const std::uint8_t lm = layer[m];
         cand[nc] = m;
-        nc += lm == prev;
-        const bool reach = lm == kUnreached;
-        layer[m] = reach ? next : lm;
+        nc += in_prev[lm];
+        layer[m] = after_visit[lm];
         queue[t] = m;  // room for one more than every cell
-        t += reach;
+        t += unreached[lm];
       }
       tail = t;
       for (std::size_t k = 0; k < nc; ++k) consider(cand[k]);
@@ -285,7 +296,7 @@ Report run(Cells& c, const Params& p, const Source& src, bool uniform, Workspace
   for (const Workspace::Chunk& ch : w.chunks)
     for (const auto& [t, s] : ch.extra) {
       w.extra[w.extra_start[t + 1]++] = s;
-      w.row_info[t] |= kHasExtra;
+      w.row_info[t] |= kHasExtra | kGeneral;
     }
 
   w.layer[n] = kSentinel;
