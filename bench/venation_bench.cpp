@@ -36,7 +36,7 @@ Sheet& sheet(std::size_t n) {
   s.sim->set_threads(2);
   s.sim->step();
   s.params.threshold = 40;
-  for (int i = 0; i < 40; ++i) venation::canalise(s.sim->cells(), s.params, {}, s.ws);
+  for (int i = 0; i < 40; ++i) venation::canalise(s.sim->cells(), s.params, {}, s.ws, 2);
   return s;
 }
 
@@ -45,7 +45,7 @@ double canalise_ms(std::size_t n, int steps) {
   venation::Params frozen = s.params;
   frozen.threshold = 1e18;  // measure flow without changing the vein pattern between repetitions
   const auto a = std::chrono::steady_clock::now();
-  for (int i = 0; i < steps; ++i) venation::canalise(s.sim->cells(), frozen, {}, s.ws);
+  for (int i = 0; i < steps; ++i) venation::canalise(s.sim->cells(), frozen, {}, s.ws, 2);
   return 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count() / steps;
 }
 
@@ -56,13 +56,15 @@ double cell_step_ms(std::size_t n, int steps) {
   return 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count() / steps;
 }
 
-const Register r1{{"venation.canalise.50k", "ms", "one canalisation step (both phases and promotion), 50,000 cells", 5,
+const Register r1{{"venation.canalise.50k", "ms",
+                   "one canalisation step (both phases and promotion, 2 threads), 50,000 cells", 5,
                    [] { return canalise_ms(50000, 20); }}};
-const Register r2{{"venation.canalise.1m", "ms", "one canalisation step, 1,000,000 cells", 3,
+const Register r2{{"venation.canalise.1m", "ms", "one canalisation step (2 threads), 1,000,000 cells", 3,
                    [] { return canalise_ms(1000000, 2); }}};
-const Register r3{{"venation.share.50k", "ratio", "canalisation time / cell step time (2 threads), 50,000 cells", 5,
-                   [] { return canalise_ms(50000, 10) / cell_step_ms(50000, 10); }}};
-const Register r4{{"venation.share.1m", "ratio", "canalisation time / cell step time (2 threads), 1,000,000 cells", 3,
+const Register r3{{"venation.share.50k", "ratio", "canalisation time / cell step time, both on 2 threads, 50,000 cells",
+                   5, [] { return canalise_ms(50000, 10) / cell_step_ms(50000, 10); }}};
+const Register r4{{"venation.share.1m", "ratio",
+                   "canalisation time / cell step time, both on 2 threads, 1,000,000 cells", 3,
                    [] { return canalise_ms(1000000, 2) / cell_step_ms(1000000, 2); }}};
 
 }  // namespace

@@ -100,7 +100,7 @@ cells::StepReport Scene::step() {
       });
   apply_petioles(sim_.step_count());
   if (desc_.venation && sim_.step_count() % desc_.venation->every == 0)
-    vein_report_ = venation::canalise(sim_.cells(), *desc_.venation, source_rule_, vein_ws_);
+    vein_report_ = venation::canalise(sim_.cells(), *desc_.venation, source_rule_, vein_ws_, threads);
   return report;
 }
 

@@ -6,6 +6,11 @@
 #include <string>
 
 #include "core/errors.h"
+#include "core/parallel.h"
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace cellform::venation {
 
@@ -34,39 +39,226 @@ namespace {
 
 bool is_vein_node(CellType t) { return t == CellType::vein || t == CellType::petiole; }
 
-/// Symmetric adjacency from the k-nearest links and the vein parent links (CSR).
-void build_adjacency(const Cells& c, Workspace& w) {
-  const std::size_t n = c.size();
-  const std::size_t stride = static_cast<std::size_t>(c.link_stride);
-  w.adj_start.assign(n + 1, 0);
-  auto each_edge = [&](auto&& visit) {
-    for (std::size_t i = 0; i < n; ++i) {
-      for (std::size_t k = 0; k < stride; ++k) {
-        const Index j = c.links[i * stride + k];
-        if (j != kNoIndex && j < n && j != i) visit(static_cast<Index>(i), j);
-      }
-      const Index p = c.vein_parent[i];
-      if (p != kNoIndex && p < n && p != i) visit(static_cast<Index>(i), p);
-    }
-  };
-  each_edge([&](Index a, Index b) {
-    ++w.adj_start[a + 1];
-    ++w.adj_start[b + 1];
-  });
-  for (std::size_t i = 0; i < n; ++i) w.adj_start[i + 1] += w.adj_start[i];
-  w.adj.resize(w.adj_start[n]);
-  w.next.assign(w.adj_start.begin(), w.adj_start.end() - 1);  // fill pointers
-  each_edge([&](Index a, Index b) {
-    w.adj[w.next[a]++] = b;
-    w.adj[w.next[b]++] = a;
-  });
-  // rows may hold a neighbour twice (linked both ways); harmless: choices break ties by index
+// The link graph is the symmetric closure of each cell's row: its k-nearest links (slots in order)
+// and its vein parent, skipping kNoIndex, out-of-range and self entries. The breadth-first search
+// must visit the neighbours of a cell x in the order of the edge list "each cell in index order, its
+// row in slot order", because that order decides which cells a layer reaches first. Seen from x that
+// order is: the cells i < x whose row holds x (ascending), then x's own row in slot order, then the
+// cells i > x whose row holds x (ascending); repeats change nothing. Most links are mutual, so instead
+// of building the whole edge list each step, every cell gets its own row re-ordered (the mutual
+// neighbours below x first, ascending) and the few one-way in-links ("extras") go into a small CSR.
+
+constexpr std::size_t kChunk = 4096;       // cells per fixed chunk of the parallel passes
+constexpr std::uint8_t kUnreached = 0xff;  // layer code of a cell the search has not reached
+constexpr std::uint8_t kNoLayer = 0xfe;    // matches no cell
+constexpr std::uint8_t kSentinel = 0xfd;   // layer code of the padding entry n of the rows
+constexpr std::size_t kAhead = 16;         // queue entries between a row's prefetch and its use
+
+// Layer codes: 0 and 1 exactly (vein nodes and the cells next to them), then 2, 3, 4 cyclically.
+// A cell of layer L has neighbours only in layers L - 1, L and L + 1, which get distinct codes.
+std::uint8_t layer_code(std::size_t layer) {
+  return layer < 2 ? static_cast<std::uint8_t>(layer) : static_cast<std::uint8_t>(2 + (layer - 2) % 3);
 }
 
-}  // namespace
+/// Whether cell t's row (links, then vein parent) holds x; S = link stride, or 0 for any stride.
+template <int S>
+bool row_holds(const Index* links, const Index* parent, std::size_t stride, Index t, Index x) {
+  const Index* l = links + static_cast<std::size_t>(t) * (S > 0 ? S : stride);
+#if defined(__SSE2__)
+  if constexpr (S == 6) {
+    const __m128i xv = _mm_set1_epi32(static_cast<int>(x));
+    const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(l));
+    const __m128i b = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(l + 4));
+    const int hits = _mm_movemask_epi8(_mm_cmpeq_epi32(a, xv)) | (_mm_movemask_epi8(_mm_cmpeq_epi32(b, xv)) & 0xff);
+    return (hits != 0) | (parent[t] == x);
+  }
+#endif
+  bool found = parent[t] == x;
+  for (std::size_t k = 0; k < (S > 0 ? static_cast<std::size_t>(S) : stride); ++k) found |= l[k] == x;
+  return found;
+}
 
-Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Workspace& w) {
+// Per-cell row summary: how many mutual neighbours below the cell lead the row, the row's length
+// (entries past it are the padding n), and whether the search must take the general path: one-way
+// in-links reach the cell, or its row is full (links and a vein parent; the fast path reads only as
+// many entries as there are link slots).
+constexpr std::uint32_t kCountBits = 11;  // row width <= 1025
+constexpr std::uint32_t kCountMask = (1u << kCountBits) - 1;
+constexpr std::uint32_t kHasExtra = 1u << 31;
+constexpr std::uint32_t kGeneral = 1u << 30;
+
+/// Row of every cell of chunk `ch` in search order, the extras it sends, its vein nodes; and the
+/// per-cell initial state of the search.
+template <int S, class Source>
+void prepare_chunk(const Cells& c, std::size_t ch, const Source& src, std::vector<double>& flow, Workspace& w) {
   const std::size_t n = c.size();
+  const std::size_t stride = S > 0 ? static_cast<std::size_t>(S) : static_cast<std::size_t>(c.link_stride);
+  const std::size_t width = stride + 1;
+  Workspace::Chunk& out = w.chunks[ch];
+  out.extra.clear();
+  out.veins.clear();
+  constexpr std::size_t kFixed = S > 0 ? static_cast<std::size_t>(S) + 1 : 1;
+  Index lower_fixed[kFixed], rest_fixed[kFixed];
+  std::vector<Index> lower_any, rest_any;
+  Index* lower = lower_fixed;
+  Index* rest = rest_fixed;
+  if (S == 0) {
+    lower_any.resize(width);
+    rest_any.resize(width);
+    lower = lower_any.data();
+    rest = rest_any.data();
+  }
+  const Index* links = c.links.data();
+  const Index* parent = c.vein_parent.data();
+  const std::size_t end = std::min(n, (ch + 1) * kChunk);
+  for (std::size_t i = ch * kChunk; i < end; ++i) {
+    const Index x = static_cast<Index>(i);
+    const Index* l = links + i * stride;
+    Index* row = w.row.data() + i * width;
+    // the mutual neighbours below x first, ascending; then the rest in slot order; then padding
+    // (index n, a sentinel whose layer code matches nothing) up to the full width
+    std::size_t low = 0, rest_count = 0;
+    for (std::size_t k = 0; k < width; ++k) {
+      const Index t = k < stride ? l[k] : parent[i];
+      if (t >= n || t == x) continue;  // kNoIndex, out of range or itself
+      const bool mutual = row_holds<S>(links, parent, stride, t, x);
+      if (!mutual) out.extra.push_back({t, x});
+      if (mutual && t < x) {
+        std::size_t q = low++;
+        for (; q > 0 && lower[q - 1] > t; --q) lower[q] = lower[q - 1];
+        lower[q] = t;
+      } else {
+        rest[rest_count++] = t;
+      }
+    }
+    for (std::size_t k = 0; k < width; ++k)  // fixed trip count when S > 0
+      row[k] = k < low ? lower[k] : k - low < rest_count ? rest[k - low] : static_cast<Index>(n);
+    w.row_info[i] = static_cast<std::uint32_t>(low) | static_cast<std::uint32_t>(low + rest_count) << kCountBits |
+                    (low + rest_count == width ? kGeneral : 0u);
+    w.downstream[i] = kNoIndex;
+    if (is_vein_node(c.type[i])) {
+      w.layer[i] = 0;
+      w.key[i] = flow[i];  // last step's vein flow decides the first layer's choices
+      out.veins.push_back(x);
+    } else {
+      w.layer[i] = kUnreached;
+    }
+    flow[i] = src(i);
+  }
+}
+
+/// Phase 1: one breadth-first pass from the vein nodes; each cell, when taken from the queue, picks
+/// its downstream among its neighbours of the previous layer (complete by then, with their flows so
+/// far) and reaches its unreached neighbours. The same choices, in the same order, as finding a whole
+/// layer first and then choosing for its cells in the order the search reached them.
+template <int S, class Source>
+void search(const Cells& c, const Source& src, Workspace& w) {
+  const std::size_t width = S > 0 ? static_cast<std::size_t>(S) + 1 : static_cast<std::size_t>(c.link_stride) + 1;
+  std::uint8_t* layer = w.layer.data();
+  double* key = w.key.data();
+  Index* queue = w.queue.data();
+  const Index* extra = w.extra.data();
+  w.candidates.resize(width);
+  Index* cand = w.candidates.data();
+  std::size_t head = 0, tail = 0;
+  for (const Workspace::Chunk& ch : w.chunks)
+    for (const Index v : ch.veins) queue[tail++] = v;
+  std::size_t layer_end = tail, L = 0;
+  std::uint8_t prev = kNoLayer, next = layer_code(1);
+  // per layer code: in the previous layer? not reached yet? the code after a visit (reached -> next)
+  std::array<std::uint8_t, 256> in_prev{}, unreached{}, after_visit{};
+  for (std::size_t v = 0; v < 256; ++v) after_visit[v] = static_cast<std::uint8_t>(v);
+  unreached[kUnreached] = 1;
+  after_visit[kUnreached] = next;
+  while (head < tail) {
+    if (head == layer_end) {
+      ++L;
+      layer_end = tail;
+      in_prev[prev] = 0;
+      prev = layer_code(L - 1);
+      next = layer_code(L + 1);
+      in_prev[prev] = 1;
+      after_visit[kUnreached] = next;
+    }
+    if (head + kAhead < tail) {  // the queue jumps around the sheet: fetch rows early (large sheets)
+      const Index ahead = queue[head + kAhead];
+      __builtin_prefetch(w.row.data() + static_cast<std::size_t>(ahead) * width);
+      __builtin_prefetch(w.row_info.data() + ahead);
+    }
+    const Index x = queue[head++];
+    Index best = kNoIndex;
+    double best_key = -1;
+    auto consider = [&](Index m) {
+      if (key[m] > best_key || (key[m] == best_key && m < best)) {
+        best = m;
+        best_key = key[m];
+      }
+    };
+    const Index* row = w.row.data() + static_cast<std::size_t>(x) * width;
+    const std::uint32_t info = w.row_info[x];
+    const std::size_t low = info & kCountMask, count = (info >> kCountBits) & kCountMask;
+    if (!(info & (kHasExtra | kGeneral))) {
+      // branch-free: neighbours are in the previous layer or not, reached or not, at random; the
+      // previous-layer ones are collected and compared after the scan (their keys do not change in it)
+      std::size_t nc = 0, t = tail;                           // locals: byte stores into layer cannot alias them
+      const std::size_t entries = S > 0 ? width - 1 : count;  // padding visits the sentinel
+      for (std::size_t k = 0; k < entries; ++k) {
+        const Index m = row[k];
+        const std::uint8_t lm = layer[m];
+        cand[nc] = m;
+        nc += in_prev[lm];
+        layer[m] = after_visit[lm];
+        queue[t] = m;  // room for one more than every cell
+        t += unreached[lm];
+      }
+      tail = t;
+      for (std::size_t k = 0; k < nc; ++k) consider(cand[k]);
+    } else {
+      auto visit = [&](Index m) {
+        const std::uint8_t lm = layer[m];
+        if (lm == prev) consider(m);
+        if (lm == kUnreached) {
+          layer[m] = next;
+          queue[tail++] = m;
+        }
+      };
+      Index e = w.extra_start[x];
+      const Index e_end = w.extra_start[x + 1];
+      std::size_t k = 0;
+      for (;;) {  // merge the mutual neighbours below x with the one-way in-links from below x
+        const bool has_row = k < low, has_extra = e < e_end && extra[e] < x;
+        if (!has_row && !has_extra) break;
+        if (has_row && (!has_extra || row[k] < extra[e]))
+          visit(row[k++]);
+        else
+          visit(extra[e++]);
+      }
+      for (; k < count; ++k) visit(row[k]);
+      for (; e < e_end; ++e) visit(extra[e]);
+    }
+    if (L == 0) continue;
+    w.downstream[x] = best;
+    key[x] = src(x);                 // x's own auxin; its upstream attaches in the next layer
+    if (L > 1) key[best] += src(x);  // the chosen neighbour's flow so far grows
+  }
+  w.queue.resize(tail);
+}
+
+/// Exact sequential sum of `count` copies of s (from 0) when every partial sum is representable.
+bool exact_multiple(double s, std::size_t count, double& sum) {
+  if (!(s > 0) || !std::isfinite(s)) return false;
+  int e = 0;
+  double m = std::ldexp(std::frexp(s, &e), 53);  // s's significand as an integer
+  while (std::fmod(m, 2.0) == 0) m /= 2;
+  if (m * static_cast<double>(count) >= 0x1p53) return false;
+  sum = s * static_cast<double>(count);
+  return true;
+}
+
+template <class Source>
+Report run(Cells& c, const Params& p, const Source& src, bool uniform, Workspace& w, int threads) {
+  const std::size_t n = c.size();
+  const std::size_t width = static_cast<std::size_t>(c.link_stride) + 1;
   Report report;
   std::vector<double>& flow = cells::attribute(c, kFlow);
   std::vector<double>& radius = cells::attribute(c, kRadius);
@@ -75,155 +267,191 @@ Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Worksp
   std::vector<double>& fy = cells::attribute(c, kFlowY);
   std::vector<double>& fz = cells::attribute(c, kFlowZ);
 
-  bool any_petiole = false;
-  for (std::size_t i = 0; i < n; ++i) any_petiole = any_petiole || c.type[i] == CellType::petiole;
-  if (!any_petiole)
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  w.chunks.resize(chunks);
+  w.row.resize(n * width);
+  w.layer.resize(n + 1);
+  w.key.resize(n);
+  w.downstream.resize(n);
+  w.row_info.resize(n);
+  w.queue.resize(n + 1);
+  core::parallel_for(
+      chunks, threads,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t ch = b; ch < e; ++ch)
+          if (c.link_stride == 6)
+            prepare_chunk<6>(c, ch, src, flow, w);
+          else
+            prepare_chunk<0>(c, ch, src, flow, w);
+      },
+      1);
+
+  // one-way in-links by target; sources stay ascending (chunks in order, cells in order within).
+  // Counts go to start[t + 2] so that filling through start[t + 1] leaves start[t] = first of t.
+  w.extra_start.assign(n + 2, 0);
+  for (const Workspace::Chunk& ch : w.chunks)
+    for (const auto& [t, s] : ch.extra) ++w.extra_start[t + 2];
+  for (std::size_t i = 0; i <= n; ++i) w.extra_start[i + 1] += w.extra_start[i];
+  w.extra.resize(w.extra_start[n + 1]);
+  for (const Workspace::Chunk& ch : w.chunks)
+    for (const auto& [t, s] : ch.extra) {
+      w.extra[w.extra_start[t + 1]++] = s;
+      w.row_info[t] |= kHasExtra | kGeneral;
+    }
+
+  w.layer[n] = kSentinel;
+  if (c.link_stride == 6)
+    search<6>(c, src, w);
+  else
+    search<0>(c, src, w);
+
+  // final flows of non-vein cells: reverse breadth-first order, each adds its total downstream
+  std::size_t veins = 0;
+  for (const Workspace::Chunk& ch : w.chunks) veins += ch.veins.size();
+  for (std::size_t q = w.queue.size(); q-- > veins;) {
+    const Index x = w.queue[q];
+    flow[w.downstream[x]] += flow[x];
+  }
+
+  // Phase 2: through the vein forest (vein nodes only), tips to petioles.
+  const Index* vnode = w.queue.data();  // the vein nodes in index order
+  w.vein_id.resize(n);
+  for (std::size_t a = 0; a < veins; ++a) w.vein_id[vnode[a]] = static_cast<Index>(a);
+  auto vein_parent = [&](Index v) -> Index {  // parent if it is a vein node, else kNoIndex (a root)
+    const Index par = c.vein_parent[v];
+    return par != kNoIndex && par < n && is_vein_node(c.type[par]) ? par : kNoIndex;
+  };
+  w.vein_start.assign(veins + 1, 0);
+  for (std::size_t a = 0; a < veins; ++a) {
+    const Index par = vein_parent(vnode[a]);
+    if (par != kNoIndex) ++w.vein_start[w.vein_id[par] + 1];
+  }
+  for (std::size_t a = 0; a < veins; ++a) w.vein_start[a + 1] += w.vein_start[a];
+  w.vein_child.resize(w.vein_start[veins]);
+  w.vein_fill.assign(w.vein_start.begin(), w.vein_start.end() - 1);
+  w.vein_order.clear();
+  for (std::size_t a = 0; a < veins; ++a) {  // ascending: children come out sorted
+    const Index par = vein_parent(vnode[a]);
+    if (par != kNoIndex)
+      w.vein_child[w.vein_fill[w.vein_id[par]]++] = static_cast<Index>(a);
+    else
+      w.vein_order.push_back(static_cast<Index>(a));  // roots, ascending
+  }
+  // breadth-first from the roots gives parents before children
+  for (std::size_t h = 0; h < w.vein_order.size(); ++h) {
+    const Index a = w.vein_order[h];
+    for (Index s = w.vein_start[a]; s < w.vein_start[a + 1]; ++s) w.vein_order.push_back(w.vein_child[s]);
+  }
+  for (std::size_t h = w.vein_order.size(); h-- > 0;) {
+    const Index v = vnode[w.vein_order[h]];
+    const Index par = vein_parent(v);
+    if (par != kNoIndex) flow[par] += flow[v];
+  }
+
+  // orders: roots' children are primary; the largest-flow child continues its parent's order
+  for (std::size_t a = 0; a < veins; ++a) order[vnode[a]] = 0;
+  for (const Index a : w.vein_order) {
+    const Index v = vnode[a];
+    const bool root = vein_parent(v) == kNoIndex;
+    if (root) order[v] = 1;
+    Index main = kNoIndex;
+    for (Index s = w.vein_start[a]; s < w.vein_start[a + 1]; ++s) {
+      const Index ch = vnode[w.vein_child[s]];
+      if (main == kNoIndex || flow[ch] > flow[main]) main = ch;
+    }
+    for (Index s = w.vein_start[a]; s < w.vein_start[a + 1]; ++s) {
+      const Index ch = vnode[w.vein_child[s]];
+      order[ch] = root ? 1 : (ch == main ? order[v] : order[v] + 1);
+    }
+  }
+
+  // Per cell: flow direction and radius of the state before promotion; then promotion of the cells
+  // next to a vein (layer 1) whose flow passes the threshold. Each cell writes only its own slots and
+  // reads vein nodes, which this pass does not change.
+  core::parallel_for(
+      chunks, threads,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t ch = b; ch < e; ++ch) {
+          Workspace::Chunk& out = w.chunks[ch];
+          out.promoted = out.vein_cells = out.unconnected = 0;
+          const std::size_t end = std::min(n, (ch + 1) * kChunk);
+          for (std::size_t i = ch * kChunk; i < end; ++i) {
+            const bool vein = is_vein_node(c.type[i]);
+            const Index d = vein ? c.vein_parent[i] : w.downstream[i];
+            Vec3 dir = Vec3::Zero();
+            if (d != kNoIndex && d < n) {
+              dir = c.position[d] - c.position[i];
+              const double len = dir.norm();
+              dir = len > 0 ? Vec3(dir / len) : Vec3::Zero();
+            }
+            fx[i] = dir.x();
+            fy[i] = dir.y();
+            fz[i] = dir.z();
+            if (vein) {
+              radius[i] = murray_radius(flow[i], p);
+              out.vein_cells += c.type[i] == CellType::vein;
+              continue;
+            }
+            radius[i] = 0.0;
+            order[i] = 0;
+            const std::uint8_t l = w.layer[i];
+            out.unconnected += l == kUnreached;
+            if (l != 1 || c.type[i] != CellType::general || flow[i] <= p.threshold) continue;
+            c.type[i] = CellType::vein;
+            c.vein_parent[i] = w.downstream[i];
+            radius[i] = murray_radius(flow[i], p);
+            order[i] = order[w.downstream[i]] > 0 ? order[w.downstream[i]] : 1;
+            ++out.promoted;
+            ++out.vein_cells;
+          }
+        }
+      },
+      1);
+  for (const Workspace::Chunk& ch : w.chunks) {
+    report.promoted += ch.promoted;
+    report.vein_cells += ch.vein_cells;
+    report.unconnected += ch.unconnected;
+  }
+
+  // report: conservation at the petioles, summed in index order
+  if (!uniform || !exact_multiple(src(0), n - report.unconnected, report.total_source))
+    for (std::size_t i = 0; i < n; ++i)
+      if (w.layer[i] != kUnreached) report.total_source += src(i);
+  for (std::size_t a = 0; a < veins; ++a) {
+    const Index v = vnode[a];
+    if (c.type[v] == CellType::petiole && c.vein_parent[v] == kNoIndex) report.petiole_inflow += flow[v];
+  }
+  return report;
+}
+
+}  // namespace
+
+Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Workspace& w, int threads) {
+  const std::size_t n = c.size();
+  if (c.link_stride < 0 || c.link_stride > 1024 || c.links.size() != n * static_cast<std::size_t>(c.link_stride))
+    throw core::InvalidInput("venation needs 0 to 1024 links per cell (cells.link_stride), got " +
+                             std::to_string(c.link_stride));
+  if (std::find(c.type.begin(), c.type.end(), CellType::petiole) == c.type.end())
     throw core::InvalidInput(
         "venation needs at least one petiole cell (the sink of the auxin flow); add petiole{at = {x, y, z}}");
-
-  // sources
+  if (!source_rule) {
+    const double s = p.source;
+    return run(
+        c, p, [s](std::size_t) { return s; }, true, w, threads);
+  }
+  // the rule may be impure (a script): called serially, in index order
   std::vector<double>& src = w.source;
   src.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    if (!source_rule) {
-      src[i] = p.source;
-      continue;
-    }
     const double s = source_rule(c, static_cast<Index>(i));
     if (!std::isfinite(s) || s < 0)
       throw core::InvalidInput("venation.source must give a finite number >= 0 for every cell; cell " +
                                std::to_string(c.id[i]) + " got " + std::to_string(s));
     src[i] = s;
   }
-
-  build_adjacency(c, w);
-
-  // Phase 1: breadth-first layers outward from the vein nodes.
-  w.layer.assign(n, -1);
-  w.frontier.clear();
-  for (std::size_t i = 0; i < n; ++i)
-    if (is_vein_node(c.type[i])) {
-      w.layer[i] = 0;
-      w.frontier.push_back(static_cast<Index>(i));
-    }
-  std::vector<Index>& downstream = w.downstream;
-  downstream.assign(n, kNoIndex);
-  // the flow so far of each cell of the previous layer; for vein nodes, last step's vein flow
-  std::vector<double>& key = w.key;
-  key.resize(n);
-  for (std::size_t i = 0; i < n; ++i) key[i] = is_vein_node(c.type[i]) ? flow[i] : 0.0;
-  w.order.clear();
-  for (std::int32_t L = 0; !w.frontier.empty(); ++L) {
-    w.next.clear();
-    for (const Index f : w.frontier)
-      for (Index s = w.adj_start[f]; s < w.adj_start[f + 1]; ++s) {
-        const Index j = w.adj[s];
-        if (w.layer[j] == -1) {
-          w.layer[j] = L + 1;
-          w.next.push_back(j);
-        }
-      }
-    for (const Index j : w.next) {
-      Index best = kNoIndex;
-      double best_key = -1;
-      for (Index s = w.adj_start[j]; s < w.adj_start[j + 1]; ++s) {
-        const Index m = w.adj[s];
-        if (w.layer[m] != L) continue;
-        if (key[m] > best_key || (key[m] == best_key && m < best)) {
-          best = m;
-          best_key = key[m];
-        }
-      }
-      downstream[j] = best;
-      key[j] = src[j];                 // j's own auxin; its upstream attaches in the next layer
-      if (L > 0) key[best] += src[j];  // the chosen neighbour's flow so far grows
-      w.order.push_back(j);
-    }
-    w.frontier.swap(w.next);
-  }
-
-  // final flows of non-vein cells: reverse breadth-first order, each adds its total downstream
-  for (std::size_t i = 0; i < n; ++i) flow[i] = src[i];
-  for (auto it = w.order.rbegin(); it != w.order.rend(); ++it) flow[downstream[*it]] += flow[*it];
-
-  // Phase 2: through the veins, tips to petioles. Vein flow already holds own source + drained cells.
-  const cells::VeinChildren children = cells::vein_children(c);
-  w.frontier.clear();
-  for (std::size_t i = 0; i < n; ++i) {
-    const Index par = c.vein_parent[i];
-    if (is_vein_node(c.type[i]) && (par == kNoIndex || !is_vein_node(c.type[par])))
-      w.frontier.push_back(static_cast<Index>(i));
-  }
-  // breadth-first from the roots gives parents before children
-  std::vector<Index>& vorder = w.next;
-  vorder.clear();
-  for (const Index r : w.frontier) vorder.push_back(r);
-  for (std::size_t h = 0; h < vorder.size(); ++h) {
-    const Index v = vorder[h];
-    for (Index s = children.start[v]; s < children.start[v + 1]; ++s)
-      if (is_vein_node(c.type[children.child[s]])) vorder.push_back(children.child[s]);
-  }
-  for (auto it = vorder.rbegin(); it != vorder.rend(); ++it) {
-    const Index v = *it;
-    const Index par = c.vein_parent[v];
-    if (par != kNoIndex && is_vein_node(c.type[par])) flow[par] += flow[v];
-  }
-
-  // orders: roots' children are primary; the largest-flow child continues its parent's order
-  for (std::size_t i = 0; i < n; ++i) order[i] = 0;
-  for (const Index v : vorder) {
-    const Index par = c.vein_parent[v];
-    const bool root = par == kNoIndex || !is_vein_node(c.type[par]);
-    if (root) order[v] = 1;
-    Index main = kNoIndex;
-    for (Index s = children.start[v]; s < children.start[v + 1]; ++s) {
-      const Index ch = children.child[s];
-      if (!is_vein_node(c.type[ch])) continue;
-      if (main == kNoIndex || flow[ch] > flow[main]) main = ch;
-    }
-    for (Index s = children.start[v]; s < children.start[v + 1]; ++s) {
-      const Index ch = children.child[s];
-      if (!is_vein_node(c.type[ch])) continue;
-      order[ch] = root ? 1 : (ch == main ? order[v] : order[v] + 1);
-    }
-  }
-
-  // flow directions and radii (of the state before promotion)
-  for (std::size_t i = 0; i < n; ++i) {
-    const Index d = is_vein_node(c.type[i]) ? c.vein_parent[i] : downstream[i];
-    Vec3 dir = Vec3::Zero();
-    if (d != kNoIndex && d < n) {
-      dir = c.position[d] - c.position[i];
-      const double len = dir.norm();
-      dir = len > 0 ? Vec3(dir / len) : Vec3::Zero();
-    }
-    fx[i] = dir.x();
-    fy[i] = dir.y();
-    fz[i] = dir.z();
-    radius[i] = is_vein_node(c.type[i]) ? murray_radius(flow[i], p) : 0.0;
-  }
-
-  // report: conservation at the petioles
-  for (std::size_t i = 0; i < n; ++i) {
-    if (w.layer[i] == -1) {
-      ++report.unconnected;
-      continue;
-    }
-    report.total_source += src[i];
-    if (c.type[i] == CellType::petiole && (c.vein_parent[i] == kNoIndex)) report.petiole_inflow += flow[i];
-  }
-
-  // promotion: cells adjacent to a vein (layer 1) whose flow passes the threshold
-  for (std::size_t i = 0; i < n; ++i) {
-    if (w.layer[i] != 1 || c.type[i] != CellType::general || flow[i] <= p.threshold) continue;
-    c.type[i] = CellType::vein;
-    c.vein_parent[i] = downstream[i];
-    radius[i] = murray_radius(flow[i], p);
-    order[i] = order[downstream[i]] > 0 ? order[downstream[i]] : 1;
-    ++report.promoted;
-  }
-  for (std::size_t i = 0; i < n; ++i) report.vein_cells += c.type[i] == CellType::vein ? 1 : 0;
-  return report;
+  const double* s = src.data();
+  return run(
+      c, p, [s](std::size_t i) { return s[i]; }, false, w, threads);
 }
 
 VeinGraph vein_graph(const Cells& c) {

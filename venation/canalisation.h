@@ -43,11 +43,21 @@ struct Report {
 
 /// Scratch kept between steps so a step allocates nothing once warm.
 struct Workspace {
-  std::vector<Index> adj_start, adj;  // symmetric link graph (CSR)
-  std::vector<std::int32_t> layer;
-  std::vector<Index> order, frontier, next;
+  std::vector<Index> row;                 // per cell: its neighbours in search order, link_stride + 1 wide
+  std::vector<std::uint32_t> row_info;    // per cell: row length, leading mutual lower neighbours, flags
+  std::vector<Index> extra_start, extra;  // one-way in-links per target cell (CSR, sources ascending)
+  struct Chunk {
+    std::vector<std::array<Index, 2>> extra;  // (target, source) of one-way links from this chunk
+    std::vector<Index> veins;                 // vein nodes of this chunk, ascending
+    std::size_t promoted = 0, vein_cells = 0, unconnected = 0;
+  };
+  std::vector<Chunk> chunks;        // fixed cell ranges, independent of the thread count
+  std::vector<std::uint8_t> layer;  // breadth-first layer code (see canalisation.cpp)
+  std::vector<Index> queue;         // vein nodes, then the other reached cells in breadth-first order
+  std::vector<Index> candidates;    // neighbours in the previous layer of the cell being placed
   std::vector<double> source, key;
-  std::vector<Index> downstream;
+  std::vector<Index> downstream;  // chosen downstream neighbour of each reached non-vein cell
+  std::vector<Index> vein_id, vein_start, vein_child, vein_order, vein_fill;  // the vein forest
 };
 
 /// Names of the per-cell attributes canalisation maintains in Cells::attributes.
@@ -69,8 +79,10 @@ inline constexpr const char* kFlowZ = "flow_dz";
 /// Then every cell adjacent to a vein whose flow exceeds the threshold becomes a vein cell whose vein
 /// parent is its downstream vein cell. Petiole cells are the sinks and roots of the vein forest.
 /// Writes the attributes above. Throws core::InvalidInput if there is no petiole, or a source rule
-/// returns a negative or non-finite value (naming the cell id).
-Report canalise(Cells& cells, const Params& params, const SourceRule& source, Workspace& workspace);
+/// returns a negative or non-finite value (naming the cell id). The per-cell passes run on up to
+/// `threads` threads (0 = all cores, 1 = serial; the source rule is always called serially, in index
+/// order); the results are bit-identical for any thread count.
+Report canalise(Cells& cells, const Params& params, const SourceRule& source, Workspace& workspace, int threads = 0);
 
 /// Radius from flow: max(min_radius, radius_scale * flow^(1/n)). With the flow additive along the vein
 /// tree, r_parent^n = sum of r_child^n over every inflow (vein children and the cells draining in).

@@ -3,9 +3,12 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstring>
 #include <set>
 
+#include "cells/simulation.h"
 #include "core/errors.h"
+#include "core/random.h"
 #include "tests/fixtures.h"
 
 using namespace cellform;
@@ -225,4 +228,324 @@ TEST_CASE("bad input is refused with a clear message", "[venation]") {
   c.type[0] = CellType::petiole;
   const venation::SourceRule bad = [](const cells::Cells& cc, Index i) { return cc.id[i] == 3 ? -1.0 : 1.0; };
   CHECK_THROWS_WITH(venation::canalise(c, {}, bad, ws), Contains("cell 3"));
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Oracle: the straightforward two-phase algorithm (a symmetric CSR of all links, then one breadth-first
+// pass to find the layers and one per layer to choose downstreams), kept verbatim as the definition of
+// the semantics. The optimised canalise must reproduce it bit for bit.
+
+namespace {
+
+namespace oracle {
+
+bool is_vein_node(CellType t) { return t == CellType::vein || t == CellType::petiole; }
+
+struct Result {
+  venation::Report report;
+  std::vector<Index> downstream;
+};
+
+Result canalise(cells::Cells& c, const venation::Params& p, const venation::SourceRule& source_rule) {
+  const std::size_t n = c.size();
+  Result result;
+  venation::Report& report = result.report;
+  std::vector<double>& flow = cells::attribute(c, venation::kFlow);
+  std::vector<double>& radius = cells::attribute(c, venation::kRadius);
+  std::vector<double>& order = cells::attribute(c, venation::kOrder);
+  std::vector<double>& fx = cells::attribute(c, venation::kFlowX);
+  std::vector<double>& fy = cells::attribute(c, venation::kFlowY);
+  std::vector<double>& fz = cells::attribute(c, venation::kFlowZ);
+
+  std::vector<double> src(n);
+  for (std::size_t i = 0; i < n; ++i) src[i] = source_rule ? source_rule(c, static_cast<Index>(i)) : p.source;
+
+  // symmetric adjacency (CSR): edges enumerated by source cell, link slots then vein parent
+  const std::size_t stride = static_cast<std::size_t>(c.link_stride);
+  std::vector<Index> adj_start(n + 1, 0), adj, next;
+  auto each_edge = [&](auto&& visit) {
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t k = 0; k < stride; ++k) {
+        const Index j = c.links[i * stride + k];
+        if (j != kNoIndex && j < n && j != i) visit(static_cast<Index>(i), j);
+      }
+      const Index par = c.vein_parent[i];
+      if (par != kNoIndex && par < n && par != i) visit(static_cast<Index>(i), par);
+    }
+  };
+  each_edge([&](Index a, Index b) {
+    ++adj_start[a + 1];
+    ++adj_start[b + 1];
+  });
+  for (std::size_t i = 0; i < n; ++i) adj_start[i + 1] += adj_start[i];
+  adj.resize(adj_start[n]);
+  next.assign(adj_start.begin(), adj_start.end() - 1);
+  each_edge([&](Index a, Index b) {
+    adj[next[a]++] = b;
+    adj[next[b]++] = a;
+  });
+
+  // phase 1
+  std::vector<std::int32_t> layer(n, -1);
+  std::vector<Index> frontier, ord;
+  for (std::size_t i = 0; i < n; ++i)
+    if (is_vein_node(c.type[i])) {
+      layer[i] = 0;
+      frontier.push_back(static_cast<Index>(i));
+    }
+  std::vector<Index>& downstream = result.downstream;
+  downstream.assign(n, kNoIndex);
+  std::vector<double> key(n);
+  for (std::size_t i = 0; i < n; ++i) key[i] = is_vein_node(c.type[i]) ? flow[i] : 0.0;
+  for (std::int32_t L = 0; !frontier.empty(); ++L) {
+    next.clear();
+    for (const Index f : frontier)
+      for (Index s = adj_start[f]; s < adj_start[f + 1]; ++s) {
+        const Index j = adj[s];
+        if (layer[j] == -1) {
+          layer[j] = L + 1;
+          next.push_back(j);
+        }
+      }
+    for (const Index j : next) {
+      Index best = kNoIndex;
+      double best_key = -1;
+      for (Index s = adj_start[j]; s < adj_start[j + 1]; ++s) {
+        const Index m = adj[s];
+        if (layer[m] != L) continue;
+        if (key[m] > best_key || (key[m] == best_key && m < best)) {
+          best = m;
+          best_key = key[m];
+        }
+      }
+      downstream[j] = best;
+      key[j] = src[j];
+      if (L > 0) key[best] += src[j];
+      ord.push_back(j);
+    }
+    frontier.swap(next);
+  }
+  for (std::size_t i = 0; i < n; ++i) flow[i] = src[i];
+  for (auto it = ord.rbegin(); it != ord.rend(); ++it) flow[downstream[*it]] += flow[*it];
+
+  // phase 2
+  const cells::VeinChildren children = cells::vein_children(c);
+  std::vector<Index> vorder;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Index par = c.vein_parent[i];
+    if (is_vein_node(c.type[i]) && (par == kNoIndex || !is_vein_node(c.type[par])))
+      vorder.push_back(static_cast<Index>(i));
+  }
+  for (std::size_t h = 0; h < vorder.size(); ++h) {
+    const Index v = vorder[h];
+    for (Index s = children.start[v]; s < children.start[v + 1]; ++s)
+      if (is_vein_node(c.type[children.child[s]])) vorder.push_back(children.child[s]);
+  }
+  for (auto it = vorder.rbegin(); it != vorder.rend(); ++it) {
+    const Index par = c.vein_parent[*it];
+    if (par != kNoIndex && is_vein_node(c.type[par])) flow[par] += flow[*it];
+  }
+  for (std::size_t i = 0; i < n; ++i) order[i] = 0;
+  for (const Index v : vorder) {
+    const Index par = c.vein_parent[v];
+    const bool root = par == kNoIndex || !is_vein_node(c.type[par]);
+    if (root) order[v] = 1;
+    Index main = kNoIndex;
+    for (Index s = children.start[v]; s < children.start[v + 1]; ++s) {
+      const Index ch = children.child[s];
+      if (!is_vein_node(c.type[ch])) continue;
+      if (main == kNoIndex || flow[ch] > flow[main]) main = ch;
+    }
+    for (Index s = children.start[v]; s < children.start[v + 1]; ++s) {
+      const Index ch = children.child[s];
+      if (!is_vein_node(c.type[ch])) continue;
+      order[ch] = root ? 1 : (ch == main ? order[v] : order[v] + 1);
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const Index d = is_vein_node(c.type[i]) ? c.vein_parent[i] : downstream[i];
+    core::Vec3 dir = core::Vec3::Zero();
+    if (d != kNoIndex && d < n) {
+      dir = c.position[d] - c.position[i];
+      const double len = dir.norm();
+      dir = len > 0 ? core::Vec3(dir / len) : core::Vec3::Zero();
+    }
+    fx[i] = dir.x();
+    fy[i] = dir.y();
+    fz[i] = dir.z();
+    radius[i] = is_vein_node(c.type[i]) ? venation::murray_radius(flow[i], p) : 0.0;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (layer[i] == -1) {
+      ++report.unconnected;
+      continue;
+    }
+    report.total_source += src[i];
+    if (c.type[i] == CellType::petiole && (c.vein_parent[i] == kNoIndex)) report.petiole_inflow += flow[i];
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (layer[i] != 1 || c.type[i] != CellType::general || flow[i] <= p.threshold) continue;
+    c.type[i] = CellType::vein;
+    c.vein_parent[i] = downstream[i];
+    radius[i] = venation::murray_radius(flow[i], p);
+    order[i] = order[downstream[i]] > 0 ? order[downstream[i]] : 1;
+    ++report.promoted;
+  }
+  for (std::size_t i = 0; i < n; ++i) report.vein_cells += c.type[i] == CellType::vein ? 1 : 0;
+  return result;
+}
+
+}  // namespace oracle
+
+bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
+}
+
+/// Runs the oracle on a copy of `c` and canalise (with `threads`) on `c`, and requires identical bits
+/// in every output: attributes, types, vein parents, downstream choices and the report.
+void check_against_oracle(cells::Cells& c, const venation::Params& p, const venation::SourceRule& rule,
+                          venation::Workspace& ws, int threads) {
+  cells::Cells ref = c;
+  const oracle::Result want = oracle::canalise(ref, p, rule);
+  const venation::Report got = venation::canalise(c, p, rule, ws, threads);
+  REQUIRE(got.promoted == want.report.promoted);
+  REQUIRE(got.vein_cells == want.report.vein_cells);
+  REQUIRE(got.unconnected == want.report.unconnected);
+  REQUIRE(std::memcmp(&got.total_source, &want.report.total_source, sizeof(double)) == 0);
+  REQUIRE(std::memcmp(&got.petiole_inflow, &want.report.petiole_inflow, sizeof(double)) == 0);
+  REQUIRE(c.type == ref.type);
+  REQUIRE(c.vein_parent == ref.vein_parent);
+  REQUIRE(ws.downstream == want.downstream);
+  for (const char* name :
+       {venation::kFlow, venation::kRadius, venation::kOrder, venation::kFlowX, venation::kFlowY, venation::kFlowZ}) {
+    INFO(name);
+    REQUIRE(same_bits(c.attributes.at(name), ref.attributes.at(name)));
+  }
+}
+
+/// Steps both implementations side by side for `steps` steps, checking every step.
+void run_against_oracle(cells::Cells& c, const venation::Params& p, int steps, int threads,
+                        const venation::SourceRule& rule = {}) {
+  venation::Workspace ws;
+  for (int s = 0; s < steps; ++s) {
+    INFO("step " << s);
+    check_against_oracle(c, p, rule, ws, threads);
+  }
+}
+
+/// A sheet grown by the cell system (irregular k-nearest links, many not mutual, spatially reordered),
+/// with `petioles` petiole cells spread over it.
+cells::Cells grown_sheet(int steps, int petioles, std::uint64_t seed) {
+  cells::Params cp;
+  cp.division.trigger = cells::DivisionTrigger::age;
+  cp.division.division_age = 12;
+  cp.division.probability = 0.6;
+  cp.division.direction = cells::SplitDirection::tangent;
+  cp.division.max_cells = 6000;
+  cells::Simulation sim(cp, seed);
+  sim.set_threads(1);
+  sim.cells() = testing::hex_sheet(8, 8);
+  for (int s = 0; s < steps; ++s) sim.step();
+  cells::Cells c = sim.cells();
+  for (int k = 0; k < petioles; ++k)
+    c.type[(c.size() * static_cast<std::size_t>(2 * k + 1)) / (2 * petioles)] = CellType::petiole;
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("canalise matches the reference algorithm bit for bit on a hex leaf", "[venation][oracle]") {
+  cells::Cells c = leaf(30, 30);
+  c.type[c.size() - 7] = CellType::petiole;
+  venation::Params p;
+  p.threshold = 10;
+  run_against_oracle(c, p, 120, 1);
+}
+
+TEST_CASE("canalise matches the reference algorithm on grown sheets with several petioles", "[venation][oracle]") {
+  for (const int petioles : {1, 3}) {
+    cells::Cells c = grown_sheet(90, petioles, 7 + static_cast<std::uint64_t>(petioles));
+    INFO(c.size() << " cells, " << petioles << " petioles");
+    REQUIRE(c.size() > 1000);
+    venation::Params p;
+    p.threshold = 25;
+    run_against_oracle(c, p, 60, 2);
+  }
+}
+
+TEST_CASE("canalise matches the reference algorithm with non-integer sources", "[venation][oracle]") {
+  cells::Cells c = grown_sheet(70, 2, 3);
+  venation::Params p;
+  p.threshold = 9.5;
+  const venation::SourceRule rule = [](const cells::Cells& cc, Index i) {
+    return 0.1 + 0.37 * static_cast<double>(cc.id[i] % 7) + 1e-3 * cc.position[i].x() * cc.position[i].x();
+  };
+  run_against_oracle(c, p, 50, 2, rule);
+}
+
+TEST_CASE("canalise matches the reference algorithm with unconnected islands and odd links", "[venation][oracle]") {
+  // two sheets side by side without links between them; the petiole is on the first only. Then some
+  // links are made one-way, duplicated, pointed at the cell itself or out of range.
+  cells::Cells a = leaf(16, 16);
+  cells::Cells b = testing::hex_sheet(10, 12);
+  testing::link_lattice(b);
+  const Index offset = static_cast<Index>(a.size());
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    cells::add_cell(a, b.position[i] + core::Vec3(100, 0, 0));
+    for (int k = 0; k < 6; ++k) {
+      const Index l = b.links[i * 6 + static_cast<std::size_t>(k)];
+      a.links[(offset + i) * 6 + static_cast<std::size_t>(k)] = l == kNoIndex ? kNoIndex : l + offset;
+    }
+  }
+  core::Rng rng(5);
+  const std::size_t n = a.size();
+  for (int t = 0; t < 300; ++t) {
+    const std::size_t i = rng.next() % offset;  // edits on the connected sheet only
+    const std::size_t k = rng.next() % 6;
+    switch (rng.next() % 4) {
+      case 0:
+        a.links[i * 6 + k] = static_cast<Index>(rng.next() % offset);
+        break;  // one-way, maybe far
+      case 1:
+        a.links[i * 6 + k] = a.links[i * 6 + (k + 1) % 6];
+        break;  // duplicate
+      case 2:
+        a.links[i * 6 + k] = static_cast<Index>(i);
+        break;  // self
+      default:
+        a.links[i * 6 + k] = static_cast<Index>(n + rng.next() % 5);
+        break;  // out of range
+    }
+  }
+  // a vein fragment far from the petiole whose root hangs on a general cell: a sink of its own
+  const Index tip = offset - 3, mid = offset - 4, root = offset - 5;
+  a.type[tip] = a.type[mid] = a.type[root] = CellType::vein;
+  a.vein_parent[tip] = mid;
+  a.vein_parent[mid] = root;
+  a.vein_parent[root] = offset - 40;
+  venation::Params p;
+  p.threshold = 6;
+  run_against_oracle(a, p, 80, 1);
+  venation::Workspace ws;
+  CHECK(venation::canalise(a, p, {}, ws, 1).unconnected >= b.size());
+}
+
+TEST_CASE("canalise gives the same bits for 1 and 2 threads on a large sheet", "[venation][oracle]") {
+  cells::Cells one = grown_sheet(140, 2, 11);
+  REQUIRE(one.size() > 5000);  // above the parallel chunk size
+  cells::Cells two = one;
+  venation::Params p;
+  p.threshold = 30;
+  venation::Workspace w1, w2;
+  for (int s = 0; s < 40; ++s) {
+    const venation::Report r1 = venation::canalise(one, p, {}, w1, 1);
+    const venation::Report r2 = venation::canalise(two, p, {}, w2, 2);
+    REQUIRE(r1.promoted == r2.promoted);
+    REQUIRE(std::memcmp(&r1.total_source, &r2.total_source, sizeof(double)) == 0);
+    REQUIRE(one.type == two.type);
+    REQUIRE(one.vein_parent == two.vein_parent);
+    for (const auto& [name, values] : one.attributes) REQUIRE(same_bits(values, two.attributes.at(name)));
+  }
+  venation::Workspace w3;
+  check_against_oracle(one, p, {}, w3, 2);  // and both still agree with the oracle
 }
