@@ -19,6 +19,7 @@
 #include "export/mesh_files.h"
 #include "export/printable.h"
 #include "export/vein_files.h"
+#include "export/vein_png.h"
 #include "venation/vein_io.h"
 
 #ifndef CELLFORM_VERSION
@@ -355,6 +356,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     if (!o.quiet)
       err << "growing veins by space colonisation in " << s.script_path.string() << " (seed " << seed << ")\n";
     const auto a = std::chrono::steady_clock::now();
+    const bool nonuniform = spec.params.growth == venation::GrowthMode::nonuniform;
     std::size_t last_print = 0;
     while (!col.done()) {
       if (g_interrupt.load()) {
@@ -365,7 +367,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
       if (!o.quiet && (r.steps - last_print >= 50 || col.done())) {
         last_print = r.steps;
         err << "step " << r.steps << ": " << r.nodes << " vein nodes, " << r.sources << " sources";
-        if (planar) err << ", leaf length " << r.scale;
+        if (planar) err << (nonuniform ? ", growth step " : ", leaf length ") << r.scale;
         err << (::isatty(2) ? "\r" : "\n") << std::flush;
       }
     }
@@ -374,6 +376,13 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     venation::VeinTree tree = col.tree();
     venation::compute_widths(tree, spec.widths);
     const venation::ColonisationReport rep = col.report();
+    double leaf_length = rep.scale;  // the outline is 1 long at scale 1; nonuniform growth reports steps
+    if (nonuniform) {
+      const venation::Outline grown = col.outline();
+      double lo = grown.points.front().y(), hi = lo;
+      for (const venation::Vec2& q : grown.points) lo = std::min(lo, q.y()), hi = std::max(hi, q.y());
+      leaf_length = hi - lo;
+    }
     std::vector<std::string> outputs{"veins.ply", "veins.obj"};
     if (planar) {  // a drawing of the leaf; a 3-D pattern has no one plane to draw it in
       venation::write_svg(staging / "veins.svg", tree, col.outline());
@@ -381,6 +390,12 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     }
     venation::write_vein_ply(staging / "veins.ply", tree);
     venation::write_vein_obj(staging / "veins.obj", tree);
+    if (cfg.output.png) {  // 3-D patterns are drawn as seen from above (+z), without an outline
+      exporters::PngParams png;
+      png.size = cfg.output.png_size;
+      exporters::write_vein_png(staging / "veins.png", tree, planar ? col.outline() : venation::Outline{}, png);
+      outputs.push_back("veins.png");
+    }
     if (sheet)
       for (const std::string& n : write_outputs(staging, cfg.output, *sheet, false)) outputs.push_back(n);
     json printed;
@@ -429,7 +444,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
                  {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
                   {"simulation_s", seconds}}}};
     if (cfg.print) run["print"] = printed;
-    if (planar) run["veins"]["leaf_length"] = rep.scale;
+    if (planar) run["veins"]["leaf_length"] = leaf_length;
     if (sheet) run["cells"] = {{"initial", cfg.initial_cells.size()}, {"final", sheet->size()}};
     outputs.push_back("run.json");
     run["outputs"] = outputs;

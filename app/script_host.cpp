@@ -232,7 +232,8 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     if (I.used_overrides.count(key)) continue;
     std::vector<std::string> names(I.param_names.begin(), I.param_names.end());
     for (const Field& f : schema())
-      if (f.kind != Kind::function && f.kind != Kind::table) names.push_back(f.section + "." + f.name);
+      if (f.kind != Kind::function && f.kind != Kind::table && f.kind != Kind::table_or_function)
+        names.push_back(f.section + "." + f.name);
     const std::string near = core::closest_name(key, names);
     const bool is_shape =
         key.find('.') != std::string::npos && find_field(key.substr(0, key.find('.')), key.substr(key.find('.') + 1));
@@ -264,6 +265,9 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     throw InvalidInput(I.sections_seen["print"] +
                        "print{shell = true} thickens a cell sheet; this space-colonisation run grows none (use "
                        "surface{cells = true}, or shell = false)");
+  if (cfg.output.png && !cfg.colonisation)
+    throw InvalidInput(I.sections_seen["output"] +
+                       "output{png = true} draws space-colonisation veins; it needs colonisation{...}");
   if (cfg.print && cfg.print->veins && !cfg.print->shell && !cfg.scene.venation && !cfg.colonisation)
     throw InvalidInput(I.sections_seen["print"] +
                        "print{veins = true} needs veins: add venation{...}, or print the sheet with shell = true");

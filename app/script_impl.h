@@ -106,6 +106,8 @@ inline nlohmann::json to_json(const Field& f, const Value& v) {
       return v.ref != LUA_NOREF ? nlohmann::json("<function>") : nlohmann::json(v.num);
     case Kind::table:
       return nlohmann::json::object();
+    case Kind::table_or_function:
+      return v.ref != LUA_NOREF ? nlohmann::json("<function>") : nlohmann::json::object();
   }
   return {};
 }
@@ -257,6 +259,14 @@ struct ScriptHost::Impl {
       case Kind::table:
         if (t != LUA_TTABLE) throw fail(got);
         break;
+      case Kind::table_or_function:  // a table is read by the section itself
+        if (t == LUA_TFUNCTION) {
+          lua_pushvalue(L, idx);
+          v.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+        } else if (t != LUA_TTABLE) {
+          throw fail(got);
+        }
+        break;
     }
     return v;
   }
@@ -292,6 +302,7 @@ struct ScriptHost::Impl {
         break;
       case Kind::function:
       case Kind::table:
+      case Kind::table_or_function:
         throw InvalidInput(at + name + " cannot be set from the command line");
     }
     return v;
@@ -376,7 +387,8 @@ struct ScriptHost::Impl {
         }
       }
       Value& v = values[f->name];
-      if (!v.present && f->kind != Kind::function && f->kind != Kind::table) {
+      const bool structured = f->kind == Kind::function || f->kind == Kind::table || f->kind == Kind::table_or_function;
+      if (!v.present && !structured) {
         if (f->default_text.empty())
           throw InvalidInput(at + section + "{...} needs '" + f->name + "' (" + allowed_text(*f) + ")");
         if (f->default_text.find("cells.") == std::string::npos) {
@@ -386,7 +398,8 @@ struct ScriptHost::Impl {
         }
       }
       check_range(*f, v, value_at);
-      if (record && f->kind != Kind::table && (v.present || f->default_text.find("cells.") == std::string::npos))
+      if (record && f->kind != Kind::table && f->kind != Kind::table_or_function &&
+          (v.present || f->default_text.find("cells.") == std::string::npos))
         (*record)[f->name] = to_json(*f, v);
     }
     return values;

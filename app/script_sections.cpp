@@ -343,6 +343,119 @@ void section_leaf(Impl& I, const std::string& at) {
   }
 }
 
+namespace {
+
+std::string number_text(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+/// One growth function of colonisation{growth = "nonuniform"} (Appendix A): a table {{y0, rate}, ...} or
+/// a function of y0, both in leaf lengths, into a GrowthFunction in model units of the initial leaf.
+venation::GrowthFunction read_growth_function(Impl& I, const Value& given, const char* name, const std::string& at,
+                                              double initial_length, nlohmann::json& record) {
+  lua_State* L = I.L;
+  const std::string field = std::string("colonisation.") + name;
+  venation::GrowthFunction f;
+  record = nlohmann::json::array();
+  auto add = [&](double y0, double rate, const std::string& which) {
+    if (!std::isfinite(y0) || !(std::isfinite(rate) && rate > 0))
+      throw InvalidInput(at + field + which +
+                         ": the height y0 must be finite and the rate (REG per step) a finite "
+                         "number > 0 (Appendix A needs REG_y > 0 for y0 -> y_t to be increasing), got {" +
+                         number_text(y0) + ", " + number_text(rate) + "}");
+    if (!f.y.empty() && !(y0 * initial_length > f.y.back()))
+      throw InvalidInput(at + field + which + ": heights y0 must increase strictly from one entry to the next, got " +
+                         number_text(y0) + " after " + number_text(f.y.back() / initial_length));
+    f.y.push_back(y0 * initial_length);
+    f.rate.push_back(rate);
+    record.push_back({y0, rate});
+  };
+  if (given.ref != LUA_NOREF) {
+    constexpr int kSamples = 257;  // y0 from -0.5 to 1.5 leaf lengths, every 1/128
+    for (int k = 0; k < kSamples; ++k) {
+      const double y0 = -0.5 + 2.0 * k / (kSamples - 1);
+      lua_rawgeti(L, LUA_REGISTRYINDEX, given.ref);
+      lua_pushnumber(L, y0);
+      if (lua_pcall(L, 1, 1, 0) != LUA_OK) {  // counts against the script's own instruction budget
+        const std::string msg = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "error object is not a string";
+        lua_pop(L, 1);
+        throw InvalidInput(at + field + " failed at y0 = " + number_text(y0) + ": " + I.describe(msg));
+      }
+      if (lua_type(L, -1) != LUA_TNUMBER) {
+        const std::string got = luaL_typename(L, -1);
+        lua_pop(L, 1);
+        throw InvalidInput(at + field + " must return a number (REG per step), got " + got +
+                           " at y0 = " + number_text(y0));
+      }
+      const double rate = lua_tonumber(L, -1);
+      lua_pop(L, 1);
+      add(y0, rate, "(" + number_text(y0) + ")");
+    }
+    return f;
+  }
+  lua_getfield(L, 1, name);
+  const int t = lua_gettop(L);
+  const auto n = static_cast<int>(lua_rawlen(L, t));
+  try {
+    if (n == 0) throw InvalidInput(at + field + " must list at least one {y0, rate} pair");
+    for (int i = 1; i <= n; ++i) {
+      lua_rawgeti(L, t, i);
+      const int e = lua_gettop(L);
+      const std::string which = "[" + std::to_string(i) + "]";
+      bool ok = lua_type(L, e) == LUA_TTABLE && lua_rawlen(L, e) == 2;
+      double pair[2] = {0, 0};
+      for (int k = 0; k < 2 && ok; ++k) {
+        lua_rawgeti(L, e, k + 1);
+        ok = lua_type(L, -1) == LUA_TNUMBER;
+        pair[k] = lua_tonumber(L, -1);
+        lua_pop(L, 1);
+      }
+      lua_pop(L, 1);
+      if (!ok)
+        throw InvalidInput(at + field + which +
+                           " must be a pair {y0, rate} of numbers (y0 in leaf lengths from the "
+                           "petiole, rate = REG per step)");
+      add(pair[0], pair[1], which);
+    }
+  } catch (...) {
+    lua_settop(L, t - 1);
+    throw;
+  }
+  lua_settop(L, t - 1);
+  return f;
+}
+
+/// growth = "nonuniform": growth_x, growth_y, growth_steps; refuses them for the other growth types.
+void read_nonuniform_growth(Impl& I, Values& v, const std::string& at, venation::ColonisationParams& p) {
+  nlohmann::json& rec = I.cfg->resolved["colonisation"];
+  if (p.growth != venation::GrowthMode::nonuniform) {
+    for (const char* name : {"growth_x", "growth_y"})
+      if (v[name].present)
+        throw InvalidInput(at + "colonisation." + name + " applies only to growth = \"nonuniform\" (growth is \"" +
+                           v["growth"].str + "\")");
+    if (v["growth_steps"].present && v["growth_steps"].num > 0)
+      throw InvalidInput(at + "colonisation.growth_steps applies only to growth = \"nonuniform\" (growth is \"" +
+                         v["growth"].str + "\")");
+    rec.erase("growth_x");
+    rec.erase("growth_y");
+    return;
+  }
+  for (const char* name : {"growth_x", "growth_y"})
+    if (!v[name].present)
+      throw InvalidInput(at + "colonisation{growth = \"nonuniform\"} needs " + name +
+                         ": {{y0, rate}, ...} or function(y0) returning the growth rate per step (REG = 1 + g, "
+                         "Fig. 5), y0 in leaf lengths from the petiole");
+  if (v["growth_steps"].num < 1)
+    throw InvalidInput(at + "colonisation{growth = \"nonuniform\"} needs growth_steps >= 1 (steps of growth)");
+  p.growth_x = read_growth_function(I, v["growth_x"], "growth_x", at, p.initial_scale, rec["growth_x"]);
+  p.growth_y = read_growth_function(I, v["growth_y"], "growth_y", at, p.initial_scale, rec["growth_y"]);
+  p.growth_steps = static_cast<std::size_t>(v["growth_steps"].num);
+}
+
+}  // namespace
+
 void section_colonisation(Impl& I, const std::string& at) {
   I.once("colonisation", at);
   Values v = I.read_section("colonisation", 1, at, &I.cfg->resolved["colonisation"]);
@@ -357,12 +470,15 @@ void section_colonisation(Impl& I, const std::string& at) {
   p.node_distance = 1;
   p.darts_per_area = v["darts"].num * 1e-6;
   const std::string g = v["growth"].str;
-  p.growth = g == "none"       ? venation::GrowthMode::none
-             : g == "isogonic" ? venation::GrowthMode::uniform
-                               : venation::GrowthMode::marginal;
+  p.growth = g == "none"         ? venation::GrowthMode::none
+             : g == "isogonic"   ? venation::GrowthMode::uniform
+             : g == "nonuniform" ? venation::GrowthMode::nonuniform
+                                 : venation::GrowthMode::marginal;
   p.initial_scale = v["initial_length"].num;
-  p.final_scale = g == "none" ? p.initial_scale : v["final_length"].num;
-  p.scale_step = g == "none" ? 0 : v["length_step"].num;
+  const bool fixed_size = g == "none" || g == "nonuniform";
+  p.final_scale = fixed_size ? p.initial_scale : v["final_length"].num;
+  p.scale_step = fixed_size ? 0 : v["length_step"].num;
+  read_nonuniform_growth(I, v, at, p);
   p.max_steps = static_cast<std::size_t>(v["max_steps"].num);
   p.max_nodes = static_cast<std::size_t>(v["max_nodes"].num);
   I.cfg->colonisation->growth_given = v["growth"].present;
@@ -417,6 +533,8 @@ void section_output(Impl& I, const std::string& at) {
   I.cfg->output.obj = v["obj"].flag;
   I.cfg->output.every = static_cast<std::uint64_t>(v["every"].num);
   I.cfg->output.checkpoint_every = static_cast<std::uint64_t>(v["checkpoint_every"].num);
+  I.cfg->output.png = v["png"].flag;
+  I.cfg->output.png_size = static_cast<int>(v["png_size"].num);
 }
 
 void section_shape(Impl& I, const std::string& kind, const std::string& at) {

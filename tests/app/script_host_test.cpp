@@ -282,3 +282,58 @@ TEST_CASE("volume{} and surface{} give space colonisation a 3-D domain", "[scrip
   CHECK_THAT(load_error("volume { ball = { radius = 2 } }\ncolonisation {}\nprint { shell = true }\n"),
              Contains("print{shell = true}"));
 }
+
+TEST_CASE("colonisation{growth = 'nonuniform'} takes growth tables or functions of y0 (Appendix A)",
+          "[script][colonisation]") {
+  const std::string head = "leaf { shape = 'ellipse' }\ncolonisation { growth = 'nonuniform', initial_length = 20,\n";
+  auto cfg = load(head +
+                  "  growth_x = {{0, 1.05}, {0.5, 1.1}, {1, 1.0}},\n"
+                  "  growth_y = function(y0) return 1 + 0.02 * y0 end, growth_steps = 30 }\n");
+  REQUIRE(cfg.colonisation);
+  const auto& p = cfg.colonisation->params;
+  CHECK(p.growth == cellform::venation::GrowthMode::nonuniform);
+  CHECK(p.growth_steps == 30);
+  CHECK(p.final_scale == 20);  // the size follows from the rates, not from final_length
+  // heights in leaf lengths become model units of the initial leaf (x 20)
+  REQUIRE(p.growth_x.y == std::vector<double>{0, 10, 20});
+  CHECK(p.growth_x(5) == Approx(1.075));
+  CHECK(p.growth_x(-3) == Approx(1.05));  // constant beyond the ends
+  // the function is sampled at 257 heights from -0.5 to 1.5 leaf lengths, linear in between
+  REQUIRE(p.growth_y.y.size() == 257);
+  CHECK(p.growth_y.y.front() == Approx(-10));
+  CHECK(p.growth_y.y.back() == Approx(30));
+  CHECK(p.growth_y(7.3) == Approx(1 + 0.02 * 7.3 / 20));
+  CHECK(cfg.resolved["colonisation"]["growth_x"].size() == 3);
+
+  const std::string y_ok = "  growth_y = {{0, 1.01}}, growth_steps = 5 }\n";
+  CHECK_THAT(load_error(head + "  growth_x = {{0, 1.1}, {0, 1.2}},\n" + y_ok),
+             Contains("test/leaf.lua:2: colonisation.growth_x[2]") && Contains("increase strictly"));
+  CHECK_THAT(load_error(head + "  growth_x = {{0, 1.1}, {1, 0}},\n" + y_ok),
+             Contains("colonisation.growth_x[2]") && Contains("> 0"));
+  CHECK_THAT(load_error(head + "  growth_x = {{0, 1.1}, {1, 0/0}},\n" + y_ok), Contains("colonisation.growth_x[2]"));
+  CHECK_THAT(load_error(head + "  growth_x = {{0, 1.1}, {1}},\n" + y_ok), Contains("pair {y0, rate}"));
+  CHECK_THAT(load_error(head + "  growth_x = {},\n" + y_ok), Contains("at least one {y0, rate}"));
+  CHECK_THAT(load_error(head + "  growth_x = 3,\n" + y_ok), Contains("a table or a function"));
+  CHECK_THAT(load_error(head + "  growth_x = function(y) return y - 0.5 end,\n" + y_ok),
+             Contains("colonisation.growth_x(") && Contains("> 0"));
+  CHECK_THAT(load_error(head + "  growth_x = function(y) return 'fast' end,\n" + y_ok),
+             Contains("must return a number"));
+  CHECK_THAT(load_error(head + "  growth_x = function(y) error('no rate here') end,\n" + y_ok),
+             Contains("no rate here") && Contains("colonisation.growth_x failed at y0 = -0.5"));
+  CHECK_THAT(load_error(head + "  growth_y = {{0, 1.01}}, growth_steps = 5 }\n"), Contains("needs growth_x"));
+  CHECK_THAT(load_error(head + "  growth_x = {{0, 1.01}}, growth_y = {{0, 1.01}} }\n"), Contains("growth_steps >= 1"));
+  CHECK_THAT(load_error("colonisation { growth = 'marginal', growth_x = {{0, 1.1}} }\n"),
+             Contains("growth_x applies only to growth = \"nonuniform\""));
+  CHECK_THAT(load_error("colonisation { growth = 'none', growth_steps = 4 }\n"), Contains("growth_steps applies only"));
+  CHECK_THAT(load_error(head + "  growth_x = {{0, 1.01}}, growth_y = {{0, 1.01}}, growth_steps = 5 }\n",
+                        {{"colonisation.growth_x", "2"}}),
+             Contains("cannot be set from the command line"));
+}
+
+TEST_CASE("output{png = true} needs a space-colonisation run", "[script][png]") {
+  auto cfg = load("colonisation {}\noutput { png = true, png_size = 300 }\n");
+  CHECK(cfg.output.png);
+  CHECK(cfg.output.png_size == 300);
+  CHECK_THAT(load_error("disc { radius = 2 }\noutput { png = true }\n"), Contains("it needs colonisation{...}"));
+  CHECK_THAT(load_error("colonisation {}\noutput { png_size = 4 }\n"), Contains("output.png_size"));
+}
