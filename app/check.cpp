@@ -6,13 +6,17 @@
 #include "app/run.h"
 #include "core/errors.h"
 #include "export/mesh_check.h"
+#include "export/thickness.h"
 
 namespace cellform::app {
 
 int check_command(const std::filesystem::path& file, bool json, std::ostream& out, std::ostream& err) {
   exporters::MeshReport r;
+  exporters::ThicknessReport th;
   try {
-    r = exporters::check_mesh(exporters::read_mesh(file));
+    const exporters::PrintableMesh mesh = exporters::read_mesh(file);
+    r = exporters::check_mesh(mesh);
+    th = exporters::wall_thickness(mesh);
   } catch (const std::exception& e) {
     err << "cellform: " << e.what() << "\n";
     return usage;
@@ -33,10 +37,23 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
                         {"area_mm2", r.area},
                         {"bbox_min_mm", {r.bbox_min.x(), r.bbox_min.y(), r.bbox_min.z()}},
                         {"bbox_max_mm", {r.bbox_max.x(), r.bbox_max.y(), r.bbox_max.z()}},
-                        {"genus", r.genus}};
+                        {"genus", r.genus},
+                        {"wall_thickness_mm",
+                         {{"min", th.min},
+                          {"min_at", {th.min_at.x(), th.min_at.y(), th.min_at.z()}},
+                          {"p01", th.p01},
+                          {"median", th.median},
+                          {"samples", th.samples},
+                          {"missed", th.missed}}}};
     out << j.dump(2) << "\n";
   } else {
     out << file.string() << ": " << (r.printable() ? "printable" : "NOT printable") << "\n" << r.summary();
+    if (th.samples > 0)
+      out << "wall thickness (mm): 1% of the surface is thinner than " << th.p01 << ", median " << th.median
+          << "; shortest ray " << th.min << " near (" << th.min_at.x() << ", " << th.min_at.y() << ", " << th.min_at.z()
+          << ")\n";
+    else
+      out << "wall thickness: not measurable (no ray from the surface left the solid through another wall)\n";
   }
   return r.printable() ? ok : failure;
 }

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <set>
 
 #include "app/progress.h"
@@ -18,6 +19,7 @@
 #include "export/mesh_files.h"
 #include "export/printable.h"
 #include "export/vein_files.h"
+#include "export/vein_png.h"
 #include "venation/vein_io.h"
 
 #ifndef CELLFORM_VERSION
@@ -170,13 +172,28 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   tp.max_memory_bytes = spec.max_memory_mb * 1e6;
   tp.threads = threads;
   tp.fill_cavities = spec.fill_cavities;
+  // Ctrl-C stops the thickening at the next block; on a terminal the stage shows its percentage.
+  const bool tty = !quiet && ::isatty(2) != 0;
+  auto stage_progress = [&](const char* stage) {
+    return [&err, tty, stage, shown = -1](double f) mutable {
+      const int pct = static_cast<int>(f * 100);
+      if (tty && pct != shown) {
+        shown = pct;
+        err << "\r" << stage << " " << pct << "%" << std::flush;
+        if (pct == 100) err << "\n";
+      }
+      return !g_interrupt.load();
+    };
+  };
   if (segments.empty() && shell.empty())
     throw core::InvalidInput(
         "print: nothing to print yet (no vein has grown; run longer, lower venation.threshold, or use shell = true)");
   if (!quiet)
     err << "thickening " << segments.size() << " vein segments" << (spec.shell ? " and the cell sheet" : "") << "...\n";
   exporters::ThickenReport rep;
+  tp.progress = stage_progress("voxelising");
   const exporters::LevelSet level_set = exporters::voxelise(segments, shell, tp, &rep);
+  tp.progress = stage_progress("meshing");
   const exporters::PrintableMesh mesh = exporters::mesh_level_set(level_set, tp, &rep);
   if (rep.pieces > 1 && spec.pieces == "one")
     throw core::InvalidInput("print{pieces = \"one\"}: the form falls apart into " + std::to_string(rep.pieces) +
@@ -245,10 +262,79 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
   fs::remove_all(staging, ec);
 }
 
-/// A space-colonisation run: leaf outline, sources, veins (Runions et al. 2005). No cells, no checkpoint:
-/// Ctrl-C stops it with the pattern so far written out.
-int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std::uint64_t seed, std::ostream& out,
-                     std::ostream& err, std::chrono::steady_clock::time_point t0) {
+/// surface{cells = true}: grows the script's cells (cells{}, division{}, run{}, shapes) for --steps or
+/// run.steps steps and returns them. Ctrl-C ends the growth early.
+cells::Cells grow_sheet(const RunOptions& o, const SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
+                        std::ostream& err) {
+  forms::Scene scene(cfg.scene, seed);
+  cells::Simulation& sim = scene.simulation();
+  sim.set_threads(o.threads);
+  for (const InitialCell& c : cfg.initial_cells)
+    cells::add_cell(sim.cells(), c.position, cells::CellType::general, c.fixed);
+  scene.start();
+  const cells::Rules rules = host.rules();
+  if (rules.divides) sim.rules().divides = rules.divides;
+  if (rules.split_direction) sim.rules().split_direction = rules.split_direction;
+  const std::uint64_t target = o.steps ? *o.steps : cfg.steps;
+  if (!o.quiet) err << "growing the cell sheet for " << target << " steps (" << sim.cells().size() << " cells)\n";
+  Progress progress(err, ::isatty(2) != 0, o.quiet, 0, target);
+  while (sim.step_count() < target && !g_interrupt.load()) {
+    host.set_step(sim.step_count() + 1);
+    scene.step();
+    progress.update(sim.step_count(), sim.cells().size());
+  }
+  progress.finish();
+  return sim.cells();
+}
+
+/// The colonisation of the spec's domain; for surface{cells = true} the domain is the sheet of `sheet`,
+/// with the seeds (default: the petiole cells) moved to their nearest points of it.
+venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cells::Cells* sheet) {
+  if (spec.domain.kind == venation::DomainKind::leaf) return venation::Colonisation(spec.leaf, spec.params);
+  if (!sheet) return venation::Colonisation(spec.domain, spec.params);
+  venation::Domain d = spec.domain;
+  d.mesh.vertices = sheet->position;
+  d.mesh.triangles = cells::triangulate(*sheet).triangles;
+  if (d.mesh.triangles.empty())
+    throw core::InvalidInput(
+        "surface{cells = true}: the grown cells form no triangles to grow veins on (place a "
+        "sheet such as disc{...} and grow it longer)");
+  std::vector<core::Vec3> seeds = d.initial_nodes;
+  if (seeds.empty())
+    for (std::size_t i = 0; i < sheet->size(); ++i)
+      if (sheet->type[i] == cells::CellType::petiole) seeds.push_back(sheet->position[i]);
+  if (seeds.empty())
+    throw core::InvalidInput(
+        "surface{cells = true} needs seeds = {{x, y, z}, ...} or a petiole{...} cell where "
+        "the veins start");
+  d.initial_nodes = {d.mesh.vertices[d.mesh.triangles[0][0]]};
+  const venation::PreparedDomain sheet_surface(d);
+  for (core::Vec3& p : seeds) p = sheet_surface.closest_point(p);
+  d.initial_nodes = seeds;
+  return venation::Colonisation(d, spec.params);
+}
+
+const char* domain_name(venation::DomainKind k) {
+  switch (k) {
+    case venation::DomainKind::leaf:
+      return "leaf";
+    case venation::DomainKind::box:
+      return "box";
+    case venation::DomainKind::ball:
+      return "ball";
+    case venation::DomainKind::volume:
+      return "volume";
+    case venation::DomainKind::surface:
+      return "surface";
+  }
+  return "?";
+}
+
+/// A space-colonisation run: sources and veins (Runions et al. 2005) in a leaf outline, a volume or on a
+/// surface (a mesh, or the sheet of cells grown first). No checkpoint: Ctrl-C stops it with the pattern
+/// so far written out.
+int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
+                     std::ostream& out, std::ostream& err, std::chrono::steady_clock::time_point t0) {
   const fs::path dir = s.out_dir;
   fs::path staging;
   try {
@@ -262,11 +348,15 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std:
   spec.params.threads = o.threads;
   if (o.steps) spec.params.max_steps = *o.steps;
   int code = ok;
+  const bool planar = spec.domain.kind == venation::DomainKind::leaf;
   try {
-    venation::Colonisation col(spec.leaf, spec.params);
+    std::optional<cells::Cells> sheet;
+    if (spec.on_cells) sheet = grow_sheet(o, cfg, host, seed, err);
+    venation::Colonisation col = make_colonisation(spec, sheet ? &*sheet : nullptr);
     if (!o.quiet)
       err << "growing veins by space colonisation in " << s.script_path.string() << " (seed " << seed << ")\n";
     const auto a = std::chrono::steady_clock::now();
+    const bool nonuniform = spec.params.growth == venation::GrowthMode::nonuniform;
     std::size_t last_print = 0;
     while (!col.done()) {
       if (g_interrupt.load()) {
@@ -276,8 +366,9 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std:
       const venation::ColonisationReport& r = col.step();
       if (!o.quiet && (r.steps - last_print >= 50 || col.done())) {
         last_print = r.steps;
-        err << "step " << r.steps << ": " << r.nodes << " vein nodes, " << r.sources << " sources, leaf length "
-            << r.scale << (::isatty(2) ? "\r" : "\n") << std::flush;
+        err << "step " << r.steps << ": " << r.nodes << " vein nodes, " << r.sources << " sources";
+        if (planar) err << (nonuniform ? ", growth step " : ", leaf length ") << r.scale;
+        err << (::isatty(2) ? "\r" : "\n") << std::flush;
       }
     }
     if (!o.quiet && ::isatty(2)) err << "\n";
@@ -285,17 +376,42 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std:
     venation::VeinTree tree = col.tree();
     venation::compute_widths(tree, spec.widths);
     const venation::ColonisationReport rep = col.report();
-    std::vector<std::string> outputs{"veins.svg", "veins.ply", "veins.obj"};
-    venation::write_svg(staging / "veins.svg", tree, col.outline());
+    double leaf_length = rep.scale;  // the outline is 1 long at scale 1; nonuniform growth reports steps
+    if (nonuniform) {
+      const venation::Outline grown = col.outline();
+      double lo = grown.points.front().y(), hi = lo;
+      for (const venation::Vec2& q : grown.points) lo = std::min(lo, q.y()), hi = std::max(hi, q.y());
+      leaf_length = hi - lo;
+    }
+    std::vector<std::string> outputs{"veins.ply", "veins.obj"};
+    if (planar) {  // a drawing of the leaf; a 3-D pattern has no one plane to draw it in
+      venation::write_svg(staging / "veins.svg", tree, col.outline());
+      outputs.insert(outputs.begin(), "veins.svg");
+    }
     venation::write_vein_ply(staging / "veins.ply", tree);
     venation::write_vein_obj(staging / "veins.obj", tree);
+    if (cfg.output.png) {  // 3-D patterns are drawn as seen from above (+z), without an outline
+      exporters::PngParams png;
+      png.size = cfg.output.png_size;
+      exporters::write_vein_png(staging / "veins.png", tree, planar ? col.outline() : venation::Outline{}, png);
+      outputs.push_back("veins.png");
+    }
+    if (sheet)
+      for (const std::string& n : write_outputs(staging, cfg.output, *sheet, false)) outputs.push_back(n);
     json printed;
     if (cfg.print) {
       try {
         std::vector<exporters::Segment> segments;
         for (const auto& [p, c] : tree.edges())
           segments.push_back({tree.positions[p], tree.positions[c], tree.radius[p], tree.radius[c]});
-        printed = thicken_and_write(staging, *cfg.print, segments, {}, o.threads, outputs, err, o.quiet);
+        std::vector<std::array<core::Vec3, 3>> shell;
+        if (cfg.print->shell && sheet) shell = exporters::shell_triangles(*sheet, cells::triangulate(*sheet));
+        printed = thicken_and_write(staging, *cfg.print, segments, shell, o.threads, outputs, err, o.quiet);
+      } catch (const core::Cancelled&) {
+        err << (o.quiet ? "" : "\n")
+            << "cellform: printing interrupted: no printable files (the vein files are written)\n";
+        printed = {{"error", "interrupted"}};
+        code = interrupted;
       } catch (const std::exception& e) {
         err << "cellform: " << e.what() << "\n";
         printed = {{"error", e.what()}};
@@ -306,6 +422,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std:
                 {"version", version()},
                 {"command", "run"},
                 {"mode", "colonisation"},
+                {"domain", domain_name(spec.domain.kind)},
                 {"script",
                  {{"path", s.script_path.string()},
                   {"hash", "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size()))}}},
@@ -320,14 +437,15 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, std:
                  {{"nodes", rep.nodes},
                   {"loops", rep.loops},
                   {"sources_left", rep.sources},
-                  {"sources_born", rep.sources_born},
-                  {"leaf_length", rep.scale}}},
+                  {"sources_born", rep.sources_born}}},
                 {"overrides", s.sets},
                 {"parameters", cfg.resolved},
                 {"timings",
                  {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
                   {"simulation_s", seconds}}}};
     if (cfg.print) run["print"] = printed;
+    if (planar) run["veins"]["leaf_length"] = leaf_length;
+    if (sheet) run["cells"] = {{"initial", cfg.initial_cells.size()}, {"final", sheet->size()}};
     outputs.push_back("run.json");
     run["outputs"] = outputs;
     core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
@@ -371,7 +489,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     target = s.has_target ? s.target_steps : cfg.steps;
     if (cfg.colonisation) {
       if (s.resume) throw core::InvalidInput("space-colonisation runs have no checkpoints to resume");
-      return run_colonisation(o, s, cfg, seed, out, err, t0);
+      return run_colonisation(o, s, cfg, host, seed, out, err, t0);
     }
     if (o.checkpoint_every) cfg.output.checkpoint_every = *o.checkpoint_every;
     scene = std::make_unique<forms::Scene>(cfg.scene, seed);
@@ -472,6 +590,13 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
           err << "printable solid: " << printed["triangles"] << " triangles, " << printed["parts"] << " part(s), "
               << printed["cavities"] << " closed cavities, scale " << printed["scale_mm_per_unit"]
               << " mm per model unit\n";
+      } catch (const core::Cancelled&) {
+        err << (o.quiet ? "" : "\n")
+            << "cellform: printing interrupted: no printable files (the other outputs and the checkpoint are "
+               "written)\n";
+        printed = {{"error", "interrupted"}};
+        status = "interrupted";
+        code = interrupted;
       } catch (const std::exception& e) {
         err << "cellform: " << e.what() << "\n  (the other outputs and the checkpoint are written)\n";
         printed = {{"error", e.what()}};

@@ -173,20 +173,44 @@ std::vector<Field> build() {
                       "initial vein nodes spread along the base (several: grass-like parallel veins)"));
   f.push_back(
       num("leaf", "seed_spread", "0.3", 0, 10, false, "leaf lengths", "width of the base the seeds are spread over"));
+  // volume{} and surface{}: 3-D source domains instead of a leaf
+  f.push_back(Field{"volume", "box", Kind::table, "(none)", 0, 0, false, "", "",
+                    "sources fill the box {min = {x, y, z}, max = {x, y, z}} (model units = vein segments)"});
+  f.push_back(Field{"volume", "ball", Kind::table, "(none)", 0, 0, false, "", "",
+                    "sources fill the ball {centre = {x, y, z}, radius = r}"});
+  f.push_back(text("volume", "file", "(none)",
+                   "sources fill the inside of this closed STL or OBJ mesh (path relative to the script)"));
+  f.push_back(num("volume", "scale", "1", 0, kInf, true, "factor", "file: scales the mesh's coordinates"));
+  f.push_back(Field{"volume", "seeds", Kind::table, "(auto)", 0, 0, false, "", "model units",
+                    "seed vein nodes {{x, y, z}, ...} inside the volume; default: box: centre of its floor, ball: "
+                    "its lowest point (file: required)"});
+  f.push_back(vec("volume.box", "min", "", -kInf, kInf, "model units", "lowest corner"));
+  f.push_back(vec("volume.box", "max", "", -kInf, kInf, "model units", "highest corner"));
+  f.push_back(vec("volume.ball", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "centre"));
+  f.push_back(num("volume.ball", "radius", "", 0, kInf, true, "model units", "radius"));
+  f.push_back(text("surface", "file", "(none)",
+                   "sources lie on the triangles of this STL or OBJ mesh (open or closed; relative to the script)"));
+  f.push_back(num("surface", "scale", "1", 0, kInf, true, "factor", "file: scales the mesh's coordinates"));
+  f.push_back(boolean("surface", "cells", "false",
+                      "grow the script's cells first (cells{}, division{}, run{}, shapes); veins grow on their sheet"));
+  f.push_back(Field{"surface", "seeds", Kind::table, "(auto)", 0, 0, false, "", "model units",
+                    "seed vein nodes {{x, y, z}, ...}; file: on the surface; cells: moved to the nearest point of "
+                    "the grown sheet (default: the petiole cells)"});
   f.push_back(choice("colonisation", "type", Kind::choice, "open", "open|closed",
                      "open: trees; closed: veins join into loops"));
   f.push_back(choice("colonisation", "neighbourhood", Kind::choice, "exact", "exact|urquhart",
-                     "closed: relative neighbourhood (Eq. 2) or its Urquhart approximation"));
+                     "closed: relative neighbourhood (Eq. 2) or its Urquhart approximation (leaf only)"));
   f.push_back(num("colonisation", "kill_distance", "1", 0, kInf, true, "vein segments",
                   "d_k: a vein node this close reaches (open: removes) a source"));
   f.push_back(num("colonisation", "birth_distance", "10", 0, kInf, true, "vein segments",
                   "b_s: new sources keep this far from every source"));
   f.push_back(num("colonisation", "vein_birth_distance", "0", 0, kInf, false, "vein segments",
                   "b_v: new sources keep this far from every vein node; 0 = birth_distance"));
-  f.push_back(num("colonisation", "darts", "200", 0, kInf, true, "per 10^6 unit^2 per step",
-                  "rho x 10^6 of Table 1: darts per unit area per step"));
-  f.push_back(
-      choice("colonisation", "growth", Kind::choice, "marginal", "none|marginal|isogonic", "how the blade grows"));
+  f.push_back(num("colonisation", "darts", "200", 0, kInf, true, "per 10^6 unit^2 (volume: unit^3) per step",
+                  "rho x 10^6 of Table 1: darts per unit area (leaf, surface) or volume (volume) per step"));
+  f.push_back(choice("colonisation", "growth", Kind::choice, "marginal", "none|marginal|isogonic|nonuniform",
+                     "how the blade grows (nonuniform: Appendix A, with growth_x, growth_y, growth_steps; volume "
+                     "and surface: none, their default)"));
   f.push_back(
       num("colonisation", "initial_length", "270", 0, kInf, true, "vein segments", "L_i: leaf length at the start"));
   f.push_back(
@@ -198,6 +222,15 @@ std::vector<Field> build() {
   f.push_back(
       num("colonisation", "murray_exponent", "2", 1, 4, false, "", "n of r_parent^n = sum r_child^n (Table 1: 2)"));
   f.push_back(num("colonisation", "tip_radius", "0.15", 0, kInf, true, "vein segments", "radius of a free vein end"));
+  f.push_back(Field{"colonisation", "growth_x", Kind::table_or_function, "(none)", 0, 0, false, "", "REG per step",
+                    "nonuniform: horizontal growth rate REG_x = 1 + g_x (Fig. 5c) of the initial height y0 (leaf "
+                    "lengths, 0 = petiole, 1 = tip): {{y0, rate}, ...} with y0 increasing, linear between, or "
+                    "function(y0) sampled at 257 heights from -0.5 to 1.5; rates > 0"});
+  f.push_back(Field{"colonisation", "growth_y", Kind::table_or_function, "(none)", 0, 0, false, "", "REG per step",
+                    "nonuniform: vertical growth rate REG_y = 1 + g_y (Fig. 5d), as growth_x; > 0 keeps the "
+                    "mapping y0 -> y_t of Eq. 4 increasing"});
+  f.push_back(integer("colonisation", "growth_steps", "0", 0, 1e9, "steps",
+                      "nonuniform: steps of growth; the leaf then keeps its shape (required, >= 1)"));
 
   // print{}
   f.push_back(boolean("print", "veins", "true", "veins become solid tapered members with their Murray radii"));
@@ -224,6 +257,9 @@ std::vector<Field> build() {
                       "also write frames/cells_NNNNNN.ply every this many steps (0 = none)"));
   f.push_back(integer("output", "checkpoint_every", "1000", 0, 1e9, "steps",
                       "write checkpoint.cfck every this many steps (0 = only at the end)"));
+  f.push_back(boolean("output", "png", "false",
+                      "space colonisation: also write veins.png, a raster preview of veins and outline"));
+  f.push_back(integer("output", "png_size", "1024", 16, 20000, "pixels", "longer side of veins.png"));
   return f;
 }
 
@@ -295,6 +331,9 @@ std::string allowed_text(const Field& f) {
       break;
     case Kind::table:
       s << "a table";
+      break;
+    case Kind::table_or_function:
+      s << "a table or a function";
       break;
   }
   return s.str();

@@ -17,7 +17,8 @@ enum class Kind {
   function,
   choice_or_function,
   number_or_function,
-  table
+  table,
+  table_or_function
 };
 
 /// One parameter of one script function (a "section" such as cells{} or division{}).

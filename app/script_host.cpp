@@ -49,6 +49,8 @@ int api_section(lua_State* L) {
       section_leaf(I, at);
     else if (section == "colonisation")
       section_colonisation(I, at);
+    else if (section == "volume" || section == "surface")
+      section_domain(I, section, at);
     else if (section == "disc" || section == "rectangle" || section == "sphere" || section == "line" ||
              section == "cell" || section == "petiole")
       section_shape(I, section, at);
@@ -129,9 +131,10 @@ int api_print(lua_State* L) {
   return 0;
 }
 
-const char* const kSections[] = {"run",          "cells",      "division",  "output", "venation", "print",    "leaf",
-                                 "colonisation", "disc",       "rectangle", "sphere", "line",     "cell",     "petiole",
-                                 "ground",       "half_space", "ball",      "box",    "mesh",     "attractor"};
+const char* const kSections[] = {"run",    "cells",        "division", "output",   "venation", "print",
+                                 "leaf",   "colonisation", "volume",   "surface",  "disc",     "rectangle",
+                                 "sphere", "line",         "cell",     "petiole",  "ground",   "half_space",
+                                 "ball",   "box",          "mesh",     "attractor"};
 
 }  // namespace
 
@@ -229,7 +232,8 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     if (I.used_overrides.count(key)) continue;
     std::vector<std::string> names(I.param_names.begin(), I.param_names.end());
     for (const Field& f : schema())
-      if (f.kind != Kind::function && f.kind != Kind::table) names.push_back(f.section + "." + f.name);
+      if (f.kind != Kind::function && f.kind != Kind::table && f.kind != Kind::table_or_function)
+        names.push_back(f.section + "." + f.name);
     const std::string near = core::closest_name(key, names);
     const bool is_shape =
         key.find('.') != std::string::npos && find_field(key.substr(0, key.find('.')), key.substr(key.find('.') + 1));
@@ -240,16 +244,30 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
                                        (near.empty() ? "" : "; did you mean '" + near + "'?")));
   }
   build_shapes(I);
-  if (cfg.colonisation && !I.sections_seen.count("colonisation"))
-    throw InvalidInput(I.sections_seen["leaf"] + "leaf{...} needs colonisation{...} to grow veins in it");
-  if (cfg.colonisation && !I.sections_seen.count("leaf")) {  // the default blade
+  for (const char* domain : {"leaf", "volume", "surface"})
+    if (cfg.colonisation && I.sections_seen.count(domain) && !I.sections_seen.count("colonisation"))
+      throw InvalidInput(I.sections_seen[domain] + domain + "{...} needs colonisation{...} to grow veins in it");
+  const bool in_3d = I.sections_seen.count("volume") || I.sections_seen.count("surface");
+  if (cfg.colonisation && !I.sections_seen.count("leaf") && !in_3d) {  // the default blade
     lua_settop(L, 0);
     section_leaf(I, I.script_name + ": ");
   }
-  if (cfg.colonisation && (!cfg.initial_cells.empty() || I.sections_seen.count("venation")))
-    throw InvalidInput(
-        I.sections_seen["colonisation"] +
-        "colonisation{...} grows veins in a leaf{...} outline; it cannot be combined with cells or venation{...}");
+  if (cfg.colonisation) finish_colonisation(I);
+  const bool on_cells = cfg.colonisation && cfg.colonisation->on_cells;
+  if (cfg.colonisation && ((!cfg.initial_cells.empty() && !on_cells) || I.sections_seen.count("venation")))
+    throw InvalidInput(I.sections_seen["colonisation"] +
+                       "colonisation{...} grows veins in a leaf{...}, volume{...} or surface{...}; it cannot be "
+                       "combined with venation{...}, nor with cells unless surface{cells = true} grows on them");
+  if (on_cells && cfg.initial_cells.empty() && cfg.scene.petioles.empty())
+    throw InvalidInput(I.sections_seen["surface"] +
+                       "surface{cells = true} grows the cells first: place them with a shape such as disc{radius = 3}");
+  if (cfg.print && cfg.print->shell && cfg.colonisation && !on_cells)
+    throw InvalidInput(I.sections_seen["print"] +
+                       "print{shell = true} thickens a cell sheet; this space-colonisation run grows none (use "
+                       "surface{cells = true}, or shell = false)");
+  if (cfg.output.png && !cfg.colonisation)
+    throw InvalidInput(I.sections_seen["output"] +
+                       "output{png = true} draws space-colonisation veins; it needs colonisation{...}");
   if (cfg.print && cfg.print->veins && !cfg.print->shell && !cfg.scene.venation && !cfg.colonisation)
     throw InvalidInput(I.sections_seen["print"] +
                        "print{veins = true} needs veins: add venation{...}, or print the sheet with shell = true");

@@ -15,6 +15,7 @@
 #include "cells/simulation.h"
 #include "forms/scene.h"
 #include "venation/colonisation.h"
+#include "venation/domain.h"
 #include "venation/leaf_shape.h"
 
 struct lua_State;
@@ -40,13 +41,18 @@ struct OutputSpec {
   bool obj = true;
   std::uint64_t every = 0;                ///< frame interval in steps (0 = no frames)
   std::uint64_t checkpoint_every = 1000;  ///< checkpoint interval in steps (0 = only at the end)
+  bool png = false;                       ///< space colonisation: also write veins.png
+  int png_size = 1024;                    ///< pixels: longer side of veins.png
 };
 
-/// Space colonisation requested by leaf{...} and colonisation{...}.
+/// Space colonisation requested by colonisation{...} in a leaf{...}, volume{...} or surface{...}.
 struct ColonisationSpec {
   venation::Leaf leaf;
   venation::ColonisationParams params;
   venation::WidthParams widths;
+  venation::Domain domain;    ///< kind leaf: grows in `leaf`; else in this volume or surface
+  bool on_cells = false;      ///< surface{cells = true}: grow the cells first, the domain is their sheet
+  bool growth_given = false;  ///< colonisation.growth was set (a 3-D domain then needs "none")
 };
 
 /// A printable solid requested by print{...}.

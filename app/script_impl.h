@@ -106,6 +106,8 @@ inline nlohmann::json to_json(const Field& f, const Value& v) {
       return v.ref != LUA_NOREF ? nlohmann::json("<function>") : nlohmann::json(v.num);
     case Kind::table:
       return nlohmann::json::object();
+    case Kind::table_or_function:
+      return v.ref != LUA_NOREF ? nlohmann::json("<function>") : nlohmann::json::object();
   }
   return {};
 }
@@ -257,6 +259,14 @@ struct ScriptHost::Impl {
       case Kind::table:
         if (t != LUA_TTABLE) throw fail(got);
         break;
+      case Kind::table_or_function:  // a table is read by the section itself
+        if (t == LUA_TFUNCTION) {
+          lua_pushvalue(L, idx);
+          v.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+        } else if (t != LUA_TTABLE) {
+          throw fail(got);
+        }
+        break;
     }
     return v;
   }
@@ -292,6 +302,7 @@ struct ScriptHost::Impl {
         break;
       case Kind::function:
       case Kind::table:
+      case Kind::table_or_function:
         throw InvalidInput(at + name + " cannot be set from the command line");
     }
     return v;
@@ -376,7 +387,8 @@ struct ScriptHost::Impl {
         }
       }
       Value& v = values[f->name];
-      if (!v.present && f->kind != Kind::function && f->kind != Kind::table) {
+      const bool structured = f->kind == Kind::function || f->kind == Kind::table || f->kind == Kind::table_or_function;
+      if (!v.present && !structured) {
         if (f->default_text.empty())
           throw InvalidInput(at + section + "{...} needs '" + f->name + "' (" + allowed_text(*f) + ")");
         if (f->default_text.find("cells.") == std::string::npos) {
@@ -386,7 +398,8 @@ struct ScriptHost::Impl {
         }
       }
       check_range(*f, v, value_at);
-      if (record && f->kind != Kind::table && (v.present || f->default_text.find("cells.") == std::string::npos))
+      if (record && f->kind != Kind::table && f->kind != Kind::table_or_function &&
+          (v.present || f->default_text.find("cells.") == std::string::npos))
         (*record)[f->name] = to_json(*f, v);
     }
     return values;
@@ -411,6 +424,11 @@ void section_run(Impl& I, const std::string& at);
 void section_venation(Impl& I, const std::string& at);
 void section_leaf(Impl& I, const std::string& at);
 void section_colonisation(Impl& I, const std::string& at);
+void section_domain(Impl& I, const std::string& section, const std::string& at);  // volume{}, surface{}
+/// After the script ran: checks and completes a space-colonisation configuration.
+void finish_colonisation(Impl& I);
+/// Rewrites a venation::Domain message ("domain.initial_nodes[2] ...") with the script's names.
+std::string script_domain_message(const std::string& message, const std::string& section);
 void section_print(Impl& I, const std::string& at);
 void section_output(Impl& I, const std::string& at);
 void section_shape(Impl& I, const std::string& kind, const std::string& at);

@@ -206,6 +206,11 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
+// Calls params.progress (if any); throws core::Cancelled when it asks to stop.
+void report_progress(const ThickenParams& params, double fraction) {
+  if (params.progress && !params.progress(fraction)) throw core::Cancelled();
+}
+
 // More threads than cores cannot help, and TBB warns on stderr when asked for them.
 int arena_threads(int threads) {
   return threads > 0 ? std::min(threads, core::hardware_threads()) : tbb::task_arena::automatic;
@@ -345,43 +350,53 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     std::vector<std::unique_ptr<FloatLeaf>> leaves(nleaves);
     const float bg = static_cast<float>(band);
     const double nudge = 1e-3 * voxel;  // mm: moves the surface by at most this much
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaves, 16), [&](const tbb::blocked_range<std::size_t>& r) {
-      std::array<double, FloatLeaf::SIZE> d;
-      for (std::size_t l = r.begin(); l < r.end(); ++l) {
-        const openvdb::Coord origin = leaf_origin(refs[runs[l]].leaf);
-        const openvdb::Coord last = origin.offsetBy(FloatLeaf::DIM - 1);
-        d.fill(band);
-        for (std::size_t k = runs[l]; k < runs[l + 1]; ++k) {
-          const std::uint32_t i = refs[k].prim;
-          const openvdb::Coord a = openvdb::Coord::maxComponent(boxes[i].lo, origin);
-          const openvdb::Coord b = openvdb::Coord::minComponent(boxes[i].hi, last);
-          for (int x = a.x(); x <= b.x(); ++x)
-            for (int y = a.y(); y <= b.y(); ++y)
-              for (int z = a.z(); z <= b.z(); ++z) {
-                const Vec3 p(x * voxel, y * voxel, z * voxel);
-                const double dist = i < caps.size() ? caps[i].distance(p) : slabs[i - caps.size()].distance(p);
-                double& slot = d[FloatLeaf::coordToOffset(openvdb::Coord(x, y, z))];
-                slot = std::min(slot, dist);
-              }
-        }
-        bool any = false;
-        for (double v : d) any = any || std::abs(v) < band;
-        if (!any) continue;  // entirely inside or outside: the flood fill below supplies the sign
-        auto leaf = std::make_unique<FloatLeaf>(origin, bg, false);
-        for (openvdb::Index n = 0; n < FloatLeaf::SIZE; ++n) {
-          const double v = d[n];
-          // A value at or next to 0 puts the crossings of several voxel edges on the same point and
-          // volumeToMesh then emits distinct vertices at one position (zero-area triangles); push it off.
-          if (std::abs(v) < nudge)
-            leaf->setValueOn(n, static_cast<float>(v < 0 ? -nudge : nudge));
-          else if (std::abs(v) < band)
-            leaf->setValueOn(n, static_cast<float>(v));
-          else
-            leaf->setValueOff(n, v < 0 ? -bg : bg);
-        }
-        leaves[l] = std::move(leaf);
-      }
-    });
+    // Leaves in blocks, so the progress callback runs on this thread between them; the blocks split
+    // the work the same way for any thread count, and each leaf is computed alone anyway.
+    const std::size_t block = std::max<std::size_t>(256, nleaves / 64 + 1);
+    for (std::size_t first = 0; first < nleaves; first += block) {
+      report_progress(params, static_cast<double>(first) / static_cast<double>(nleaves));
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(first, std::min(nleaves, first + block), 16),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          std::array<double, FloatLeaf::SIZE> d;
+                          for (std::size_t l = r.begin(); l < r.end(); ++l) {
+                            const openvdb::Coord origin = leaf_origin(refs[runs[l]].leaf);
+                            const openvdb::Coord last = origin.offsetBy(FloatLeaf::DIM - 1);
+                            d.fill(band);
+                            for (std::size_t k = runs[l]; k < runs[l + 1]; ++k) {
+                              const std::uint32_t i = refs[k].prim;
+                              const openvdb::Coord a = openvdb::Coord::maxComponent(boxes[i].lo, origin);
+                              const openvdb::Coord b = openvdb::Coord::minComponent(boxes[i].hi, last);
+                              for (int x = a.x(); x <= b.x(); ++x)
+                                for (int y = a.y(); y <= b.y(); ++y)
+                                  for (int z = a.z(); z <= b.z(); ++z) {
+                                    const Vec3 p(x * voxel, y * voxel, z * voxel);
+                                    const double dist =
+                                        i < caps.size() ? caps[i].distance(p) : slabs[i - caps.size()].distance(p);
+                                    double& slot = d[FloatLeaf::coordToOffset(openvdb::Coord(x, y, z))];
+                                    slot = std::min(slot, dist);
+                                  }
+                            }
+                            bool any = false;
+                            for (double v : d) any = any || std::abs(v) < band;
+                            if (!any) continue;  // entirely inside or outside: the flood fill below supplies the sign
+                            auto leaf = std::make_unique<FloatLeaf>(origin, bg, false);
+                            for (openvdb::Index n = 0; n < FloatLeaf::SIZE; ++n) {
+                              const double v = d[n];
+                              // A value at or next to 0 puts the crossings of several voxel edges on the same point and
+                              // volumeToMesh then emits distinct vertices at one position (zero-area triangles); push
+                              // it off.
+                              if (std::abs(v) < nudge)
+                                leaf->setValueOn(n, static_cast<float>(v < 0 ? -nudge : nudge));
+                              else if (std::abs(v) < band)
+                                leaf->setValueOn(n, static_cast<float>(v));
+                              else
+                                leaf->setValueOff(n, v < 0 ? -bg : bg);
+                            }
+                            leaves[l] = std::move(leaf);
+                          }
+                        });
+    }
+    report_progress(params, 1.0);
     auto& tree = grid->tree();
     for (auto& leaf : leaves)
       if (leaf) tree.addLeaf(leaf.release());
@@ -514,7 +529,9 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
   std::size_t repaired = 0, intersections = 0;
   tbb::task_arena arena(arena_threads(params.threads));
   arena.execute([&] {
+    report_progress(params, 0.0);
     mesh = mesh_once(grid, params.adaptivity, nullptr);
+    report_progress(params, 0.5);
     if (params.adaptivity <= 0) return;  // uniform dual contouring: no folds seen in any test
     // Adaptive merging can fold triangles into each other at creases. Find every intersecting pair and
     // mesh the voxels around them again without merging, until none is left (at most a few passes).
@@ -522,6 +539,7 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
     openvdb::BoolTree recheck(false);  // the re-meshed regions widened by 3 voxels: only there can new folds appear
     auto pairs = self_intersecting_pairs(mesh, params.threads);
     for (int pass = 0; pass < 4 && !pairs.empty(); ++pass) {
+      report_progress(params, 0.6 + 0.1 * pass);
       const double a = pass < 3 ? params.adaptivity : 0.0;  // last resort: no merging anywhere
       const int margin = 2 + 2 * pass;                      // voxels
       const auto box = [&](std::uint32_t t, int m) {
@@ -568,6 +586,7 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
     }
     intersections = pairs.size();
   });
+  report_progress(params, 1.0);
   // volumeToMesh winds level sets inward. Flip the whole mesh, never single parts: an inner wall of a
   // hollow part correctly has negative volume on its own.
   double volume = signed_volume(mesh);

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -36,6 +37,10 @@ struct ThickenParams {
   double max_memory_bytes = 2e9;  ///< refuse (core::InvalidInput) when the estimated peak memory exceeds this
   int threads = 0;                ///< worker threads; 0 = all cores. Output is bitwise identical for any value
   bool fill_cavities = false;     ///< fill closed pockets inside the solid (drop their inner walls)
+  /// Called on the calling thread between blocks of work with the fraction of the stage done (0..1,
+  /// non-decreasing within voxelise() and within mesh_level_set()); return false to stop, which throws
+  /// core::Cancelled (OpenVDB's interrupter idea). Empty = never stops. Does not change the output.
+  std::function<bool(double)> progress;
 };
 
 /// What thicken() did.

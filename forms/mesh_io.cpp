@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <mutex>
 #include <string>
 
 #include "core/errors.h"
@@ -105,10 +106,20 @@ class SoupImporter final : public om::IO::BaseImporter {
 };
 
 // OpenMesh reports problems on its own log streams; library code must not print, so they are muted while
-// a file is read and restored afterwards.
+// a file is read and restored afterwards. The streams are process-wide, so readers take turns (a mutex):
+// two overlapping reads would otherwise restore each other's state in the wrong order.
+std::mutex& openmesh_log_mutex() {
+  static std::mutex m;
+  return m;
+}
+
 class MuteOpenMesh {
  public:
-  MuteOpenMesh() : err_(::omerr().is_enabled()), out_(::omout().is_enabled()), log_(::omlog().is_enabled()) {
+  MuteOpenMesh()
+      : lock_(openmesh_log_mutex()),
+        err_(::omerr().is_enabled()),
+        out_(::omout().is_enabled()),
+        log_(::omlog().is_enabled()) {
     ::omerr().disable();
     ::omout().disable();
     ::omlog().disable();
@@ -122,6 +133,7 @@ class MuteOpenMesh {
   MuteOpenMesh& operator=(const MuteOpenMesh&) = delete;
 
  private:
+  std::lock_guard<std::mutex> lock_;
   bool err_, out_, log_;
 };
 

@@ -68,7 +68,11 @@ Scene::Scene(SceneDescription description, std::uint64_t seed)
 
 void Scene::apply_petioles(std::uint64_t step) {
   for (const PetioleSpec& p : desc_.petioles)
-    if (p.step == step) make_petiole(sim_.cells(), p.at, p.fixed, desc_.cells.rest_length);
+    if (p.step == step) try {
+        make_petiole(sim_.cells(), p.at, p.fixed, desc_.cells.rest_length);
+      } catch (const core::InvalidInput& e) {
+        throw core::InvalidInput(p.origin + "petiole (step " + std::to_string(step) + "): " + e.what());
+      }
 }
 
 void Scene::start() {

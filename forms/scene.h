@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "cells/simulation.h"
@@ -17,6 +18,7 @@ struct PetioleSpec {
   Vec3 at = Vec3::Zero();  ///< model units
   bool fixed = true;       ///< the petiole does not move
   std::uint64_t step = 0;  ///< when it appears
+  std::string origin;      ///< where it was asked for (e.g. "leaf.lua:12: "), prefixed to error messages
 };
 
 /// Everything a scene is made of, as plain data.

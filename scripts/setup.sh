@@ -4,7 +4,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 packages=(cmake g++ make pkg-config libopenmesh-dev libnanoflann-dev libeigen3-dev libopenvdb-dev
-          libboost-iostreams-dev libtbb-dev catch2 liblua5.4-dev nlohmann-json3-dev openscad admesh)
+          libboost-iostreams-dev libtbb-dev catch2 liblua5.4-dev nlohmann-json3-dev libcairo2-dev openscad admesh)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

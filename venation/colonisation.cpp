@@ -3,12 +3,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <unordered_map>
 
 #include "core/errors.h"
 #include "core/parallel.h"
 #include "core/random.h"
+#include "venation/domain.h"
 
 namespace cellform::venation {
 
@@ -45,7 +47,7 @@ class SourceGrid {
   /// Any source within squared distance r2 (r <= cell size) of p.
   bool any_within(const Vec3& p, double r2, const std::vector<Vec3>& pos) const {
     const long x = cx(p.x()), y = cx(p.y()), z = cx(p.z());
-    const long dz_max = planar_ ? 0 : 1;  // leaves: every point has z = 0
+    const long dz_max = planar_ && p.z() == 0 ? 0 : 1;  // leaves: every point has z = 0
     for (long dz = -dz_max; dz <= dz_max; ++dz)
       for (long dy = -1; dy <= 1; ++dy)
         for (long dx = -1; dx <= 1; ++dx) {
@@ -194,6 +196,10 @@ struct Colonisation::Impl {
   std::vector<Index> nb, infl_start, infl, touched, child;
   std::vector<Vec3> acc;
 
+  // 3-D domains (domain.h): darts from the domain, nodes kept in it, neighbourhoods found in 3-D
+  std::optional<PreparedDomain> region;
+  std::vector<Vec3> darts;
+
   Impl(const Leaf& l, const ColonisationParams& params) : leaf(l), p(params), unit(l.outline), rng(params.seed) {
     petiole = lift(leaf.petiole);
     sigma = p.initial_scale;
@@ -212,6 +218,47 @@ struct Colonisation::Impl {
     for (const Vec2& s : leaf.initial_sources) add_source(petiole + p.initial_scale * (lift(s) - petiole));
     rep.scale = sigma;
     rep.nodes = nodes.size();
+  }
+
+  /// A volume or surface: no blade, no growth; seed nodes and sources as given, in model units.
+  Impl(const Domain& d, const ColonisationParams& params) : p(params), rng(params.seed), region(std::in_place, d) {
+    petiole = Vec3::Zero();
+    sigma = 1;
+    for (const Vec3& s : d.initial_nodes) add_node(s, kNoIndex, 0);
+    grid.reset(p.source_birth_distance);
+    for (const Vec3& s : d.initial_sources) add_source(s);
+    rep.nodes = nodes.size();
+  }
+
+  /// 3-D: the nearest node (last step's is a valid start: nodes never move) and, closed, V(s) by the
+  /// exact 3-D relative neighbourhood (the planar sectors do not apply).
+  void influence_3d(Index s, std::vector<Index>& out, bool closed, PointTree::Scratch& scratch) {
+    nodes.nearest(src[s], near[s], near_d2[s]);
+    if (closed) nodes.relative_neighbourhood(src[s], out, scratch);
+  }
+
+  /// 3-D: moves the Eq. 1 node q of v into the domain. Where sources pulling v apart made that node
+  /// already (its child there is farther from each of them than v, so v stays their nearest node and
+  /// the step would only repeat), v grows towards its nearest influencing source alone, which splits
+  /// the set as in Figure 6k. False if v cannot advance (the projection undoes the step).
+  bool place_3d(Index v, Vec3& q, double D) const {
+    const Vec3& from = nodes.point(v);
+    q = region->project(q);
+    if (has_child_at(v, q, D)) {
+      Index best = kNoIndex;
+      double best_d2 = 0;
+      for (std::size_t a = 0; a < active.size(); ++a) {
+        const Index s = active[a];
+        const double d2 = (src[s] - from).squaredNorm();
+        if (influenced_by(a, v) && (best == kNoIndex || d2 < best_d2)) {
+          best = s;
+          best_d2 = d2;
+        }
+      }
+      if (best == kNoIndex) return false;
+      q = region->project(from + D * (src[best] - from) / std::sqrt(best_d2));
+    }
+    return (q - from).squaredNorm() >= 0.01 * D * D;
   }
 
   /// Eq. 4 at t = grown: y_t(y_0) by the trapezoid rule from 0 (the petiole), on 4097 heights.
@@ -310,6 +357,16 @@ struct Colonisation::Impl {
   }
 
   void throw_darts(double bs2, double bv2) {
+    if (region) {
+      darts.clear();
+      region->throw_darts(p.darts_per_area, rng, darts);
+      for (const Vec3& q : darts) {
+        ++rep.darts;
+        if (grid.any_within(q, bs2, src) || nodes.any_within(q, bv2)) continue;
+        add_source(q);
+      }
+      return;
+    }
     const double area = nonuniform ? current.area() : unit.area() * sigma * sigma;  // of the actual leaf
     const double expected = p.darts_per_area * area;
     auto count = static_cast<std::size_t>(std::floor(expected));
@@ -384,6 +441,10 @@ struct Colonisation::Impl {
   }
 
   void sector_update(Index s, std::vector<Index>& out, bool closed, PointTree::Scratch& scratch) {
+    if (region) {  // 3-D: no planar sectors
+      influence_3d(s, out, closed, scratch);
+      return;
+    }
     Sectors& st = sectors[s];
     const Vec3& q = src[s];
     if (!st.ready) {
@@ -516,7 +577,8 @@ struct Colonisation::Impl {
       acc[v].setZero();
       const double len = n.norm();
       if (!(len > 1e-9)) continue;  // opposite sources cancel: no direction (Eq. 1 undefined)
-      const Vec3 q = nodes.point(v) + D * n / len;
+      Vec3 q = nodes.point(v) + D * n / len;
+      if (region && !place_3d(v, q, D)) continue;
       if (has_child_at(v, q, D)) continue;
       child[v] = add_node(q, v, static_cast<std::uint32_t>(rep.steps + 1));
     }
@@ -597,6 +659,16 @@ Colonisation::Colonisation(const Leaf& leaf, const ColonisationParams& params) {
   validate(leaf);
   impl_ = std::make_unique<Impl>(leaf, params);
 }
+Colonisation::Colonisation(const Domain& domain, const ColonisationParams& params) {
+  validate(params);
+  validate(domain, params);
+  if (domain.kind == DomainKind::leaf) {
+    validate(domain.leaf);
+    impl_ = std::make_unique<Impl>(domain.leaf, params);
+  } else {
+    impl_ = std::make_unique<Impl>(domain, params);  // PreparedDomain validates the domain
+  }
+}
 Colonisation::~Colonisation() = default;
 Colonisation::Colonisation(Colonisation&&) noexcept = default;
 Colonisation& Colonisation::operator=(Colonisation&&) noexcept = default;
@@ -636,6 +708,7 @@ std::vector<Vec3> Colonisation::sources() const {
 }
 
 Outline Colonisation::outline() const {
+  if (impl_->region) return {};
   if (impl_->nonuniform) return impl_->current.outline();
   Outline o = impl_->leaf.outline;
   for (Vec2& q : o.points) q = impl_->leaf.petiole + impl_->sigma * (q - impl_->leaf.petiole);
@@ -647,6 +720,13 @@ const ColonisationReport& Colonisation::report() const { return impl_->rep; }
 std::pair<VeinTree, ColonisationReport> colonise(const Leaf& leaf, const ColonisationParams& params,
                                                  const ColonisationProgress& progress) {
   Colonisation c(leaf, params);
+  c.run(progress);
+  return {c.tree(), c.report()};
+}
+
+std::pair<VeinTree, ColonisationReport> colonise(const Domain& domain, const ColonisationParams& params,
+                                                 const ColonisationProgress& progress) {
+  Colonisation c(domain, params);
   c.run(progress);
   return {c.tree(), c.report()};
 }

@@ -90,6 +90,8 @@ struct Leaf {
 /// (more than 1e-6 of the leaf size outside its closed outline).
 void validate(const Leaf& leaf);
 
+struct Domain;  // venation/domain.h: a leaf, a volume or a surface
+
 /// The vein graph. Nodes are in creation order, so a parent always precedes its children.
 struct VeinTree {
   std::vector<Vec3> positions;                       ///< model units (z = 0 for leaves), in the grown leaf's frame
@@ -130,6 +132,9 @@ class Colonisation {
  public:
   /// Validates both arguments (core::InvalidInput) and places the seed nodes.
   Colonisation(const Leaf& leaf, const ColonisationParams& params);
+  /// Any source domain (domain.h): a leaf as above, or sources in a volume or on a surface in 3-D.
+  /// Validates the domain, the parameters and their combination (core::InvalidInput).
+  Colonisation(const Domain& domain, const ColonisationParams& params);
   ~Colonisation();
   Colonisation(Colonisation&&) noexcept;
   Colonisation& operator=(Colonisation&&) noexcept;
@@ -148,7 +153,7 @@ class Colonisation {
   VeinTree tree() const;
   /// Alive sources, same frame.
   std::vector<Vec3> sources() const;
-  /// The current blade outline, same frame.
+  /// The current blade outline, same frame (empty for a 3-D domain).
   Outline outline() const;
   const ColonisationReport& report() const;
 
@@ -159,6 +164,10 @@ class Colonisation {
 
 /// One-off run: a Colonisation stepped until done. Returns the tree and the report.
 std::pair<VeinTree, ColonisationReport> colonise(const Leaf& leaf, const ColonisationParams& params,
+                                                 const ColonisationProgress& progress = {});
+
+/// One-off run in any source domain (domain.h).
+std::pair<VeinTree, ColonisationReport> colonise(const Domain& domain, const ColonisationParams& params,
                                                  const ColonisationProgress& progress = {});
 
 /// Vein widths by Murray's law (Section 3.5).

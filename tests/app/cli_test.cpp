@@ -71,6 +71,14 @@ TEST_CASE("input errors exit with 2 and one clear line", "[cli]") {
   r = cli({"run", ok.string(), "--set", "sise=3", "--out", (t.path / "o").string()});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("did you mean 'size'"));
+  // a petiole placed away from the form is reported at its script line, also when it appears later
+  const auto far = t.write("far.lua",
+                           "venation {}\nrun { steps = 5 }\ndisc { radius = 3 }\npetiole { at = {0, -3, 0} }\n"
+                           "petiole { at = {50, 0, 0}, step = 2 }\n");
+  r = cli({"run", far.string(), "--out", (t.path / "far").string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("far.lua:5:"));
+  CHECK_THAT(r.err, Contains("from the nearest cell"));
 }
 
 TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {
@@ -246,7 +254,14 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
     CHECK_THAT(r.out, Contains("printable"));
   }
   r = cli({"check", (out / "printable.stl").string(), "--json"});
-  CHECK(nlohmann::json::parse(r.out)["printable"] == true);
+  const auto checked = nlohmann::json::parse(r.out);
+  CHECK(checked["printable"] == true);
+  // veins are raised to print.min_radius = 0.4 mm: about 0.8 mm through, less a voxel or two (0.2 mm)
+  const auto& wall = checked["wall_thickness_mm"];
+  INFO(wall.dump());
+  CHECK(wall["p01"].get<double>() > 0.6);
+  CHECK(wall["min"].get<double>() > 0.1);  // single rays at the crotch of a junction can be short
+  CHECK(wall["missed"].get<std::size_t>() * 20 < wall["samples"].get<std::size_t>());
 
   SECTION("a form that falls apart is an error when one piece is required") {
     const auto two = t.write("two.lua",
@@ -285,4 +300,62 @@ TEST_CASE("cellform check reports broken and unreadable meshes", "[cli][check]")
   CHECK_THAT(r.err, Contains("garbage.stl"));
   CHECK(cli({"check"}).code == 2);
   CHECK(cli({"check", (t.path / "none.stl").string()}).code == 2);
+}
+
+TEST_CASE("3-D space colonisation: veins in a volume and on a grown cell sheet", "[cli][colonisation]") {
+  TempDir t("cli-col3d");
+  SECTION("a ball, closed veins, printed as one piece") {
+    const auto script =
+        t.write("ball.lua",
+                "volume { ball = { centre = {0, 0, 6}, radius = 6 } }\n"
+                "colonisation { type = 'closed', kill_distance = 1.5, birth_distance = 3, darts = 3000 }\n"
+                "print { pieces = 'one', size = 40 }\n");
+    const fs::path out = t.path / "ball";
+    auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+    CHECK(run["domain"] == "ball");
+    CHECK((run["status"] == "complete" || run["status"] == "stalled"));
+    CHECK(run["veins"]["loops"].get<int>() > 0);
+    CHECK(run["print"]["parts"] == 1);
+    CHECK(!fs::exists(out / "veins.svg"));  // no plane to draw a 3-D pattern in
+    CHECK(fs::file_size(out / "veins.ply") > 0);
+    r = cli({"check", (out / "printable.stl").string(), "--json"});
+    CHECK(nlohmann::json::parse(r.out)["printable"] == true);
+    // same result with more threads
+    REQUIRE(cli({"run", script.string(), "--out", (t.path / "ball2").string(), "--quiet", "--threads", "2"}).code == 0);
+    CHECK(slurp(out / "veins.ply") == slurp(t.path / "ball2" / "veins.ply"));
+  }
+  SECTION("surface{cells = true}: the cells grow first, the veins grow on their sheet") {
+    const auto script =
+        t.write("sheet.lua",
+                "cells { time_step = 0.2, separation = 0.05, drag = {0.8, 0.8, 0.3} }\n"
+                "division { trigger = 'age', age = 6, min_age = 3, probability = 0.5, max_cells = 400 }\n"
+                "run { steps = 60 }\n"
+                "disc { radius = 4 }\n"
+                "petiole { at = {0, -4, 0} }\n"
+                "surface { cells = true }\n"
+                "colonisation { kill_distance = 1, birth_distance = 2, darts = 20000 }\n"
+                "print { shell = true, size = 30 }\n");
+    const fs::path out = t.path / "sheet";
+    auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+    CHECK(run["domain"] == "surface");
+    CHECK(run["cells"]["final"].get<int>() > run["cells"]["initial"].get<int>());
+    CHECK(run["veins"]["nodes"].get<int>() > 10);
+    CHECK(run["print"]["shell_triangles"].get<int>() > 0);
+    CHECK(fs::file_size(out / "cells.ply") > 0);
+    CHECK(fs::file_size(out / "printable.stl") > 0);
+  }
+  SECTION("bad domains are input errors") {
+    const auto bad = t.write("bad.lua",
+                             "volume { box = { min = {0, 0, 0}, max = {5, 5, 5} }, seeds = {{9, 9, 9}} }\n"
+                             "colonisation {}\n");
+    const auto r = cli({"run", bad.string(), "--out", (t.path / "bad").string(), "--quiet"});
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains("bad.lua:1:") && Contains("volume.seeds[1]"));
+  }
 }

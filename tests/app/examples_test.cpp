@@ -2,9 +2,14 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include <numeric>
+#include <sstream>
+
+#include "export/vein_png.h"
 #include "tests/app/test_util.h"
 
 using namespace cellform::test;
+using namespace cellform;
 namespace fs = std::filesystem;
 
 TEST_CASE("every example runs on small settings", "[examples]") {
@@ -22,14 +27,173 @@ TEST_CASE("every example runs on small settings", "[examples]") {
       INFO(r.err);
       REQUIRE(r.code == 0);
       const auto run = nlohmann::json::parse(slurp(out / "run.json"));
-      if (run.value("mode", "") == "colonisation") {  // space colonisation: veins in a leaf outline
+      if (run.value("mode", "") == "colonisation") {  // space colonisation: veins in a leaf, volume or surface
         CHECK(run["steps"]["completed"].get<int>() <= 60);
         CHECK(run["veins"]["nodes"].get<int>() > 10);
-        CHECK(fs::file_size(out / "veins.svg") > 0);
+        CHECK(fs::file_size(out / "veins.ply") > 0);
+        if (run["domain"] == "leaf") {
+          CHECK(fs::file_size(out / "veins.svg") > 0);
+        } else {  // a 3-D structural example prints as one watertight piece
+          REQUIRE(run.contains("print"));
+          CHECK(run["print"]["parts"] == 1);
+          const auto check = cli({"check", (out / "printable.stl").string(), "--json"});
+          CHECK(nlohmann::json::parse(check.out)["printable"] == true);
+        }
       } else {
         CHECK(run["steps"]["completed"] == 60);
         CHECK(run["cells"]["final"].get<int>() >= run["cells"]["initial"].get<int>());
         CHECK(fs::file_size(out / "cells.ply") > 0);
+      }
+    }
+  }
+}
+
+namespace {
+
+/// One Table 1 row of Runions et al. 2005 as a preset in examples/colonisation/ uses it.
+struct Preset {
+  const char* file;
+  const char* test_scale;  // --set scale=... for a quick run
+  const char* extra;       // another --set, or ""
+  bool closed;
+  double kill_distance, birth_distance, initial_length, darts;  // Table 1: d_k, b_s, L_i, rho x 10^6
+  const char* growth;
+  double murray_exponent;
+};
+
+/// The vein graph of veins.ply: node count, edges, and the independent cycles (edges - nodes + parts).
+struct Graph {
+  std::size_t nodes = 0, edges = 0, parts = 0, cycles = 0;
+};
+
+Graph read_vein_graph(const fs::path& ply) {
+  std::istringstream in(slurp(ply));
+  std::string line;
+  Graph g;
+  while (std::getline(in, line) && line != "end_header") {
+    std::istringstream ls(line);
+    std::string a, b;
+    std::size_t n = 0;
+    ls >> a >> b >> n;
+    if (a == "element" && b == "vertex") g.nodes = n;
+    if (a == "element" && b == "edge") g.edges = n;
+  }
+  for (std::size_t i = 0; i < g.nodes; ++i) std::getline(in, line);
+  std::vector<std::size_t> up(g.nodes);
+  std::iota(up.begin(), up.end(), 0);
+  auto find = [&](std::size_t x) {
+    while (up[x] != x) x = up[x] = up[up[x]];
+    return x;
+  };
+  std::size_t merged = 0;
+  for (std::size_t e = 0; e < g.edges; ++e) {
+    std::size_t a = 0, b = 0;
+    in >> a >> b;
+    REQUIRE(a < g.nodes);
+    REQUIRE(b < g.nodes);
+    const std::size_t ra = find(a), rb = find(b);
+    if (ra != rb) {
+      up[ra] = rb;
+      ++merged;
+    }
+  }
+  g.parts = g.nodes - merged;
+  g.cycles = g.edges - merged;
+  return g;
+}
+
+}  // namespace
+
+TEST_CASE("every Table 1 preset runs small and keeps the paper's parameters", "[examples][colonisation]") {
+  // Runions et al. 2005, Table 1 (initial_length before `scale`)
+  const std::vector<Preset> presets = {
+      {"parameter_search", "0.12", "panel=e", true, 1, 10, 270, 600, "marginal", 2},
+      {"slow_marginal_growth", "0.0015", "", false, 40, 1, 4500, 300, "marginal", 2},
+      {"ginkgo", "0.004", "", false, 100, 1, 10, 300, "marginal", 2},
+      {"alchemilla", "0.02", "", false, 10, 1, 3200, 200, "marginal", 2},
+      {"sweetgum", "0.01", "", false, 1, 1, 1200, 200, "marginal", 2},
+      {"toothed_margin", "0.008", "", true, 1, 10, 6600, 10, "marginal", 2},
+      {"tertiary_veins", "0.006", "", true, 1, 1, 3500, 20, "marginal", 2},
+      {"orchid", "0.02", "", true, 1, 10, 6500, 600, "none", 2},
+      {"reticulate", "0.03", "", true, 1, 15, 225, 200, "isogonic", 2},
+      {"nankin_cherry", "0.03", "", false, 30, 1, 1100, 40, "marginal", 2},
+      {"grass", "0.04", "", true, 1, 30, 13000, 100, "none", 2},
+      {"poplar", "0.01", "", true, 1, 2, 115, 200, "isogonic", 2},
+      {"developmental", "0.5", "", true, 1, 3, 23, 5000, "nonuniform", 3},
+      {"trillium", "0.06", "", true, 1, 30, 4500, 100, "none", 2},
+  };
+  // every preset is listed here, so none can rot untested
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(fs::path(CELLFORM_SOURCE_DIR) / "examples" / "colonisation"))
+    if (e.path().extension() == ".lua") files.push_back(e.path().stem().string());
+  std::sort(files.begin(), files.end());
+  std::vector<std::string> listed;
+  for (const Preset& p : presets) listed.push_back(p.file);
+  std::sort(listed.begin(), listed.end());
+  CHECK(files == listed);
+
+  TempDir t("presets");
+  for (const Preset& p : presets) {
+    DYNAMIC_SECTION(p.file) {
+      const fs::path script =
+          fs::path(CELLFORM_SOURCE_DIR) / "examples" / "colonisation" / (std::string(p.file) + ".lua");
+      const fs::path out = t.path / p.file;
+      std::vector<std::string> args{"run",
+                                    script.string(),
+                                    "--out",
+                                    out.string(),
+                                    "--quiet",
+                                    "--set",
+                                    std::string("scale=") + p.test_scale,
+                                    "--set",
+                                    "output.png=true",
+                                    "--set",
+                                    "output.png_size=256"};
+      if (*p.extra) args.insert(args.end(), {"--set", p.extra});
+      const auto r = cli(args);
+      INFO(r.err);
+      REQUIRE(r.code == 0);
+      const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+      const auto& c = run["parameters"]["colonisation"];
+      CHECK(c["type"] == (p.closed ? "closed" : "open"));
+      CHECK(c["growth"] == p.growth);
+      CHECK(c["birth_distance"].get<double>() == p.birth_distance);
+      CHECK(c["murray_exponent"].get<double>() == p.murray_exponent);
+      CHECK(c["kill_distance"].get<double>() == p.kill_distance);
+      CHECK(c["darts"].get<double>() == p.darts);
+      CHECK(c["initial_length"].get<double>() == Approx(p.initial_length * std::stod(p.test_scale)));
+      CHECK((run["status"] == "complete" || run["status"] == "stalled"));
+
+      const Graph g = read_vein_graph(out / "veins.ply");
+      CHECK(g.nodes == run["veins"]["nodes"].get<std::size_t>());
+      CHECK(g.nodes > 40);
+      // each anastomosis closes a loop, except those joining the trees of separate seed nodes (grass)
+      if (std::string(p.file) == "grass")
+        CHECK(g.cycles < run["veins"]["loops"].get<std::size_t>());
+      else
+        CHECK(g.cycles == run["veins"]["loops"].get<std::size_t>());
+      CHECK(g.parts == 1);  // one connected network: the seeds' trees are joined
+      if (p.closed) {
+        CHECK(g.cycles > 0);  // anastomoses close loops
+      } else {
+        CHECK(g.cycles == 0);  // open: a tree from the one seed node
+      }
+      CHECK(fs::file_size(out / "veins.svg") > 0);
+      // the PNG preview beside it: the requested size on the longer side, background and veins drawn
+      const exporters::Image img = exporters::read_png(out / "veins.png");
+      CHECK(std::max(img.width, img.height) == 256);
+      CHECK((img.at(0, 0) & 0xffffff) == exporters::PngParams{}.background);
+      // vein pixels: dark green (G 0x3a; antialiased thin veins lighter), unlike blade (0xec) and margin (0x7a)
+      CHECK(std::count_if(img.pixels.begin(), img.pixels.end(),
+                          [](std::uint32_t px) { return ((px >> 8) & 0xff) < 0x60; }) > 20);
+      REQUIRE(fs::exists(out / "printable.stl"));
+      CHECK(run["print"]["parts"] == 1);
+      const auto check = cli({"check", (out / "printable.stl").string(), "--json"});
+      INFO(check.out << check.err);
+      CHECK(nlohmann::json::parse(check.out)["printable"] == true);  // watertight, manifold, no self-intersections
+      if (std::string(p.file) == "developmental") {
+        // the growth functions are calibrated so that the leaf grows from L_i to L_f = 184 (Table 1)
+        CHECK(run["veins"]["leaf_length"].get<double>() == Approx(184 * std::stod(p.test_scale)).epsilon(0.02));
       }
     }
   }

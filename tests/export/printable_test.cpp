@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cmath>
@@ -357,6 +358,44 @@ TEST_CASE("thickening is bitwise identical with 1 and 2 threads", "[printable]")
   for (std::size_t i = 0; i < a.vertices.size(); ++i) same = same && a.vertices[i] == b.vertices[i];
   CHECK(same);
   require_printable(a);
+}
+
+TEST_CASE("the progress callback sees each stage advance to 1 and can cancel it", "[printable]") {
+  const auto tree = random_tree(800, 11);
+  ThickenParams p;
+  p.voxel_size = 0.3;
+  const auto plain = exporters::thicken(tree, {}, p);
+
+  std::vector<double> seen;
+  p.progress = [&](double f) {
+    seen.push_back(f);
+    return true;
+  };
+  ThickenReport rep;
+  const exporters::LevelSet ls = exporters::voxelise(tree, {}, p, &rep);
+  const std::vector<double> voxel_stage = seen;
+  seen.clear();
+  const auto watched = exporters::mesh_level_set(ls, p, &rep);
+  const std::vector<double> mesh_stage = seen;
+  for (const auto* stage : {&voxel_stage, &mesh_stage}) {
+    REQUIRE(stage->size() >= 2);
+    CHECK(stage->front() == 0.0);
+    CHECK(stage->back() == 1.0);
+    CHECK(std::is_sorted(stage->begin(), stage->end()));
+  }
+  CHECK(voxel_stage.size() >= 3);  // at least one block boundary inside the leaf loop
+  // watching does not change the result
+  CHECK(watched.triangles == plain.triangles);
+  CHECK(watched.vertices == plain.vertices);
+
+  // stopping after the first call in either stage throws Cancelled
+  for (int stop_at : {1, 2}) {
+    int calls = 0;
+    p.progress = [&](double) { return ++calls < stop_at; };
+    CHECK_THROWS_AS(exporters::voxelise(tree, {}, p), core::Cancelled);
+    calls = 0;
+    CHECK_THROWS_AS(exporters::mesh_level_set(ls, p), core::Cancelled);
+  }
 }
 
 TEST_CASE("vein_segments and shell_triangles turn the model into primitives", "[printable]") {

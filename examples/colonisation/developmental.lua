@@ -1,0 +1,65 @@
+-- Leaf development under non-uniform anisotropic growth (Runions et al. 2005, Table 1 row
+-- "Developmental", Figures 5 and 20): the blade grows from a narrow to an almost circular shape while
+-- veins of successive orders emerge. Table 1: closed, d_k = 1, b_s = b_v = 3, L_i = 23, nonuniform growth
+-- to L_f = 184 (rates as in Figure 5), rho = 5000 x 10^-6, Murray n = 3.
+-- Figure 5's growth functions were drawn in a graphical editor and are not given as numbers; here the
+-- vertical rate REG_y = 1 + g_y falls from the base to the tip (basipetal growth) and the horizontal rate
+-- REG_x = 1 + g_x peaks below the middle, scaled so that the leaf grows from L_i to exactly L_f in
+-- `steps` steps and its width to `roundness` times its length (Appendix A: x_t = x_0 REG_x(y0)^t,
+-- y_t = integral_0^y0 REG_y(y)^t dy, Eq. 4). This is the paper's full size (about 1.4 s).
+-- `scale` multiplies L_i and L_f (the shape of growth stays).
+
+local P = params {
+  scale = 1,        -- fraction of Table 1's leaf size (1 = the paper's)
+  steps = 60,       -- steps of growth
+  roundness = 0.9,  -- final width / final length (Figure 5b is almost circular)
+}
+
+local initial_length, final_length, initial_width = 23 * P.scale, 184 * P.scale, 0.3
+
+-- shapes of g_y and g_x over the initial height y0 (0 = petiole, 1 = tip)
+local function gy_shape(y) return 1.3 - 0.8 * math.min(math.max(y, 0), 1) end
+local function gx_shape(y)
+  local u = math.min(math.max(y, 0), 1)
+  return 0.4 + math.sin(math.pi * u ^ 0.8)
+end
+
+-- Eq. 4 at t = steps for the blade from 0 to 1 (midpoint rule): the length growth factor
+local function length_factor(a)
+  local sum, n = 0, 400
+  for i = 1, n do sum = sum + (1 + a * gy_shape((i - 0.5) / n)) ^ P.steps end
+  return sum / n
+end
+local function solve(f, target)  -- bisection for the amplitude a > 0 with f(a) = target
+  local lo, hi = 0, 1
+  while f(hi) < target do hi = hi * 2 end
+  for _ = 1, 100 do
+    local mid = 0.5 * (lo + hi)
+    if f(mid) < target then lo = mid else hi = mid end
+  end
+  return 0.5 * (lo + hi)
+end
+local ay = solve(length_factor, final_length / initial_length)
+-- the widest point (where gx_shape peaks) widens by roundness * final length / initial width
+local peak = 0
+for i = 0, 100 do peak = math.max(peak, gx_shape(i / 100)) end
+local ax = ((P.roundness * final_length / (initial_width * initial_length)) ^ (1 / P.steps) - 1) / peak
+
+run { seed = 20 }
+
+leaf { shape = "ellipse", width = initial_width }
+
+colonisation {
+  type = "closed",
+  kill_distance = 1,   -- d_k
+  birth_distance = 3,  -- b_s = b_v
+  growth = "nonuniform",
+  initial_length = initial_length,  -- L_i
+  growth_x = function(y0) return 1 + ax * gx_shape(y0) end,  -- REG_x, Figure 5c
+  growth_y = function(y0) return 1 + ay * gy_shape(y0) end,  -- REG_y, Figure 5d
+  growth_steps = P.steps,
+  darts = 5000,        -- rho x 10^6
+  murray_exponent = 3, -- n = 3 for the developmental model
+}
+
+print { formats = "stl" }

@@ -1,0 +1,32 @@
+-- Poplar (Runions et al. 2005, Table 1 row "Poplar", Figures 18 and 19): a fine reticulate pattern in an
+-- isogonically growing, broadly ovate (deltoid-like) leaf with a crenate margin.
+-- Table 1: closed, d_k = 1, b_s = b_v = 2, L_i = 115, isogonic growth to L_f = 3500
+-- by Delta L = 9 per step, rho = 200 x 10^-6 darts per unit area per step, Murray n = 2.
+-- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
+-- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
+-- 1 / scale^2): the default, scale = 0.2, grows the leaf from 23 to 700 (about 5 s here);
+-- `--set scale=1` gives the paper's size.
+
+local P = params {
+  neighbourhood = "exact",  -- or "urquhart", the faster approximation of Section 5.2
+  scale = 0.2,  -- fraction of Table 1's leaf size (1 = the paper's)
+}
+
+run { seed = 18 }
+
+leaf { shape = "ovate", width = 0.85, teeth = 40, tooth_depth = 0.008 }
+
+colonisation {
+  type = "closed",
+  neighbourhood = P.neighbourhood,
+  kill_distance = 1,   -- d_k
+  birth_distance = 2,  -- b_s = b_v
+  growth = "isogonic",
+  initial_length = 115 * P.scale,  -- L_i
+  final_length = 3500 * P.scale,  -- L_f
+  length_step = 9 * P.scale,  -- Delta L
+  darts = 200,  -- rho x 10^6
+  murray_exponent = 2,
+}
+
+print { formats = "stl" }

@@ -1,0 +1,31 @@
+-- Sweetgum, Liquidambar styraciflua (Runions et al. 2005, Table 1 row "Sweetgum", Figure 12): open,
+-- actinodromous venation in a star-shaped (digitate) blade of five lobes.
+-- Table 1: open, d_k = 1, b_s = b_v = 1, L_i = 1200, marginal growth to L_f = 6700
+-- by Delta L = 7 per step, rho = 200 x 10^-6 darts per unit area per step, Murray n = 2.
+-- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
+-- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
+-- 1 / scale^2): the default, scale = 0.1, grows the leaf from 120 to 670 (about 17 s here);
+-- `--set scale=1` gives the paper's size.
+
+local P = params {
+  scale = 0.1,  -- fraction of Table 1's leaf size (1 = the paper's)
+}
+
+run { seed = 12 }
+
+-- (no teeth: triangular teeth on the palmate outline cross themselves at the petiole)
+leaf { shape = "palmate", lobes = 5, lobe_depth = 0.55, width = 1.5 }
+
+colonisation {
+  type = "open",
+  kill_distance = 1,   -- d_k
+  birth_distance = 1,  -- b_s = b_v
+  growth = "marginal",
+  initial_length = 1200 * P.scale,  -- L_i
+  final_length = 6700 * P.scale,  -- L_f
+  length_step = 7 * P.scale,  -- Delta L
+  darts = 200,  -- rho x 10^6
+  murray_exponent = 2,
+}
+
+print { formats = "stl" }

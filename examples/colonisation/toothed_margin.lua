@@ -1,0 +1,32 @@
+-- Toothed margin (Runions et al. 2005, Table 1 row "Toothed margin", Figure 13 left): closed venation
+-- with anastomoses in a toothed leaf with a lobe on each side; the veins extend into the lobes and teeth.
+-- Table 1: closed, d_k = 1, b_s = b_v = 10, L_i = 6600, marginal growth to L_f = 26,000
+-- by Delta L = 40 per step, rho = 10 x 10^-6 darts per unit area per step, Murray n = 2.
+-- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
+-- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
+-- 1 / scale^2): the default, scale = 0.1, grows the leaf from 660 to 2600 (about 21 s here);
+-- `--set scale=1` gives the paper's size.
+
+local P = params {
+  neighbourhood = "exact",  -- or "urquhart", the faster approximation of Section 5.2
+  scale = 0.1,  -- fraction of Table 1's leaf size (1 = the paper's)
+}
+
+run { seed = 13 }
+
+leaf { shape = "lobed", lobes = 1, lobe_depth = 0.3, width = 0.7, teeth = 36, tooth_depth = 0.015 }
+
+colonisation {
+  type = "closed",
+  neighbourhood = P.neighbourhood,
+  kill_distance = 1,   -- d_k
+  birth_distance = 10,  -- b_s = b_v
+  growth = "marginal",
+  initial_length = 6600 * P.scale,  -- L_i
+  final_length = 26000 * P.scale,  -- L_f
+  length_step = 40 * P.scale,  -- Delta L
+  darts = 10,  -- rho x 10^6
+  murray_exponent = 2,
+}
+
+print { formats = "stl" }

@@ -1,0 +1,215 @@
+// Ray-cast wall thickness over a bounding-volume hierarchy of the triangles.
+#include "export/thickness.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "core/parallel.h"
+
+namespace cellform::exporters {
+
+using core::Vec3;
+
+namespace {
+
+struct Bvh {
+  struct Node {
+    Vec3 lo, hi;
+    std::uint32_t first = 0, count = 0;  // leaf: triangles order[first, first + count)
+    std::uint32_t left = 0, right = 0;   // inner (count == 0)
+  };
+  std::vector<Node> nodes;
+  std::vector<std::uint32_t> order;
+};
+
+constexpr std::uint32_t kLeafSize = 4;
+
+Bvh build_bvh(const PrintableMesh& m) {
+  Bvh b;
+  const std::size_t n = m.triangles.size();
+  std::vector<Vec3> lo(n), hi(n), centre(n);
+  for (std::size_t t = 0; t < n; ++t) {
+    const auto& tri = m.triangles[t];
+    lo[t] = m.vertices[tri[0]].cwiseMin(m.vertices[tri[1]]).cwiseMin(m.vertices[tri[2]]);
+    hi[t] = m.vertices[tri[0]].cwiseMax(m.vertices[tri[1]]).cwiseMax(m.vertices[tri[2]]);
+    centre[t] = (lo[t] + hi[t]) / 2;
+  }
+  b.order.resize(n);
+  std::iota(b.order.begin(), b.order.end(), 0u);
+  b.nodes.reserve(2 * n / kLeafSize + 2);
+  struct Job {
+    std::uint32_t node, first, count;
+  };
+  std::vector<Job> stack;
+  b.nodes.emplace_back();
+  stack.push_back({0, 0, static_cast<std::uint32_t>(n)});
+  while (!stack.empty()) {
+    const Job j = stack.back();
+    stack.pop_back();
+    Vec3 blo = Vec3::Constant(std::numeric_limits<double>::infinity()), bhi = -blo;
+    Vec3 clo = blo, chi = bhi;
+    for (std::uint32_t k = j.first; k < j.first + j.count; ++k) {
+      const std::uint32_t t = b.order[k];
+      blo = blo.cwiseMin(lo[t]);
+      bhi = bhi.cwiseMax(hi[t]);
+      clo = clo.cwiseMin(centre[t]);
+      chi = chi.cwiseMax(centre[t]);
+    }
+    b.nodes[j.node].lo = blo;
+    b.nodes[j.node].hi = bhi;
+    if (j.count <= kLeafSize) {
+      b.nodes[j.node].first = j.first;
+      b.nodes[j.node].count = j.count;
+      continue;
+    }
+    int axis = 0;
+    (chi - clo).maxCoeff(&axis);
+    const std::uint32_t half = j.count / 2;
+    auto first = b.order.begin() + j.first;
+    // ties broken by index: the tree, and so every result, is the same on every run
+    std::nth_element(first, first + half, first + j.count, [&](std::uint32_t a, std::uint32_t c) {
+      return centre[a][axis] < centre[c][axis] || (centre[a][axis] == centre[c][axis] && a < c);
+    });
+    const auto left = static_cast<std::uint32_t>(b.nodes.size());
+    b.nodes.emplace_back();
+    b.nodes.emplace_back();
+    b.nodes[j.node].left = left;
+    b.nodes[j.node].right = left + 1;
+    stack.push_back({left, j.first, half});
+    stack.push_back({left + 1, j.first + half, j.count - half});
+  }
+  return b;
+}
+
+bool shares_vertex(const std::array<std::uint32_t, 3>& a, const std::array<std::uint32_t, 3>& b) {
+  for (std::uint32_t i : a)
+    if (i == b[0] || i == b[1] || i == b[2]) return true;
+  return false;
+}
+
+bool hits_box(const Vec3& o, const Vec3& inv, const Vec3& lo, const Vec3& hi, double t_max) {
+  double t0 = 0, t1 = t_max;
+  for (int a = 0; a < 3; ++a) {
+    double near = (lo[a] - o[a]) * inv[a], far = (hi[a] - o[a]) * inv[a];
+    if (near > far) std::swap(near, far);
+    if (std::isnan(near)) near = -std::numeric_limits<double>::infinity();  // 0 * inf: origin on the slab
+    if (std::isnan(far)) far = std::numeric_limits<double>::infinity();
+    t0 = std::max(t0, near);
+    t1 = std::min(t1, far);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+/// Möller-Trumbore; returns the ray parameter or a negative number.
+double ray_triangle(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 e1 = b - a, e2 = c - a;
+  const Vec3 p = d.cross(e2);
+  const double det = e1.dot(p);
+  if (std::abs(det) < 1e-300) return -1;
+  const double inv = 1 / det;
+  const Vec3 s = o - a;
+  const double u = s.dot(p) * inv;
+  if (u < 0 || u > 1) return -1;
+  const Vec3 q = s.cross(e1);
+  const double v = d.dot(q) * inv;
+  if (v < 0 || u + v > 1) return -1;
+  return e2.dot(q) * inv;
+}
+
+}  // namespace
+
+std::vector<double> triangle_thickness(const PrintableMesh& m, int threads) {
+  const std::size_t n = m.triangles.size();
+  std::vector<double> out(n, -1.0);
+  if (n == 0) return out;
+  const Bvh bvh = build_bvh(m);
+  const double extent = (bvh.nodes[0].hi - bvh.nodes[0].lo).norm();
+  const double eps = 1e-9 * extent;  // rays start at a centroid; hits closer than this are that triangle's own
+  core::parallel_for(
+      n, threads,
+      [&](std::size_t begin, std::size_t end) {
+        std::vector<std::uint32_t> stack;
+        for (std::size_t t = begin; t < end; ++t) {
+          const auto& tri = m.triangles[t];
+          const Vec3 &a = m.vertices[tri[0]], &b = m.vertices[tri[1]], &c = m.vertices[tri[2]];
+          const Vec3 normal = (b - a).cross(c - a);
+          const double len = normal.norm();
+          if (!(len > 0)) continue;
+          const Vec3 d = -normal / len;
+          const Vec3 o = (a + b + c) / 3;
+          const Vec3 inv = d.cwiseInverse();
+          double best = std::numeric_limits<double>::infinity();
+          std::uint32_t best_tri = 0;
+          stack.assign(1, 0);
+          while (!stack.empty()) {
+            const Bvh::Node& nd = bvh.nodes[stack.back()];
+            stack.pop_back();
+            if (!hits_box(o, inv, nd.lo, nd.hi, best)) continue;
+            if (nd.count == 0) {
+              stack.push_back(nd.left);
+              stack.push_back(nd.right);
+              continue;
+            }
+            for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) {
+              const std::uint32_t u = bvh.order[k];
+              const auto& h = m.triangles[u];
+              if (shares_vertex(tri, h)) continue;  // itself, or a fold at a crease: not the opposite wall
+              const double s = ray_triangle(o, d, m.vertices[h[0]], m.vertices[h[1]], m.vertices[h[2]]);
+              if (s > eps && (s < best || (s == best && u < best_tri))) {
+                best = s;
+                best_tri = u;
+              }
+            }
+          }
+          if (!std::isfinite(best)) continue;
+          const auto& h = m.triangles[best_tri];
+          const Vec3 hn = (m.vertices[h[1]] - m.vertices[h[0]]).cross(m.vertices[h[2]] - m.vertices[h[0]]);
+          if (hn.dot(d) > 0) out[t] = best;  // leaving the solid: a wall; else the ray went outside first
+        }
+      },
+      1024);
+  return out;
+}
+
+ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
+  ThicknessReport r;
+  const std::vector<double> th = triangle_thickness(m, threads);
+  std::vector<std::pair<double, double>> samples;  // (thickness, area)
+  double total = 0;
+  for (std::size_t t = 0; t < th.size(); ++t) {
+    const auto& tri = m.triangles[t];
+    const double area =
+        0.5 * (m.vertices[tri[1]] - m.vertices[tri[0]]).cross(m.vertices[tri[2]] - m.vertices[tri[0]]).norm();
+    if (!(area > 0)) continue;
+    if (th[t] < 0) {
+      ++r.missed;
+      continue;
+    }
+    samples.emplace_back(th[t], area);
+    total += area;
+    if (r.samples == 0 || th[t] < r.min) {
+      r.min = th[t];
+      r.min_at = (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3;
+    }
+    ++r.samples;
+  }
+  if (samples.empty()) return r;
+  std::sort(samples.begin(), samples.end());
+  auto quantile = [&](double q) {
+    double acc = 0;
+    for (const auto& [value, area] : samples) {
+      acc += area;
+      if (acc >= q * total) return value;
+    }
+    return samples.back().first;
+  };
+  r.p01 = quantile(0.01);
+  r.median = quantile(0.5);
+  return r;
+}
+
+}  // namespace cellform::exporters

@@ -1,0 +1,35 @@
+// Wall thickness of a printable mesh: where is the form too thin to print?
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "core/types.h"
+#include "export/mesh.h"
+
+namespace cellform::exporters {
+
+/// Local wall thickness by the ray method of print-preparation tools: from the centroid of each
+/// triangle a ray goes along the inward normal to the first triangle it meets that shares no vertex
+/// with it (neighbours only meet it at folds of a crease, not across the wall); if that triangle faces
+/// away from the ray (the ray leaves the solid there) the distance is the wall thickness at that
+/// triangle. For a tapered capsule this is its local diameter, for a shell its wall. Lengths are in the
+/// mesh's units (mm for cellform output). The mesh must be wound outward (positive volume).
+struct ThicknessReport {
+  std::size_t samples = 0;  ///< triangles whose ray left the solid through another triangle
+  std::size_t missed = 0;   ///< rays that met nothing or entered the solid (open, inverted or creased spots)
+  double min = 0;           ///< thinnest sample (0 if there is none); single rays in the crotch of a
+                            ///< junction can cut a corner, so p01 is the robust figure
+  core::Vec3 min_at = core::Vec3::Zero();  ///< centroid of the triangle of the thinnest sample
+  double p01 = 0;                          ///< 1st percentile of the samples, by area: 1% of the surface is thinner
+  double median = 0;                       ///< median of the samples, by area
+};
+
+/// Casts one ray per non-degenerate triangle through a bounding-volume hierarchy (median splits),
+/// O(T log T). Deterministic for any `threads` (0 = all cores).
+ThicknessReport wall_thickness(const PrintableMesh& mesh, int threads = 0);
+
+/// Per-triangle thickness of the same rays (negative where the ray missed), for colouring or tests.
+std::vector<double> triangle_thickness(const PrintableMesh& mesh, int threads = 0);
+
+}  // namespace cellform::exporters

@@ -1,0 +1,187 @@
+// Tests of export/thickness.h: exact walls of boxes, diameters of spheres and thickened veins, and the
+// hierarchy against casting every ray at every triangle.
+#include "export/thickness.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "core/random.h"
+#include "export/printable.h"
+
+using namespace cellform;
+using core::Vec3;
+using exporters::PrintableMesh;
+
+namespace {
+
+// An axis-aligned box from lo to hi, wound outward (or inward when `inward`), appended to m.
+void add_box(PrintableMesh& m, const Vec3& lo, const Vec3& hi, bool inward = false) {
+  const auto base = static_cast<std::uint32_t>(m.vertices.size());
+  for (int i = 0; i < 8; ++i)
+    m.vertices.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+  const std::uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                     {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads) {
+    std::array<std::uint32_t, 3> a{base + q[0], base + q[1], base + q[2]}, b{base + q[0], base + q[2], base + q[3]};
+    if (inward) {
+      std::swap(a[1], a[2]);
+      std::swap(b[1], b[2]);
+    }
+    m.triangles.push_back(a);
+    m.triangles.push_back(b);
+  }
+}
+
+// An icosphere: the icosahedron subdivided `levels` times, vertices on the sphere.
+PrintableMesh icosphere(double r, int levels) {
+  const double t = (1 + std::sqrt(5.0)) / 2;
+  PrintableMesh m;
+  for (const Vec3& v :
+       {Vec3(-1, t, 0), Vec3(1, t, 0), Vec3(-1, -t, 0), Vec3(1, -t, 0), Vec3(0, -1, t), Vec3(0, 1, t), Vec3(0, -1, -t),
+        Vec3(0, 1, -t), Vec3(t, 0, -1), Vec3(t, 0, 1), Vec3(-t, 0, -1), Vec3(-t, 0, 1)})
+    m.vertices.push_back(v.normalized() * r);
+  m.triangles = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                 {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  for (int l = 0; l < levels; ++l) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
+    auto middle = [&](std::uint32_t a, std::uint32_t b) {
+      const auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      m.vertices.push_back((m.vertices[a] + m.vertices[b]).normalized() * r);
+      return mid[key] = static_cast<std::uint32_t>(m.vertices.size() - 1);
+    };
+    std::vector<std::array<std::uint32_t, 3>> next;
+    for (const auto& f : m.triangles) {
+      const std::uint32_t a = middle(f[0], f[1]), b = middle(f[1], f[2]), c = middle(f[2], f[0]);
+      next.push_back({f[0], a, c});
+      next.push_back({f[1], b, a});
+      next.push_back({f[2], c, b});
+      next.push_back({a, b, c});
+    }
+    m.triangles = next;
+  }
+  return m;
+}
+
+// The same rays as triangle_thickness, against every triangle.
+std::vector<double> brute_force(const PrintableMesh& m) {
+  std::vector<double> out(m.triangles.size(), -1.0);
+  Vec3 lo = m.vertices[0], hi = lo;
+  for (const Vec3& v : m.vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  const double eps = 1e-9 * (hi - lo).norm();
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    const auto& f = m.triangles[t];
+    const Vec3 &a = m.vertices[f[0]], &b = m.vertices[f[1]], &c = m.vertices[f[2]];
+    const Vec3 n = (b - a).cross(c - a);
+    if (!(n.norm() > 0)) continue;
+    const Vec3 d = -n / n.norm(), o = (a + b + c) / 3;
+    double best = std::numeric_limits<double>::infinity();
+    std::size_t best_u = 0;
+    for (std::size_t u = 0; u < m.triangles.size(); ++u) {
+      const auto& h = m.triangles[u];
+      bool shared = false;
+      for (std::uint32_t i : f) shared = shared || i == h[0] || i == h[1] || i == h[2];
+      if (shared) continue;
+      const Vec3 e1 = m.vertices[h[1]] - m.vertices[h[0]], e2 = m.vertices[h[2]] - m.vertices[h[0]];
+      const Vec3 p = d.cross(e2);
+      const double det = e1.dot(p);
+      if (std::abs(det) < 1e-300) continue;
+      const double inv = 1 / det;  // the same arithmetic as the library, so the values agree exactly
+      const Vec3 s = o - m.vertices[h[0]], q = s.cross(e1);
+      const double uu = s.dot(p) * inv, vv = d.dot(q) * inv;
+      if (uu < 0 || uu > 1 || vv < 0 || uu + vv > 1) continue;
+      const double dist = e2.dot(q) * inv;
+      if (dist > eps && dist < best) {
+        best = dist;
+        best_u = u;
+      }
+    }
+    if (!std::isfinite(best)) continue;
+    const auto& h = m.triangles[best_u];
+    if ((m.vertices[h[1]] - m.vertices[h[0]]).cross(m.vertices[h[2]] - m.vertices[h[0]]).dot(d) > 0) out[t] = best;
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("the walls of a box are its three side lengths", "[thickness]") {
+  PrintableMesh m;
+  add_box(m, Vec3(0, 0, 0), Vec3(3, 5, 2));
+  const auto th = exporters::triangle_thickness(m);
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    const Vec3& a = m.vertices[m.triangles[t][0]];
+    const Vec3 n = (m.vertices[m.triangles[t][1]] - a).cross(m.vertices[m.triangles[t][2]] - a);
+    int axis = 0;
+    n.cwiseAbs().maxCoeff(&axis);
+    CHECK(th[t] == Approx((Vec3(3, 5, 2))[axis]).epsilon(1e-12));
+  }
+  const auto r = exporters::wall_thickness(m);
+  CHECK(r.samples == 12);
+  CHECK(r.missed == 0);
+  CHECK(r.min == Approx(2));
+  CHECK(r.min_at.z() == Approx(r.min_at.z() < 1 ? 0 : 2));
+  // area 30 at 2 (z faces), 20 at 3 (x faces), 12 at 5 (y faces): half of 62 is reached at 3
+  CHECK(r.median == Approx(3));
+  CHECK(r.p01 == Approx(2));
+}
+
+TEST_CASE("a hollow box has the wall between its outer and inner surfaces", "[thickness]") {
+  PrintableMesh m;
+  add_box(m, Vec3(0, 0, 0), Vec3(10, 10, 10));
+  add_box(m, Vec3(1, 1, 1), Vec3(9, 9, 9), true);  // the cavity, wound inward
+  const auto r = exporters::wall_thickness(m);
+  CHECK(r.samples == 24);
+  CHECK(r.min == Approx(1));
+  CHECK(r.median == Approx(1));
+}
+
+TEST_CASE("a sphere is as thick as its diameter; an open sheet is not measurable", "[thickness]") {
+  const auto r = exporters::wall_thickness(icosphere(3, 3));
+  CHECK(r.missed == 0);
+  CHECK(r.median == Approx(6).epsilon(0.01));
+  CHECK(r.min > 5.9);
+  PrintableMesh sheet;
+  sheet.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  sheet.triangles = {{0, 1, 2}};
+  const auto s = exporters::wall_thickness(sheet);
+  CHECK(s.samples == 0);
+  CHECK(s.missed == 1);
+}
+
+TEST_CASE("a thickened vein is as thick as its diameter, and the hierarchy equals the brute force", "[thickness]") {
+  // two capsules of radius 0.5 and 1 mm, joined
+  const std::vector<exporters::Segment> segs{{Vec3(0, 0, 0), Vec3(10, 0, 0), 0.5, 0.5},
+                                             {Vec3(10, 0, 0), Vec3(10, 12, 0), 1.0, 1.0}};
+  exporters::ThickenParams p;
+  p.scale = 1;
+  p.voxel_size = 0.08;
+  p.min_radius = 0.1;
+  const PrintableMesh m = exporters::thicken(segs, {}, p);
+  const auto th = exporters::triangle_thickness(m, 1);
+  CHECK(th == exporters::triangle_thickness(m, 2));
+  CHECK(th == brute_force(m));
+  const auto r = exporters::wall_thickness(m);
+  INFO("min " << r.min << " p01 " << r.p01 << " median " << r.median << " missed " << r.missed);
+  CHECK(r.missed < m.triangles.size() / 100);
+  CHECK(r.p01 == Approx(1.0).margin(2 * p.voxel_size));  // the thin capsule's diameter
+  CHECK(r.min > 1.0 - 3 * p.voxel_size);
+  CHECK(r.min_at.y() < 1.5);  // on the thin vein
+  // the thick capsule's flank is 2 mm through
+  std::size_t thick = 0, near_two = 0;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    const Vec3 c = (m.vertices[m.triangles[t][0]] + m.vertices[m.triangles[t][1]] + m.vertices[m.triangles[t][2]]) / 3;
+    if (c.y() < 3 || c.y() > 9 || th[t] < 0) continue;
+    ++thick;
+    near_two += std::abs(th[t] - 2.0) < 3 * p.voxel_size;
+  }
+  REQUIRE(thick > 100);
+  CHECK(near_two > thick * 9 / 10);
+}

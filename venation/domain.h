@@ -1,0 +1,115 @@
+// Where space colonisation throws its darts: a planar leaf blade, a 3-D volume, or a triangle surface.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "core/random.h"
+#include "core/types.h"
+#include "venation/colonisation.h"
+
+namespace cellform::venation {
+
+/// A triangle soup in model units (the venation library's own copy of forms::TriangleMesh, which it
+/// cannot depend on). Orientation does not matter.
+struct Mesh {
+  std::vector<Vec3> vertices;                   ///< model units
+  std::vector<std::array<Index, 3>> triangles;  ///< indices into vertices
+};
+
+/// The kind of region auxin sources are placed in.
+enum class DomainKind {
+  leaf,    ///< the planar blade of Runions et al. 2005 (Domain::leaf, z = 0), with its growth modes
+  box,     ///< the axis-aligned box [box_min, box_max]
+  ball,    ///< the ball of `radius` about `centre`
+  volume,  ///< the inside of the closed triangle mesh `mesh` (even-odd rule)
+  surface  ///< the triangles of `mesh` (any soup: open, closed, non-manifold)
+};
+
+/// The source domain of space colonisation. The 3-D kinds use the same algorithm as the leaf (Eq. 1 to
+/// 3, Euclidean distances in 3-D) with these differences:
+/// - darts: rho (ColonisationParams::darts_per_area) counts darts per unit volume (box, ball, volume) or
+///   per unit area (surface) per step. Volumes throw darts uniformly in their bounding box at that rate
+///   and drop the ones outside, so rho x volume darts fall inside on average; a surface throws
+///   floor(rho A) darts (plus one with probability of the remainder) at area-weighted uniform points of
+///   its triangles (A = total area);
+/// - vein nodes: a new node (Eq. 1) that falls outside a volume is moved to the closest point of its
+///   boundary; on a surface every new node is moved to the closest point of the surface, so the veins
+///   stay in the shell (segments between nodes are straight chords; sheets closer than D apart may be
+///   bridged; a node the projection brings back within D / 10 of its parent is not added, as the vein
+///   cannot advance there);
+/// - where sources pulling a node apart would only repeat its existing Eq. 1 child (which is farther
+///   from each of them than the node, so the node stays their nearest), the node grows towards its
+///   nearest influencing source alone; in 3-D such pairs are common and would otherwise stall the
+///   pattern with many sources left;
+/// - no blade growth (ColonisationParams::growth must be none, initial_scale 1) and, for closed patterns,
+///   the exact 3-D relative neighbourhood only (Urquhart's approximation is planar).
+struct Domain {
+  DomainKind kind = DomainKind::leaf;
+  Leaf leaf;                          ///< kind leaf: the blade and its seeds
+  Vec3 box_min = Vec3::Zero();        ///< box: lowest corner, model units
+  Vec3 box_max = Vec3::Ones();        ///< box: highest corner, model units (> box_min in x, y and z)
+  Vec3 centre = Vec3::Zero();         ///< ball: centre, model units
+  double radius = 1;                  ///< ball: radius, model units (> 0)
+  Mesh mesh;                          ///< volume (closed) or surface
+  std::vector<Vec3> initial_nodes;    ///< 3-D kinds: seed vein nodes (at least one), model units
+  std::vector<Vec3> initial_sources;  ///< 3-D kinds: sources present at step 0 (no birth-distance test)
+};
+
+/// Throws core::InvalidInput naming "domain.<field>" and what is allowed: for a leaf as validate(Leaf);
+/// for the 3-D kinds a box with min >= max, a radius <= 0, non-finite coordinates, an empty mesh or a
+/// triangle index out of range, a volume mesh that is not closed (an edge used by an odd number of
+/// triangles), no seed node, or a seed node or source outside the domain (farther than 1e-6 of the
+/// bounding-box diagonal from a volume, or from a surface).
+void validate(const Domain& domain);
+
+/// Throws core::InvalidInput naming the colonisation parameter when `params` cannot be used with the
+/// domain's kind: a 3-D domain needs growth none, initial_scale 1 and, for closed venation, the exact
+/// neighbourhood.
+void validate(const Domain& domain, const ColonisationParams& params);
+
+/// A 3-D domain prepared for repeated queries: dart throwing, inside tests and closest points (a
+/// bounding-volume hierarchy over the triangles; a uniform xy grid for the inside test of a mesh).
+class PreparedDomain {
+ public:
+  /// Validates the domain (as validate(Domain)) and builds the indexes. Not for kind leaf.
+  explicit PreparedDomain(const Domain& domain);
+  ~PreparedDomain();
+  PreparedDomain(PreparedDomain&&) noexcept;
+  PreparedDomain& operator=(PreparedDomain&&) noexcept;
+
+  /// Darts of one step at `rho` per unit volume or area (see Domain), appended to `out` in the order
+  /// thrown; only darts inside the domain are kept. Uses only `rng`: same seed, same darts.
+  void throw_darts(double rho, core::Rng& rng, std::vector<Vec3>& out) const;
+
+  /// Volume (box, ball; for a mesh volume its bounding box's) or surface area that darts are thrown
+  /// over, model units cubed or squared.
+  double dart_measure() const;
+
+  /// True if `q` is inside the volume or within `tolerance` (model units) of it, or within `tolerance`
+  /// of the surface.
+  bool contains(const Vec3& q, double tolerance) const;
+
+  /// Volume: `q` itself if inside, else the closest point of the boundary. Surface: the closest point
+  /// of the surface (ties: the triangle with the smaller index).
+  Vec3 project(const Vec3& q) const;
+
+  /// The closest point of the mesh's triangles to `q` (volume and surface kinds; box and ball: project()).
+  Vec3 closest_point(const Vec3& q) const;
+
+  /// Bounding box of the domain, model units.
+  const Vec3& lo() const;
+  const Vec3& hi() const;
+
+  const Domain& domain() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The point of triangle (a, b, c) closest to p (Ericson, Real-Time Collision Detection, 5.1.5).
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+}  // namespace cellform::venation
