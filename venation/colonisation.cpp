@@ -427,8 +427,6 @@ struct Colonisation::Impl {
     remove_source(s);
   }
 
-  /// Brings the sector state of source s up to date with nodes [synced, size) (indexed by `fresh`) and
-  /// sets near[s]. Closed: writes V(s) (Eq. 2) to `out`, equal to PointTree::relative_neighbourhood().
   /// PointTree::lune_occupied(q, best[k]) of source state st, trying first the other sectors' bests
   /// (the blocker is usually one of them; same squared distances, so the same answer).
   bool lune_blocked(const Sectors& st, const Vec3& q, int k) const {
@@ -440,6 +438,8 @@ struct Colonisation::Impl {
     return nodes.lune_occupied(q, st.best[k]);
   }
 
+  /// Brings the sector state of source s up to date with nodes [synced, size) (indexed by `fresh`) and
+  /// sets near[s]. Closed: writes V(s) (Eq. 2) to `out`, equal to PointTree::relative_neighbourhood().
   void sector_update(Index s, std::vector<Index>& out, bool closed, PointTree::Scratch& scratch) {
     if (region) {  // 3-D: no planar sectors
       influence_3d(s, out, closed, scratch);
