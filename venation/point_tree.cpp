@@ -690,7 +690,9 @@ unsigned PointBatch::sector_mask(const Vec3& lo, const Vec3& hi, const Vec3& s) 
 void PointBatch::sector_merge(const Vec3& s, Index* best, double* best_d2) const {
   if (nodes_.empty()) return;
   auto worst = [&] { return std::max({best_d2[0], best_d2[1], best_d2[2], best_d2[3], best_d2[4], best_d2[5]}); };
-  double far = worst();  // no point beyond this can be a best
+  auto least = [&] { return std::min({best_d2[0], best_d2[1], best_d2[2], best_d2[3], best_d2[4], best_d2[5]}); };
+  double far = worst();    // no point beyond this can be a best
+  double close = least();  // a box no farther than this is needed whatever sectors it reaches
   int stack[64];
   int top = 0;
   stack[top++] = 0;
@@ -699,7 +701,7 @@ void PointBatch::sector_merge(const Vec3& s, Index* best, double* best_d2) const
     // mindist2 and a point's squared distance may round differently: compare with a little slack
     const double d2 = mindist2(nd, s) * (1 - 1e-12);
     if (d2 > far) continue;
-    if (d2 > 0) {
+    if (d2 > close) {
       const unsigned m = sector_mask(nd.lo, nd.hi, s);
       bool needed = false;
       for (int k = 0; k < 6 && !needed; ++k) needed = (m >> k & 1u) && best_d2[k] >= d2;
@@ -717,7 +719,10 @@ void PointBatch::sector_merge(const Vec3& s, Index* best, double* best_d2) const
           changed = true;
         }
       }
-      if (changed) far = worst();
+      if (changed) {
+        far = worst();
+        close = least();
+      }
       continue;
     }
     const int near = s[nd.dim] <= nd.split ? 0 : 1;
