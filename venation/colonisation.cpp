@@ -188,8 +188,9 @@ struct Colonisation::Impl {
     bool ready = false;
   };
   std::vector<Sectors> sectors;
-  Index synced = 0;  // nodes [0, synced) are merged into every ready Sectors
-  PointTree fresh;   // nodes [synced, size) of this step, indexed once for all sources
+  Index synced = 0;  // nodes [0, synced) are merged into every ready Sectors and every near[s]
+  PointBatch fresh;  // nodes [fresh_first, fresh_last), indexed once for all sources
+  Index fresh_first = 0, fresh_last = 0;
 
   std::vector<std::vector<Index>> per_source;  // V(s) of the i-th active source this step
   std::vector<Index> nb, infl_start, infl, touched, child;
@@ -302,6 +303,8 @@ struct Colonisation::Impl {
     for (std::size_t i = 0; i < moved.size(); ++i) moved[i] = lift(to_current(node_mat[i]));
     nodes.assign(moved);
     synced = static_cast<Index>(nodes.size());
+    fresh.assign({}, synced);
+    fresh_first = fresh_last = synced;
     grid.reset(grid.cell());
     for (Index s : active) {
       src[s] = lift(to_current(src_mat[s]));
@@ -424,6 +427,17 @@ struct Colonisation::Impl {
     remove_source(s);
   }
 
+  /// PointTree::lune_occupied(q, best[k]) of source state st, trying first the other sectors' bests
+  /// (the blocker is usually one of them; same squared distances, so the same answer).
+  bool lune_blocked(const Sectors& st, const Vec3& q, int k) const {
+    const Vec3& v = nodes.point(st.best[k]);
+    for (int j = 0; j < 6; ++j)
+      if (j != k && st.best[j] != kNoIndex && st.d2[j] <= st.d2[k] &&
+          (nodes.point(st.best[j]) - v).squaredNorm() <= st.d2[k])
+        return true;
+    return nodes.lune_occupied(q, st.best[k]);
+  }
+
   /// Brings the sector state of source s up to date with nodes [synced, size) (indexed by `fresh`) and
   /// sets near[s]. Closed: writes V(s) (Eq. 2) to `out`, equal to PointTree::relative_neighbourhood().
   void sector_update(Index s, std::vector<Index>& out, bool closed, PointTree::Scratch& scratch) {
@@ -435,8 +449,7 @@ struct Colonisation::Impl {
     const Vec3& q = src[s];
     if (!st.ready) {
       nodes.sector_nearest(q, st.best, st.d2, scratch);
-      for (int k = 0; k < 6; ++k)
-        st.blocked[k] = st.best[k] == kNoIndex || (closed && nodes.lune_occupied(q, st.best[k]));
+      for (int k = 0; k < 6; ++k) st.blocked[k] = st.best[k] == kNoIndex || (closed && lune_blocked(st, q, k));
       st.ready = true;
     } else if (fresh.size() > 0) {
       Index old[6];
@@ -445,16 +458,16 @@ struct Colonisation::Impl {
         old[k] = st.best[k];
         pos[k] = st.best[k] != kNoIndex ? nodes.point(st.best[k]) : q;
       }
-      fresh.sector_nearest(q, st.best, st.d2, scratch, false, pos, synced);
+      fresh.sector_merge(q, st.best, st.d2);
       for (int k = 0; k < 6; ++k) {
         if (st.best[k] == kNoIndex || !closed) continue;
         if (st.best[k] != old[k]) {
-          // a point in the lune is within 90 degrees of the new best and nearer to s: if the four
-          // neighbouring sectors have no point that near, the lune is empty without a search
+          // a node in the lune is nearer to s than the new best, so the nearest node is too, and it
+          // is the best of its sector (never skipped): if no other sector has a best that near, the
+          // lune is empty without a search (up to exact distance ties)
           bool maybe = false;
-          for (int j = 1; j <= 2 && !maybe; ++j)
-            maybe = st.d2[(k + j) % 6] <= st.d2[k] || st.d2[(k + 6 - j) % 6] <= st.d2[k];
-          st.blocked[k] = maybe && nodes.lune_occupied(q, st.best[k]);
+          for (int j = 1; j <= 5 && !maybe; ++j) maybe = st.d2[(k + j) % 6] <= st.d2[k];
+          st.blocked[k] = maybe && lune_blocked(st, q, k);
         } else if (!st.blocked[k])  // only a new node can newly occupy the lune
           st.blocked[k] = fresh.any_in_lune(q, pos[k]);
       }
@@ -472,6 +485,24 @@ struct Colonisation::Impl {
       if (!st.blocked[k]) out.push_back(st.best[k]);
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());
+  }
+
+  /// Indexes the nodes [synced, size) in `fresh` unless it holds them already.
+  void sync_fresh() {
+    const auto n = static_cast<Index>(nodes.size());
+    if (fresh_first == synced && fresh_last == n) return;
+    fresh.assign(std::span<const Vec3>(nodes.points()).subspan(synced), synced);
+    fresh_first = synced;
+    fresh_last = n;
+  }
+
+  /// Open and Urquhart patterns need only near[s]: the last nearest node is the candidate, so only the
+  /// nodes added since are searched.
+  void nearest_update(Index s) {
+    if (near[s] == kNoIndex)
+      nodes.nearest(src[s], near[s], near_d2[s]);
+    else
+      fresh.nearest(src[s], near[s], near_d2[s]);
   }
 
   void step() {
@@ -493,7 +524,8 @@ struct Colonisation::Impl {
     const double half_extent = 4 * ((lift(unit.hi()) - lift(unit.lo())).norm() + 1) * frame_scale();
     infl_start.assign(1, 0);
     infl.clear();
-    fresh.assign(std::span<const Vec3>(nodes.points()).subspan(synced));
+    sync_fresh();
+    const bool exact = closed && p.neighbourhood == Neighbourhood::exact;
     // each source updates only its own state and result slot: any thread count gives the same bits
     if (per_source.size() < active.size()) per_source.resize(active.size());
     core::parallel_for(
@@ -503,7 +535,10 @@ struct Colonisation::Impl {
           for (std::size_t a = first; a < last; ++a) {
             const Index s = active[a];
             std::vector<Index>& out = per_source[a];
-            sector_update(s, out, closed && p.neighbourhood == Neighbourhood::exact, local);
+            if (exact)
+              sector_update(s, out, true, local);
+            else
+              nearest_update(s);
             if (closed && p.neighbourhood == Neighbourhood::urquhart)
               nodes.urquhart_neighbourhood(src[s], std::min(half_extent, 2 * std::sqrt(near_d2[s]) + 4 * D), out, local,
                                            48);
@@ -548,10 +583,14 @@ struct Colonisation::Impl {
       child[v] = add_node(q, v, static_cast<std::uint32_t>(rep.steps + 1));
     }
 
-    // removal (open) or tagging and removal (closed), with the nodes just added
+    // removal (open) or tagging and removal (closed), with the nodes just added. near[s] is the nearest of
+    // the nodes [0, synced), so only the new ones are searched for one within d_k; if there is one, the
+    // nearest node is taken over all nodes (the last word on distance ties, by index), in a small disc.
+    sync_fresh();
     for (std::size_t a = 0; a < active.size(); ++a) {
       const Index s = active[a];
-      if (nodes.any_within(src[s], dk2)) nodes.nearest(src[s], near[s], near_d2[s]);  // near[s] is a valid start
+      if (fresh.any_within(src[s], dk2) || (near[s] != kNoIndex && near_d2[s] <= dk2))
+        nodes.nearest(src[s], near[s], near_d2[s]);
       if (!closed) {
         if (near_d2[s] < dk2) remove_source(s);
         continue;

@@ -324,8 +324,10 @@ bool PointTree::nearest(const Vec3& q, Index& best, double& best_d2) const {
 bool PointTree::any_within_rec(int n, const Vec3& q, double r2, Index exclude) const {
   const Node& nd = nodes_[n];
   if (mindist2(nd, q) > r2) return false;
-  if (nd.child[0] >= 0)
-    return any_within_rec(nd.child[0], q, r2, exclude) || any_within_rec(nd.child[1], q, r2, exclude);
+  if (nd.child[0] >= 0) {  // the side of q first: a hit there ends the search soonest
+    const int first = q[nd.dim] < nd.split ? 0 : 1;
+    return any_within_rec(nd.child[first], q, r2, exclude) || any_within_rec(nd.child[1 - first], q, r2, exclude);
+  }
   for (Index i : nd.pts)
     if (i != exclude && (points_[i] - q).squaredNorm() <= r2) return true;
   return false;
@@ -352,31 +354,41 @@ void PointTree::within(const Vec3& q, double r2, std::vector<Index>& out) const 
   }
 }
 
-bool PointTree::lune_rec(int n, const Vec3& s, Index v, double r2) const {
-  const Node& nd = nodes_[n];
-  const Vec3& pv = points_[v];
-  if (mindist2(nd, s) > r2 || mindist2(nd, pv) > r2) return false;
-  if (nd.child[0] >= 0) return lune_rec(nd.child[0], s, v, r2) || lune_rec(nd.child[1], s, v, r2);
-  for (Index u : nd.pts)
-    if (u != v && (points_[u] - s).squaredNorm() <= r2 && (points_[u] - pv).squaredNorm() <= r2) return true;
-  return false;
-}
+// The closed lune of s and v (radius r = |v - s|) lies in the disc about the midpoint m of radius
+// r sqrt(3) / 2: |u - m|^2 = (|u - s|^2 + |u - v|^2) / 2 - r^2 / 4 <= 3 r^2 / 4. That third disc prunes
+// boxes the two lune discs let through; it is padded so that rounding never prunes a point of the
+// lune (the point tests themselves are the exact ones). Children nearer to m go first: an occupied lune
+// is then found after few boxes.
+struct detail::Lune {
+  Vec3 s, v, m;
+  double r2, m2;
+  Lune(const Vec3& s_, const Vec3& v_) : s(s_), v(v_), m(0.5 * (s_ + v_)), r2((v_ - s_).squaredNorm()) {
+    const double mag = std::max(s.cwiseAbs().maxCoeff(), v.cwiseAbs().maxCoeff());
+    m2 = (0.75 + 1e-6) * r2 + 1e-12 * mag * mag;
+  }
+  bool holds(const Vec3& u) const { return (u - s).squaredNorm() <= r2 && (u - v).squaredNorm() <= r2; }
+};
 
-bool PointTree::lune_pos_rec(int n, const Vec3& s, const Vec3& v, double r2) const {
+using detail::Lune;
+
+bool PointTree::lune_rec(int n, const Lune& l, Index v) const {
   const Node& nd = nodes_[n];
-  if (mindist2(nd, s) > r2 || mindist2(nd, v) > r2) return false;
-  if (nd.child[0] >= 0) return lune_pos_rec(nd.child[0], s, v, r2) || lune_pos_rec(nd.child[1], s, v, r2);
+  if (mindist2(nd, l.m) > l.m2 || mindist2(nd, l.s) > l.r2 || mindist2(nd, l.v) > l.r2) return false;
+  if (nd.child[0] >= 0) {
+    const int first = l.m[nd.dim] < nd.split ? 0 : 1;
+    return lune_rec(nd.child[first], l, v) || lune_rec(nd.child[1 - first], l, v);
+  }
   for (Index u : nd.pts)
-    if ((points_[u] - s).squaredNorm() <= r2 && (points_[u] - v).squaredNorm() <= r2) return true;
+    if (u != v && l.holds(points_[u])) return true;
   return false;
 }
 
 bool PointTree::any_in_lune(const Vec3& s, const Vec3& v) const {
-  return !nodes_.empty() && lune_pos_rec(0, s, v, (v - s).squaredNorm());
+  return !nodes_.empty() && lune_rec(0, Lune(s, v), kNoIndex);
 }
 
 bool PointTree::lune_occupied(const Vec3& s, Index v) const {
-  return !nodes_.empty() && lune_rec(0, s, v, (points_[v] - s).squaredNorm());
+  return !nodes_.empty() && lune_rec(0, Lune(s, points_[v]), v);
 }
 
 void PointTree::relative_neighbourhood(const Vec3& s, std::vector<Index>& out, Scratch& sc) const {
@@ -519,6 +531,203 @@ void PointTree::urquhart_neighbourhood(const Vec3& s, double half_extent, std::v
         break;
       }
     if (!excluded) out.push_back(v);
+  }
+}
+
+void PointBatch::assign(std::span<const Vec3> points, Index offset) {
+  const auto n = static_cast<int>(points.size());
+  pos_.assign(points.begin(), points.end());
+  id_.resize(points.size());
+  for (int i = 0; i < n; ++i) id_[static_cast<std::size_t>(i)] = offset + static_cast<Index>(i);
+  nodes_.clear();
+  if (n == 0) return;
+  nodes_.emplace_back();
+  build(0, 0, n);
+}
+
+// Fills node n with the points [first, last) of pos_ and id_, sorting them into its subtree.
+void PointBatch::build(int n, int first, int last) {
+  Vec3 lo = pos_[first], hi = pos_[first];
+  for (int i = first + 1; i < last; ++i) {
+    lo = lo.cwiseMin(pos_[i]);
+    hi = hi.cwiseMax(pos_[i]);
+  }
+  Node& nd = nodes_[n];
+  nd.lo = lo;
+  nd.hi = hi;
+  nd.first = first;
+  nd.last = last;
+  const Vec3 ext = hi - lo;
+  int dim = 0;
+  if (ext[1] > ext[dim]) dim = 1;
+  if (ext[2] > ext[dim]) dim = 2;
+  if (last - first <= kLeaf || !(ext[dim] > 0)) return;
+  const int mid = first + (last - first) / 2;
+  order_.resize(static_cast<std::size_t>(last - first));
+  for (int i = first; i < last; ++i) order_[static_cast<std::size_t>(i - first)] = i;
+  std::nth_element(order_.begin(), order_.begin() + (mid - first), order_.end(),
+                   [&](int a, int b) { return pos_[a][dim] < pos_[b][dim]; });
+  tmp_pos_.resize(order_.size());
+  tmp_id_.resize(order_.size());
+  for (std::size_t k = 0; k < order_.size(); ++k) {
+    tmp_pos_[k] = pos_[order_[k]];
+    tmp_id_[k] = id_[order_[k]];
+  }
+  std::copy(tmp_pos_.begin(), tmp_pos_.end(), pos_.begin() + first);
+  std::copy(tmp_id_.begin(), tmp_id_.end(), id_.begin() + first);
+  const int c = static_cast<int>(nodes_.size());
+  nodes_[n].child = c;
+  nodes_[n].dim = dim;
+  nodes_[n].split = pos_[mid][dim];  // lower child <= split <= upper child
+  nodes_.emplace_back();
+  nodes_.emplace_back();
+  build(c, first, mid);
+  build(c + 1, mid, last);
+}
+
+double PointBatch::mindist2(const Node& nd, const Vec3& q) const {
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double a = nd.lo[k] - q[k], b = q[k] - nd.hi[k];
+    const double e = a > 0 ? a : (b > 0 ? b : 0.0);
+    d2 += e * e;
+  }
+  return d2;
+}
+
+void PointBatch::nearest(const Vec3& q, Index& best, double& best_d2) const {
+  if (best == kNoIndex) best_d2 = std::numeric_limits<double>::infinity();
+  if (nodes_.empty()) return;
+  int stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& nd = nodes_[stack[--top]];
+    if (mindist2(nd, q) > best_d2) continue;
+    if (nd.child < 0) {
+      for (int i = nd.first; i < nd.last; ++i) {
+        const double d2 = (pos_[i] - q).squaredNorm();
+        if (d2 < best_d2 || (d2 == best_d2 && id_[i] < best)) {
+          best_d2 = d2;
+          best = id_[i];
+        }
+      }
+      continue;
+    }
+    const int near = q[nd.dim] <= nd.split ? 0 : 1;
+    stack[top++] = nd.child + 1 - near;
+    stack[top++] = nd.child + near;
+  }
+}
+
+bool PointBatch::any_within(const Vec3& q, double r2) const {
+  if (nodes_.empty()) return false;
+  int stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& nd = nodes_[stack[--top]];
+    if (mindist2(nd, q) > r2) continue;
+    if (nd.child < 0) {
+      for (int i = nd.first; i < nd.last; ++i)
+        if ((pos_[i] - q).squaredNorm() <= r2) return true;
+      continue;
+    }
+    const int near = q[nd.dim] <= nd.split ? 0 : 1;
+    stack[top++] = nd.child + 1 - near;
+    stack[top++] = nd.child + near;
+  }
+  return false;
+}
+
+bool PointBatch::any_in_lune(const Vec3& s, const Vec3& v) const {
+  if (nodes_.empty()) return false;
+  const Lune l(s, v);
+  int stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& nd = nodes_[stack[--top]];
+    if (mindist2(nd, l.m) > l.m2 || mindist2(nd, l.s) > l.r2 || mindist2(nd, l.v) > l.r2) continue;
+    if (nd.child < 0) {
+      for (int i = nd.first; i < nd.last; ++i)
+        if (l.holds(pos_[i])) return true;
+      continue;
+    }
+    const int near = l.m[nd.dim] <= nd.split ? 0 : 1;
+    stack[top++] = nd.child + 1 - near;
+    stack[top++] = nd.child + near;
+  }
+  return false;
+}
+
+// Each comparison in PointTree::sector() is monotone in the rounded differences p - s (rounding keeps
+// order, and -t * dx is exactly -(t * dx)), so over a box its values are bounded by its values at two
+// corners. The mask mixes the comparisons independently: it may hold a sector no point of the box gets,
+// never miss one, and needs no widening for rounding.
+unsigned PointBatch::sector_mask(const Vec3& lo, const Vec3& hi, const Vec3& s) {
+  constexpr double t = 1.7320508075688772;  // as in sector()
+  const double x0 = lo.x() - s.x(), x1 = hi.x() - s.x(), y0 = lo.y() - s.y(), y1 = hi.y() - s.y();
+  const bool upper_can = y1 > 0 || (y1 == 0 && x1 >= 0), lower_can = !(y0 > 0 || (y0 == 0 && x0 >= 0));
+  unsigned m = 0;
+  if (upper_can) {
+    if (y0 < t * x1) m |= 1u;  // dy < t dx somewhere
+    if (!(y1 < t * x0)) {      // and not everywhere
+      if (y1 > -t * x1) m |= 2u;
+      if (!(y0 > -t * x0)) m |= 4u;
+    }
+  }
+  if (lower_can) {
+    if (y1 > t * x0) m |= 8u;
+    if (!(y0 > t * x1)) {
+      if (y0 < -t * x0) m |= 16u;
+      if (!(y1 < -t * x1)) m |= 32u;
+    }
+  }
+  return m;
+}
+
+void PointBatch::sector_merge(const Vec3& s, Index* best, double* best_d2) const {
+  if (nodes_.empty()) return;
+  auto worst = [&] { return std::max({best_d2[0], best_d2[1], best_d2[2], best_d2[3], best_d2[4], best_d2[5]}); };
+  auto least = [&] { return std::min({best_d2[0], best_d2[1], best_d2[2], best_d2[3], best_d2[4], best_d2[5]}); };
+  double far = worst();    // no point beyond this can be a best
+  double close = least();  // a box no farther than this is needed whatever sectors it reaches
+  int stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& nd = nodes_[stack[--top]];
+    // mindist2 and a point's squared distance may round differently: compare with a little slack
+    const double d2 = mindist2(nd, s) * (1 - 1e-12);
+    if (d2 > far) continue;
+    if (d2 > close) {
+      const unsigned m = sector_mask(nd.lo, nd.hi, s);
+      bool needed = false;
+      for (int k = 0; k < 6 && !needed; ++k) needed = (m >> k & 1u) && best_d2[k] >= d2;
+      if (!needed) continue;
+    }
+    if (nd.child < 0) {
+      bool changed = false;
+      for (int i = nd.first; i < nd.last; ++i) {
+        const Vec3 d = pos_[i] - s;
+        const double pd2 = d.squaredNorm();
+        const int k = PointTree::sector(d.x(), d.y());
+        if (pd2 <= best_d2[k] && (pd2 < best_d2[k] || id_[i] < best[k])) {
+          best_d2[k] = pd2;
+          best[k] = id_[i];
+          changed = true;
+        }
+      }
+      if (changed) {
+        far = worst();
+        close = least();
+      }
+      continue;
+    }
+    const int near = s[nd.dim] <= nd.split ? 0 : 1;
+    stack[top++] = nd.child + 1 - near;
+    stack[top++] = nd.child + near;
   }
 }
 

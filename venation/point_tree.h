@@ -13,6 +13,10 @@ using core::Index;
 using core::kNoIndex;
 using core::Vec3;
 
+namespace detail {
+struct Lune;  // a lune query (point_tree.cpp)
+}
+
 /// A k-d tree that only grows: points are appended (index = insertion order) and never move, so the
 /// index is updated in O(log^2 n) amortised per vein node instead of being rebuilt every step. Leaves
 /// hold up to 16 points and split at the middle of their widest extent; every node keeps the tight box
@@ -99,7 +103,6 @@ class PointTree {
                               std::size_t max_points = static_cast<std::size_t>(-1)) const;
 
  private:
-  static constexpr int kBucket = 16;
   struct Node {
     Vec3 lo, hi;  // tight box of the points below
     int child[2] = {-1, -1};
@@ -114,18 +117,63 @@ class PointTree {
   void build(int n, Index* first, Index* last);
   bool nearest_rec(int n, const Vec3& q, Index& best, double& best_d2) const;
   bool any_within_rec(int n, const Vec3& q, double r2, Index exclude) const;
-  bool lune_rec(int n, const Vec3& s, Index v, double r2) const;
-  bool lune_pos_rec(int n, const Vec3& s, const Vec3& v, double r2) const;
+  bool lune_rec(int n, const detail::Lune& l, Index v) const;  // v: the point excluded from the test, or kNoIndex
   void relative_neighbourhood_planar(const Vec3& s, std::vector<Index>& out, Scratch& scratch) const;
   double mindist2(const Node& nd, const Vec3& q) const;
   /// Best-first search step: pushes a leaf's points (as ~index) or an inner node's children onto a min-heap.
   void expand(const Node& nd, const Vec3& s, std::vector<std::pair<double, std::int64_t>>& heap) const;
 
+  static constexpr int kBucket = 16;
   std::vector<Vec3> points_;
   std::vector<Node> nodes_;
   std::size_t garbage_ = 0;  // nodes orphaned by rebuilds; compacted when they are half the array
   std::vector<int> path_;
   std::vector<Index> scratch_ids_;
+};
+
+/// A static set of points numbered from an offset, queried by many points in a row: the vein nodes added
+/// in one step, against which every source updates what it knows (its nearest node, its six sector bests,
+/// its lunes). A k-d tree built once with median splits whose leaves (up to 8 points) are stored
+/// contiguously; every query is exact, gives the same squared distances (bit for bit) as PointTree, and
+/// breaks distance ties by index.
+class PointBatch {
+ public:
+  /// Replaces the content by `points`, numbered offset, offset + 1, ...
+  void assign(std::span<const Vec3> points, Index offset);
+  std::size_t size() const { return id_.size(); }
+
+  /// As PointTree::nearest: improves the candidate (best, best_d2) if a point is nearer (ties: smaller index).
+  void nearest(const Vec3& q, Index& best, double& best_d2) const;
+  /// True if a point lies at squared distance <= r2 from q.
+  bool any_within(const Vec3& q, double r2) const;
+  /// True if a point lies in the closed lune of s and the position v (both distances <= |v - s|).
+  bool any_in_lune(const Vec3& s, const Vec3& v) const;
+  /// Merges the points into the six sector bests of s (PointTree::sector_nearest's arrays, kNoIndex and
+  /// infinity for an empty sector): a point replaces the best of its sector if nearer (ties: smaller
+  /// index). A box is skipped when no sector it can reach has a best as far as the box.
+  void sector_merge(const Vec3& s, Index* best, double* best_d2) const;
+
+  /// Bit k set if PointTree::sector() can give sector k to a point of the box [lo, hi] seen from s.
+  static unsigned sector_mask(const Vec3& lo, const Vec3& hi, const Vec3& s);
+
+ private:
+  static constexpr int kLeaf = 8;
+  struct Node {
+    Vec3 lo, hi;    // tight box of the points below
+    int first = 0;  // the points [first, last) of pos_ and id_ lie below
+    int last = 0;
+    int child = -1;  // inner nodes: children child and child + 1
+    int dim = 0;
+    double split = 0;  // inner nodes: the lower child holds coordinates <= split, the upper >= split
+  };
+  void build(int n, int first, int last);
+  double mindist2(const Node& nd, const Vec3& q) const;
+  std::vector<Vec3> pos_;
+  std::vector<Index> id_;
+  std::vector<Node> nodes_;
+  std::vector<int> order_;  // build scratch
+  std::vector<Vec3> tmp_pos_;
+  std::vector<Index> tmp_id_;
 };
 
 /// Eq. 2 by brute force, O(n^2): the test oracle for PointTree::relative_neighbourhood. Sorted by index.

@@ -173,3 +173,99 @@ TEST_CASE("lune and radius queries", "[point_tree]") {
                           pts.begin(), pts.end(), [&](const Vec3& p) { return (p - s).squaredNorm() <= r2; })));
   }
 }
+
+TEST_CASE("PointBatch queries equal brute force; sector_merge gives the sector nearest of the union", "[point_tree]") {
+  using venation::PointBatch;
+  for (std::uint64_t seed : {5u, 6u}) {
+    const auto old_pts = random_points(seed, 200, false);
+    auto batch_pts = random_points(seed + 100, 37, false, 14);
+    batch_pts.push_back(old_pts[3]);  // a duplicate of an older point: the older index wins ties
+    const Index offset = static_cast<Index>(old_pts.size());
+    PointBatch b;
+    b.assign(batch_pts, offset);
+    REQUIRE(b.size() == batch_pts.size());
+    std::vector<Vec3> all = old_pts;
+    all.insert(all.end(), batch_pts.begin(), batch_pts.end());
+    core::Rng rng(seed * 7);
+    for (int q = 0; q < 150; ++q) {
+      const Vec3 s(rng.uniform(-5, 20), rng.uniform(-5, 20), 0.0);
+      INFO("seed " << seed << " query " << q);
+      // nearest from a candidate, ties by index
+      Index best = core::kNoIndex;
+      double bd2 = 0;
+      b.nearest(s, best, bd2);
+      Index bb = offset;
+      for (Index i = offset; i < all.size(); ++i)
+        if ((all[i] - s).squaredNorm() < (all[bb] - s).squaredNorm()) bb = i;
+      CHECK(best == bb);
+      // radius and lune
+      const double r2 = rng.uniform(0, 9);
+      bool any = false;
+      for (const Vec3& p : batch_pts) any = any || (p - s).squaredNorm() <= r2;
+      CHECK(b.any_within(s, r2) == any);
+      const Vec3 v(rng.uniform(-5, 20), rng.uniform(-5, 20), 0.0);
+      bool lune = false;
+      for (const Vec3& p : batch_pts)
+        lune = lune || ((p - s).squaredNorm() <= (v - s).squaredNorm() && (p - v).squaredNorm() <= (v - s).squaredNorm());
+      CHECK(b.any_in_lune(s, v) == lune);
+      // sector bests: the older points by brute force, then the batch merged in
+      auto sector_best = [&](std::size_t n, Index* bi, double* bd) {
+        for (int k = 0; k < 6; ++k) {
+          bi[k] = core::kNoIndex;
+          bd[k] = std::numeric_limits<double>::infinity();
+        }
+        for (Index i = 0; i < n; ++i) {
+          const Vec3 d = all[i] - s;
+          const int k = PointTree::sector(d.x(), d.y());
+          if (d.squaredNorm() < bd[k]) {
+            bd[k] = d.squaredNorm();
+            bi[k] = i;
+          }
+        }
+      };
+      Index got[6], want[6];
+      double got_d2[6], want_d2[6];
+      sector_best(old_pts.size(), got, got_d2);
+      b.sector_merge(s, got, got_d2);
+      sector_best(all.size(), want, want_d2);
+      for (int k = 0; k < 6; ++k) {
+        CHECK(got[k] == want[k]);
+        CHECK(got_d2[k] == want_d2[k]);
+      }
+    }
+  }
+}
+
+TEST_CASE("sector_mask holds the sector of every point of the box, also on sector boundaries", "[point_tree]") {
+  using venation::PointBatch;
+  core::Rng rng(17);
+  const double t = std::sqrt(3.0);
+  for (int q = 0; q < 3000; ++q) {
+    const Vec3 s(rng.uniform(-3, 3), rng.uniform(-3, 3), 0.0);
+    std::vector<Vec3> pts;
+    for (int i = 0; i < 6; ++i) {
+      // half the points on the sector boundary rays through s (rounded), half anywhere near s
+      const double r = rng.uniform(0, 4);
+      const int ray = static_cast<int>(rng.uniform(0, 6));
+      const double dx[6] = {1, 0.5, -0.5, -1, -0.5, 0.5}, dy[6] = {0, t / 2, t / 2, 0, -t / 2, -t / 2};
+      pts.push_back(i % 2 ? Vec3(s.x() + r * dx[ray], s.y() + r * dy[ray], 0)
+                          : Vec3(s.x() + rng.uniform(-4, 4), s.y() + rng.uniform(-4, 4), 0));
+    }
+    Vec3 lo = pts[0], hi = pts[0];
+    for (const Vec3& p : pts) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    const unsigned m = PointBatch::sector_mask(lo, hi, s);
+    for (const Vec3& p : pts) {
+      const Vec3 d = p - s;
+      INFO("query " << q);
+      CHECK((m >> PointTree::sector(d.x(), d.y()) & 1u));
+    }
+    // the box corners too
+    for (int c = 0; c < 4; ++c) {
+      const Vec3 d = Vec3((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(), 0) - s;
+      CHECK((m >> PointTree::sector(d.x(), d.y()) & 1u));
+    }
+  }
+}
