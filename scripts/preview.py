@@ -28,7 +28,23 @@ def read_ply(path):
             elements.append((w[1], int(w[2]), []))
         elif w[0] == "property":
             elements[-1][2].append(w[1:])
-    pos, out = end, {}
+    out = {}
+    if b"format ascii" in data[:end]:  # e.g. the veins.ply of space colonisation
+        words = iter(data[end:].split())
+        for name, count, props in elements:
+            rows = []
+            for _ in range(count):
+                row = {}
+                for p in props:
+                    cast = float if p[-2] in ("float", "double", "float32", "float64") else int
+                    if p[0] == "list":
+                        row[p[3]] = tuple(cast(next(words)) for _ in range(int(next(words))))
+                    else:
+                        row[p[1]] = cast(next(words))
+                rows.append(row)
+            out[name] = rows
+        return out
+    pos = end
     for name, count, props in elements:
         rows = []
         for _ in range(count):
