@@ -90,7 +90,8 @@ bool shares_vertex(const std::array<std::uint32_t, 3>& a, const std::array<std::
   return false;
 }
 
-bool hits_box(const Vec3& o, const Vec3& inv, const Vec3& lo, const Vec3& hi, double t_max) {
+/// Entry parameter of the ray into the box within [0, t_max], or infinity if it misses.
+double enter_box(const Vec3& o, const Vec3& inv, const Vec3& lo, const Vec3& hi, double t_max) {
   double t0 = 0, t1 = t_max;
   for (int a = 0; a < 3; ++a) {
     double near = (lo[a] - o[a]) * inv[a], far = (hi[a] - o[a]) * inv[a];
@@ -99,9 +100,9 @@ bool hits_box(const Vec3& o, const Vec3& inv, const Vec3& lo, const Vec3& hi, do
     if (std::isnan(far)) far = std::numeric_limits<double>::infinity();
     t0 = std::max(t0, near);
     t1 = std::min(t1, far);
-    if (t0 > t1) return false;
+    if (t0 > t1) return std::numeric_limits<double>::infinity();
   }
-  return true;
+  return t0;
 }
 
 /// Möller-Trumbore; returns the ray parameter or a negative number.
@@ -132,7 +133,7 @@ std::vector<double> triangle_thickness(const PrintableMesh& m, int threads) {
   core::parallel_for(
       n, threads,
       [&](std::size_t begin, std::size_t end) {
-        std::vector<std::uint32_t> stack;
+        std::vector<std::pair<std::uint32_t, double>> stack;
         for (std::size_t t = begin; t < end; ++t) {
           const auto& tri = m.triangles[t];
           const Vec3 &a = m.vertices[tri[0]], &b = m.vertices[tri[1]], &c = m.vertices[tri[2]];
@@ -144,14 +145,21 @@ std::vector<double> triangle_thickness(const PrintableMesh& m, int threads) {
           const Vec3 inv = d.cwiseInverse();
           double best = std::numeric_limits<double>::infinity();
           std::uint32_t best_tri = 0;
-          stack.assign(1, 0);
+          // depth first, nearer child first, each entry kept with the distance at which the ray enters it
+          stack.clear();
+          if (std::isfinite(enter_box(o, inv, bvh.nodes[0].lo, bvh.nodes[0].hi, best))) stack.push_back({0, 0.0});
           while (!stack.empty()) {
-            const Bvh::Node& nd = bvh.nodes[stack.back()];
+            const auto [id, enter] = stack.back();
             stack.pop_back();
-            if (!hits_box(o, inv, nd.lo, nd.hi, best)) continue;
+            if (enter > best) continue;
+            const Bvh::Node& nd = bvh.nodes[id];
             if (nd.count == 0) {
-              stack.push_back(nd.left);
-              stack.push_back(nd.right);
+              const Bvh::Node &l = bvh.nodes[nd.left], &r = bvh.nodes[nd.right];
+              const double tl = enter_box(o, inv, l.lo, l.hi, best), tr = enter_box(o, inv, r.lo, r.hi, best);
+              const bool left_first = tl <= tr;
+              const double t_far = left_first ? tr : tl, t_near = left_first ? tl : tr;
+              if (std::isfinite(t_far)) stack.push_back({left_first ? nd.right : nd.left, t_far});
+              if (std::isfinite(t_near)) stack.push_back({left_first ? nd.left : nd.right, t_near});
               continue;
             }
             for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) {
