@@ -37,7 +37,7 @@ bool segments_touch(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) 
 double tri(double x) { return 1.0 - std::abs(2.0 * (x - std::floor(x)) - 1.0); }
 
 /// Adds triangular-wave teeth along the outward normal (outline counter-clockwise, starting at the petiole).
-Outline add_teeth(const Outline& smooth, const std::vector<TriangularWave>& teeth) {
+Outline add_teeth(const Outline& smooth, const std::vector<TriangularWave>& teeth, double fade_radius) {
   int max_count = 1;
   for (const auto& t : teeth) max_count = std::max(max_count, t.count);
   const std::size_t n0 = smooth.points.size();
@@ -55,6 +55,10 @@ Outline add_teeth(const Outline& smooth, const std::vector<TriangularWave>& teet
     const double len = cum[seg + 1] - cum[seg];
     dense.points.push_back(len > 0 ? Vec2(a + (b - a) * ((s - cum[seg]) / len)) : a);
   }
+  // Teeth fade out within fade_radius of the petiole: in the notch of a cordate or palmate base the
+  // normals converge, and full-height teeth there would cross each other (real leaves are entire at the
+  // base, too).
+  const Vec2 petiole = smooth.points[0];
   Outline out;
   for (std::size_t k = 0; k < n; ++k) {
     const Vec2 e = dense.points[(k + 1) % n] - dense.points[(k + n - 1) % n];
@@ -62,7 +66,11 @@ Outline add_teeth(const Outline& smooth, const std::vector<TriangularWave>& teet
     const double u = static_cast<double>(k) / static_cast<double>(n);
     double offset = 0;
     for (const auto& t : teeth) offset += t.amplitude * tri(t.count * u);
-    out.points.push_back(dense.points[k] + offset * normal);
+    // fourth power: a cardioid's notch narrows like d^1.5 with the distance d from the petiole, the
+    // palmate one like d^3, and the teeth must shrink faster than that
+    const double f = fade_radius > 0 ? std::min(1.0, (dense.points[k] - petiole).norm() / fade_radius) : 1.0;
+    const double fade = (f * f) * (f * f);
+    out.points.push_back(dense.points[k] + fade * offset * normal);
   }
   return out;
 }
@@ -192,8 +200,21 @@ Outline make_outline(const ShapeParams& sp) {
   }
   for (auto& p : o.points) p.x() *= W / (wmax - wmin);
   if (!sp.teeth.empty()) {
-    o = add_teeth(o, sp.teeth);
-    validate_outline(o, "shape.teeth");
+    // the fade starts at four total amplitudes (at most a tenth of the length) and widens (up to half the
+    // length) while a narrow notch
+    // still makes the teeth cross; teeth too deep for the blade itself are still refused
+    double amplitude = 0;
+    for (const auto& t : sp.teeth) amplitude += t.amplitude;
+    const Outline smooth = o;
+    for (double fade = std::min(4 * amplitude, 0.1 * L);; fade *= 1.5) {
+      o = add_teeth(smooth, sp.teeth, fade);
+      try {
+        validate_outline(o, "shape.teeth");
+        break;
+      } catch (const InvalidInput&) {
+        if (fade * 1.5 > 0.5 * L) throw;
+      }
+    }
   } else {
     validate_outline(o, "shape");
   }

@@ -28,6 +28,9 @@ enum class ShapeKind {
 
 /// One triangular waveform summed into a toothed margin (Section 3.2): the margin moves outward by
 /// amplitude * tri(count * u), u in [0, 1) the arc length fraction from the petiole, tri in [0, 1].
+/// Near the petiole the teeth fade to nothing (as the fourth power of the distance), within four total amplitudes
+/// (summed over the waves; at most a tenth of the leaf length) or, where a narrow cordate or palmate notch needs it,
+/// the smallest of 1.5^k times that (up to half the length) which keeps the margin simple.
 struct TriangularWave {
   double amplitude = 0.02;  ///< model units, outward along the margin normal (at growth scale 1)
   int count = 20;           ///< teeth along the whole margin (>= 1)

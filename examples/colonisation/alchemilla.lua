@@ -16,8 +16,7 @@ local P = params {
 
 run { seed = 11 }
 
--- (no teeth: triangular teeth on the palmate outline cross themselves at the petiole)
-leaf { shape = "palmate", lobes = 9, lobe_depth = 0.1, width = 1.9 }
+leaf { shape = "palmate", lobes = 9, lobe_depth = 0.1, width = 1.9, teeth = 90, tooth_depth = 0.008 }
 
 colonisation {
   type = "open",

@@ -13,8 +13,7 @@ local P = params {
 
 run { seed = 12 }
 
--- (no teeth: triangular teeth on the palmate outline cross themselves at the petiole)
-leaf { shape = "palmate", lobes = 5, lobe_depth = 0.55, width = 1.5 }
+leaf { shape = "palmate", lobes = 5, lobe_depth = 0.55, width = 1.5, teeth = 60, tooth_depth = 0.006 }
 
 colonisation {
   type = "open",

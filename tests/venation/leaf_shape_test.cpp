@@ -51,6 +51,23 @@ TEST_CASE("toothed margins: summed triangular waves stay simple, a too deep toot
   bad.lobe_depth = 0.9;
   bad.teeth = {{3.0, 200}};
   CHECK_THROWS_WITH(venation::make_outline(bad), Contains("shape.teeth"));
+  // teeth fade into the notch of a cordate or palmate base instead of crossing there
+  for (const ShapeKind kind : {ShapeKind::palmate, ShapeKind::cordate}) {
+    venation::ShapeParams notched;
+    notched.kind = kind;
+    notched.width = 1;
+    notched.teeth = {{0.03, 30}};
+    const Outline toothed = venation::make_outline(notched);  // throws if the margin crossed itself
+    for (const Vec2& q : toothed.points) {
+      if (q.norm() >= 0.01) continue;  // within a twelfth of the shortest fade length of the petiole
+      notched.teeth.clear();
+      const Outline smooth = venation::make_outline(notched);
+      double nearest = 1e9;
+      for (const Vec2& r : smooth.points) nearest = std::min(nearest, (r - q).norm());
+      CHECK(nearest < 0.03 * 0.1 + 0.01);  // barely moved: at most a third of an amplitude plus sampling
+      notched.teeth = {{0.03, 30}};
+    }
+  }
   bad = sp;
   bad.width = -1;
   CHECK_THROWS_WITH(venation::make_outline(bad), Contains("shape.width"));
