@@ -391,7 +391,10 @@ venation::GrowthFunction read_growth_function(Impl& I, const Value& given, const
       }
       const double rate = lua_tonumber(L, -1);
       lua_pop(L, 1);
-      add(y0, rate, "(" + number_text(y0) + ")");
+      std::string where = number_text(y0);  // built in place: GCC 12 warns falsely on "(" + string
+      where.insert(0, 1, '(');
+      where.push_back(')');
+      add(y0, rate, where);
     }
     return f;
   }
