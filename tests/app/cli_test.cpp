@@ -349,6 +349,13 @@ TEST_CASE("3-D space colonisation: veins in a volume and on a grown cell sheet",
     CHECK(run["print"]["shell_triangles"].get<int>() > 0);
     CHECK(fs::file_size(out / "cells.ply") > 0);
     CHECK(fs::file_size(out / "printable.stl") > 0);
+    // the checkpoint keeps the grown sheet: resuming does not grow the cells again
+    const std::string cells = slurp(out / "cells.ply"), veins = slurp(out / "veins.ply");
+    r = cli({"resume", (out / "checkpoint.cfck").string()});
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.err, !Contains("growing the cell sheet") && Contains("resuming veins"));
+    CHECK(slurp(out / "cells.ply") == cells);
+    CHECK(slurp(out / "veins.ply") == veins);
   }
   SECTION("bad domains are input errors") {
     const auto bad = t.write("bad.lua",
