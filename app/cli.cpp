@@ -45,9 +45,10 @@ const char* const kRunUsage =
     "  --lua-memory MB         memory limit of the script (default 512)\n"
     "  --quiet                 no progress output\n"
     "\n"
-    "Outputs: cells.ply, cells.obj, run.json (everything needed to reproduce the run) and\n"
-    "checkpoint.cfck in the output directory. Ctrl-C stops after the current step, writes the outputs\n"
-    "and a checkpoint; `cellform resume DIR/checkpoint.cfck` continues to the identical result.\n";
+    "Outputs: cells.ply, cells.obj (space colonisation: veins.ply, veins.obj, veins.svg), run.json\n"
+    "(everything needed to reproduce the run) and checkpoint.cfck in the output directory. Ctrl-C stops\n"
+    "after the current step, writes the outputs and a checkpoint; `cellform resume DIR/checkpoint.cfck`\n"
+    "continues to the identical result.\n";
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;

@@ -55,8 +55,9 @@ struct Start {
   std::uint64_t target_steps = 0;
   bool has_target = false;
   fs::path out_dir;
-  std::string cells_bytes;  // resume only
-  std::uint64_t step = 0;   // resume only
+  std::string cells_bytes;         // resume only: the cells (colonisation on cells: the grown sheet)
+  std::string colonisation_bytes;  // resume only: a space-colonisation state (Colonisation::save)
+  std::uint64_t step = 0;          // resume only
   bool resume = false;
 };
 
@@ -76,11 +77,13 @@ Start start_from(const RunOptions& o) {
         s.target_steps = meta.at("target_steps").get<std::uint64_t>();
         s.step = meta.at("step").get<std::uint64_t>();
         s.out_dir = meta.at("out").get<std::string>();
+        if (meta.value("mode", std::string("cells")) == "colonisation")
+          s.colonisation_bytes = f.at("colonisation", what);
       } catch (const json::exception&) {
         throw core::FileError(what + " is corrupt (bad metadata)");
       }
       s.source = f.at("script", what);
-      s.cells_bytes = f.at("cells", what);
+      if (s.colonisation_bytes.empty() || f.chunks.count("cells")) s.cells_bytes = f.at("cells", what);
       s.has_target = true;
       s.resume = true;
       if (o.steps) s.target_steps = *o.steps;
@@ -289,9 +292,15 @@ cells::Cells grow_sheet(const RunOptions& o, const SceneConfig& cfg, ScriptHost&
 
 /// The colonisation of the spec's domain; for surface{cells = true} the domain is the sheet of `sheet`,
 /// with the seeds (default: the petiole cells) moved to their nearest points of it.
-venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cells::Cells* sheet) {
-  if (spec.domain.kind == venation::DomainKind::leaf) return venation::Colonisation(spec.leaf, spec.params);
-  if (!sheet) return venation::Colonisation(spec.domain, spec.params);
+/// With `state` (resume), the run continues from that Colonisation::save() state instead of step 0.
+venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cells::Cells* sheet,
+                                         const std::string* state = nullptr, const std::string& what = "") {
+  auto make = [&](const auto& domain) {
+    return state ? venation::Colonisation::load(domain, spec.params, *state, what)
+                 : venation::Colonisation(domain, spec.params);
+  };
+  if (spec.domain.kind == venation::DomainKind::leaf) return make(spec.leaf);
+  if (!sheet) return make(spec.domain);
   venation::Domain d = spec.domain;
   d.mesh.vertices = sheet->position;
   d.mesh.triangles = cells::triangulate(*sheet).triangles;
@@ -311,7 +320,21 @@ venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cel
   const venation::PreparedDomain sheet_surface(d);
   for (core::Vec3& p : seeds) p = sheet_surface.closest_point(p);
   d.initial_nodes = seeds;
-  return venation::Colonisation(d, spec.params);
+  return make(d);
+}
+
+/// A colonisation checkpoint: the script, what resume needs to rebuild the same setup (seed, --set
+/// overrides, the step limit, for surface{cells = true} the grown sheet) and the colonisation state.
+std::string colonisation_checkpoint_bytes(const Start& s, std::uint64_t seed, const venation::ColonisationParams& p,
+                                          const venation::Colonisation& col, const cells::Cells* sheet) {
+  json meta = {{"program", "cellform"},       {"version", version()},
+               {"mode", "colonisation"},      {"script", s.script_path.string()},
+               {"overrides", s.sets},         {"seed", seed},
+               {"target_steps", p.max_steps}, {"step", col.report().steps},
+               {"out", s.out_dir.string()}};
+  std::map<std::string, std::string> chunks{{"meta", meta.dump()}, {"script", s.source}, {"colonisation", col.save()}};
+  if (sheet) chunks["cells"] = cells::save(*sheet);
+  return core::write_chunk_file(kCheckpointKind, kCheckpointVersion, chunks);
 }
 
 const char* domain_name(venation::DomainKind k) {
@@ -331,8 +354,9 @@ const char* domain_name(venation::DomainKind k) {
 }
 
 /// A space-colonisation run: sources and veins (Runions et al. 2005) in a leaf outline, a volume or on a
-/// surface (a mesh, or the sheet of cells grown first). No checkpoint: Ctrl-C stops it with the pattern
-/// so far written out.
+/// surface (a mesh, or the sheet of cells grown first). Writes checkpoint.cfck every
+/// output.checkpoint_every steps, at the end and on Ctrl-C (which stops it with the pattern so far written
+/// out); `cellform resume` continues it bit-identically (s.colonisation_bytes).
 int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
                      std::ostream& out, std::ostream& err, std::chrono::steady_clock::time_point t0) {
   const fs::path dir = s.out_dir;
@@ -346,32 +370,59 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
   ColonisationSpec& spec = *cfg.colonisation;
   spec.params.seed = seed;
   spec.params.threads = o.threads;
-  if (o.steps) spec.params.max_steps = *o.steps;
+  if (s.has_target) spec.params.max_steps = s.target_steps;  // --steps, or the checkpoint's limit
+  if (o.checkpoint_every) cfg.output.checkpoint_every = *o.checkpoint_every;
+  const fs::path checkpoint = dir / kCheckpointName;
   int code = ok;
   const bool planar = spec.domain.kind == venation::DomainKind::leaf;
   try {
     std::optional<cells::Cells> sheet;
-    if (spec.on_cells) sheet = grow_sheet(o, cfg, host, seed, err);
-    venation::Colonisation col = make_colonisation(spec, sheet ? &*sheet : nullptr);
+    if (spec.on_cells) {  // resume: the sheet grown by the first run, not grown again
+      if (s.resume && s.cells_bytes.empty())
+        throw core::InvalidInput("checkpoint '" + o.checkpoint.string() +
+                                 "' holds no grown cells, but the script grows veins on cells (surface{cells = true})");
+      sheet = s.resume ? cells::load(s.cells_bytes, "checkpoint '" + o.checkpoint.string() + "'")
+                       : grow_sheet(o, cfg, host, seed, err);
+    }
+    venation::Colonisation col = s.resume ? make_colonisation(spec, sheet ? &*sheet : nullptr, &s.colonisation_bytes,
+                                                              "checkpoint '" + o.checkpoint.string() + "'")
+                                          : make_colonisation(spec, sheet ? &*sheet : nullptr);
+    const std::size_t first = col.report().steps;
+    // Ctrl-C while the sheet grew: the veins would continue on a sheet the full run never has
+    const bool partial_sheet = spec.on_cells && !s.resume && g_interrupt.load();
+    auto save = [&] {
+      if (partial_sheet) return;
+      write_checkpoint(checkpoint, colonisation_checkpoint_bytes(s, seed, spec.params, col, sheet ? &*sheet : nullptr));
+    };
     if (!o.quiet)
-      err << "growing veins by space colonisation in " << s.script_path.string() << " (seed " << seed << ")\n";
+      err << (s.resume ? "resuming" : "growing") << " veins by space colonisation in " << s.script_path.string()
+          << " (seed " << seed << (s.resume ? ", from step " + std::to_string(first) : std::string()) << ")\n";
     const auto a = std::chrono::steady_clock::now();
     const bool nonuniform = spec.params.growth == venation::GrowthMode::nonuniform;
     std::size_t last_print = 0;
-    while (!col.done()) {
-      if (g_interrupt.load()) {
-        code = interrupted;
-        break;
+    try {
+      while (!col.done()) {
+        if (g_interrupt.load()) {
+          code = interrupted;
+          break;
+        }
+        const venation::ColonisationReport& r = col.step();
+        if (!o.quiet && (r.steps - last_print >= 50 || col.done())) {
+          last_print = r.steps;
+          err << "step " << r.steps << ": " << r.nodes << " vein nodes, " << r.sources << " sources";
+          if (planar) err << (nonuniform ? ", growth step " : ", leaf length ") << r.scale;
+          err << (::isatty(2) ? "\r" : "\n") << std::flush;
+        }
+        if (cfg.output.checkpoint_every > 0 && r.steps % cfg.output.checkpoint_every == 0 && !col.done()) save();
       }
-      const venation::ColonisationReport& r = col.step();
-      if (!o.quiet && (r.steps - last_print >= 50 || col.done())) {
-        last_print = r.steps;
-        err << "step " << r.steps << ": " << r.nodes << " vein nodes, " << r.sources << " sources";
-        if (planar) err << (nonuniform ? ", growth step " : ", leaf length ") << r.scale;
-        err << (::isatty(2) ? "\r" : "\n") << std::flush;
-      }
+    } catch (const std::exception&) {
+      // a step that failed may have left the state half changed: the last checkpoint is the one to resume
+      if (!o.quiet && ::isatty(2)) err << "\n";
+      if (fs::exists(checkpoint)) err << "cellform: (the last checkpoint is " << checkpoint.string() << ")\n";
+      throw;
     }
     if (!o.quiet && ::isatty(2)) err << "\n";
+    save();  // before the outputs: a failure writing them leaves the checkpoint
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
     venation::VeinTree tree = col.tree();
     venation::compute_widths(tree, spec.widths);
@@ -420,7 +471,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     }
     json run = {{"program", "cellform"},
                 {"version", version()},
-                {"command", "run"},
+                {"command", s.resume ? "resume" : "run"},
                 {"mode", "colonisation"},
                 {"domain", domain_name(spec.domain.kind)},
                 {"script",
@@ -432,7 +483,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
                            : rep.finished      ? "complete"
                            : rep.stalled       ? "stalled"
                                                : "stopped"},
-                {"steps", {{"completed", rep.steps}}},
+                {"steps", {{"first", first}, {"completed", rep.steps}, {"limit", spec.params.max_steps}}},
                 {"veins",
                  {{"nodes", rep.nodes},
                   {"loops", rep.loops},
@@ -442,7 +493,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
                 {"parameters", cfg.resolved},
                 {"timings",
                  {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
-                  {"simulation_s", seconds}}}};
+                  {"simulation_s", seconds}}},
+                {"checkpoint", kCheckpointName}};
     if (cfg.print) run["print"] = printed;
     if (planar) run["veins"]["leaf_length"] = leaf_length;
     if (sheet) run["cells"] = {{"initial", cfg.initial_cells.size()}, {"final", sheet->size()}};
@@ -458,6 +510,9 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
                                     : "stopped at max_steps")
             << ": " << rep.steps << " steps, " << rep.nodes << " vein nodes, " << rep.loops << " loops; outputs in "
             << dir.string() << "/\n";
+    if (code == interrupted)
+      err << (partial_sheet ? std::string("no checkpoint: the cell sheet was not fully grown; run the script again\n")
+                            : "continue with: cellform resume " + checkpoint.string() + "\n");
     return code;
   } catch (const core::InvalidInput& e) {
     err << "cellform: " << e.what() << "\n";
@@ -487,10 +542,12 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     cfg = host.load(s.source, s.script_path, s.sets);
     seed = s.seed ? *s.seed : cfg.seed;
     target = s.has_target ? s.target_steps : cfg.steps;
-    if (cfg.colonisation) {
-      if (s.resume) throw core::InvalidInput("space-colonisation runs have no checkpoints to resume");
-      return run_colonisation(o, s, cfg, host, seed, out, err, t0);
-    }
+    if (s.resume && cfg.colonisation.has_value() != !s.colonisation_bytes.empty())
+      throw core::InvalidInput("checkpoint '" + o.checkpoint.string() + "' is of a " +
+                               (s.colonisation_bytes.empty() ? "cell" : "space-colonisation") +
+                               " run, but its script with these --set overrides now describes a " +
+                               (cfg.colonisation ? "space-colonisation" : "cell") + " run");
+    if (cfg.colonisation) return run_colonisation(o, s, cfg, host, seed, out, err, t0);
     if (o.checkpoint_every) cfg.output.checkpoint_every = *o.checkpoint_every;
     scene = std::make_unique<forms::Scene>(cfg.scene, seed);
     cells::Simulation& sim = scene->simulation();

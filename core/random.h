@@ -3,6 +3,8 @@
 
 #include <cstdint>
 #include <random>
+#include <sstream>
+#include <string>
 
 #include "core/types.h"
 
@@ -32,6 +34,21 @@ class Rng {
   double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
   /// Raw 64 bits.
   std::uint64_t next() { return engine_(); }
+  /// The engine's full state as text (the standard's mt19937_64 stream format), for checkpoints.
+  std::string state() const {
+    std::ostringstream os;
+    os << engine_;
+    return os.str();
+  }
+  /// Restores a state() string; false (and the engine unchanged) if it is not one.
+  bool set_state(const std::string& s) {
+    std::istringstream is(s);
+    std::mt19937_64 e;
+    is >> e;
+    if (is.fail()) return false;
+    engine_ = e;
+    return true;
+  }
   /// A uniformly distributed unit vector (rejection sampling in the unit ball).
   Vec3 unit_vector() {
     for (;;) {

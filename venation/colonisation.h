@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -159,7 +160,24 @@ class Colonisation {
   Outline outline() const;
   const ColonisationReport& report() const;
 
+  /// The state after the steps so far, for checkpoints: vein nodes, anastomoses, sources (with their
+  /// tags and material coordinates), the per-source neighbourhood state, the random-number state, the
+  /// growth (sigma, growth steps), the settle counter and the report, as a chunk file (core/chunk_file.h,
+  /// kind "COLO") with a checksum and fingerprints of the parameters and the domain.
+  std::string save() const;
+  /// Continues a state from save(): the steps that follow are bit-identical to those of the run that
+  /// saved it, for any thread count. `params` and `domain` must be those it was saved with, except
+  /// threads, max_steps and max_nodes (the limits are applied anew: a run stopped by max_steps goes on
+  /// under a larger one). Throws core::InvalidInput naming what differs (wrong domain or parameters)
+  /// and core::FileError naming `what` for bytes that are not such a state or are corrupt.
+  static Colonisation load(const Domain& domain, const ColonisationParams& params, const std::string& bytes,
+                           const std::string& what = "colonisation state");
+  /// As above, for a state saved by a Colonisation made from a Leaf.
+  static Colonisation load(const Leaf& leaf, const ColonisationParams& params, const std::string& bytes,
+                           const std::string& what = "colonisation state");
+
  private:
+  void restore(const std::string& bytes, const std::string& what);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

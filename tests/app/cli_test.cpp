@@ -349,6 +349,13 @@ TEST_CASE("3-D space colonisation: veins in a volume and on a grown cell sheet",
     CHECK(run["print"]["shell_triangles"].get<int>() > 0);
     CHECK(fs::file_size(out / "cells.ply") > 0);
     CHECK(fs::file_size(out / "printable.stl") > 0);
+    // the checkpoint keeps the grown sheet: resuming does not grow the cells again
+    const std::string cells = slurp(out / "cells.ply"), veins = slurp(out / "veins.ply");
+    r = cli({"resume", (out / "checkpoint.cfck").string()});
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.err, !Contains("growing the cell sheet") && Contains("resuming veins"));
+    CHECK(slurp(out / "cells.ply") == cells);
+    CHECK(slurp(out / "veins.ply") == veins);
   }
   SECTION("bad domains are input errors") {
     const auto bad = t.write("bad.lua",
@@ -358,4 +365,58 @@ TEST_CASE("3-D space colonisation: veins in a volume and on a grown cell sheet",
     CHECK(r.code == 2);
     CHECK_THAT(r.err, Contains("bad.lua:1:") && Contains("volume.seeds[1]"));
   }
+}
+
+TEST_CASE("space colonisation resumes to the bit-identical veins, in a leaf and in a volume", "[cli][checkpoint]") {
+  TempDir t("cli-col-resume");
+  const std::string leaf =
+      "run { seed = 3 }\n"
+      "leaf { shape = 'ovate', width = 0.6 }\n"
+      "colonisation { type = 'closed', kill_distance = 1, birth_distance = 3, growth = 'marginal',\n"
+      "  initial_length = 15, final_length = 50, length_step = 1, darts = 3000 }\n";
+  const std::string volume =
+      "run { seed = 4 }\n"
+      "volume { ball = { centre = {0, 0, 6}, radius = 6 } }\n"
+      "colonisation { type = 'open', kill_distance = 1, birth_distance = 2.5, darts = 3000 }\n";
+  for (const auto& [name, source] : {std::pair{"leaf", leaf}, std::pair{"ball", volume}}) {
+    INFO(name);
+    const auto script = t.write(std::string(name) + ".lua", source);
+    const fs::path whole = t.path / (std::string(name) + "-whole"), part = t.path / (std::string(name) + "-part");
+    auto r = cli({"run", script.string(), "--out", whole.string(), "--quiet"});
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const auto full = nlohmann::json::parse(slurp(whole / "run.json"));
+    const int steps = full["steps"]["completed"].get<int>();
+    REQUIRE(steps > 20);
+    CHECK(fs::exists(whole / "checkpoint.cfck"));
+    CHECK(full["checkpoint"] == "checkpoint.cfck");
+    // stopped part way (as Ctrl-C would), with checkpoints every 4 steps on the way
+    r = cli({"run", script.string(), "--out", part.string(), "--quiet", "--steps", "13", "--checkpoint-every", "4"});
+    REQUIRE(r.code == 0);
+    CHECK(nlohmann::json::parse(slurp(part / "run.json"))["steps"]["completed"] == 13);
+    CHECK(slurp(whole / "veins.ply") != slurp(part / "veins.ply"));
+    r = cli({"resume", (part / "checkpoint.cfck").string(), "--steps", "100000", "--quiet", "--threads", "2"});
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(slurp(whole / "veins.ply") == slurp(part / "veins.ply"));
+    CHECK(slurp(whole / "veins.obj") == slurp(part / "veins.obj"));
+    const auto resumed = nlohmann::json::parse(slurp(part / "run.json"));
+    CHECK(resumed["command"] == "resume");
+    CHECK(resumed["steps"]["first"] == 13);
+    CHECK(resumed["steps"]["completed"] == steps);
+    // resuming the finished run changes nothing
+    r = cli({"resume", (whole / "checkpoint.cfck").string(), "--quiet"});
+    REQUIRE(r.code == 0);
+    CHECK(nlohmann::json::parse(slurp(whole / "run.json"))["steps"]["completed"] == steps);
+  }
+  // refused: a damaged checkpoint, and parameters other than those it was grown with
+  const fs::path out = t.path / "ball-part";
+  std::string bytes = slurp(out / "checkpoint.cfck");
+  bytes[bytes.size() / 2] ^= 0x55;
+  auto r = cli({"resume", t.write("flipped.cfck", bytes).string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("checksum"));
+  r = cli({"resume", (out / "checkpoint.cfck").string(), "--set", "colonisation.kill_distance=2", "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("other colonisation parameters"));
 }

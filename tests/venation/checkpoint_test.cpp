@@ -1,0 +1,233 @@
+// Tests of Colonisation::save() and load(): a run saved after any step and continued in a fresh object
+// ends exactly as the run that was never interrupted.
+#include <catch2/catch.hpp>
+#include <functional>
+#include <string>
+
+#include "core/errors.h"
+#include "venation/colonisation.h"
+#include "venation/domain.h"
+
+using namespace cellform;
+using Catch::Matchers::Contains;
+using core::Index;
+using core::Vec3;
+namespace v = cellform::venation;
+
+namespace {
+
+v::Leaf ellipse_leaf(double length, double width) {
+  v::ShapeParams sp;
+  sp.kind = v::ShapeKind::ovate;
+  sp.length = length;
+  sp.width = width;
+  v::Leaf leaf;
+  leaf.outline = v::make_outline(sp);
+  return leaf;
+}
+
+v::ColonisationParams leaf_params(v::VenationType type, double kill, double birth) {
+  v::ColonisationParams p;
+  p.type = type;
+  p.kill_distance = kill;
+  p.source_birth_distance = p.vein_birth_distance = birth;
+  p.node_distance = 1;
+  p.darts_per_area = 0.02;
+  p.seed = 42;
+  p.max_steps = 5000;
+  return p;
+}
+
+/// |x| + |y| + |z| <= r as a closed triangle mesh.
+v::Mesh octahedron(double r) {
+  v::Mesh m;
+  m.vertices = {{r, 0, 0}, {-r, 0, 0}, {0, r, 0}, {0, -r, 0}, {0, 0, r}, {0, 0, -r}};
+  for (Index x : {0u, 1u})
+    for (Index y : {2u, 3u})
+      for (Index z : {4u, 5u}) m.triangles.push_back({x, y, z});
+  return m;
+}
+
+void require_same(const v::Colonisation& a, const v::Colonisation& b) {
+  const v::VeinTree ta = a.tree(), tb = b.tree();
+  REQUIRE(ta.size() == tb.size());
+  for (std::size_t i = 0; i < ta.size(); ++i)  // bitwise: == on doubles, no tolerance
+    REQUIRE((ta.positions[i].x() == tb.positions[i].x() && ta.positions[i].y() == tb.positions[i].y() &&
+             ta.positions[i].z() == tb.positions[i].z()));
+  REQUIRE(ta.parent == tb.parent);
+  REQUIRE(ta.birth_step == tb.birth_step);
+  REQUIRE(ta.anastomoses == tb.anastomoses);
+  REQUIRE(a.sources() == b.sources());
+  const v::ColonisationReport &ra = a.report(), &rb = b.report();
+  CHECK(ra.steps == rb.steps);
+  CHECK(ra.nodes == rb.nodes);
+  CHECK(ra.sources == rb.sources);
+  CHECK(ra.sources_born == rb.sources_born);
+  CHECK(ra.sources_removed == rb.sources_removed);
+  CHECK(ra.darts == rb.darts);
+  CHECK(ra.loops == rb.loops);
+  CHECK(ra.scale == rb.scale);
+  CHECK(ra.finished == rb.finished);
+  CHECK(ra.stalled == rb.stalled);
+  CHECK(ra.hit_max_steps == rb.hit_max_steps);
+  // the whole state, neighbourhood caches and random numbers included
+  const std::string sa = a.save(), sb = b.save();
+  std::size_t at = 0;
+  while (at < sa.size() && at < sb.size() && sa[at] == sb[at]) ++at;
+  INFO("first difference at byte " << at << " of " << sa.size() << " / " << sb.size());
+  CHECK(sa == sb);
+}
+
+/// Runs `make()` to the end; then for cuts at step 0, a third, two thirds and the end: steps a fresh
+/// run to the cut, saves, loads into another object (threads 2) and runs it to the end.
+void check_resume(const std::function<v::Colonisation(int threads)>& make,
+                  const std::function<v::Colonisation(const std::string&, int threads)>& load) {
+  v::Colonisation whole = make(1);
+  whole.run();
+  const std::size_t n = whole.report().steps;
+  INFO("steps " << n << ", nodes " << whole.report().nodes << ", loops " << whole.report().loops);
+  REQUIRE(n > 10);
+  REQUIRE((whole.report().finished || whole.report().stalled));
+  for (std::size_t cut : {std::size_t{0}, n / 3, 2 * n / 3, n}) {
+    INFO("saved after step " << cut);
+    v::Colonisation first = make(1);
+    while (first.report().steps < cut) first.step();
+    const std::string bytes = first.save();
+    v::Colonisation second = load(bytes, 2);
+    CHECK(second.report().steps == cut);
+    second.run();
+    require_same(whole, second);
+  }
+}
+
+void check_leaf(const v::Leaf& leaf, const v::ColonisationParams& p) {
+  check_resume(
+      [&](int threads) {
+        v::ColonisationParams q = p;
+        q.threads = threads;
+        return v::Colonisation(leaf, q);
+      },
+      [&](const std::string& bytes, int threads) {
+        v::ColonisationParams q = p;
+        q.threads = threads;
+        return v::Colonisation::load(leaf, q, bytes);
+      });
+}
+
+void check_domain(const v::Domain& d, const v::ColonisationParams& p) {
+  check_resume(
+      [&](int threads) {
+        v::ColonisationParams q = p;
+        q.threads = threads;
+        return v::Colonisation(d, q);
+      },
+      [&](const std::string& bytes, int threads) {
+        v::ColonisationParams q = p;
+        q.threads = threads;
+        return v::Colonisation::load(d, q, bytes);
+      });
+}
+
+}  // namespace
+
+TEST_CASE("a saved leaf run continues bit-identically: open, closed exact and Urquhart", "[checkpoint]") {
+  const v::Leaf leaf = ellipse_leaf(30, 20);
+  SECTION("open") { check_leaf(leaf, leaf_params(v::VenationType::open, 1, 2)); }
+  SECTION("closed, exact") { check_leaf(leaf, leaf_params(v::VenationType::closed, 1, 2)); }
+  SECTION("closed, Urquhart") {
+    v::ColonisationParams p = leaf_params(v::VenationType::closed, 1, 2);
+    p.neighbourhood = v::Neighbourhood::urquhart;
+    check_leaf(leaf, p);
+  }
+}
+
+TEST_CASE("a saved growing leaf continues bit-identically: marginal, isogonic, nonuniform", "[checkpoint]") {
+  for (v::GrowthMode g : {v::GrowthMode::marginal, v::GrowthMode::uniform}) {
+    INFO("growth " << static_cast<int>(g));
+    v::ColonisationParams p =
+        leaf_params(g == v::GrowthMode::marginal ? v::VenationType::open : v::VenationType::closed, 1, 2);
+    p.growth = g;
+    p.initial_scale = 0.2;
+    p.final_scale = 1;
+    p.scale_step = 0.02;
+    check_leaf(ellipse_leaf(30, 20), p);
+  }
+  v::ColonisationParams p = leaf_params(v::VenationType::closed, 0.5, 1);
+  p.node_distance = 0.5;
+  p.darts_per_area = 0.3;
+  p.growth = v::GrowthMode::nonuniform;
+  p.growth_x = {{0, 10}, {1.03, 1.0}};
+  p.growth_y = {{0, 10}, {1.01, 1.04}};
+  p.growth_steps = 30;
+  check_leaf(ellipse_leaf(10, 6), p);
+}
+
+TEST_CASE("a saved 3-D run continues bit-identically: mesh volume open and closed, surface", "[checkpoint]") {
+  v::ColonisationParams p = leaf_params(v::VenationType::open, 1, 2.5);
+  p.seed = 5;
+  p.darts_per_area = 0.02;
+  v::Domain vol;
+  vol.kind = v::DomainKind::volume;
+  vol.mesh = octahedron(8);
+  vol.initial_nodes = {Vec3(0, 0, -8)};
+  check_domain(vol, p);
+  p.type = v::VenationType::closed;
+  check_domain(vol, p);
+  v::Domain surf = vol;
+  surf.kind = v::DomainKind::surface;
+  p.darts_per_area = 0.1;
+  check_domain(surf, p);
+}
+
+TEST_CASE("a run stopped by max_steps goes on under a larger limit as if never stopped", "[checkpoint]") {
+  const v::Leaf leaf = ellipse_leaf(30, 20);
+  const v::ColonisationParams p = leaf_params(v::VenationType::closed, 1, 2);
+  v::Colonisation whole(leaf, p);
+  whole.run();
+  v::ColonisationParams cut = p;
+  cut.max_steps = 17;
+  v::Colonisation first(leaf, cut);
+  first.run();
+  REQUIRE(first.report().hit_max_steps);
+  v::Colonisation second = v::Colonisation::load(leaf, p, first.save());
+  CHECK_FALSE(second.done());
+  second.run();
+  require_same(whole, second);
+  // loaded under the same small limit, it stays done
+  CHECK(v::Colonisation::load(leaf, cut, first.save()).done());
+}
+
+TEST_CASE("states refuse other parameters or domains, and corrupt bytes", "[checkpoint]") {
+  const v::Leaf leaf = ellipse_leaf(30, 20);
+  const v::ColonisationParams p = leaf_params(v::VenationType::closed, 1, 2);
+  v::Colonisation c(leaf, p);
+  for (int i = 0; i < 10; ++i) c.step();
+  const std::string bytes = c.save();
+
+  v::ColonisationParams other = p;
+  other.kill_distance = 1.5;
+  CHECK_THROWS_AS(v::Colonisation::load(leaf, other, bytes), core::InvalidInput);
+  CHECK_THROWS_WITH(v::Colonisation::load(leaf, other, bytes), Contains("colonisation parameters"));
+  other = p;
+  other.seed = 43;
+  CHECK_THROWS_AS(v::Colonisation::load(leaf, other, bytes), core::InvalidInput);
+  CHECK_THROWS_WITH(v::Colonisation::load(ellipse_leaf(31, 20), p, bytes), Contains("domain"));
+  v::Domain d;
+  d.kind = v::DomainKind::ball;
+  d.centre = Vec3(0, 0, 0);
+  d.radius = 5;
+  d.initial_nodes = {Vec3(0, 0, 0)};
+  v::ColonisationParams p3 = p;
+  CHECK_THROWS_AS(v::Colonisation::load(d, p3, bytes), core::InvalidInput);
+  // the same leaf given as a Domain is the same domain
+  v::Domain as_domain;
+  as_domain.leaf = leaf;
+  CHECK(v::Colonisation::load(as_domain, p, bytes).report().steps == 10);
+
+  std::string bad = bytes;
+  bad[bad.size() / 2] ^= 0x10;
+  CHECK_THROWS_AS(v::Colonisation::load(leaf, p, bad, "state X"), core::FileError);
+  CHECK_THROWS_WITH(v::Colonisation::load(leaf, p, bad, "state X"), Contains("state X"));
+  CHECK_THROWS_AS(v::Colonisation::load(leaf, p, bytes.substr(0, bytes.size() - 9)), core::FileError);
+  CHECK_THROWS_AS(v::Colonisation::load(leaf, p, "not a state"), core::FileError);
+}
