@@ -200,6 +200,11 @@ struct Colonisation::Impl {
   std::optional<PreparedDomain> region;
   std::vector<Vec3> darts;
 
+  // dart throwing scratch (kept across steps): blade candidates, their blade test, the dart tests
+  std::vector<Vec3> cand;
+  std::vector<std::uint8_t> cand_in, dart_ok;
+  core::Rng rng_mark{0};
+
   Impl(const Leaf& l, const ColonisationParams& params) : leaf(l), p(params), unit(l.outline), rng(params.seed) {
     petiole = lift(leaf.petiole);
     sigma = p.initial_scale;
@@ -356,17 +361,38 @@ struct Colonisation::Impl {
     ++rep.sources_removed;
   }
 
+  /// Darts of this step (Section 3.1): drawn from the RNG in order, tested against the blade and the
+  /// vein nodes in parallel (independent per dart), then against the sources one by one in draw order,
+  /// so that a dart sees the darts accepted before it. Same bits for any thread count.
   void throw_darts(double bs2, double bv2) {
-    if (region) {
-      darts.clear();
+    darts.clear();
+    if (region)
       region->throw_darts(p.darts_per_area, rng, darts);
-      for (const Vec3& q : darts) {
-        ++rep.darts;
-        if (grid.any_within(q, bs2, src) || nodes.any_within(q, bv2)) continue;
-        add_source(q);
-      }
-      return;
+    else
+      draw_blade_darts();
+    dart_ok.resize(darts.size());
+    // b_v against every node and b_s against the sources of earlier steps; both are pure queries
+    core::parallel_for(
+        darts.size(), p.threads,
+        [&](std::size_t first, std::size_t last) {
+          for (std::size_t d = first; d < last; ++d)
+            dart_ok[d] = !grid.any_within(darts[d], bs2, src) && !nodes.any_within(darts[d], bv2);
+        },
+        256);
+    const std::size_t sources_before = src.size();
+    for (std::size_t d = 0; d < darts.size(); ++d) {
+      ++rep.darts;
+      // a survivor can only be too close to a dart accepted earlier in this step
+      if (!dart_ok[d] || (src.size() > sources_before && grid.any_within(darts[d], bs2, src))) continue;
+      add_source(darts[d]);
     }
+  }
+
+  /// Blade darts: floor(rho A) (plus one with probability of the remainder) uniform points of the blade,
+  /// each by rejection from its bounding box. The candidates cost two draws each whatever the blade test
+  /// says, so they are drawn in batches, tested in parallel, and the RNG is then set to just after the
+  /// last candidate used: the darts and the RNG state are those of drawing and testing one at a time.
+  void draw_blade_darts() {
     const double area = nonuniform ? current.area() : unit.area() * sigma * sigma;  // of the actual leaf
     const double expected = p.darts_per_area * area;
     auto count = static_cast<std::size_t>(std::floor(expected));
@@ -374,13 +400,28 @@ struct Colonisation::Impl {
     const double fs = frame_scale();
     const Vec3 lo = nonuniform ? lift(current.lo()) : Vec3(petiole + fs * (lift(unit.lo()) - petiole));
     const Vec3 hi = nonuniform ? lift(current.hi()) : Vec3(petiole + fs * (lift(unit.hi()) - petiole));
-    for (std::size_t d = 0; d < count; ++d) {
-      Vec3 q;
-      do q = Vec3(rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), 0.0);
-      while (!in_blade(q));
-      ++rep.darts;
-      if (grid.any_within(q, bs2, src) || nodes.any_within(q, bv2)) continue;
-      add_source(q);
+    const double box = (hi.x() - lo.x()) * (hi.y() - lo.y());
+    const double inside = box > 0 ? std::clamp(area / box, 0.05, 1.0) : 1.0;  // expected share of candidates kept
+    while (darts.size() < count) {
+      const std::size_t need = count - darts.size();
+      const auto batch = static_cast<std::size_t>(static_cast<double>(need) / inside * 1.1) + 16;
+      rng_mark = rng;
+      cand.resize(batch);
+      for (Vec3& q : cand) q = Vec3(rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), 0.0);
+      cand_in.resize(batch);
+      core::parallel_for(
+          batch, p.threads,
+          [&](std::size_t first, std::size_t last) {
+            for (std::size_t c = first; c < last; ++c) cand_in[c] = in_blade(cand[c]);
+          },
+          256);
+      std::size_t used = 0;
+      while (used < batch && darts.size() < count)
+        if (cand_in[used++]) darts.push_back(cand[used - 1]);
+      if (used < batch) {  // rewind to just after candidate `used`
+        rng = rng_mark;
+        for (std::size_t k = 0; k < 2 * used; ++k) rng.next();
+      }
     }
   }
 
