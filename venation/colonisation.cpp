@@ -202,7 +202,7 @@ struct Colonisation::Impl {
 
   // dart throwing scratch (kept across steps): blade candidates, their blade test, the dart tests
   std::vector<Vec3> cand;
-  std::vector<std::uint8_t> cand_in, dart_ok;
+  std::vector<std::uint8_t> cand_in, dart_ok, done;  // done: per active source, to be removed
   core::Rng rng_mark{0};
 
   Impl(const Leaf& l, const ColonisationParams& params) : leaf(l), p(params), unit(l.outline), rng(params.seed) {
@@ -546,6 +546,44 @@ struct Colonisation::Impl {
       fresh.nearest(src[s], near[s], near_d2[s]);
   }
 
+  /// Step 4 for the a-th active source after the new nodes are in: its nearest node, and, closed, its
+  /// tags passed on or turned into reached veins. True if the source is to be removed (open: reached;
+  /// closed: every tag reached or gone). Touches only this source's state.
+  bool reach(std::size_t a, bool closed, double dk2) {
+    const Index s = active[a];
+    if (fresh.any_within(src[s], dk2) || (near[s] != kNoIndex && near_d2[s] <= dk2))
+      nodes.nearest(src[s], near[s], near_d2[s]);
+    if (!closed) return near_d2[s] < dk2;
+    auto reached_now = [&](Index t) { return (nodes.point(t) - src[s]).squaredNorm() < dk2; };
+    std::vector<Index>& T = tags[s];
+    if (tagged[s]) {
+      std::size_t w = 0;
+      for (Index t : T) {
+        if (reached_now(t)) {
+          reached[s].push_back(t);
+        } else if (influenced_by(a, t) && child[t] != kNoIndex) {  // the tag passes to the descendant
+          if (reached_now(child[t]))
+            reached[s].push_back(child[t]);
+          else
+            T[w++] = child[t];
+        }  // else: the vein left the zone of influence of s
+      }
+      T.resize(w);
+    } else if (near_d2[s] < dk2) {
+      tagged[s] = 1;
+      reached[s].push_back(near[s]);
+      for (Index k2 = infl_start[a]; k2 < infl_start[a + 1]; ++k2) {
+        const Index v = infl[k2];
+        const Index t = child[v] != kNoIndex ? child[v] : v;
+        if (reached_now(t))
+          reached[s].push_back(t);
+        else
+          T.push_back(t);
+      }
+    }
+    return tagged[s] && T.empty();
+  }
+
   void step() {
     const double k = dist_factor();
     const double bs = p.source_birth_distance * k;
@@ -627,43 +665,22 @@ struct Colonisation::Impl {
     // removal (open) or tagging and removal (closed), with the nodes just added. near[s] is the nearest of
     // the nodes [0, synced), so only the new ones are searched for one within d_k; if there is one, the
     // nearest node is taken over all nodes (the last word on distance ties, by index), in a small disc.
+    // Each source updates only its own near, tags and reached (in parallel); the removals, which touch
+    // the source grid and the anastomoses, follow in source order.
     sync_fresh();
+    done.resize(active.size());
+    core::parallel_for(
+        active.size(), p.threads,
+        [&](std::size_t first, std::size_t last) {
+          for (std::size_t a = first; a < last; ++a) done[a] = reach(a, closed, dk2);
+        },
+        256);
     for (std::size_t a = 0; a < active.size(); ++a) {
-      const Index s = active[a];
-      if (fresh.any_within(src[s], dk2) || (near[s] != kNoIndex && near_d2[s] <= dk2))
-        nodes.nearest(src[s], near[s], near_d2[s]);
-      if (!closed) {
-        if (near_d2[s] < dk2) remove_source(s);
-        continue;
-      }
-      auto reached_now = [&](Index t) { return (nodes.point(t) - src[s]).squaredNorm() < dk2; };
-      std::vector<Index>& T = tags[s];
-      if (tagged[s]) {
-        std::size_t w = 0;
-        for (Index t : T) {
-          if (reached_now(t)) {
-            reached[s].push_back(t);
-          } else if (influenced_by(a, t) && child[t] != kNoIndex) {  // the tag passes to the descendant
-            if (reached_now(child[t]))
-              reached[s].push_back(child[t]);
-            else
-              T[w++] = child[t];
-          }  // else: the vein left the zone of influence of s
-        }
-        T.resize(w);
-      } else if (near_d2[s] < dk2) {
-        tagged[s] = 1;
-        reached[s].push_back(near[s]);
-        for (Index k2 = infl_start[a]; k2 < infl_start[a + 1]; ++k2) {
-          const Index v = infl[k2];
-          const Index t = child[v] != kNoIndex ? child[v] : v;
-          if (reached_now(t))
-            reached[s].push_back(t);
-          else
-            T.push_back(t);
-        }
-      }
-      if (tagged[s] && T.empty()) close_source(s, D);
+      if (!done[a]) continue;
+      if (closed)
+        close_source(active[a], D);
+      else
+        remove_source(active[a]);
     }
     for (Index v : touched) child[v] = kNoIndex;
     std::erase_if(active, [&](Index s) { return !alive[s]; });
