@@ -402,9 +402,10 @@ struct Colonisation::Impl {
     const Vec3 hi = nonuniform ? lift(current.hi()) : Vec3(petiole + fs * (lift(unit.hi()) - petiole));
     const double box = (hi.x() - lo.x()) * (hi.y() - lo.y());
     const double inside = box > 0 ? std::clamp(area / box, 0.05, 1.0) : 1.0;  // expected share of candidates kept
-    while (darts.size() < count) {
-      const std::size_t need = count - darts.size();
-      const auto batch = static_cast<std::size_t>(static_cast<double>(need) / inside * 1.1) + 16;
+    // the first batch is a little short of the expected need (a rewind replays its draws), the rest small
+    for (bool opening = true; darts.size() < count; opening = false) {
+      const auto need = static_cast<double>(count - darts.size());
+      const auto batch = static_cast<std::size_t>(opening ? 0.9 * need / inside : 1.1 * need / inside + 16) + 1;
       rng_mark = rng;
       cand.resize(batch);
       for (Vec3& q : cand) q = Vec3(rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), 0.0);
