@@ -400,6 +400,15 @@ struct Colonisation::Impl {
     const double fs = frame_scale();
     const Vec3 lo = nonuniform ? lift(current.lo()) : Vec3(petiole + fs * (lift(unit.lo()) - petiole));
     const Vec3 hi = nonuniform ? lift(current.hi()) : Vec3(petiole + fs * (lift(unit.hi()) - petiole));
+    if (p.threads == 1) {  // one at a time: nothing drawn in vain, nothing to rewind
+      for (std::size_t d = 0; d < count; ++d) {
+        Vec3 q;
+        do q = Vec3(rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), 0.0);
+        while (!in_blade(q));
+        darts.push_back(q);
+      }
+      return;
+    }
     const double box = (hi.x() - lo.x()) * (hi.y() - lo.y());
     const double inside = box > 0 ? std::clamp(area / box, 0.05, 1.0) : 1.0;  // expected share of candidates kept
     // the first batch is a little short of the expected need (a rewind replays its draws), the rest small
