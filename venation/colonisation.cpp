@@ -201,6 +201,11 @@ struct Colonisation::Impl {
   std::optional<PreparedDomain> region;
   std::vector<Vec3> darts;
 
+  // dart throwing scratch (kept across steps): blade candidates, their blade test, the dart tests
+  std::vector<Vec3> cand;
+  std::vector<std::uint8_t> cand_in, dart_ok, done;  // done: per active source, to be removed
+  core::Rng rng_mark{0};
+
   Impl(const Leaf& l, const ColonisationParams& params) : leaf(l), p(params), unit(l.outline), rng(params.seed) {
     petiole = lift(leaf.petiole);
     sigma = p.initial_scale;
@@ -357,17 +362,38 @@ struct Colonisation::Impl {
     ++rep.sources_removed;
   }
 
+  /// Darts of this step (Section 3.1): drawn from the RNG in order, tested against the blade and the
+  /// vein nodes in parallel (independent per dart), then against the sources one by one in draw order,
+  /// so that a dart sees the darts accepted before it. Same bits for any thread count.
   void throw_darts(double bs2, double bv2) {
-    if (region) {
-      darts.clear();
+    darts.clear();
+    if (region)
       region->throw_darts(p.darts_per_area, rng, darts);
-      for (const Vec3& q : darts) {
-        ++rep.darts;
-        if (grid.any_within(q, bs2, src) || nodes.any_within(q, bv2)) continue;
-        add_source(q);
-      }
-      return;
+    else
+      draw_blade_darts();
+    dart_ok.resize(darts.size());
+    // b_v against every node and b_s against the sources of earlier steps; both are pure queries
+    core::parallel_for(
+        darts.size(), p.threads,
+        [&](std::size_t first, std::size_t last) {
+          for (std::size_t d = first; d < last; ++d)
+            dart_ok[d] = !grid.any_within(darts[d], bs2, src) && !nodes.any_within(darts[d], bv2);
+        },
+        256);
+    const std::size_t sources_before = src.size();
+    for (std::size_t d = 0; d < darts.size(); ++d) {
+      ++rep.darts;
+      // a survivor can only be too close to a dart accepted earlier in this step
+      if (!dart_ok[d] || (src.size() > sources_before && grid.any_within(darts[d], bs2, src))) continue;
+      add_source(darts[d]);
     }
+  }
+
+  /// Blade darts: floor(rho A) (plus one with probability of the remainder) uniform points of the blade,
+  /// each by rejection from its bounding box. The candidates cost two draws each whatever the blade test
+  /// says, so they are drawn in batches, tested in parallel, and the RNG is then set to just after the
+  /// last candidate used: the darts and the RNG state are those of drawing and testing one at a time.
+  void draw_blade_darts() {
     const double area = nonuniform ? current.area() : unit.area() * sigma * sigma;  // of the actual leaf
     const double expected = p.darts_per_area * area;
     auto count = static_cast<std::size_t>(std::floor(expected));
@@ -375,13 +401,38 @@ struct Colonisation::Impl {
     const double fs = frame_scale();
     const Vec3 lo = nonuniform ? lift(current.lo()) : Vec3(petiole + fs * (lift(unit.lo()) - petiole));
     const Vec3 hi = nonuniform ? lift(current.hi()) : Vec3(petiole + fs * (lift(unit.hi()) - petiole));
-    for (std::size_t d = 0; d < count; ++d) {
-      Vec3 q;
-      do q = Vec3(rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), 0.0);
-      while (!in_blade(q));
-      ++rep.darts;
-      if (grid.any_within(q, bs2, src) || nodes.any_within(q, bv2)) continue;
-      add_source(q);
+    if (p.threads == 1) {  // one at a time: nothing drawn in vain, nothing to rewind
+      for (std::size_t d = 0; d < count; ++d) {
+        Vec3 q;
+        do q = Vec3(rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), 0.0);
+        while (!in_blade(q));
+        darts.push_back(q);
+      }
+      return;
+    }
+    const double box = (hi.x() - lo.x()) * (hi.y() - lo.y());
+    const double inside = box > 0 ? std::clamp(area / box, 0.05, 1.0) : 1.0;  // expected share of candidates kept
+    // the first batch is a little short of the expected need (a rewind replays its draws), the rest small
+    for (bool opening = true; darts.size() < count; opening = false) {
+      const auto need = static_cast<double>(count - darts.size());
+      const auto batch = static_cast<std::size_t>(opening ? 0.9 * need / inside : 1.1 * need / inside + 16) + 1;
+      rng_mark = rng;
+      cand.resize(batch);
+      for (Vec3& q : cand) q = Vec3(rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), 0.0);
+      cand_in.resize(batch);
+      core::parallel_for(
+          batch, p.threads,
+          [&](std::size_t first, std::size_t last) {
+            for (std::size_t c = first; c < last; ++c) cand_in[c] = in_blade(cand[c]);
+          },
+          256);
+      std::size_t used = 0;
+      while (used < batch && darts.size() < count)
+        if (cand_in[used++]) darts.push_back(cand[used - 1]);
+      if (used < batch) {  // rewind to just after candidate `used`
+        rng = rng_mark;
+        for (std::size_t k = 0; k < 2 * used; ++k) rng.next();
+      }
     }
   }
 
@@ -506,6 +557,44 @@ struct Colonisation::Impl {
       fresh.nearest(src[s], near[s], near_d2[s]);
   }
 
+  /// Step 4 for the a-th active source after the new nodes are in: its nearest node, and, closed, its
+  /// tags passed on or turned into reached veins. True if the source is to be removed (open: reached;
+  /// closed: every tag reached or gone). Touches only this source's state.
+  bool reach(std::size_t a, bool closed, double dk2) {
+    const Index s = active[a];
+    if (fresh.any_within(src[s], dk2) || (near[s] != kNoIndex && near_d2[s] <= dk2))
+      nodes.nearest(src[s], near[s], near_d2[s]);
+    if (!closed) return near_d2[s] < dk2;
+    auto reached_now = [&](Index t) { return (nodes.point(t) - src[s]).squaredNorm() < dk2; };
+    std::vector<Index>& T = tags[s];
+    if (tagged[s]) {
+      std::size_t w = 0;
+      for (Index t : T) {
+        if (reached_now(t)) {
+          reached[s].push_back(t);
+        } else if (influenced_by(a, t) && child[t] != kNoIndex) {  // the tag passes to the descendant
+          if (reached_now(child[t]))
+            reached[s].push_back(child[t]);
+          else
+            T[w++] = child[t];
+        }  // else: the vein left the zone of influence of s
+      }
+      T.resize(w);
+    } else if (near_d2[s] < dk2) {
+      tagged[s] = 1;
+      reached[s].push_back(near[s]);
+      for (Index k2 = infl_start[a]; k2 < infl_start[a + 1]; ++k2) {
+        const Index v = infl[k2];
+        const Index t = child[v] != kNoIndex ? child[v] : v;
+        if (reached_now(t))
+          reached[s].push_back(t);
+        else
+          T.push_back(t);
+      }
+    }
+    return tagged[s] && T.empty();
+  }
+
   void step() {
     const double k = dist_factor();
     const double bs = p.source_birth_distance * k;
@@ -587,43 +676,22 @@ struct Colonisation::Impl {
     // removal (open) or tagging and removal (closed), with the nodes just added. near[s] is the nearest of
     // the nodes [0, synced), so only the new ones are searched for one within d_k; if there is one, the
     // nearest node is taken over all nodes (the last word on distance ties, by index), in a small disc.
+    // Each source updates only its own near, tags and reached (in parallel); the removals, which touch
+    // the source grid and the anastomoses, follow in source order.
     sync_fresh();
+    done.resize(active.size());
+    core::parallel_for(
+        active.size(), p.threads,
+        [&](std::size_t first, std::size_t last) {
+          for (std::size_t a = first; a < last; ++a) done[a] = reach(a, closed, dk2);
+        },
+        256);
     for (std::size_t a = 0; a < active.size(); ++a) {
-      const Index s = active[a];
-      if (fresh.any_within(src[s], dk2) || (near[s] != kNoIndex && near_d2[s] <= dk2))
-        nodes.nearest(src[s], near[s], near_d2[s]);
-      if (!closed) {
-        if (near_d2[s] < dk2) remove_source(s);
-        continue;
-      }
-      auto reached_now = [&](Index t) { return (nodes.point(t) - src[s]).squaredNorm() < dk2; };
-      std::vector<Index>& T = tags[s];
-      if (tagged[s]) {
-        std::size_t w = 0;
-        for (Index t : T) {
-          if (reached_now(t)) {
-            reached[s].push_back(t);
-          } else if (influenced_by(a, t) && child[t] != kNoIndex) {  // the tag passes to the descendant
-            if (reached_now(child[t]))
-              reached[s].push_back(child[t]);
-            else
-              T[w++] = child[t];
-          }  // else: the vein left the zone of influence of s
-        }
-        T.resize(w);
-      } else if (near_d2[s] < dk2) {
-        tagged[s] = 1;
-        reached[s].push_back(near[s]);
-        for (Index k2 = infl_start[a]; k2 < infl_start[a + 1]; ++k2) {
-          const Index v = infl[k2];
-          const Index t = child[v] != kNoIndex ? child[v] : v;
-          if (reached_now(t))
-            reached[s].push_back(t);
-          else
-            T.push_back(t);
-        }
-      }
-      if (tagged[s] && T.empty()) close_source(s, D);
+      if (!done[a]) continue;
+      if (closed)
+        close_source(active[a], D);
+      else
+        remove_source(active[a]);
     }
     for (Index v : touched) child[v] = kNoIndex;
     std::erase_if(active, [&](Index s) { return !alive[s]; });

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/errors.h"
+#include "core/random.h"
 #include "venation/vein_io.h"
 
 using namespace cellform;
@@ -137,6 +138,52 @@ TEST_CASE("runs are deterministic for a seed", "[colonisation]") {
   p.seed = 43;
   const auto c = v::colonise(leaf, p).first;
   CHECK((c.size() != a.size() || c.positions != a.positions));
+}
+
+TEST_CASE("darts: the sources of the first steps are those of throwing one dart at a time", "[colonisation]") {
+  // Oracle: Section 3.1 dart by dart from the same RNG, brute-force distance tests. Many darts per step
+  // so the batched, parallel tests and the RNG rewind of the implementation are exercised. With b_v = 3,
+  // D = 1 and d_k = 1 no source can be reached in two steps, so the alive sources are exactly the
+  // accepted darts, in order.
+  const v::Leaf leaf = ellipse_leaf(80, 60);
+  const v::OutlineIndex blade(leaf.outline);
+  const Vec3 petiole(leaf.petiole.x(), leaf.petiole.y(), 0.0);
+  for (v::VenationType type : {v::VenationType::open, v::VenationType::closed})
+    for (int threads : {1, 3}) {
+      v::ColonisationParams p = params(type, 1);
+      p.darts_per_area = 0.5;  // about 1,900 darts per step
+      p.threads = threads;
+      v::Colonisation sim(leaf, p);
+      core::Rng rng(p.seed);
+      std::vector<Vec3> expect;
+      std::size_t thrown = 0;
+      for (int step = 0; step < 2; ++step) {
+        const std::vector<Vec3> nodes = sim.tree().positions;
+        const double expected = p.darts_per_area * blade.area();
+        auto count = static_cast<std::size_t>(std::floor(expected));
+        if (rng.uniform() < expected - std::floor(expected)) ++count;
+        const Vec3 lo = petiole + 1.0 * (Vec3(blade.lo().x(), blade.lo().y(), 0) - petiole);
+        const Vec3 hi = petiole + 1.0 * (Vec3(blade.hi().x(), blade.hi().y(), 0) - petiole);
+        for (std::size_t d = 0; d < count; ++d) {
+          Vec3 q, u;
+          do {
+            q = Vec3(rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), 0.0);
+            u = petiole + (q - petiole) / 1.0;
+          } while (!blade.contains(v::Vec2(u.x(), u.y())));
+          bool ok = true;
+          for (const Vec3& s : expect) ok = ok && (s - q).squaredNorm() > 9;
+          for (const Vec3& n : nodes) ok = ok && (n - q).squaredNorm() > 9;
+          if (ok) expect.push_back(q);
+        }
+        thrown += count;
+        const auto& rep = sim.step();
+        INFO("step " << step + 1 << ", " << threads << " threads, " << expect.size() << " sources");
+        CHECK(rep.darts == thrown);
+        REQUIRE(sim.sources().size() == expect.size());
+        CHECK(sim.sources() == expect);
+      }
+      CHECK(expect.size() > 200);  // the second step tests darts against many sources
+    }
 }
 
 TEST_CASE("Figure 9 trend: a smaller kill distance gives more nodes and, closed, more loops", "[colonisation]") {
