@@ -11,6 +11,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "venation/vein_io.h"
 
 namespace cellform::exporters {
 
@@ -48,15 +49,7 @@ PngFrame png_frame(const VeinTree& tree, const Outline& outline, const PngParams
     throw core::InvalidInput("png size must be 16 to 20000 pixels, got " + std::to_string(params.size));
   if (!(params.margin >= 0 && 2 * params.margin < params.size - 1))
     throw core::InvalidInput("png margin must be >= 0 pixels and leave room for the drawing");
-  Vec2 lo(0, 0), hi(0, 0);
-  bool first = true;
-  auto grow = [&](const Vec2& q) {
-    lo = first ? q : Vec2(lo.cwiseMin(q));
-    hi = first ? q : Vec2(hi.cwiseMax(q));
-    first = false;
-  };
-  for (const Vec2& q : outline.points) grow(q);
-  for (const auto& q : tree.positions) grow(Vec2(q.x(), q.y()));
+  const auto [lo, hi] = venation::drawing_bounds(tree, outline);
   const double extent = std::max({hi.x() - lo.x(), hi.y() - lo.y(), 1e-12});
   PngFrame f;
   f.margin = params.margin;

@@ -9,7 +9,18 @@ namespace cellform::venation {
 
 namespace {
 constexpr double kPruneSlack = 1e-9;  // makes cone pruning conservative under rounding
+
+/// Squared distance from q to the box [lo, hi] (0 inside); the pruning bound of both trees.
+double box_distance2(const Vec3& lo, const Vec3& hi, const Vec3& q) {
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double a = lo[k] - q[k], b = q[k] - hi[k];
+    const double e = a > 0 ? a : (b > 0 ? b : 0.0);
+    d2 += e * e;
+  }
+  return d2;
 }
+}  // namespace
 
 Index PointTree::insert(const Vec3& p) {
   const Index id = static_cast<Index>(points_.size());
@@ -174,15 +185,7 @@ void PointTree::expand(const Node& nd, const Vec3& s, std::vector<std::pair<doub
   }
 }
 
-double PointTree::mindist2(const Node& nd, const Vec3& q) const {
-  double d2 = 0;
-  for (int k = 0; k < 3; ++k) {
-    const double a = nd.lo[k] - q[k], b = q[k] - nd.hi[k];
-    const double e = a > 0 ? a : (b > 0 ? b : 0.0);
-    d2 += e * e;
-  }
-  return d2;
-}
+double PointTree::mindist2(const Node& nd, const Vec3& q) const { return box_distance2(nd.lo, nd.hi, q); }
 
 namespace {
 constexpr double kSector = M_PI / 3;  // six fixed 60-degree sectors around the query
@@ -585,15 +588,7 @@ void PointBatch::build(int n, int first, int last) {
   build(c + 1, mid, last);
 }
 
-double PointBatch::mindist2(const Node& nd, const Vec3& q) const {
-  double d2 = 0;
-  for (int k = 0; k < 3; ++k) {
-    const double a = nd.lo[k] - q[k], b = q[k] - nd.hi[k];
-    const double e = a > 0 ? a : (b > 0 ? b : 0.0);
-    d2 += e * e;
-  }
-  return d2;
-}
+double PointBatch::mindist2(const Node& nd, const Vec3& q) const { return box_distance2(nd.lo, nd.hi, q); }
 
 void PointBatch::nearest(const Vec3& q, Index& best, double& best_d2) const {
   if (best == kNoIndex) best_d2 = std::numeric_limits<double>::infinity();

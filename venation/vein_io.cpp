@@ -13,8 +13,7 @@ namespace {
 double radius_of(const VeinTree& t, Index i) { return t.radius.size() == t.size() ? t.radius[i] : 0.0; }
 }  // namespace
 
-void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline, const SvgParams& sp,
-               const std::vector<Vec3>& sources) {
+std::pair<Vec2, Vec2> drawing_bounds(const VeinTree& tree, const Outline& outline) {
   Vec2 lo(0, 0), hi(0, 0);
   bool first = true;
   auto grow = [&](const Vec2& q) {
@@ -24,6 +23,12 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
   };
   for (const Vec2& q : outline.points) grow(q);
   for (const Vec3& q : tree.positions) grow(Vec2(q.x(), q.y()));
+  return {lo, hi};
+}
+
+void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline, const SvgParams& sp,
+               const std::vector<Vec3>& sources) {
+  const auto [lo, hi] = drawing_bounds(tree, outline);
   const double extent = std::max({hi.x() - lo.x(), hi.y() - lo.y(), 1e-12});
   const double s = sp.pixels_per_unit > 0 ? sp.pixels_per_unit : 1000.0 / extent;
   const double w = (hi.x() - lo.x()) * s + 2 * sp.margin, h = (hi.y() - lo.y()) * s + 2 * sp.margin;

@@ -2,10 +2,14 @@
 #pragma once
 
 #include <filesystem>
+#include <utility>
 
 #include "venation/colonisation.h"
 
 namespace cellform::venation {
+
+/// The box of a top-view drawing (x, y): the outline and every vein node; lo = hi = 0 when both are empty.
+std::pair<Vec2, Vec2> drawing_bounds(const VeinTree& tree, const Outline& outline);
 
 /// Drawing options for write_svg().
 struct SvgParams {

@@ -206,7 +206,8 @@ TEST_CASE("PointBatch queries equal brute force; sector_merge gives the sector n
       const Vec3 v(rng.uniform(-5, 20), rng.uniform(-5, 20), 0.0);
       bool lune = false;
       for (const Vec3& p : batch_pts)
-        lune = lune || ((p - s).squaredNorm() <= (v - s).squaredNorm() && (p - v).squaredNorm() <= (v - s).squaredNorm());
+        lune =
+            lune || ((p - s).squaredNorm() <= (v - s).squaredNorm() && (p - v).squaredNorm() <= (v - s).squaredNorm());
       CHECK(b.any_in_lune(s, v) == lune);
       // sector bests: the older points by brute force, then the batch merged in
       auto sector_best = [&](std::size_t n, Index* bi, double* bd) {
