@@ -189,6 +189,21 @@ struct Colonisation::Impl {
     bool ready = false;
   };
   std::vector<Sectors> sectors;
+
+  // Closed, Urquhart: per source its Voronoi cell among the nodes and the Urquhart neighbourhood that
+  // cell gives. Like the sectors, a cell is kept and clipped only by the nodes added since.
+  struct Urquhart {
+    VoronoiCell cell;
+    std::vector<Index> out;  // the Urquhart neighbourhood of the cell as it is
+    double window = 0;       // half side of the square the cell was clipped from
+    bool ready = false;
+  };
+  std::vector<Urquhart> urq;  // per source; empty unless closed Urquhart
+  struct UrquhartScratch {
+    std::vector<std::pair<double, Index>> hits;
+    std::vector<VoronoiCell::Vertex> verts;
+    std::vector<Index> dn;
+  };
   Index synced = 0;  // nodes [0, synced) are merged into every ready Sectors and every near[s]
   PointBatch fresh;  // nodes [fresh_first, fresh_last), indexed once for all sources
   Index fresh_first = 0, fresh_last = 0;
@@ -317,6 +332,7 @@ struct Colonisation::Impl {
       grid.insert(s, src[s]);
       near[s] = kNoIndex;
       sectors[s].ready = false;
+      if (!urq.empty()) urq[s].ready = false;
     }
   }
 
@@ -358,6 +374,7 @@ struct Colonisation::Impl {
 
   void remove_source(Index s) {
     alive[s] = 0;
+    if (!urq.empty()) urq[s] = {};
     grid.erase(s, src[s]);
     ++rep.sources_removed;
   }
@@ -445,6 +462,7 @@ struct Colonisation::Impl {
     near.push_back(kNoIndex);
     near_d2.push_back(0);
     sectors.emplace_back();
+    if (urquhart()) urq.emplace_back();
     if (p.type == VenationType::closed) {
       tags.emplace_back();
       reached.emplace_back();
@@ -452,6 +470,38 @@ struct Colonisation::Impl {
     grid.insert(id, q);
     active.push_back(id);
     ++rep.sources_born;
+  }
+
+  bool urquhart() const { return p.type == VenationType::closed && p.neighbourhood == Neighbourhood::urquhart; }
+
+  /// Closed, Urquhart: brings the Voronoi cell of source s up to date with nodes [synced, size) (indexed
+  /// by `fresh`: only those within twice the cell's radius can clip it) and writes its Urquhart
+  /// neighbourhood to `out`. A new cell is clipped from a square of half side `window` by at most the
+  /// 48 nearest nodes. Touches only this source's state.
+  void urquhart_update(Index s, std::vector<Index>& out, double window, PointTree::Scratch& scratch,
+                       UrquhartScratch& us) {
+    Urquhart& u = urq[s];
+    const Vec3& q = src[s];
+    bool changed = !u.ready;
+    if (!u.ready) {
+      nodes.voronoi_cell(q, window, u.cell, scratch, 48);
+      u.window = window;
+      u.ready = true;
+    } else if (fresh.size() > 0 && u.cell.poly.size() >= 3) {
+      us.hits.clear();
+      fresh.clippers(q, u.cell, us.hits);
+      std::sort(us.hits.begin(), us.hits.end());  // by distance, ties by index: as a fresh clipping would
+      for (const auto& [d2, v] : us.hits) {
+        if (!(d2 > 0)) continue;
+        changed |= u.cell.clip(q, nodes.point(v), v, us.verts);
+        if (u.cell.poly.size() < 3) break;
+      }
+    }
+    if (changed) {
+      u.cell.neighbours(1e-12 * u.window, us.dn);
+      nodes.urquhart_filter(q, us.dn, u.out);
+    }
+    out = u.out;
   }
 
   bool influenced_by(std::size_t a, Index v) const {
@@ -622,6 +672,7 @@ struct Colonisation::Impl {
         active.size(), p.threads,
         [&](std::size_t first, std::size_t last) {
           PointTree::Scratch local;
+          UrquhartScratch us;
           for (std::size_t a = first; a < last; ++a) {
             const Index s = active[a];
             std::vector<Index>& out = per_source[a];
@@ -630,8 +681,7 @@ struct Colonisation::Impl {
             else
               nearest_update(s);
             if (closed && p.neighbourhood == Neighbourhood::urquhart)
-              nodes.urquhart_neighbourhood(src[s], std::min(half_extent, 2 * std::sqrt(near_d2[s]) + 4 * D), out, local,
-                                           48);
+              urquhart_update(s, out, std::min(half_extent, 2 * std::sqrt(near_d2[s]) + 4 * D), local, us);
           }
         },
         64);
@@ -812,7 +862,7 @@ std::pair<VeinTree, ColonisationReport> colonise(const Domain& domain, const Col
 namespace {
 
 constexpr const char* kStateKind = "COLO";
-constexpr std::uint32_t kStateVersion = 1;
+constexpr std::uint32_t kStateVersion = 2;  // 2: Urquhart cells
 
 void put_vec3s(core::ByteWriter& w, const std::vector<Vec3>& v) {
   std::vector<double> flat;
@@ -948,6 +998,29 @@ std::string Colonisation::save() const {
   w.put_vector(best);
   w.put_vector(d2);
   w.put_vector(flags);
+  {  // Urquhart cells: per source ready, window, r2max, vertex count, then vertices and labels; outs
+    std::vector<char> ready;
+    std::vector<double> num;  // window, r2max per source; x, y per vertex
+    std::vector<std::int64_t> labels;
+    std::vector<Index> counts;
+    std::vector<std::vector<Index>> outs;
+    for (const Impl::Urquhart& u : m.urq) {
+      ready.push_back(u.ready ? 1 : 0);
+      num.insert(num.end(), {u.window, u.cell.r2max});
+      counts.push_back(static_cast<Index>(u.cell.poly.size()));
+      outs.push_back(u.out);
+    }
+    for (const Impl::Urquhart& u : m.urq)
+      for (const VoronoiCell::Vertex& v : u.cell.poly) {
+        num.insert(num.end(), {v.x, v.y});
+        labels.push_back(v.label);
+      }
+    w.put_vector(ready);
+    w.put_vector(num);
+    w.put_vector(labels);
+    w.put_vector(counts);
+    put_lists(w, outs);
+  }
   w.put(m.grid.cell());
   w.put_string(m.rng.state());
   w.put(m.sigma);
@@ -992,6 +1065,11 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
   const std::vector<Index> best = r.get_vector<Index>();
   const std::vector<double> d2 = r.get_vector<double>();
   const std::vector<char> flags = r.get_vector<char>();
+  const std::vector<char> u_ready = r.get_vector<char>();
+  const std::vector<double> u_num = r.get_vector<double>();
+  const std::vector<std::int64_t> u_labels = r.get_vector<std::int64_t>();
+  const std::vector<Index> u_counts = r.get_vector<Index>();
+  const std::vector<std::vector<Index>> u_outs = get_lists(r);
   const double cell = r.get<double>();
   const std::string rng = r.get_string();
   m.sigma = r.get<double>();
@@ -1016,6 +1094,14 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
     ok = (m.parent[i] == kNoIndex || m.parent[i] < i) && (i == 0 || m.birth[i] >= m.birth[i - 1]);
   for (Index v : ana) ok = ok && v < n;
   for (Index v : best) ok = ok && (v == kNoIndex || v < n);
+  const std::size_t nu = m.urquhart() ? ns : 0;
+  std::size_t vertices = 0;
+  for (Index c : u_counts) vertices += c;
+  ok = ok && u_ready.size() == nu && u_counts.size() == nu && u_outs.size() == nu &&
+       u_num.size() == 2 * nu + 2 * vertices && u_labels.size() == vertices;
+  for (std::int64_t l : u_labels) ok = ok && l >= -1 && l < static_cast<std::int64_t>(n);
+  for (const auto& l : u_outs)
+    for (Index v : l) ok = ok && v < n;
   for (Index v : m.near) ok = ok && (v == kNoIndex || v < n);
   for (std::size_t a = 0; ok && a < m.active.size(); ++a)
     ok = m.active[a] < ns && m.alive[m.active[a]] && (a == 0 || m.active[a] > m.active[a - 1]);
@@ -1052,6 +1138,15 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
       st.blocked[k] = flags[7 * s + k] != 0;
     }
     st.ready = flags[7 * s + 6] != 0;
+  }
+  m.urq.assign(nu, {});
+  for (std::size_t s = 0, at = 2 * nu, lab = 0; s < nu; ++s) {
+    Impl::Urquhart& u = m.urq[s];
+    u.ready = u_ready[s] != 0;
+    u.window = u_num[2 * s];
+    u.cell.r2max = u_num[2 * s + 1];
+    for (Index k = 0; k < u_counts[s]; ++k, at += 2) u.cell.poly.push_back({u_num[at], u_num[at + 1], u_labels[lab++]});
+    u.out = u_outs[s];
   }
   m.grid.reset(cell);
   for (Index s : m.active) m.grid.insert(s, m.src[s]);

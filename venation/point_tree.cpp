@@ -456,21 +456,57 @@ void PointTree::relative_neighbourhood(const Vec3& s, std::vector<Index>& out, S
   std::sort(out.begin(), out.end());
 }
 
-void PointTree::delaunay_neighbourhood(const Vec3& s, double half_extent, std::vector<Index>& out, Scratch& sc,
-                                       std::size_t max_points) const {
-  std::size_t clipped = 0;
+void VoronoiCell::reset(const Vec3& s, double half_extent) {
+  poly = {{s.x() - half_extent, s.y() - half_extent, -1},
+          {s.x() + half_extent, s.y() - half_extent, -1},
+          {s.x() + half_extent, s.y() + half_extent, -1},
+          {s.x() - half_extent, s.y() + half_extent, -1}};
+  r2max = 2 * half_extent * half_extent;
+}
+
+bool VoronoiCell::clip(const Vec3& s, const Vec3& u, Index label, std::vector<Vertex>& next) {
+  // half-plane closer to s than to u: a . x <= b
+  const double ax = u.x() - s.x(), ay = u.y() - s.y();
+  const double b = 0.5 * (ax * (u.x() + s.x()) + ay * (u.y() + s.y()));
+  next.clear();
+  bool changed = false;
+  const std::size_t n = poly.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vertex& P = poly[i];
+    const Vertex& Q = poly[(i + 1) % n];
+    const double fp = ax * P.x + ay * P.y - b, fq = ax * Q.x + ay * Q.y - b;
+    const bool in_p = fp <= 0, in_q = fq <= 0;
+    changed |= !in_p;
+    if (in_p) next.push_back(P);
+    if (in_p != in_q) {
+      const double t = fp / (fp - fq);
+      next.push_back({P.x + t * (Q.x - P.x), P.y + t * (Q.y - P.y), in_p ? static_cast<std::int64_t>(label) : P.label});
+    }
+  }
+  if (!changed) return false;
+  poly.swap(next);
+  r2max = 0;
+  for (const Vertex& p : poly) r2max = std::max(r2max, (p.x - s.x()) * (p.x - s.x()) + (p.y - s.y()) * (p.y - s.y()));
+  return true;
+}
+
+void VoronoiCell::neighbours(double tiny, std::vector<Index>& out) const {
   out.clear();
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vertex& P = poly[i];
+    const Vertex& Q = poly[(i + 1) % poly.size()];
+    if (P.label >= 0 && std::hypot(Q.x - P.x, Q.y - P.y) > tiny) out.push_back(static_cast<Index>(P.label));
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+void PointTree::voronoi_cell(const Vec3& s, double half_extent, VoronoiCell& cell, Scratch& sc,
+                             std::size_t max_points) const {
+  cell.reset(s, half_extent);
   if (nodes_.empty()) return;
-  struct V {
-    double x, y;
-    std::int64_t label;  // generator of the edge leaving this vertex; -1 = bounding square
-  };
-  std::vector<V> poly{{s.x() - half_extent, s.y() - half_extent, -1},
-                      {s.x() + half_extent, s.y() - half_extent, -1},
-                      {s.x() + half_extent, s.y() + half_extent, -1},
-                      {s.x() - half_extent, s.y() + half_extent, -1}};
-  std::vector<V> next;
-  double r2max = 2 * half_extent * half_extent;
+  std::vector<VoronoiCell::Vertex> next;
+  std::size_t clipped = 0;
   auto& heap = sc.heap;
   heap.clear();
   const auto cmp = std::greater<>();
@@ -479,51 +515,29 @@ void PointTree::delaunay_neighbourhood(const Vec3& s, double half_extent, std::v
     std::pop_heap(heap.begin(), heap.end(), cmp);
     const auto [d2, id] = heap.back();
     heap.pop_back();
-    if (d2 > 4 * r2max) break;  // farther than twice the cell's radius: cannot clip it
+    if (d2 > 4 * cell.r2max) break;  // farther than twice the cell's radius: cannot clip it
     if (id >= 0) {
-      const Node& nd = nodes_[id];
-      expand(nd, s, heap);
+      expand(nodes_[id], s, heap);
       continue;
     }
     if (!(d2 > 0)) continue;
     if (++clipped > max_points) break;
-    const Index u = static_cast<Index>(~id);
-    // half-plane closer to s than to u: a . x <= b
-    const double ax = points_[u].x() - s.x(), ay = points_[u].y() - s.y();
-    const double b = 0.5 * (ax * (points_[u].x() + s.x()) + ay * (points_[u].y() + s.y()));
-    next.clear();
-    const std::size_t n = poly.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const V& P = poly[i];
-      const V& Q = poly[(i + 1) % n];
-      const double fp = ax * P.x + ay * P.y - b, fq = ax * Q.x + ay * Q.y - b;
-      const bool in_p = fp <= 0, in_q = fq <= 0;
-      if (in_p) next.push_back(P);
-      if (in_p != in_q) {
-        const double t = fp / (fp - fq);
-        V I{P.x + t * (Q.x - P.x), P.y + t * (Q.y - P.y), in_p ? static_cast<std::int64_t>(u) : P.label};
-        next.push_back(I);
-      }
-    }
-    poly.swap(next);
-    if (poly.size() < 3) break;
-    r2max = 0;
-    for (const V& p : poly) r2max = std::max(r2max, (p.x - s.x()) * (p.x - s.x()) + (p.y - s.y()) * (p.y - s.y()));
+    const auto u = static_cast<Index>(~id);
+    cell.clip(s, points_[u], u, next);
+    if (cell.poly.size() < 3) break;
   }
-  const double tiny = 1e-12 * half_extent;
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const V& P = poly[i];
-    const V& Q = poly[(i + 1) % poly.size()];
-    if (P.label >= 0 && std::hypot(Q.x - P.x, Q.y - P.y) > tiny) out.push_back(static_cast<Index>(P.label));
-  }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
-void PointTree::urquhart_neighbourhood(const Vec3& s, double half_extent, std::vector<Index>& out, Scratch& sc,
+void PointTree::delaunay_neighbourhood(const Vec3& s, double half_extent, std::vector<Index>& out, Scratch& sc,
                                        std::size_t max_points) const {
-  std::vector<Index> dn;
-  delaunay_neighbourhood(s, half_extent, dn, sc, max_points);
+  out.clear();
+  if (nodes_.empty()) return;
+  VoronoiCell cell;
+  voronoi_cell(s, half_extent, cell, sc, max_points);
+  cell.neighbours(1e-12 * half_extent, out);
+}
+
+void PointTree::urquhart_filter(const Vec3& s, const std::vector<Index>& dn, std::vector<Index>& out) const {
   out.clear();
   for (Index v : dn) {
     const double r2 = (points_[v] - s).squaredNorm();
@@ -535,6 +549,13 @@ void PointTree::urquhart_neighbourhood(const Vec3& s, double half_extent, std::v
       }
     if (!excluded) out.push_back(v);
   }
+}
+
+void PointTree::urquhart_neighbourhood(const Vec3& s, double half_extent, std::vector<Index>& out, Scratch& sc,
+                                       std::size_t max_points) const {
+  std::vector<Index> dn;
+  delaunay_neighbourhood(s, half_extent, dn, sc, max_points);
+  urquhart_filter(s, dn, out);
 }
 
 void PointBatch::assign(std::span<const Vec3> points, Index offset) {
@@ -633,6 +654,42 @@ bool PointBatch::any_within(const Vec3& q, double r2) const {
     stack[top++] = nd.child + near;
   }
   return false;
+}
+
+void PointBatch::clippers(const Vec3& s, const VoronoiCell& cell, std::vector<std::pair<double, Index>>& out) const {
+  if (nodes_.empty() || cell.poly.empty()) return;
+  constexpr std::size_t kMax = 64;
+  const std::size_t nv = std::min(cell.poly.size(), kMax);
+  Vec3 c[kMax];
+  double r2[kMax];
+  for (std::size_t k = 0; k < nv; ++k) {
+    c[k] = Vec3(cell.poly[k].x, cell.poly[k].y, s.z());
+    r2[k] = (c[k] - s).squaredNorm();
+  }
+  const bool all = cell.poly.size() > kMax;  // never in practice: fall back to the bounding disc
+  const double disc = 4 * cell.r2max;
+  int stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& nd = nodes_[stack[--top]];
+    bool reach = false;
+    if (all)
+      reach = mindist2(nd, s) <= disc;
+    else
+      for (std::size_t k = 0; k < nv && !reach; ++k) reach = mindist2(nd, c[k]) <= r2[k];
+    if (!reach) continue;
+    if (nd.child < 0) {
+      for (int i = nd.first; i < nd.last; ++i) {
+        bool hit = all && (pos_[i] - s).squaredNorm() <= disc;
+        for (std::size_t k = 0; k < nv && !hit; ++k) hit = (pos_[i] - c[k]).squaredNorm() <= r2[k];
+        if (hit) out.emplace_back((pos_[i] - s).squaredNorm(), id_[i]);
+      }
+      continue;
+    }
+    stack[top++] = nd.child;
+    stack[top++] = nd.child + 1;
+  }
 }
 
 bool PointBatch::any_in_lune(const Vec3& s, const Vec3& v) const {

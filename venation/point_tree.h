@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "core/types.h"
@@ -16,6 +17,26 @@ using core::Vec3;
 namespace detail {
 struct Lune;  // a lune query (point_tree.cpp)
 }
+
+/// The Voronoi cell of a site s in the plane z = 0 among points added by clipping, inside a window
+/// square around s: a convex polygon whose edges are labelled with the point whose bisector made them.
+/// Points never move, so a cell once computed is kept up to date by clipping it with the points added
+/// since; only points within 2 sqrt(r2max) of s can change it.
+struct VoronoiCell {
+  struct Vertex {
+    double x, y;
+    std::int64_t label;  ///< the point whose bisector is the edge leaving this vertex; -1 = the window
+  };
+  std::vector<Vertex> poly;
+  double r2max = 0;  ///< squared distance from s to the farthest vertex (model units squared)
+  /// The window square of half side `half_extent` (model units) around s.
+  void reset(const Vec3& s, double half_extent);
+  /// Clips the cell by the half-plane closer to s than to u (label `label`). True if the cell shrank.
+  /// `scratch` avoids allocation between calls.
+  bool clip(const Vec3& s, const Vec3& u, Index label, std::vector<Vertex>& scratch);
+  /// The labels of the edges longer than `tiny`: the Delaunay neighbours of s. Sorted by index.
+  void neighbours(double tiny, std::vector<Index>& out) const;
+};
 
 /// A k-d tree that only grows: points are appended (index = insertion order) and never move, so the
 /// index is updated in O(log^2 n) amortised per vein node instead of being rebuilt every step. Leaves
@@ -102,6 +123,15 @@ class PointTree {
   void urquhart_neighbourhood(const Vec3& s, double half_extent, std::vector<Index>& out, Scratch& scratch,
                               std::size_t max_points = static_cast<std::size_t>(-1)) const;
 
+  /// The cell behind delaunay_neighbourhood(): s's Voronoi cell clipped from the window square by the
+  /// points in order of distance (at most `max_points` of them), to keep and clip further later.
+  void voronoi_cell(const Vec3& s, double half_extent, VoronoiCell& cell, Scratch& scratch,
+                    std::size_t max_points = static_cast<std::size_t>(-1)) const;
+
+  /// The Urquhart step on Delaunay neighbours `dn` of s (sorted): drops each v that another member u
+  /// excludes by Eq. 2 (|u - s| <= |v - s| and |u - v| <= |v - s|). Sorted by index.
+  void urquhart_filter(const Vec3& s, const std::vector<Index>& dn, std::vector<Index>& out) const;
+
  private:
   struct Node {
     Vec3 lo, hi;  // tight box of the points below
@@ -146,6 +176,9 @@ class PointBatch {
   void nearest(const Vec3& q, Index& best, double& best_d2) const;
   /// True if a point lies at squared distance <= r2 from q.
   bool any_within(const Vec3& q, double r2) const;
+  /// Appends (squared distance from s, index) of every point that can clip `cell`, the Voronoi cell of
+  /// s: those nearer to some vertex of the cell than s is (or as near). Unsorted.
+  void clippers(const Vec3& s, const VoronoiCell& cell, std::vector<std::pair<double, Index>>& out) const;
   /// True if a point lies in the closed lune of s and the position v (both distances <= |v - s|).
   bool any_in_lune(const Vec3& s, const Vec3& v) const;
   /// Merges the points into the six sector bests of s (PointTree::sector_nearest's arrays, kNoIndex and

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <span>
 
 #include "core/random.h"
 
@@ -133,6 +134,59 @@ TEST_CASE("Delaunay neighbourhood matches the Voronoi-edge oracle; RN within Urq
       CHECK(std::includes(dn.begin(), dn.end(), ur.begin(), ur.end()));
       CHECK(std::includes(ur.begin(), ur.end(), rn.begin(), rn.end()));
     }
+  }
+}
+
+TEST_CASE("a kept Voronoi cell clipped by the points added since equals a fresh one", "[point_tree]") {
+  // nodes arrive in batches, as vein nodes do step by step; each source keeps its cell and clips it
+  // only with the batch's clippers (PointBatch::clippers), in order of distance
+  for (std::uint64_t seed : {21u, 22u, 23u}) {
+    const auto pts = vein_like(40);
+    auto more = random_points(seed, 300, false, 20);
+    std::vector<Vec3> all = pts;
+    PointTree t = build(pts);
+    core::Rng rng(seed);
+    std::vector<Vec3> sites;
+    for (int q = 0; q < 30; ++q) sites.emplace_back(rng.uniform(1, 19), rng.uniform(1, 19), 0);
+    PointTree::Scratch sc;
+    std::vector<venation::VoronoiCell> cells(sites.size());
+    for (std::size_t q = 0; q < sites.size(); ++q) t.voronoi_cell(sites[q], 1e4, cells[q], sc);
+    std::vector<venation::VoronoiCell::Vertex> verts;
+    std::vector<std::pair<double, Index>> hits;
+    std::size_t skipped = 0, total = 0;
+    for (std::size_t first = 0; first < more.size(); first += 25) {
+      const auto offset = static_cast<Index>(all.size());
+      const std::span<const Vec3> batch(more.data() + first, 25);
+      for (const Vec3& p : batch) {
+        all.push_back(p);
+        t.insert(p);
+      }
+      venation::PointBatch fresh;
+      fresh.assign(batch, offset);
+      for (std::size_t q = 0; q < sites.size(); ++q) {
+        hits.clear();
+        fresh.clippers(sites[q], cells[q], hits);
+        std::sort(hits.begin(), hits.end());
+        // every point of the batch the filter left out really leaves the cell as it is
+        for (Index i = 0; i < 25; ++i) {
+          const bool listed = std::any_of(hits.begin(), hits.end(), [&](auto h) { return h.second == offset + i; });
+          venation::VoronoiCell copy = cells[q];
+          ++total;
+          if (!listed) {
+            ++skipped;
+            CHECK_FALSE(copy.clip(sites[q], batch[i], offset + i, verts));
+          }
+        }
+        for (const auto& [d2, u] : hits)
+          if (d2 > 0) cells[q].clip(sites[q], all[u], u, verts);
+        std::vector<Index> kept, fresh_dn;
+        cells[q].neighbours(1e-8, kept);
+        t.delaunay_neighbourhood(sites[q], 1e4, fresh_dn, sc);
+        CHECK(kept == fresh_dn);
+        CHECK(kept == delaunay_brute_force(all, sites[q]));
+      }
+    }
+    CHECK(skipped > total / 2);  // the filter does skip most points
   }
 }
 
