@@ -1,5 +1,6 @@
 // The run and resume commands.
 #include "app/run.h"
+#include "app/run_internal.h"
 
 #include <unistd.h>
 
@@ -19,8 +20,6 @@
 #include "export/mesh_files.h"
 #include "export/printable.h"
 #include "export/vein_files.h"
-#include "export/vein_png.h"
-#include "venation/vein_io.h"
 
 #ifndef CELLFORM_VERSION
 #define CELLFORM_VERSION "0.0.0"
@@ -36,30 +35,6 @@ std::atomic<bool> g_interrupt{false};
 std::string version() { return CELLFORM_VERSION; }
 
 namespace {
-
-constexpr std::uint32_t kCheckpointVersion = 1;
-constexpr const char* kCheckpointKind = "CKPT";
-constexpr const char* kCheckpointName = "checkpoint.cfck";
-
-/// An input problem (bad script, parameter or input file): exit code 2.
-struct InputError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-/// What a run is continuing from or starting with.
-struct Start {
-  std::string source;
-  fs::path script_path;
-  Overrides sets;
-  std::optional<std::uint64_t> seed;
-  std::uint64_t target_steps = 0;
-  bool has_target = false;
-  fs::path out_dir;
-  std::string cells_bytes;         // resume only: the cells (colonisation on cells: the grown sheet)
-  std::string colonisation_bytes;  // resume only: a space-colonisation state (Colonisation::save)
-  std::uint64_t step = 0;          // resume only
-  bool resume = false;
-};
 
 Start start_from(const RunOptions& o) {
   Start s;
@@ -119,6 +94,8 @@ std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t t
       kCheckpointKind, kCheckpointVersion,
       {{"meta", meta.dump()}, {"script", s.source}, {"cells", cells::save(scene.simulation().cells())}});
 }
+
+}  // namespace
 
 void write_checkpoint(const fs::path& path, const std::string& bytes) {
   core::write_file_atomically(
@@ -225,6 +202,8 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
           {"seconds", rep.voxelise_seconds + rep.mesh_seconds}};
 }
 
+namespace {
+
 /// print{} for a cell run: the vein graph and, if asked, the cell sheet.
 json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Cells& c, bool has_veins, int threads,
                      std::vector<std::string>& names, std::ostream& err, bool quiet) {
@@ -234,6 +213,8 @@ json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Ce
   if (spec.shell) shell = exporters::shell_triangles(c, cells::triangulate(c));
   return thicken_and_write(dir, spec, segments, shell, threads, names, err, quiet);
 }
+
+}  // namespace
 
 /// Moves every file of `staging` (recursively) into `dir`, then removes the outputs of an earlier run
 /// (listed in its run.json) that this run did not write again.
@@ -264,269 +245,6 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
   std::error_code ec;
   fs::remove_all(staging, ec);
 }
-
-/// surface{cells = true}: grows the script's cells (cells{}, division{}, run{}, shapes) for --steps or
-/// run.steps steps and returns them. Ctrl-C ends the growth early.
-cells::Cells grow_sheet(const RunOptions& o, const SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
-                        std::ostream& err) {
-  forms::Scene scene(cfg.scene, seed);
-  cells::Simulation& sim = scene.simulation();
-  sim.set_threads(o.threads);
-  for (const InitialCell& c : cfg.initial_cells)
-    cells::add_cell(sim.cells(), c.position, cells::CellType::general, c.fixed);
-  scene.start();
-  const cells::Rules rules = host.rules();
-  if (rules.divides) sim.rules().divides = rules.divides;
-  if (rules.split_direction) sim.rules().split_direction = rules.split_direction;
-  const std::uint64_t target = o.steps ? *o.steps : cfg.steps;
-  if (!o.quiet) err << "growing the cell sheet for " << target << " steps (" << sim.cells().size() << " cells)\n";
-  Progress progress(err, ::isatty(2) != 0, o.quiet, 0, target);
-  while (sim.step_count() < target && !g_interrupt.load()) {
-    host.set_step(sim.step_count() + 1);
-    scene.step();
-    progress.update(sim.step_count(), sim.cells().size());
-  }
-  progress.finish();
-  return sim.cells();
-}
-
-/// The colonisation of the spec's domain; for surface{cells = true} the domain is the sheet of `sheet`,
-/// with the seeds (default: the petiole cells) moved to their nearest points of it.
-/// With `state` (resume), the run continues from that Colonisation::save() state instead of step 0.
-venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cells::Cells* sheet,
-                                         const std::string* state = nullptr, const std::string& what = "") {
-  auto make = [&](const auto& domain) {
-    return state ? venation::Colonisation::load(domain, spec.params, *state, what)
-                 : venation::Colonisation(domain, spec.params);
-  };
-  if (spec.domain.kind == venation::DomainKind::leaf) return make(spec.leaf);
-  if (!sheet) return make(spec.domain);
-  venation::Domain d = spec.domain;
-  d.mesh.vertices = sheet->position;
-  d.mesh.triangles = cells::triangulate(*sheet).triangles;
-  if (d.mesh.triangles.empty())
-    throw core::InvalidInput(
-        "surface{cells = true}: the grown cells form no triangles to grow veins on (place a "
-        "sheet such as disc{...} and grow it longer)");
-  std::vector<core::Vec3> seeds = d.initial_nodes;
-  if (seeds.empty())
-    for (std::size_t i = 0; i < sheet->size(); ++i)
-      if (sheet->type[i] == cells::CellType::petiole) seeds.push_back(sheet->position[i]);
-  if (seeds.empty())
-    throw core::InvalidInput(
-        "surface{cells = true} needs seeds = {{x, y, z}, ...} or a petiole{...} cell where "
-        "the veins start");
-  d.initial_nodes = {d.mesh.vertices[d.mesh.triangles[0][0]]};
-  const venation::PreparedDomain sheet_surface(d);
-  for (core::Vec3& p : seeds) p = sheet_surface.closest_point(p);
-  d.initial_nodes = seeds;
-  return make(d);
-}
-
-/// A colonisation checkpoint: the script, what resume needs to rebuild the same setup (seed, --set
-/// overrides, the step limit, for surface{cells = true} the grown sheet) and the colonisation state.
-std::string colonisation_checkpoint_bytes(const Start& s, std::uint64_t seed, const venation::ColonisationParams& p,
-                                          const venation::Colonisation& col, const cells::Cells* sheet) {
-  json meta = {{"program", "cellform"},       {"version", version()},
-               {"mode", "colonisation"},      {"script", s.script_path.string()},
-               {"overrides", s.sets},         {"seed", seed},
-               {"target_steps", p.max_steps}, {"step", col.report().steps},
-               {"out", s.out_dir.string()}};
-  std::map<std::string, std::string> chunks{{"meta", meta.dump()}, {"script", s.source}, {"colonisation", col.save()}};
-  if (sheet) chunks["cells"] = cells::save(*sheet);
-  return core::write_chunk_file(kCheckpointKind, kCheckpointVersion, chunks);
-}
-
-const char* domain_name(venation::DomainKind k) {
-  switch (k) {
-    case venation::DomainKind::leaf:
-      return "leaf";
-    case venation::DomainKind::box:
-      return "box";
-    case venation::DomainKind::ball:
-      return "ball";
-    case venation::DomainKind::volume:
-      return "volume";
-    case venation::DomainKind::surface:
-      return "surface";
-  }
-  return "?";
-}
-
-/// A space-colonisation run: sources and veins (Runions et al. 2005) in a leaf outline, a volume or on a
-/// surface (a mesh, or the sheet of cells grown first). Writes checkpoint.cfck every
-/// output.checkpoint_every steps, at the end and on Ctrl-C (which stops it with the pattern so far written
-/// out); `cellform resume` continues it bit-identically (s.colonisation_bytes).
-int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
-                     std::ostream& out, std::ostream& err, std::chrono::steady_clock::time_point t0) {
-  const fs::path dir = s.out_dir;
-  fs::path staging;
-  try {
-    staging = make_staging(dir);
-  } catch (const std::exception& e) {
-    err << "cellform: cannot write outputs: " << e.what() << "\n";
-    return failure;
-  }
-  ColonisationSpec& spec = *cfg.colonisation;
-  spec.params.seed = seed;
-  spec.params.threads = o.threads;
-  if (s.has_target) spec.params.max_steps = s.target_steps;  // --steps, or the checkpoint's limit
-  if (o.checkpoint_every) cfg.output.checkpoint_every = *o.checkpoint_every;
-  const fs::path checkpoint = dir / kCheckpointName;
-  int code = ok;
-  const bool planar = spec.domain.kind == venation::DomainKind::leaf;
-  try {
-    std::optional<cells::Cells> sheet;
-    if (spec.on_cells) {  // resume: the sheet grown by the first run, not grown again
-      if (s.resume && s.cells_bytes.empty())
-        throw core::InvalidInput("checkpoint '" + o.checkpoint.string() +
-                                 "' holds no grown cells, but the script grows veins on cells (surface{cells = true})");
-      sheet = s.resume ? cells::load(s.cells_bytes, "checkpoint '" + o.checkpoint.string() + "'")
-                       : grow_sheet(o, cfg, host, seed, err);
-    }
-    venation::Colonisation col = s.resume ? make_colonisation(spec, sheet ? &*sheet : nullptr, &s.colonisation_bytes,
-                                                              "checkpoint '" + o.checkpoint.string() + "'")
-                                          : make_colonisation(spec, sheet ? &*sheet : nullptr);
-    const std::size_t first = col.report().steps;
-    // Ctrl-C while the sheet grew: the veins would continue on a sheet the full run never has
-    const bool partial_sheet = spec.on_cells && !s.resume && g_interrupt.load();
-    auto save = [&] {
-      if (partial_sheet) return;
-      write_checkpoint(checkpoint, colonisation_checkpoint_bytes(s, seed, spec.params, col, sheet ? &*sheet : nullptr));
-    };
-    if (!o.quiet)
-      err << (s.resume ? "resuming" : "growing") << " veins by space colonisation in " << s.script_path.string()
-          << " (seed " << seed << (s.resume ? ", from step " + std::to_string(first) : std::string()) << ")\n";
-    const auto a = std::chrono::steady_clock::now();
-    const bool nonuniform = spec.params.growth == venation::GrowthMode::nonuniform;
-    std::size_t last_print = 0;
-    try {
-      while (!col.done()) {
-        if (g_interrupt.load()) {
-          code = interrupted;
-          break;
-        }
-        const venation::ColonisationReport& r = col.step();
-        if (!o.quiet && (r.steps - last_print >= 50 || col.done())) {
-          last_print = r.steps;
-          err << "step " << r.steps << ": " << r.nodes << " vein nodes, " << r.sources << " sources";
-          if (planar) err << (nonuniform ? ", growth step " : ", leaf length ") << r.scale;
-          err << (::isatty(2) ? "\r" : "\n") << std::flush;
-        }
-        if (cfg.output.checkpoint_every > 0 && r.steps % cfg.output.checkpoint_every == 0 && !col.done()) save();
-      }
-    } catch (const std::exception&) {
-      // a step that failed may have left the state half changed: the last checkpoint is the one to resume
-      if (!o.quiet && ::isatty(2)) err << "\n";
-      if (fs::exists(checkpoint)) err << "cellform: (the last checkpoint is " << checkpoint.string() << ")\n";
-      throw;
-    }
-    if (!o.quiet && ::isatty(2)) err << "\n";
-    save();  // before the outputs: a failure writing them leaves the checkpoint
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
-    venation::VeinTree tree = col.tree();
-    venation::compute_widths(tree, spec.widths);
-    const venation::ColonisationReport rep = col.report();
-    double leaf_length = rep.scale;  // the outline is 1 long at scale 1; nonuniform growth reports steps
-    if (nonuniform) {
-      const venation::Outline grown = col.outline();
-      double lo = grown.points.front().y(), hi = lo;
-      for (const venation::Vec2& q : grown.points) lo = std::min(lo, q.y()), hi = std::max(hi, q.y());
-      leaf_length = hi - lo;
-    }
-    std::vector<std::string> outputs{"veins.ply", "veins.obj"};
-    if (planar) {  // a drawing of the leaf; a 3-D pattern has no one plane to draw it in
-      venation::write_svg(staging / "veins.svg", tree, col.outline());
-      outputs.insert(outputs.begin(), "veins.svg");
-    }
-    venation::write_vein_ply(staging / "veins.ply", tree);
-    venation::write_vein_obj(staging / "veins.obj", tree);
-    if (cfg.output.png) {  // 3-D patterns are drawn as seen from above (+z), without an outline
-      exporters::PngParams png;
-      png.size = cfg.output.png_size;
-      exporters::write_vein_png(staging / "veins.png", tree, planar ? col.outline() : venation::Outline{}, png);
-      outputs.push_back("veins.png");
-    }
-    if (sheet)
-      for (const std::string& n : write_outputs(staging, cfg.output, *sheet, false)) outputs.push_back(n);
-    json printed;
-    if (cfg.print) {
-      try {
-        std::vector<exporters::Segment> segments;
-        for (const auto& [p, c] : tree.edges())
-          segments.push_back({tree.positions[p], tree.positions[c], tree.radius[p], tree.radius[c]});
-        std::vector<std::array<core::Vec3, 3>> shell;
-        if (cfg.print->shell && sheet) shell = exporters::shell_triangles(*sheet, cells::triangulate(*sheet));
-        printed = thicken_and_write(staging, *cfg.print, segments, shell, o.threads, outputs, err, o.quiet);
-      } catch (const core::Cancelled&) {
-        err << (o.quiet ? "" : "\n")
-            << "cellform: printing interrupted: no printable files (the vein files are written)\n";
-        printed = {{"error", "interrupted"}};
-        code = interrupted;
-      } catch (const std::exception& e) {
-        err << "cellform: " << e.what() << "\n";
-        printed = {{"error", e.what()}};
-        code = failure;
-      }
-    }
-    json run = {{"program", "cellform"},
-                {"version", version()},
-                {"command", s.resume ? "resume" : "run"},
-                {"mode", "colonisation"},
-                {"domain", domain_name(spec.domain.kind)},
-                {"script",
-                 {{"path", s.script_path.string()},
-                  {"hash", "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size()))}}},
-                {"seed", seed},
-                {"threads", o.threads},
-                {"status", code == interrupted ? "interrupted"
-                           : rep.finished      ? "complete"
-                           : rep.stalled       ? "stalled"
-                                               : "stopped"},
-                {"steps", {{"first", first}, {"completed", rep.steps}, {"limit", spec.params.max_steps}}},
-                {"veins",
-                 {{"nodes", rep.nodes},
-                  {"loops", rep.loops},
-                  {"sources_left", rep.sources},
-                  {"sources_born", rep.sources_born}}},
-                {"overrides", s.sets},
-                {"parameters", cfg.resolved},
-                {"timings",
-                 {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
-                  {"simulation_s", seconds}}},
-                {"checkpoint", kCheckpointName}};
-    if (cfg.print) run["print"] = printed;
-    if (planar) run["veins"]["leaf_length"] = leaf_length;
-    if (sheet) run["cells"] = {{"initial", cfg.initial_cells.size()}, {"final", sheet->size()}};
-    outputs.push_back("run.json");
-    run["outputs"] = outputs;
-    core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
-    commit_outputs(staging, dir, outputs);
-    std::ostream& where = code == ok ? out : err;
-    if (!o.quiet || code != ok)
-      where << (code == interrupted ? "interrupted"
-                : rep.finished      ? "done"
-                : rep.stalled       ? "done (stalled: some sources can no longer be reached)"
-                                    : "stopped at max_steps")
-            << ": " << rep.steps << " steps, " << rep.nodes << " vein nodes, " << rep.loops << " loops; outputs in "
-            << dir.string() << "/\n";
-    if (code == interrupted)
-      err << (partial_sheet ? std::string("no checkpoint: the cell sheet was not fully grown; run the script again\n")
-                            : "continue with: cellform resume " + checkpoint.string() + "\n");
-    return code;
-  } catch (const core::InvalidInput& e) {
-    err << "cellform: " << e.what() << "\n";
-    code = usage;
-  } catch (const std::exception& e) {
-    err << "cellform: " << e.what() << "\n";
-    code = failure;
-  }
-  std::error_code ec;
-  fs::remove_all(staging, ec);
-  return code;
-}
-
-}  // namespace
 
 int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   const auto t0 = std::chrono::steady_clock::now();

@@ -1,0 +1,74 @@
+// Internal to the run command: what run.cpp (cell runs) and run_colonisation.cpp (space-colonisation
+// runs) share. Not part of the app's interface.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <ostream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "app/run.h"
+#include "app/script_host.h"
+#include "cells/cells.h"
+#include "export/printable.h"
+
+namespace cellform::app {
+
+constexpr std::uint32_t kCheckpointVersion = 1;
+constexpr const char* kCheckpointKind = "CKPT";
+constexpr const char* kCheckpointName = "checkpoint.cfck";
+
+/// An input problem (bad script, parameter or input file): exit code 2.
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// What a run is continuing from or starting with.
+struct Start {
+  std::string source;
+  std::filesystem::path script_path;
+  Overrides sets;
+  std::optional<std::uint64_t> seed;
+  std::uint64_t target_steps = 0;
+  bool has_target = false;
+  std::filesystem::path out_dir;
+  std::string cells_bytes;         // resume only: the cells (colonisation on cells: the grown sheet)
+  std::string colonisation_bytes;  // resume only: a space-colonisation state (Colonisation::save)
+  std::uint64_t step = 0;          // resume only
+  bool resume = false;
+};
+
+/// Writes checkpoint bytes atomically (a temporary file, then a rename).
+void write_checkpoint(const std::filesystem::path& path, const std::string& bytes);
+
+/// Writes the cell outputs (cells.ply/obj, and the vein graph if `veins`) of `c` into `dir`; returns their names.
+std::vector<std::string> write_outputs(const std::filesystem::path& dir, const OutputSpec& spec, const cells::Cells& c,
+                                       bool veins);
+
+/// Creates `dir` and a private staging folder inside it, where a run's outputs wait until all are complete.
+std::filesystem::path make_staging(const std::filesystem::path& dir);
+
+/// Thickens vein segments (model units, Murray radii) and shell triangles into a printable solid and
+/// writes the requested formats into `dir`. Appends the file names to `names`; returns what run.json
+/// records. Throws on failure (core::Cancelled on Ctrl-C).
+nlohmann::json thicken_and_write(const std::filesystem::path& dir, const PrintSpec& spec,
+                                 const std::vector<exporters::Segment>& segments,
+                                 const std::vector<std::array<core::Vec3, 3>>& shell, int threads,
+                                 std::vector<std::string>& names, std::ostream& err, bool quiet);
+
+/// Moves every file of `staging` (recursively) into `dir`, then removes the outputs of an earlier run
+/// (listed in its run.json) that this run did not write again.
+void commit_outputs(const std::filesystem::path& staging, const std::filesystem::path& dir,
+                    const std::vector<std::string>& names);
+
+/// A space-colonisation run (run_colonisation.cpp); returns the exit code. Never throws.
+int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
+                     std::ostream& out, std::ostream& err, std::chrono::steady_clock::time_point t0);
+
+}  // namespace cellform::app
