@@ -187,6 +187,10 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     venation::VeinTree tree = col.tree();
     venation::compute_widths(tree, spec.widths);
     const venation::ColonisationReport rep = col.report();
+    if (rep.sources_born == 0 && code == ok)  // nothing to grow towards: say why instead of a bare seed node
+      err << "cellform: warning: no auxin source was placed in " << rep.steps
+          << " steps, so no vein grew (raise colonisation.darts, lower colonisation.birth_distance or "
+             "vein_birth_distance, or give the leaf room to grow)\n";
     double leaf_length = rep.scale;  // the outline is 1 long at scale 1; nonuniform growth reports steps
     if (nonuniform) {
       const venation::Outline grown = col.outline();

@@ -81,6 +81,22 @@ TEST_CASE("input errors exit with 2 and one clear line", "[cli]") {
   CHECK_THAT(r.err, Contains("from the nearest cell"));
 }
 
+TEST_CASE("a colonisation that never places a source says so", "[cli][colonisation]") {
+  TempDir t("cli-nosource");
+  // so few darts that none lands: the run ends with only the seed node, and a warning says why
+  const auto sparse =
+      t.write("sparse.lua", "leaf {}\ncolonisation { darts = 1e-6, initial_length = 20, final_length = 24 }\n");
+  auto r = cli({"run", sparse.string(), "--out", (t.path / "o").string(), "--quiet"});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("no auxin source was placed"));
+  CHECK_THAT(r.err, Contains("colonisation.darts"));
+  // a run that does place sources gives no such warning
+  const auto dense = t.write("dense.lua", "leaf {}\ncolonisation { initial_length = 20, final_length = 24 }\n");
+  r = cli({"run", dense.string(), "--out", (t.path / "d").string(), "--quiet"});
+  CHECK(r.code == 0);
+  CHECK(r.err.find("no auxin source") == std::string::npos);
+}
+
 TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {
   TempDir t("cli-run");
   const auto script = t.write("small.lua", kSmall);
