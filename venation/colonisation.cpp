@@ -11,6 +11,7 @@
 #include "core/errors.h"
 #include "core/parallel.h"
 #include "core/random.h"
+#include "venation/dart_grid.h"
 #include "venation/domain.h"
 
 namespace cellform::venation {
@@ -220,6 +221,11 @@ struct Colonisation::Impl {
   std::vector<Vec3> cand;
   std::vector<std::uint8_t> cand_in, dart_ok, done;  // done: per active source, to be removed
   core::Rng rng_mark{0};
+  // leaves: one vein node per grid cell, which rejects most darts of the b_v test without a tree query
+  // (never changes an answer: see dart_grid.h); laid out anew when b_v shrinks, dropped when nodes move
+  WitnessGrid witness;
+  std::size_t witness_cap = 0;  // the cell budget of the last layout
+  bool witness_capped = false;  // that budget made the cells coarser than asked
 
   Impl(const Leaf& l, const ColonisationParams& params) : leaf(l), p(params), unit(l.outline), rng(params.seed) {
     petiole = lift(leaf.petiole);
@@ -323,6 +329,7 @@ struct Colonisation::Impl {
     std::vector<Vec3> moved(nodes.size());
     for (std::size_t i = 0; i < moved.size(); ++i) moved[i] = lift(to_current(node_mat[i]));
     nodes.assign(moved);
+    witness.clear();  // laid out again, with the nodes where they are now, by the next darts
     synced = static_cast<Index>(nodes.size());
     fresh.assign({}, synced);
     fresh_first = fresh_last = synced;
@@ -352,6 +359,7 @@ struct Colonisation::Impl {
 
   Index add_node(const Vec3& q, Index par, std::uint32_t step_no) {
     const Index id = nodes.insert(q);
+    witness.insert(id, q);
     if (nonuniform) node_mat.push_back(to_material(q));
     parent.push_back(par);
     birth.push_back(step_no);
@@ -389,12 +397,15 @@ struct Colonisation::Impl {
     else
       draw_blade_darts();
     dart_ok.resize(darts.size());
-    // b_v against every node and b_s against the sources of earlier steps; both are pure queries
+    update_witness(std::sqrt(bv2));
+    // b_v against every node and b_s against the sources of earlier steps; all pure queries, and a
+    // witness node within b_v settles the b_v test as the tree would
     core::parallel_for(
         darts.size(), p.threads,
         [&](std::size_t first, std::size_t last) {
           for (std::size_t d = first; d < last; ++d)
-            dart_ok[d] = !grid.any_within(darts[d], bs2, src) && !nodes.any_within(darts[d], bv2);
+            dart_ok[d] = !witness.witness(darts[d], bv2, nodes.points()) && !grid.any_within(darts[d], bs2, src) &&
+                         !nodes.any_within(darts[d], bv2);
         },
         256);
     const std::size_t sources_before = src.size();
@@ -404,6 +415,27 @@ struct Colonisation::Impl {
       if (!dart_ok[d] || (src.size() > sources_before && grid.any_within(darts[d], bs2, src))) continue;
       add_source(darts[d]);
     }
+  }
+
+  /// Lays the witness grid out anew (cells of 0.7 b_v, all nodes offered in index order) when it is
+  /// missing, does not cover the blade (with a margin of b_v) or its cells are coarser than b_v (isogonic
+  /// growth shrinks b_v). At most 8 cells per node (at least 2^20): memory stays linear in nodes; a grid
+  /// coarsened by that budget is laid out again once the budget has doubled. Leaves only.
+  void update_witness(double bv) {
+    if (region) return;
+    const double fs = p.growth == GrowthMode::marginal ? std::max(frame_scale(), p.final_scale) : frame_scale();
+    Vec3 lo = nonuniform ? lift(current.lo()) : Vec3(petiole + fs * (lift(unit.lo()) - petiole));
+    Vec3 hi = nonuniform ? lift(current.hi()) : Vec3(petiole + fs * (lift(unit.hi()) - petiole));
+    lo -= Vec3(bv, bv, 0);
+    hi += Vec3(bv, bv, 0);
+    const std::size_t cap = std::max<std::size_t>(std::size_t{1} << 20, 8 * nodes.size());
+    bool relayout = !witness.covers(lo, hi);
+    if (!relayout && witness.cell() > bv) relayout = !witness_capped || cap >= 2 * witness_cap;
+    if (!relayout) return;
+    witness.reset(lo, hi, 0.7 * bv, cap);
+    witness_cap = cap;
+    witness_capped = witness.cell() > 0.7 * bv;
+    for (Index i = 0; i < nodes.size(); ++i) witness.insert(i, nodes.point(i));
   }
 
   /// Blade darts: floor(rho A) (plus one with probability of the remainder) uniform points of the blade,
@@ -1115,6 +1147,7 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
   // the per-source sector bests, though not the neighbourhoods): nonuniform growth rebuilt it from all
   // nodes at its last growth step (at the end of step `grown`), every other node was inserted
   m.nodes.clear();
+  m.witness.clear();  // laid out again from all nodes by the next darts
   std::size_t built = 0;
   if (m.nonuniform && m.grown > 0)
     while (built < n && m.birth[built] <= m.grown) ++built;
