@@ -587,11 +587,7 @@ struct Colonisation::Impl {
       st.ready = true;
     } else if (fresh.size() > 0) {
       Index old[6];
-      Vec3 pos[6];
-      for (int k = 0; k < 6; ++k) {
-        old[k] = st.best[k];
-        pos[k] = st.best[k] != kNoIndex ? nodes.point(st.best[k]) : q;
-      }
+      for (int k = 0; k < 6; ++k) old[k] = st.best[k];
       fresh.sector_merge(q, st.best, st.d2);
       for (int k = 0; k < 6; ++k) {
         if (st.best[k] == kNoIndex || !closed) continue;
@@ -603,7 +599,7 @@ struct Colonisation::Impl {
           for (int j = 1; j <= 5 && !maybe; ++j) maybe = st.d2[(k + j) % 6] <= st.d2[k];
           st.blocked[k] = maybe && lune_blocked(st, q, k);
         } else if (!st.blocked[k])  // only a new node can newly occupy the lune
-          st.blocked[k] = fresh.any_in_lune(q, pos[k]);
+          st.blocked[k] = fresh.any_in_lune(q, nodes.point(st.best[k]));
       }
     }
     near[s] = kNoIndex;
