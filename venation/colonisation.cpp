@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -210,6 +211,9 @@ struct Colonisation::Impl {
   Index fresh_first = 0, fresh_last = 0;
 
   std::vector<std::vector<Index>> per_source;  // V(s) of the i-th active source this step
+  std::vector<std::vector<Vec3>> per_dir;      // unit vectors from those nodes to the source (NaN: none)
+  std::vector<Vec3> infl_dir;                  // per_dir flattened like infl
+  std::vector<char> seen;                      // per node: already in `touched` this step
   std::vector<Index> nb, infl_start, infl, touched, child;
   std::vector<Vec3> acc;
 
@@ -696,6 +700,7 @@ struct Colonisation::Impl {
     const bool exact = closed && p.neighbourhood == Neighbourhood::exact;
     // each source updates only its own state and result slot: any thread count gives the same bits
     if (per_source.size() < active.size()) per_source.resize(active.size());
+    if (per_dir.size() < active.size()) per_dir.resize(active.size());
     core::parallel_for(
         active.size(), p.threads,
         [&](std::size_t first, std::size_t last) {
@@ -710,36 +715,44 @@ struct Colonisation::Impl {
               nearest_update(s);
             if (closed && p.neighbourhood == Neighbourhood::urquhart)
               urquhart_update(s, out, std::min(half_extent, 2 * std::sqrt(near_d2[s]) + 4 * D), local, us);
+            // S(v) membership and the unit vector towards s (Eq. 1 terms), here in parallel; NaN: none
+            if (!closed)
+              out.assign(1, near[s]);
+            else  // reached veins stop
+              std::erase_if(out, [&](Index v) { return !((nodes.point(v) - src[s]).squaredNorm() >= dk2); });
+            std::vector<Vec3>& dir = per_dir[a];
+            dir.clear();
+            for (Index v : out) {
+              const Vec3 d = src[s] - nodes.point(v);
+              const double len = d.norm();
+              dir.push_back(len > 0 ? Vec3(d / len) : Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
+            }
           }
         },
         64);
+    infl_dir.clear();
     for (std::size_t a = 0; a < active.size(); ++a) {
-      const Index s = active[a];
-      if (!closed) {
-        infl.push_back(near[s]);
-      } else {
-        for (Index v : per_source[a])
-          if ((nodes.point(v) - src[s]).squaredNorm() >= dk2) infl.push_back(v);  // reached veins stop
-      }
+      infl.insert(infl.end(), per_source[a].begin(), per_source[a].end());
+      infl_dir.insert(infl_dir.end(), per_dir[a].begin(), per_dir[a].end());
       infl_start.push_back(static_cast<Index>(infl.size()));
     }
     synced = static_cast<Index>(nodes.size());
     acc.resize(nodes.size(), Vec3::Zero());
     child.resize(nodes.size(), kNoIndex);
+    seen.resize(nodes.size(), 0);
     touched.clear();
-    for (std::size_t a = 0; a < active.size(); ++a) {
-      const Vec3& s = src[active[a]];
-      for (Index k2 = infl_start[a]; k2 < infl_start[a + 1]; ++k2) {
-        const Index v = infl[k2];
-        const Vec3 d = s - nodes.point(v);
-        const double len = d.norm();
-        if (!(len > 0)) continue;
+    // sums in source order (the same bits for any thread count); each node listed once, then sorted
+    for (std::size_t k2 = 0; k2 < infl.size(); ++k2) {
+      const Index v = infl[k2];
+      if (std::isnan(infl_dir[k2].x())) continue;  // the source sits on the node: no direction
+      if (!seen[v]) {
+        seen[v] = 1;
         touched.push_back(v);
-        acc[v] += d / len;
       }
+      acc[v] += infl_dir[k2];
     }
     std::sort(touched.begin(), touched.end());
-    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    for (Index v : touched) seen[v] = 0;
     for (Index v : touched) {
       const Vec3 n = acc[v];
       acc[v].setZero();
