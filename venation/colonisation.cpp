@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -11,6 +12,7 @@
 #include "core/errors.h"
 #include "core/parallel.h"
 #include "core/random.h"
+#include "venation/dart_grid.h"
 #include "venation/domain.h"
 
 namespace cellform::venation {
@@ -209,6 +211,9 @@ struct Colonisation::Impl {
   Index fresh_first = 0, fresh_last = 0;
 
   std::vector<std::vector<Index>> per_source;  // V(s) of the i-th active source this step
+  std::vector<std::vector<Vec3>> per_dir;      // unit vectors from those nodes to the source (NaN: none)
+  std::vector<Vec3> infl_dir;                  // per_dir flattened like infl
+  std::vector<char> seen;                      // per node: already in `touched` this step
   std::vector<Index> nb, infl_start, infl, touched, child;
   std::vector<Vec3> acc;
 
@@ -220,6 +225,11 @@ struct Colonisation::Impl {
   std::vector<Vec3> cand;
   std::vector<std::uint8_t> cand_in, dart_ok, done;  // done: per active source, to be removed
   core::Rng rng_mark{0};
+  // leaves: one vein node per grid cell, which rejects most darts of the b_v test without a tree query
+  // (never changes an answer: see dart_grid.h); laid out anew when b_v shrinks, dropped when nodes move
+  WitnessGrid witness;
+  std::size_t witness_cap = 0;  // the cell budget of the last layout
+  bool witness_capped = false;  // that budget made the cells coarser than asked
 
   Impl(const Leaf& l, const ColonisationParams& params) : leaf(l), p(params), unit(l.outline), rng(params.seed) {
     petiole = lift(leaf.petiole);
@@ -323,6 +333,7 @@ struct Colonisation::Impl {
     std::vector<Vec3> moved(nodes.size());
     for (std::size_t i = 0; i < moved.size(); ++i) moved[i] = lift(to_current(node_mat[i]));
     nodes.assign(moved);
+    witness.clear();  // laid out again, with the nodes where they are now, by the next darts
     synced = static_cast<Index>(nodes.size());
     fresh.assign({}, synced);
     fresh_first = fresh_last = synced;
@@ -352,6 +363,7 @@ struct Colonisation::Impl {
 
   Index add_node(const Vec3& q, Index par, std::uint32_t step_no) {
     const Index id = nodes.insert(q);
+    witness.insert(id, q);
     if (nonuniform) node_mat.push_back(to_material(q));
     parent.push_back(par);
     birth.push_back(step_no);
@@ -389,12 +401,15 @@ struct Colonisation::Impl {
     else
       draw_blade_darts();
     dart_ok.resize(darts.size());
-    // b_v against every node and b_s against the sources of earlier steps; both are pure queries
+    update_witness(std::sqrt(bv2));
+    // b_v against every node and b_s against the sources of earlier steps; all pure queries, and a
+    // witness node within b_v settles the b_v test as the tree would
     core::parallel_for(
         darts.size(), p.threads,
         [&](std::size_t first, std::size_t last) {
           for (std::size_t d = first; d < last; ++d)
-            dart_ok[d] = !grid.any_within(darts[d], bs2, src) && !nodes.any_within(darts[d], bv2);
+            dart_ok[d] = !witness.witness(darts[d], bv2, nodes.points()) && !grid.any_within(darts[d], bs2, src) &&
+                         !nodes.any_within(darts[d], bv2);
         },
         256);
     const std::size_t sources_before = src.size();
@@ -404,6 +419,27 @@ struct Colonisation::Impl {
       if (!dart_ok[d] || (src.size() > sources_before && grid.any_within(darts[d], bs2, src))) continue;
       add_source(darts[d]);
     }
+  }
+
+  /// Lays the witness grid out anew (cells of 0.7 b_v, all nodes offered in index order) when it is
+  /// missing, does not cover the blade (with a margin of b_v) or its cells are coarser than b_v (isogonic
+  /// growth shrinks b_v). At most 8 cells per node (at least 2^20): memory stays linear in nodes; a grid
+  /// coarsened by that budget is laid out again once the budget has doubled. Leaves only.
+  void update_witness(double bv) {
+    if (region) return;
+    const double fs = p.growth == GrowthMode::marginal ? std::max(frame_scale(), p.final_scale) : frame_scale();
+    Vec3 lo = nonuniform ? lift(current.lo()) : Vec3(petiole + fs * (lift(unit.lo()) - petiole));
+    Vec3 hi = nonuniform ? lift(current.hi()) : Vec3(petiole + fs * (lift(unit.hi()) - petiole));
+    lo -= Vec3(bv, bv, 0);
+    hi += Vec3(bv, bv, 0);
+    const std::size_t cap = std::max<std::size_t>(std::size_t{1} << 20, 8 * nodes.size());
+    bool relayout = !witness.covers(lo, hi);
+    if (!relayout && witness.cell() > bv) relayout = !witness_capped || cap >= 2 * witness_cap;
+    if (!relayout) return;
+    witness.reset(lo, hi, 0.7 * bv, cap);
+    witness_cap = cap;
+    witness_capped = witness.cell() > 0.7 * bv;
+    for (Index i = 0; i < nodes.size(); ++i) witness.insert(i, nodes.point(i));
   }
 
   /// Blade darts: floor(rho A) (plus one with probability of the remainder) uniform points of the blade,
@@ -555,11 +591,7 @@ struct Colonisation::Impl {
       st.ready = true;
     } else if (fresh.size() > 0) {
       Index old[6];
-      Vec3 pos[6];
-      for (int k = 0; k < 6; ++k) {
-        old[k] = st.best[k];
-        pos[k] = st.best[k] != kNoIndex ? nodes.point(st.best[k]) : q;
-      }
+      for (int k = 0; k < 6; ++k) old[k] = st.best[k];
       fresh.sector_merge(q, st.best, st.d2);
       for (int k = 0; k < 6; ++k) {
         if (st.best[k] == kNoIndex || !closed) continue;
@@ -571,7 +603,7 @@ struct Colonisation::Impl {
           for (int j = 1; j <= 5 && !maybe; ++j) maybe = st.d2[(k + j) % 6] <= st.d2[k];
           st.blocked[k] = maybe && lune_blocked(st, q, k);
         } else if (!st.blocked[k])  // only a new node can newly occupy the lune
-          st.blocked[k] = fresh.any_in_lune(q, pos[k]);
+          st.blocked[k] = fresh.any_in_lune(q, nodes.point(st.best[k]));
       }
     }
     near[s] = kNoIndex;
@@ -668,6 +700,7 @@ struct Colonisation::Impl {
     const bool exact = closed && p.neighbourhood == Neighbourhood::exact;
     // each source updates only its own state and result slot: any thread count gives the same bits
     if (per_source.size() < active.size()) per_source.resize(active.size());
+    if (per_dir.size() < active.size()) per_dir.resize(active.size());
     core::parallel_for(
         active.size(), p.threads,
         [&](std::size_t first, std::size_t last) {
@@ -682,36 +715,44 @@ struct Colonisation::Impl {
               nearest_update(s);
             if (closed && p.neighbourhood == Neighbourhood::urquhart)
               urquhart_update(s, out, std::min(half_extent, 2 * std::sqrt(near_d2[s]) + 4 * D), local, us);
+            // S(v) membership and the unit vector towards s (Eq. 1 terms), here in parallel; NaN: none
+            if (!closed)
+              out.assign(1, near[s]);
+            else  // reached veins stop
+              std::erase_if(out, [&](Index v) { return !((nodes.point(v) - src[s]).squaredNorm() >= dk2); });
+            std::vector<Vec3>& dir = per_dir[a];
+            dir.clear();
+            for (Index v : out) {
+              const Vec3 d = src[s] - nodes.point(v);
+              const double len = d.norm();
+              dir.push_back(len > 0 ? Vec3(d / len) : Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
+            }
           }
         },
         64);
+    infl_dir.clear();
     for (std::size_t a = 0; a < active.size(); ++a) {
-      const Index s = active[a];
-      if (!closed) {
-        infl.push_back(near[s]);
-      } else {
-        for (Index v : per_source[a])
-          if ((nodes.point(v) - src[s]).squaredNorm() >= dk2) infl.push_back(v);  // reached veins stop
-      }
+      infl.insert(infl.end(), per_source[a].begin(), per_source[a].end());
+      infl_dir.insert(infl_dir.end(), per_dir[a].begin(), per_dir[a].end());
       infl_start.push_back(static_cast<Index>(infl.size()));
     }
     synced = static_cast<Index>(nodes.size());
     acc.resize(nodes.size(), Vec3::Zero());
     child.resize(nodes.size(), kNoIndex);
+    seen.resize(nodes.size(), 0);
     touched.clear();
-    for (std::size_t a = 0; a < active.size(); ++a) {
-      const Vec3& s = src[active[a]];
-      for (Index k2 = infl_start[a]; k2 < infl_start[a + 1]; ++k2) {
-        const Index v = infl[k2];
-        const Vec3 d = s - nodes.point(v);
-        const double len = d.norm();
-        if (!(len > 0)) continue;
+    // sums in source order (the same bits for any thread count); each node listed once, then sorted
+    for (std::size_t k2 = 0; k2 < infl.size(); ++k2) {
+      const Index v = infl[k2];
+      if (std::isnan(infl_dir[k2].x())) continue;  // the source sits on the node: no direction
+      if (!seen[v]) {
+        seen[v] = 1;
         touched.push_back(v);
-        acc[v] += d / len;
       }
+      acc[v] += infl_dir[k2];
     }
     std::sort(touched.begin(), touched.end());
-    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    for (Index v : touched) seen[v] = 0;
     for (Index v : touched) {
       const Vec3 n = acc[v];
       acc[v].setZero();
@@ -1115,6 +1156,7 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
   // the per-source sector bests, though not the neighbourhoods): nonuniform growth rebuilt it from all
   // nodes at its last growth step (at the end of step `grown`), every other node was inserted
   m.nodes.clear();
+  m.witness.clear();  // laid out again from all nodes by the next darts
   std::size_t built = 0;
   if (m.nonuniform && m.grown > 0)
     while (built < n && m.birth[built] <= m.grown) ++built;

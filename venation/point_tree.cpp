@@ -753,17 +753,20 @@ void PointBatch::sector_merge(const Vec3& s, Index* best, double* best_d2) const
     // mindist2 and a point's squared distance may round differently: compare with a little slack
     const double d2 = mindist2(nd, s) * (1 - 1e-12);
     if (d2 > far) continue;
+    double reach = far;  // a point of this box farther than this beats no best of the sectors it can be in
     if (d2 > close) {
       const unsigned m = sector_mask(nd.lo, nd.hi, s);
-      bool needed = false;
-      for (int k = 0; k < 6 && !needed; ++k) needed = (m >> k & 1u) && best_d2[k] >= d2;
-      if (!needed) continue;
+      reach = -1;
+      for (int k = 0; k < 6; ++k)
+        if (m >> k & 1u) reach = std::max(reach, best_d2[k]);
+      if (!(reach >= d2)) continue;
     }
     if (nd.child < 0) {
       bool changed = false;
       for (int i = nd.first; i < nd.last; ++i) {
         const Vec3 d = pos_[i] - s;
         const double pd2 = d.squaredNorm();
+        if (pd2 > reach) continue;
         const int k = PointTree::sector(d.x(), d.y());
         if (pd2 <= best_d2[k] && (pd2 < best_d2[k] || id_[i] < best[k])) {
           best_d2[k] = pd2;

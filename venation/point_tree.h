@@ -163,7 +163,7 @@ class PointTree {
 
 /// A static set of points numbered from an offset, queried by many points in a row: the vein nodes added
 /// in one step, against which every source updates what it knows (its nearest node, its six sector bests,
-/// its lunes). A k-d tree built once with median splits whose leaves (up to 8 points) are stored
+/// its lunes). A k-d tree built once with median splits whose leaves (up to 16 points) are stored
 /// contiguously; every query is exact, gives the same squared distances (bit for bit) as PointTree, and
 /// breaks distance ties by index.
 class PointBatch {
@@ -190,7 +190,7 @@ class PointBatch {
   static unsigned sector_mask(const Vec3& lo, const Vec3& hi, const Vec3& s);
 
  private:
-  static constexpr int kLeaf = 8;
+  static constexpr int kLeaf = 16;
   struct Node {
     Vec3 lo, hi;    // tight box of the points below
     int first = 0;  // the points [first, last) of pos_ and id_ lie below

@@ -1,0 +1,88 @@
+// Tests of the witness grid of the dart b_v test: it only ever proves "a node within r", never wrongly,
+// and with cells of at most r / sqrt 2 it proves it for every dart whose cell holds a node.
+#include "venation/dart_grid.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <vector>
+
+#include "core/random.h"
+
+using namespace cellform;
+using core::Index;
+using core::Vec3;
+using venation::WitnessGrid;
+
+namespace {
+
+bool brute_within(const std::vector<Vec3>& pts, const Vec3& q, double r2) {
+  for (const Vec3& p : pts)
+    if ((p - q).squaredNorm() <= r2) return true;
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE("witness grid: a witness is always a real node within r (vs brute force)") {
+  core::Rng rng(7);
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 400; ++i) pts.emplace_back(rng.uniform(0, 50), rng.uniform(0, 40), 0.0);
+  for (double r : {0.5, 2.0, 6.0}) {
+    for (double cell_factor : {0.3, 0.7, 2.5}) {  // fine, covering and coarse cells: all exact
+      WitnessGrid g;
+      g.reset(Vec3(-1, -1, 0), Vec3(51, 41, 0), cell_factor * r, 1 << 20);
+      for (Index i = 0; i < pts.size(); ++i) g.insert(i, pts[i]);
+      int proved = 0;
+      for (int k = 0; k < 3000; ++k) {
+        const Vec3 q(rng.uniform(-5, 55), rng.uniform(-5, 45), 0.0);
+        const bool w = g.witness(q, r * r, pts), b = brute_within(pts, q, r * r);
+        if (w) REQUIRE(b);  // never a false "too near"
+        proved += w;
+      }
+      CHECK(proved > 0);
+    }
+  }
+}
+
+TEST_CASE("witness grid: with cells of at most r / sqrt 2 a node in the dart's own cell settles it") {
+  core::Rng rng(3);
+  const double r = 1.0;
+  WitnessGrid g;
+  g.reset(Vec3(0, 0, 0), Vec3(20, 20, 0), 0.7 * r, 1 << 20);
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 50; ++i) {
+    pts.emplace_back(rng.uniform(0, 20), rng.uniform(0, 20), 0.0);
+    g.insert(static_cast<Index>(i), pts.back());
+  }
+  const double c = g.cell();
+  REQUIRE(c <= r / std::sqrt(2.0));
+  for (const Vec3& p : pts) {  // darts in the cell of each node
+    const double x0 = std::floor(p.x() / c) * c, y0 = std::floor(p.y() / c) * c;
+    for (int k = 0; k < 20; ++k) {
+      const Vec3 q(x0 + rng.uniform(0, 0.999) * c, y0 + rng.uniform(0, 0.999) * c, 0.0);
+      CHECK(g.witness(q, r * r, pts));
+    }
+  }
+}
+
+TEST_CASE("witness grid: outside the box, off the plane, cleared or over budget it only defers to the tree") {
+  std::vector<Vec3> pts{Vec3(1, 1, 0), Vec3(30, 30, 0), Vec3(2, 2, 1)};
+  WitnessGrid g;
+  g.reset(Vec3(0, 0, 0), Vec3(10, 10, 0), 1.0, 1 << 20);
+  for (Index i = 0; i < pts.size(); ++i) g.insert(i, pts[i]);
+  CHECK(g.witness(Vec3(1.2, 1.2, 0), 1.0, pts));
+  CHECK_FALSE(g.witness(Vec3(30, 30, 0), 1.0, pts));  // node outside the box was not kept
+  CHECK_FALSE(g.witness(Vec3(2, 2, 1), 0.01, pts));   // node off the plane was not kept
+  CHECK(g.covers(Vec3(1, 1, 0), Vec3(9, 9, 0)));
+  CHECK_FALSE(g.covers(Vec3(1, 1, 0), Vec3(11, 9, 0)));
+  // a budget of 4 cells coarsens the cells instead of allocating 100
+  WitnessGrid small;
+  small.reset(Vec3(0, 0, 0), Vec3(10, 10, 0), 1.0, 4);
+  CHECK(small.cell() >= 5.0);
+  small.insert(0, pts[0]);
+  CHECK(small.witness(Vec3(1.5, 1.5, 0), 1.0, pts));
+  g.clear();
+  CHECK(g.empty());
+  CHECK_FALSE(g.witness(Vec3(1.2, 1.2, 0), 1.0, pts));
+  CHECK_FALSE(g.covers(Vec3(1, 1, 0), Vec3(9, 9, 0)));
+}
