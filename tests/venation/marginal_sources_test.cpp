@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <map>
 #include <set>
 #include <utility>
@@ -30,6 +31,21 @@ v::Outline ellipse(double length, double width) {
 /// and enters again (not star-shaped about the petiole).
 v::Outline c_shape() { return {{{-3, 0}, {3, 0}, {3, 4}, {-3, 4}, {-3, 3}, {2, 3}, {2, 1}, {-3, 1}}}; }
 
+/// A fan of radius 10 between 30 and 150 degrees with its tip at the petiole (a vertex) and a V notch
+/// down to radius 6 at the top centre, like examples/colonisation/ginkgo_fan.txt.
+v::Outline notched_fan() {
+  v::Outline o;
+  o.points.push_back({0, 0});
+  for (int k = 0; k <= 40; ++k) {
+    const double deg = 30 + 3 * k;
+    if (deg > 84 && deg < 96) continue;
+    const double a = deg * M_PI / 180;
+    o.points.push_back({10 * std::cos(a), 10 * std::sin(a)});
+    if (deg == 84) o.points.push_back({0, 6});
+  }
+  return o;
+}
+
 /// Brute force: the first step whose blade contains q, as the colonisation tests it; -1 if none.
 long first_step_inside(const v::OutlineIndex& unit, const v::Vec2& petiole, const std::vector<double>& scales,
                        const v::Vec2& q) {
@@ -48,6 +64,10 @@ TEST_CASE("marginal_scales are the simulation's growth scales, step by step", "[
   for (std::size_t k = 1; k < s.size(); ++k) CHECK(s[k] > s[k - 1]);
   CHECK(v::marginal_scales(0.5, 0.5, 0.1) == std::vector<double>{0.5});
   CHECK_THROWS_WITH(v::marginal_scales(1, 1e9, 1), Contains("colonisation.scale_step"));
+  v::MarginalSourceParams huge;
+  huge.darts_per_area = 1;  // 11 steps x 10^8 area units
+  CHECK_THROWS_WITH(v::precompute_marginal_sources(ellipse(1e4, 1e4), {0, 0}, s, huge),
+                    Contains("colonisation.darts") && Contains("10^9"));
 
   v::Leaf leaf;
   leaf.outline = ellipse(30, 20);
@@ -75,6 +95,7 @@ TEST_CASE("precomputed sources: b_s apart, each at the first step whose blade co
   const std::vector<Case> cases = {
       {"ellipse", ellipse(120, 80), 0.2, 1, 0.01, 1.5, 0.004},
       {"C shape", c_shape(), 0.25, 5, 0.05, 0.6, 0.05},
+      {"notched fan, petiole at a vertex", notched_fan(), 0.05, 1, 0.01, 0.15, 0.1},
   };
   for (const Case& c : cases) {
     INFO(c.name);
