@@ -14,6 +14,7 @@
 #include "core/random.h"
 #include "venation/dart_grid.h"
 #include "venation/domain.h"
+#include "venation/marginal_sources.h"
 
 namespace cellform::venation {
 
@@ -177,6 +178,10 @@ struct Colonisation::Impl {
   double table_y0 = 0, table_dy = 1;
   std::vector<double> table_y;  // y_t(y_0) at the grid heights
   OutlineIndex current;
+  // marginal growth (Section 3.3): sources precomputed once over the final blade, revealed at the step
+  // whose blade first contains them (the step number says which have been: nothing else to save)
+  bool marginal = false;
+  MarginalSources precomputed;
   std::size_t quiet = 0;
   ColonisationReport rep;
 
@@ -242,6 +247,14 @@ struct Colonisation::Impl {
       table_dy = 1.5 * extent / 4096;
       make_table();
     }
+    marginal = p.growth == GrowthMode::marginal;
+    if (marginal)
+      precomputed = precompute_marginal_sources(leaf.outline, leaf.petiole,
+                                                marginal_scales(p.initial_scale, p.final_scale, p.scale_step),
+                                                {.birth_distance = p.source_birth_distance,
+                                                 .darts_per_area = p.darts_per_area,
+                                                 .seed = p.seed,
+                                                 .threads = p.threads});
     std::vector<Vec2> seeds = leaf.initial_nodes;
     if (seeds.empty()) seeds.push_back(leaf.petiole);
     for (const Vec2& s : seeds) add_node(petiole + p.initial_scale * (lift(s) - petiole), kNoIndex, 0);
@@ -489,6 +502,29 @@ struct Colonisation::Impl {
     }
   }
 
+  /// Marginal growth: the precomputed sources that the blade of this step first contains (Section 3.3),
+  /// each kept if, like a dart (Figure 6i-j), it is farther than b_s from every source and than b_v from
+  /// every vein node. A rejected one is dropped for good, as a dart is: nodes never go away, and the
+  /// precomputed sources are b_s apart already. Tested in parallel, added in order: same bits for any
+  /// thread count. Each counts as a dart.
+  void reveal_sources(double bs2, double bv2) {
+    const std::span<const Vec2> entering = precomputed.entering(rep.steps);
+    darts.clear();
+    for (const Vec2& q : entering) darts.push_back(lift(q));
+    dart_ok.resize(darts.size());
+    core::parallel_for(
+        darts.size(), p.threads,
+        [&](std::size_t first, std::size_t last) {
+          for (std::size_t d = first; d < last; ++d)
+            dart_ok[d] = in_blade(darts[d]) && !grid.any_within(darts[d], bs2, src) && !nodes.any_within(darts[d], bv2);
+        },
+        256);
+    for (std::size_t d = 0; d < darts.size(); ++d) {
+      ++rep.darts;
+      if (dart_ok[d]) add_source(darts[d]);
+    }
+  }
+
   void add_source(const Vec3& q) {
     const auto id = static_cast<Index>(src.size());
     src.push_back(q);
@@ -689,7 +725,10 @@ struct Colonisation::Impl {
     const double D = p.node_distance * sc;
     const std::size_t born_before = rep.sources_born, removed_before = rep.sources_removed, nodes_before = nodes.size();
 
-    throw_darts(bs2, bv2);
+    if (marginal)
+      reveal_sources(bs2, bv2);
+    else
+      throw_darts(bs2, bv2);
 
     // influence: S(v) for every vein node (Eq. 1 input); open: nearest node; closed: V(s), Eq. 2 and 3
     const bool closed = p.type == VenationType::closed;
@@ -896,14 +935,15 @@ std::pair<VeinTree, ColonisationReport> colonise(const Domain& domain, const Col
 // Saved: everything a later step reads that cannot be recomputed. Rebuilt: the node k-d tree (queries
 // are exact with index ties, so they do not depend on how it was built), the children lists (in node
 // order, as add_node makes them), the source grid (same cell size, the alive sources), the nonuniform
-// Eq. 4 table and blade (from the growth steps done), and the batch of nodes not yet merged into the
+// Eq. 4 table and blade (from the growth steps done), the marginal growth's precomputed sources (from
+// the seed; the steps done say which have been revealed), and the batch of nodes not yet merged into the
 // per-source state. That per-source state (nearest node, sector bests and lune flags) is saved as it is:
 // rebuilt from scratch it would equal it only up to exact distance ties.
 
 namespace {
 
 constexpr const char* kStateKind = "COLO";
-constexpr std::uint32_t kStateVersion = 2;  // 2: Urquhart cells
+constexpr std::uint32_t kStateVersion = 3;  // 2: Urquhart cells; 3: marginal growth reveals precomputed sources
 
 void put_vec3s(core::ByteWriter& w, const std::vector<Vec3>& v) {
   std::vector<double> flat;
@@ -1077,6 +1117,10 @@ std::string Colonisation::save() const {
 void Colonisation::restore(const std::string& bytes, const std::string& what) {
   Impl& m = *impl_;
   const core::ChunkFile f = core::read_chunk_file(bytes, kStateKind, kStateVersion, what);
+  if (f.version < 3 && m.marginal)
+    throw core::FileError(what + " has format version " + std::to_string(f.version) +
+                          ": it grew a marginally growing leaf with darts over the whole blade, which this cellform "
+                          "no longer does (it reveals precomputed sources at the margin); run the script again");
   {
     core::ByteReader r(f.at("setup", what), what);
     const auto ph = r.get<std::uint64_t>(), dh = r.get<std::uint64_t>();

@@ -33,7 +33,9 @@ enum class Neighbourhood {
 /// with an outline of length 1.
 enum class GrowthMode {
   none,      ///< the blade keeps its initial size
-  marginal,  ///< the margin is scaled about the petiole; sources and veins stay where they are
+  marginal,  ///< the margin is scaled about the petiole; sources and veins stay where they are. Sources
+             ///< are precomputed once over the final blade and appear as the margin reaches them
+             ///< (marginal_sources.h), not thrown over the whole blade every step
   uniform,   ///< isogonic: the whole leaf scales; computed by shrinking the unit distance lambda_t = lambda_0 sigma_0 /
              ///< sigma_t
   nonuniform,  ///< anisotropic, Appendix A: rates of growth in x and y depend on the initial height y_0
@@ -55,7 +57,8 @@ struct ColonisationParams {
   double vein_birth_distance = 10;    ///< b_v: a new source must be farther than this from every vein node
   double kill_distance = 1;           ///< d_k: a vein node closer than this reaches (open: removes) a source
   double node_distance = 1;           ///< D: length of a vein segment, Eq. 1
-  double darts_per_area = 2e-4;       ///< rho: darts thrown per unit leaf area per step (Table 1 lists rho x 1e6)
+  double darts_per_area = 2e-4;       ///< rho: darts thrown per unit leaf area per step (Table 1 lists rho x 1e6);
+                                      ///< marginal growth throws all steps' darts at once (marginal_sources.h)
   VenationType type = VenationType::closed;
   Neighbourhood neighbourhood = Neighbourhood::exact;
   GrowthMode growth = GrowthMode::none;
@@ -142,7 +145,8 @@ class Colonisation {
   Colonisation(Colonisation&&) noexcept;
   Colonisation& operator=(Colonisation&&) noexcept;
 
-  /// One step of Section 3.3 / 4: throw darts (b_s, b_v), find the nodes each source influences (open:
+  /// One step of Section 3.3 / 4: throw darts (b_s, b_v; marginal growth: reveal the precomputed sources
+  /// the blade now reaches, with the same tests), find the nodes each source influences (open:
   /// nearest node, ties by index; closed: relative neighbourhood, Eq. 2/3), add one node per influenced
   /// node at distance D along the normalised mean direction (Eq. 1), remove (open) or tag and later
   /// remove (closed) sources reached within d_k, grow the blade. Returns the cumulative report.

@@ -4,11 +4,8 @@
 -- by Delta L = 9 per step, rho = 200 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
 -- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
--- 1 / scale^2): the default, scale = 0.1, grows the leaf from 320 to 450 (about 5 s here);
+-- 1 / scale^2): the default, scale = 0.1, grows the leaf from 320 to 450 (about 3 s here);
 -- `--set scale=1` gives the paper's size.
--- One departure: b_v = d_k = 10 instead of 1. The paper reveals precomputed sources at the growing
--- margin; here darts fall on the whole blade every step, and with b_v = 1 each dart landing within d_k
--- of a vein would still pull one vein node before it is removed, covering the blade in short spurs.
 
 local P = params {
   scale = 0.1,  -- fraction of Table 1's leaf size (1 = the paper's)
@@ -21,8 +18,7 @@ leaf { shape = "palmate", lobes = 9, lobe_depth = 0.1, width = 1.9, teeth = 90, 
 colonisation {
   type = "open",
   kill_distance = 10,   -- d_k
-  birth_distance = 1,  -- b_s
-  vein_birth_distance = 10,  -- b_v = d_k, see above (Table 1: 1)
+  birth_distance = 1,  -- b_s = b_v
   growth = "marginal",
   initial_length = 3200 * P.scale,  -- L_i
   final_length = 4500 * P.scale,  -- L_f

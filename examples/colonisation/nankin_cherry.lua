@@ -4,13 +4,10 @@
 -- by Delta L = 11 per step, rho = 40 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
 -- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
--- 1 / scale^2): the default, scale = 0.2, grows the leaf from 220 to 1100 (about 3 s here);
+-- 1 / scale^2): the default, scale = 0.2, grows the leaf from 220 to 1100 (about 1.5 s here);
 -- `--set scale=1` gives the paper's size.
 -- Larger scales are much slower: the margin outruns the veins and sources pile up (scale = 1 had not
--- finished after 150 s).
--- One departure: b_v = d_k = 30 instead of 1. The paper reveals precomputed sources at the growing
--- margin; here darts fall on the whole blade every step, and with b_v = 1 each dart landing within d_k
--- of a vein would still pull one vein node before it is removed, covering the blade in short spurs.
+-- finished after 200 s).
 
 local P = params {
   scale = 0.2,  -- fraction of Table 1's leaf size (1 = the paper's)
@@ -23,8 +20,7 @@ leaf { shape = "ellipse", width = 0.55, teeth = 60, tooth_depth = 0.01 }
 colonisation {
   type = "open",
   kill_distance = 30,   -- d_k
-  birth_distance = 1,  -- b_s
-  vein_birth_distance = 30,  -- b_v = d_k, see above (Table 1: 1)
+  birth_distance = 1,  -- b_s = b_v
   growth = "marginal",
   initial_length = 1100 * P.scale,  -- L_i
   final_length = 5500 * P.scale,  -- L_f

@@ -59,6 +59,7 @@ struct Preset {
   double kill_distance, birth_distance, initial_length, darts;  // Table 1: d_k, b_s, L_i, rho x 10^6
   const char* growth;
   double murray_exponent;
+  double vein_birth_distance = 0;  // b_v where a preset departs from Table 1's b_v = b_s (0: it does not)
 };
 
 /// The vein graph of veins.ply: node count, edges, and the independent cycles (edges - nodes + parts).
@@ -108,8 +109,8 @@ TEST_CASE("every Table 1 preset runs small and keeps the paper's parameters", "[
   // Runions et al. 2005, Table 1 (initial_length before `scale`)
   const std::vector<Preset> presets = {
       {"parameter_search", "0.12", "panel=e", true, 1, 10, 270, 600, "marginal", 2},
-      {"slow_marginal_growth", "0.0015", "", false, 40, 1, 4500, 300, "marginal", 2},
-      {"ginkgo", "0.004", "", false, 100, 1, 10, 300, "marginal", 2},
+      {"slow_marginal_growth", "0.0015", "", false, 40, 1, 4500, 300, "marginal", 2, 40},
+      {"ginkgo", "0.004", "", false, 100, 1, 10, 300, "marginal", 2, 100},
       {"alchemilla", "0.02", "", false, 10, 1, 3200, 200, "marginal", 2},
       {"sweetgum", "0.01", "", false, 1, 1, 1200, 200, "marginal", 2},
       {"toothed_margin", "0.008", "", true, 1, 10, 6600, 10, "marginal", 2},
@@ -158,6 +159,7 @@ TEST_CASE("every Table 1 preset runs small and keeps the paper's parameters", "[
       CHECK(c["type"] == (p.closed ? "closed" : "open"));
       CHECK(c["growth"] == p.growth);
       CHECK(c["birth_distance"].get<double>() == p.birth_distance);
+      CHECK(c["vein_birth_distance"].get<double>() == p.vein_birth_distance);  // 0 = birth_distance
       CHECK(c["murray_exponent"].get<double>() == p.murray_exponent);
       CHECK(c["kill_distance"].get<double>() == p.kill_distance);
       CHECK(c["darts"].get<double>() == p.darts);

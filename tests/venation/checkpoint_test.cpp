@@ -4,6 +4,7 @@
 #include <functional>
 #include <string>
 
+#include "core/chunk_file.h"
 #include "core/errors.h"
 #include "venation/colonisation.h"
 #include "venation/domain.h"
@@ -230,4 +231,29 @@ TEST_CASE("states refuse other parameters or domains, and corrupt bytes", "[chec
   CHECK_THROWS_WITH(v::Colonisation::load(leaf, p, bad, "state X"), Contains("state X"));
   CHECK_THROWS_AS(v::Colonisation::load(leaf, p, bytes.substr(0, bytes.size() - 9)), core::FileError);
   CHECK_THROWS_AS(v::Colonisation::load(leaf, p, "not a state"), core::FileError);
+}
+
+TEST_CASE("a marginal-growth state of format 2 (whole-blade darts) is refused; other version-2 states load",
+          "[checkpoint]") {
+  // format 3 changed what marginal growth does, not the bytes: relabel a state as version 2
+  auto as_version_2 = [](const std::string& bytes) {
+    const core::ChunkFile f = core::read_chunk_file(bytes, "COLO", 3, "state");
+    REQUIRE(f.version == 3);
+    return core::write_chunk_file("COLO", 2, f.chunks);
+  };
+  const v::Leaf leaf = ellipse_leaf(30, 20);
+  v::ColonisationParams p = leaf_params(v::VenationType::open, 1, 2);
+  p.growth = v::GrowthMode::marginal;
+  p.initial_scale = 0.5;
+  p.final_scale = 1;
+  p.scale_step = 0.05;
+  v::Colonisation c(leaf, p);
+  for (int i = 0; i < 3; ++i) c.step();
+  CHECK_THROWS_AS(v::Colonisation::load(leaf, p, as_version_2(c.save()), "old state"), core::FileError);
+  CHECK_THROWS_WITH(v::Colonisation::load(leaf, p, as_version_2(c.save()), "old state"),
+                    Contains("old state") && Contains("whole blade"));
+  p.growth = v::GrowthMode::uniform;
+  v::Colonisation u(leaf, p);
+  for (int i = 0; i < 3; ++i) u.step();
+  CHECK(v::Colonisation::load(leaf, p, as_version_2(u.save())).report().steps == 3);
 }
