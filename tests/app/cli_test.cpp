@@ -90,8 +90,10 @@ TEST_CASE("a colonisation that never places a source says so", "[cli][colonisati
   CHECK(r.code == 0);
   CHECK_THAT(r.err, Contains("no auxin source was placed"));
   CHECK_THAT(r.err, Contains("colonisation.darts"));
-  // a run that does place sources gives no such warning
-  const auto dense = t.write("dense.lua", "leaf {}\ncolonisation { initial_length = 20, final_length = 24 }\n");
+  // a run that does place sources gives no such warning (marginal growth reveals sources only while the
+  // blade grows, here two steps: rho x 10^6 = 20000 puts about 12 darts into the 24 x 12 box)
+  const auto dense =
+      t.write("dense.lua", "leaf {}\ncolonisation { darts = 20000, initial_length = 20, final_length = 24 }\n");
   r = cli({"run", dense.string(), "--out", (t.path / "d").string(), "--quiet"});
   CHECK(r.code == 0);
   CHECK(r.err.find("no auxin source") == std::string::npos);
