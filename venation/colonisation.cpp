@@ -1117,6 +1117,10 @@ std::string Colonisation::save() const {
 void Colonisation::restore(const std::string& bytes, const std::string& what) {
   Impl& m = *impl_;
   const core::ChunkFile f = core::read_chunk_file(bytes, kStateKind, kStateVersion, what);
+  if (f.version < 2)  // the state chunk gained the Urquhart cells: an older layout cannot be read
+    throw core::FileError(what + " has format version " + std::to_string(f.version) +
+                          ", written by an older cellform whose colonisation state this one cannot continue; run the "
+                          "script again");
   if (f.version < 3 && m.marginal)
     throw core::FileError(what + " has format version " + std::to_string(f.version) +
                           ": it grew a marginally growing leaf with darts over the whole blade, which this cellform "

@@ -233,7 +233,7 @@ TEST_CASE("states refuse other parameters or domains, and corrupt bytes", "[chec
   CHECK_THROWS_AS(v::Colonisation::load(leaf, p, "not a state"), core::FileError);
 }
 
-TEST_CASE("a marginal-growth state of format 2 (whole-blade darts) is refused; other version-2 states load",
+TEST_CASE("a marginal-growth state of format 2 (whole-blade darts) is refused; other version-2 states load; format 1 is refused",
           "[checkpoint]") {
   // format 3 changed what marginal growth does, not the bytes: relabel a state as version 2
   auto as_version_2 = [](const std::string& bytes) {
@@ -256,4 +256,10 @@ TEST_CASE("a marginal-growth state of format 2 (whole-blade darts) is refused; o
   v::Colonisation u(leaf, p);
   for (int i = 0; i < 3; ++i) u.step();
   CHECK(v::Colonisation::load(leaf, p, as_version_2(u.save())).report().steps == 3);
+  // format 1 had no Urquhart cells in its state: refused with its version, not read as garbage
+  const core::ChunkFile f = core::read_chunk_file(u.save(), "COLO", 3, "state");
+  const std::string v1 = core::write_chunk_file("COLO", 1, f.chunks);
+  CHECK_THROWS_AS(v::Colonisation::load(leaf, p, v1, "old state"), core::FileError);
+  CHECK_THROWS_WITH(v::Colonisation::load(leaf, p, v1, "old state"),
+                    Contains("old state") && Contains("format version 1") && Contains("run the script again"));
 }
