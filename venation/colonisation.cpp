@@ -439,7 +439,7 @@ struct Colonisation::Impl {
   /// growth shrinks b_v). At most 8 cells per node (at least 2^20): memory stays linear in nodes; a grid
   /// coarsened by that budget is laid out again once the budget has doubled. Leaves only.
   void update_witness(double bv) {
-    if (region) return;
+    if (region || !(bv > 0)) return;  // no b_v test to speed up
     const double fs = p.growth == GrowthMode::marginal ? std::max(frame_scale(), p.final_scale) : frame_scale();
     Vec3 lo = nonuniform ? lift(current.lo()) : Vec3(petiole + fs * (lift(unit.lo()) - petiole));
     Vec3 hi = nonuniform ? lift(current.hi()) : Vec3(petiole + fs * (lift(unit.hi()) - petiole));
@@ -452,6 +452,7 @@ struct Colonisation::Impl {
     witness.reset(lo, hi, 0.7 * bv, cap);
     witness_cap = cap;
     witness_capped = witness.cell() > 0.7 * bv;
+    if (witness.empty()) return;  // no grid could be laid (a blade beyond double range)
     for (Index i = 0; i < nodes.size(); ++i) witness.insert(i, nodes.point(i));
   }
 

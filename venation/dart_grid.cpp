@@ -12,15 +12,21 @@ using core::Vec3;
 
 void WitnessGrid::reset(const Vec3& lo, const Vec3& hi, double cell, std::size_t max_cells) {
   const double wx = std::max(hi.x() - lo.x(), 0.0), wy = std::max(hi.y() - lo.y(), 0.0);
-  cell_ = cell;
-  // coarsen until the grid fits; +1 cells: the box edges
-  for (;;) {
-    nx_ = static_cast<long>(std::floor(wx / cell_)) + 1;
-    ny_ = static_cast<long>(std::floor(wy / cell_)) + 1;
-    if (static_cast<double>(nx_) * static_cast<double>(ny_) <= static_cast<double>(std::max<std::size_t>(max_cells, 1)))
-      break;
-    cell_ *= 1.25;
+  if (!std::isfinite(wx) || !std::isfinite(wy) || !(cell > 0) || !std::isfinite(cell)) {
+    clear();  // no grid: every dart goes to the exact test
+    return;
   }
+  cell_ = cell;
+  // coarsen until the grid fits (counted in double: a tiny cell must not overflow a long); +1: the box edges
+  const double budget = static_cast<double>(std::max<std::size_t>(max_cells, 1));
+  double fx = std::floor(wx / cell_) + 1, fy = std::floor(wy / cell_) + 1;
+  while (!(fx * fy <= budget)) {
+    cell_ = std::max(cell_ * 1.25, std::sqrt(wx * wy / budget));  // big jumps when far too fine
+    fx = std::floor(wx / cell_) + 1;
+    fy = std::floor(wy / cell_) + 1;
+  }
+  nx_ = static_cast<long>(fx);
+  ny_ = static_cast<long>(fy);
   inv_ = 1 / cell_;
   lo_ = lo;
   hi_ = hi;

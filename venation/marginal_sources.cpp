@@ -20,6 +20,7 @@ namespace {
 
 constexpr std::size_t kMaxSteps = 10'000'000;
 constexpr double kMaxDarts = 1e9;
+constexpr double kMaxSources = 5e7;  // about 2 GB of precomputed sources at their peak (40 bytes each)
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
 double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
@@ -158,7 +159,14 @@ std::vector<double> marginal_scales(double initial_scale, double final_scale, do
                        std::to_string(initial_scale) + " to " + std::to_string(final_scale) +
                        " would take more than 10^7 steps");
   // the same expression as the simulation's step, so the values are the same bits
-  while (s.back() < final_scale) s.push_back(std::min(final_scale, s.back() + scale_step));
+  while (s.back() < final_scale) {
+    const double next = std::min(final_scale, s.back() + scale_step);
+    if (!(next > s.back()))  // a step below the rounding of the scale: it would never arrive
+      throw InvalidInput(
+          "colonisation.scale_step (length_step in scripts) is too small: " + std::to_string(scale_step) +
+          " does not change the leaf scale " + std::to_string(s.back()) + " in double precision");
+    s.push_back(next);
+  }
   return s;
 }
 
@@ -176,6 +184,18 @@ MarginalSources precompute_marginal_sources(const Outline& outline, const Vec2& 
         "colonisation.darts: marginal growth precomputes its sources by throwing rho x steps x (area of the "
         "final blade's box) = " +
         std::to_string(expected) + " darts, more than 10^9; use fewer darts, fewer steps or a smaller leaf");
+  // accepted darts are at least b_s apart: at most about one per sqrt(3)/2 b_s^2 of the box (hexagonal
+  // packing, +1 per row and column for the edges), and never more than the darts
+  const Vec2 size = hi - lo;
+  const double packed = (size.x() / p.birth_distance + 1) * (size.y() / p.birth_distance + 1) * 1.1547;
+  const double most = std::min(expected, packed);
+  if (!(most <= kMaxSources))
+    throw InvalidInput(
+        "colonisation.birth_distance: marginal growth precomputes its sources over the final blade, "
+        "and b_s = " +
+        std::to_string(p.birth_distance) + " with " + std::to_string(expected) + " darts could place up to " +
+        std::to_string(most) +
+        " of them, more than 5 x 10^7; use a larger birth distance, fewer darts or a smaller leaf");
   core::Rng rng(core::stream_key(p.seed, 0x6d617267696e616cull));  // "marginal": not the step darts' stream
   auto count = static_cast<std::size_t>(std::floor(expected));
   if (rng.uniform() < expected - std::floor(expected)) ++count;

@@ -4,6 +4,7 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "core/random.h"
@@ -85,4 +86,24 @@ TEST_CASE("witness grid: outside the box, off the plane, cleared or over budget 
   CHECK(g.empty());
   CHECK_FALSE(g.witness(Vec3(1.2, 1.2, 0), 1.0, pts));
   CHECK_FALSE(g.covers(Vec3(1, 1, 0), Vec3(9, 9, 0)));
+}
+
+TEST_CASE("witness grid: absurd cell sizes coarsen or give no grid, never overflow") {
+  std::vector<Vec3> pts{Vec3(1, 1, 0)};
+  WitnessGrid g;
+  g.reset(Vec3(0, 0, 0), Vec3(30, 5, 0), 1e-18, 1 << 20);  // 3e19 cells wide: more than a long counts
+  REQUIRE_FALSE(g.empty());
+  CHECK(g.cell() > 1e-3);  // coarsened to the budget of 2^20 cells
+  g.insert(0, pts[0]);
+  CHECK(g.witness(Vec3(1.001, 1, 0), 1.0, pts));
+  for (double bad : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    WitnessGrid h;
+    h.reset(Vec3(0, 0, 0), Vec3(30, 5, 0), bad, 1 << 20);
+    CHECK(h.empty());
+    h.insert(0, pts[0]);
+    CHECK_FALSE(h.witness(Vec3(1, 1, 0), 1.0, pts));  // defers to the tree
+  }
+  WitnessGrid inf_box;
+  inf_box.reset(Vec3(0, 0, 0), Vec3(std::numeric_limits<double>::infinity(), 5, 0), 1.0, 1 << 20);
+  CHECK(inf_box.empty());
 }

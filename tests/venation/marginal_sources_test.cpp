@@ -64,6 +64,13 @@ TEST_CASE("marginal_scales are the simulation's growth scales, step by step", "[
   for (std::size_t k = 1; k < s.size(); ++k) CHECK(s[k] > s[k - 1]);
   CHECK(v::marginal_scales(0.5, 0.5, 0.1) == std::vector<double>{0.5});
   CHECK_THROWS_WITH(v::marginal_scales(1, 1e9, 1), Contains("colonisation.scale_step"));
+  // a step below the rounding of the scale would never arrive (it used to grow the list until memory ran out)
+  CHECK_THROWS_WITH(v::marginal_scales(1, 1 + 1e-10, 2e-17), Contains("colonisation.scale_step"));
+  v::MarginalSourceParams dense;  // 1.1 x 10^8 darts (allowed) where b_s = 0.1 lets nearly all of them stay
+  dense.darts_per_area = 1e-1;
+  dense.birth_distance = 0.1;
+  CHECK_THROWS_WITH(v::precompute_marginal_sources(ellipse(1e4, 1e4), {0, 0}, s, dense),
+                    Contains("colonisation.birth_distance") && Contains("5 x 10^7"));
   v::MarginalSourceParams huge;
   huge.darts_per_area = 1;  // 11 steps x 10^8 area units
   CHECK_THROWS_WITH(v::precompute_marginal_sources(ellipse(1e4, 1e4), {0, 0}, s, huge),
