@@ -258,6 +258,12 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     throw InvalidInput(I.sections_seen["colonisation"] +
                        "colonisation{...} grows veins in a leaf{...}, volume{...} or surface{...}; it cannot be "
                        "combined with venation{...}, nor with cells unless surface{cells = true} grows on them");
+  if (cfg.colonisation && !on_cells && !cfg.scene.petioles.empty())  // it would be silently ignored
+    throw InvalidInput(cfg.scene.petioles.front().origin +
+                       "petiole{...} places a petiole cell (the sink of venation{...}, or a seed of surface{cells = "
+                       "true}); this space-colonisation run grows no cells. A leaf{...} grows its veins from the "
+                       "petiole at the outline's start (0, 0), or from leaf{seeds = N}; volume{...} and surface{...} "
+                       "take seeds = {{x, y, z}, ...}");
   if (on_cells && cfg.initial_cells.empty() && cfg.scene.petioles.empty())
     throw InvalidInput(I.sections_seen["surface"] +
                        "surface{cells = true} grows the cells first: place them with a shape such as disc{radius = 3}");

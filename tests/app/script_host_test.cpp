@@ -212,6 +212,13 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
   CHECK_THAT(load_error("leaf { file = 'nothere.txt' }\ncolonisation {}\n"), Contains("nothere.txt"));
   CHECK_THAT(load_error("colonisation { kill_distance = 0.2 }\n"), Contains("kill_distance"));
   CHECK_THAT(load_error("leaf { shape = 'ovat' }\ncolonisation {}\n"), Contains("did you mean \"ovate\""));
+  // a petiole cell would be ignored by a leaf or volume run: said, with its line, instead
+  CHECK_THAT(load_error("leaf {}\npetiole { at = {5, 5, 0} }\ncolonisation {}\n"),
+             Contains(":2: petiole{...} places a petiole cell") && Contains("leaf{seeds = N}"));
+  CHECK_THAT(
+      load_error(
+          "volume { box = { min = {0, 0, 0}, max = {10, 10, 10} } }\ncolonisation {}\npetiole { at = {1, 1, 1} }\n"),
+      Contains(":3: petiole{...}"));
 }
 
 TEST_CASE("volume{} and surface{} give space colonisation a 3-D domain", "[script][colonisation]") {
