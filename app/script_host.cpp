@@ -191,6 +191,7 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
   I.used_overrides.clear();
   I.sections_seen.clear();
   I.shapes.clear();
+  I.first_constraint.clear();
   I.param_names.clear();
   I.script_name = script_path.string();
   I.script_dir = script_path.has_parent_path() ? script_path.parent_path() : std::filesystem::path(".");
@@ -212,6 +213,7 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
   const std::string err = I.protected_call(0, 0, I.limits.instructions);
   if (!err.empty()) throw InvalidInput(err);
 
+  const std::map<std::string, std::string> called = I.sections_seen;  // by the script, before the defaults
   // defaults for sections the script did not call
   for (const char* section : {"cells", "division", "run", "output"}) {
     if (I.sections_seen.count(section)) continue;
@@ -258,12 +260,25 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     throw InvalidInput(I.sections_seen["colonisation"] +
                        "colonisation{...} grows veins in a leaf{...}, volume{...} or surface{...}; it cannot be "
                        "combined with venation{...}, nor with cells unless surface{cells = true} grows on them");
-  if (cfg.colonisation && !on_cells && !cfg.scene.petioles.empty())  // it would be silently ignored
-    throw InvalidInput(cfg.scene.petioles.front().origin +
-                       "petiole{...} places a petiole cell (the sink of venation{...}, or a seed of surface{cells = "
-                       "true}); this space-colonisation run grows no cells. A leaf{...} grows its veins from the "
-                       "petiole at the outline's start (0, 0), or from leaf{seeds = N}; volume{...} and surface{...} "
-                       "take seeds = {{x, y, z}, ...}");
+  if (cfg.colonisation && !on_cells) {  // statements about cells would be silently ignored: say so instead
+    for (const char* section : {"cells", "division"})
+      if (called.count(section))
+        throw InvalidInput(called.at(section) + section +
+                           "{...} sets up the cell system; this space-colonisation run grows no cells (only "
+                           "surface{cells = true} does)");
+    for (const ShapeCall& s : I.shapes) {
+      if (s.kind == "petiole")
+        throw InvalidInput(s.where +
+                           "petiole{...} places a petiole cell (the sink of venation{...}, or a seed of surface{cells "
+                           "= true}); this space-colonisation run grows no cells. A leaf{...} grows its veins from "
+                           "the petiole at the outline's start (0, 0), or from leaf{seeds = N}; volume{...} and "
+                           "surface{...} take seeds = {{x, y, z}, ...}");
+    }
+    if (!I.first_constraint.empty())
+      throw InvalidInput(I.first_constraint +
+                         "{...} acts on cells; this space-colonisation run grows no cells (only surface{cells = "
+                         "true} does). The veins stay inside the leaf{...}, volume{...} or surface{...}");
+  }
   if (on_cells && cfg.initial_cells.empty() && cfg.scene.petioles.empty())
     throw InvalidInput(I.sections_seen["surface"] +
                        "surface{cells = true} grows the cells first: place them with a shape such as disc{radius = 3}");

@@ -128,6 +128,7 @@ struct ScriptHost::Impl {
   const Overrides* overrides = nullptr;
   std::set<std::string> used_overrides;
   std::map<std::string, std::string> sections_seen;  // section -> where
+  std::string first_constraint;                      // where and which: the first obstacle or attractor
   std::vector<ShapeCall> shapes;
   std::set<std::string> param_names;
   std::string pending_error;

@@ -550,6 +550,7 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
   Values v = I.read_section(kind, 1, at, &rec);
   rec["kind"] = kind;
   I.cfg->resolved["constraints"].push_back(rec);
+  if (I.first_constraint.empty()) I.first_constraint = at + kind;
   forms::Obstacles& o = I.cfg->scene.obstacles;
   auto unit = [&](const Vec3& n, const char* what) {
     if (n.norm() == 0) throw InvalidInput(at + kind + "." + what + " must be a non-zero vector");

@@ -219,6 +219,11 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
       load_error(
           "volume { box = { min = {0, 0, 0}, max = {10, 10, 10} } }\ncolonisation {}\npetiole { at = {1, 1, 1} }\n"),
       Contains(":3: petiole{...}"));
+  CHECK_THAT(load_error("leaf {}\ncolonisation {}\ndivision { age = 3 }\n"),
+             Contains(":3: division{...} sets up the cell system"));
+  CHECK_THAT(load_error("cells { spring = 2 }\nleaf {}\ncolonisation {}\n"), Contains(":1: cells{...}"));
+  CHECK_THAT(load_error("leaf {}\ncolonisation {}\nground {}\nattractor { position = {0, 0, 1} }\n"),
+             Contains(":3: ground{...} acts on cells"));
 }
 
 TEST_CASE("volume{} and surface{} give space colonisation a 3-D domain", "[script][colonisation]") {
