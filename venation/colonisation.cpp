@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <unordered_map>
 
@@ -76,6 +77,29 @@ class SourceGrid {
 
 }  // namespace
 
+namespace {
+
+// Absurd sizes are refused before they exhaust memory or overflow: a step's darts are held at once
+// (about 60 bytes each), and a nonuniform growth factor beyond this makes coordinates meaningless.
+constexpr double kMaxDartsPerStep = 2e7;
+constexpr double kMaxNonuniformGrowth = 1e6;
+
+std::string number_text(double x) {
+  std::ostringstream o;
+  o << x;
+  return o.str();
+}
+
+/// Throws naming colonisation.darts if `expected` darts (rho times `what`) would be thrown in one step.
+void check_darts_per_step(double expected, const std::string& what) {
+  if (!(expected <= kMaxDartsPerStep))
+    throw InvalidInput("colonisation.darts: rho x " + what + " = " + number_text(expected) +
+                       " darts in one step, more than 2 x 10^7; use fewer darts (rho x 10^6 per unit area) or a "
+                       "smaller domain");
+}
+
+}  // namespace
+
 void validate(const ColonisationParams& p) {
   require_distance(p.source_birth_distance, "source_birth_distance");
   require_distance(p.vein_birth_distance, "vein_birth_distance");
@@ -102,6 +126,12 @@ void validate(const ColonisationParams& p) {
           throw InvalidInput(n + ".y must increase strictly (entry " + std::to_string(i + 1) +
                              " is not above the one before): the lookup table must be monotone in y");
       }
+      const double top = *std::max_element(f->rate.begin(), f->rate.end());
+      if (std::log(top) * static_cast<double>(p.growth_steps) > std::log(kMaxNonuniformGrowth))
+        throw InvalidInput(n + ": a rate of " + number_text(top) +
+                           " per step over colonisation.growth_steps = " + std::to_string(p.growth_steps) +
+                           " would grow the leaf more than a millionfold along that axis; use rates nearer 1 or "
+                           "fewer steps");
     }
   } else if (p.growth != GrowthMode::none) {
     if (!(p.final_scale >= p.initial_scale && std::isfinite(p.final_scale)))
@@ -240,6 +270,10 @@ struct Colonisation::Impl {
     petiole = lift(leaf.petiole);
     sigma = p.initial_scale;
     nonuniform = p.growth == GrowthMode::nonuniform;
+    if (p.growth == GrowthMode::none || p.growth == GrowthMode::uniform) {  // the largest blade is known now
+      const double top = std::max(p.initial_scale, p.growth == GrowthMode::none ? 0.0 : p.final_scale);
+      check_darts_per_step(p.darts_per_area * unit.area() * top * top, "the blade's area");
+    }
     if (nonuniform) {
       table_y0 = (unit.lo().y() - leaf.petiole.y()) * p.initial_scale;
       const double extent = (unit.hi().y() - unit.lo().y()) * p.initial_scale;
@@ -268,6 +302,8 @@ struct Colonisation::Impl {
   Impl(const Domain& d, const ColonisationParams& params) : p(params), rng(params.seed), region(std::in_place, d) {
     petiole = Vec3::Zero();
     sigma = 1;
+    check_darts_per_step(p.darts_per_area * region->dart_measure(),
+                         d.kind == DomainKind::surface ? "the surface's area" : "the volume of the domain's box");
     for (const Vec3& s : d.initial_nodes) add_node(s, kNoIndex, 0);
     grid.reset(p.source_birth_distance);
     for (const Vec3& s : d.initial_sources) add_source(s);
@@ -463,6 +499,7 @@ struct Colonisation::Impl {
   void draw_blade_darts() {
     const double area = nonuniform ? current.area() : unit.area() * sigma * sigma;  // of the actual leaf
     const double expected = p.darts_per_area * area;
+    check_darts_per_step(expected, "the blade's area at step " + std::to_string(rep.steps + 1));
     auto count = static_cast<std::size_t>(std::floor(expected));
     if (rng.uniform() < expected - std::floor(expected)) ++count;
     const double fs = frame_scale();

@@ -301,6 +301,14 @@ TEST_CASE("nonuniform anisotropic growth (Appendix A) moves veins with the blade
   bad = p;
   bad.growth_steps = 0;
   CHECK_THROWS_WITH(v::Colonisation(ellipse_leaf(10, 6), bad), Contains("colonisation.growth_steps"));
+  // rates that would grow the leaf a millionfold overflow its coordinates: refused before the run
+  bad = p;
+  bad.growth_y = {{0, 1}, {1e10, 1e10}};
+  bad.growth_steps = 60;
+  CHECK_THROWS_WITH(v::Colonisation(ellipse_leaf(10, 6), bad),
+                    Contains("colonisation.growth_y") && Contains("millionfold"));
+  bad.growth_y = {{0, 1}, {1.2, 1.2}};  // 1.2^60 = 5.6e4: allowed
+  CHECK_NOTHROW(v::Colonisation(ellipse_leaf(10, 6), bad));
 }
 
 TEST_CASE("several seed nodes give a forest (grass-like parallel veins)", "[colonisation]") {
@@ -343,6 +351,16 @@ TEST_CASE("bad input names the parameter", "[colonisation]") {
   };
   bad([](auto& p) { p.kill_distance = 0.4; }, "colonisation.kill_distance");
   bad([](auto& p) { p.node_distance = 0; }, "colonisation.node_distance");
+  // more darts in one step than memory holds (the area is 20 x 10 x pi / 4 = 157 units^2)
+  bad([](auto& p) { p.darts_per_area = 1e12; }, "colonisation.darts");
+  bad(
+      [](auto& p) {
+        p.darts_per_area = 2e4;  // 3e6 darts at the start, 3e8 at the final size
+        p.growth = v::GrowthMode::uniform;
+        p.final_scale = 10;
+        p.scale_step = 1;
+      },
+      "colonisation.darts");
   bad([](auto& p) { p.source_birth_distance = -1; }, "colonisation.source_birth_distance");
   bad([](auto& p) { p.vein_birth_distance = NAN; }, "colonisation.vein_birth_distance");
   bad([](auto& p) { p.darts_per_area = -1; }, "colonisation.darts_per_area");

@@ -411,6 +411,10 @@ TEST_CASE("bad 3-D domains and parameters name what is wrong", "[domain]") {
   as_surface.initial_nodes = {Vec3(2, 0, 0)};
   REQUIRE_NOTHROW(v::Colonisation(as_surface, ok));
 
+  v::ColonisationParams dense = ok;  // more darts in one step than memory holds
+  dense.darts_per_area = 1e9;
+  REQUIRE_THROWS_WITH(v::Colonisation(d, dense), Contains("colonisation.darts") && Contains("2 x 10^7"));
+
   v::Domain outside = d;
   outside.initial_nodes.push_back(Vec3(1.5, 1.5, 0));  // |x| + |y| = 3 > 2
   REQUIRE_THROWS_AS(v::Colonisation(outside, ok), core::InvalidInput);
