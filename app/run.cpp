@@ -34,6 +34,12 @@ std::atomic<bool> g_interrupt{false};
 
 std::string version() { return CELLFORM_VERSION; }
 
+std::string absolute_path_text(const fs::path& p) {
+  std::error_code ec;
+  const fs::path a = fs::absolute(p, ec);
+  return ec ? p.string() : a.lexically_normal().string();
+}
+
 namespace {
 
 Start start_from(const RunOptions& o) {
@@ -84,12 +90,12 @@ Start start_from(const RunOptions& o) {
 std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t target, const forms::Scene& scene) {
   json meta = {{"program", "cellform"},
                {"version", version()},
-               {"script", s.script_path.string()},
+               {"script", absolute_path_text(s.script_path)},
                {"overrides", s.sets},
                {"seed", seed},
                {"target_steps", target},
                {"step", scene.simulation().step_count()},
-               {"out", s.out_dir.string()}};
+               {"out", absolute_path_text(s.out_dir)}};
   return core::write_chunk_file(
       kCheckpointKind, kCheckpointVersion,
       {{"meta", meta.dump()}, {"script", s.source}, {"cells", cells::save(scene.simulation().cells())}});

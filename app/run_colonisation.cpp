@@ -85,11 +85,15 @@ venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cel
 /// overrides, the step limit, for surface{cells = true} the grown sheet) and the colonisation state.
 std::string colonisation_checkpoint_bytes(const Start& s, std::uint64_t seed, const venation::ColonisationParams& p,
                                           const venation::Colonisation& col, const cells::Cells* sheet) {
-  json meta = {{"program", "cellform"},       {"version", version()},
-               {"mode", "colonisation"},      {"script", s.script_path.string()},
-               {"overrides", s.sets},         {"seed", seed},
-               {"target_steps", p.max_steps}, {"step", col.report().steps},
-               {"out", s.out_dir.string()}};
+  json meta = {{"program", "cellform"},
+               {"version", version()},
+               {"mode", "colonisation"},
+               {"script", absolute_path_text(s.script_path)},
+               {"overrides", s.sets},
+               {"seed", seed},
+               {"target_steps", p.max_steps},
+               {"step", col.report().steps},
+               {"out", absolute_path_text(s.out_dir)}};
   std::map<std::string, std::string> chunks{{"meta", meta.dump()}, {"script", s.source}, {"colonisation", col.save()}};
   if (sheet) chunks["cells"] = cells::save(*sheet);
   return core::write_chunk_file(kCheckpointKind, kCheckpointVersion, chunks);

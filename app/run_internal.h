@@ -44,6 +44,10 @@ struct Start {
   bool resume = false;
 };
 
+/// `p` made absolute (against the current directory) for a checkpoint, so that resume works from
+/// anywhere; `p` itself if the current directory cannot be read.
+std::string absolute_path_text(const std::filesystem::path& p);
+
 /// Writes checkpoint bytes atomically (a temporary file, then a rename).
 void write_checkpoint(const std::filesystem::path& path, const std::string& bytes);
 

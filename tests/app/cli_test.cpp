@@ -438,3 +438,26 @@ TEST_CASE("space colonisation resumes to the bit-identical veins, in a leaf and 
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("other colonisation parameters"));
 }
+
+TEST_CASE("a checkpoint resumes from any working directory (script, files beside it and outputs stay put)",
+          "[cli][checkpoint]") {
+  TempDir t("cli-cwd");
+  t.write("fan.txt", "0 0\n1 1\n0 2\n-1 1\n0 0\n");  // an outline file, named relative to the script
+  t.write("fan.lua",
+          "leaf { file = 'fan.txt' }\n"
+          "colonisation { type = 'open', growth = 'none', initial_length = 30, darts = 20000 }\n");
+  const fs::path before = fs::current_path();
+  fs::current_path(t.path);
+  const auto first = cli({"run", "fan.lua", "--steps", "3", "--quiet"});  // relative script, default out/fan
+  fs::current_path("/");
+  const auto resumed = cli({"resume", (t.path / "out/fan/checkpoint.cfck").string(), "--steps", "6", "--quiet"});
+  fs::current_path(before);
+  INFO(first.err);
+  REQUIRE(first.code == 0);
+  INFO(resumed.err);
+  REQUIRE(resumed.code == 0);
+  const auto run = nlohmann::json::parse(slurp(t.path / "out/fan/run.json"));
+  CHECK(run["command"] == "resume");
+  CHECK(run["steps"]["completed"] == 6);
+  CHECK_FALSE(fs::exists("/out/fan"));
+}
