@@ -61,6 +61,9 @@ std::string read_file(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw FileError("file '" + path.string() + "' does not exist");
   if (fs::is_directory(path, ec)) throw FileError("'" + path.string() + "' is a directory, not a file");
+  // a pipe would block, a device such as /dev/zero never ends: only regular files are read
+  if (!fs::is_regular_file(path, ec))
+    throw FileError("'" + path.string() + "' is not a regular file (a pipe, socket or device cannot be read)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw FileError("cannot read '" + path.string() + "': " + std::strerror(errno));
   std::ostringstream ss;

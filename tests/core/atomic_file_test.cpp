@@ -2,6 +2,7 @@
 #include "core/atomic_file.h"
 
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -67,6 +68,10 @@ TEST_CASE("unwritable places are reported with the path", "[core][files]") {
   std::ofstream(d.path / "file") << "x";
   CHECK_THROWS_AS(cellform::core::ensure_directory(d.path / "file"), cellform::core::FileError);
   CHECK_THROWS_WITH(cellform::core::read_file(d.path / "missing"), Contains("does not exist"));
+  // a pipe would block the reader forever and /dev/zero never ends: refused before opening
+  REQUIRE(::mkfifo((d.path / "pipe").c_str(), 0600) == 0);
+  CHECK_THROWS_WITH(cellform::core::read_file(d.path / "pipe"), Contains("pipe") && Contains("not a regular file"));
+  CHECK_THROWS_WITH(cellform::core::read_file("/dev/zero"), Contains("/dev/zero") && Contains("not a regular file"));
   if (::geteuid() != 0) {  // root may write anywhere
     fs::permissions(d.path, fs::perms::owner_read | fs::perms::owner_exec);
     CHECK_THROWS_AS(cellform::core::write_file_atomically(d.path / "b.txt", [](std::ostream& os) { os << "x"; }),
