@@ -54,8 +54,12 @@ cells::Cells grow_sheet(const RunOptions& o, const SceneConfig& cfg, ScriptHost&
 venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cells::Cells* sheet,
                                          const std::string* state = nullptr, const std::string& what = "") {
   auto make = [&](const auto& domain) {
-    return state ? venation::Colonisation::load(domain, spec.params, *state, what)
-                 : venation::Colonisation(domain, spec.params);
+    try {
+      return state ? venation::Colonisation::load(domain, spec.params, *state, what)
+                   : venation::Colonisation(domain, spec.params);
+    } catch (const core::InvalidInput& e) {  // in the script's terms
+      throw core::InvalidInput(script_colonisation_message(e.what()));
+    }
   };
   if (spec.domain.kind == venation::DomainKind::leaf) return make(spec.leaf);
   if (!sheet) return make(spec.domain);

@@ -121,4 +121,8 @@ class ScriptHost {
   std::uint64_t step_ = 0;
 };
 
+/// A message of venation/ in the script's terms (colonisation.scale_step -> colonisation.length_step,
+/// leaf.initial_nodes -> leaf.seeds, ...): the library names its own fields, the script its parameters.
+std::string script_colonisation_message(const std::string& message);
+
 }  // namespace cellform::app

@@ -206,6 +206,23 @@ std::string script_domain_message(const std::string& message, const std::string&
   return m;
 }
 
+std::string script_colonisation_message(const std::string& message) {
+  std::string m = message;
+  const std::pair<std::string, std::string> names[] = {
+      {"colonisation.scale_step", "colonisation.length_step"},
+      {"colonisation.final_scale", "colonisation.final_length"},
+      {"colonisation.initial_scale", "colonisation.initial_length"},
+      {"colonisation.darts_per_area", "colonisation.darts"},
+      {"colonisation.source_birth_distance", "colonisation.birth_distance"},
+      {"colonisation.node_distance", "the vein segment"},
+      {"colonisation.max_steps", "the step limit (--steps or colonisation.max_steps)"},
+      {"leaf.initial_nodes", "leaf.seeds"}};
+  for (const auto& [from, to] : names)
+    for (std::size_t at = m.find(from); at != std::string::npos; at = m.find(from, at + to.size()))
+      m.replace(at, from.size(), to);
+  return m;
+}
+
 void section_domain(Impl& I, const std::string& section, const std::string& at) {
   I.once(section, at);
   one_domain(I, section, at);
@@ -301,7 +318,7 @@ void finish_colonisation(Impl& I) {
   try {
     venation::validate(spec.domain, p);
   } catch (const std::exception& e) {
-    throw InvalidInput(at + e.what());
+    throw InvalidInput(at + script_colonisation_message(e.what()));
   }
 }
 
@@ -339,7 +356,7 @@ void section_leaf(Impl& I, const std::string& at) {
     }
     venation::validate(leaf);
   } catch (const std::exception& e) {
-    throw InvalidInput(at + "leaf: " + e.what());
+    throw InvalidInput(at + "leaf: " + script_colonisation_message(e.what()));
   }
 }
 
@@ -490,7 +507,7 @@ void section_colonisation(Impl& I, const std::string& at) {
   try {
     venation::validate(p);
   } catch (const std::exception& e) {
-    throw InvalidInput(at + e.what());
+    throw InvalidInput(at + script_colonisation_message(e.what()));
   }
 }
 

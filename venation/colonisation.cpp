@@ -108,8 +108,8 @@ void validate(const ColonisationParams& p) {
   if (!(p.darts_per_area >= 0 && std::isfinite(p.darts_per_area)))
     throw InvalidInput("colonisation.darts_per_area must be a finite number >= 0 of darts per unit area per step");
   if (p.kill_distance < 0.5 * p.node_distance)
-    throw InvalidInput("colonisation.kill_distance (" + std::to_string(p.kill_distance) +
-                       ") must be at least half of colonisation.node_distance (" + std::to_string(p.node_distance) +
+    throw InvalidInput("colonisation.kill_distance (" + number_text(p.kill_distance) +
+                       ") must be at least half of colonisation.node_distance (" + number_text(p.node_distance) +
                        "): otherwise a vein tip can step over a source and circle around it forever");
   if (!(p.initial_scale > 0 && std::isfinite(p.initial_scale)))
     throw InvalidInput("colonisation.initial_scale must be a positive, finite scale factor");
@@ -137,7 +137,8 @@ void validate(const ColonisationParams& p) {
     if (!(p.final_scale >= p.initial_scale && std::isfinite(p.final_scale)))
       throw InvalidInput("colonisation.final_scale must be finite and at least colonisation.initial_scale");
     if (!(p.scale_step > 0 && std::isfinite(p.scale_step)))
-      throw InvalidInput("colonisation.scale_step must be a positive scale increase per step when the leaf grows");
+      throw InvalidInput(
+          "colonisation.scale_step must be a positive increase of the leaf size per step when the leaf grows");
   }
   if (p.max_steps == 0) throw InvalidInput("colonisation.max_steps must be at least 1");
   if (p.threads < 0) throw InvalidInput("colonisation.threads must be >= 0 (0 = all cores)");

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <sstream>
 #include <string>
 
 #include "core/errors.h"
@@ -22,6 +23,12 @@ constexpr std::size_t kMaxSteps = 10'000'000;
 constexpr double kMaxDarts = 1e9;
 constexpr double kMaxSources = 5e7;  // about 2 GB of precomputed sources at their peak (40 bytes each)
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+std::string number_text(double x) {
+  std::ostringstream o;
+  o << x;
+  return o.str();
+}
 
 double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
@@ -155,16 +162,14 @@ std::vector<double> marginal_scales(double initial_scale, double final_scale, do
   std::vector<double> s{initial_scale};
   if (!(final_scale > initial_scale)) return s;
   if (!(scale_step > 0) || (final_scale - initial_scale) / scale_step > static_cast<double>(kMaxSteps))
-    throw InvalidInput("colonisation.scale_step (length_step in scripts) is too small: marginal growth from " +
-                       std::to_string(initial_scale) + " to " + std::to_string(final_scale) +
-                       " would take more than 10^7 steps");
+    throw InvalidInput("colonisation.scale_step is too small: marginal growth from " + number_text(initial_scale) +
+                       " to " + number_text(final_scale) + " would take more than 10^7 steps");
   // the same expression as the simulation's step, so the values are the same bits
   while (s.back() < final_scale) {
     const double next = std::min(final_scale, s.back() + scale_step);
     if (!(next > s.back()))  // a step below the rounding of the scale: it would never arrive
-      throw InvalidInput(
-          "colonisation.scale_step (length_step in scripts) is too small: " + std::to_string(scale_step) +
-          " does not change the leaf scale " + std::to_string(s.back()) + " in double precision");
+      throw InvalidInput("colonisation.scale_step is too small: " + number_text(scale_step) +
+                         " does not change the leaf scale " + number_text(s.back()) + " in double precision");
     s.push_back(next);
   }
   return s;
@@ -183,7 +188,7 @@ MarginalSources precompute_marginal_sources(const Outline& outline, const Vec2& 
     throw InvalidInput(
         "colonisation.darts: marginal growth precomputes its sources by throwing rho x steps x (area of the "
         "final blade's box) = " +
-        std::to_string(expected) + " darts, more than 10^9; use fewer darts, fewer steps or a smaller leaf");
+        number_text(expected) + " darts, more than 10^9; use fewer darts, fewer steps or a smaller leaf");
   // accepted darts are at least b_s apart: at most about one per sqrt(3)/2 b_s^2 of the box (hexagonal
   // packing, +1 per row and column for the edges), and never more than the darts
   const Vec2 size = hi - lo;
@@ -193,9 +198,8 @@ MarginalSources precompute_marginal_sources(const Outline& outline, const Vec2& 
     throw InvalidInput(
         "colonisation.birth_distance: marginal growth precomputes its sources over the final blade, "
         "and b_s = " +
-        std::to_string(p.birth_distance) + " with " + std::to_string(expected) + " darts could place up to " +
-        std::to_string(most) +
-        " of them, more than 5 x 10^7; use a larger birth distance, fewer darts or a smaller leaf");
+        number_text(p.birth_distance) + " with " + number_text(expected) + " darts could place up to " +
+        number_text(most) + " of them, more than 5 x 10^7; use a larger birth distance, fewer darts or a smaller leaf");
   core::Rng rng(core::stream_key(p.seed, 0x6d617267696e616cull));  // "marginal": not the step darts' stream
   auto count = static_cast<std::size_t>(std::floor(expected));
   if (rng.uniform() < expected - std::floor(expected)) ++count;

@@ -222,6 +222,13 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
   CHECK_THAT(load_error("leaf {}\ncolonisation {}\ndivision { age = 3 }\n"),
              Contains(":3: division{...} sets up the cell system"));
   CHECK_THAT(load_error("cells { spring = 2 }\nleaf {}\ncolonisation {}\n"), Contains(":1: cells{...}"));
+  // messages name the script's parameters, not the library's fields
+  CHECK_THAT(load_error("leaf {}\ncolonisation { length_step = 0 }\n"),
+             Contains(":2: colonisation.length_step") && !Contains("scale_step"));
+  CHECK_THAT(load_error("leaf {}\ncolonisation { initial_length = 50, final_length = 20 }\n"),
+             Contains("colonisation.final_length") && Contains("colonisation.initial_length"));
+  CHECK_THAT(load_error("leaf { shape = 'ellipse', seeds = 3, seed_spread = 5 }\ncolonisation {}\n"),
+             Contains("leaf.seeds[1]"));
   CHECK_THAT(load_error("leaf {}\ncolonisation {}\nground {}\nattractor { position = {0, 0, 1} }\n"),
              Contains(":3: ground{...} acts on cells"));
 }
