@@ -206,13 +206,19 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
       for (const venation::Vec2& q : grown.points) lo = std::min(lo, q.y()), hi = std::max(hi, q.y());
       leaf_length = hi - lo;
     }
-    std::vector<std::string> outputs{"veins.ply", "veins.obj"};
+    std::vector<std::string> outputs;
     if (planar) {  // a drawing of the leaf; a 3-D pattern has no one plane to draw it in
       venation::write_svg(staging / "veins.svg", tree, col.outline());
-      outputs.insert(outputs.begin(), "veins.svg");
+      outputs.push_back("veins.svg");
     }
-    venation::write_vein_ply(staging / "veins.ply", tree);
-    venation::write_vein_obj(staging / "veins.obj", tree);
+    if (cfg.output.ply) {
+      venation::write_vein_ply(staging / "veins.ply", tree);
+      outputs.push_back("veins.ply");
+    }
+    if (cfg.output.obj) {
+      venation::write_vein_obj(staging / "veins.obj", tree);
+      outputs.push_back("veins.obj");
+    }
     if (cfg.output.png) {  // 3-D patterns are drawn as seen from above (+z), without an outline
       exporters::PngParams png;
       png.size = cfg.output.png_size;

@@ -484,6 +484,10 @@ void section_colonisation(Impl& I, const std::string& at) {
   p.type = v["type"].str == "closed" ? venation::VenationType::closed : venation::VenationType::open;
   p.neighbourhood =
       v["neighbourhood"].str == "urquhart" ? venation::Neighbourhood::urquhart : venation::Neighbourhood::exact;
+  if (p.type == venation::VenationType::open && v["neighbourhood"].present)  // it would be ignored
+    throw InvalidInput(at +
+                       "colonisation.neighbourhood chooses the relative neighbourhood of closed patterns; an open "
+                       "pattern pulls each source's nearest node (leave it out, or set type = \"closed\")");
   p.kill_distance = v["kill_distance"].num;
   p.source_birth_distance = v["birth_distance"].num;
   p.vein_birth_distance = v["vein_birth_distance"].num > 0 ? v["vein_birth_distance"].num : v["birth_distance"].num;

@@ -461,3 +461,20 @@ TEST_CASE("a checkpoint resumes from any working directory (script, files beside
   CHECK(run["steps"]["completed"] == 6);
   CHECK_FALSE(fs::exists("/out/fan"));
 }
+
+TEST_CASE("a space-colonisation run writes the vein files output{} asks for", "[cli][colonisation]") {
+  TempDir t("cli-colout");
+  const auto script = t.write("few.lua",
+                              "leaf { shape = 'ellipse' }\n"
+                              "colonisation { type = 'open', growth = 'none', initial_length = 30, darts = 20000 }\n"
+                              "output { ply = false, obj = false }\n");
+  const fs::path out = t.path / "out";
+  const auto r = cli({"run", script.string(), "--out", out.string(), "--steps", "4", "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(fs::exists(out / "veins.svg"));
+  CHECK_FALSE(fs::exists(out / "veins.ply"));
+  CHECK_FALSE(fs::exists(out / "veins.obj"));
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  for (const auto& name : run["outputs"]) CHECK(fs::exists(out / name.get<std::string>()));
+}

@@ -229,6 +229,10 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
              Contains("colonisation.final_length") && Contains("colonisation.initial_length"));
   CHECK_THAT(load_error("leaf { shape = 'ellipse', seeds = 3, seed_spread = 5 }\ncolonisation {}\n"),
              Contains("leaf.seeds[1]"));
+  // settings the run would ignore
+  CHECK_THAT(load_error("leaf {}\ncolonisation { type = 'open', neighbourhood = 'urquhart' }\n"),
+             Contains(":2: colonisation.neighbourhood"));
+  CHECK_THAT(load_error("leaf {}\ncolonisation {}\noutput { every = 5 }\n"), Contains(":3: output.every"));
   CHECK_THAT(load_error("leaf {}\ncolonisation {}\nground {}\nattractor { position = {0, 0, 1} }\n"),
              Contains(":3: ground{...} acts on cells"));
 }
