@@ -251,10 +251,10 @@ std::vector<Field> build() {
                      "one: a form that falls apart is an error; warn: a warning with the part count"));
 
   // output{}
-  f.push_back(boolean("output", "ply", "true", "write cells.ply (cells, triangles, links, per-cell attributes)"));
-  f.push_back(boolean("output", "obj", "true", "write cells.obj (the cell surface) and, with venation, veins.obj"));
+  f.push_back(boolean("output", "ply", "true", "write cells.ply (cells, triangles, links, per-cell attributes) and veins.ply"));
+  f.push_back(boolean("output", "obj", "true", "write cells.obj (the cell surface) and veins.obj"));
   f.push_back(integer("output", "every", "0", 0, 1e9, "steps",
-                      "also write frames/cells_NNNNNN.ply every this many steps (0 = none)"));
+                      "cell runs: also write frames/cells_NNNNNN.ply every this many steps (0 = none)"));
   f.push_back(integer("output", "checkpoint_every", "1000", 0, 1e9, "steps",
                       "write checkpoint.cfck every this many steps (0 = only at the end)"));
   f.push_back(boolean("output", "png", "false",
