@@ -122,6 +122,7 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
         return ok;
       } else if (a == "--out") {
         o.out = value();
+        if (o.out->empty()) throw UsageError("--out needs a folder name, got an empty one");
       } else if (a == "--seed") {
         o.seed = parse_count(a, value(), ~0ull);
       } else if (a == "--steps") {

@@ -2,6 +2,8 @@
 // leaf, a volume or on a surface, with checkpoints, SVG/PNG/PLY/OBJ and the printable solid.
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "app/progress.h"
@@ -222,6 +224,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     if (cfg.output.png) {  // 3-D patterns are drawn as seen from above (+z), without an outline
       exporters::PngParams png;
       png.size = cfg.output.png_size;
+      png.margin =
+          std::min(png.margin, std::floor(static_cast<double>(png.size) / 8.0));  // small images keep room to draw
       exporters::write_vein_png(staging / "veins.png", tree, planar ? col.outline() : venation::Outline{}, png);
       outputs.push_back("veins.png");
     }

@@ -467,14 +467,18 @@ TEST_CASE("a space-colonisation run writes the vein files output{} asks for", "[
   const auto script = t.write("few.lua",
                               "leaf { shape = 'ellipse' }\n"
                               "colonisation { type = 'open', growth = 'none', initial_length = 30, darts = 20000 }\n"
-                              "output { ply = false, obj = false }\n");
+                              "output { ply = false, obj = false, png = true, png_size = 16 }\n");
   const fs::path out = t.path / "out";
   const auto r = cli({"run", script.string(), "--out", out.string(), "--steps", "4", "--quiet"});
   INFO(r.err);
   REQUIRE(r.code == 0);
   CHECK(fs::exists(out / "veins.svg"));
+  CHECK(fs::exists(out / "veins.png"));  // the smallest size allowed still draws
   CHECK_FALSE(fs::exists(out / "veins.ply"));
   CHECK_FALSE(fs::exists(out / "veins.obj"));
   const auto run = nlohmann::json::parse(slurp(out / "run.json"));
   for (const auto& name : run["outputs"]) CHECK(fs::exists(out / name.get<std::string>()));
+  const auto empty = cli({"run", script.string(), "--out", ""});
+  CHECK(empty.code == 2);
+  CHECK_THAT(empty.err, Contains("--out needs a folder name"));
 }
