@@ -2,8 +2,10 @@
 #include "app/run.h"
 #include "app/run_internal.h"
 
+#include <signal.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <fstream>
 #include <iostream>
@@ -137,6 +139,16 @@ std::vector<std::string> write_outputs(const fs::path& dir, const OutputSpec& sp
 /// Creates `dir` and a private staging folder inside it, where a run's outputs wait until all are complete.
 fs::path make_staging(const fs::path& dir) {
   core::ensure_directory(dir);
+  // staging folders of runs that were killed (a second Ctrl-C, SIGKILL) are removed: their process is gone
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(".partial-", 0) != 0 || !e.is_directory(ec)) continue;
+    const std::string digits = name.substr(9);
+    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    const auto pid = static_cast<pid_t>(std::stol(digits));
+    if (pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) fs::remove_all(e.path(), ec);
+  }
   const fs::path staging = dir / (".partial-" + std::to_string(::getpid()));
   core::ensure_directory(staging);
   return staging;

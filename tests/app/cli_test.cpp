@@ -482,3 +482,19 @@ TEST_CASE("a space-colonisation run writes the vein files output{} asks for", "[
   CHECK(empty.code == 2);
   CHECK_THAT(empty.err, Contains("--out needs a folder name"));
 }
+
+TEST_CASE("a run removes the staging folders of killed runs, and only those", "[cli]") {
+  TempDir t("cli-stale");
+  const auto script = t.write("small.lua", kSmall);
+  const fs::path out = t.path / "out";
+  fs::create_directories(out / ".partial-999999999");  // no such process (beyond any pid_max)
+  std::ofstream(out / ".partial-999999999" / "veins.ply") << "half";
+  const fs::path live = out / (".partial-" + std::to_string(::getppid()));  // a process that is running
+  fs::create_directories(live);
+  fs::create_directories(out / ".partial-notes");  // not a run's
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--steps", "3", "--quiet"}).code == 0);
+  CHECK_FALSE(fs::exists(out / ".partial-999999999"));
+  CHECK(fs::exists(live));
+  CHECK(fs::exists(out / ".partial-notes"));
+  CHECK(fs::exists(out / "cells.ply"));
+}
