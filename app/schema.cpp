@@ -9,6 +9,7 @@ namespace cellform::app {
 namespace {
 
 constexpr double kInf = 1e300;
+constexpr double kFar = 1e9;  // positions and directions: beyond this squares overflow, and no form is that big
 
 Field num(const char* s, const char* n, const char* def, double lo, double hi, bool lo_open, const char* unit,
           const char* doc) {
@@ -54,7 +55,7 @@ std::vector<Field> build() {
       num("cells", "cohesion", "0", 0, kInf, false, "units^2/time^2", "weight of cohesion to the neighbours (Eq. 4)"));
   f.push_back(num("cells", "separation", "0", 0, kInf, false, "units^2/time^2",
                   "weight of separation from neighbours of neighbours (Eq. 5)"));
-  f.push_back(vec("cells", "unary", "{0, 0, 0}", -kInf, kInf, "units/time^2",
+  f.push_back(vec("cells", "unary", "{0, 0, 0}", -kFar, kFar, "units/time^2",
                   "constant acceleration, e.g. gravity {0,0,-g} or reverse gravity (Eq. 6)"));
   f.push_back(vec("cells", "drag", "{0.9, 0.9, 0.9}", 0, 1, "factor per step",
                   "velocity factors a, b, c per axis (Eq. 7); 1 = no drag"));
@@ -98,9 +99,9 @@ std::vector<Field> build() {
                      "random|tangent|axis|radial|circumferential|auxin",
                      "split direction (tangent: random within the sheet; auxin: along the local auxin flow); or "
                      "function(cell) returning {x, y, z}"));
-  f.push_back(vec("division", "axis", "{1, 0, 0}", -kInf, kInf, "direction", "split axis (axis, circumferential)"));
+  f.push_back(vec("division", "axis", "{1, 0, 0}", -kFar, kFar, "direction", "split axis (axis, circumferential)"));
   f.push_back(
-      vec("division", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "field centre (radial, circumferential)"));
+      vec("division", "centre", "{0, 0, 0}", -kFar, kFar, "model units", "field centre (radial, circumferential)"));
   f.push_back(integer("division", "max_cells", "100000", 1, 5e7, "cells", "growth stops at this many cells"));
   f.push_back(Field{"division", "rule", Kind::function, "", 0, 0, false, "", "",
                     "function(cell) returning true when the cell divides; replaces the trigger"});
@@ -109,23 +110,23 @@ std::vector<Field> build() {
   f.push_back(
       num("disc", "radius", "", 0, kInf, true, "model units", "cells on a hexagonal lattice inside this radius"));
   f.push_back(num("disc", "spacing", "cells.rest_length", 0, kInf, true, "model units", "lattice spacing"));
-  f.push_back(vec("disc", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "centre of the disc"));
-  f.push_back(vec("disc", "normal", "{0, 0, 1}", -kInf, kInf, "direction", "normal of the disc's plane"));
+  f.push_back(vec("disc", "centre", "{0, 0, 0}", -kFar, kFar, "model units", "centre of the disc"));
+  f.push_back(vec("disc", "normal", "{0, 0, 1}", -kFar, kFar, "direction", "normal of the disc's plane"));
   f.push_back(num("rectangle", "width", "", 0, kInf, true, "model units", "extent along the plane's first axis"));
   f.push_back(num("rectangle", "height", "", 0, kInf, true, "model units", "extent along the plane's second axis"));
   f.push_back(num("rectangle", "spacing", "cells.rest_length", 0, kInf, true, "model units", "lattice spacing"));
-  f.push_back(vec("rectangle", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "centre"));
-  f.push_back(vec("rectangle", "normal", "{0, 0, 1}", -kInf, kInf, "direction", "normal of the plane"));
+  f.push_back(vec("rectangle", "centre", "{0, 0, 0}", -kFar, kFar, "model units", "centre"));
+  f.push_back(vec("rectangle", "normal", "{0, 0, 1}", -kFar, kFar, "direction", "normal of the plane"));
   f.push_back(
       num("sphere", "radius", "", 0, kInf, true, "model units", "cells evenly spread on a sphere of this radius"));
   f.push_back(num("sphere", "spacing", "cells.rest_length", 0, kInf, true, "model units", "distance between cells"));
-  f.push_back(vec("sphere", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "centre"));
-  f.push_back(vec("line", "from", "", -kInf, kInf, "model units", "first cell"));
-  f.push_back(vec("line", "to", "", -kInf, kInf, "model units", "last cell"));
+  f.push_back(vec("sphere", "centre", "{0, 0, 0}", -kFar, kFar, "model units", "centre"));
+  f.push_back(vec("line", "from", "", -kFar, kFar, "model units", "first cell"));
+  f.push_back(vec("line", "to", "", -kFar, kFar, "model units", "last cell"));
   f.push_back(num("line", "spacing", "cells.rest_length", 0, kInf, true, "model units", "distance between cells"));
-  f.push_back(vec("cell", "at", "", -kInf, kInf, "model units", "one cell at this position"));
+  f.push_back(vec("cell", "at", "", -kFar, kFar, "model units", "one cell at this position"));
   f.push_back(boolean("cell", "fixed", "false", "a fixed (static) cell never moves"));
-  f.push_back(vec("petiole", "at", "{0, 0, 0}", -kInf, kInf, "model units",
+  f.push_back(vec("petiole", "at", "{0, 0, 0}", -kFar, kFar, "model units",
                   "the nearest cell becomes a petiole (a new one if none is near)"));
   f.push_back(boolean("petiole", "fixed", "true", "the petiole stays where it is"));
   f.push_back(integer("petiole", "step", "0", 0, 1e9, "steps", "when the petiole appears (0 = at the start)"));
@@ -145,16 +146,16 @@ std::vector<Field> build() {
 
   // constraints
   f.push_back(num("ground", "height", "0", -kInf, kInf, false, "model units", "cells stay above the plane z = height"));
-  f.push_back(vec("half_space", "point", "{0, 0, 0}", -kInf, kInf, "model units", "a point on the boundary plane"));
-  f.push_back(vec("half_space", "normal", "{0, 0, 1}", -kInf, kInf, "direction", "cells stay on this side"));
+  f.push_back(vec("half_space", "point", "{0, 0, 0}", -kFar, kFar, "model units", "a point on the boundary plane"));
+  f.push_back(vec("half_space", "normal", "{0, 0, 1}", -kFar, kFar, "direction", "cells stay on this side"));
   f.push_back(
-      vec("ball", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "centre of a solid ball cells stay out of"));
+      vec("ball", "centre", "{0, 0, 0}", -kFar, kFar, "model units", "centre of a solid ball cells stay out of"));
   f.push_back(num("ball", "radius", "", 0, kInf, true, "model units", "its radius"));
-  f.push_back(vec("box", "min", "", -kInf, kInf, "model units", "lower corner of a solid box cells stay out of"));
-  f.push_back(vec("box", "max", "", -kInf, kInf, "model units", "upper corner"));
+  f.push_back(vec("box", "min", "", -kFar, kFar, "model units", "lower corner of a solid box cells stay out of"));
+  f.push_back(vec("box", "max", "", -kFar, kFar, "model units", "upper corner"));
   f.push_back(text("mesh", "file", "", "STL or OBJ triangle mesh cells cannot cross (path relative to the script)"));
   f.push_back(num("mesh", "scale", "1", 0, kInf, true, "factor", "scales the mesh's coordinates into model units"));
-  f.push_back(vec("attractor", "position", "", -kInf, kInf, "model units", "point that pulls cells"));
+  f.push_back(vec("attractor", "position", "", -kFar, kFar, "model units", "point that pulls cells"));
   f.push_back(num("attractor", "strength", "0.1", -kInf, kInf, false, "units/time^2",
                   "acceleration towards it (negative repels)"));
   f.push_back(num("attractor", "radius", "0", 0, kInf, false, "model units", "range of influence; 0 = everywhere"));
@@ -184,9 +185,9 @@ std::vector<Field> build() {
   f.push_back(Field{"volume", "seeds", Kind::table, "(auto)", 0, 0, false, "", "model units",
                     "seed vein nodes {{x, y, z}, ...} inside the volume; default: box: centre of its floor, ball: "
                     "its lowest point (file: required)"});
-  f.push_back(vec("volume.box", "min", "", -kInf, kInf, "model units", "lowest corner"));
-  f.push_back(vec("volume.box", "max", "", -kInf, kInf, "model units", "highest corner"));
-  f.push_back(vec("volume.ball", "centre", "{0, 0, 0}", -kInf, kInf, "model units", "centre"));
+  f.push_back(vec("volume.box", "min", "", -kFar, kFar, "model units", "lowest corner"));
+  f.push_back(vec("volume.box", "max", "", -kFar, kFar, "model units", "highest corner"));
+  f.push_back(vec("volume.ball", "centre", "{0, 0, 0}", -kFar, kFar, "model units", "centre"));
   f.push_back(num("volume.ball", "radius", "", 0, kInf, true, "model units", "radius"));
   f.push_back(text("surface", "file", "(none)",
                    "sources lie on the triangles of this STL or OBJ mesh (open or closed; relative to the script)"));
@@ -251,7 +252,8 @@ std::vector<Field> build() {
                      "one: a form that falls apart is an error; warn: a warning with the part count"));
 
   // output{}
-  f.push_back(boolean("output", "ply", "true", "write cells.ply (cells, triangles, links, per-cell attributes) and veins.ply"));
+  f.push_back(
+      boolean("output", "ply", "true", "write cells.ply (cells, triangles, links, per-cell attributes) and veins.ply"));
   f.push_back(boolean("output", "obj", "true", "write cells.obj (the cell surface) and veins.obj"));
   f.push_back(integer("output", "every", "0", 0, 1e9, "steps",
                       "cell runs: also write frames/cells_NNNNNN.ply every this many steps (0 = none)"));

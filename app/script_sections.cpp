@@ -155,6 +155,7 @@ std::vector<Vec3> read_points(Impl& I, const std::string& section, const std::st
       lua_pop(L, 1);
     }
     if (!p.allFinite()) throw fail(which + " is not finite");
+    if (p.cwiseAbs().maxCoeff() > 1e9) throw fail(which + " lies beyond 1e9 model units");
     return p;
   };
   lua_rawgeti(L, idx, 1);

@@ -436,17 +436,26 @@ Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Worksp
         "venation needs at least one petiole cell (the sink of the auxin flow); add petiole{at = {x, y, z}}");
   if (!source_rule) {
     const double s = p.source;
+    if (!std::isfinite(s * static_cast<double>(n) * 2))
+      throw core::InvalidInput("venation.source (" + std::to_string(s) + ") times " + std::to_string(n) +
+                               " cells overflows the flow; use a smaller source strength");
     return run(
         c, p, [s](std::size_t) { return s; }, true, w, threads);
   }
   // the rule may be impure (a script): called serially, in index order
   std::vector<double>& src = w.source;
   src.resize(n);
+  double total = 0;  // the flows are partial sums of the sources: their total must stay finite
   for (std::size_t i = 0; i < n; ++i) {
     const double s = source_rule(c, static_cast<Index>(i));
     if (!std::isfinite(s) || s < 0)
       throw core::InvalidInput("venation.source must give a finite number >= 0 for every cell; cell " +
                                std::to_string(c.id[i]) + " got " + std::to_string(s));
+    total += s;
+    if (!std::isfinite(2 * total))
+      throw core::InvalidInput("venation.source: the sources up to cell " + std::to_string(c.id[i]) +
+                               " add up beyond the range of numbers (cell " + std::to_string(c.id[i]) + " gave " +
+                               std::to_string(s) + "); use smaller source strengths");
     src[i] = s;
   }
   const double* s = src.data();

@@ -360,3 +360,10 @@ TEST_CASE("output{png = true} needs a space-colonisation run", "[script][png]") 
   CHECK_THAT(load_error("disc { radius = 2 }\noutput { png = true }\n"), Contains("it needs colonisation{...}"));
   CHECK_THAT(load_error("colonisation {}\noutput { png_size = 4 }\n"), Contains("output.png_size"));
 }
+
+TEST_CASE("positions beyond 1e9 model units are refused (their squares would overflow)", "[script]") {
+  CHECK_THAT(load_error("disc { radius = 3 }\npetiole { at = {1e300, 0, 0} }\nvenation {}\n"),
+             Contains(":2: petiole.at") && Contains("1e+09"));
+  CHECK_THAT(load_error("disc { radius = 3 }\nsurface { cells = true, seeds = {{1e12, 0, 0}} }\ncolonisation {}\n"),
+             Contains("surface.seeds") && Contains("beyond 1e9"));
+}

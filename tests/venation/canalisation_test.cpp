@@ -228,6 +228,12 @@ TEST_CASE("bad input is refused with a clear message", "[venation]") {
   c.type[0] = CellType::petiole;
   const venation::SourceRule bad = [](const cells::Cells& cc, Index i) { return cc.id[i] == 3 ? -1.0 : 1.0; };
   CHECK_THROWS_WITH(venation::canalise(c, {}, bad, ws), Contains("cell 3"));
+  // finite sources whose sum overflows would write infinite flows and radii
+  const venation::SourceRule huge = [](const cells::Cells&, Index) { return 1e308; };
+  CHECK_THROWS_WITH(venation::canalise(c, {}, huge, ws), Contains("venation.source") && Contains("range"));
+  venation::Params big;
+  big.source = 1e308;
+  CHECK_THROWS_WITH(venation::canalise(c, big, {}, ws), Contains("venation.source") && Contains("overflows"));
 }
 
 // ---------------------------------------------------------------------------------------------------
