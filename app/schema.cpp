@@ -222,7 +222,7 @@ std::vector<Field> build() {
   f.push_back(integer("colonisation", "max_nodes", "2000000", 1, 1e9, "nodes", "stop at this many vein nodes"));
   f.push_back(
       num("colonisation", "murray_exponent", "2", 1, 4, false, "", "n of r_parent^n = sum r_child^n (Table 1: 2)"));
-  f.push_back(num("colonisation", "tip_radius", "0.15", 0, kInf, true, "vein segments", "radius of a free vein end"));
+  f.push_back(num("colonisation", "tip_radius", "0.15", 0, 1000, true, "vein segments", "radius of a free vein end"));
   f.push_back(Field{"colonisation", "growth_x", Kind::table_or_function, "(none)", 0, 0, false, "", "REG per step",
                     "nonuniform: horizontal growth rate REG_x = 1 + g_x (Fig. 5c) of the initial height y0 (leaf "
                     "lengths, 0 = petiole, 1 = tip): {{y0, rate}, ...} with y0 increasing, linear between, or "

@@ -94,7 +94,8 @@ void write_vein_png(const std::filesystem::path& path, const VeinTree& tree, con
   double tip = 0;
   if (widths && !tree.radius.empty()) tip = *std::min_element(tree.radius.begin(), tree.radius.end());
   auto segment = [&](Index a, Index b, double r) {
-    cairo_set_line_width(c, std::max(params.min_stroke, 2 * r * f.scale));
+    // no wider than the image: a wider stroke draws nothing more, and Cairo would take minutes over it
+    cairo_set_line_width(c, std::min(std::max(params.min_stroke, 2 * r * f.scale), 2.0 * (f.width + f.height)));
     cairo_move_to(c, f.px(tree.positions[a].x()), f.py(tree.positions[a].y()));
     cairo_line_to(c, f.px(tree.positions[b].x()), f.py(tree.positions[b].y()));
     cairo_stroke(c);
