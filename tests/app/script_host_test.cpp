@@ -367,3 +367,8 @@ TEST_CASE("positions beyond 1e9 model units are refused (their squares would ove
   CHECK_THAT(load_error("disc { radius = 3 }\nsurface { cells = true, seeds = {{1e12, 0, 0}} }\ncolonisation {}\n"),
              Contains("surface.seeds") && Contains("beyond 1e9"));
 }
+
+TEST_CASE("a print voxel coarser than the thinnest vein is refused before the run", "[script][print]") {
+  CHECK_THAT(load_error("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { voxel_size = 1, min_radius = 0.4 }\n"),
+             Contains(":4: print.voxel_size (1 mm) exceeds print.min_radius (0.4 mm)"));
+}
