@@ -82,6 +82,13 @@ TEST_CASE("outline files: closed polygons parse, open, malformed and self-inters
                     Contains("open.txt") && Contains("open"));
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 zero\n1 1\n0 0\n", "bad.txt"), Contains("bad.txt:2"));
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 0 3\n1 1\n0 0\n", "bad.txt"), Contains("bad.txt:2"));
+  // a binary file is named as such, its bytes are not echoed to the terminal
+  CHECK_THROWS_WITH(venation::parse_outline(std::string("\x7f"
+                                                        "ELF\x02\x01\x01\n",
+                                                        8),
+                                            "a.out"),
+                    Contains("a.out:1") && Contains("not text") && !Contains("ELF"));
+  CHECK_THROWS_WITH(venation::parse_outline(std::string(300, 'z'), "long.txt"), Contains("...'"));
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 1\n1 0\n0 1\n0 0\n", "bow.txt"), Contains("intersects itself"));
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 0\n2 0\n0 0\n", "line.txt"),
                     Contains("no area") || Contains("folds back"));
