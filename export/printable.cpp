@@ -291,12 +291,20 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     report->raised_radii = raised;
     report->estimated_bytes = estimate;
   }
-  if (estimate > params.max_memory_bytes)
+  if (estimate > params.max_memory_bytes) {
+    // a coarser voxel helps only up to min_radius (thinner veins would vanish): beyond, only size or memory
+    const double needed = voxel * std::sqrt(estimate / params.max_memory_bytes) * 1.05;
+    const std::string advice =
+        needed <= params.min_radius
+            ? "use a voxel size of at least " + fmt("%.3g", needed) + " mm (at most min_radius, " +
+                  fmt("%.3g", params.min_radius) + " mm), a smaller scale, or raise the memory limit"
+            : "use a smaller scale or size, or raise the memory limit (a voxel coarse enough would be " +
+                  fmt("%.3g", needed) + " mm, above min_radius " + fmt("%.3g", params.min_radius) +
+                  " mm, so the thinnest veins would vanish)";
     throw core::InvalidInput("thicken: at a voxel size of " + fmt("%.3g", voxel) + " mm the form needs about " +
                              bytes_text(estimate) + " of memory, more than the limit of " +
-                             bytes_text(params.max_memory_bytes) + "; use a voxel size of at least " +
-                             fmt("%.3g", voxel * std::sqrt(estimate / params.max_memory_bytes) * 1.05) +
-                             " mm, a smaller scale, or raise the memory limit");
+                             bytes_text(params.max_memory_bytes) + "; " + advice);
+  }
 
   // Index boxes of the primitives widened by the band; voxel (i, j, k) sits at (i, j, k) * voxel mm.
   const std::size_t nprim = caps.size() + slabs.size();

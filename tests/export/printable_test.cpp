@@ -324,19 +324,28 @@ TEST_CASE("the memory estimate refuses and suggests a voxel size that fits", "[p
   ThickenParams p = exact(0.05);
   p.max_memory_bytes = 1e6;
   const std::vector<Segment> capsule{{{0, 0, 0}, {10, 0, 0}, 1, 1}};
-  std::string message;
-  try {
-    exporters::thicken(capsule, {}, p);
-  } catch (const core::InvalidInput& e) {
-    message = e.what();
-  }
+  auto refusal = [&] {
+    try {
+      exporters::thicken(capsule, {}, p);
+    } catch (const core::InvalidInput& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  // with min_radius 0.05 mm no voxel that fits keeps the thinnest veins: no such voxel size is advised
+  const std::string thin = refusal();
+  INFO(thin);
+  CHECK_THAT(thin,
+             Catch::Contains("smaller scale") && Catch::Contains("above min_radius") && !Catch::Contains("at least"));
+  p.min_radius = 1;  // veins of 1 mm allow a coarser voxel
+  const std::string message = refusal();
   INFO(message);
   std::smatch m;
   REQUIRE(std::regex_search(message, m, std::regex(R"(voxel size of at least ([0-9.eE+-]+) mm)")));
   const double suggested = std::stod(m[1]);
   CHECK(suggested > p.voxel_size);
+  CHECK(suggested <= p.min_radius);
   p.voxel_size = suggested;
-  p.min_radius = suggested;
   ThickenReport rep;
   CHECK_NOTHROW(exporters::thicken(capsule, {}, p, &rep));
   CHECK(rep.estimated_bytes <= p.max_memory_bytes);
