@@ -60,8 +60,13 @@ Start start_from(const RunOptions& o) {
         s.target_steps = meta.at("target_steps").get<std::uint64_t>();
         s.step = meta.at("step").get<std::uint64_t>();
         s.out_dir = meta.at("out").get<std::string>();
-        if (meta.value("mode", std::string("cells")) == "colonisation")
+        const std::string mode = meta.value("mode", std::string("cells"));
+        if (mode != "cells" && mode != "colonisation")
+          throw core::FileError(what + " is corrupt (unknown run mode '" + mode.substr(0, 40) + "')");
+        if (mode == "colonisation") {
           s.colonisation_bytes = f.at("colonisation", what);
+          if (s.colonisation_bytes.empty()) throw core::FileError(what + " is corrupt (empty colonisation state)");
+        }
       } catch (const json::exception&) {
         throw core::FileError(what + " is corrupt (bad metadata)");
       }

@@ -175,6 +175,21 @@ TEST_CASE("corrupt, foreign and truncated checkpoints are refused clearly", "[cl
   r = cli({"resume", (t.path / "nothing.cfck").string()});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("does not exist"));
+  // well-formed files whose content is not a run: an unknown mode, an empty colonisation state
+  cellform::core::ChunkFile good = cellform::core::read_chunk_file(slurp(out / "checkpoint.cfck"), "CKPT", 1, "test");
+  auto meta = nlohmann::json::parse(good.chunks.at("meta"));
+  meta["mode"] = "zzz";
+  auto forged = good.chunks;
+  forged["meta"] = meta.dump();
+  r = cli({"resume", t.write("mode.cfck", cellform::core::write_chunk_file("CKPT", 1, forged)).string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("unknown run mode 'zzz'"));
+  meta["mode"] = "colonisation";
+  forged["meta"] = meta.dump();
+  forged["colonisation"] = "";
+  r = cli({"resume", t.write("empty.cfck", cellform::core::write_chunk_file("CKPT", 1, forged)).string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("empty colonisation state"));
 }
 
 TEST_CASE("an unwritable output location fails clearly", "[cli]") {
