@@ -280,7 +280,13 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   fs::path staging;
   try {
     s = start_from(o);
-    cfg = host.load(s.source, s.script_path, s.sets);
+    try {
+      cfg = host.load(s.source, s.script_path, s.sets);
+    } catch (const core::InvalidInput& e) {
+      if (!s.resume) throw;  // a resumed script is the checkpoint's copy, with its saved --set overrides
+      throw core::InvalidInput(std::string(e.what()) + " (resuming checkpoint '" + o.checkpoint.string() +
+                               "', which keeps the script and the --set overrides of its run)");
+    }
     seed = s.seed ? *s.seed : cfg.seed;
     target = s.has_target ? s.target_steps : cfg.steps;
     if (s.resume && cfg.colonisation.has_value() != !s.colonisation_bytes.empty())
