@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <sstream>
 #include <string>
 
 #include "core/errors.h"
@@ -15,8 +16,14 @@ using core::InvalidInput;
 
 namespace {
 
+std::string number_text(double x) {  // 1e+200, not 200 digits
+  std::ostringstream o;
+  o << x;
+  return o.str();
+}
+
 std::string point_text(const Vec3& p) {
-  return "(" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ", " + std::to_string(p.z()) + ")";
+  return "(" + number_text(p.x()) + ", " + number_text(p.y()) + ", " + number_text(p.z()) + ")";
 }
 
 bool is_3d(DomainKind k) { return k != DomainKind::leaf; }
@@ -53,7 +60,7 @@ void validate_shape(const Domain& d) {
       if (!d.centre.allFinite()) throw InvalidInput("domain.ball: the centre must be finite");
       if (!(d.radius > 0 && std::isfinite(d.radius)))
         throw InvalidInput("domain.ball: the radius must be a positive, finite length in model units, got " +
-                           std::to_string(d.radius));
+                           number_text(d.radius));
       return;
     case DomainKind::volume:
     case DomainKind::surface:
