@@ -201,7 +201,7 @@ std::vector<Field> build() {
                      "open: trees; closed: veins join into loops"));
   f.push_back(choice("colonisation", "neighbourhood", Kind::choice, "exact", "exact|urquhart",
                      "closed: relative neighbourhood (Eq. 2) or its Urquhart approximation (leaf only)"));
-  f.push_back(num("colonisation", "kill_distance", "1", 0, kInf, true, "vein segments",
+  f.push_back(num("colonisation", "kill_distance", "1", 0.5, kInf, false, "vein segments",
                   "d_k: a vein node this close reaches (open: removes) a source"));
   f.push_back(num("colonisation", "birth_distance", "10", 0, kInf, true, "vein segments",
                   "b_s: new sources keep this far from every source"));
