@@ -363,11 +363,7 @@ void section_leaf(Impl& I, const std::string& at) {
 
 namespace {
 
-std::string number_text(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
+using core::number_text;
 
 /// One growth function of colonisation{growth = "nonuniform"} (Appendix A): a table {{y0, rate}, ...} or
 /// a function of y0, both in leaf lengths, into a GrowthFunction in model units of the initial leaf.

@@ -2,9 +2,16 @@
 #include "core/errors.h"
 
 #include <algorithm>
+#include <sstream>
 #include <vector>
 
 namespace cellform::core {
+
+std::string number_text(double x) {
+  std::ostringstream o;
+  o << x;
+  return o.str();
+}
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<std::size_t> row(b.size() + 1);

@@ -30,6 +30,10 @@ class Cancelled : public std::runtime_error {
   Cancelled() : std::runtime_error("cancelled") {}
 };
 
+/// A number for a message: up to 6 significant digits, 1e+300 and 1e-300 as such (std::to_string would
+/// print 300 digits, or 0.000000).
+std::string number_text(double x);
+
 /// Levenshtein distance; used to suggest the closest valid name for a misspelt one.
 std::size_t edit_distance(const std::string& a, const std::string& b);
 

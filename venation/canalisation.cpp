@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <string>
 
 #include "core/errors.h"
@@ -19,9 +18,7 @@ using cells::CellType;
 
 void validate(const Params& p) {
   auto need = [](bool ok, const std::string& name, const std::string& allowed, double got) {
-    std::ostringstream text;  // 1e+300, not 300 digits
-    text << got;
-    if (!ok) throw core::InvalidInput("venation." + name + " must be " + allowed + ", got " + text.str());
+    if (!ok) throw core::InvalidInput("venation." + name + " must be " + allowed + ", got " + core::number_text(got));
   };
   need(std::isfinite(p.threshold) && p.threshold > 0, "threshold", "a number > 0 (auxin units, about upstream cells)",
        p.threshold);

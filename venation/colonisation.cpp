@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <unordered_map>
 
@@ -84,11 +83,7 @@ namespace {
 constexpr double kMaxDartsPerStep = 2e7;
 constexpr double kMaxNonuniformGrowth = 1e6;
 
-std::string number_text(double x) {
-  std::ostringstream o;
-  o << x;
-  return o.str();
-}
+using core::number_text;
 
 /// Throws naming colonisation.darts if `expected` darts (rho times `what`) would be thrown in one step.
 void check_darts_per_step(double expected, const std::string& what) {

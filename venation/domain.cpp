@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
-#include <sstream>
 #include <string>
 
 #include "core/errors.h"
@@ -16,11 +15,7 @@ using core::InvalidInput;
 
 namespace {
 
-std::string number_text(double x) {  // 1e+200, not 200 digits
-  std::ostringstream o;
-  o << x;
-  return o.str();
-}
+using core::number_text;
 
 std::string point_text(const Vec3& p) {
   return "(" + number_text(p.x()) + ", " + number_text(p.y()) + ", " + number_text(p.z()) + ")";

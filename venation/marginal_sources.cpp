@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <sstream>
 #include <string>
 
 #include "core/errors.h"
@@ -24,11 +23,7 @@ constexpr double kMaxDarts = 1e9;
 constexpr double kMaxSources = 5e7;  // about 2 GB of precomputed sources at their peak (40 bytes each)
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
-std::string number_text(double x) {
-  std::ostringstream o;
-  o << x;
-  return o.str();
-}
+using core::number_text;
 
 double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
