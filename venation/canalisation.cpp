@@ -437,7 +437,7 @@ Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Worksp
   if (!source_rule) {
     const double s = p.source;
     if (!std::isfinite(s * static_cast<double>(n) * 2))
-      throw core::InvalidInput("venation.source (" + std::to_string(s) + ") times " + std::to_string(n) +
+      throw core::InvalidInput("venation.source (" + core::number_text(s) + ") times " + std::to_string(n) +
                                " cells overflows the flow; use a smaller source strength");
     return run(
         c, p, [s](std::size_t) { return s; }, true, w, threads);
@@ -450,12 +450,12 @@ Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Worksp
     const double s = source_rule(c, static_cast<Index>(i));
     if (!std::isfinite(s) || s < 0)
       throw core::InvalidInput("venation.source must give a finite number >= 0 for every cell; cell " +
-                               std::to_string(c.id[i]) + " got " + std::to_string(s));
+                               std::to_string(c.id[i]) + " got " + core::number_text(s));
     total += s;
     if (!std::isfinite(2 * total))
       throw core::InvalidInput("venation.source: the sources up to cell " + std::to_string(c.id[i]) +
                                " add up beyond the range of numbers (cell " + std::to_string(c.id[i]) + " gave " +
-                               std::to_string(s) + "); use smaller source strengths");
+                               core::number_text(s) + "); use smaller source strengths");
     src[i] = s;
   }
   const double* s = src.data();
