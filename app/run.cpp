@@ -190,7 +190,12 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   };
   if (segments.empty() && shell.empty())
     throw core::InvalidInput(
-        "print: nothing to print yet (no vein has grown; run longer, lower venation.threshold, or use shell = true)");
+        !spec.shell  ? "print: nothing to print yet (no vein has grown; run longer, lower venation.threshold, or use "
+                       "shell = true)"
+        : spec.veins ? "print: nothing to print yet (no vein has grown, and the cells form no sheet of triangles to "
+                       "thicken; grow a sheet, for example from a disc{...})"
+                     : "print: the cells form no sheet of triangles to thicken yet (a line or a single cell has no "
+                       "surface; grow a sheet, for example from a disc{...})");
   if (!quiet)
     err << "thickening " << segments.size() << " vein segments" << (spec.shell ? " and the cell sheet" : "") << "...\n";
   exporters::ThickenReport rep;
@@ -231,7 +236,10 @@ namespace {
 json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Cells& c, bool has_veins, int threads,
                      std::vector<std::string>& names, std::ostream& err, bool quiet) {
   std::vector<exporters::Segment> segments;
-  if (spec.veins && has_veins) segments = exporters::vein_segments(venation::vein_graph(c));
+  if (spec.veins && has_veins) {
+    const venation::VeinGraph g = venation::vein_graph(c);
+    if (!g.edges.empty()) segments = exporters::vein_segments(g);  // petioles alone are no structure to print
+  }
   std::vector<std::array<core::Vec3, 3>> shell;
   if (spec.shell) shell = exporters::shell_triangles(c, cells::triangulate(c));
   return thicken_and_write(dir, spec, segments, shell, threads, names, err, quiet);

@@ -513,3 +513,21 @@ TEST_CASE("a run removes the staging folders of killed runs, and only those", "[
   CHECK(fs::exists(out / ".partial-notes"));
   CHECK(fs::exists(out / "cells.ply"));
 }
+
+TEST_CASE("print with no vein grown, or no sheet to thicken, says so instead of printing a ball", "[cli][print]") {
+  TempDir t("cli-noprint");
+  const auto none = t.write("none.lua",
+                            "run { steps = 10 }\ndisc { radius = 3 }\npetiole { at = {0, -3, 0} }\n"
+                            "venation { threshold = 1e9 }\nprint {}\n");
+  auto r = cli({"run", none.string(), "--out", (t.path / "a").string(), "--quiet"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("nothing to print yet (no vein has grown"));
+  CHECK_FALSE(fs::exists(t.path / "a" / "printable.stl"));
+  CHECK(fs::exists(t.path / "a" / "cells.ply"));  // the other outputs are kept
+  const auto line = t.write("line.lua",
+                            "run { steps = 5 }\nline { from = {0, 0, 0}, to = {5, 0, 0} }\n"
+                            "print { veins = false, shell = true }\n");
+  r = cli({"run", line.string(), "--out", (t.path / "b").string(), "--quiet"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("no sheet of triangles") && !Contains("use shell = true"));
+}
