@@ -574,6 +574,11 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
       elements.back().props.push_back(p);
     }
   }
+  for (const Element& e : elements)  // a vertex without one of x, y, z would silently sit at 0 there
+    if (e.name == "vertex")
+      for (const char* axis : {"x", "y", "z"})
+        if (std::none_of(e.props.begin(), e.props.end(), [&](const Property& p) { return p.name == axis; }))
+          malformed(path, std::string("PLY vertices have no '") + axis + "' property");
   const bool ascii = format == "ascii";
   if (!ascii && format != "binary_little_endian")
     malformed(path, "PLY format '" + format + "' is not supported (ascii or binary_little_endian)");
@@ -657,9 +662,11 @@ PrintableMesh read_mesh(const std::filesystem::path& path) {
   if (ext != ".stl" && ext != ".obj" && ext != ".ply")
     throw core::FileError(path.string() + ": unknown mesh format '" + ext + "' (use .stl, .obj or .ply)");
   const std::string s = core::read_file(path);
-  if (ext == ".stl") return read_stl(path, s);
-  if (ext == ".obj") return read_obj(path, s);
-  return read_ply(path, s);
+  PrintableMesh m = ext == ".stl" ? read_stl(path, s) : ext == ".obj" ? read_obj(path, s) : read_ply(path, s);
+  for (std::size_t i = 0; i < m.vertices.size(); ++i)  // unreadable input, not an unprintable shape
+    if (!m.vertices[i].allFinite())
+      malformed(path, "vertex " + std::to_string(i + 1) + " has a coordinate that is NaN or infinite");
+  return m;
 }
 
 }  // namespace cellform::exporters

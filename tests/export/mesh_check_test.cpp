@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "core/errors.h"
 #include "export/mesh_files.h"
@@ -243,5 +244,22 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "bad.obj"), Catch::Contains("bad.obj") && Catch::Contains("line 2"));
   { std::ofstream(dir / "bad.ply") << "ply\nformat binary_big_endian 1.0\nend_header\n"; }
   CHECK_THROWS_AS(exporters::read_mesh(dir / "bad.ply"), core::FileError);
+  // NaN in a binary STL is unreadable input (exit 2 in check), not an unprintable shape
+  {
+    std::string stl(80, ' ');
+    const std::uint32_t n = 1;
+    stl.append(reinterpret_cast<const char*>(&n), 4);
+    const float tri[12] = {0, 0, 1, std::numeric_limits<float>::quiet_NaN(), 0, 0, 1, 0, 0, 0, 1, 0};
+    stl.append(reinterpret_cast<const char*>(tri), sizeof tri);
+    stl.append(2, '\0');
+    std::ofstream(dir / "nan.stl", std::ios::binary) << stl;
+  }
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "nan.stl"), Catch::Contains("nan.stl") && Catch::Contains("NaN"));
+  {
+    std::ofstream(dir / "flat.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                       "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                                       "0 0\n1 0\n0 1\n3 0 1 2\n";
+  }
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "flat.ply"), Catch::Contains("no 'z' property"));
   fs::remove_all(dir);
 }
