@@ -379,7 +379,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       sim_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
       const std::uint64_t step = sim.step_count();
       progress.update(step, sim.cells().size());
-      if (cfg.output.every > 0 && step % cfg.output.every == 0 && cfg.output.ply) {
+      if (cfg.output.every > 0 && step % cfg.output.every == 0) {  // asked for, whatever output.ply says of the end
         const std::string name = "frames/" + exporters::frame_name("cells", step, "ply");
         core::ensure_directory(staging / "frames");
         exporters::write_cells_ply(staging / name, sim.cells(), cells::triangulate(sim.cells()));

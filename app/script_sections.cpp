@@ -604,7 +604,11 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
 }
 
 namespace {
-Vec3 unit_or(const Vec3& n, const Vec3& fallback) { return n.norm() > 0 ? Vec3(n.normalized()) : fallback; }
+/// The unit vector along `n`; a zero vector has no direction and is refused naming the parameter.
+Vec3 unit(const Vec3& n, const std::string& name) {
+  if (!(n.norm() > 0)) throw InvalidInput(name + " must be a non-zero vector (a direction), got {0, 0, 0}");
+  return n.normalized();
+}
 
 }  // namespace
 
@@ -620,12 +624,12 @@ void build_shapes(Impl& I) {
     std::vector<Vec3> points;
     try {
       if (s.kind == "disc") {
-        points = forms::hex_disc(v["centre"].vec, unit_or(v["normal"].vec, Vec3::UnitZ()), v["radius"].num, spacing());
+        points = forms::hex_disc(v["centre"].vec, unit(v["normal"].vec, "normal"), v["radius"].num, spacing());
         r["radius"] = v["radius"].num;
         r["centre"] = {v["centre"].vec.x(), v["centre"].vec.y(), v["centre"].vec.z()};
       } else if (s.kind == "rectangle") {
-        points = forms::hex_rectangle(v["centre"].vec, unit_or(v["normal"].vec, Vec3::UnitZ()), v["width"].num,
-                                      v["height"].num, spacing());
+        points = forms::hex_rectangle(v["centre"].vec, unit(v["normal"].vec, "normal"), v["width"].num, v["height"].num,
+                                      spacing());
         r["width"] = v["width"].num;
         r["height"] = v["height"].num;
       } else if (s.kind == "sphere") {

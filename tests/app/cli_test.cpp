@@ -139,6 +139,12 @@ TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {
     // a re-run without frames removes the old frames
     REQUIRE(cli({"run", script.string(), "--out", out3.string(), "--quiet"}).code == 0);
     CHECK_FALSE(fs::exists(out3 / "frames/cells_000010.ply"));
+    // frames are asked for by output.every alone; output.ply = false drops only the final cells.ply
+    REQUIRE(cli({"run", script.string(), "--out", out3.string(), "--quiet", "--set", "output.every=10", "--set",
+                 "output.ply=false"})
+                .code == 0);
+    CHECK(fs::exists(out3 / "frames/cells_000010.ply"));
+    CHECK_FALSE(fs::exists(out3 / "cells.ply"));
   }
 }
 

@@ -372,3 +372,10 @@ TEST_CASE("a print voxel coarser than the thinnest vein is refused before the ru
   CHECK_THAT(load_error("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { voxel_size = 1, min_radius = 0.4 }\n"),
              Contains(":4: print.voxel_size (1 mm) exceeds print.min_radius (0.4 mm)"));
 }
+
+TEST_CASE("directions that mean nothing are refused, not replaced", "[script]") {
+  CHECK_THAT(load_error("disc { radius = 2, normal = {0, 0, 0} }\n"), Contains(":1: disc: normal must be a non-zero"));
+  CHECK_THAT(load_error("rectangle { width = 2, height = 2, normal = {0, 0, 0} }\n"), Contains("rectangle: normal"));
+  CHECK_THAT(load_error("disc { radius = 2 }\ndivision { direction = 'auxin' }\n"),
+             Contains(":2: division.direction = \"auxin\"") && Contains("venation{...}"));
+}
