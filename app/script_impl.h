@@ -119,6 +119,7 @@ struct ScriptHost::Impl {
   bool memory_exceeded = false;
   std::uint64_t executed = 0;
   std::uint64_t budget = 0;
+  bool rule_call = false;  // the budget is a rule function's per-call one, which no option raises
   std::string script_name;
   std::filesystem::path script_dir;
   std::function<void(const std::string&)> print;
@@ -159,10 +160,16 @@ struct ScriptHost::Impl {
   static void hook(lua_State* L, lua_Debug*) {
     Impl* self = *static_cast<Impl**>(lua_getextraspace(L));
     self->executed += kHookEvery;
-    if (self->executed > self->budget)
+    if (self->executed > self->budget) {
+      if (self->rule_call)
+        luaL_error(L,
+                   "a rule function ran more than %I instructions in one call (an endless loop?); it is called for "
+                   "every cell, so it must be short",
+                   static_cast<lua_Integer>(self->budget));
       luaL_error(L,
                  "instruction budget of %I instructions exceeded (an endless loop?); raise it with --lua-instructions",
                  static_cast<lua_Integer>(self->budget));
+    }
   }
 
   /// Turns a Lua error message into one line that names the script; adds the memory-limit hint.
@@ -179,6 +186,7 @@ struct ScriptHost::Impl {
   std::string protected_call(int nargs, int nresults, std::uint64_t call_budget) {
     executed = 0;
     budget = call_budget;
+    rule_call = call_budget == limits.rule_instructions && call_budget != limits.instructions;
     memory_exceeded = false;
     const int rc = lua_pcall(L, nargs, nresults, 0);
     if (rc == LUA_OK) return {};
