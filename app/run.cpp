@@ -369,9 +369,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         scene->step();
       } catch (const core::SimulationDiverged& e) {
         write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
-        err << (o.quiet ? "" : "\n") << "cellform: the simulation diverged: " << e.what()
-            << "\n  (a smaller cells.time_step or more drag usually helps; the state of step " << sim.step_count()
-            << " is saved in " << checkpoint.string() << ")\n";
+        err << (o.quiet ? "" : "\n") << "cellform: " << e.what()  // says "diverged" and what to try
+            << "\n  (the state of step " << sim.step_count() << " is saved in " << checkpoint.string() << ")\n";
         std::error_code ec;
         fs::remove_all(staging, ec);
         return failure;

@@ -98,7 +98,7 @@ double integrate_and_measure(Cells& cells, const Params& params, std::uint64_t s
       default:
         msg << "speed " << new_velocity(cells, params, i).norm() << " exceeds cells.max_speed = " << params.max_speed;
     }
-    msg << "; the simulation diverged (try a smaller cells.time_step or smaller force weights)";
+    msg << "; the simulation diverged (try a smaller cells.time_step, more drag or smaller force weights)";
     throw core::SimulationDiverged(msg.str());
   }
 
