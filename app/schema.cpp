@@ -145,7 +145,7 @@ std::vector<Field> build() {
                       "run canalisation every this many steps (auxin is slower than mechanics)"));
 
   // constraints
-  f.push_back(num("ground", "height", "0", -kInf, kInf, false, "model units", "cells stay above the plane z = height"));
+  f.push_back(num("ground", "height", "0", -kFar, kFar, false, "model units", "cells stay above the plane z = height"));
   f.push_back(vec("half_space", "point", "{0, 0, 0}", -kFar, kFar, "model units", "a point on the boundary plane"));
   f.push_back(vec("half_space", "normal", "{0, 0, 1}", -kFar, kFar, "direction", "cells stay on this side"));
   f.push_back(

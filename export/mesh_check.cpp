@@ -484,12 +484,19 @@ PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s) 
           const std::size_t at = 84 + 50 * t + 12 + 12 * k;
           corners[3 * t + k] = Vec3(get<float>(s, at), get<float>(s, at + 4), get<float>(s, at + 8));
         }
+      if (n == 0) malformed(path, "no facets in the STL file");  // as for an empty ASCII STL
       return weld_soup(std::move(corners));
     }
   }
   std::istringstream in(s);
   std::string word;
-  if (!(in >> word) || word != "solid") malformed(path, "not an STL file (neither binary nor ASCII 'solid')");
+  if (!(in >> word) || word != "solid") {
+    if (s.size() >= 84)  // a binary header whose triangle count does not fit the file: truncated or padded
+      malformed(path, "a damaged binary STL: its header announces " + std::to_string(get<std::uint32_t>(s, 80)) +
+                          " triangles (" + std::to_string(84 + 50 * std::size_t{get<std::uint32_t>(s, 80)}) +
+                          " bytes), but the file has " + std::to_string(s.size()) + " bytes");
+    malformed(path, "not an STL file (neither binary nor ASCII 'solid')");
+  }
   std::vector<Vec3> corners;
   while (in >> word)
     if (word == "vertex") {

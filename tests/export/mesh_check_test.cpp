@@ -255,6 +255,16 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
     std::ofstream(dir / "nan.stl", std::ios::binary) << stl;
   }
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "nan.stl"), Catch::Contains("nan.stl") && Catch::Contains("NaN"));
+  {  // a binary STL announcing 2 triangles with room for 4, and one with none
+    std::string stl(80, ' ');
+    std::uint32_t n = 2;
+    stl.append(reinterpret_cast<const char*>(&n), 4);
+    std::ofstream(dir / "padded.stl", std::ios::binary) << stl + std::string(200, '\0');
+    std::ofstream(dir / "none.stl", std::ios::binary) << std::string(80, ' ') + std::string(4, '\0');
+  }
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "padded.stl"),
+                    Catch::Contains("damaged binary STL") && Catch::Contains("announces 2 triangles (184 bytes)"));
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "none.stl"), Catch::Contains("no facets"));
   {
     std::ofstream(dir / "flat.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                                        "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
