@@ -9,7 +9,7 @@ namespace cellform::app {
 namespace {
 
 constexpr double kInf = 1e300;
-constexpr double kFar = 1e9;  // positions and directions: beyond this squares overflow, and no form is that big
+constexpr double kFar = kFarthest;
 
 Field num(const char* s, const char* n, const char* def, double lo, double hi, bool lo_open, const char* unit,
           const char* doc) {

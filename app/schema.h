@@ -38,6 +38,10 @@ struct Field {
 /// Every parameter of every script function, in documentation order.
 const std::vector<Field>& schema();
 
+/// Model units: no script position or direction may lie farther out (their squares would overflow, and no
+/// form is that big).
+inline constexpr double kFarthest = 1e9;
+
 /// The fields of one section.
 std::vector<const Field*> section_fields(const std::string& section);
 

@@ -352,7 +352,7 @@ cells::Rules ScriptHost::rules() {
       lua_State* L = I->L;
       lua_rawgeti(L, LUA_REGISTRYINDEX, I->divides_ref);
       fill_cell_table(*I, c, i, step_);
-      const std::string err = I->protected_call(1, 1, I->limits.rule_instructions);
+      const std::string err = I->protected_call(1, 1, I->limits.rule_instructions, true);
       if (!err.empty()) throw fail("division.rule", err, c, i);
       if (lua_type(L, -1) != LUA_TBOOLEAN) {
         const std::string got = luaL_typename(L, -1);
@@ -369,7 +369,7 @@ cells::Rules ScriptHost::rules() {
       lua_State* L = I->L;
       lua_rawgeti(L, LUA_REGISTRYINDEX, I->direction_ref);
       fill_cell_table(*I, c, i, step_);
-      const std::string err = I->protected_call(1, 3, I->limits.rule_instructions);
+      const std::string err = I->protected_call(1, 3, I->limits.rule_instructions, true);
       if (!err.empty()) throw fail("division.direction", err, c, i);
       Vec3 d;
       bool ok = true;
@@ -403,7 +403,7 @@ venation::SourceRule ScriptHost::source_rule() {
     lua_State* L = I->L;
     lua_rawgeti(L, LUA_REGISTRYINDEX, I->source_ref);
     fill_cell_table(*I, c, i, step_);
-    const std::string err = I->protected_call(1, 1, I->limits.rule_instructions);
+    const std::string err = I->protected_call(1, 1, I->limits.rule_instructions, true);
     auto where = [&] {
       return " (in venation.source at step " + std::to_string(step_) + " for cell " + std::to_string(c.id[i]) + ")";
     };

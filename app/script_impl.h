@@ -183,10 +183,10 @@ struct ScriptHost::Impl {
   }
 
   /// pcall with the instruction budget reset to `budget`; returns "" or the error message.
-  std::string protected_call(int nargs, int nresults, std::uint64_t call_budget) {
+  std::string protected_call(int nargs, int nresults, std::uint64_t call_budget, bool rule = false) {
     executed = 0;
     budget = call_budget;
-    rule_call = call_budget == limits.rule_instructions && call_budget != limits.instructions;
+    rule_call = rule;
     memory_exceeded = false;
     const int rc = lua_pcall(L, nargs, nresults, 0);
     if (rc == LUA_OK) return {};

@@ -155,7 +155,8 @@ std::vector<Vec3> read_points(Impl& I, const std::string& section, const std::st
       lua_pop(L, 1);
     }
     if (!p.allFinite()) throw fail(which + " is not finite");
-    if (p.cwiseAbs().maxCoeff() > 1e9) throw fail(which + " lies beyond 1e9 model units");
+    if (p.cwiseAbs().maxCoeff() > kFarthest)
+      throw fail(which + " lies beyond " + core::number_text(kFarthest) + " model units");
     return p;
   };
   lua_rawgeti(L, idx, 1);
@@ -567,6 +568,16 @@ void section_shape(Impl& I, const std::string& kind, const std::string& at) {
   I.shapes.push_back(std::move(call));
 }
 
+namespace {
+
+/// The unit vector along `n`; a zero vector has no direction and is refused naming the parameter.
+Vec3 unit_vector(const Vec3& n, const std::string& name) {
+  if (!(n.norm() > 0)) throw InvalidInput(name + " must be a non-zero vector (a direction), got {0, 0, 0}");
+  return n.normalized();
+}
+
+}  // namespace
+
 void section_constraint(Impl& I, const std::string& kind, const std::string& at) {
   nlohmann::json rec;
   Values v = I.read_section(kind, 1, at, &rec);
@@ -574,14 +585,10 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
   I.cfg->resolved["constraints"].push_back(rec);
   if (I.first_constraint.empty()) I.first_constraint = at + kind;
   forms::Obstacles& o = I.cfg->scene.obstacles;
-  auto unit = [&](const Vec3& n, const char* what) {
-    if (n.norm() == 0) throw InvalidInput(at + kind + "." + what + " must be a non-zero vector");
-    return Vec3(n.normalized());
-  };
   if (kind == "ground") {
     o.half_spaces.push_back({Vec3(0, 0, v["height"].num), Vec3::UnitZ()});
   } else if (kind == "half_space") {
-    o.half_spaces.push_back({v["point"].vec, unit(v["normal"].vec, "normal")});
+    o.half_spaces.push_back({v["point"].vec, unit_vector(v["normal"].vec, at + kind + ".normal")});
   } else if (kind == "ball") {
     o.spheres.push_back({v["centre"].vec, v["radius"].num});
   } else if (kind == "box") {
@@ -603,14 +610,7 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
   }
 }
 
-namespace {
-/// The unit vector along `n`; a zero vector has no direction and is refused naming the parameter.
-Vec3 unit(const Vec3& n, const std::string& name) {
-  if (!(n.norm() > 0)) throw InvalidInput(name + " must be a non-zero vector (a direction), got {0, 0, 0}");
-  return n.normalized();
-}
-
-}  // namespace
+namespace {}  // namespace
 
 void build_shapes(Impl& I) {
   SceneConfig& cfg = *I.cfg;
@@ -624,12 +624,12 @@ void build_shapes(Impl& I) {
     std::vector<Vec3> points;
     try {
       if (s.kind == "disc") {
-        points = forms::hex_disc(v["centre"].vec, unit(v["normal"].vec, "normal"), v["radius"].num, spacing());
+        points = forms::hex_disc(v["centre"].vec, unit_vector(v["normal"].vec, "normal"), v["radius"].num, spacing());
         r["radius"] = v["radius"].num;
         r["centre"] = {v["centre"].vec.x(), v["centre"].vec.y(), v["centre"].vec.z()};
       } else if (s.kind == "rectangle") {
-        points = forms::hex_rectangle(v["centre"].vec, unit(v["normal"].vec, "normal"), v["width"].num, v["height"].num,
-                                      spacing());
+        points = forms::hex_rectangle(v["centre"].vec, unit_vector(v["normal"].vec, "normal"), v["width"].num,
+                                      v["height"].num, spacing());
         r["width"] = v["width"].num;
         r["height"] = v["height"].num;
       } else if (s.kind == "sphere") {

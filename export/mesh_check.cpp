@@ -491,10 +491,12 @@ PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s) 
   std::istringstream in(s);
   std::string word;
   if (!(in >> word) || word != "solid") {
-    if (s.size() >= 84)  // a binary header whose triangle count does not fit the file: truncated or padded
-      malformed(path, "a damaged binary STL: its header announces " + std::to_string(get<std::uint32_t>(s, 80)) +
-                          " triangles (" + std::to_string(84 + 50 * std::size_t{get<std::uint32_t>(s, 80)}) +
-                          " bytes), but the file has " + std::to_string(s.size()) + " bytes");
+    if (s.size() >= 84) {  // a binary header whose triangle count does not fit the file: truncated or padded
+      const std::size_t n = get<std::uint32_t>(s, 80);
+      malformed(path, "a damaged binary STL: its header announces " + std::to_string(n) + " triangles (" +
+                          std::to_string(84 + 50 * n) + " bytes), but the file has " + std::to_string(s.size()) +
+                          " bytes");
+    }
     malformed(path, "not an STL file (neither binary nor ASCII 'solid')");
   }
   std::vector<Vec3> corners;

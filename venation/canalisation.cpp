@@ -453,9 +453,9 @@ Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Worksp
                                std::to_string(c.id[i]) + " got " + core::number_text(s));
     total += s;
     if (!std::isfinite(2 * total))
-      throw core::InvalidInput("venation.source: the sources up to cell " + std::to_string(c.id[i]) +
-                               " add up beyond the range of numbers (cell " + std::to_string(c.id[i]) + " gave " +
-                               core::number_text(s) + "); use smaller source strengths");
+      throw core::InvalidInput("venation.source: the sources add up beyond the range of numbers at cell " +
+                               std::to_string(c.id[i]) + ", which gave " + core::number_text(s) +
+                               "; use smaller source strengths");
     src[i] = s;
   }
   const double* s = src.data();

@@ -74,10 +74,6 @@ class SourceGrid {
   std::unordered_map<std::uint64_t, std::vector<Index>> cells_;
 };
 
-}  // namespace
-
-namespace {
-
 // Absurd sizes are refused before they exhaust memory or overflow: a step's darts are held at once
 // (about 60 bytes each), and a nonuniform growth factor beyond this makes coordinates meaningless.
 constexpr double kMaxDartsPerStep = 2e7;
@@ -85,10 +81,12 @@ constexpr double kMaxNonuniformGrowth = 1e6;
 
 using core::number_text;
 
-/// Throws naming colonisation.darts if `expected` darts (rho times `what`) would be thrown in one step.
-void check_darts_per_step(double expected, const std::string& what) {
+/// Throws naming colonisation.darts if `expected` darts (rho times `what`, at `step` if not 0) would be
+/// thrown in one step.
+void check_darts_per_step(double expected, const char* what, std::size_t step = 0) {
   if (!(expected <= kMaxDartsPerStep))
-    throw InvalidInput("colonisation.darts: rho x " + what + " = " + number_text(expected) +
+    throw InvalidInput(std::string("colonisation.darts: rho x ") + what +
+                       (step ? " at step " + std::to_string(step) : std::string()) + " = " + number_text(expected) +
                        " darts in one step, more than 2 x 10^7; use fewer darts (rho x 10^6 per unit area) or a "
                        "smaller domain");
 }
@@ -495,7 +493,7 @@ struct Colonisation::Impl {
   void draw_blade_darts() {
     const double area = nonuniform ? current.area() : unit.area() * sigma * sigma;  // of the actual leaf
     const double expected = p.darts_per_area * area;
-    check_darts_per_step(expected, "the blade's area at step " + std::to_string(rep.steps + 1));
+    check_darts_per_step(expected, "the blade's area", rep.steps + 1);
     auto count = static_cast<std::size_t>(std::floor(expected));
     if (rng.uniform() < expected - std::floor(expected)) ++count;
     const double fs = frame_scale();

@@ -237,8 +237,9 @@ Outline parse_outline(const std::string& text, const std::string& source) {
       std::string word;
       if (ls >> word) {
         // a binary file's bytes are not echoed: printable characters only, and a short excerpt
-        const bool text = std::all_of(word.begin(), word.end(), [](unsigned char ch) { return ch >= 32 && ch < 127; });
-        const std::string shown = !text              ? "bytes that are not text (is it an outline file?)"
+        const bool printable =
+            std::all_of(word.begin(), word.end(), [](unsigned char ch) { return ch >= 32 && ch < 127; });
+        const std::string shown = !printable         ? "bytes that are not text (is it an outline file?)"
                                   : word.size() > 40 ? "'" + word.substr(0, 40) + "...'"
                                                      : "'" + word + "'";
         throw InvalidInput(source + ":" + std::to_string(line_no) + ": expected two numbers \"x y\", got " + shown);

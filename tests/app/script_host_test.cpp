@@ -367,7 +367,7 @@ TEST_CASE("positions beyond 1e9 model units are refused (their squares would ove
   CHECK_THAT(load_error("disc { radius = 3 }\npetiole { at = {1e300, 0, 0} }\nvenation {}\n"),
              Contains(":2: petiole.at") && Contains("1e+09"));
   CHECK_THAT(load_error("disc { radius = 3 }\nsurface { cells = true, seeds = {{1e12, 0, 0}} }\ncolonisation {}\n"),
-             Contains("surface.seeds") && Contains("beyond 1e9"));
+             Contains("surface.seeds") && Contains("beyond 1e+09"));
 }
 
 TEST_CASE("a print voxel coarser than the thinnest vein is refused before the run", "[script][print]") {
@@ -378,6 +378,8 @@ TEST_CASE("a print voxel coarser than the thinnest vein is refused before the ru
 TEST_CASE("directions that mean nothing are refused, not replaced", "[script]") {
   CHECK_THAT(load_error("disc { radius = 2, normal = {0, 0, 0} }\n"), Contains(":1: disc: normal must be a non-zero"));
   CHECK_THAT(load_error("rectangle { width = 2, height = 2, normal = {0, 0, 0} }\n"), Contains("rectangle: normal"));
+  CHECK_THAT(load_error("disc { radius = 2 }\nhalf_space { normal = {0, 0, 0} }\n"),
+             Contains(":2: half_space.normal must be a non-zero vector"));
   CHECK_THAT(load_error("disc { radius = 2 }\ndivision { direction = 'auxin' }\n"),
              Contains(":2: division.direction = \"auxin\"") && Contains("venation{...}"));
 }
