@@ -6,6 +6,7 @@
 #include "app/run.h"
 #include "core/errors.h"
 #include "export/mesh_check.h"
+#include "export/mesh_read.h"
 #include "export/thickness.h"
 
 namespace cellform::app {

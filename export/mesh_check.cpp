@@ -1,4 +1,4 @@
-// Mesh checks for printing (topology, orientation, self-intersections) and the triangle-soup readers.
+// Mesh checks for printing: topology, orientation, self-intersections.
 #include "export/mesh_check.h"
 
 #include <algorithm>
@@ -38,23 +38,6 @@ struct UnionFind {
     if (a != b) parent[std::max(a, b)] = std::min(a, b);  // smallest index is the root: deterministic
   }
 };
-
-// Canonical vertex index per input vertex: the first input vertex at exactly the same position.
-std::vector<std::uint32_t> weld(const std::vector<Vec3>& v) {
-  std::vector<std::uint32_t> order(v.size());
-  std::iota(order.begin(), order.end(), 0u);
-  const auto less = [&](std::uint32_t a, std::uint32_t b) {
-    if (v[a].x() != v[b].x()) return v[a].x() < v[b].x();
-    if (v[a].y() != v[b].y()) return v[a].y() < v[b].y();
-    if (v[a].z() != v[b].z()) return v[a].z() < v[b].z();
-    return a < b;
-  };
-  std::sort(order.begin(), order.end(), less);
-  std::vector<std::uint32_t> canon(v.size());
-  for (std::size_t k = 0; k < order.size(); ++k)
-    canon[order[k]] = (k > 0 && v[order[k]] == v[order[k - 1]]) ? canon[order[k - 1]] : order[k];
-  return canon;
-}
 
 double orient(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) { return (b - a).cross(c - a).dot(d - a); }
 
@@ -234,6 +217,22 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
 
 }  // namespace
 
+std::vector<std::uint32_t> weld_positions(const std::vector<Vec3>& v) {
+  std::vector<std::uint32_t> order(v.size());
+  std::iota(order.begin(), order.end(), 0u);
+  const auto less = [&](std::uint32_t a, std::uint32_t b) {
+    if (v[a].x() != v[b].x()) return v[a].x() < v[b].x();
+    if (v[a].y() != v[b].y()) return v[a].y() < v[b].y();
+    if (v[a].z() != v[b].z()) return v[a].z() < v[b].z();
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<std::uint32_t> canon(v.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    canon[order[k]] = (k > 0 && v[order[k]] == v[order[k - 1]]) ? canon[order[k - 1]] : order[k];
+  return canon;
+}
+
 std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(const std::vector<Vec3>& vertices,
                                                                   const std::vector<Tri>& triangles, int threads) {
   std::vector<char> skip(triangles.size(), 0);
@@ -286,7 +285,7 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
                                  std::to_string(nv));
   if (nt == 0) return r;
 
-  const std::vector<std::uint32_t> canon = weld(mesh.vertices);
+  const std::vector<std::uint32_t> canon = weld_positions(mesh.vertices);
   std::vector<Tri> tris(nt);
   std::vector<char> degenerate(nt, 0);
   std::vector<char> used(nv, 0);
@@ -439,243 +438,6 @@ std::string MeshReport::summary() const {
   if (genus.size() > 20) s << " ...";
   s << "\n" << (printable() ? "printable" : "NOT printable") << "\n";
   return s.str();
-}
-
-// ---------------------------------------------------------------------------------------------------
-// Readers
-
-namespace {
-
-[[noreturn]] void malformed(const std::filesystem::path& path, const std::string& what) {
-  throw core::FileError(path.string() + ": " + what);
-}
-
-PrintableMesh weld_soup(std::vector<Vec3> corners) {  // 3 corners per triangle -> indexed, exact welding
-  const std::vector<std::uint32_t> canon = weld(corners);
-  PrintableMesh m;
-  std::vector<std::uint32_t> index(corners.size());
-  for (std::size_t i = 0; i < corners.size(); ++i) {
-    if (canon[i] == i) {
-      index[i] = static_cast<std::uint32_t>(m.vertices.size());
-      m.vertices.push_back(corners[i]);
-    }
-  }
-  for (std::size_t i = 0; i < corners.size(); ++i) index[i] = index[canon[i]];
-  m.triangles.resize(corners.size() / 3);
-  for (std::size_t t = 0; t < m.triangles.size(); ++t)
-    m.triangles[t] = {index[3 * t], index[3 * t + 1], index[3 * t + 2]};
-  return m;
-}
-
-template <class T>
-T get(const std::string& s, std::size_t at) {
-  T v;
-  std::memcpy(&v, s.data() + at, sizeof(T));
-  return v;
-}
-
-PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s) {
-  if (s.size() >= 84) {
-    const std::uint32_t n = get<std::uint32_t>(s, 80);
-    if (s.size() == 84 + 50 * std::size_t{n}) {
-      std::vector<Vec3> corners(3 * std::size_t{n});
-      for (std::size_t t = 0; t < n; ++t)
-        for (int k = 0; k < 3; ++k) {
-          const std::size_t at = 84 + 50 * t + 12 + 12 * k;
-          corners[3 * t + k] = Vec3(get<float>(s, at), get<float>(s, at + 4), get<float>(s, at + 8));
-        }
-      if (n == 0) malformed(path, "no facets in the STL file");  // as for an empty ASCII STL
-      return weld_soup(std::move(corners));
-    }
-  }
-  std::istringstream in(s);
-  std::string word;
-  if (!(in >> word) || word != "solid") {
-    if (s.size() >= 84) {  // a binary header whose triangle count does not fit the file: truncated or padded
-      const std::size_t n = get<std::uint32_t>(s, 80);
-      malformed(path, "a damaged binary STL: its header announces " + std::to_string(n) + " triangles (" +
-                          std::to_string(84 + 50 * n) + " bytes), but the file has " + std::to_string(s.size()) +
-                          " bytes");
-    }
-    malformed(path, "not an STL file (neither binary nor ASCII 'solid')");
-  }
-  std::vector<Vec3> corners;
-  while (in >> word)
-    if (word == "vertex") {
-      Vec3 p;
-      if (!(in >> p.x() >> p.y() >> p.z())) malformed(path, "ASCII STL vertex without three numbers");
-      corners.push_back(p);
-    }
-  if (corners.size() % 3 != 0) malformed(path, "ASCII STL facet without exactly three vertices");
-  if (corners.empty()) malformed(path, "no facets in the STL file");
-  return weld_soup(std::move(corners));
-}
-
-PrintableMesh read_obj(const std::filesystem::path& path, const std::string& s) {
-  PrintableMesh m;
-  std::istringstream in(s);
-  std::string line;
-  std::size_t line_no = 0;
-  std::vector<std::int64_t> poly;
-  while (std::getline(in, line)) {
-    ++line_no;
-    std::istringstream ls(line);
-    std::string tag;
-    if (!(ls >> tag)) continue;
-    if (tag == "v") {
-      Vec3 p;
-      if (!(ls >> p.x() >> p.y() >> p.z()))
-        malformed(path, "line " + std::to_string(line_no) + ": 'v' needs three numbers");
-      m.vertices.push_back(p);
-    } else if (tag == "f") {
-      poly.clear();
-      std::string tok;
-      while (ls >> tok) {
-        std::int64_t i = 0;
-        try {
-          i = std::stoll(tok.substr(0, tok.find('/')));
-        } catch (const std::exception&) {
-          malformed(path, "line " + std::to_string(line_no) + ": bad face index '" + tok + "'");
-        }
-        if (i < 0) i += static_cast<std::int64_t>(m.vertices.size()) + 1;
-        if (i < 1 || i > static_cast<std::int64_t>(m.vertices.size()))
-          malformed(path, "line " + std::to_string(line_no) + ": face index " + tok + " out of range");
-        poly.push_back(i - 1);
-      }
-      if (poly.size() < 3) malformed(path, "line " + std::to_string(line_no) + ": a face needs three vertices");
-      for (std::size_t k = 1; k + 1 < poly.size(); ++k)
-        m.triangles.push_back({std::uint32_t(poly[0]), std::uint32_t(poly[k]), std::uint32_t(poly[k + 1])});
-    }
-  }
-  if (m.triangles.empty()) malformed(path, "no faces in the OBJ file");
-  return m;
-}
-
-PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) {
-  struct Property {
-    std::string name, type, count_type;  // count_type non-empty for lists
-  };
-  struct Element {
-    std::string name;
-    std::size_t count = 0;
-    std::vector<Property> props;
-  };
-  std::size_t end = s.find("end_header");
-  if (s.rfind("ply", 0) != 0 || end == std::string::npos) malformed(path, "not a PLY file");
-  std::istringstream head(s.substr(0, end));
-  std::string line, format;
-  std::vector<Element> elements;
-  while (std::getline(head, line)) {
-    std::istringstream ls(line);
-    std::string w;
-    ls >> w;
-    if (w == "format")
-      ls >> format;
-    else if (w == "element") {
-      elements.push_back({});
-      ls >> elements.back().name >> elements.back().count;
-    } else if (w == "property") {
-      if (elements.empty()) malformed(path, "PLY property before any element");
-      Property p;
-      ls >> p.type;
-      if (p.type == "list") ls >> p.count_type >> p.type;
-      ls >> p.name;
-      elements.back().props.push_back(p);
-    }
-  }
-  for (const Element& e : elements)  // a vertex without one of x, y, z would silently sit at 0 there
-    if (e.name == "vertex")
-      for (const char* axis : {"x", "y", "z"})
-        if (std::none_of(e.props.begin(), e.props.end(), [&](const Property& p) { return p.name == axis; }))
-          malformed(path, std::string("PLY vertices have no '") + axis + "' property");
-  const bool ascii = format == "ascii";
-  if (!ascii && format != "binary_little_endian")
-    malformed(path, "PLY format '" + format + "' is not supported (ascii or binary_little_endian)");
-  std::size_t at = s.find('\n', end);
-  if (at == std::string::npos) malformed(path, "PLY header not terminated");
-  ++at;
-  std::istringstream body(ascii ? s.substr(at) : std::string());
-  const auto size_of = [&](const std::string& t) -> std::size_t {
-    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
-    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-    if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
-    if (t == "double" || t == "float64") return 8;
-    malformed(path, "unknown PLY property type '" + t + "'");
-  };
-  const auto read = [&](const std::string& t) -> double {
-    if (ascii) {
-      double v;
-      if (!(body >> v)) malformed(path, "PLY data ends early");
-      return v;
-    }
-    const std::size_t n = size_of(t);
-    if (at + n > s.size()) malformed(path, "PLY data ends early");
-    double v = 0;
-    if (t == "char" || t == "int8")
-      v = get<std::int8_t>(s, at);
-    else if (t == "uchar" || t == "uint8")
-      v = get<std::uint8_t>(s, at);
-    else if (t == "short" || t == "int16")
-      v = get<std::int16_t>(s, at);
-    else if (t == "ushort" || t == "uint16")
-      v = get<std::uint16_t>(s, at);
-    else if (t == "int" || t == "int32")
-      v = get<std::int32_t>(s, at);
-    else if (t == "uint" || t == "uint32")
-      v = get<std::uint32_t>(s, at);
-    else if (t == "float" || t == "float32")
-      v = get<float>(s, at);
-    else
-      v = get<double>(s, at);
-    at += n;
-    return v;
-  };
-  PrintableMesh m;
-  std::vector<double> list;
-  for (const Element& e : elements)
-    for (std::size_t i = 0; i < e.count; ++i) {
-      Vec3 p = Vec3::Zero();
-      for (const Property& pr : e.props) {
-        if (pr.count_type.empty()) {
-          const double v = read(pr.type);
-          if (e.name == "vertex" && pr.name.size() == 1 && pr.name[0] >= 'x' && pr.name[0] <= 'z')
-            p[pr.name[0] - 'x'] = v;
-          continue;
-        }
-        const double n = read(pr.count_type);
-        if (!(n >= 0 && n < 1e6)) malformed(path, "bad PLY list length");
-        list.resize(static_cast<std::size_t>(n));
-        for (double& x : list) x = read(pr.type);
-        if (e.name == "face" && (pr.name == "vertex_indices" || pr.name == "vertex_index")) {
-          if (list.size() < 3) malformed(path, "PLY face with fewer than three vertices");
-          for (double x : list)
-            if (!(x >= 0 && x < 4294967295.0)) malformed(path, "PLY face index out of range");
-          for (std::size_t k = 1; k + 1 < list.size(); ++k)
-            m.triangles.push_back({std::uint32_t(list[0]), std::uint32_t(list[k]), std::uint32_t(list[k + 1])});
-        }
-      }
-      if (e.name == "vertex") m.vertices.push_back(p);
-    }
-  for (const Tri& t : m.triangles)
-    for (std::uint32_t i : t)
-      if (i >= m.vertices.size()) malformed(path, "PLY face index " + std::to_string(i) + " out of range");
-  if (m.triangles.empty()) malformed(path, "no faces in the PLY file");
-  return m;
-}
-
-}  // namespace
-
-PrintableMesh read_mesh(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext != ".stl" && ext != ".obj" && ext != ".ply")
-    throw core::FileError(path.string() + ": unknown mesh format '" + ext + "' (use .stl, .obj or .ply)");
-  const std::string s = core::read_file(path);
-  PrintableMesh m = ext == ".stl" ? read_stl(path, s) : ext == ".obj" ? read_obj(path, s) : read_ply(path, s);
-  for (std::size_t i = 0; i < m.vertices.size(); ++i)  // unreadable input, not an unprintable shape
-    if (!m.vertices[i].allFinite())
-      malformed(path, "vertex " + std::to_string(i + 1) + " has a coordinate that is NaN or infinite");
-  return m;
 }
 
 }  // namespace cellform::exporters

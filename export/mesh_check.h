@@ -1,11 +1,10 @@
-// Is a mesh printable? Topology, orientation, self-intersection and volume checks, and a triangle-soup reader for STL,
-// OBJ and PLY.
+// Is a mesh printable? Topology, orientation, self-intersection and volume checks (export/mesh_read.h reads
+// meshes back).
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -65,10 +64,8 @@ double surface_area(const PrintableMesh& mesh);
 /// Connected components through shared vertex indices (no welding).
 std::size_t count_parts(const PrintableMesh& mesh);
 
-/// Reads a triangle soup from STL (binary or ASCII; vertices welded at exactly equal positions), OBJ
-/// (v and f lines; polygons fanned into triangles) or PLY (ASCII or binary little-endian; polygons
-/// fanned). Nothing is dropped or repaired, so non-manifold files come back as they are.
-/// Throws core::FileError naming the file for a missing file, an unknown extension or malformed content.
-PrintableMesh read_mesh(const std::filesystem::path& path);
+/// Canonical vertex index per input vertex: the first input vertex at exactly the same position
+/// (bitwise equal coordinates; the weld of STL soups and of the checks).
+std::vector<std::uint32_t> weld_positions(const std::vector<core::Vec3>& positions);
 
 }  // namespace cellform::exporters

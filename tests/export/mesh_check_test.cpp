@@ -1,5 +1,7 @@
-// Tests of export/mesh_check.h on meshes whose defects and genus are known by construction.
+// Tests of export/mesh_check.h (meshes whose defects and genus are known by construction) and of reading them back
+// with export/mesh_read.h (the same meshes serve both).
 #include "export/mesh_check.h"
+#include "export/mesh_read.h"
 
 #include <unistd.h>
 

@@ -19,6 +19,7 @@
 #include "core/random.h"
 #include "export/mesh_check.h"
 #include "export/mesh_files.h"
+#include "export/mesh_read.h"
 
 using namespace cellform;
 using core::Vec3;
