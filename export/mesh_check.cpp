@@ -3,15 +3,11 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cctype>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
 #include <limits>
 #include <numeric>
 #include <sstream>
 
-#include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/parallel.h"
 
