@@ -357,7 +357,7 @@ cells::Rules ScriptHost::rules() {
       if (lua_type(L, -1) != LUA_TBOOLEAN) {
         const std::string got = luaL_typename(L, -1);
         lua_pop(L, 1);
-        throw fail("division.rule", I->script_name + ": division.rule must return true or false, got " + got, c, i);
+        throw fail("division.rule", I->divides_at + "division.rule must return true or false, got " + got, c, i);
       }
       const bool yes = lua_toboolean(L, -1) != 0;
       lua_pop(L, 1);
@@ -389,7 +389,12 @@ cells::Rules ScriptHost::rules() {
       lua_pop(L, 3);
       if (!ok || !d.allFinite())
         throw fail("division.direction",
-                   I->script_name + ": division.direction must return {x, y, z} (or x, y, z) of finite numbers", c, i);
+                   I->direction_at + "division.direction must return {x, y, z} (or x, y, z) of finite numbers", c, i);
+      // the split plane needs a length to normalise: not zero, and not so large that its square overflows
+      const double n = d.norm();
+      if (!(n > 0) || !std::isfinite(n))
+        throw fail("division.direction",
+                   I->direction_at + "division.direction returned a zero vector or one too long to normalise", c, i);
       return d;
     };
   }
@@ -411,12 +416,12 @@ venation::SourceRule ScriptHost::source_rule() {
     if (lua_type(L, -1) != LUA_TNUMBER) {
       const std::string got = luaL_typename(L, -1);
       lua_pop(L, 1);
-      throw InvalidInput(I->script_name + ": venation.source must return a number >= 0, got " + got + where());
+      throw InvalidInput(I->source_at + "venation.source must return a number >= 0, got " + got + where());
     }
     const double v = lua_tonumber(L, -1);
     lua_pop(L, 1);
     if (!std::isfinite(v) || v < 0)
-      throw InvalidInput(I->script_name + ": venation.source must return a finite number >= 0, got " +
+      throw InvalidInput(I->source_at + "venation.source must return a finite number >= 0, got " +
                          std::to_string(v) + where());
     return v;
   };

@@ -138,6 +138,8 @@ struct ScriptHost::Impl {
   int divides_ref = LUA_NOREF;
   int direction_ref = LUA_NOREF;
   int source_ref = LUA_NOREF;
+  // "file:line: " of the section that set each rule, for the messages of its calls during the run
+  std::string divides_at, direction_at, source_at;
   int cell_table_ref = LUA_NOREF;
 
   static void* alloc(void* ud, void* ptr, std::size_t osize, std::size_t nsize) {

@@ -83,6 +83,7 @@ void section_division(Impl& I, const std::string& at) {
   if (dir.ref != LUA_NOREF) {
     d.direction = cells::SplitDirection::rule;
     I.direction_ref = dir.ref;
+    I.direction_at = at;
   } else {
     d.direction = dir.str == "axis"              ? cells::SplitDirection::axis
                   : dir.str == "tangent"         ? cells::SplitDirection::tangent
@@ -95,7 +96,15 @@ void section_division(Impl& I, const std::string& at) {
   if ((d.direction == cells::SplitDirection::axis || d.direction == cells::SplitDirection::circumferential) &&
       d.axis.norm() == 0)
     throw InvalidInput(at + "division.axis must be a non-zero vector for direction = \"" + dir.str + "\"");
-  if (v["rule"].ref != LUA_NOREF) I.divides_ref = v["rule"].ref;
+  if (v["rule"].ref != LUA_NOREF) {
+    // the rule replaces the trigger and its settings: refuse them rather than drop them unseen
+    for (const char* f : {"trigger", "age", "radius", "min_neighbours"})
+      if (v[f].present)
+        throw InvalidInput(at + "division." + f + " has no effect with division.rule, which decides alone when a cell " +
+                           "divides; remove one of them");
+    I.divides_ref = v["rule"].ref;
+    I.divides_at = at;
+  }
 }
 
 void section_run(Impl& I, const std::string& at) {
@@ -110,15 +119,18 @@ void section_venation(Impl& I, const std::string& at) {
   Values v = I.read_section("venation", 1, at, &I.cfg->resolved["venation"]);
   venation::Params p;
   p.threshold = v["threshold"].num;
-  if (v["source"].ref != LUA_NOREF)
+  if (v["source"].ref != LUA_NOREF) {
     I.source_ref = v["source"].ref;
-  else
+    I.source_at = at;
+  } else {
     p.source = v["source"].num;
+  }
   p.murray_exponent = v["murray_exponent"].num;
   p.radius_scale = v["radius_scale"].num;
   p.min_radius = v["min_radius"].num;
   p.every = static_cast<std::uint32_t>(v["every"].num);
   I.cfg->scene.venation = p;
+  I.cfg->scene.venation_origin = at;
 }
 
 namespace {

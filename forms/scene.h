@@ -25,6 +25,7 @@ struct PetioleSpec {
 struct SceneDescription {
   cells::Params cells;                       ///< the cell system
   std::optional<venation::Params> venation;  ///< auxin canalisation; none = no veins
+  std::string venation_origin;               ///< where venation was asked for, prefixed to its error messages
   bool split_along_auxin = false;            ///< divisions split along the local auxin flow
   std::vector<PetioleSpec> petioles;         ///< sinks of the auxin flow and roots of the veins
   Obstacles obstacles;                       ///< solids and surfaces cells cannot pass

@@ -79,6 +79,12 @@ TEST_CASE("input errors exit with 2 and one clear line", "[cli]") {
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("far.lua:5:"));
   CHECK_THAT(r.err, Contains("from the nearest cell"));
+  // veins with no petiole before the first step: named at the venation line, and no output is left
+  const auto none = t.write("none.lua", "disc { radius = 3 }\nvenation {}\nrun { steps = 5 }\n");
+  r = cli({"run", none.string(), "--out", (t.path / "none").string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("none.lua:2: venation needs a petiole"));
+  CHECK_FALSE(fs::exists(t.path / "none"));  // nothing written on an input error
 }
 
 TEST_CASE("a colonisation that never places a source says so", "[cli][colonisation]") {
