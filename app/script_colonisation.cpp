@@ -1,0 +1,399 @@
+// The sections of the growth-script API that set up space colonisation (leaf{}, volume{}, surface{},
+// colonisation{}): each reads its table against the schema and fills the colonisation configuration.
+#include "app/script_impl.h"
+#include "venation/domain.h"
+
+namespace cellform::app {
+namespace {
+
+/// Refuses a second source domain: a script grows veins in one leaf{}, volume{} or surface{}.
+void one_domain(Impl& I, const std::string& section, const std::string& at) {
+  for (const std::string other : {"leaf", "volume", "surface"})
+    if (other != section && I.sections_seen.count(other))
+      throw InvalidInput(at + section + "{...}: the veins already grow in " + other + "{...} (at " +
+                         I.sections_seen[other] + "); a script has one of leaf{}, volume{} and surface{}");
+}
+
+/// The seeds = {{x, y, z}, ...} field of the section table at stack index 1 (also one point {x, y, z}).
+std::vector<Vec3> read_points(Impl& I, const std::string& section, const std::string& at) {
+  lua_State* L = I.L;
+  std::vector<Vec3> out;
+  lua_getfield(L, 1, "seeds");
+  const int idx = lua_gettop(L);
+  auto fail = [&](const std::string& what) {
+    lua_settop(L, idx - 1);
+    return InvalidInput(at + section + ".seeds must be a list of points {{x, y, z}, ...} in model units; " + what);
+  };
+  if (lua_type(L, idx) == LUA_TNIL) {
+    lua_pop(L, 1);
+    return out;
+  }
+  auto read_point = [&](int t, const std::string& which) {
+    if (lua_type(L, t) != LUA_TTABLE || lua_rawlen(L, t) != 3) throw fail(which + " is not {x, y, z}");
+    Vec3 p;
+    for (int k = 0; k < 3; ++k) {
+      lua_rawgeti(L, t, k + 1);
+      if (lua_type(L, -1) != LUA_TNUMBER) throw fail(which + " has a component that is not a number");
+      p[k] = lua_tonumber(L, -1);
+      lua_pop(L, 1);
+    }
+    if (!p.allFinite()) throw fail(which + " is not finite");
+    if (p.cwiseAbs().maxCoeff() > kFarthest)
+      throw fail(which + " lies beyond " + core::number_text(kFarthest) + " model units");
+    return p;
+  };
+  lua_rawgeti(L, idx, 1);
+  const bool single = lua_type(L, -1) == LUA_TNUMBER;
+  lua_pop(L, 1);
+  if (single) {
+    out.push_back(read_point(idx, "the point"));
+  } else {
+    const auto n = static_cast<int>(lua_rawlen(L, idx));
+    if (n == 0) throw fail("got an empty table");
+    for (int i = 1; i <= n; ++i) {
+      lua_rawgeti(L, idx, i);
+      out.push_back(read_point(lua_gettop(L), "entry " + std::to_string(i)));
+      lua_pop(L, 1);
+    }
+  }
+  lua_settop(L, idx - 1);
+  return out;
+}
+
+venation::Mesh read_domain_mesh(Impl& I, const std::string& section, const Values& v, const std::string& at) {
+  std::filesystem::path file = v.at("file").str;
+  if (file.is_relative()) file = I.script_dir / file;
+  try {
+    forms::TriangleMesh m = forms::load_mesh(file);
+    venation::Mesh out;
+    out.vertices = std::move(m.vertices);
+    for (Vec3& p : out.vertices) p *= v.at("scale").num;
+    out.triangles = std::move(m.triangles);
+    return out;
+  } catch (const std::exception& e) {
+    throw InvalidInput(at + section + ".file: " + e.what());
+  }
+}
+
+}  // namespace
+
+std::string script_domain_message(const std::string& message, const std::string& section) {
+  std::string m = message;
+  const std::pair<std::string, std::string> names[] = {{"domain.initial_nodes", section + ".seeds"},
+                                                       {"domain.initial_sources", section + ".sources"},
+                                                       {"domain.box", "volume.box"},
+                                                       {"domain.ball", "volume.ball"},
+                                                       {"domain.volume", "volume.file"},
+                                                       {"domain.surface", section + ".file"}};
+  for (const auto& [from, to] : names)
+    for (std::size_t at = m.find(from); at != std::string::npos; at = m.find(from, at + to.size()))
+      m.replace(at, from.size(), to);
+  return m;
+}
+
+std::string script_colonisation_message(const std::string& message) {
+  std::string m = message;
+  const std::pair<std::string, std::string> names[] = {
+      {"colonisation.scale_step", "colonisation.length_step"},
+      {"colonisation.final_scale", "colonisation.final_length"},
+      {"colonisation.initial_scale", "colonisation.initial_length"},
+      {"colonisation.darts_per_area", "colonisation.darts"},
+      {"colonisation.source_birth_distance", "colonisation.birth_distance"},
+      {"colonisation.node_distance", "the vein segment"},
+      {"colonisation.max_steps", "the step limit (--steps or colonisation.max_steps)"},
+      {"leaf.initial_nodes", "leaf.seeds"}};
+  for (const auto& [from, to] : names)
+    for (std::size_t at = m.find(from); at != std::string::npos; at = m.find(from, at + to.size()))
+      m.replace(at, from.size(), to);
+  return m;
+}
+
+void section_domain(Impl& I, const std::string& section, const std::string& at) {
+  I.once(section, at);
+  one_domain(I, section, at);
+  nlohmann::json& rec = I.cfg->resolved[section];
+  Values v = I.read_section(section, 1, at, &rec);
+  if (!I.cfg->colonisation) I.cfg->colonisation.emplace();
+  ColonisationSpec& spec = *I.cfg->colonisation;
+  venation::Domain& d = spec.domain;
+  lua_State* L = I.L;
+  // a nested table such as volume{box = {min = ..., max = ...}}, read against the schema's "volume.box"
+  auto nested = [&](const char* name, Values& out) {
+    if (lua_type(L, 1) != LUA_TTABLE) return false;
+    lua_getfield(L, 1, name);
+    const int idx = lua_gettop(L);
+    if (lua_type(L, idx) == LUA_TNIL) {
+      lua_pop(L, 1);
+      return false;
+    }
+    try {
+      out = I.read_section(section + "." + name, idx, at, &rec[name]);
+    } catch (...) {
+      lua_settop(L, idx - 1);
+      throw;
+    }
+    lua_settop(L, idx - 1);
+    return true;
+  };
+  std::vector<Vec3> seeds = read_points(I, section, at);
+  const bool file = !v["file"].str.empty();
+  if (section == "volume") {
+    Values box, ball;
+    const bool is_box = nested("box", box), is_ball = nested("ball", ball);
+    if (int(is_box) + int(is_ball) + int(file) != 1)
+      throw InvalidInput(at +
+                         "volume{...} needs exactly one of box = {min = {x, y, z}, max = {x, y, z}}, "
+                         "ball = {centre = {x, y, z}, radius = r} or file = \"shape.stl\"");
+    if (is_box) {
+      d.kind = venation::DomainKind::box;
+      d.box_min = box["min"].vec;
+      d.box_max = box["max"].vec;
+      if ((d.box_min.array() >= d.box_max.array()).any())
+        throw InvalidInput(at + "volume.box.min must be below volume.box.max in x, y and z");
+      if (seeds.empty())
+        seeds.push_back(Vec3((d.box_min.x() + d.box_max.x()) / 2, (d.box_min.y() + d.box_max.y()) / 2, d.box_min.z()));
+    } else if (is_ball) {
+      d.kind = venation::DomainKind::ball;
+      d.centre = ball["centre"].vec;
+      d.radius = ball["radius"].num;
+      if (seeds.empty()) seeds.push_back(d.centre - d.radius * Vec3::UnitZ());
+    } else {
+      d.kind = venation::DomainKind::volume;
+      d.mesh = read_domain_mesh(I, section, v, at);
+      if (seeds.empty())
+        throw InvalidInput(at + "volume{file = ...} needs seeds = {{x, y, z}, ...}: the seed vein nodes inside it");
+    }
+  } else {
+    d.kind = venation::DomainKind::surface;
+    spec.on_cells = v["cells"].flag;
+    if (file == spec.on_cells)
+      throw InvalidInput(at + "surface{...} needs either file = \"shape.obj\" or cells = true (the grown cell sheet)");
+    if (file) {
+      d.mesh = read_domain_mesh(I, section, v, at);
+      if (seeds.empty())
+        throw InvalidInput(at + "surface{file = ...} needs seeds = {{x, y, z}, ...}: the seed vein nodes on it");
+    }
+  }
+  d.initial_nodes = seeds;
+  rec["seeds"] = nlohmann::json::array();
+  for (const Vec3& p : seeds) rec["seeds"].push_back({p.x(), p.y(), p.z()});
+  if (spec.on_cells) return;  // the sheet exists once the cells have grown
+  try {
+    venation::PreparedDomain check(d);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(at + script_domain_message(e.what(), section));
+  }
+}
+
+void finish_colonisation(Impl& I) {
+  ColonisationSpec& spec = *I.cfg->colonisation;
+  if (spec.domain.kind == venation::DomainKind::leaf) return;
+  const std::string at = I.sections_seen["colonisation"];
+  nlohmann::json& rec = I.cfg->resolved["colonisation"];
+  venation::ColonisationParams& p = spec.params;
+  if (spec.growth_given && p.growth != venation::GrowthMode::none)
+    throw InvalidInput(at + "colonisation.growth = \"" + rec.value("growth", std::string()) +
+                       "\" grows a leaf blade; a volume{...} or surface{...} does not grow (leave growth out or "
+                       "set it to \"none\")");
+  p.growth = venation::GrowthMode::none;
+  p.initial_scale = p.final_scale = 1;
+  p.scale_step = 0;
+  rec["growth"] = "none";
+  for (const char* unused : {"initial_length", "final_length", "length_step"}) rec.erase(unused);
+  try {
+    venation::validate(spec.domain, p);
+  } catch (const std::exception& e) {
+    throw InvalidInput(at + script_colonisation_message(e.what()));
+  }
+}
+
+void section_leaf(Impl& I, const std::string& at) {
+  I.once("leaf", at);
+  one_domain(I, "leaf", at);
+  Values v = I.read_section("leaf", 1, at, &I.cfg->resolved["leaf"]);
+  if (!I.cfg->colonisation) I.cfg->colonisation.emplace();
+  venation::Leaf& leaf = I.cfg->colonisation->leaf;
+  try {
+    if (!v["file"].str.empty()) {
+      std::filesystem::path file = v["file"].str;
+      if (file.is_relative()) file = I.script_dir / file;
+      leaf.outline = venation::read_outline(file);
+    } else {
+      venation::ShapeParams sp;
+      const std::string k = v["shape"].str;
+      sp.kind = k == "ellipse"   ? venation::ShapeKind::ellipse
+                : k == "cordate" ? venation::ShapeKind::cordate
+                : k == "lobed"   ? venation::ShapeKind::lobed
+                : k == "palmate" ? venation::ShapeKind::palmate
+                                 : venation::ShapeKind::ovate;
+      sp.length = 1;
+      sp.width = v["width"].num;
+      sp.lobes = static_cast<int>(v["lobes"].num);
+      sp.lobe_depth = v["lobe_depth"].num;
+      if (v["teeth"].num > 0) sp.teeth.push_back({v["tooth_depth"].num, static_cast<int>(v["teeth"].num)});
+      leaf.outline = venation::make_outline(sp);
+    }
+    const int seeds = static_cast<int>(v["seeds"].num);
+    leaf.initial_nodes.clear();
+    for (int i = 0; i < seeds && seeds > 1; ++i) {
+      const double spread = v["seed_spread"].num;
+      leaf.initial_nodes.push_back(venation::Vec2(-spread / 2 + spread * i / (seeds - 1), 0.001));
+    }
+    venation::validate(leaf);
+  } catch (const std::exception& e) {
+    throw InvalidInput(at + "leaf: " + script_colonisation_message(e.what()));
+  }
+}
+
+namespace {
+
+using core::number_text;
+
+/// One growth function of colonisation{growth = "nonuniform"} (Appendix A): a table {{y0, rate}, ...} or
+/// a function of y0, both in leaf lengths, into a GrowthFunction in model units of the initial leaf.
+venation::GrowthFunction read_growth_function(Impl& I, const Value& given, const char* name, const std::string& at,
+                                              double initial_length, nlohmann::json& record) {
+  lua_State* L = I.L;
+  const std::string field = std::string("colonisation.") + name;
+  venation::GrowthFunction f;
+  record = nlohmann::json::array();
+  auto add = [&](double y0, double rate, const std::string& which) {
+    if (!std::isfinite(y0) || !(std::isfinite(rate) && rate > 0))
+      throw InvalidInput(at + field + which +
+                         ": the height y0 must be finite and the rate (REG per step) a finite "
+                         "number > 0 (Appendix A needs REG_y > 0 for y0 -> y_t to be increasing), got {" +
+                         number_text(y0) + ", " + number_text(rate) + "}");
+    if (!f.y.empty() && !(y0 * initial_length > f.y.back()))
+      throw InvalidInput(at + field + which + ": heights y0 must increase strictly from one entry to the next, got " +
+                         number_text(y0) + " after " + number_text(f.y.back() / initial_length));
+    f.y.push_back(y0 * initial_length);
+    f.rate.push_back(rate);
+    record.push_back({y0, rate});
+  };
+  if (given.ref != LUA_NOREF) {
+    constexpr int kSamples = 257;  // y0 from -0.5 to 1.5 leaf lengths, every 1/128
+    for (int k = 0; k < kSamples; ++k) {
+      const double y0 = -0.5 + 2.0 * k / (kSamples - 1);
+      lua_rawgeti(L, LUA_REGISTRYINDEX, given.ref);
+      lua_pushnumber(L, y0);
+      if (lua_pcall(L, 1, 1, 0) != LUA_OK) {  // counts against the script's own instruction budget
+        const std::string msg = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "error object is not a string";
+        lua_pop(L, 1);
+        throw InvalidInput(at + field + " failed at y0 = " + number_text(y0) + ": " + I.describe(msg));
+      }
+      if (lua_type(L, -1) != LUA_TNUMBER) {
+        const std::string got = luaL_typename(L, -1);
+        lua_pop(L, 1);
+        throw InvalidInput(at + field + " must return a number (REG per step), got " + got +
+                           " at y0 = " + number_text(y0));
+      }
+      const double rate = lua_tonumber(L, -1);
+      lua_pop(L, 1);
+      std::string where = number_text(y0);  // built in place: GCC 12 warns falsely on "(" + string
+      where.insert(0, 1, '(');
+      where.push_back(')');
+      add(y0, rate, where);
+    }
+    return f;
+  }
+  lua_getfield(L, 1, name);
+  const int t = lua_gettop(L);
+  const auto n = static_cast<int>(lua_rawlen(L, t));
+  try {
+    if (n == 0) throw InvalidInput(at + field + " must list at least one {y0, rate} pair");
+    for (int i = 1; i <= n; ++i) {
+      lua_rawgeti(L, t, i);
+      const int e = lua_gettop(L);
+      const std::string which = "[" + std::to_string(i) + "]";
+      bool ok = lua_type(L, e) == LUA_TTABLE && lua_rawlen(L, e) == 2;
+      double pair[2] = {0, 0};
+      for (int k = 0; k < 2 && ok; ++k) {
+        lua_rawgeti(L, e, k + 1);
+        ok = lua_type(L, -1) == LUA_TNUMBER;
+        pair[k] = lua_tonumber(L, -1);
+        lua_pop(L, 1);
+      }
+      lua_pop(L, 1);
+      if (!ok)
+        throw InvalidInput(at + field + which +
+                           " must be a pair {y0, rate} of numbers (y0 in leaf lengths from the "
+                           "petiole, rate = REG per step)");
+      add(pair[0], pair[1], which);
+    }
+  } catch (...) {
+    lua_settop(L, t - 1);
+    throw;
+  }
+  lua_settop(L, t - 1);
+  return f;
+}
+
+/// growth = "nonuniform": growth_x, growth_y, growth_steps; refuses them for the other growth types.
+void read_nonuniform_growth(Impl& I, Values& v, const std::string& at, venation::ColonisationParams& p) {
+  nlohmann::json& rec = I.cfg->resolved["colonisation"];
+  if (p.growth != venation::GrowthMode::nonuniform) {
+    for (const char* name : {"growth_x", "growth_y"})
+      if (v[name].present)
+        throw InvalidInput(at + "colonisation." + name + " applies only to growth = \"nonuniform\" (growth is \"" +
+                           v["growth"].str + "\")");
+    if (v["growth_steps"].present && v["growth_steps"].num > 0)
+      throw InvalidInput(at + "colonisation.growth_steps applies only to growth = \"nonuniform\" (growth is \"" +
+                         v["growth"].str + "\")");
+    rec.erase("growth_x");
+    rec.erase("growth_y");
+    return;
+  }
+  for (const char* name : {"growth_x", "growth_y"})
+    if (!v[name].present)
+      throw InvalidInput(at + "colonisation{growth = \"nonuniform\"} needs " + name +
+                         ": {{y0, rate}, ...} or function(y0) returning the growth rate per step (REG = 1 + g, "
+                         "Fig. 5), y0 in leaf lengths from the petiole");
+  if (v["growth_steps"].num < 1)
+    throw InvalidInput(at + "colonisation{growth = \"nonuniform\"} needs growth_steps >= 1 (steps of growth)");
+  p.growth_x = read_growth_function(I, v["growth_x"], "growth_x", at, p.initial_scale, rec["growth_x"]);
+  p.growth_y = read_growth_function(I, v["growth_y"], "growth_y", at, p.initial_scale, rec["growth_y"]);
+  p.growth_steps = static_cast<std::size_t>(v["growth_steps"].num);
+}
+
+}  // namespace
+
+void section_colonisation(Impl& I, const std::string& at) {
+  I.once("colonisation", at);
+  Values v = I.read_section("colonisation", 1, at, &I.cfg->resolved["colonisation"]);
+  if (!I.cfg->colonisation) I.cfg->colonisation.emplace();
+  venation::ColonisationParams& p = I.cfg->colonisation->params;
+  p.type = v["type"].str == "closed" ? venation::VenationType::closed : venation::VenationType::open;
+  p.neighbourhood =
+      v["neighbourhood"].str == "urquhart" ? venation::Neighbourhood::urquhart : venation::Neighbourhood::exact;
+  if (p.type == venation::VenationType::open && v["neighbourhood"].present)  // it would be ignored
+    throw InvalidInput(at +
+                       "colonisation.neighbourhood chooses the relative neighbourhood of closed patterns; an open "
+                       "pattern pulls each source's nearest node (leave it out, or set type = \"closed\")");
+  p.kill_distance = v["kill_distance"].num;
+  p.source_birth_distance = v["birth_distance"].num;
+  p.vein_birth_distance = v["vein_birth_distance"].num > 0 ? v["vein_birth_distance"].num : v["birth_distance"].num;
+  p.node_distance = 1;
+  p.darts_per_area = v["darts"].num * 1e-6;
+  const std::string g = v["growth"].str;
+  p.growth = g == "none"         ? venation::GrowthMode::none
+             : g == "isogonic"   ? venation::GrowthMode::uniform
+             : g == "nonuniform" ? venation::GrowthMode::nonuniform
+                                 : venation::GrowthMode::marginal;
+  p.initial_scale = v["initial_length"].num;
+  const bool fixed_size = g == "none" || g == "nonuniform";
+  p.final_scale = fixed_size ? p.initial_scale : v["final_length"].num;
+  p.scale_step = fixed_size ? 0 : v["length_step"].num;
+  read_nonuniform_growth(I, v, at, p);
+  p.max_steps = static_cast<std::size_t>(v["max_steps"].num);
+  p.max_nodes = static_cast<std::size_t>(v["max_nodes"].num);
+  I.cfg->colonisation->growth_given = v["growth"].present;
+  I.cfg->colonisation->widths.exponent = v["murray_exponent"].num;
+  I.cfg->colonisation->widths.tip_radius = v["tip_radius"].num;
+  try {
+    venation::validate(p);
+  } catch (const std::exception& e) {
+    throw InvalidInput(at + script_colonisation_message(e.what()));
+  }
+}
+
+}  // namespace cellform::app
