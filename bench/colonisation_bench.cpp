@@ -74,7 +74,7 @@ double bytes_per_node(double length) {
 /// growth to L_f = 3500 by Delta L = 9, rho = 200e-6, segment length D = 1, exact neighbourhoods. Set up
 /// as the script API does (b_v = b_s, darts * 1e-6, isogonic = uniform growth, lengths = scales of an
 /// outline of length 1). Outline: as examples/colonisation/poplar.lua, ovate, width 0.85, 40 small teeth.
-std::pair<venation::Leaf, venation::ColonisationParams> poplar(int threads, double scale) {
+std::pair<venation::Leaf, venation::ColonisationParams> poplar(int threads, double scale, bool lazy = true) {
   venation::ShapeParams sp;
   sp.kind = venation::ShapeKind::ovate;  // the outline of examples/colonisation/poplar.lua
   sp.length = 1;
@@ -95,13 +95,14 @@ std::pair<venation::Leaf, venation::ColonisationParams> poplar(int threads, doub
   p.scale_step = 9 * scale;
   p.seed = 1;
   p.threads = threads;
+  p.lazy_sectors = lazy;
   return {leaf, p};
 }
 
 /// Seconds for the poplar at `scale` of Table 1's size; a run still going after `limit` seconds is
 /// stopped and reported as `limit` (the full size takes far longer than a benchmark should).
-double poplar_seconds(int threads, double scale, double limit) {
-  const auto [leaf, p] = poplar(threads, scale);
+double poplar_seconds(int threads, double scale, double limit, bool lazy = true) {
+  const auto [leaf, p] = poplar(threads, scale, lazy);
   const auto a = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count(); };
   try {
@@ -145,6 +146,13 @@ const Register r7c{{"venation.colonisation.poplar.0.5", "s",
                     "the same at scale 0.5 (leaf 57.5 -> 1750): between 0.2 and full size the time grows far faster "
                     "than the nodes, because sources wait in the fast-growing tip (see docs/benchmarks.md)",
                     1, [] { return poplar_seconds(2, 0.5, 900); }}};
+const Register r7d{{"venation.colonisation.poplar.0.7", "s",
+                    "the same at scale 0.7 (leaf 80.5 -> 2450); most sources wait far from the veins", 1,
+                    [] { return poplar_seconds(2, 0.7, 900); }}};
+const Register r7e{{"venation.colonisation.poplar.0.7.eager", "s",
+                    "as poplar.0.7 with lazy_sectors off: every source updates its six sector bests every step "
+                    "(the same pattern; the ratio is what lazy sectors gain)",
+                    1, [] { return poplar_seconds(2, 0.7, 900, false); }}};
 const Register r8{{"venation.colonisation.memory.50k", "bytes/node",
                    "peak heap in use during a closed exact run of about 50,000 nodes (with its tree), per node", 1,
                    [] { return bytes_per_node(935); }}};

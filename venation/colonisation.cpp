@@ -218,6 +218,16 @@ struct Colonisation::Impl {
     double d2[6];
     bool blocked[6];
     bool ready = false;
+    // Lazy mode (exact, closed, planar, nodes that never move): while every node other than the
+    // nearest, `anchor`, is provably nearer to it than to the source (PointTree::min_margin > 0), the
+    // anchor excludes them all and V(s) = {nearest}, so the bests above are left stale (ready = false)
+    // and only the nearest is followed. `slack` is a lower bound of that margin, spent each step by
+    // the anchor's move and by the nodes placed (each D from its parent); the mode ends when it runs out.
+    bool lazy = false;
+    std::uint8_t backoff = 0;  // failed tries to enter lazy mode in a row; the next try waits 2^backoff steps
+    std::uint32_t retry = 0;   // step from which entering lazy mode is tried again
+    Index anchor = kNoIndex;
+    double slack = 0;  // model units
   };
   std::vector<Sectors> sectors;
 
@@ -235,8 +245,12 @@ struct Colonisation::Impl {
     std::vector<VoronoiCell::Vertex> verts;
     std::vector<Index> dn;
   };
-  Index synced = 0;  // nodes [0, synced) are merged into every ready Sectors and every near[s]
-  PointBatch fresh;  // nodes [fresh_first, fresh_last), indexed once for all sources
+  Index synced = 0;      // nodes [0, synced) are merged into every ready Sectors and every near[s]
+  double step_D = 0;     // the segment length of this step (model units)
+  double last_D = 0;     // the segment length of the last node placement (model units)
+  double lazy_tol = 0;   // rounding allowance for the lazy-mode margins (model units), set each step
+  bool lazy_ok = false;  // lazy sector mode allowed this step
+  PointBatch fresh;      // nodes [fresh_first, fresh_last), indexed once for all sources
   Index fresh_first = 0, fresh_last = 0;
 
   std::vector<std::vector<Index>> per_source;  // V(s) of the i-th active source this step
@@ -386,6 +400,7 @@ struct Colonisation::Impl {
       grid.insert(s, src[s]);
       near[s] = kNoIndex;
       sectors[s].ready = false;
+      sectors[s].lazy = false;
       if (!urq.empty()) urq[s].ready = false;
     }
   }
@@ -653,6 +668,14 @@ struct Colonisation::Impl {
     }
     Sectors& st = sectors[s];
     const Vec3& q = src[s];
+    if (st.lazy) {
+      if (lazy_ok && lazy_step(s, st)) {
+        out.assign(1, near[s]);
+        return;
+      }
+      st.lazy = false;  // the margin is spent: a fresh search of the six sectors
+      st.ready = false;
+    }
     if (!st.ready) {
       nodes.sector_nearest(q, st.best, st.d2, scratch);
       for (int k = 0; k < 6; ++k) st.blocked[k] = st.best[k] == kNoIndex || (closed && lune_blocked(st, q, k));
@@ -687,6 +710,51 @@ struct Colonisation::Impl {
       if (!st.blocked[k]) out.push_back(st.best[k]);
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());
+    if (lazy_ok && out.size() == 1 && out[0] == near[s] && rep.steps >= st.retry) try_lazy(s, st);
+  }
+
+  // Lazy mode proves a margin of kLazyMargin D (each step spends at most 3 D of it) and proves it
+  // again, for the nearest node then, when less than kLazyRenew D is left.
+  static constexpr double kLazyMargin = 30;
+  static constexpr double kLazyRenew = 6;
+
+  /// Puts source s, whose V(s) is {near[s]}, into lazy mode if the margin holds; else waits before the
+  /// next try (twice as long after each failure, at most 64 steps).
+  void try_lazy(Index s, Sectors& st) {
+    const double t = kLazyMargin * step_D;
+    if (near_d2[s] > t * t && nodes.margin_at_least(src[s], near[s], t + lazy_tol)) {
+      st.lazy = true;
+      st.ready = false;
+      st.anchor = near[s];
+      st.slack = t;
+      st.backoff = 0;
+    } else {
+      st.backoff = static_cast<std::uint8_t>(std::min(st.backoff + 1, 6));
+      st.retry = static_cast<std::uint32_t>(rep.steps + (std::size_t{1} << st.backoff));
+    }
+  }
+
+  /// Lazy mode, one step: follows the nearest node through the nodes added since (ties detected) and
+  /// spends the margin. For a node v other than the anchor n: |v - n'| <= |v - n| + |n - n'|, and a node
+  /// placed D from its parent u has |p - s| >= |u - s| - D and |p - n'| <= |u - n'| + D; a child of n
+  /// itself has |p - s| >= r0' and |p - n'| <= D + |n - n'|. True if V(s) is still {near[s]}.
+  bool lazy_step(Index s, Sectors& st) {
+    const Vec3& q = src[s];
+    near[s] = st.anchor;  // the nearest of the nodes before `fresh` (a removal test may have looked ahead)
+    near_d2[s] = (nodes.point(st.anchor) - q).squaredNorm();
+    bool tie = false;
+    fresh.nearest(q, near[s], near_d2[s], &tie);
+    const double moved = (nodes.point(near[s]) - nodes.point(st.anchor)).norm() * (1 + 1e-12);
+    const double r0 = std::sqrt(near_d2[s]);
+    st.slack = std::min(st.slack - 2 * last_D - moved, r0 - last_D - moved) - lazy_tol;
+    st.anchor = near[s];
+    if (tie) return false;
+    if (st.slack < kLazyRenew * step_D) {
+      const double t = kLazyMargin * step_D;
+      if (!(near_d2[s] > t * t && nodes.margin_at_least(q, near[s], t + lazy_tol))) return false;
+      st.slack = t;
+    }
+    return st.slack > lazy_tol;
   }
 
   /// Indexes the nodes [synced, size) in `fresh` unless it holds them already.
@@ -755,6 +823,7 @@ struct Colonisation::Impl {
     const double sc = k;  // distances are model units of the actual leaf
     const double bs2 = bs * bs, bv2 = std::pow(p.vein_birth_distance * sc, 2), dk2 = std::pow(p.kill_distance * sc, 2);
     const double D = p.node_distance * sc;
+    step_D = D;
     const std::size_t born_before = rep.sources_born, removed_before = rep.sources_removed, nodes_before = nodes.size();
 
     if (marginal)
@@ -765,6 +834,10 @@ struct Colonisation::Impl {
     // influence: S(v) for every vein node (Eq. 1 input); open: nearest node; closed: V(s), Eq. 2 and 3
     const bool closed = p.type == VenationType::closed;
     const double half_extent = 4 * ((lift(unit.hi()) - lift(unit.lo())).norm() + 1) * frame_scale();
+    // lazy sectors: squared distances of nodes up to 2 half_extent apart round by far less than lazy_tol
+    // times the smallest margin accepted (kLazyEnter D)
+    lazy_tol = 1e-9 * half_extent;
+    lazy_ok = p.lazy_sectors && !nonuniform && !region && D > 1e-5 * half_extent;
     infl_start.assign(1, 0);
     infl.clear();
     sync_fresh();
@@ -834,6 +907,7 @@ struct Colonisation::Impl {
       if (has_child_at(v, q, D)) continue;
       child[v] = add_node(q, v, static_cast<std::uint32_t>(rep.steps + 1));
     }
+    last_D = D;
 
     // removal (open) or tagging and removal (closed), with the nodes just added. near[s] is the nearest of
     // the nodes [0, synced), so only the new ones are searched for one within d_k; if there is one, the
@@ -948,6 +1022,12 @@ Outline Colonisation::outline() const {
 
 const ColonisationReport& Colonisation::report() const { return impl_->rep; }
 
+std::size_t Colonisation::lazy_sources() const {
+  std::size_t n = 0;
+  for (Index s : impl_->active) n += impl_->sectors[s].lazy ? 1 : 0;
+  return n;
+}
+
 std::pair<VeinTree, ColonisationReport> colonise(const Leaf& leaf, const ColonisationParams& params,
                                                  const ColonisationProgress& progress) {
   Colonisation c(leaf, params);
@@ -975,7 +1055,9 @@ std::pair<VeinTree, ColonisationReport> colonise(const Domain& domain, const Col
 namespace {
 
 constexpr const char* kStateKind = "COLO";
-constexpr std::uint32_t kStateVersion = 3;  // 2: Urquhart cells; 3: marginal growth reveals precomputed sources
+// 2: Urquhart cells; 3: marginal growth reveals precomputed sources; 4: lazy sector modes (a state of
+// version 3 loads with every source out of lazy mode: the same results, lazy mode changes only the speed)
+constexpr std::uint32_t kStateVersion = 4;
 
 void put_vec3s(core::ByteWriter& w, const std::vector<Vec3>& v) {
   std::vector<double> flat;
@@ -1143,6 +1225,26 @@ std::string Colonisation::save() const {
   w.put<std::uint64_t>(m.quiet);
   w.put<Index>(m.synced);
   put_report(w, m.rep);
+  {  // lazy sector modes: per source flag, backoff, retry step, anchor, slack; then the last segment length
+    std::vector<char> lazy;
+    std::vector<std::uint8_t> backoff;
+    std::vector<std::uint32_t> retry;
+    std::vector<Index> anchor;
+    std::vector<double> slack;
+    for (const Impl::Sectors& st : m.sectors) {
+      lazy.push_back(st.lazy ? 1 : 0);
+      backoff.push_back(st.backoff);
+      retry.push_back(st.retry);
+      anchor.push_back(st.anchor);
+      slack.push_back(st.slack);
+    }
+    w.put_vector(lazy);
+    w.put_vector(backoff);
+    w.put_vector(retry);
+    w.put_vector(anchor);
+    w.put_vector(slack);
+    w.put(m.last_D);
+  }
   return core::write_chunk_file(kStateKind, kStateVersion, {{"setup", setup.take()}, {"state", w.take()}});
 }
 
@@ -1200,6 +1302,20 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
   m.quiet = static_cast<std::size_t>(r.get<std::uint64_t>());
   m.synced = r.get<Index>();
   m.rep = get_report(r);
+  std::vector<char> lazy;
+  std::vector<std::uint8_t> backoff;
+  std::vector<std::uint32_t> retry;
+  std::vector<Index> anchor;
+  std::vector<double> slack;
+  m.last_D = 0;
+  if (f.version >= 4) {
+    lazy = r.get_vector<char>();
+    backoff = r.get_vector<std::uint8_t>();
+    retry = r.get_vector<std::uint32_t>();
+    anchor = r.get_vector<Index>();
+    slack = r.get_vector<double>();
+    m.last_D = r.get<double>();
+  }
 
   // consistency: sizes and indices (the checksum catches damage; this catches a state of another build)
   const std::size_t n = points.size(), ns = m.src.size();
@@ -1224,6 +1340,12 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
   for (const auto& l : u_outs)
     for (Index v : l) ok = ok && v < n;
   for (Index v : m.near) ok = ok && (v == kNoIndex || v < n);
+  if (f.version >= 4) {
+    ok = ok && lazy.size() == ns && backoff.size() == ns && retry.size() == ns && anchor.size() == ns &&
+         slack.size() == ns && std::isfinite(m.last_D) && m.last_D >= 0;
+    for (std::size_t s = 0; ok && s < ns; ++s)
+      ok = !lazy[s] || (anchor[s] < n && std::isfinite(slack[s]) && m.p.type == VenationType::closed && !m.nonuniform);
+  }
   for (std::size_t a = 0; ok && a < m.active.size(); ++a)
     ok = m.active[a] < ns && m.alive[m.active[a]] && (a == 0 || m.active[a] > m.active[a - 1]);
   for (const auto* lists : {&m.tags, &m.reached})
@@ -1260,6 +1382,13 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
       st.blocked[k] = flags[7 * s + k] != 0;
     }
     st.ready = flags[7 * s + 6] != 0;
+    if (f.version >= 4) {
+      st.lazy = lazy[s] != 0;
+      st.backoff = backoff[s];
+      st.retry = retry[s];
+      st.anchor = anchor[s];
+      st.slack = slack[s];
+    }
   }
   m.urq.assign(nu, {});
   for (std::size_t s = 0, at = 2 * nu, lab = 0; s < nu; ++s) {

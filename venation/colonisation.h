@@ -74,6 +74,11 @@ struct ColonisationParams {
   std::size_t max_nodes = 5000000;  ///< stop (report.hit_max_nodes) once this many vein nodes exist
   std::size_t settle_steps = 5;     ///< after growth ends: stop when this many steps in a row added no
                                     ///< node and no source (finished if no source is left, else stalled)
+  /// Closed, exact, planar, nodes that never move (not nonuniform growth): a source whose nearest node
+  /// provably excludes every other node from V(s) follows only that node until the proof runs out,
+  /// instead of updating its six sector bests every step. The same result either way (false: to test
+  /// that, and to measure the gain); not part of a saved state's parameters.
+  bool lazy_sectors = true;
 };
 
 /// Throws core::InvalidInput naming "colonisation.<field>" and what is allowed. Must hold: every distance
@@ -163,6 +168,9 @@ class Colonisation {
   /// The current blade outline, same frame (empty for a 3-D domain).
   Outline outline() const;
   const ColonisationReport& report() const;
+  /// Alive sources whose neighbourhood is followed lazily (ColonisationParams::lazy_sectors): for tests
+  /// and benchmarks.
+  std::size_t lazy_sources() const;
 
   /// The state after the steps so far, for checkpoints: vein nodes, anastomoses, sources (with their
   /// tags and material coordinates), the per-source neighbourhood state, the random-number state, the

@@ -317,6 +317,43 @@ bool PointTree::nearest_rec(int n, const Vec3& q, Index& best, double& best_d2) 
   return a || b;
 }
 
+bool PointTree::margin_rec(int n, const Vec3& s, Index c, const Vec3& pc, double t) const {
+  const Node& nd = nodes_[n];
+  if (nd.child[0] < 0) {
+    for (Index i : nd.pts)
+      if (i != c && (points_[i] - s).norm() - (points_[i] - pc).norm() < t) return false;
+    return true;
+  }
+  // |v - s| - |v - n| >= (a) the nearest box point to s minus the farthest from n, and (b) for a box on
+  // n's side of the bisector, 2 |n - s| h / (|v - s| + |v - n|) with h the box's least distance past
+  // the bisector (|v - s|^2 - |v - n|^2 = 2 (v - m) . (n - s), m the midpoint), the denominator at
+  // most the farthest box points. A child whose bound reaches t is skipped; the other child first
+  // (a point below t ends the search).
+  const Vec3 d = pc - s;
+  const double r0 = d.norm();
+  const Vec3 u = d / r0, m = 0.5 * (s + pc);
+  double lb[2];
+  for (int k = 0; k < 2; ++k) {
+    const Node& ch = nodes_[nd.child[k]];
+    const Vec3 far_n = (ch.lo - pc).cwiseAbs().cwiseMax((ch.hi - pc).cwiseAbs());
+    lb[k] = std::sqrt(mindist2(ch, s)) - far_n.norm();
+    if (lb[k] >= t) continue;
+    const Vec3 centre = 0.5 * (ch.lo + ch.hi), half = 0.5 * (ch.hi - ch.lo);
+    const double h = (centre - m).dot(u) - half.dot(u.cwiseAbs());
+    if (h > 0) {
+      const Vec3 far_s = (ch.lo - s).cwiseAbs().cwiseMax((ch.hi - s).cwiseAbs());
+      lb[k] = std::max(lb[k], 2 * r0 * h / (far_s.norm() + far_n.norm()));
+    }
+  }
+  const int first = lb[0] <= lb[1] ? 0 : 1;
+  return (lb[first] >= t || margin_rec(nd.child[first], s, c, pc, t)) &&
+         (lb[1 - first] >= t || margin_rec(nd.child[1 - first], s, c, pc, t));
+}
+
+bool PointTree::margin_at_least(const Vec3& s, Index n, double t) const {
+  return nodes_.empty() || margin_rec(0, s, n, points_[n], t);
+}
+
 bool PointTree::nearest(const Vec3& q, Index& best, double& best_d2) const {
   if (best == kNoIndex) best_d2 = std::numeric_limits<double>::infinity();
   if (nodes_.empty()) return best != kNoIndex;
@@ -611,8 +648,9 @@ void PointBatch::build(int n, int first, int last) {
 
 double PointBatch::mindist2(const Node& nd, const Vec3& q) const { return box_distance2(nd.lo, nd.hi, q); }
 
-void PointBatch::nearest(const Vec3& q, Index& best, double& best_d2) const {
+void PointBatch::nearest(const Vec3& q, Index& best, double& best_d2, bool* tie) const {
   if (best == kNoIndex) best_d2 = std::numeric_limits<double>::infinity();
+  if (tie) *tie = false;
   if (nodes_.empty()) return;
   int stack[64];
   int top = 0;
@@ -623,6 +661,7 @@ void PointBatch::nearest(const Vec3& q, Index& best, double& best_d2) const {
     if (nd.child < 0) {
       for (int i = nd.first; i < nd.last; ++i) {
         const double d2 = (pos_[i] - q).squaredNorm();
+        if (tie && d2 <= best_d2) *tie = d2 == best_d2 && id_[i] != best;  // a nearer point clears it
         if (d2 < best_d2 || (d2 == best_d2 && id_[i] < best)) {
           best_d2 = d2;
           best = id_[i];

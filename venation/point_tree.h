@@ -108,6 +108,14 @@ class PointTree {
   /// True if a point lies in the closed lune of s and the position v (both distances <= |v - s|).
   bool any_in_lune(const Vec3& s, const Vec3& v) const;
 
+  /// True if every point v other than point n has |v - s| - |v - n| >= t (model units): every other
+  /// point is on n's side of the bisector of s and n by that margin. When t > 0 and n is the nearest
+  /// point to s, n excludes every other point from the relative neighbourhood of s (Eq. 2); since
+  /// |v - n| grows by at most |n - n'| when n moves to n', and a point placed D from its parent changes
+  /// both distances by at most D, the margin bounds how long that stays true. Branch and bound over
+  /// boxes, ending at the first point below t.
+  bool margin_at_least(const Vec3& s, Index n, double t) const;
+
   /// The Delaunay neighbourhood of a query point s among the tree's points in the plane z = 0: the
   /// points whose Voronoi cells share an edge with the cell of s in the Voronoi diagram of the points
   /// and s. Computed by clipping a square of `half_extent` around s with bisectors in order of
@@ -148,6 +156,7 @@ class PointTree {
   bool nearest_rec(int n, const Vec3& q, Index& best, double& best_d2) const;
   bool any_within_rec(int n, const Vec3& q, double r2, Index exclude) const;
   bool lune_rec(int n, const detail::Lune& l, Index v) const;  // v: the point excluded from the test, or kNoIndex
+  bool margin_rec(int n, const Vec3& s, Index c, const Vec3& pc, double t) const;
   void relative_neighbourhood_planar(const Vec3& s, std::vector<Index>& out, Scratch& scratch) const;
   double mindist2(const Node& nd, const Vec3& q) const;
   /// Best-first search step: pushes a leaf's points (as ~index) or an inner node's children onto a min-heap.
@@ -173,7 +182,9 @@ class PointBatch {
   std::size_t size() const { return id_.size(); }
 
   /// As PointTree::nearest: improves the candidate (best, best_d2) if a point is nearer (ties: smaller index).
-  void nearest(const Vec3& q, Index& best, double& best_d2) const;
+  /// With `tie`, also says whether a point other than the final best is exactly as near (the candidate
+  /// given is assumed to have no tie among points outside this batch).
+  void nearest(const Vec3& q, Index& best, double& best_d2, bool* tie = nullptr) const;
   /// True if a point lies at squared distance <= r2 from q.
   bool any_within(const Vec3& q, double r2) const;
   /// Appends (squared distance from s, index) of every point that can clip `cell`, the Voronoi cell of

@@ -79,6 +79,19 @@ void require_same(const v::Colonisation& a, const v::Colonisation& b) {
   CHECK(sa == sb);
 }
 
+/// The state of `c` in an older format: format 4 appended the lazy sector modes (per source 18 bytes,
+/// five array lengths and the last segment length) to the "state" chunk; formats 2 and 3 differ in
+/// meaning only.
+std::string as_version(const v::Colonisation& c, std::uint32_t version) {
+  core::ChunkFile f = core::read_chunk_file(c.save(), "COLO", 4, "state");
+  REQUIRE(f.version == 4);
+  std::string& state = f.chunks.at("state");
+  const std::size_t trailer = 5 * 8 + 18 * c.report().sources_born + 8;
+  REQUIRE(state.size() > trailer);
+  state.resize(state.size() - trailer);
+  return core::write_chunk_file("COLO", version, f.chunks);
+}
+
 /// Runs `make()` to the end; then for cuts at step 0, a third, two thirds and the end: steps a fresh
 /// run to the cut, saves, loads into another object (threads 2) and runs it to the end.
 void check_resume(const std::function<v::Colonisation(int threads)>& make,
@@ -140,6 +153,39 @@ TEST_CASE("a saved leaf run continues bit-identically: open, closed exact and Ur
     p.neighbourhood = v::Neighbourhood::urquhart;
     check_leaf(leaf, p);
   }
+}
+
+TEST_CASE("a run saved while sources are lazy (far from the veins) continues bit-identically", "[checkpoint]") {
+  v::ColonisationParams p = leaf_params(v::VenationType::closed, 1, 3);
+  p.darts_per_area = 2e-4;
+  const v::Leaf leaf = ellipse_leaf(200, 120);
+  v::Colonisation probe(leaf, p);
+  std::size_t most = 0;
+  while (!probe.done() && probe.report().steps < 150) {
+    probe.step();
+    most = std::max(most, probe.lazy_sources());
+  }
+  REQUIRE(most > 50);  // the cuts below fall while many sources are lazy
+  check_leaf(leaf, p);
+}
+
+TEST_CASE("a format-3 state (no lazy modes) continues as the run that was never saved", "[checkpoint]") {
+  v::ColonisationParams p = leaf_params(v::VenationType::closed, 1, 3);
+  p.darts_per_area = 2e-4;
+  const v::Leaf leaf = ellipse_leaf(200, 120);
+  v::Colonisation whole(leaf, p);
+  whole.run();
+  v::Colonisation first(leaf, p);
+  while (first.report().steps < 60) first.step();
+  REQUIRE(first.lazy_sources() > 20);
+  v::Colonisation second = v::Colonisation::load(leaf, p, as_version(first, 3));
+  CHECK(second.lazy_sources() == 0);
+  second.run();
+  const v::VeinTree a = whole.tree(), b = second.tree();
+  REQUIRE(a.size() == b.size());
+  CHECK(a.positions == b.positions);
+  CHECK(a.parent == b.parent);
+  CHECK(a.anastomoses == b.anastomoses);
 }
 
 TEST_CASE("a saved growing leaf continues bit-identically: marginal, isogonic, nonuniform", "[checkpoint]") {
@@ -233,14 +279,12 @@ TEST_CASE("states refuse other parameters or domains, and corrupt bytes", "[chec
   CHECK_THROWS_AS(v::Colonisation::load(leaf, p, "not a state"), core::FileError);
 }
 
-TEST_CASE("a marginal-growth state of format 2 (whole-blade darts) is refused; other version-2 states load; format 1 is refused",
-          "[checkpoint]") {
+TEST_CASE(
+    "a marginal-growth state of format 2 (whole-blade darts) is refused; other version-2 states load; format 1 is "
+    "refused",
+    "[checkpoint]") {
   // format 3 changed what marginal growth does, not the bytes: relabel a state as version 2
-  auto as_version_2 = [](const std::string& bytes) {
-    const core::ChunkFile f = core::read_chunk_file(bytes, "COLO", 3, "state");
-    REQUIRE(f.version == 3);
-    return core::write_chunk_file("COLO", 2, f.chunks);
-  };
+  auto as_version_2 = [](const v::Colonisation& c) { return as_version(c, 2); };
   const v::Leaf leaf = ellipse_leaf(30, 20);
   v::ColonisationParams p = leaf_params(v::VenationType::open, 1, 2);
   p.growth = v::GrowthMode::marginal;
@@ -249,16 +293,15 @@ TEST_CASE("a marginal-growth state of format 2 (whole-blade darts) is refused; o
   p.scale_step = 0.05;
   v::Colonisation c(leaf, p);
   for (int i = 0; i < 3; ++i) c.step();
-  CHECK_THROWS_AS(v::Colonisation::load(leaf, p, as_version_2(c.save()), "old state"), core::FileError);
-  CHECK_THROWS_WITH(v::Colonisation::load(leaf, p, as_version_2(c.save()), "old state"),
+  CHECK_THROWS_AS(v::Colonisation::load(leaf, p, as_version_2(c), "old state"), core::FileError);
+  CHECK_THROWS_WITH(v::Colonisation::load(leaf, p, as_version_2(c), "old state"),
                     Contains("old state") && Contains("whole blade"));
   p.growth = v::GrowthMode::uniform;
   v::Colonisation u(leaf, p);
   for (int i = 0; i < 3; ++i) u.step();
-  CHECK(v::Colonisation::load(leaf, p, as_version_2(u.save())).report().steps == 3);
+  CHECK(v::Colonisation::load(leaf, p, as_version_2(u)).report().steps == 3);
   // format 1 had no Urquhart cells in its state: refused with its version, not read as garbage
-  const core::ChunkFile f = core::read_chunk_file(u.save(), "COLO", 3, "state");
-  const std::string v1 = core::write_chunk_file("COLO", 1, f.chunks);
+  const std::string v1 = as_version(u, 1);
   CHECK_THROWS_AS(v::Colonisation::load(leaf, p, v1, "old state"), core::FileError);
   CHECK_THROWS_WITH(v::Colonisation::load(leaf, p, v1, "old state"),
                     Contains("old state") && Contains("format version 1") && Contains("run the script again"));

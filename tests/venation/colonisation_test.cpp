@@ -428,3 +428,63 @@ TEST_CASE("SVG, PLY and OBJ output", "[colonisation]") {
   CHECK(l_lines == edges.size());
   std::filesystem::remove_all(dir);
 }
+
+namespace {
+
+/// Runs `p` with lazy sectors on and off, step by step, and requires the same nodes after every step
+/// and the same pattern at the end; returns the most sources that were lazy at once.
+std::size_t require_lazy_equals_eager(const v::Leaf& leaf, v::ColonisationParams p) {
+  p.lazy_sectors = true;
+  p.threads = 2;
+  v::Colonisation lazy(leaf, p);
+  p.lazy_sectors = false;
+  p.threads = 1;
+  v::Colonisation eager(leaf, p);
+  std::size_t most = 0;
+  while (!lazy.done() || !eager.done()) {
+    lazy.step();
+    eager.step();
+    most = std::max(most, lazy.lazy_sources());
+    REQUIRE(eager.lazy_sources() == 0);
+    REQUIRE(lazy.report().nodes == eager.report().nodes);
+    REQUIRE(lazy.report().sources == eager.report().sources);
+  }
+  const v::VeinTree a = lazy.tree(), b = eager.tree();
+  REQUIRE(a.size() == b.size());
+  for (std::size_t i = 0; i < a.size(); ++i)  // bitwise
+    REQUIRE((a.positions[i].x() == b.positions[i].x() && a.positions[i].y() == b.positions[i].y()));
+  CHECK(a.parent == b.parent);
+  CHECK(a.anastomoses == b.anastomoses);
+  CHECK(lazy.report().loops == eager.report().loops);
+  return most;
+}
+
+}  // namespace
+
+TEST_CASE("lazy sectors give the pattern of six sector bests updated every step", "[colonisation]") {
+  // sources far from the veins, whose nearest node excludes all others, skip their sector updates
+  SECTION("isogonic growth (a small Table 1 poplar)") {
+    v::ColonisationParams p = params(v::VenationType::closed, 1, 2);
+    p.darts_per_area = 200e-6;
+    p.growth = v::GrowthMode::uniform;
+    p.initial_scale = 34.5;  // examples/colonisation/poplar.lua with scale = 0.3
+    p.final_scale = 1050;
+    p.scale_step = 2.7;
+    const std::size_t most = require_lazy_equals_eager(ellipse_leaf(1, 0.85, v::ShapeKind::ovate), p);
+    CHECK(most > 10);
+  }
+  SECTION("no growth, few darts: sources wait far from the veins") {
+    v::ColonisationParams p = params(v::VenationType::closed, 1, 3);
+    p.darts_per_area = 2e-4;
+    CHECK(require_lazy_equals_eager(ellipse_leaf(200, 120), p) > 50);
+  }
+  SECTION("marginal growth") {
+    v::ColonisationParams p = params(v::VenationType::closed, 1, 2);
+    p.darts_per_area = 0.02;
+    p.growth = v::GrowthMode::marginal;
+    p.initial_scale = 20;
+    p.final_scale = 120;
+    p.scale_step = 2;
+    CHECK(require_lazy_equals_eager(ellipse_leaf(1, 0.7), p) > 100);
+  }
+}

@@ -324,3 +324,66 @@ TEST_CASE("sector_mask holds the sector of every point of the box, also on secto
     }
   }
 }
+
+TEST_CASE("margin_at_least agrees with a brute-force minimum of |v - s| - |v - n|", "[point_tree]") {
+  for (std::uint64_t seed : {5u, 6u, 7u}) {
+    for (bool three_d : {false, true}) {
+      // a cluster (the veins) and queries from outside it, near and far, as for waiting sources
+      auto pts = random_points(seed, 400, three_d);
+      const auto curve = vein_like(120);
+      pts.insert(pts.end(), curve.begin(), curve.end());
+      const PointTree t = build(pts);
+      core::Rng rng(seed + 100);
+      int decided_true = 0, decided_false = 0;
+      for (int q = 0; q < 60; ++q) {
+        const Vec3 s(rng.uniform(-40, 50), rng.uniform(12, 60), three_d ? rng.uniform(-5, 15) : 0.0);
+        Index n = core::kNoIndex;
+        double d2 = 0;
+        REQUIRE(t.nearest(s, n, d2));
+        double m = std::numeric_limits<double>::infinity();
+        for (Index v = 0; v < pts.size(); ++v)
+          if (v != n) m = std::min(m, (pts[v] - s).norm() - (pts[v] - pts[n]).norm());
+        CHECK(m <= std::sqrt(d2) + 1e-9);  // the triangle inequality: never more than |n - s|
+        for (double f : {0.5, 0.999, 1.001, 2.0}) {
+          const bool got = t.margin_at_least(s, n, f * m);
+          CHECK(got == (f * m <= m));
+          (got ? decided_true : decided_false)++;
+        }
+      }
+      CHECK(decided_true > 50);
+      CHECK(decided_false > 50);
+    }
+  }
+}
+
+TEST_CASE("PointBatch::nearest reports exact distance ties", "[point_tree]") {
+  using venation::PointBatch;
+  // integer points: many exact ties
+  std::vector<Vec3> pts;
+  for (int x = 0; x < 12; ++x)
+    for (int y = 0; y < 12; ++y) pts.emplace_back(x, y, 0);
+  PointBatch b;
+  b.assign(pts, 1000);
+  core::Rng rng(3);
+  int ties = 0;
+  for (int q = 0; q < 300; ++q) {
+    // half the queries on half-integers (ties), half anywhere; some with a candidate from outside
+    const Vec3 s = q % 2 ? Vec3(0.5 * std::floor(rng.uniform(-2, 26)), 0.5 * std::floor(rng.uniform(-2, 26)), 0)
+                         : Vec3(rng.uniform(-2, 13), rng.uniform(-2, 13), 0);
+    Index best = q % 3 == 0 ? Index{7} : core::kNoIndex;                      // a candidate outside the batch...
+    double best_d2 = q % 3 == 0 ? (s - Vec3(5.5, 5.5, 0)).squaredNorm() : 0;  // ...at (5.5, 5.5)
+    const Index cand = best;
+    const double cand_d2 = best_d2;
+    bool tie = true;
+    b.nearest(s, best, best_d2, &tie);
+    // brute force over the batch and the candidate
+    double m = cand == core::kNoIndex ? std::numeric_limits<double>::infinity() : cand_d2;
+    for (const Vec3& p : pts) m = std::min(m, (p - s).squaredNorm());
+    int at_min = cand != core::kNoIndex && cand_d2 == m ? 1 : 0;
+    for (const Vec3& p : pts) at_min += (p - s).squaredNorm() == m ? 1 : 0;
+    CHECK(best_d2 == m);
+    CHECK(tie == (at_min > 1));
+    ties += tie ? 1 : 0;
+  }
+  CHECK(ties > 50);
+}
