@@ -683,14 +683,17 @@ struct Colonisation::Impl {
     } else if (fresh.size() > 0) {
       Index old[6];
       for (int k = 0; k < 6; ++k) old[k] = st.best[k];
-      fresh.sector_merge(q, st.best, st.d2);
+      unsigned ties = 0;
+      fresh.sector_merge(q, st.best, st.d2, &ties);
       for (int k = 0; k < 6; ++k) {
         if (st.best[k] == kNoIndex || !closed) continue;
         if (st.best[k] != old[k]) {
-          // a node in the lune is nearer to s than the new best, so the nearest node is too, and it
-          // is the best of its sector (never skipped): if no other sector has a best that near, the
-          // lune is empty without a search (up to exact distance ties)
-          bool maybe = false;
+          // a node in the lune is nearer to s than the new best, or as near (then a new node of the
+          // same sector at exactly that distance: `ties`), and the nearest node is the best of its
+          // sector: if no other sector has a best that near and there is no tie, the lune is empty
+          // without a search. (An old node cannot tie: old nodes of sector k are at least as far as
+          // the old best, which a new node replaces only when strictly nearer, new indices being larger.)
+          bool maybe = (ties >> k & 1u) != 0;
           for (int j = 1; j <= 5 && !maybe; ++j) maybe = st.d2[(k + j) % 6] <= st.d2[k];
           st.blocked[k] = maybe && lune_blocked(st, q, k);
         } else if (!st.blocked[k])  // only a new node can newly occupy the lune
@@ -835,7 +838,7 @@ struct Colonisation::Impl {
     const bool closed = p.type == VenationType::closed;
     const double half_extent = 4 * ((lift(unit.hi()) - lift(unit.lo())).norm() + 1) * frame_scale();
     // lazy sectors: squared distances of nodes up to 2 half_extent apart round by far less than lazy_tol
-    // times the smallest margin accepted (kLazyEnter D)
+    // times the smallest margin accepted (kLazyRenew D)
     lazy_tol = 1e-9 * half_extent;
     lazy_ok = p.lazy_sectors && !nonuniform && !region && D > 1e-5 * half_extent;
     infl_start.assign(1, 0);

@@ -778,7 +778,8 @@ unsigned PointBatch::sector_mask(const Vec3& lo, const Vec3& hi, const Vec3& s) 
   return m;
 }
 
-void PointBatch::sector_merge(const Vec3& s, Index* best, double* best_d2) const {
+void PointBatch::sector_merge(const Vec3& s, Index* best, double* best_d2, unsigned* ties) const {
+  if (ties) *ties = 0;
   if (nodes_.empty()) return;
   auto worst = [&] { return std::max({best_d2[0], best_d2[1], best_d2[2], best_d2[3], best_d2[4], best_d2[5]}); };
   auto least = [&] { return std::min({best_d2[0], best_d2[1], best_d2[2], best_d2[3], best_d2[4], best_d2[5]}); };
@@ -807,6 +808,12 @@ void PointBatch::sector_merge(const Vec3& s, Index* best, double* best_d2) const
         const double pd2 = d.squaredNorm();
         if (pd2 > reach) continue;
         const int k = PointTree::sector(d.x(), d.y());
+        if (ties && pd2 <= best_d2[k]) {  // a nearer point clears the sector's tie
+          if (pd2 == best_d2[k] && id_[i] != best[k])
+            *ties |= 1u << k;
+          else
+            *ties &= ~(1u << k);
+        }
         if (pd2 <= best_d2[k] && (pd2 < best_d2[k] || id_[i] < best[k])) {
           best_d2[k] = pd2;
           best[k] = id_[i];

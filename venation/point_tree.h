@@ -195,7 +195,9 @@ class PointBatch {
   /// Merges the points into the six sector bests of s (PointTree::sector_nearest's arrays, kNoIndex and
   /// infinity for an empty sector): a point replaces the best of its sector if nearer (ties: smaller
   /// index). A box is skipped when no sector it can reach has a best as far as the box.
-  void sector_merge(const Vec3& s, Index* best, double* best_d2) const;
+  /// With `ties`, bit k is set when another point of the batch is exactly as near as the final best of
+  /// sector k (a best from outside the batch is assumed to have no such tie outside it).
+  void sector_merge(const Vec3& s, Index* best, double* best_d2, unsigned* ties = nullptr) const;
 
   /// Bit k set if PointTree::sector() can give sector k to a point of the box [lo, hi] seen from s.
   static unsigned sector_mask(const Vec3& lo, const Vec3& hi, const Vec3& s);
