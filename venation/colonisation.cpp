@@ -721,11 +721,15 @@ struct Colonisation::Impl {
   static constexpr double kLazyMargin = 30;
   static constexpr double kLazyRenew = 6;
 
+  /// The rounding allowance of lazy margins at source position q: differences of coordinates as large
+  /// as q's round by about 1e-16 of them (model units).
+  double tolerance(const Vec3& q) const { return lazy_tol + 1e-9 * q.cwiseAbs().maxCoeff(); }
+
   /// Puts source s, whose V(s) is {near[s]}, into lazy mode if the margin holds; else waits before the
   /// next try (twice as long after each failure, at most 64 steps).
   void try_lazy(Index s, Sectors& st) {
     const double t = kLazyMargin * step_D;
-    if (near_d2[s] > t * t && nodes.margin_at_least(src[s], near[s], t + lazy_tol)) {
+    if (near_d2[s] > t * t && nodes.margin_at_least(src[s], near[s], t + tolerance(src[s]))) {
       st.lazy = true;
       st.ready = false;
       st.anchor = near[s];
@@ -749,15 +753,16 @@ struct Colonisation::Impl {
     fresh.nearest(q, near[s], near_d2[s], &tie);
     const double moved = (nodes.point(near[s]) - nodes.point(st.anchor)).norm() * (1 + 1e-12);
     const double r0 = std::sqrt(near_d2[s]);
-    st.slack = std::min(st.slack - 2 * last_D - moved, r0 - last_D - moved) - lazy_tol;
+    const double tol = tolerance(q);
+    st.slack = std::min(st.slack - 2 * last_D - moved, r0 - last_D - moved) - tol;
     st.anchor = near[s];
     if (tie) return false;
     if (st.slack < kLazyRenew * step_D) {
       const double t = kLazyMargin * step_D;
-      if (!(near_d2[s] > t * t && nodes.margin_at_least(q, near[s], t + lazy_tol))) return false;
+      if (!(near_d2[s] > t * t && nodes.margin_at_least(q, near[s], t + tol))) return false;
       st.slack = t;
     }
-    return st.slack > lazy_tol;
+    return st.slack > tol;
   }
 
   /// Indexes the nodes [synced, size) in `fresh` unless it holds them already.
