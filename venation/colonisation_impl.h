@@ -1,0 +1,374 @@
+// Private to venation/: the state of a Colonisation (Colonisation::Impl), shared by colonisation.cpp,
+// which defines its longer members (the step and its parts), and colonisation_state.cpp (checkpoints:
+// save() and load()). Not installed, not for users.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+#include <unordered_map>
+
+#include "core/errors.h"
+#include "core/parallel.h"
+#include "core/random.h"
+#include "venation/colonisation.h"
+#include "venation/dart_grid.h"
+#include "venation/domain.h"
+#include "venation/marginal_sources.h"
+
+namespace cellform::venation {
+
+namespace detail {
+
+inline Vec3 lift(const Vec2& p) { return Vec3(p.x(), p.y(), 0.0); }
+
+/// Alive sources hashed by grid cell, for the birth-distance test of new darts.
+class SourceGrid {
+ public:
+  void reset(double cell) {
+    cell_ = cell;
+    cells_.clear();
+  }
+  double cell() const { return cell_; }
+  void insert(Index i, const Vec3& p) {
+    planar_ = planar_ && p.z() == 0;
+    cells_[key(cx(p.x()), cx(p.y()), cx(p.z()))].push_back(i);
+  }
+  void erase(Index i, const Vec3& p) {
+    auto it = cells_.find(key(cx(p.x()), cx(p.y()), cx(p.z())));
+    auto& v = it->second;
+    v.erase(std::find(v.begin(), v.end(), i));
+    if (v.empty()) cells_.erase(it);
+  }
+  /// Any source within squared distance r2 (r <= cell size) of p.
+  bool any_within(const Vec3& p, double r2, const std::vector<Vec3>& pos) const {
+    const long x = cx(p.x()), y = cx(p.y()), z = cx(p.z());
+    const long dz_max = planar_ && p.z() == 0 ? 0 : 1;  // leaves: every point has z = 0
+    for (long dz = -dz_max; dz <= dz_max; ++dz)
+      for (long dy = -1; dy <= 1; ++dy)
+        for (long dx = -1; dx <= 1; ++dx) {
+          auto it = cells_.find(key(x + dx, y + dy, z + dz));
+          if (it == cells_.end()) continue;
+          for (Index i : it->second)
+            if ((pos[i] - p).squaredNorm() <= r2) return true;
+        }
+    return false;
+  }
+
+ private:
+  long cx(double v) const { return static_cast<long>(std::floor(v / cell_)); }
+  static std::uint64_t key(long x, long y, long z) {
+    return core::mix64(static_cast<std::uint64_t>(x) * 0x9e3779b1ull ^ static_cast<std::uint64_t>(y) * 0x85ebca77ull ^
+                       static_cast<std::uint64_t>(z) * 0xc2b2ae3dull);
+  }
+  double cell_ = 1;
+  bool planar_ = true;
+  std::unordered_map<std::uint64_t, std::vector<Index>> cells_;
+};
+
+// Absurd sizes are refused before they exhaust memory or overflow: a step's darts are held at once
+// (about 60 bytes each), and a nonuniform growth factor beyond this makes coordinates meaningless.
+inline constexpr double kMaxDartsPerStep = 2e7;
+inline constexpr double kMaxNonuniformGrowth = 1e6;
+
+/// Throws naming colonisation.darts if `expected` darts (rho times `what`, at `step` if not 0) would be
+/// thrown in one step.
+inline void check_darts_per_step(double expected, const char* what, std::size_t step = 0) {
+  if (!(expected <= kMaxDartsPerStep))
+    throw core::InvalidInput(std::string("colonisation.darts: rho x ") + what +
+                             (step ? " at step " + std::to_string(step) : std::string()) + " = " +
+                             core::number_text(expected) +
+                             " darts in one step, more than 2 x 10^7; use fewer darts (rho x 10^6 per unit area) or a "
+                             "smaller domain");
+}
+
+}  // namespace detail
+
+struct Colonisation::Impl {
+  Leaf leaf;
+  ColonisationParams p;
+  OutlineIndex unit;  // outline at scale 1
+  Vec3 petiole;
+
+  PointTree nodes;
+  std::vector<Index> parent;
+  std::vector<Index> first_child, next_sibling;  // children lists, to refuse duplicate nodes
+  std::vector<std::uint32_t> birth;
+  std::vector<std::pair<Index, Index>> anastomoses;
+
+  std::vector<Vec3> src;
+  std::vector<char> alive, tagged;
+  std::vector<Index> active;  // alive sources, increasing index
+  std::vector<Index> near;    // per source: nearest vein node so far (a cache: nodes never move)
+  std::vector<double> near_d2;
+  std::vector<std::vector<Index>> tags, reached;  // closed: tagged veins, veins that reached
+  detail::SourceGrid grid;
+
+  core::Rng rng;
+  double sigma;
+  // nonuniform growth (Appendix A): material coordinates (relative to the petiole at t_0), the number
+  // of growth steps applied, a table of Eq. 4 on a uniform grid of y_0, the current blade
+  bool nonuniform = false;
+  std::size_t grown = 0;
+  std::vector<Vec2> node_mat, src_mat;
+  double table_y0 = 0, table_dy = 1;
+  std::vector<double> table_y;  // y_t(y_0) at the grid heights
+  OutlineIndex current;
+  // marginal growth (Section 3.3): sources precomputed once over the final blade, revealed at the step
+  // whose blade first contains them (the step number says which have been: nothing else to save)
+  bool marginal = false;
+  MarginalSources precomputed;
+  std::size_t quiet = 0;
+  ColonisationReport rep;
+
+  // Closed, exact, in the plane: per source the nearest node of each 60-degree sector and whether its
+  // lune is occupied. Nodes never move or vanish, so a node once excluded stays excluded, and V(s) of
+  // the next step is found among these bests after merging in only the nodes added since (time
+  // coherence, Section 5); the result equals a fresh PointTree::relative_neighbourhood().
+  struct Sectors {
+    Index best[6];
+    double d2[6];
+    bool blocked[6];
+    bool ready = false;
+    // Lazy mode (exact, closed, planar, nodes that never move): while every node other than the
+    // nearest, `anchor`, is provably nearer to it than to the source (PointTree::min_margin > 0), the
+    // anchor excludes them all and V(s) = {nearest}, so the bests above are left stale (ready = false)
+    // and only the nearest is followed. `slack` is a lower bound of that margin, spent each step by
+    // the anchor's move and by the nodes placed (each D from its parent); the mode ends when it runs out.
+    bool lazy = false;
+    std::uint8_t backoff = 0;  // failed tries to enter lazy mode in a row; the next try waits 2^backoff steps
+    std::uint32_t retry = 0;   // step from which entering lazy mode is tried again
+    Index anchor = kNoIndex;
+    double slack = 0;  // model units
+  };
+  std::vector<Sectors> sectors;
+
+  // Closed, Urquhart: per source its Voronoi cell among the nodes and the Urquhart neighbourhood that
+  // cell gives. Like the sectors, a cell is kept and clipped only by the nodes added since.
+  struct Urquhart {
+    VoronoiCell cell;
+    std::vector<Index> out;  // the Urquhart neighbourhood of the cell as it is
+    double window = 0;       // half side of the square the cell was clipped from
+    bool ready = false;
+  };
+  std::vector<Urquhart> urq;  // per source; empty unless closed Urquhart
+  struct UrquhartScratch {
+    std::vector<std::pair<double, Index>> hits;
+    std::vector<VoronoiCell::Vertex> verts;
+    std::vector<Index> dn;
+  };
+  Index synced = 0;      // nodes [0, synced) are merged into every ready Sectors and every near[s]
+  double step_D = 0;     // the segment length of this step (model units)
+  double last_D = 0;     // the segment length of the last node placement (model units)
+  double lazy_tol = 0;   // rounding allowance for the lazy-mode margins (model units), set each step
+  bool lazy_ok = false;  // lazy sector mode allowed this step
+  PointBatch fresh;      // nodes [fresh_first, fresh_last), indexed once for all sources
+  Index fresh_first = 0, fresh_last = 0;
+
+  std::vector<std::vector<Index>> per_source;  // V(s) of the i-th active source this step
+  std::vector<std::vector<Vec3>> per_dir;      // unit vectors from those nodes to the source (NaN: none)
+  std::vector<Vec3> infl_dir;                  // per_dir flattened like infl
+  std::vector<char> seen;                      // per node: already in `touched` this step
+  std::vector<Index> nb, infl_start, infl, touched, child;
+  std::vector<Vec3> acc;
+
+  // 3-D domains (domain.h): darts from the domain, nodes kept in it, neighbourhoods found in 3-D
+  std::optional<PreparedDomain> region;
+  std::vector<Vec3> darts;
+
+  // dart throwing scratch (kept across steps): blade candidates, their blade test, the dart tests
+  std::vector<Vec3> cand;
+  std::vector<std::uint8_t> cand_in, dart_ok, done;  // done: per active source, to be removed
+  core::Rng rng_mark{0};
+  // leaves: one vein node per grid cell, which rejects most darts of the b_v test without a tree query
+  // (never changes an answer: see dart_grid.h); laid out anew when b_v shrinks, dropped when nodes move
+  WitnessGrid witness;
+  std::size_t witness_cap = 0;  // the cell budget of the last layout
+  bool witness_capped = false;  // that budget made the cells coarser than asked
+
+  Impl(const Leaf& l, const ColonisationParams& params);
+
+  /// A volume or surface: no blade, no growth; seed nodes and sources as given, in model units.
+  Impl(const Domain& d, const ColonisationParams& params);
+
+  /// 3-D: the nearest node (last step's is a valid start: nodes never move) and, closed, V(s) by the
+  /// exact 3-D relative neighbourhood (the planar sectors do not apply).
+  void influence_3d(Index s, std::vector<Index>& out, bool closed, PointTree::Scratch& scratch) {
+    nodes.nearest(src[s], near[s], near_d2[s]);
+    if (closed) nodes.relative_neighbourhood(src[s], out, scratch);
+  }
+
+  /// 3-D: moves the Eq. 1 node q of v into the domain. Where sources pulling v apart made that node
+  /// already (its child there is farther from each of them than v, so v stays their nearest node and
+  /// the step would only repeat), v grows towards its nearest influencing source alone, which splits
+  /// the set as in Figure 6k. False if v cannot advance (the projection undoes the step).
+  bool place_3d(Index v, Vec3& q, double D) const;
+
+  /// Eq. 4 at t = grown: y_t(y_0) by the trapezoid rule from 0 (the petiole), on 4097 heights.
+  void make_table();
+  double table_at(double y0) const {  // linear, extrapolated with the end slopes
+    const double u = (y0 - table_y0) / table_dy;
+    const auto n = static_cast<double>(table_y.size() - 1);
+    const double c = std::clamp(std::floor(u), 0.0, n - 1);
+    const auto i = static_cast<std::size_t>(c);
+    return table_y[i] + (u - c) * (table_y[i + 1] - table_y[i]);
+  }
+  double table_inverse(double y) const {
+    const auto it = std::upper_bound(table_y.begin() + 1, table_y.end() - 1, y);
+    const auto i = static_cast<std::size_t>(it - table_y.begin()) - 1;
+    const double f = (y - table_y[i]) / (table_y[i + 1] - table_y[i]);
+    return table_y0 + (static_cast<double>(i) + f) * table_dy;
+  }
+  Vec2 to_current(const Vec2& m) const {
+    return leaf.petiole + Vec2(m.x() * std::pow(p.growth_x(m.y()), static_cast<double>(grown)), table_at(m.y()));
+  }
+  Vec2 to_material(const Vec3& q) const {
+    const double y0 = table_inverse(q.y() - leaf.petiole.y());
+    return {(q.x() - leaf.petiole.x()) / std::pow(p.growth_x(y0), static_cast<double>(grown)), y0};
+  }
+  /// One growth step of Appendix A: every node and source moves; indexes and neighbourhoods restart.
+  void grow_nonuniform();
+
+  // Uniform growth keeps the blade at sigma_0 and shrinks distances instead (Section 3.3).
+  double dist_factor() const { return p.growth == GrowthMode::uniform ? p.initial_scale / sigma : 1.0; }
+  // Scale of the outline in the simulation frame.
+  double frame_scale() const { return p.growth == GrowthMode::uniform ? p.initial_scale : sigma; }
+  bool in_blade(const Vec3& q) const {
+    if (nonuniform) return current.contains(Vec2(q.x(), q.y()));
+    const Vec3 u = petiole + (q - petiole) / frame_scale();
+    return unit.contains(Vec2(u.x(), u.y()));
+  }
+  bool growth_over() const {
+    if (nonuniform) return grown >= p.growth_steps;
+    return p.growth == GrowthMode::none || sigma >= p.final_scale;
+  }
+
+  Index add_node(const Vec3& q, Index par, std::uint32_t step_no);
+
+  /// True if v already has a child at q: Eq. 1 then gives the same node again (the mean direction points
+  /// away from the sources, so v stays their nearest node), and adding it would loop without progress.
+  bool has_child_at(Index v, const Vec3& q, double D) const {
+    for (Index c = first_child[v]; c != kNoIndex; c = next_sibling[c])
+      if ((nodes.point(c) - q).squaredNorm() < 1e-12 * D * D) return true;
+    return false;
+  }
+
+  void remove_source(Index s) {
+    alive[s] = 0;
+    if (!urq.empty()) urq[s] = {};
+    grid.erase(s, src[s]);
+    ++rep.sources_removed;
+  }
+
+  /// Darts of this step (Section 3.1): drawn from the RNG in order, tested against the blade and the
+  /// vein nodes in parallel (independent per dart), then against the sources one by one in draw order,
+  /// so that a dart sees the darts accepted before it. Same bits for any thread count.
+  void throw_darts(double bs2, double bv2);
+
+  /// Lays the witness grid out anew (cells of 0.7 b_v, all nodes offered in index order) when it is
+  /// missing, does not cover the blade (with a margin of b_v) or its cells are coarser than b_v (isogonic
+  /// growth shrinks b_v). At most 8 cells per node (at least 2^20): memory stays linear in nodes; a grid
+  /// coarsened by that budget is laid out again once the budget has doubled. Leaves only.
+  void update_witness(double bv);
+
+  /// Blade darts: floor(rho A) (plus one with probability of the remainder) uniform points of the blade,
+  /// each by rejection from its bounding box. The candidates cost two draws each whatever the blade test
+  /// says, so they are drawn in batches, tested in parallel, and the RNG is then set to just after the
+  /// last candidate used: the darts and the RNG state are those of drawing and testing one at a time.
+  void draw_blade_darts();
+
+  /// Marginal growth: the precomputed sources that the blade of this step first contains (Section 3.3),
+  /// each kept if, like a dart (Figure 6i-j), it is farther than b_s from every source and than b_v from
+  /// every vein node. A rejected one is dropped for good, as a dart is: nodes never go away, and the
+  /// precomputed sources are b_s apart already. Tested in parallel, added in order: same bits for any
+  /// thread count. Each counts as a dart.
+  void reveal_sources(double bs2, double bv2);
+
+  void add_source(const Vec3& q);
+
+  bool urquhart() const { return p.type == VenationType::closed && p.neighbourhood == Neighbourhood::urquhart; }
+
+  /// Closed, Urquhart: brings the Voronoi cell of source s up to date with nodes [synced, size) (indexed
+  /// by `fresh`: only those within twice the cell's radius can clip it) and writes its Urquhart
+  /// neighbourhood to `out`. A new cell is clipped from a square of half side `window` by at most the
+  /// 48 nearest nodes. Touches only this source's state.
+  void urquhart_update(Index s, std::vector<Index>& out, double window, PointTree::Scratch& scratch,
+                       UrquhartScratch& us);
+
+  bool influenced_by(std::size_t a, Index v) const {
+    for (Index k = infl_start[a]; k < infl_start[a + 1]; ++k)
+      if (infl[k] == v) return true;
+    return false;
+  }
+
+  // Veins that reached s join (anastomose) if their tips met: within 3 D of each other. With a kill
+  // distance much larger than D the tips stay apart and end free, as in Figure 9a.
+  void close_source(Index s, double D);
+
+  /// PointTree::lune_occupied(q, best[k]) of source state st, trying first the other sectors' bests
+  /// (the blocker is usually one of them; same squared distances, so the same answer).
+  bool lune_blocked(const Sectors& st, const Vec3& q, int k) const {
+    const Vec3& v = nodes.point(st.best[k]);
+    for (int j = 0; j < 6; ++j)
+      if (j != k && st.best[j] != kNoIndex && st.d2[j] <= st.d2[k] &&
+          (nodes.point(st.best[j]) - v).squaredNorm() <= st.d2[k])
+        return true;
+    return nodes.lune_occupied(q, st.best[k]);
+  }
+
+  /// Brings the sector state of source s up to date with nodes [synced, size) (indexed by `fresh`) and
+  /// sets near[s]. Closed: writes V(s) (Eq. 2) to `out`, equal to PointTree::relative_neighbourhood().
+  void sector_update(Index s, std::vector<Index>& out, bool closed, PointTree::Scratch& scratch);
+
+  // Lazy mode proves a margin of kLazyMargin D (each step spends at most 3 D of it) and proves it
+  // again, for the nearest node then, when less than kLazyRenew D is left.
+  static constexpr double kLazyMargin = 30;
+  static constexpr double kLazyRenew = 6;
+
+  /// The rounding allowance of lazy margins at source position q: differences of coordinates as large
+  /// as q's round by about 1e-16 of them (model units).
+  double tolerance(const Vec3& q) const { return lazy_tol + 1e-9 * q.cwiseAbs().maxCoeff(); }
+
+  /// Puts source s, whose V(s) is {near[s]}, into lazy mode if the margin holds; else waits before the
+  /// next try (twice as long after each failure, at most 64 steps).
+  void try_lazy(Index s, Sectors& st);
+
+  /// Lazy mode, one step: follows the nearest node through the nodes added since (ties detected) and
+  /// spends the margin. For a node v other than the anchor n: |v - n'| <= |v - n| + |n - n'|, and a node
+  /// placed D from its parent u has |p - s| >= |u - s| - D and |p - n'| <= |u - n'| + D; a child of n
+  /// itself has |p - s| >= r0' and |p - n'| <= D + |n - n'|. True if V(s) is still {near[s]}.
+  bool lazy_step(Index s, Sectors& st);
+
+  /// Indexes the nodes [synced, size) in `fresh` unless it holds them already.
+  void sync_fresh() {
+    const auto n = static_cast<Index>(nodes.size());
+    if (fresh_first == synced && fresh_last == n) return;
+    fresh.assign(std::span<const Vec3>(nodes.points()).subspan(synced), synced);
+    fresh_first = synced;
+    fresh_last = n;
+  }
+
+  /// Open and Urquhart patterns need only near[s]: the last nearest node is the candidate, so only the
+  /// nodes added since are searched.
+  void nearest_update(Index s) {
+    if (near[s] == kNoIndex)
+      nodes.nearest(src[s], near[s], near_d2[s]);
+    else
+      fresh.nearest(src[s], near[s], near_d2[s]);
+  }
+
+  /// Step 4 for the a-th active source after the new nodes are in: its nearest node, and, closed, its
+  /// tags passed on or turned into reached veins. True if the source is to be removed (open: reached;
+  /// closed: every tag reached or gone). Touches only this source's state.
+  bool reach(std::size_t a, bool closed, double dk2);
+
+  void step();
+
+  Vec3 to_output(const Vec3& q) const {
+    return p.growth == GrowthMode::uniform ? Vec3(petiole + (q - petiole) * (sigma / p.initial_scale)) : q;
+  }
+};
+
+}  // namespace cellform::venation
