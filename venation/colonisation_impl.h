@@ -322,8 +322,8 @@ struct Colonisation::Impl {
   /// sets near[s]. Closed: writes V(s) (Eq. 2) to `out`, equal to PointTree::relative_neighbourhood().
   void sector_update(Index s, std::vector<Index>& out, bool closed, PointTree::Scratch& scratch);
 
-  // Lazy mode proves a margin of kLazyMargin D (each step spends at most 3 D of it) and proves it
-  // again, for the nearest node then, when less than kLazyRenew D is left.
+  // Lazy mode proves a margin of kLazyMargin D (a step spends 2 D plus the nearest node's move, about 3 D) and proves
+  // it again, for the nearest node then, when less than kLazyRenew D is left.
   static constexpr double kLazyMargin = 30;
   static constexpr double kLazyRenew = 6;
 
