@@ -104,7 +104,8 @@ std::vector<Field> build() {
       vec("division", "centre", "{0, 0, 0}", -kFar, kFar, "model units", "field centre (radial, circumferential)"));
   f.push_back(integer("division", "max_cells", "100000", 1, 5e7, "cells", "growth stops at this many cells"));
   f.push_back(Field{"division", "rule", Kind::function, "", 0, 0, false, "", "",
-                    "function(cell) returning true when the cell divides; replaces trigger, age, radius and min_neighbours (set none of them with it)"});
+                    "function(cell) returning true when the cell divides; replaces trigger, age, radius and "
+                    "min_neighbours (set none of them with it)"});
 
   // initial shapes
   f.push_back(

@@ -421,8 +421,8 @@ venation::SourceRule ScriptHost::source_rule() {
     const double v = lua_tonumber(L, -1);
     lua_pop(L, 1);
     if (!std::isfinite(v) || v < 0)
-      throw InvalidInput(I->source_at + "venation.source must return a finite number >= 0, got " +
-                         std::to_string(v) + where());
+      throw InvalidInput(I->source_at + "venation.source must return a finite number >= 0, got " + std::to_string(v) +
+                         where());
     return v;
   };
 }

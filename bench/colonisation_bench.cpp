@@ -139,6 +139,10 @@ const Register r7{{"venation.colonisation.poplar", "s",
                    "Table 1 poplar (Figure 18): closed, exact, b_s = 2, isogonic growth 115 -> 3500, 2 threads; "
                    "stopped at 900 s (900 = not finished)",
                    1, [] { return poplar_seconds(2, 1.0, 900); }}};
+const Register r7f{{"venation.colonisation.poplar.eager", "s",
+                    "as venation.colonisation.poplar with lazy_sectors off (the same pattern); the ratio is what lazy "
+                    "sectors gain at full size",
+                    1, [] { return poplar_seconds(2, 1.0, 900, false); }}};
 const Register r7b{{"venation.colonisation.poplar.0.2", "s",
                     "the same at scale 0.2 (leaf 23 -> 700), the default of examples/colonisation/poplar.lua", 3,
                     [] { return poplar_seconds(2, 0.2, 900); }}};

@@ -82,7 +82,8 @@ void Scene::start() {
     for (const cells::CellType t : sim_.cells().type) any = any || t == cells::CellType::petiole;
     if (!any)
       throw core::InvalidInput(
-          desc_.venation_origin + "venation needs a petiole (the sink of the auxin flow) before the first step; add petiole{at = {x, y, z}}");
+          desc_.venation_origin +
+          "venation needs a petiole (the sink of the auxin flow) before the first step; add petiole{at = {x, y, z}}");
   }
 }
 

@@ -183,12 +183,15 @@ TEST_CASE("rule functions run per cell and report errors with step and cell", "[
 
   // a direction the split cannot normalise names the section's line, not only the script
   ScriptHost dir;
-  dir.load("disc { radius = 2 }\ndivision { direction = function(cell)\n"
-           "  if cell.id == 0 then return {1e300, 1e300, 0} end\n  return 0, 0, 0 end }\n",
-           "dir.lua", {});
+  dir.load(
+      "disc { radius = 2 }\ndivision { direction = function(cell)\n"
+      "  if cell.id == 0 then return {1e300, 1e300, 0} end\n  return 0, 0, 0 end }\n",
+      "dir.lua", {});
   auto r3 = dir.rules();
-  CHECK_THROWS_WITH(r3.split_direction(c, 0), Contains("dir.lua:2: division.direction returned a zero vector or one too "
-                                                       "long") && Contains("cell 0"));
+  CHECK_THROWS_WITH(r3.split_direction(c, 0),
+                    Contains("dir.lua:2: division.direction returned a zero vector or one too "
+                             "long") &&
+                        Contains("cell 0"));
   CHECK_THROWS_WITH(r3.split_direction(c, 1), Contains("dir.lua:2: division.direction returned a zero vector"));
   ScriptLimits tight;
   tight.rule_instructions = 10000;
@@ -400,7 +403,8 @@ TEST_CASE("a division rule with trigger settings is refused, not half applied", 
   CHECK_THAT(load_error("disc { radius = 2 }\ndivision { age = 4, rule = function(cell) return true end }\n"),
              Contains(":2: division.age has no effect"));
   // the rule alone, and the split settings it does not replace, load
-  const auto cfg = load("disc { radius = 2 }\ndivision { rule = function(cell) return true end, probability = 0.5, "
-                        "max_cells = 100 }\n");
+  const auto cfg = load(
+      "disc { radius = 2 }\ndivision { rule = function(cell) return true end, probability = 0.5, "
+      "max_cells = 100 }\n");
   CHECK(cfg.scene.cells.division.max_cells == 100);
 }

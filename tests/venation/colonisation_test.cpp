@@ -11,6 +11,7 @@
 
 #include "core/errors.h"
 #include "core/random.h"
+#include "tests/venation/eq1_oracle.h"
 #include "venation/point_tree.h"
 #include "venation/vein_io.h"
 
@@ -536,31 +537,19 @@ TEST_CASE("with lazy sectors every step follows Eq. 1 and 2 by brute force (fixe
   while (!c.done() && steps < 400) {
     const v::VeinTree before = c.tree();
     const std::vector<Vec3> sources = c.sources();
-    std::vector<Vec3> acc(before.size(), Vec3::Zero());
-    std::vector<char> touched(before.size(), 0);
-    for (const Vec3& s : sources)
-      for (Index u : v::relative_neighbourhood_brute_force(before.positions, s)) {
-        const Vec3 dir = s - before.positions[u];
-        if (dir.squaredNorm() < p.kill_distance * p.kill_distance) continue;  // reached veins stop
-        acc[u] += dir / dir.norm();
-        touched[u] = 1;
-      }
+    const v::testing::Eq1Pulls e = v::testing::eq1_pulls(before.positions, sources, p.kill_distance);
     lazy_steps += c.lazy_sources();
     c.step();
     const v::VeinTree after = c.tree();
-    std::map<Index, Vec3> grown;
-    for (Index i = static_cast<Index>(before.size()); i < after.size(); ++i)
-      grown[after.parent[i]] = after.positions[i];
+    std::map<Index, Vec3> grown = v::testing::grown_by_parent(before, after);
     for (Index u = 0; u < before.size(); ++u) {
-      const bool grows = touched[u] && acc[u].norm() > 1e-9;
+      const bool grows = e.pulled[u] && e.sum[u].norm() > 1e-9;
       if (!grows) {
         REQUIRE(grown.count(u) == 0);
         continue;
       }
-      const Vec3 q = before.positions[u] + acc[u].normalized();
-      bool repeat = false;  // Eq. 1 gives the node's existing child: no new node
-      for (Index k = 0; k < before.size(); ++k)
-        repeat = repeat || (before.parent[k] == u && (before.positions[k] - q).norm() < 1e-6);
+      const Vec3 q = before.positions[u] + e.sum[u].normalized();
+      const bool repeat = v::testing::has_child_at(before, u, q);  // Eq. 1 gives its child: no new node
       REQUIRE(grown.count(u) == (repeat ? 0u : 1u));
       if (!repeat) {
         REQUIRE((grown[u] - q).norm() < 1e-9);

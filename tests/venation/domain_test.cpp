@@ -6,6 +6,7 @@
 #include <map>
 
 #include "core/errors.h"
+#include "tests/venation/eq1_oracle.h"
 
 using namespace cellform;
 using Catch::Matchers::Contains;
@@ -326,30 +327,15 @@ TEST_CASE("closed 3-D colonisation steps with the exact relative neighbourhood (
     while (!c.done()) {
       const v::VeinTree before = c.tree();
       const std::vector<Vec3> sources = c.sources();
-      std::vector<Vec3> acc(before.size(), Vec3::Zero());
-      std::vector<char> touched(before.size(), 0);
-      std::vector<Index> nearest_source(before.size(), kNoIndex);
-      for (Index k = 0; k < sources.size(); ++k)
-        for (Index u : v::relative_neighbourhood_brute_force(before.positions, sources[k])) {
-          const Vec3 dir = sources[k] - before.positions[u];
-          if (dir.squaredNorm() < p.kill_distance * p.kill_distance) continue;  // reached veins stop
-          acc[u] += dir / dir.norm();
-          touched[u] = 1;
-          if (nearest_source[u] == kNoIndex ||
-              dir.squaredNorm() < (sources[nearest_source[u]] - before.positions[u]).squaredNorm())
-            nearest_source[u] = k;
-        }
-      auto has_child_at = [&](Index u, const Vec3& q) {
-        for (Index k = 0; k < before.size(); ++k)
-          if (before.parent[k] == u && (before.positions[k] - q).norm() < 1e-6) return true;
-        return false;
-      };
+      const v::testing::Eq1Pulls e = v::testing::eq1_pulls(before.positions, sources, p.kill_distance);
+      const std::vector<Vec3>& acc = e.sum;
+      const std::vector<char>& touched = e.pulled;
+      const std::vector<Index>& nearest_source = e.nearest_source;
+      auto has_child_at = [&](Index u, const Vec3& q) { return v::testing::has_child_at(before, u, q); };
       auto in_box = [&](const Vec3& q) { return Vec3(q.cwiseMax(d.box_min).cwiseMin(d.box_max)); };
       c.step();
       const v::VeinTree after = c.tree();
-      std::map<Index, Vec3> grown;
-      for (Index i = static_cast<Index>(before.size()); i < after.size(); ++i)
-        grown[after.parent[i]] = after.positions[i];
+      std::map<Index, Vec3> grown = v::testing::grown_by_parent(before, after);
       for (Index u = 0; u < before.size(); ++u) {
         if (!touched[u] || acc[u].norm() <= 1e-9) {
           REQUIRE(grown.count(u) == 0);
