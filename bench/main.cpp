@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
     } else if (a == "-h" || a == "--help") {
       std::cout << "usage: cellform-bench [NAME-PREFIX...] [--json FILE] [--repetitions N] [--list]\n"
                    "Runs the benchmarks whose names start with a given prefix (all if none), prints the\n"
-                   "median, min and max of several repetitions, and writes them as JSON.\n";
+                   "median, min and max of several repetitions, and writes them as JSON. A name ending in\n"
+                   "'$' must match whole (venation.colonisation.poplar.0.7$ runs that one alone).\n";
       return 0;
     } else if (!a.empty() && a[0] == '-') {
       std::cerr << "cellform-bench: unknown option '" << a << "'\n";
@@ -68,7 +69,8 @@ int main(int argc, char** argv) {
   std::vector<const Benchmark*> chosen;
   for (const Benchmark& b : registry()) {
     bool match = names.empty();
-    for (const std::string& n : names) match = match || b.name.rfind(n, 0) == 0;
+    for (const std::string& n : names)
+      match = match || (n.ends_with('$') ? b.name == n.substr(0, n.size() - 1) : b.name.rfind(n, 0) == 0);
     if (match) chosen.push_back(&b);
   }
   if (chosen.empty()) {
