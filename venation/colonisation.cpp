@@ -206,6 +206,18 @@ void Colonisation::Impl::grow_nonuniform() {
 
 Index Colonisation::Impl::add_node(const Vec3& q, Index par, std::uint32_t step_no) {
   const Index id = nodes.insert(q);
+  link_node(id, par, step_no);
+  return id;
+}
+
+void Colonisation::Impl::add_nodes(std::span<const Vec3> q, std::span<const Index> par, std::uint32_t step_no) {
+  const auto first = static_cast<Index>(nodes.size());
+  nodes.insert_batch(q);
+  for (std::size_t k = 0; k < q.size(); ++k) link_node(first + static_cast<Index>(k), par[k], step_no);
+}
+
+void Colonisation::Impl::link_node(Index id, Index par, std::uint32_t step_no) {
+  const Vec3& q = nodes.point(id);
   witness.insert(id, q);
   if (nonuniform) node_mat.push_back(to_material(q));
   parent.push_back(par);
@@ -216,7 +228,6 @@ Index Colonisation::Impl::add_node(const Vec3& q, Index par, std::uint32_t step_
     next_sibling[id] = first_child[par];
     first_child[par] = id;
   }
-  return id;
 }
 
 void Colonisation::Impl::throw_darts(double bs2, double bv2) {
@@ -573,12 +584,21 @@ void Colonisation::Impl::step() {
         }
       },
       64);
-  infl_dir.clear();
-  for (std::size_t a = 0; a < active.size(); ++a) {
-    infl.insert(infl.end(), per_source[a].begin(), per_source[a].end());
-    infl_dir.insert(infl_dir.end(), per_dir[a].begin(), per_dir[a].end());
-    infl_start.push_back(static_cast<Index>(infl.size()));
-  }
+  // the per-source lists laid end to end in source order: offsets first, then copied in parallel
+  infl_start.resize(active.size() + 1);
+  for (std::size_t a = 0; a < active.size(); ++a)
+    infl_start[a + 1] = infl_start[a] + static_cast<Index>(per_source[a].size());
+  infl.resize(infl_start.back());
+  infl_dir.resize(infl_start.back());
+  core::parallel_for(
+      active.size(), p.threads,
+      [&](std::size_t first, std::size_t last) {
+        for (std::size_t a = first; a < last; ++a) {
+          std::copy(per_source[a].begin(), per_source[a].end(), infl.begin() + infl_start[a]);
+          std::copy(per_dir[a].begin(), per_dir[a].end(), infl_dir.begin() + infl_start[a]);
+        }
+      },
+      4096);
   synced = static_cast<Index>(nodes.size());
   acc.resize(nodes.size(), Vec3::Zero());
   child.resize(nodes.size(), kNoIndex);
@@ -596,6 +616,12 @@ void Colonisation::Impl::step() {
   }
   std::sort(touched.begin(), touched.end());
   for (Index v : touched) seen[v] = 0;
+  // leaves: the new nodes enter the tree in one batch (nothing below queries it before the batch is in;
+  // each v gets at most one child here, so has_child_at needs only the older ones); 3-D: one by one, as
+  // place_3d queries the tree
+  const auto step_no = static_cast<std::uint32_t>(rep.steps + 1);
+  new_pos.clear();
+  new_parent.clear();
   for (Index v : touched) {
     const Vec3 n = acc[v];
     acc[v].setZero();
@@ -604,8 +630,15 @@ void Colonisation::Impl::step() {
     Vec3 q = nodes.point(v) + D * n / len;
     if (region && !place_3d(v, q, D)) continue;
     if (has_child_at(v, q, D)) continue;
-    child[v] = add_node(q, v, static_cast<std::uint32_t>(rep.steps + 1));
+    if (region) {
+      child[v] = add_node(q, v, step_no);
+    } else {
+      child[v] = static_cast<Index>(nodes.size() + new_pos.size());
+      new_pos.push_back(q);
+      new_parent.push_back(v);
+    }
   }
+  add_nodes(new_pos, new_parent, step_no);
   last_D = D;
 
   // removal (open) or tagging and removal (closed), with the nodes just added. near[s] is the nearest of

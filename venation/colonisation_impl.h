@@ -246,6 +246,12 @@ struct Colonisation::Impl {
   }
 
   Index add_node(const Vec3& q, Index par, std::uint32_t step_no);
+  /// add_node for each q[k] with parent par[k], in order (the same indices), inserted as one batch.
+  void add_nodes(std::span<const Vec3> q, std::span<const Index> par, std::uint32_t step_no);
+  /// The bookkeeping of node id, just appended to `nodes`: witness, parent, birth, children lists.
+  void link_node(Index id, Index par, std::uint32_t step_no);
+  std::vector<Vec3> new_pos;  // step scratch: the nodes of this step, before they enter the tree
+  std::vector<Index> new_parent;
 
   /// True if v already has a child at q: Eq. 1 then gives the same node again (the mean direction points
   /// away from the sources, so v stays their nearest node), and adding it would loop without progress.

@@ -321,14 +321,21 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
 
   // the k-d tree as the run built it (its shape decides which boxes the sector searches skip, and so
   // the per-source sector bests, though not the neighbourhoods): nonuniform growth rebuilt it from all
-  // nodes at its last growth step (at the end of step `grown`), every other node was inserted
+  // nodes at its last growth step (at the end of step `grown`); every other node was inserted, the
+  // initial ones and those of 3-D runs one by one, those of a leaf's step in one batch
   m.nodes.clear();
   m.witness.clear();  // laid out again from all nodes by the next darts
   std::size_t built = 0;
   if (m.nonuniform && m.grown > 0)
     while (built < n && m.birth[built] <= m.grown) ++built;
   m.nodes.assign(std::span<const Vec3>(points).first(built));
-  for (std::size_t i = built; i < n; ++i) m.nodes.insert(points[i]);
+  for (std::size_t i = built; i < n;) {
+    std::size_t j = i + 1;
+    if (!m.region && m.birth[i] > 0)
+      while (j < n && m.birth[j] == m.birth[i]) ++j;
+    m.nodes.insert_batch(std::span<const Vec3>(points).subspan(i, j - i));
+    i = j;
+  }
   m.first_child.assign(n, kNoIndex);
   m.next_sibling.assign(n, kNoIndex);
   for (Index i = 0; i < n; ++i)

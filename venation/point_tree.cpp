@@ -16,13 +16,48 @@ constexpr double kPruneSlack = 1e-9;  // makes cone pruning conservative under r
 Index PointTree::insert(const Vec3& p) {
   const Index id = static_cast<Index>(points_.size());
   points_.push_back(p);
+  index(id);
+  return id;
+}
+
+void PointTree::insert_batch(std::span<const Vec3> points) {
+  if (points.empty()) return;
+  const auto first = static_cast<Index>(points_.size());
+  points_.insert(points_.end(), points.begin(), points.end());
+  if (points.size() < 2) {
+    index(first);
+    return;
+  }
+  Vec3 lo = points[0], hi = points[0];
+  for (const Vec3& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const Vec3 ext = hi - lo;
+  const double side = ext.maxCoeff();
+  const double scale = side > 0 && std::isfinite(side) ? ((1 << 21) - 1) / side : 0.0;
+  batch_keys_.clear();
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    std::uint64_t c[3];
+    for (int d = 0; d < 3; ++d) {
+      const double u = (points[k][d] - lo[d]) * scale;
+      c[d] = u >= 0 && u < (1 << 21) ? static_cast<std::uint64_t>(u) : 0;  // NaN or beyond: any place will do
+    }
+    batch_keys_.emplace_back(detail::morton3(c[0], c[1], c[2]), first + static_cast<Index>(k));
+  }
+  std::sort(batch_keys_.begin(), batch_keys_.end());
+  for (const auto& [key, id] : batch_keys_) index(id);
+}
+
+void PointTree::index(Index id) {
+  const Vec3& p = points_[id];
   if (nodes_.empty()) {
     Node leaf;
     leaf.lo = leaf.hi = p;
     leaf.pts.push_back(id);
     leaf.count = 1;
     nodes_.push_back(std::move(leaf));
-    return id;
+    return;
   }
   path_.clear();
   int n = 0;
@@ -48,7 +83,6 @@ Index PointTree::insert(const Vec3& p) {
       break;
     }
   }
-  return id;
 }
 
 void PointTree::assign(std::span<const Vec3> points) {
