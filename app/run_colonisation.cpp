@@ -264,7 +264,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
                 {"status", code == interrupted ? "interrupted"
                            : rep.finished      ? "complete"
                            : rep.stalled       ? "stalled"
-                                               : "stopped"},
+                           : rep.hit_max_nodes ? "stopped at max_nodes"
+                                               : "stopped at max_steps"},
                 {"steps", {{"first", first}, {"completed", rep.steps}, {"limit", spec.params.max_steps}}},
                 {"veins",
                  {{"nodes", rep.nodes},
@@ -289,9 +290,15 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
       where << (code == interrupted ? "interrupted"
                 : rep.finished      ? "done"
                 : rep.stalled       ? "done (stalled: some sources can no longer be reached)"
+                : rep.hit_max_nodes ? "stopped at colonisation.max_nodes"
                                     : "stopped at max_steps")
             << ": " << rep.steps << " steps, " << rep.nodes << " vein nodes, " << rep.loops << " loops; outputs in "
             << dir.string() << "/\n";
+    if (code != interrupted && !rep.finished && !rep.stalled && fs::exists(checkpoint))
+      where << "continue with: cellform resume " << checkpoint.string()
+            << (rep.hit_max_nodes ? " --set colonisation.max_nodes=" + std::to_string(2 * spec.params.max_nodes)
+                                  : " --steps " + std::to_string(2 * spec.params.max_steps))
+            << "\n";
     if (code == interrupted)
       err << (partial_sheet ? std::string("no checkpoint: the cell sheet was not fully grown; run the script again\n")
                             : "continue with: cellform resume " + checkpoint.string() + "\n");

@@ -510,6 +510,31 @@ TEST_CASE("a space-colonisation run writes the vein files output{} asks for", "[
   CHECK_THAT(empty.err, Contains("--out needs a folder name"));
 }
 
+TEST_CASE("a colonisation run stopped by max_nodes says so, and resumes under the larger limit it suggests",
+          "[cli][colonisation]") {
+  TempDir t("cli-maxnodes");
+  const auto script = t.write("cap.lua",
+                              "leaf { shape = 'ellipse' }\n"
+                              "colonisation { type = 'open', growth = 'none', initial_length = 200, darts = 2000,"
+                              " max_nodes = 40 }\n");
+  const fs::path out = t.path / "out";
+  const auto r = cli({"run", script.string(), "--out", out.string()});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.out, Contains("stopped at colonisation.max_nodes"));
+  CHECK_THAT(r.out, Contains("--set colonisation.max_nodes=80"));
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["status"] == "stopped at max_nodes");
+  const auto nodes = run["veins"]["nodes"].get<std::size_t>();
+  CHECK(nodes >= 40);
+  const auto more = cli({"resume", (out / "checkpoint.cfck").string(), "--set", "colonisation.max_nodes=80", "--quiet"});
+  INFO(more.err);
+  REQUIRE(more.code == 0);
+  const auto run2 = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run2["veins"]["nodes"].get<std::size_t>() > nodes);
+  CHECK(run2["veins"]["nodes"].get<std::size_t>() >= 80);
+}
+
 TEST_CASE("a run removes the staging folders of killed runs, and only those", "[cli]") {
   TempDir t("cli-stale");
   const auto script = t.write("small.lua", kSmall);
