@@ -11,11 +11,11 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <map>
 #include <mutex>
 #include <string>
 
@@ -256,19 +256,27 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   // mm^2, the surface of the union: lateral areas, plus a hemisphere at each free end (an end shared with
   // another segment is inside the union). Overlaps are still counted twice, so this errs high.
   double area = 0;
-  std::map<std::array<double, 3>, int> ends;
+  // segment ends, sorted: an end found once is free (a sorted array, not a map: millions of segments)
+  std::vector<std::array<double, 3>> ends;
+  ends.reserve(2 * segments.size());
   for (const Segment& s : segments) {
-    ++ends[{s.a.x(), s.a.y(), s.a.z()}];
-    ++ends[{s.b.x(), s.b.y(), s.b.z()}];
+    ends.push_back({s.a.x(), s.a.y(), s.a.z()});
+    ends.push_back({s.b.x(), s.b.y(), s.b.z()});
   }
+  std::sort(ends.begin(), ends.end());
+  auto free_end = [&](const Vec3& p) {
+    const std::array<double, 3> k{p.x(), p.y(), p.z()};
+    const auto [first, last] = std::equal_range(ends.begin(), ends.end(), k);
+    return last - first == 1;
+  };
   for (const Segment& s : segments) {
     const double ra = std::max(s.ra * scale, params.min_radius), rb = std::max(s.rb * scale, params.min_radius);
     raised += (s.ra * scale < params.min_radius) + (s.rb * scale < params.min_radius);
     caps.emplace_back(s.a * scale, s.b * scale, ra, rb);
     const double len = (s.b - s.a).norm() * scale;
     area += M_PI * (ra + rb) * std::hypot(len, ra - rb);
-    if (ends[{s.a.x(), s.a.y(), s.a.z()}] == 1) area += 2 * M_PI * ra * ra;
-    if (ends[{s.b.x(), s.b.y(), s.b.z()}] == 1) area += 2 * M_PI * rb * rb;
+    if (free_end(s.a)) area += 2 * M_PI * ra * ra;
+    if (free_end(s.b)) area += 2 * M_PI * rb * rb;
   }
   std::vector<Slab> slabs;
   slabs.reserve(shell.size());
