@@ -141,7 +141,10 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
   spec.params.seed = seed;
   spec.params.threads = o.threads;
   if (s.has_target) spec.params.max_steps = s.target_steps;  // --steps, or the checkpoint's limit
-  if (o.checkpoint_every) cfg.output.checkpoint_every = *o.checkpoint_every;
+  if (o.checkpoint_every) {  // exactly as asked: no seconds between checkpoints
+    cfg.output.checkpoint_every = *o.checkpoint_every;
+    cfg.output.checkpoint_seconds = 0;
+  }
   const fs::path checkpoint = dir / kCheckpointName;
   int code = ok;
   const bool planar = spec.domain.kind == venation::DomainKind::leaf;
@@ -170,6 +173,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     const auto a = std::chrono::steady_clock::now();
     const bool nonuniform = spec.params.growth == venation::GrowthMode::nonuniform;
     std::size_t last_print = 0;
+    CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
     try {
       while (!col.done()) {
         if (g_interrupt.load()) {
@@ -183,7 +187,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
           if (planar) err << (nonuniform ? ", growth step " : ", leaf length ") << r.scale;
           err << (::isatty(2) ? "\r" : "\n") << std::flush;
         }
-        if (cfg.output.checkpoint_every > 0 && r.steps % cfg.output.checkpoint_every == 0 && !col.done()) save();
+        if (!col.done() && checkpoints.due(r.steps)) save();
       }
     } catch (const std::exception&) {
       // a step that failed may have left the state half changed: the last checkpoint is the one to resume

@@ -51,6 +51,27 @@ std::string absolute_path_text(const std::filesystem::path& p);
 /// Writes checkpoint bytes atomically (a temporary file, then a rename).
 void write_checkpoint(const std::filesystem::path& path, const std::string& bytes);
 
+/// When the periodic checkpoints of a run are due: every `every` steps (0: never), but not within
+/// `seconds` of the last one written (or of the run's start). A large state written every 1000 steps of a
+/// fast run would otherwise cost more than the steps (a full-size poplar: 29 checkpoints of 250 MB).
+class CheckpointClock {
+ public:
+  CheckpointClock(std::uint64_t every, double seconds) : every_(every), seconds_(seconds) {}
+  /// True if a checkpoint is due after `step`; then counts it as written now.
+  bool due(std::uint64_t step) {
+    if (every_ == 0 || step % every_ != 0) return false;
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_).count() < seconds_) return false;
+    last_ = now;
+    return true;
+  }
+
+ private:
+  std::uint64_t every_;
+  double seconds_;
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
 /// Writes the cell outputs (cells.ply/obj, and the vein graph if `veins`) of `c` into `dir`; returns their names.
 std::vector<std::string> write_outputs(const std::filesystem::path& dir, const OutputSpec& spec, const cells::Cells& c,
                                        bool veins);

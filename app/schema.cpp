@@ -260,6 +260,9 @@ std::vector<Field> build() {
                       "cell runs: also write frames/cells_NNNNNN.ply every this many steps (0 = none)"));
   f.push_back(integer("output", "checkpoint_every", "1000", 0, 1e9, "steps",
                       "write checkpoint.cfck every this many steps (0 = only at the end)"));
+  f.push_back(num("output", "checkpoint_seconds", "60", 0, 1e9, false, "s",
+                  "skip a periodic checkpoint written this soon after the last one (0 = never skip); the run's "
+                  "end, Ctrl-C and failures always leave one"));
   f.push_back(boolean("output", "png", "false",
                       "space colonisation: also write veins.png, a raster preview of veins and outline"));
   f.push_back(integer("output", "png_size", "1024", 16, 20000, "pixels", "longer side of veins.png"));

@@ -180,6 +180,7 @@ void section_output(Impl& I, const std::string& at) {
   I.cfg->output.obj = v["obj"].flag;
   I.cfg->output.every = static_cast<std::uint64_t>(v["every"].num);
   I.cfg->output.checkpoint_every = static_cast<std::uint64_t>(v["checkpoint_every"].num);
+  I.cfg->output.checkpoint_seconds = v["checkpoint_seconds"].num;
   I.cfg->output.png = v["png"].flag;
   I.cfg->output.png_size = static_cast<int>(v["png_size"].num);
 }

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "app/run_internal.h"
 #include "core/chunk_file.h"
 #include "tests/app/test_util.h"
 
@@ -533,6 +534,26 @@ TEST_CASE("a colonisation run stopped by max_nodes says so, and resumes under th
   const auto run2 = nlohmann::json::parse(slurp(out / "run.json"));
   CHECK(run2["veins"]["nodes"].get<std::size_t>() > nodes);
   CHECK(run2["veins"]["nodes"].get<std::size_t>() >= 80);
+}
+
+TEST_CASE("periodic checkpoints come every N steps, but not within output.checkpoint_seconds of the last",
+          "[cli]") {
+  using cellform::app::CheckpointClock;
+  CheckpointClock exact(4, 0);
+  CHECK_FALSE(exact.due(1));
+  CHECK(exact.due(4));
+  CHECK(exact.due(8));
+  CHECK_FALSE(exact.due(9));
+  CheckpointClock never(0, 0);
+  CHECK_FALSE(never.due(0));
+  CHECK_FALSE(never.due(1000));
+  CheckpointClock slow(2, 30);  // nothing is due within 30 s of the start
+  CHECK_FALSE(slow.due(2));
+  CHECK_FALSE(slow.due(4));
+  CheckpointClock timed(2, 0.001);
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  CHECK_FALSE(timed.due(3));
+  CHECK(timed.due(4));
 }
 
 TEST_CASE("a run removes the staging folders of killed runs, and only those", "[cli]") {
