@@ -5,8 +5,8 @@
 -- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
 -- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
 -- 1 / scale^2): the default, scale = 0.2, grows the leaf from 23 to 700 (about 5 s here);
--- `--set scale=1` gives the paper's size (3.9 million nodes; the veins alone take 3.5 to 4 minutes on 2 cores,
--- see docs/benchmarks.md).
+-- `--set scale=1` gives the paper's size: 3.9 million nodes, the veins in about 3.5 minutes on 2 cores and
+-- the whole run with its print in 5 (see docs/benchmarks.md).
 
 local P = params {
   neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (here not faster: exact reuses sector bests)
