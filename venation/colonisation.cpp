@@ -490,7 +490,10 @@ bool Colonisation::Impl::lazy_step(Index s, Sectors& st) {
 
 bool Colonisation::Impl::reach(std::size_t a, bool closed, double dk2) {
   const Index s = active[a];
-  if (fresh.any_within(src[s], dk2) || (near[s] != kNoIndex && near_d2[s] <= dk2))
+  // the new nodes lie D from older ones, which are all at least |near - s| away: beyond d_k + D none of
+  // them can be within d_k (reach_far2: leaves, where a node is placed exactly D from its parent)
+  const bool far = near[s] != kNoIndex && near_d2[s] > reach_far2;
+  if ((!far && fresh.any_within(src[s], dk2)) || (near[s] != kNoIndex && near_d2[s] <= dk2))
     nodes.nearest(src[s], near[s], near_d2[s]);
   if (!closed) return near_d2[s] < dk2;
   auto reached_now = [&](Index t) { return (nodes.point(t) - src[s]).squaredNorm() < dk2; };
@@ -647,6 +650,8 @@ void Colonisation::Impl::step() {
   // Each source updates only its own near, tags and reached (in parallel); the removals, which touch
   // the source grid and the anastomoses, follow in source order.
   sync_fresh();
+  reach_far2 = std::numeric_limits<double>::infinity();
+  if (!region && !nonuniform) reach_far2 = std::pow(std::sqrt(dk2) + D * (1 + 1e-9) + lazy_tol, 2);
   done.resize(active.size());
   core::parallel_for(
       active.size(), p.threads,
