@@ -9,8 +9,9 @@ namespace cellform::venation {
 using core::InvalidInput;
 
 //
-// Saved: everything a later step reads that cannot be recomputed. Rebuilt: the node k-d tree (queries
-// are exact with index ties, so they do not depend on how it was built), the children lists (in node
+// Saved: everything a later step reads that cannot be recomputed. Rebuilt: the node k-d tree (its
+// answers are exact with index ties, but which boxes a sector search skips, and so the cached sector
+// bests, depend on its shape: it is rebuilt as the run built it), the children lists (in node
 // order, as add_node makes them), the source grid (same cell size, the alive sources), the nonuniform
 // Eq. 4 table and blade (from the growth steps done), the marginal growth's precomputed sources (from
 // the seed; the steps done say which have been revealed), and the batch of nodes not yet merged into the
@@ -21,8 +22,9 @@ namespace {
 
 constexpr const char* kStateKind = "COLO";
 // 2: Urquhart cells; 3: marginal growth reveals precomputed sources; 4: lazy sector modes (a state of
-// version 3 loads with every source out of lazy mode: the same results, lazy mode changes only the speed)
-constexpr std::uint32_t kStateVersion = 4;
+// version 3 loads with every source out of lazy mode: the same results, lazy mode changes only the speed);
+// 5: a leaf's step inserts its nodes into the tree as one batch (older versions inserted them one by one)
+constexpr std::uint32_t kStateVersion = 5;
 
 void put_vec3s(core::ByteWriter& w, const std::vector<Vec3>& v) {
   std::vector<double> flat;
@@ -322,7 +324,8 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
   // the k-d tree as the run built it (its shape decides which boxes the sector searches skip, and so
   // the per-source sector bests, though not the neighbourhoods): nonuniform growth rebuilt it from all
   // nodes at its last growth step (at the end of step `grown`); every other node was inserted, the
-  // initial ones and those of 3-D runs one by one, those of a leaf's step in one batch
+  // initial ones and those of 3-D runs (and of any run saved before version 5) one by one, those of a
+  // leaf's step in one batch
   m.nodes.clear();
   m.witness.clear();  // laid out again from all nodes by the next darts
   std::size_t built = 0;
@@ -331,7 +334,7 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
   m.nodes.assign(std::span<const Vec3>(points).first(built));
   for (std::size_t i = built; i < n;) {
     std::size_t j = i + 1;
-    if (!m.region && m.birth[i] > 0)
+    if (!m.region && m.birth[i] > 0 && f.version >= 5)
       while (j < n && m.birth[j] == m.birth[i]) ++j;
     m.nodes.insert_batch(std::span<const Vec3>(points).subspan(i, j - i));
     i = j;

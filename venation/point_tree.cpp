@@ -116,8 +116,10 @@ void PointTree::rebuild(int n) {
   scratch_ids_.clear();
   collect(n, scratch_ids_);
   if (garbage_ > nodes_.size() / 2) {  // compact: rebuild everything into a fresh node array
-    scratch_ids_.resize(points_.size());
-    for (Index i = 0; i < points_.size(); ++i) scratch_ids_[i] = i;
+    // every point in the tree, in index order (not all of points_: a batch may be partly inserted)
+    scratch_ids_.clear();
+    collect(0, scratch_ids_);
+    std::sort(scratch_ids_.begin(), scratch_ids_.end());
     nodes_.clear();
     nodes_.emplace_back();
     garbage_ = 0;

@@ -54,7 +54,8 @@ class PointTree {
   Index insert(const Vec3& p);
   /// Appends `points` (indices size(), size() + 1, ... in order), the same as inserting them one by one
   /// but faster: they enter the tree along a Morton curve, so that consecutive insertions descend
-  /// through the same, cached, nodes. Answers do not depend on insertion order.
+  /// through the same, cached, nodes. Query answers do not depend on insertion order (ties go by index);
+  /// the tree's shape does, and with it which boxes a sector search skips.
   void insert_batch(std::span<const Vec3> points);
   /// Replaces the content by `points` in one balanced build (median splits), O(n log n).
   void assign(std::span<const Vec3> points);
@@ -102,8 +103,10 @@ class PointTree {
   static int sector(double dx, double dy);
 
   /// In the plane z = s.z: the nearest point of each of the six sectors around s (ties: smaller index),
-  /// kNoIndex and infinity for empty sectors. The relative neighbourhood is the subset of these whose
-  /// lune is empty; keeping them per source lets new points be merged in without a new search.
+  /// kNoIndex and infinity for empty sectors, except that a box whose every point another best already
+  /// excludes from V(s) (Eq. 2) is skipped: a sector may then keep a farther point, which depends on the
+  /// tree's shape. The relative neighbourhood is the subset of these whose lune is empty, whatever the
+  /// shape; keeping them per source lets new points be merged in without a new search.
   /// With reset = false the arrays hold bests from elsewhere (positions in `best_pos`) that this tree's
   /// points must beat; indices written are this tree's plus `offset`.
   void sector_nearest(const Vec3& s, Index* best, double* best_d2, Scratch& scratch, bool reset = true,

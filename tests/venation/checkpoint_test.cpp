@@ -80,11 +80,12 @@ void require_same(const v::Colonisation& a, const v::Colonisation& b) {
 }
 
 /// The state of `c` in an older format: format 4 appended the lazy sector modes (per source 18 bytes,
-/// five array lengths and the last segment length) to the "state" chunk; formats 2 and 3 differ in
-/// meaning only.
+/// five array lengths and the last segment length) to the "state" chunk; formats 2, 3 and 5 differ in
+/// meaning only (5: a leaf step's nodes entered the tree as one batch).
 std::string as_version(const v::Colonisation& c, std::uint32_t version) {
-  core::ChunkFile f = core::read_chunk_file(c.save(), "COLO", 4, "state");
-  REQUIRE(f.version == 4);
+  core::ChunkFile f = core::read_chunk_file(c.save(), "COLO", 5, "state");
+  REQUIRE(f.version == 5);
+  if (version == 4) return core::write_chunk_file("COLO", version, f.chunks);
   std::string& state = f.chunks.at("state");
   const std::size_t trailer = 5 * 8 + 18 * c.report().sources_born + 8;
   REQUIRE(state.size() > trailer);
@@ -197,6 +198,15 @@ TEST_CASE("a format-3 state (no lazy modes) continues as the run that was never 
   CHECK(a.positions == b.positions);
   CHECK(a.parent == b.parent);
   CHECK(a.anastomoses == b.anastomoses);
+  // format 4: the tree is rebuilt one node at a time, as runs before format 5 built it; same veins
+  v::Colonisation third = v::Colonisation::load(leaf, p, as_version(first, 4));
+  CHECK(third.lazy_sources() == first.lazy_sources());
+  third.run();
+  const v::VeinTree c = third.tree();
+  REQUIRE(a.size() == c.size());
+  CHECK(a.positions == c.positions);
+  CHECK(a.parent == c.parent);
+  CHECK(a.anastomoses == c.anastomoses);
 }
 
 TEST_CASE("a saved growing leaf continues bit-identically: marginal, isogonic, nonuniform", "[checkpoint]") {
