@@ -173,6 +173,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     const auto a = std::chrono::steady_clock::now();
     const bool nonuniform = spec.params.growth == venation::GrowthMode::nonuniform;
     std::size_t last_print = 0;
+    bool saved = false;  // this run wrote checkpoint.cfck (an older one may be there from another run)
     CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
     try {
       while (!col.done()) {
@@ -187,12 +188,16 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
           if (planar) err << (nonuniform ? ", growth step " : ", leaf length ") << r.scale;
           err << (::isatty(2) ? "\r" : "\n") << std::flush;
         }
-        if (!col.done() && checkpoints.due(r.steps)) save();
+        if (!col.done() && checkpoints.due(r.steps)) {
+          save();
+          saved = true;
+        }
       }
     } catch (const std::exception&) {
       // a step that failed may have left the state half changed: the last checkpoint is the one to resume
       if (!o.quiet && ::isatty(2)) err << "\n";
-      if (fs::exists(checkpoint)) err << "cellform: (the last checkpoint is " << checkpoint.string() << ")\n";
+      if (saved || (s.resume && fs::exists(checkpoint)))
+        err << "cellform: (the last checkpoint is " << checkpoint.string() << (saved ? "" : ", the one resumed") << ")\n";
       throw;
     }
     if (!o.quiet && ::isatty(2)) err << "\n";
@@ -298,11 +303,14 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
                                     : "stopped at max_steps")
             << ": " << rep.steps << " steps, " << rep.nodes << " vein nodes, " << rep.loops << " loops; outputs in "
             << dir.string() << "/\n";
-    if (code != interrupted && !rep.finished && !rep.stalled && fs::exists(checkpoint))
-      where << "continue with: cellform resume " << checkpoint.string()
-            << (rep.hit_max_nodes ? " --set colonisation.max_nodes=" + std::to_string(2 * spec.params.max_nodes)
-                                  : " --steps " + std::to_string(2 * spec.params.max_steps))
-            << "\n";
+    if ((!o.quiet || code != ok) && code != interrupted && !rep.finished && !rep.stalled) {
+      // both limits can be reached in one step; doubled, within what --steps and --set accept
+      auto twice = [](std::size_t n) { return std::to_string(std::min<std::size_t>(2 * n, 1'000'000'000)); };
+      where << "continue with: cellform resume " << checkpoint.string();
+      if (rep.hit_max_nodes) where << " --set colonisation.max_nodes=" << twice(spec.params.max_nodes);
+      if (rep.hit_max_steps) where << " --steps " << twice(spec.params.max_steps);
+      where << "\n";
+    }
     if (code == interrupted)
       err << (partial_sheet ? std::string("no checkpoint: the cell sheet was not fully grown; run the script again\n")
                             : "continue with: cellform resume " + checkpoint.string() + "\n");
