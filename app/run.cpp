@@ -76,6 +76,9 @@ Start start_from(const RunOptions& o) {
       s.resume = true;
       if (o.steps) s.target_steps = *o.steps;
       if (o.out) s.out_dir = *o.out;
+      if (meta.contains("checkpoint_every") && meta["checkpoint_every"].is_number_unsigned())
+        s.checkpoint_every = meta["checkpoint_every"].get<std::uint64_t>();
+      if (o.checkpoint_every) s.checkpoint_every = o.checkpoint_every;
       for (const auto& [k, v] : o.sets) s.sets[k] = v;
       return s;
     }
@@ -86,6 +89,7 @@ Start start_from(const RunOptions& o) {
   }
   s.sets = o.sets;
   s.seed = o.seed;
+  s.checkpoint_every = o.checkpoint_every;
   if (o.steps) {
     s.target_steps = *o.steps;
     s.has_target = true;
@@ -100,6 +104,7 @@ std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t t
                {"script", absolute_path_text(s.script_path)},
                {"overrides", s.sets},
                {"seed", seed},
+               {"checkpoint_every", s.checkpoint_every ? json(*s.checkpoint_every) : json(nullptr)},
                {"target_steps", target},
                {"step", scene.simulation().step_count()},
                {"out", absolute_path_text(s.out_dir)}};
@@ -303,8 +308,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                                " run, but its script with these --set overrides now describes a " +
                                (cfg.colonisation ? "space-colonisation" : "cell") + " run");
     if (cfg.colonisation) return run_colonisation(o, s, cfg, host, seed, out, err, t0);
-    if (o.checkpoint_every) {  // exactly as asked: no seconds between checkpoints
-      cfg.output.checkpoint_every = *o.checkpoint_every;
+    if (s.checkpoint_every) {  // exactly as asked (now or by the run resumed): no seconds between them
+      cfg.output.checkpoint_every = *s.checkpoint_every;
       cfg.output.checkpoint_seconds = 0;
     }
     scene = std::make_unique<forms::Scene>(cfg.scene, seed);

@@ -97,6 +97,7 @@ std::string colonisation_checkpoint_bytes(const Start& s, std::uint64_t seed, co
                {"script", absolute_path_text(s.script_path)},
                {"overrides", s.sets},
                {"seed", seed},
+               {"checkpoint_every", s.checkpoint_every ? json(*s.checkpoint_every) : json(nullptr)},
                {"target_steps", p.max_steps},
                {"step", col.report().steps},
                {"out", absolute_path_text(s.out_dir)}};
@@ -141,8 +142,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
   spec.params.seed = seed;
   spec.params.threads = o.threads;
   if (s.has_target) spec.params.max_steps = s.target_steps;  // --steps, or the checkpoint's limit
-  if (o.checkpoint_every) {  // exactly as asked: no seconds between checkpoints
-    cfg.output.checkpoint_every = *o.checkpoint_every;
+  if (s.checkpoint_every) {  // exactly as asked (now or by the run resumed): no seconds between them
+    cfg.output.checkpoint_every = *s.checkpoint_every;
     cfg.output.checkpoint_seconds = 0;
   }
   const fs::path checkpoint = dir / kCheckpointName;

@@ -42,6 +42,7 @@ struct Start {
   std::string colonisation_bytes;  // resume only: a space-colonisation state (Colonisation::save)
   std::uint64_t step = 0;          // resume only
   bool resume = false;
+  std::optional<std::uint64_t> checkpoint_every;  // --checkpoint-every of the run (kept by its checkpoints)
 };
 
 /// `p` made absolute (against the current directory) for a checkpoint, so that resume works from

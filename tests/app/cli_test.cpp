@@ -536,6 +536,28 @@ TEST_CASE("a colonisation run stopped by max_nodes says so, and resumes under th
   CHECK(run2["veins"]["nodes"].get<std::size_t>() >= 80);
 }
 
+TEST_CASE("a run's --checkpoint-every is kept by its checkpoints, so a resumed run goes on with it", "[cli]") {
+  TempDir t("cli-ckevery");
+  const auto script = t.write("few.lua",
+                              "leaf { shape = 'ellipse' }\n"
+                              "colonisation { type = 'open', growth = 'none', initial_length = 200, darts = 2000 }\n");
+  auto every = [](const fs::path& checkpoint) {
+    const cellform::core::ChunkFile f = cellform::core::read_chunk_file(slurp(checkpoint), "CKPT", 1, "checkpoint");
+    return nlohmann::json::parse(f.at("meta", "checkpoint")).at("checkpoint_every");
+  };
+  const fs::path a = t.path / "a", b = t.path / "b";
+  REQUIRE(cli({"run", script.string(), "--out", a.string(), "--steps", "6", "--checkpoint-every", "2", "--quiet"}).code ==
+          0);
+  CHECK(every(a / "checkpoint.cfck") == 2);
+  REQUIRE(cli({"resume", (a / "checkpoint.cfck").string(), "--steps", "9", "--quiet"}).code == 0);
+  CHECK(every(a / "checkpoint.cfck") == 2);
+  REQUIRE(cli({"resume", (a / "checkpoint.cfck").string(), "--steps", "12", "--checkpoint-every", "5", "--quiet"})
+              .code == 0);
+  CHECK(every(a / "checkpoint.cfck") == 5);
+  REQUIRE(cli({"run", script.string(), "--out", b.string(), "--steps", "3", "--quiet"}).code == 0);
+  CHECK(every(b / "checkpoint.cfck").is_null());  // the script's output.checkpoint_every applies
+}
+
 TEST_CASE("periodic checkpoints come every N steps, but not within output.checkpoint_seconds of the last",
           "[cli]") {
   using cellform::app::CheckpointClock;
