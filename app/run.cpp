@@ -393,7 +393,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         exporters::write_cells_ply(staging / name, sim.cells(), cells::triangulate(sim.cells()));
         outputs.push_back(name);
       }
-      if (step < target && checkpoints.due(step)) write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
+      if (step < target && checkpoints.due(step))
+        write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
     }
     progress.finish();
     const auto b = std::chrono::steady_clock::now();

@@ -198,7 +198,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
       // a step that failed may have left the state half changed: the last checkpoint is the one to resume
       if (!o.quiet && ::isatty(2)) err << "\n";
       if (saved || (s.resume && fs::exists(checkpoint)))
-        err << "cellform: (the last checkpoint is " << checkpoint.string() << (saved ? "" : ", the one resumed") << ")\n";
+        err << "cellform: (the last checkpoint is " << checkpoint.string() << (saved ? "" : ", the one resumed")
+            << ")\n";
       throw;
     }
     if (!o.quiet && ::isatty(2)) err << "\n";

@@ -42,8 +42,8 @@ struct OutputSpec {
   std::uint64_t every = 0;                ///< frame interval in steps (0 = no frames)
   std::uint64_t checkpoint_every = 1000;  ///< checkpoint interval in steps (0 = only at the end)
   double checkpoint_seconds = 60;  ///< s: a periodic checkpoint this soon after the last one is skipped (0: never)
-  bool png = false;                       ///< space colonisation: also write veins.png
-  int png_size = 1024;                    ///< pixels: longer side of veins.png
+  bool png = false;                ///< space colonisation: also write veins.png
+  int png_size = 1024;             ///< pixels: longer side of veins.png
 };
 
 /// Space colonisation requested by colonisation{...} in a leaf{...}, volume{...} or surface{...}.

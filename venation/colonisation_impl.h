@@ -250,7 +250,7 @@ struct Colonisation::Impl {
   void add_nodes(std::span<const Vec3> q, std::span<const Index> par, std::uint32_t step_no);
   /// The bookkeeping of node id, just appended to `nodes`: witness, parent, birth, children lists.
   void link_node(Index id, Index par, std::uint32_t step_no);
-  double reach_far2 = 0;  // reach(): squared distance beyond which no node of the step can be within d_k
+  double reach_far2 = 0;      // reach(): squared distance beyond which no node of the step can be within d_k
   std::vector<Vec3> new_pos;  // step scratch: the nodes of this step, before they enter the tree
   std::vector<Index> new_parent;
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 
+#include "core/spatial_index.h"
 #include "venation/point_tree_detail.h"
 
 namespace cellform::venation {
@@ -24,29 +25,15 @@ void PointTree::insert_batch(std::span<const Vec3> points) {
   if (points.empty()) return;
   const auto first = static_cast<Index>(points_.size());
   points_.insert(points_.end(), points.begin(), points.end());
-  if (points.size() < 2) {
-    index(first);
-    return;
-  }
+  // Morton cells of the batch's extent / 2^21 (core::spatial_order: ties by index, non-finite last)
   Vec3 lo = points[0], hi = points[0];
   for (const Vec3& p : points) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
-  const Vec3 ext = hi - lo;
-  const double side = ext.maxCoeff();
-  const double scale = side > 0 && std::isfinite(side) ? ((1 << 21) - 1) / side : 0.0;
-  batch_keys_.clear();
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    std::uint64_t c[3];
-    for (int d = 0; d < 3; ++d) {
-      const double u = (points[k][d] - lo[d]) * scale;
-      c[d] = u >= 0 && u < (1 << 21) ? static_cast<std::uint64_t>(u) : 0;  // NaN or beyond: any place will do
-    }
-    batch_keys_.emplace_back(detail::morton3(c[0], c[1], c[2]), first + static_cast<Index>(k));
-  }
-  std::sort(batch_keys_.begin(), batch_keys_.end());
-  for (const auto& [key, id] : batch_keys_) index(id);
+  const double side = (hi - lo).maxCoeff();
+  const double cell = side > 0 && std::isfinite(side) ? side / 0x1fffff : 1.0;
+  for (Index k : core::spatial_order(points, cell)) index(first + k);
 }
 
 void PointTree::index(Index id) {

@@ -176,7 +176,6 @@ class PointTree {
   std::size_t garbage_ = 0;  // nodes orphaned by rebuilds; compacted when they are half the array
   std::vector<int> path_;
   std::vector<Index> scratch_ids_;
-  std::vector<std::pair<std::uint64_t, Index>> batch_keys_;
 };
 
 /// A static set of points numbered from an offset, queried by many points in a row: the vein nodes added

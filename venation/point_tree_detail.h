@@ -2,27 +2,11 @@
 #pragma once
 
 #include <algorithm>
-#include <cstdint>
 
 #include "venation/point_tree.h"
 
 namespace cellform::venation {
 
-namespace detail {
-/// The Morton (Z-order) key of a cell: the low 21 bits of x, y and z interleaved, x lowest.
-inline std::uint64_t morton3(std::uint64_t x, std::uint64_t y, std::uint64_t z) {
-  auto spread = [](std::uint64_t v) {
-    v &= 0x1fffff;
-    v = (v | v << 32) & 0x1f00000000ffffull;
-    v = (v | v << 16) & 0x1f0000ff0000ffull;
-    v = (v | v << 8) & 0x100f00f00f00f00full;
-    v = (v | v << 4) & 0x10c30c30c30c30c3ull;
-    v = (v | v << 2) & 0x1249249249249249ull;
-    return v;
-  };
-  return spread(x) | spread(y) << 1 | spread(z) << 2;
-}
-}  // namespace detail
 
 /// Squared distance from q to the box [lo, hi] (0 inside); the pruning bound of both trees.
 inline double box_distance2(const Vec3& lo, const Vec3& hi, const Vec3& q) {
