@@ -88,24 +88,6 @@ TEST_CASE("input errors exit with 2 and one clear line", "[cli]") {
   CHECK_FALSE(fs::exists(t.path / "none"));  // nothing written on an input error
 }
 
-TEST_CASE("a colonisation that never places a source says so", "[cli][colonisation]") {
-  TempDir t("cli-nosource");
-  // so few darts that none lands: the run ends with only the seed node, and a warning says why
-  const auto sparse =
-      t.write("sparse.lua", "leaf {}\ncolonisation { darts = 1e-6, initial_length = 20, final_length = 24 }\n");
-  auto r = cli({"run", sparse.string(), "--out", (t.path / "o").string(), "--quiet"});
-  CHECK(r.code == 0);
-  CHECK_THAT(r.err, Contains("no auxin source was placed"));
-  CHECK_THAT(r.err, Contains("colonisation.darts"));
-  // a run that does place sources gives no such warning (marginal growth reveals sources only while the
-  // blade grows, here two steps: rho x 10^6 = 20000 puts about 12 darts into the 24 x 12 box)
-  const auto dense =
-      t.write("dense.lua", "leaf {}\ncolonisation { darts = 20000, initial_length = 20, final_length = 24 }\n");
-  r = cli({"run", dense.string(), "--out", (t.path / "d").string(), "--quiet"});
-  CHECK(r.code == 0);
-  CHECK(r.err.find("no auxin source") == std::string::npos);
-}
-
 TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {
   TempDir t("cli-run");
   const auto script = t.write("small.lua", kSmall);
@@ -348,125 +330,6 @@ TEST_CASE("cellform check reports broken and unreadable meshes", "[cli][check]")
   CHECK(cli({"check", (t.path / "none.stl").string()}).code == 2);
 }
 
-TEST_CASE("3-D space colonisation: veins in a volume and on a grown cell sheet", "[cli][colonisation]") {
-  TempDir t("cli-col3d");
-  SECTION("a ball, closed veins, printed as one piece") {
-    const auto script =
-        t.write("ball.lua",
-                "volume { ball = { centre = {0, 0, 6}, radius = 6 } }\n"
-                "colonisation { type = 'closed', kill_distance = 1.5, birth_distance = 3, darts = 3000 }\n"
-                "print { pieces = 'one', size = 40 }\n");
-    const fs::path out = t.path / "ball";
-    auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
-    INFO(r.err);
-    REQUIRE(r.code == 0);
-    const auto run = nlohmann::json::parse(slurp(out / "run.json"));
-    CHECK(run["domain"] == "ball");
-    CHECK((run["status"] == "complete" || run["status"] == "stalled"));
-    CHECK(run["veins"]["loops"].get<int>() > 0);
-    CHECK(run["print"]["parts"] == 1);
-    CHECK(!fs::exists(out / "veins.svg"));  // no plane to draw a 3-D pattern in
-    CHECK(fs::file_size(out / "veins.ply") > 0);
-    r = cli({"check", (out / "printable.stl").string(), "--json"});
-    CHECK(nlohmann::json::parse(r.out)["printable"] == true);
-    // same result with more threads
-    REQUIRE(cli({"run", script.string(), "--out", (t.path / "ball2").string(), "--quiet", "--threads", "2"}).code == 0);
-    CHECK(slurp(out / "veins.ply") == slurp(t.path / "ball2" / "veins.ply"));
-  }
-  SECTION("surface{cells = true}: the cells grow first, the veins grow on their sheet") {
-    const auto script =
-        t.write("sheet.lua",
-                "cells { time_step = 0.2, separation = 0.05, drag = {0.8, 0.8, 0.3} }\n"
-                "division { trigger = 'age', age = 6, min_age = 3, probability = 0.5, max_cells = 400 }\n"
-                "run { steps = 60 }\n"
-                "disc { radius = 4 }\n"
-                "petiole { at = {0, -4, 0} }\n"
-                "surface { cells = true }\n"
-                "colonisation { kill_distance = 1, birth_distance = 2, darts = 20000 }\n"
-                "print { shell = true, size = 30 }\n");
-    const fs::path out = t.path / "sheet";
-    auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
-    INFO(r.err);
-    REQUIRE(r.code == 0);
-    const auto run = nlohmann::json::parse(slurp(out / "run.json"));
-    CHECK(run["domain"] == "surface");
-    CHECK(run["cells"]["final"].get<int>() > run["cells"]["initial"].get<int>());
-    CHECK(run["veins"]["nodes"].get<int>() > 10);
-    CHECK(run["print"]["shell_triangles"].get<int>() > 0);
-    CHECK(fs::file_size(out / "cells.ply") > 0);
-    CHECK(fs::file_size(out / "printable.stl") > 0);
-    // the checkpoint keeps the grown sheet: resuming does not grow the cells again
-    const std::string cells = slurp(out / "cells.ply"), veins = slurp(out / "veins.ply");
-    r = cli({"resume", (out / "checkpoint.cfck").string()});
-    REQUIRE(r.code == 0);
-    CHECK_THAT(r.err, !Contains("growing the cell sheet") && Contains("resuming veins"));
-    CHECK(slurp(out / "cells.ply") == cells);
-    CHECK(slurp(out / "veins.ply") == veins);
-  }
-  SECTION("bad domains are input errors") {
-    const auto bad = t.write("bad.lua",
-                             "volume { box = { min = {0, 0, 0}, max = {5, 5, 5} }, seeds = {{9, 9, 9}} }\n"
-                             "colonisation {}\n");
-    const auto r = cli({"run", bad.string(), "--out", (t.path / "bad").string(), "--quiet"});
-    CHECK(r.code == 2);
-    CHECK_THAT(r.err, Contains("bad.lua:1:") && Contains("volume.seeds[1]"));
-  }
-}
-
-TEST_CASE("space colonisation resumes to the bit-identical veins, in a leaf and in a volume", "[cli][checkpoint]") {
-  TempDir t("cli-col-resume");
-  const std::string leaf =
-      "run { seed = 3 }\n"
-      "leaf { shape = 'ovate', width = 0.6 }\n"
-      "colonisation { type = 'closed', kill_distance = 1, birth_distance = 3, growth = 'marginal',\n"
-      "  initial_length = 15, final_length = 50, length_step = 1, darts = 3000 }\n";
-  const std::string volume =
-      "run { seed = 4 }\n"
-      "volume { ball = { centre = {0, 0, 6}, radius = 6 } }\n"
-      "colonisation { type = 'open', kill_distance = 1, birth_distance = 2.5, darts = 3000 }\n";
-  for (const auto& [name, source] : {std::pair{"leaf", leaf}, std::pair{"ball", volume}}) {
-    INFO(name);
-    const auto script = t.write(std::string(name) + ".lua", source);
-    const fs::path whole = t.path / (std::string(name) + "-whole"), part = t.path / (std::string(name) + "-part");
-    auto r = cli({"run", script.string(), "--out", whole.string(), "--quiet"});
-    INFO(r.err);
-    REQUIRE(r.code == 0);
-    const auto full = nlohmann::json::parse(slurp(whole / "run.json"));
-    const int steps = full["steps"]["completed"].get<int>();
-    REQUIRE(steps > 20);
-    CHECK(fs::exists(whole / "checkpoint.cfck"));
-    CHECK(full["checkpoint"] == "checkpoint.cfck");
-    // stopped part way (as Ctrl-C would), with checkpoints every 4 steps on the way
-    r = cli({"run", script.string(), "--out", part.string(), "--quiet", "--steps", "13", "--checkpoint-every", "4"});
-    REQUIRE(r.code == 0);
-    CHECK(nlohmann::json::parse(slurp(part / "run.json"))["steps"]["completed"] == 13);
-    CHECK(slurp(whole / "veins.ply") != slurp(part / "veins.ply"));
-    r = cli({"resume", (part / "checkpoint.cfck").string(), "--steps", "100000", "--quiet", "--threads", "2"});
-    INFO(r.err);
-    REQUIRE(r.code == 0);
-    CHECK(slurp(whole / "veins.ply") == slurp(part / "veins.ply"));
-    CHECK(slurp(whole / "veins.obj") == slurp(part / "veins.obj"));
-    const auto resumed = nlohmann::json::parse(slurp(part / "run.json"));
-    CHECK(resumed["command"] == "resume");
-    CHECK(resumed["steps"]["first"] == 13);
-    CHECK(resumed["steps"]["completed"] == steps);
-    // resuming the finished run changes nothing
-    r = cli({"resume", (whole / "checkpoint.cfck").string(), "--quiet"});
-    REQUIRE(r.code == 0);
-    CHECK(nlohmann::json::parse(slurp(whole / "run.json"))["steps"]["completed"] == steps);
-  }
-  // refused: a damaged checkpoint, and parameters other than those it was grown with
-  const fs::path out = t.path / "ball-part";
-  std::string bytes = slurp(out / "checkpoint.cfck");
-  bytes[bytes.size() / 2] ^= 0x55;
-  auto r = cli({"resume", t.write("flipped.cfck", bytes).string()});
-  CHECK(r.code == 2);
-  CHECK_THAT(r.err, Contains("checksum"));
-  r = cli({"resume", (out / "checkpoint.cfck").string(), "--set", "colonisation.kill_distance=2", "--quiet"});
-  CHECK(r.code == 2);
-  CHECK_THAT(r.err, Contains("other colonisation parameters"));
-}
-
 TEST_CASE("a checkpoint resumes from any working directory (script, files beside it and outputs stay put)",
           "[cli][checkpoint]") {
   TempDir t("cli-cwd");
@@ -490,52 +353,6 @@ TEST_CASE("a checkpoint resumes from any working directory (script, files beside
   CHECK_FALSE(fs::exists("/out/fan"));
 }
 
-TEST_CASE("a space-colonisation run writes the vein files output{} asks for", "[cli][colonisation]") {
-  TempDir t("cli-colout");
-  const auto script = t.write("few.lua",
-                              "leaf { shape = 'ellipse' }\n"
-                              "colonisation { type = 'open', growth = 'none', initial_length = 30, darts = 20000 }\n"
-                              "output { ply = false, obj = false, png = true, png_size = 16 }\n");
-  const fs::path out = t.path / "out";
-  const auto r = cli({"run", script.string(), "--out", out.string(), "--steps", "4", "--quiet"});
-  INFO(r.err);
-  REQUIRE(r.code == 0);
-  CHECK(fs::exists(out / "veins.svg"));
-  CHECK(fs::exists(out / "veins.png"));  // the smallest size allowed still draws
-  CHECK_FALSE(fs::exists(out / "veins.ply"));
-  CHECK_FALSE(fs::exists(out / "veins.obj"));
-  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
-  for (const auto& name : run["outputs"]) CHECK(fs::exists(out / name.get<std::string>()));
-  const auto empty = cli({"run", script.string(), "--out", ""});
-  CHECK(empty.code == 2);
-  CHECK_THAT(empty.err, Contains("--out needs a folder name"));
-}
-
-TEST_CASE("a colonisation run stopped by max_nodes says so, and resumes under the larger limit it suggests",
-          "[cli][colonisation]") {
-  TempDir t("cli-maxnodes");
-  const auto script = t.write("cap.lua",
-                              "leaf { shape = 'ellipse' }\n"
-                              "colonisation { type = 'open', growth = 'none', initial_length = 200, darts = 2000,"
-                              " max_nodes = 40 }\n");
-  const fs::path out = t.path / "out";
-  const auto r = cli({"run", script.string(), "--out", out.string()});
-  INFO(r.err);
-  REQUIRE(r.code == 0);
-  CHECK_THAT(r.out, Contains("stopped at colonisation.max_nodes"));
-  CHECK_THAT(r.out, Contains("--set colonisation.max_nodes=80"));
-  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
-  CHECK(run["status"] == "stopped at max_nodes");
-  const auto nodes = run["veins"]["nodes"].get<std::size_t>();
-  CHECK(nodes >= 40);
-  const auto more = cli({"resume", (out / "checkpoint.cfck").string(), "--set", "colonisation.max_nodes=80", "--quiet"});
-  INFO(more.err);
-  REQUIRE(more.code == 0);
-  const auto run2 = nlohmann::json::parse(slurp(out / "run.json"));
-  CHECK(run2["veins"]["nodes"].get<std::size_t>() > nodes);
-  CHECK(run2["veins"]["nodes"].get<std::size_t>() >= 80);
-}
-
 TEST_CASE("a run's --checkpoint-every is kept by its checkpoints, so a resumed run goes on with it", "[cli]") {
   TempDir t("cli-ckevery");
   const auto script = t.write("few.lua",
@@ -546,20 +363,21 @@ TEST_CASE("a run's --checkpoint-every is kept by its checkpoints, so a resumed r
     return nlohmann::json::parse(f.at("meta", "checkpoint")).at("checkpoint_every");
   };
   const fs::path a = t.path / "a", b = t.path / "b";
-  REQUIRE(cli({"run", script.string(), "--out", a.string(), "--steps", "6", "--checkpoint-every", "2", "--quiet"}).code ==
-          0);
+  REQUIRE(
+      cli({"run", script.string(), "--out", a.string(), "--steps", "6", "--checkpoint-every", "2", "--quiet"}).code ==
+      0);
   CHECK(every(a / "checkpoint.cfck") == 2);
   REQUIRE(cli({"resume", (a / "checkpoint.cfck").string(), "--steps", "9", "--quiet"}).code == 0);
   CHECK(every(a / "checkpoint.cfck") == 2);
-  REQUIRE(cli({"resume", (a / "checkpoint.cfck").string(), "--steps", "12", "--checkpoint-every", "5", "--quiet"})
-              .code == 0);
+  REQUIRE(
+      cli({"resume", (a / "checkpoint.cfck").string(), "--steps", "12", "--checkpoint-every", "5", "--quiet"}).code ==
+      0);
   CHECK(every(a / "checkpoint.cfck") == 5);
   REQUIRE(cli({"run", script.string(), "--out", b.string(), "--steps", "3", "--quiet"}).code == 0);
   CHECK(every(b / "checkpoint.cfck").is_null());  // the script's output.checkpoint_every applies
 }
 
-TEST_CASE("periodic checkpoints come every N steps, but not within output.checkpoint_seconds of the last",
-          "[cli]") {
+TEST_CASE("periodic checkpoints come every N steps, but not within output.checkpoint_seconds of the last", "[cli]") {
   using cellform::app::CheckpointClock;
   CheckpointClock exact(4, 0);
   CHECK_FALSE(exact.due(1));

@@ -1,0 +1,137 @@
+// Space colonisation: where the auxin sources come from (Runions et al. 2005, Section 3.1): darts thrown
+// into the blade or a 3-D domain each step, or, under marginal growth, the precomputed sources the blade
+// reaches; both tested against the birth distances b_s and b_v. Members of Colonisation::Impl.
+#include <algorithm>
+#include <cmath>
+
+#include "venation/colonisation_impl.h"
+
+namespace cellform::venation {
+
+void Colonisation::Impl::throw_darts(double bs2, double bv2) {
+  darts.clear();
+  if (region)
+    region->throw_darts(p.darts_per_area, rng, darts);
+  else
+    draw_blade_darts();
+  dart_ok.resize(darts.size());
+  update_witness(std::sqrt(bv2));
+  // b_v against every node and b_s against the sources of earlier steps; all pure queries, and a
+  // witness node within b_v settles the b_v test as the tree would
+  core::parallel_for(
+      darts.size(), p.threads,
+      [&](std::size_t first, std::size_t last) {
+        for (std::size_t d = first; d < last; ++d)
+          dart_ok[d] = !witness.witness(darts[d], bv2, nodes.points()) && !grid.any_within(darts[d], bs2, src) &&
+                       !nodes.any_within(darts[d], bv2);
+      },
+      256);
+  const std::size_t sources_before = src.size();
+  for (std::size_t d = 0; d < darts.size(); ++d) {
+    ++rep.darts;
+    // a survivor can only be too close to a dart accepted earlier in this step
+    if (!dart_ok[d] || (src.size() > sources_before && grid.any_within(darts[d], bs2, src))) continue;
+    add_source(darts[d]);
+  }
+}
+
+void Colonisation::Impl::update_witness(double bv) {
+  if (region || !(bv > 0)) return;  // no b_v test to speed up
+  const double fs = p.growth == GrowthMode::marginal ? std::max(frame_scale(), p.final_scale) : frame_scale();
+  Vec3 lo = nonuniform ? detail::lift(current.lo()) : Vec3(petiole + fs * (detail::lift(unit.lo()) - petiole));
+  Vec3 hi = nonuniform ? detail::lift(current.hi()) : Vec3(petiole + fs * (detail::lift(unit.hi()) - petiole));
+  lo -= Vec3(bv, bv, 0);
+  hi += Vec3(bv, bv, 0);
+  const std::size_t cap = std::max<std::size_t>(std::size_t{1} << 20, 8 * nodes.size());
+  bool relayout = !witness.covers(lo, hi);
+  if (!relayout && witness.cell() > bv) relayout = !witness_capped || cap >= 2 * witness_cap;
+  if (!relayout) return;
+  witness.reset(lo, hi, 0.7 * bv, cap);
+  witness_cap = cap;
+  witness_capped = witness.cell() > 0.7 * bv;
+  if (witness.empty()) return;  // no grid could be laid (a blade beyond double range)
+  for (Index i = 0; i < nodes.size(); ++i) witness.insert(i, nodes.point(i));
+}
+
+void Colonisation::Impl::draw_blade_darts() {
+  const double area = nonuniform ? current.area() : unit.area() * sigma * sigma;  // of the actual leaf
+  const double expected = p.darts_per_area * area;
+  detail::check_darts_per_step(expected, "the blade's area", rep.steps + 1);
+  auto count = static_cast<std::size_t>(std::floor(expected));
+  if (rng.uniform() < expected - std::floor(expected)) ++count;
+  const double fs = frame_scale();
+  const Vec3 lo = nonuniform ? detail::lift(current.lo()) : Vec3(petiole + fs * (detail::lift(unit.lo()) - petiole));
+  const Vec3 hi = nonuniform ? detail::lift(current.hi()) : Vec3(petiole + fs * (detail::lift(unit.hi()) - petiole));
+  if (p.threads == 1) {  // one at a time: nothing drawn in vain, nothing to rewind
+    for (std::size_t d = 0; d < count; ++d) {
+      Vec3 q;
+      do q = Vec3(rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), 0.0);
+      while (!in_blade(q));
+      darts.push_back(q);
+    }
+    return;
+  }
+  const double box = (hi.x() - lo.x()) * (hi.y() - lo.y());
+  const double inside = box > 0 ? std::clamp(area / box, 0.05, 1.0) : 1.0;  // expected share of candidates kept
+  // the first batch is a little short of the expected need (a rewind replays its draws), the rest small
+  for (bool opening = true; darts.size() < count; opening = false) {
+    const auto need = static_cast<double>(count - darts.size());
+    const auto batch = static_cast<std::size_t>(opening ? 0.9 * need / inside : 1.1 * need / inside + 16) + 1;
+    rng_mark = rng;
+    cand.resize(batch);
+    for (Vec3& q : cand) q = Vec3(rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), 0.0);
+    cand_in.resize(batch);
+    core::parallel_for(
+        batch, p.threads,
+        [&](std::size_t first, std::size_t last) {
+          for (std::size_t c = first; c < last; ++c) cand_in[c] = in_blade(cand[c]);
+        },
+        256);
+    std::size_t used = 0;
+    while (used < batch && darts.size() < count)
+      if (cand_in[used++]) darts.push_back(cand[used - 1]);
+    if (used < batch) {  // rewind to just after candidate `used`
+      rng = rng_mark;
+      for (std::size_t k = 0; k < 2 * used; ++k) rng.next();
+    }
+  }
+}
+
+void Colonisation::Impl::reveal_sources(double bs2, double bv2) {
+  const std::span<const Vec2> entering = precomputed.entering(rep.steps);
+  darts.clear();
+  for (const Vec2& q : entering) darts.push_back(detail::lift(q));
+  dart_ok.resize(darts.size());
+  core::parallel_for(
+      darts.size(), p.threads,
+      [&](std::size_t first, std::size_t last) {
+        for (std::size_t d = first; d < last; ++d)
+          dart_ok[d] = in_blade(darts[d]) && !grid.any_within(darts[d], bs2, src) && !nodes.any_within(darts[d], bv2);
+      },
+      256);
+  for (std::size_t d = 0; d < darts.size(); ++d) {
+    ++rep.darts;
+    if (dart_ok[d]) add_source(darts[d]);
+  }
+}
+
+void Colonisation::Impl::add_source(const Vec3& q) {
+  const auto id = static_cast<Index>(src.size());
+  src.push_back(q);
+  if (nonuniform) src_mat.push_back(to_material(q));
+  alive.push_back(1);
+  tagged.push_back(0);
+  near.push_back(kNoIndex);
+  near_d2.push_back(0);
+  sectors.emplace_back();
+  if (urquhart()) urq.emplace_back();
+  if (p.type == VenationType::closed) {
+    tags.emplace_back();
+    reached.emplace_back();
+  }
+  grid.insert(id, q);
+  active.push_back(id);
+  ++rep.sources_born;
+}
+
+}  // namespace cellform::venation
