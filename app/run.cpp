@@ -365,6 +365,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   std::string status = "complete";
   double sim_seconds = 0;
   int code = ok;
+  bool saved = false;  // this run wrote checkpoint.cfck (an older one may be there from another run)
   try {
     while (sim.step_count() < target) {
       if (g_interrupt.load()) {
@@ -393,14 +394,17 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         exporters::write_cells_ply(staging / name, sim.cells(), cells::triangulate(sim.cells()));
         outputs.push_back(name);
       }
-      if (step < target && checkpoints.due(step))
+      if (step < target && checkpoints.due(step)) {
         write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
+        saved = true;
+      }
     }
     progress.finish();
     const auto b = std::chrono::steady_clock::now();
     for (const std::string& n : write_outputs(staging, cfg.output, sim.cells(), cfg.scene.venation.has_value()))
       outputs.push_back(n);
     write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
+    saved = true;
     json printed;
     if (cfg.print) {
       try {
@@ -464,7 +468,12 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   } catch (const core::InvalidInput& e) {
     progress.finish();
     err << "cellform: " << e.what() << "\n";
-    if (fs::exists(checkpoint)) err << "  (the last checkpoint is " << checkpoint.string() << ")\n";
+    // only a checkpoint of this run (or the one resumed) is worth naming: a step that failed may have
+    // left the state half changed, and a file from an earlier run in the folder is not this run's
+    if (saved)
+      err << "  (the last checkpoint is " << checkpoint.string() << ")\n";
+    else if (s.resume && fs::exists(o.checkpoint))
+      err << "  (the last checkpoint is " << o.checkpoint.string() << ", the one resumed)\n";
     code = usage;
   } catch (const std::exception& e) {
     progress.finish();

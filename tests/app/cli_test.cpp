@@ -377,6 +377,36 @@ TEST_CASE("a run's --checkpoint-every is kept by its checkpoints, so a resumed r
   CHECK(every(b / "checkpoint.cfck").is_null());  // the script's output.checkpoint_every applies
 }
 
+TEST_CASE("a rule error names the checkpoint of this run, never one left by an earlier run", "[cli][checkpoint]") {
+  TempDir t("cli-late-rule");
+  // the division rule breaks from step 9 on: the run stops there with the script's line
+  const auto script = t.write("late.lua",
+                              "cells { time_step = 0.2, separation = 0.05 }\n"
+                              "division { max_cells = 300, rule = function(cell)\n"
+                              "  if cell.step >= 9 then return 'x' end\n"
+                              "  return cell.age > 4 end }\n"
+                              "run { steps = 30 }\n"
+                              "disc { radius = 3 }\n"
+                              "petiole { at = {0, 0, 0} }\n");
+  const fs::path out = t.path / "out";
+  fs::create_directories(out);
+  t.write("out/checkpoint.cfck", "left by an earlier run");
+  const CliResult first = cli({"run", script.string(), "--out", out.string(), "--quiet"});
+  CHECK(first.code == 2);
+  CHECK_THAT(first.err, Contains("late.lua:2: division.rule must return true or false"));
+  CHECK_THAT(first.err, !Contains("checkpoint"));  // the stale file is not this run's
+  const CliResult second =
+      cli({"run", script.string(), "--out", out.string(), "--checkpoint-every", "4", "--quiet"});
+  CHECK(second.code == 2);
+  CHECK_THAT(second.err, Contains("(the last checkpoint is " + (out / "checkpoint.cfck").string() + ")"));
+  // that checkpoint (step 8) resumes into the same error, and says it is the one resumed
+  const fs::path kept = t.path / "step8.cfck";
+  fs::copy_file(out / "checkpoint.cfck", kept);
+  const CliResult resumed = cli({"resume", kept.string(), "--out", (t.path / "again").string(), "--quiet"});
+  CHECK(resumed.code == 2);
+  CHECK_THAT(resumed.err, Contains("(the last checkpoint is " + kept.string() + ", the one resumed)"));
+}
+
 TEST_CASE("periodic checkpoints come every N steps, but not within output.checkpoint_seconds of the last", "[cli]") {
   using cellform::app::CheckpointClock;
   CheckpointClock exact(4, 0);
