@@ -395,8 +395,7 @@ TEST_CASE("a rule error names the checkpoint of this run, never one left by an e
   CHECK(first.code == 2);
   CHECK_THAT(first.err, Contains("late.lua:2: division.rule must return true or false"));
   CHECK_THAT(first.err, !Contains("checkpoint"));  // the stale file is not this run's
-  const CliResult second =
-      cli({"run", script.string(), "--out", out.string(), "--checkpoint-every", "4", "--quiet"});
+  const CliResult second = cli({"run", script.string(), "--out", out.string(), "--checkpoint-every", "4", "--quiet"});
   CHECK(second.code == 2);
   CHECK_THAT(second.err, Contains("(the last checkpoint is " + (out / "checkpoint.cfck").string() + ")"));
   // that checkpoint (step 8) resumes into the same error, and says it is the one resumed
