@@ -15,6 +15,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/text.h"
 
 namespace cellform::exporters {
 
@@ -76,12 +77,6 @@ std::vector<std::string> attribute_names(const Cells& cells) {
     names.push_back(name);
   }
   return names;
-}
-
-void append_format(std::string& out, const char* format, double a, double b, double c) {
-  char buf[128];
-  const int len = std::snprintf(buf, sizeof buf, format, a, b, c);
-  out.append(buf, static_cast<std::size_t>(std::max(0, len)));
 }
 
 }  // namespace
@@ -160,14 +155,25 @@ void write_cells_obj(const std::filesystem::path& path, const Cells& cells, cons
   text += "# cellform cell sheet\n";
   text += "# " + std::to_string(n) + " vertices, " + std::to_string(surface.triangles.size()) + " faces, " +
           std::to_string(lines.size()) + " lines\n";
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < n; ++i) {  // "v %.9g %.9g %.9g"
     const core::Vec3& p = cells.position[i];
-    append_format(text, "v %.9g %.9g %.9g\n", p.x(), p.y(), p.z());
+    text += 'v';
+    for (double x : {p.x(), p.y(), p.z()}) {
+      text += ' ';
+      core::append_general(text, x);
+    }
+    text += '\n';
   }
-  for (const auto& t : surface.triangles)
-    text += "f " + std::to_string(t[0] + 1ull) + " " + std::to_string(t[1] + 1ull) + " " + std::to_string(t[2] + 1ull) +
-            "\n";
-  for (const auto& l : lines) text += "l " + std::to_string(l[0] + 1ull) + " " + std::to_string(l[1] + 1ull) + "\n";
+  auto indices = [&](char kind, std::initializer_list<Index> v) {
+    text += kind;
+    for (Index i : v) {
+      text += ' ';
+      core::append_integer(text, i + 1ull);
+    }
+    text += '\n';
+  };
+  for (const auto& t : surface.triangles) indices('f', {t[0], t[1], t[2]});
+  for (const auto& l : lines) indices('l', {l[0], l[1]});
 
   core::write_file_atomically(
       path, [&](std::ostream& out) { out.write(text.data(), static_cast<std::streamsize>(text.size())); });

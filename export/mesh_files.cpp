@@ -8,6 +8,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/text.h"
 
 namespace cellform::exporters {
 
@@ -52,14 +53,30 @@ void write_stl(const std::filesystem::path& path, const PrintableMesh& m) {
 
 void write_obj(const std::filesystem::path& path, const PrintableMesh& m) {
   core::write_file_atomically(path, [&](std::ostream& os) {
-    os << "# cellform printable mesh, units: mm\n# " << m.vertices.size() << " vertices, " << m.triangles.size()
-       << " triangles\n";
-    char buf[128];
-    for (const Vec3& v : m.vertices) {
-      std::snprintf(buf, sizeof buf, "v %.9g %.9g %.9g\n", v.x(), v.y(), v.z());
-      os << buf;
+    std::string out = "# cellform printable mesh, units: mm\n# ";
+    core::append_integer(out, m.vertices.size());
+    out += " vertices, ";
+    core::append_integer(out, m.triangles.size());
+    out += " triangles\n";
+    for (const Vec3& v : m.vertices) {  // "v %.9g %.9g %.9g"
+      out += 'v';
+      for (double x : {v.x(), v.y(), v.z()}) {
+        out += ' ';
+        core::append_general(out, x);
+      }
+      out += '\n';
+      core::drain(out, os);
     }
-    for (const auto& t : m.triangles) os << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
+    for (const auto& t : m.triangles) {
+      out += 'f';
+      for (std::uint32_t i : t) {
+        out += ' ';
+        core::append_integer(out, i + 1);
+      }
+      out += '\n';
+      core::drain(out, os);
+    }
+    core::drain(out, os, 0);
   });
 }
 
@@ -86,19 +103,33 @@ void write_ply(const std::filesystem::path& path, const PrintableMesh& m) {
 
 void write_scad(const std::filesystem::path& path, const PrintableMesh& m) {
   core::write_file_atomically(path, [&](std::ostream& os) {
-    os << "// cellform printable mesh, units: mm. Render: openscad -o out.stl this.scad\npolyhedron(points = [\n";
-    char buf[128];
-    for (std::size_t i = 0; i < m.vertices.size(); ++i) {
+    std::string out =
+        "// cellform printable mesh, units: mm. Render: openscad -o out.stl this.scad\npolyhedron(points = [\n";
+    for (std::size_t i = 0; i < m.vertices.size(); ++i) {  // "[%.9g,%.9g,%.9g]"
       const Vec3& v = m.vertices[i];
-      std::snprintf(buf, sizeof buf, "[%.9g,%.9g,%.9g]%s\n", v.x(), v.y(), v.z(), i + 1 < m.vertices.size() ? "," : "");
-      os << buf;
+      out += '[';
+      core::append_general(out, v.x());
+      out += ',';
+      core::append_general(out, v.y());
+      out += ',';
+      core::append_general(out, v.z());
+      out += i + 1 < m.vertices.size() ? "],\n" : "]\n";
+      core::drain(out, os);
     }
-    os << "], faces = [\n";
+    out += "], faces = [\n";
     for (std::size_t i = 0; i < m.triangles.size(); ++i) {
       const auto& t = m.triangles[i];
-      os << "[" << t[0] << "," << t[2] << "," << t[1] << "]" << (i + 1 < m.triangles.size() ? ",\n" : "\n");
+      out += '[';
+      core::append_integer(out, t[0]);
+      out += ',';
+      core::append_integer(out, t[2]);
+      out += ',';
+      core::append_integer(out, t[1]);
+      out += i + 1 < m.triangles.size() ? "],\n" : "]\n";
+      core::drain(out, os);
     }
-    os << "], convexity = 10);\n";
+    out += "], convexity = 10);\n";
+    core::drain(out, os, 0);
   });
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/atomic_file.h"
+#include "core/text.h"
 
 namespace cellform::exporters {
 
@@ -52,13 +53,31 @@ void write_veins_obj(const std::filesystem::path& path, const venation::VeinGrap
   core::write_file_atomically(path, [&](std::ostream& os) {
     os << "# cellform vein graph: " << g.cell.size() << " nodes, " << g.edges.size() << " segments\n"
        << "# per vertex: '#a flow radius order' follows its 'v' line\no veins\n";
-    char buf[160];
-    for (std::size_t i = 0; i < g.cell.size(); ++i) {
-      std::snprintf(buf, sizeof buf, "v %.9g %.9g %.9g\n#a %.9g %.9g %d\n", g.position[i].x(), g.position[i].y(),
-                    g.position[i].z(), g.flow[i], g.radius[i], g.order[i]);
-      os << buf;
+    std::string out;
+    for (std::size_t i = 0; i < g.cell.size(); ++i) {  // "v %.9g %.9g %.9g\n#a %.9g %.9g %d"
+      out += 'v';
+      for (double x : {g.position[i].x(), g.position[i].y(), g.position[i].z()}) {
+        out += ' ';
+        core::append_general(out, x);
+      }
+      out += "\n#a ";
+      core::append_general(out, g.flow[i]);
+      out += ' ';
+      core::append_general(out, g.radius[i]);
+      out += ' ';
+      core::append_integer(out, g.order[i]);
+      out += '\n';
+      core::drain(out, os);
     }
-    for (const auto& e : g.edges) os << "l " << e[0] + 1 << " " << e[1] + 1 << "\n";
+    for (const auto& e : g.edges) {
+      out += "l ";
+      core::append_integer(out, e[0] + 1);
+      out += ' ';
+      core::append_integer(out, e[1] + 1);
+      out += '\n';
+      core::drain(out, os);
+    }
+    core::drain(out, os, 0);
   });
 }
 

@@ -2,10 +2,11 @@
 #include "venation/vein_io.h"
 
 #include <algorithm>
-#include <iomanip>
 #include <ostream>
+#include <string>
 
 #include "core/atomic_file.h"
+#include "core/text.h"
 
 namespace cellform::venation {
 
@@ -37,64 +38,123 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
   double tip = 0;
   if (tree.radius.size() == tree.size() && !tree.radius.empty())
     tip = *std::min_element(tree.radius.begin(), tree.radius.end());
-  core::write_file_atomically(path, [&](std::ostream& out) {
-    out << std::fixed << std::setprecision(2);
-    out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << w << "\" height=\"" << h << "\" viewBox=\"0 0 " << w
-        << ' ' << h << "\">\n";
+  core::write_file_atomically(path, [&](std::ostream& os) {
+    std::string out;  // numbers as "%.2f"
+    auto num = [&](double x) { core::append_fixed(out, x, 2); };
+    out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"";
+    num(w);
+    out += "\" height=\"";
+    num(h);
+    out += "\" viewBox=\"0 0 ";
+    num(w);
+    out += ' ';
+    num(h);
+    out += "\">\n";
     if (!outline.points.empty()) {
-      out << "<path fill=\"#d8ecc0\" stroke=\"#4a7a2a\" stroke-width=\"1\" d=\"";
-      for (std::size_t i = 0; i < outline.points.size(); ++i)
-        out << (i ? " L" : "M") << X(outline.points[i].x()) << ' ' << Y(outline.points[i].y());
-      out << " Z\"/>\n";
+      out += "<path fill=\"#d8ecc0\" stroke=\"#4a7a2a\" stroke-width=\"1\" d=\"";
+      for (std::size_t i = 0; i < outline.points.size(); ++i) {
+        out += i ? " L" : "M";
+        num(X(outline.points[i].x()));
+        out += ' ';
+        num(Y(outline.points[i].y()));
+      }
+      out += " Z\"/>\n";
     }
-    out << "<g stroke=\"#2b3a1a\" stroke-linecap=\"round\" fill=\"none\">\n";
+    out += "<g stroke=\"#2b3a1a\" stroke-linecap=\"round\" fill=\"none\">\n";
     auto segment = [&](Index a, Index b, double r) {
-      const double width = std::max(sp.min_stroke, 2 * r * s);
-      out << "<path stroke-width=\"" << width << "\" d=\"M" << X(tree.positions[a].x()) << ' '
-          << Y(tree.positions[a].y()) << " L" << X(tree.positions[b].x()) << ' ' << Y(tree.positions[b].y())
-          << "\"/>\n";
+      out += "<path stroke-width=\"";
+      num(std::max(sp.min_stroke, 2 * r * s));
+      out += "\" d=\"M";
+      num(X(tree.positions[a].x()));
+      out += ' ';
+      num(Y(tree.positions[a].y()));
+      out += " L";
+      num(X(tree.positions[b].x()));
+      out += ' ';
+      num(Y(tree.positions[b].y()));
+      out += "\"/>\n";
+      core::drain(out, os);
     };
     for (Index i = 0; i < tree.size(); ++i)
       if (tree.parent[i] != kNoIndex) segment(tree.parent[i], i, radius_of(tree, i));
     for (const auto& [a, b] : tree.anastomoses) segment(a, b, tip);
-    out << "</g>\n";
+    out += "</g>\n";
     if (sp.draw_sources)
-      for (const Vec3& q : sources)
-        out << "<circle cx=\"" << X(q.x()) << "\" cy=\"" << Y(q.y()) << "\" r=\"2\" fill=\"#c03020\"/>\n";
-    out << "</svg>\n";
+      for (const Vec3& q : sources) {
+        out += "<circle cx=\"";
+        num(X(q.x()));
+        out += "\" cy=\"";
+        num(Y(q.y()));
+        out += "\" r=\"2\" fill=\"#c03020\"/>\n";
+        core::drain(out, os);
+      }
+    out += "</svg>\n";
+    core::drain(out, os, 0);
   });
 }
 
 void write_vein_ply(const std::filesystem::path& path, const VeinTree& tree) {
   const auto edges = tree.edges();
-  core::write_file_atomically(path, [&](std::ostream& out) {
-    out << "ply\nformat ascii 1.0\ncomment cellform space-colonisation veins\nelement vertex " << tree.size()
-        << "\nproperty float x\nproperty float y\nproperty float z\nproperty float radius\nproperty float "
-           "flow\nproperty int order\n"
-        << "element edge " << edges.size() << "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
-    out << std::setprecision(9);
-    for (Index i = 0; i < tree.size(); ++i) {
+  core::write_file_atomically(path, [&](std::ostream& os) {
+    std::string out = "ply\nformat ascii 1.0\ncomment cellform space-colonisation veins\nelement vertex ";
+    core::append_integer(out, tree.size());
+    out +=
+        "\nproperty float x\nproperty float y\nproperty float z\nproperty float radius\nproperty float "
+        "flow\nproperty int order\nelement edge ";
+    core::append_integer(out, edges.size());
+    out += "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
+    for (Index i = 0; i < tree.size(); ++i) {  // numbers as "%.9g"
       const Vec3& q = tree.positions[i];
-      out << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << radius_of(tree, i) << ' '
-          << (tree.flow.size() == tree.size() ? tree.flow[i] : 0.0) << ' '
-          << (tree.order.size() == tree.size() ? tree.order[i] : 0) << '\n';
+      for (double x : {q.x(), q.y(), q.z(), radius_of(tree, i), tree.flow.size() == tree.size() ? tree.flow[i] : 0.0}) {
+        core::append_general(out, x);
+        out += ' ';
+      }
+      core::append_integer(out, tree.order.size() == tree.size() ? tree.order[i] : 0);
+      out += '\n';
+      core::drain(out, os);
     }
-    for (const auto& [a, b] : edges) out << a << ' ' << b << '\n';
+    for (const auto& [a, b] : edges) {
+      core::append_integer(out, a);
+      out += ' ';
+      core::append_integer(out, b);
+      out += '\n';
+      core::drain(out, os);
+    }
+    core::drain(out, os, 0);
   });
 }
 
 void write_vein_obj(const std::filesystem::path& path, const VeinTree& tree) {
-  core::write_file_atomically(path, [&](std::ostream& out) {
-    out << "# cellform space-colonisation veins: " << tree.size()
-        << " nodes\n# per vertex: \"# r radius order flow\"\n";
-    out << std::setprecision(9);
-    for (Index i = 0; i < tree.size(); ++i) {
+  core::write_file_atomically(path, [&](std::ostream& os) {
+    std::string out = "# cellform space-colonisation veins: ";
+    core::append_integer(out, tree.size());
+    out += " nodes\n# per vertex: \"# r radius order flow\"\n";
+    for (Index i = 0; i < tree.size(); ++i) {  // numbers as "%.9g"
       const Vec3& q = tree.positions[i];
-      out << "v " << q.x() << ' ' << q.y() << ' ' << q.z() << "\n# r " << radius_of(tree, i) << ' '
-          << (tree.order.size() == tree.size() ? tree.order[i] : 0) << ' '
-          << (tree.flow.size() == tree.size() ? tree.flow[i] : 0.0) << '\n';
+      out += "v ";
+      core::append_general(out, q.x());
+      out += ' ';
+      core::append_general(out, q.y());
+      out += ' ';
+      core::append_general(out, q.z());
+      out += "\n# r ";
+      core::append_general(out, radius_of(tree, i));
+      out += ' ';
+      core::append_integer(out, tree.order.size() == tree.size() ? tree.order[i] : 0);
+      out += ' ';
+      core::append_general(out, tree.flow.size() == tree.size() ? tree.flow[i] : 0.0);
+      out += '\n';
+      core::drain(out, os);
     }
-    for (const auto& [a, b] : tree.edges()) out << "l " << a + 1 << ' ' << b + 1 << '\n';
+    for (const auto& [a, b] : tree.edges()) {
+      out += "l ";
+      core::append_integer(out, a + 1);
+      out += ' ';
+      core::append_integer(out, b + 1);
+      out += '\n';
+      core::drain(out, os);
+    }
+    core::drain(out, os, 0);
   });
 }
 
