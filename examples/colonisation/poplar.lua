@@ -32,6 +32,6 @@ colonisation {
 }
 
 -- At 120 mm a full-size leaf has vein segments of 0.03 mm, far below the 0.4 mm printable radius: its
--- reticulum prints as one closed plate (4.45 million segments thickened in about 65 s with 3 GB at the
+-- reticulum prints as one closed plate (4.45 million segments thickened in about 45 s with 3 GB at the
 -- peak; the estimate before thickening says 4.5 GB, above the default limit of 2000 MB, hence max_memory).
 print { formats = "stl", max_memory = 5000 }
