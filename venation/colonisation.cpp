@@ -352,7 +352,7 @@ bool Colonisation::Impl::lazy_step(Index s, Sectors& st) {
   const double moved = (nodes.point(near[s]) - nodes.point(st.anchor)).norm() * (1 + 1e-12);
   const double r0 = std::sqrt(near_d2[s]);
   const double tol = tolerance(q);
-  st.slack = std::min(st.slack - 2 * last_D - moved, r0 - last_D - moved) - tol;
+  st.slack = detail::lazy_slack_after(st.slack, r0, last_D, moved, tol);
   st.anchor = near[s];
   if (tie) return false;
   if (st.slack < kLazyRenew * step_D) {

@@ -24,6 +24,21 @@ namespace detail {
 
 inline Vec3 lift(const Vec2& p) { return Vec3(p.x(), p.y(), 0.0); }
 
+/// Lazy sector mode (Sectors below): the margin bound after a step. Before it, every node v but the
+/// anchor a had |v - s| - |v - a| >= slack. The step placed nodes at most `placed` from an older node,
+/// and the nearest node to s is now a' at distance r0, `moved` from a. Then every node w but a' has
+/// |w - s| - |w - a'| >= the result (model units), less `tol` for rounding:
+///  - an older node: its margin falls by at most `moved` (|w - a'| <= |w - a| + moved);
+///  - a node placed from an older v other than a: at most `placed` nearer s and `placed` farther from a',
+///    so slack - 2 placed - moved;
+///  - a itself and a node placed from a: at least r0 from s (a' is the nearest) and at most
+///    placed + moved from a', so r0 - placed - moved. (Never the smaller while slack <= |a - s|, which
+///    holds for any margin by the triangle inequality, since r0 >= |a - s| - placed; kept as the direct
+///    bound.) tests/venation/colonisation_test.cpp checks the result against brute force.
+inline double lazy_slack_after(double slack, double r0, double placed, double moved, double tol) {
+  return std::min(slack - 2 * placed - moved, r0 - placed - moved) - tol;
+}
+
 /// Alive sources hashed by grid cell, for the birth-distance test of new darts.
 class SourceGrid {
  public:
