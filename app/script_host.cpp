@@ -32,6 +32,7 @@ int api_section(lua_State* L) {
   return guarded(L, [L](Impl& I) {
     const std::string section = lua_tostring(L, lua_upvalueindex(1));
     const std::string at = I.where(1);
+    I.require_loading(section, at);
     if (lua_gettop(L) > 1) throw InvalidInput(at + section + "{...} takes one table of named parameters");
     if (section == "cells")
       section_cells(I, at);
@@ -64,6 +65,7 @@ int api_section(lua_State* L) {
 int api_params(lua_State* L) {
   return guarded(L, [L](Impl& I) {
     const std::string at = I.where(1);
+    I.require_loading("params", at);
     I.once("params", at);
     if (lua_type(L, 1) != LUA_TTABLE || lua_gettop(L) != 1)
       throw InvalidInput(at + "params{...} takes one table of name = default");
@@ -118,7 +120,9 @@ int api_params(lua_State* L) {
   });
 }
 
+/// print("text", ...) writes a line; print{...} (one table) is the print section, named in upvalue 1.
 int api_print(lua_State* L) {
+  if (lua_gettop(L) == 1 && lua_type(L, 1) == LUA_TTABLE) return api_section(L);
   Impl& I = *self_of(L);
   const int n = lua_gettop(L);
   std::string line;
@@ -161,11 +165,9 @@ ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
   lua_pushnil(L);
   lua_setfield(L, -2, "dump");
   lua_pop(L, 1);
-  lua_pushcfunction(L, api_print);
-  lua_setglobal(L, "print");
   for (const char* section : kSections) {
     lua_pushstring(L, section);
-    lua_pushcclosure(L, api_section, 1);
+    lua_pushcclosure(L, std::string_view(section) == "print" ? api_print : api_section, 1);
     lua_setglobal(L, section);
   }
   lua_pushcfunction(L, api_params);

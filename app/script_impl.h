@@ -418,7 +418,18 @@ struct ScriptHost::Impl {
 
   void once(const std::string& section, const std::string& at) {
     auto [it, fresh] = sections_seen.emplace(section, at);
-    if (!fresh) throw InvalidInput(at + section + "{...} is given twice (first at " + it->second + ")");
+    if (fresh) return;
+    std::string first = it->second;  // "file:line: " -> "file:line"
+    while (!first.empty() && (first.back() == ' ' || first.back() == ':')) first.pop_back();
+    throw InvalidInput(at + section + "{...} is given twice (first at " + first + ")");
+  }
+
+  /// The scene is described while the script loads; a rule function runs later, during the steps.
+  void require_loading(const std::string& section, const std::string& at) const {
+    if (!cfg)
+      throw InvalidInput(at + section +
+                         "{...} describes the scene and can only be called at the top level of the script, not "
+                         "inside a rule function");
   }
 };
 

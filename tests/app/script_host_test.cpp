@@ -202,6 +202,39 @@ TEST_CASE("rule functions run per cell and report errors with step and cell", "[
       Contains("rule function ran more than 10000 instructions in one call") && !Contains("--lua-instructions"));
 }
 
+TEST_CASE("print writes a line, print{} is the print section, and no section runs inside a rule", "[script][rules]") {
+  ScriptHost host;
+  std::vector<std::string> lines;
+  host.set_print([&](const std::string& line) { lines.push_back(line); });
+  const auto cfg = host.load(
+      "print('hello', 3)\nprint{ formats = 'stl' }\nprint()\ndisc { radius = 2 }\nvenation {}\n"
+      "division { rule = function(cell) print('rule', cell.id) return false end }\n",
+      "p.lua", {});
+  CHECK(lines == std::vector<std::string>{"hello\t3", ""});
+  CHECK(cfg.print.has_value());
+  cellform::cells::Cells c;
+  cellform::cells::add_cell(c, {1, 0, 0});
+  CHECK_FALSE(host.rules().divides(c, 0));
+  CHECK(lines.back() == "rule\t0");
+
+  // every scene function called from a rule (while the steps run) is refused, naming it and the line;
+  // it crashed before
+  for (const std::string call : {"print{}", "venation{}", "params{x = 1}", "disc{radius = 1}", "petiole{}", "cells{}",
+                                 "run{}", "division{}", "ground{}"}) {
+    INFO(call);
+    ScriptHost late;
+    late.load("disc { radius = 2 }\ndivision { rule = function(cell)\n  " + call + "\n  return false end }\n",
+              "late.lua", {});
+    const auto name = call.substr(0, call.find('{'));
+    CHECK_THROWS_WITH(late.rules().divides(c, 0),
+                      Contains("late.lua:3: " + name +
+                               "{...} describes the scene and can only be called at the top "
+                               "level of the script, not inside a rule function"));
+  }
+  CHECK(load_error("run { steps = 2 }\nrun { steps = 3 }\n") ==
+        "test/leaf.lua:2: run{...} is given twice (first at test/leaf.lua:1)");
+}
+
 TEST_CASE("docs/scripting.md documents every parameter as the program knows it", "[script][docs]") {
   std::ifstream in(std::string(CELLFORM_SOURCE_DIR) + "/docs/scripting.md");
   std::stringstream s;
