@@ -74,6 +74,13 @@ Start start_from(const RunOptions& o) {
       if (s.colonisation_bytes.empty() || f.chunks.count("cells")) s.cells_bytes = f.at("cells", what);
       s.has_target = true;
       s.resume = true;
+      // refused before anything is written: the checkpoint keeps its run's target and seed
+      if (o.steps && *o.steps < s.step)
+        throw InputError(what + " is at step " + std::to_string(s.step) + "; --steps " + std::to_string(*o.steps) +
+                         " would go back (give a total of at least " + std::to_string(s.step) + ")");
+      if (o.seed && *o.seed != *s.seed)
+        throw InputError("--seed " + std::to_string(*o.seed) + ": a resumed run keeps the seed of " + what + " (" +
+                         std::to_string(*s.seed) + "); start a new run to use another seed");
       if (o.steps) s.target_steps = *o.steps;
       if (o.out) s.out_dir = *o.out;
       if (meta.contains("checkpoint_every") && meta["checkpoint_every"].is_number_unsigned())

@@ -406,6 +406,30 @@ TEST_CASE("a rule error names the checkpoint of this run, never one left by an e
   CHECK_THAT(resumed.err, Contains("(the last checkpoint is " + kept.string() + ", the one resumed)"));
 }
 
+TEST_CASE("resume refuses to go back in steps or to change the seed, leaving the checkpoint as it was",
+          "[cli][checkpoint]") {
+  TempDir t("cli-resume-back");
+  const auto cells = t.write("small.lua", kSmall);
+  const auto veins = t.write("few.lua",
+                             "leaf { shape = 'ellipse' }\n"
+                             "colonisation { type = 'open', growth = 'none', initial_length = 200, darts = 2000 }\n");
+  for (const auto& script : {cells, veins}) {
+    INFO(script.filename().string());
+    const fs::path out = t.path / script.stem();
+    REQUIRE(cli({"run", script.string(), "--out", out.string(), "--steps", "6", "--quiet"}).code == 0);
+    const fs::path ck = out / "checkpoint.cfck";
+    const std::string before = slurp(ck);
+    const CliResult back = cli({"resume", ck.string(), "--steps", "4", "--quiet"});
+    CHECK(back.code == 2);
+    CHECK_THAT(back.err, Contains("is at step 6; --steps 4 would go back"));
+    const CliResult seed = cli({"resume", ck.string(), "--seed", "99", "--quiet"});
+    CHECK(seed.code == 2);
+    CHECK_THAT(seed.err, Contains("--seed 99: a resumed run keeps the seed of"));
+    CHECK(slurp(ck) == before);
+    CHECK(cli({"resume", ck.string(), "--steps", "6", "--quiet"}).code == 0);  // the same step: outputs again
+  }
+}
+
 TEST_CASE("periodic checkpoints come every N steps, but not within output.checkpoint_seconds of the last", "[cli]") {
   using cellform::app::CheckpointClock;
   CheckpointClock exact(4, 0);
