@@ -273,7 +273,14 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
   } catch (...) {
     // an unreadable old run.json only means we cannot clean up after it
   }
-  for (const std::string& n : names) {
+  // every file is checked before any moves, so a missing one leaves the earlier outputs as they were
+  std::vector<std::string> order;
+  for (const std::string& n : names)
+    if (std::find(order.begin(), order.end(), n) == order.end()) order.push_back(n);
+  for (const std::string& n : order)
+    if (!fs::is_regular_file(staging / n))
+      throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': it was not written");
+  for (const std::string& n : order) {
     const fs::path to = dir / n;
     core::ensure_directory(to.parent_path());
     std::error_code ec;

@@ -165,7 +165,7 @@ void section_print(Impl& I, const std::string& at) {
       throw InvalidInput(at + "print.formats: unknown format '" + f + "' (allowed: stl, obj, ply, scad, vdb)" +
                          (near.empty() ? "" : "; did you mean '" + near + "'?"));
     }
-    p.formats.push_back(f);
+    if (std::find(p.formats.begin(), p.formats.end(), f) == p.formats.end()) p.formats.push_back(f);  // once each
   }
   if (p.formats.empty()) throw InvalidInput(at + "print.formats must name at least one of stl, obj, ply, scad, vdb");
   if (!p.veins && !p.shell)

@@ -291,6 +291,19 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
   CHECK(wall["min"].get<double>() > 0.1);  // single rays at the crotch of a junction can be short
   CHECK(wall["missed"].get<std::size_t>() * 20 < wall["samples"].get<std::size_t>());
 
+  SECTION("a format named twice is written once, and the re-run replaces the earlier outputs") {
+    // 'stl, stl' made the output commit fail half way, leaving new and old files mixed
+    const std::string text = slurp(script);
+    t.write("print.lua", text.substr(0, text.find("print {")) + "print { formats = 'stl, stl' }\n");
+    r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(fs::exists(out / "printable.stl"));
+    CHECK_FALSE(fs::exists(out / "printable.obj"));  // the earlier run's, not written again
+    const auto outputs = nlohmann::json::parse(slurp(out / "run.json"))["outputs"];
+    CHECK(std::count(outputs.begin(), outputs.end(), "printable.stl") == 1);
+  }
+
   SECTION("a form that falls apart is an error when one piece is required") {
     const auto two = t.write("two.lua",
                              "cells { time_step = 0.2, drag = {0.8, 0.8, 0.3} }\n"
