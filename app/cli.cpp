@@ -55,11 +55,12 @@ struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-std::uint64_t parse_count(const std::string& flag, const std::string& text, std::uint64_t max) {
+std::uint64_t parse_count(const std::string& flag, const std::string& text, std::uint64_t max, std::uint64_t min = 0) {
   std::uint64_t v = 0;
   const auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (ec != std::errc() || p != text.data() + text.size() || v > max)
-    throw UsageError(flag + " takes a whole number from 0 to " + std::to_string(max) + ", got '" + text + "'");
+  if (ec != std::errc() || p != text.data() + text.size() || v > max || v < min)
+    throw UsageError(flag + " takes a whole number from " + std::to_string(min) + " to " + std::to_string(max) +
+                     ", got '" + text + "'");
   return v;
 }
 
@@ -133,11 +134,9 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       } else if (a == "--checkpoint-every") {
         o.checkpoint_every = parse_count(a, value(), 1'000'000'000ull);
       } else if (a == "--lua-instructions") {
-        o.limits.instructions = parse_count(a, value(), ~0ull);
-        if (o.limits.instructions == 0) throw UsageError("--lua-instructions must be at least 1");
+        o.limits.instructions = parse_count(a, value(), ~0ull, 1);
       } else if (a == "--lua-memory") {
-        const std::uint64_t mb = parse_count(a, value(), 65536);
-        if (mb == 0) throw UsageError("--lua-memory must be at least 1 (MB)");
+        const std::uint64_t mb = parse_count(a, value(), 65536, 1);  // MB
         o.limits.memory_bytes = static_cast<std::size_t>(mb) << 20;
       } else if (a == "--set") {
         const std::string& kv = value();

@@ -207,7 +207,10 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
 
   const std::string chunk = "@" + script_path.string();
   I.memory_exceeded = false;
-  if (luaL_loadbufferx(L, source.data(), source.size(), chunk.c_str(), "t") != LUA_OK) {
+  // as the lua command accepts them: a UTF-8 byte-order mark, and a first line "#!..." (made a comment)
+  std::string text = source.rfind("\xEF\xBB\xBF", 0) == 0 ? source.substr(3) : source;
+  if (!text.empty() && text[0] == '#') text.insert(0, "--");
+  if (luaL_loadbufferx(L, text.data(), text.size(), chunk.c_str(), "t") != LUA_OK) {
     std::string msg = lua_tostring(L, -1);
     lua_pop(L, 1);
     throw InvalidInput(I.describe(msg));

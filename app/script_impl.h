@@ -159,18 +159,27 @@ struct ScriptHost::Impl {
     return p;
   }
 
-  static void hook(lua_State* L, lua_Debug*) {
+  static void hook(lua_State* L, lua_Debug* ar) {
     Impl* self = *static_cast<Impl**>(lua_getextraspace(L));
     self->executed += kHookEvery;
     if (self->executed > self->budget) {
+      // the line running now (luaL_error would name the caller's, which for the main chunk is none)
+      lua_getinfo(L, "Sl", ar);
+      if (ar->currentline > 0)
+        lua_pushfstring(L, "%s:%d: ", ar->short_src, ar->currentline);
+      else
+        lua_pushliteral(L, "");
       if (self->rule_call)
-        luaL_error(L,
-                   "a rule function ran more than %I instructions in one call (an endless loop?); it is called for "
-                   "every cell, so it must be short",
-                   static_cast<lua_Integer>(self->budget));
-      luaL_error(L,
-                 "instruction budget of %I instructions exceeded (an endless loop?); raise it with --lua-instructions",
-                 static_cast<lua_Integer>(self->budget));
+        lua_pushfstring(L,
+                        "a rule function ran more than %I instructions in one call (an endless loop?); it is called "
+                        "for every cell, so it must be short",
+                        static_cast<lua_Integer>(self->budget));
+      else
+        lua_pushfstring(
+            L, "instruction budget of %I instructions exceeded (an endless loop?); raise it with --lua-instructions",
+            static_cast<lua_Integer>(self->budget));
+      lua_concat(L, 2);
+      lua_error(L);
     }
   }
 
@@ -190,11 +199,30 @@ struct ScriptHost::Impl {
     budget = call_budget;
     rule_call = rule;
     memory_exceeded = false;
-    const int rc = lua_pcall(L, nargs, nresults, 0);
+    const int base = lua_gettop(L) - nargs;  // the function; the handler goes below it
+    lua_pushcfunction(L, &Impl::error_object_text);
+    lua_insert(L, base);
+    const int rc = lua_pcall(L, nargs, nresults, base);
+    lua_remove(L, base);
     if (rc == LUA_OK) return {};
     std::string msg = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "error object is not a string";
     lua_pop(L, 1);
     return describe(msg);
+  }
+
+  /// Message handler: error(x) with x not a string or number becomes a message with the script line.
+  static int error_object_text(lua_State* L) {
+    if (lua_type(L, 1) == LUA_TSTRING || lua_type(L, 1) == LUA_TNUMBER) return 1;
+    const std::string type = luaL_typename(L, 1);
+    for (int level = 1; level <= 2; ++level) {  // the caller of error(), past error() itself
+      luaL_where(L, level);
+      if (lua_rawlen(L, -1) > 0) break;
+      lua_pop(L, 1);
+      if (level == 2) lua_pushliteral(L, "");
+    }
+    lua_pushfstring(L, "error() was raised with a %s value, not a message; give error a string", type.c_str());
+    lua_concat(L, 2);
+    return 1;
   }
 
   std::string where(int level = 1) {

@@ -46,6 +46,9 @@ TEST_CASE("help, version and usage errors", "[cli]") {
   r = cli({"run", "x.lua", "--sed", "3"});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("did you mean '--seed'"));
+  r = cli({"run", "x.lua", "--lua-memory", "0"});  // the range given is the range checked
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--lua-memory takes a whole number from 1 to 65536, got '0'"));
   r = cli({"run"});
   CHECK(r.code == 2);
   r = cli({"params"});

@@ -235,6 +235,20 @@ TEST_CASE("print writes a line, print{} is the print section, and no section run
         "test/leaf.lua:2: run{...} is given twice (first at test/leaf.lua:1)");
 }
 
+TEST_CASE("errors without a message, runaway loops and file headers name the line", "[script]") {
+  CHECK(load_error("disc { radius = 2 }\nerror({})\n") ==
+        "test/leaf.lua:2: error() was raised with a table value, not a message; give error a string");
+  CHECK(load_error("error()\n") ==
+        "test/leaf.lua:1: error() was raised with a nil value, not a message; give error a string");
+  ScriptLimits tight;
+  tight.instructions = 100000;
+  CHECK_THAT(load_error("disc { radius = 2 }\nlocal n = 0\nwhile true do\n  n = n + 1\nend\n", {}, tight),
+             Contains("test/leaf.lua:") && Contains(": instruction budget of 100000 instructions exceeded"));
+  // a byte-order mark and a #! line, as editors and the lua command allow; line numbers stay
+  CHECK_FALSE(load("\xEF\xBB\xBF#!/usr/bin/env cellform\ndisc { radius = 2 }\n").initial_cells.empty());
+  CHECK_THAT(load_error("#!/usr/bin/env cellform\ndisc { radius = -2 }\n"), Contains("test/leaf.lua:2:"));
+}
+
 TEST_CASE("docs/scripting.md documents every parameter as the program knows it", "[script][docs]") {
   std::ifstream in(std::string(CELLFORM_SOURCE_DIR) + "/docs/scripting.md");
   std::stringstream s;
