@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <iomanip>
 #include <map>
 #include <set>
 #include <sstream>
@@ -352,12 +353,17 @@ struct ScriptHost::Impl {
     const std::string name = f.section + "." + f.name;
     auto bad = [&](double x) { return !std::isfinite(x) || x < f.min || x > f.max || (f.min_exclusive && x <= f.min); };
     auto fail = [&](const std::string& got) {
-      return InvalidInput(at + name + " must be " + allowed_text(f) + ", got " + got);
+      // allowed_text leaves out the far limit that every number has (1e300): say it when it is the one passed
+      const bool far = f.max >= 1e299 && (v.num > f.max || v.vec.cwiseAbs().maxCoeff() > f.max);
+      std::ostringstream limit;
+      limit << f.max;
+      return InvalidInput(at + name + " must be " + allowed_text(f) + (far ? " and at most " + limit.str() : "") +
+                          ", got " + got);
     };
     if (f.kind == Kind::number || f.kind == Kind::integer ||
         (f.kind == Kind::number_or_function && v.ref == LUA_NOREF)) {
       std::ostringstream g;
-      g << v.num;
+      g << std::setprecision(15) << v.num;  // enough to show why 3.0000000001 is not whole
       if (bad(v.num)) throw fail(g.str());
       if (f.kind == Kind::integer && v.num != std::floor(v.num)) throw fail(g.str());
     } else if (f.kind == Kind::vec3) {

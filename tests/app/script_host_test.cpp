@@ -247,6 +247,10 @@ TEST_CASE("errors without a message, runaway loops and file headers name the lin
   // a byte-order mark and a #! line, as editors and the lua command allow; line numbers stay
   CHECK_FALSE(load("\xEF\xBB\xBF#!/usr/bin/env cellform\ndisc { radius = 2 }\n").initial_cells.empty());
   CHECK_THAT(load_error("#!/usr/bin/env cellform\ndisc { radius = -2 }\n"), Contains("test/leaf.lua:2:"));
+  // a range message names the limit that was passed, and shows the value as given
+  CHECK_THAT(load_error("venation { threshold = 1e308 }\n"),
+             Contains("venation.threshold must be a number > 0 and at most 1e+300, got 1e+308"));
+  CHECK_THAT(load_error("cells { neighbours = 3.0000000001 }\n"), Contains("got 3.0000000001"));
 }
 
 TEST_CASE("docs/scripting.md documents every parameter as the program knows it", "[script][docs]") {
