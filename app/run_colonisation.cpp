@@ -50,6 +50,9 @@ cells::Cells grow_sheet(const RunOptions& o, const SceneConfig& cfg, ScriptHost&
   return sim.cells();
 }
 
+constexpr const char* kNoSheetSeeds =
+    "surface{cells = true} needs seeds = {{x, y, z}, ...} or a petiole{...} cell where the veins start";
+
 /// The colonisation of the spec's domain; for surface{cells = true} the domain is the sheet of `sheet`,
 /// with the seeds (default: the petiole cells) moved to their nearest points of it.
 /// With `state` (resume), the run continues from that Colonisation::save() state instead of step 0.
@@ -76,10 +79,7 @@ venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cel
   if (seeds.empty())
     for (std::size_t i = 0; i < sheet->size(); ++i)
       if (sheet->type[i] == cells::CellType::petiole) seeds.push_back(sheet->position[i]);
-  if (seeds.empty())
-    throw core::InvalidInput(
-        "surface{cells = true} needs seeds = {{x, y, z}, ...} or a petiole{...} cell where "
-        "the veins start");
+  if (seeds.empty()) throw core::InvalidInput(kNoSheetSeeds);
   d.initial_nodes = {d.mesh.vertices[d.mesh.triangles[0][0]]};
   const venation::PreparedDomain sheet_surface(d);
   for (core::Vec3& p : seeds) p = sheet_surface.closest_point(p);
@@ -152,6 +152,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
   try {
     std::optional<cells::Cells> sheet;
     if (spec.on_cells) {  // resume: the sheet grown by the first run, not grown again
+      if (spec.domain.initial_nodes.empty() && cfg.scene.petioles.empty())  // said now, not after the growth
+        throw core::InvalidInput(kNoSheetSeeds);
       if (s.resume && s.cells_bytes.empty())
         throw core::InvalidInput("checkpoint '" + o.checkpoint.string() +
                                  "' holds no grown cells, but the script grows veins on cells (surface{cells = true})");

@@ -90,6 +90,17 @@ TEST_CASE("3-D space colonisation: veins in a volume and on a grown cell sheet",
     CHECK(r.code == 2);
     CHECK_THAT(r.err, Contains("bad.lua:1:") && Contains("volume.seeds[1]"));
   }
+  SECTION("a sheet with no seed and no petiole is refused before the cells grow") {
+    // it was said only after the whole growth (here a million steps)
+    const auto bare = t.write("bare.lua",
+                              "run { steps = 1000000 }\n"
+                              "disc { radius = 4 }\n"
+                              "surface { cells = true }\n"
+                              "colonisation {}\n");
+    const auto r = cli({"run", bare.string(), "--out", (t.path / "bare").string()});
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains("surface{cells = true} needs seeds") && !Contains("growing the cell sheet"));
+  }
 }
 
 TEST_CASE("space colonisation resumes to the bit-identical veins, in a leaf and in a volume", "[cli][checkpoint]") {
