@@ -151,7 +151,7 @@ std::vector<Field> build() {
   f.push_back(vec("half_space", "normal", "{0, 0, 1}", -kFar, kFar, "direction", "cells stay on this side"));
   f.push_back(
       vec("ball", "centre", "{0, 0, 0}", -kFar, kFar, "model units", "centre of a solid ball cells stay out of"));
-  f.push_back(num("ball", "radius", "", 0, kInf, true, "model units", "its radius"));
+  f.push_back(num("ball", "radius", "", 0, kFar, true, "model units", "its radius"));
   f.push_back(vec("box", "min", "", -kFar, kFar, "model units", "lower corner of a solid box cells stay out of"));
   f.push_back(vec("box", "max", "", -kFar, kFar, "model units", "upper corner"));
   f.push_back(text("mesh", "file", "", "STL or OBJ triangle mesh cells cannot cross (path relative to the script)"));

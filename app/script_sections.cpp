@@ -207,26 +207,40 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
   I.cfg->resolved["constraints"].push_back(rec);
   if (I.first_constraint.empty()) I.first_constraint = at + kind;
   forms::Obstacles& o = I.cfg->scene.obstacles;
+  forms::ObstacleNames& names = I.cfg->scene.obstacle_names;  // the scene's messages say the script line
+  const std::string name = at + kind + "{...}";
   if (kind == "ground") {
     o.half_spaces.push_back({Vec3(0, 0, v["height"].num), Vec3::UnitZ()});
+    names.half_spaces.push_back(name);
   } else if (kind == "half_space") {
     o.half_spaces.push_back({v["point"].vec, unit_vector(v["normal"].vec, at + kind + ".normal")});
+    names.half_spaces.push_back(name);
   } else if (kind == "ball") {
     o.spheres.push_back({v["centre"].vec, v["radius"].num});
+    names.spheres.push_back(name);
   } else if (kind == "box") {
     const Vec3 lo = v["min"].vec, hi = v["max"].vec;
     if ((lo.array() >= hi.array()).any()) throw InvalidInput(at + "box.min must be below box.max in x, y and z");
     o.boxes.push_back({lo, hi});
+    names.boxes.push_back(name);
   } else if (kind == "mesh") {
     std::filesystem::path file = v["file"].str;
     if (file.is_relative()) file = I.script_dir / file;
+    forms::TriangleMesh mesh;
     try {
-      forms::TriangleMesh mesh = forms::load_mesh(file);
-      for (Vec3& p : mesh.vertices) p *= v["scale"].num;
-      o.meshes.push_back(std::move(mesh));
+      mesh = forms::load_mesh(file);
     } catch (const std::exception& e) {
       throw InvalidInput(at + "mesh: " + e.what());
     }
+    for (Vec3& p : mesh.vertices) {
+      p *= v["scale"].num;
+      if (!(p.cwiseAbs().maxCoeff() <= kFarthest))  // as every script position
+        throw InvalidInput(at + "mesh: with scale = " + core::number_text(v["scale"].num) + ", a vertex of '" +
+                           v["file"].str + "' lies beyond " + core::number_text(kFarthest) +
+                           " model units, farther than any script position may");
+    }
+    o.meshes.push_back(std::move(mesh));
+    names.meshes.push_back(name);
   } else if (kind == "attractor") {
     I.cfg->scene.attractors.push_back({v["position"].vec, v["strength"].num, v["radius"].num});
   }

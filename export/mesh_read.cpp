@@ -10,6 +10,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "export/mesh_check.h"
+#include "forms/mesh_io.h"
 
 namespace cellform::exporters {
 
@@ -72,13 +73,11 @@ PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s) 
     malformed(path, "not an STL file (neither binary nor ASCII 'solid')");
   }
   std::vector<Vec3> corners;
-  while (in >> word)
-    if (word == "vertex") {
-      Vec3 p;
-      if (!(in >> p.x() >> p.y() >> p.z())) malformed(path, "ASCII STL vertex without three numbers");
-      corners.push_back(p);
-    }
-  if (corners.size() % 3 != 0) malformed(path, "ASCII STL facet without exactly three vertices");
+  try {
+    corners = forms::parse_ascii_stl(s);
+  } catch (const core::InvalidInput& e) {
+    malformed(path, std::string("malformed ASCII STL: ") + e.what());
+  }
   if (corners.empty()) malformed(path, "no facets in the STL file");
   return weld_soup(std::move(corners));
 }

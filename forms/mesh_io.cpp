@@ -1,14 +1,21 @@
-// Reading obstacle meshes (STL, OBJ) through OpenMesh's readers into a plain triangle soup.
+// Reading obstacle meshes: ASCII STL with a strict parser of its own, binary STL and OBJ through
+// OpenMesh's readers, into a plain triangle soup.
+#include "forms/mesh_io.h"
+
 #include <OpenMesh/Core/IO/MeshIO.hh>
 // MeshIO.hh must come first: it registers the reader modules.
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <iterator>
+#include <map>
 #include <mutex>
 #include <string>
 
@@ -142,9 +149,10 @@ std::string lower(std::string s) {
   return s;
 }
 
-// A binary STL is exactly 84 + 50 n bytes for the n triangles its header announces. A file of another size is
-// read as ASCII, which must start with "solid"; anything else is a damaged binary file.
-void check_stl_size(std::istream& in, std::uintmax_t size, const std::string& name) {
+// A binary STL is exactly 84 + 50 n bytes for the n triangles its header announces (OpenMesh and the
+// exporters' reader decide the same way), and true is returned. A file of another size is ASCII, which
+// must start with "solid"; anything else is a damaged binary file.
+bool is_binary_stl(std::istream& in, std::uintmax_t size, const std::string& name) {
   char head[84] = {};
   in.read(head, sizeof head);
   const auto got = static_cast<std::size_t>(in.gcount());
@@ -154,15 +162,41 @@ void check_stl_size(std::istream& in, std::uintmax_t size, const std::string& na
     if (std::string(head, std::min<std::size_t>(got, 5)) != "solid")
       throw core::InvalidInput("mesh " + name +
                                " is not an STL file: too short for binary STL and does not start with 'solid'");
-    return;
+    return false;
   }
   std::uint32_t n = 0;
   for (int k = 3; k >= 0; --k) n = (n << 8) | static_cast<unsigned char>(head[80 + k]);
   const std::uintmax_t expected = 84 + 50 * static_cast<std::uintmax_t>(n);
-  if (size == expected || std::string(head, 5) == "solid") return;
+  if (size == expected) return true;
+  if (std::string(head, 5) == "solid") return false;
   throw core::InvalidInput("mesh " + name + " is a damaged binary STL: its header announces " + std::to_string(n) +
                            " triangles (" + std::to_string(expected) + " bytes) but the file has " +
                            std::to_string(size) + " bytes");
+}
+
+// An ASCII STL as a mesh: corners at exactly the same position become one vertex and facets with a repeated
+// corner are dropped, as OpenMesh's binary reader does (a surface needs the shared vertices).
+TriangleMesh read_ascii_stl(std::istream& in, const std::string& name) {
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  std::vector<Vec3> corners;
+  try {
+    corners = parse_ascii_stl(text);
+  } catch (const core::InvalidInput& e) {
+    throw core::InvalidInput("mesh " + name + " is malformed: " + e.what());
+  }
+  TriangleMesh mesh;
+  std::map<std::array<double, 3>, Index> seen;
+  for (std::size_t t = 0; t + 2 < corners.size(); t += 3) {
+    std::array<Index, 3> tri{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      const Vec3& p = corners[t + k];
+      const auto [it, added] = seen.try_emplace({p.x(), p.y(), p.z()}, static_cast<Index>(mesh.vertices.size()));
+      if (added) mesh.vertices.push_back(p);
+      tri[k] = it->second;
+    }
+    if (tri[0] != tri[1] && tri[0] != tri[2] && tri[1] != tri[2]) mesh.triangles.push_back(tri);
+  }
+  return mesh;
 }
 
 // Lines of an OBJ file that define a vertex position ("v x y z"), to notice ones the reader had to skip.
@@ -180,7 +214,122 @@ std::size_t count_obj_vertex_lines(std::istream& in) {
   return count;
 }
 
+// The mesh if it has triangles and finite vertices; names the file otherwise.
+TriangleMesh checked(TriangleMesh mesh, const std::string& name) {
+  if (mesh.triangles.empty()) throw core::InvalidInput("mesh " + name + " has no triangles: not a mesh");
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+    if (!mesh.vertices[i].allFinite())
+      throw core::InvalidInput("mesh " + name + ": vertex " + std::to_string(i) +
+                               " has a non-finite coordinate (NaN or infinity)");
+  return mesh;
+}
+
 }  // namespace
+
+std::vector<Vec3> parse_ascii_stl(std::string_view text) {
+  enum class Expect { solid, facet, outer, vertex, endfacet, end };  // what the next line may be
+  Expect expect = Expect::solid;
+  std::vector<Vec3> corners;
+  int in_facet = 0;                                        // vertices of the facet being read
+  std::size_t line_no = 0, last_line = 0, facet_line = 0;  // last_line: the last one that is not blank
+  std::vector<std::string_view> words;
+  for (std::size_t at = 0; at <= text.size();) {
+    const std::size_t end = std::min(text.find('\n', at), text.size());
+    const std::string_view line = text.substr(at, end - at);
+    at = end + 1;
+    ++line_no;
+    words.clear();
+    for (std::size_t i = 0; i < line.size();) {
+      const std::size_t b = line.find_first_not_of(" \t\r\f\v", i);
+      if (b == std::string_view::npos) break;
+      const std::size_t e = std::min(line.find_first_of(" \t\r\f\v", b), line.size());
+      words.push_back(line.substr(b, e - b));
+      i = e;
+    }
+    if (words.empty()) continue;
+    last_line = line_no;
+    auto fail = [&](const std::string& what) {
+      std::string shown(line.substr(0, 80));
+      while (!shown.empty() && std::isspace(static_cast<unsigned char>(shown.back()))) shown.pop_back();
+      shown.erase(0, std::min(shown.find_first_not_of(" \t"), shown.size()));
+      return core::InvalidInput("line " + std::to_string(line_no) + ": " + what + " (the line reads '" + shown + "')");
+    };
+    // a number, all of the word ("1e-3", "-2", "+0.5"; "5five" is not one)
+    auto number = [](std::string_view w, double& x) {
+      if (w.size() > 1 && w[0] == '+' && w[1] != '-') w.remove_prefix(1);
+      const auto r = std::from_chars(w.data(), w.data() + w.size(), x);
+      return r.ec == std::errc() && r.ptr == w.data() + w.size();
+    };
+    // word i is this keyword, in any case
+    auto is = [&](std::size_t i, std::string_view keyword) {
+      if (i >= words.size() || words[i].size() != keyword.size()) return false;
+      for (std::size_t k = 0; k < keyword.size(); ++k)
+        if (std::tolower(static_cast<unsigned char>(words[i][k])) != keyword[k]) return false;
+      return true;
+    };
+    switch (expect) {
+      case Expect::solid:
+      case Expect::end:
+        if (!is(0, "solid"))
+          throw fail(expect == Expect::solid ? "an ASCII STL starts with 'solid'"
+                                             : "expected 'solid' or the end of the file after 'endsolid'");
+        expect = Expect::facet;  // the rest of the line is the solid's name
+        break;
+      case Expect::facet:
+        if (is(0, "endsolid")) {
+          expect = Expect::end;
+          break;
+        }
+        if (!is(0, "facet")) throw fail("expected 'facet normal nx ny nz' or 'endsolid'");
+        {
+          double n = 0;
+          if (!is(1, "normal") || words.size() != 5 || !number(words[2], n) || !number(words[3], n) ||
+              !number(words[4], n))
+            throw fail("a facet starts with 'facet normal' and three numbers");
+        }
+        facet_line = line_no;
+        expect = Expect::outer;
+        break;
+      case Expect::outer:
+        if (!(is(0, "outer") && is(1, "loop") && words.size() == 2)) throw fail("expected 'outer loop'");
+        in_facet = 0;
+        expect = Expect::vertex;
+        break;
+      case Expect::vertex:
+        if (is(0, "endloop") && words.size() == 1) {
+          if (in_facet != 3)
+            throw fail("the facet of line " + std::to_string(facet_line) + " has " + std::to_string(in_facet) +
+                       " vertices; a facet needs exactly three vertices");
+          expect = Expect::endfacet;
+          break;
+        }
+        if (!is(0, "vertex")) throw fail("expected 'vertex x y z' or 'endloop'");
+        if (in_facet == 3)
+          throw fail("a fourth vertex in the facet of line " + std::to_string(facet_line) +
+                     "; a facet needs exactly three vertices");
+        {
+          Vec3 p;
+          if (words.size() != 4 || !number(words[1], p.x()) || !number(words[2], p.y()) || !number(words[3], p.z()))
+            throw fail("a vertex needs three numbers");
+          if (!p.allFinite()) throw fail("a vertex needs three finite numbers (NaN and infinity are not allowed)");
+          corners.push_back(p);
+        }
+        ++in_facet;
+        break;
+      case Expect::endfacet:
+        if (!(is(0, "endfacet") && words.size() == 1)) throw fail("expected 'endfacet'");
+        expect = Expect::facet;
+        break;
+    }
+  }
+  if (expect == Expect::solid) throw core::InvalidInput("line 1: an ASCII STL starts with 'solid'; the file is blank");
+  if (expect == Expect::outer || expect == Expect::vertex || expect == Expect::endfacet)
+    throw core::InvalidInput("line " + std::to_string(last_line) + ": the file ends inside the facet of line " +
+                             std::to_string(facet_line) + " (cut short?)");
+  if (expect == Expect::facet)
+    throw core::InvalidInput("line " + std::to_string(last_line) + ": the file ends without 'endsolid' (cut short?)");
+  return corners;
+}
 
 TriangleMesh load_mesh(const fs::path& path) {
   const std::string name = std::string(1, '\'').append(path.string()).append(1, '\'');
@@ -195,7 +344,8 @@ TriangleMesh load_mesh(const fs::path& path) {
   std::ifstream probe(path, std::ios::binary);
   if (!probe || ec) throw core::FileError("mesh " + name + " cannot be opened for reading");
   if (size == 0) throw core::InvalidInput("mesh " + name + " is empty: not a mesh");
-  if (ext == ".stl") check_stl_size(probe, size, name);
+  // OpenMesh reads ASCII STL leniently (a bad number keeps the previous one, a cut file is a smaller mesh)
+  if (ext == ".stl" && !is_binary_stl(probe, size, name)) return checked(read_ascii_stl(probe, name), name);
   const std::size_t vertex_lines = ext == ".obj" ? count_obj_vertex_lines(probe) : 0;
   probe.close();
 
@@ -218,13 +368,7 @@ TriangleMesh load_mesh(const fs::path& path) {
                              " vertex lines ('v x y z') are not three numbers (NaN and infinity are not allowed)");
   if (importer.bad_index)
     throw core::InvalidInput("mesh " + name + " is malformed: a face uses a vertex that does not exist");
-  TriangleMesh mesh = std::move(importer.mesh);
-  if (mesh.triangles.empty()) throw core::InvalidInput("mesh " + name + " has no triangles: not a mesh");
-  for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-    if (!mesh.vertices[i].allFinite())
-      throw core::InvalidInput("mesh " + name + ": vertex " + std::to_string(i) +
-                               " has a non-finite coordinate (NaN or infinity)");
-  return mesh;
+  return checked(std::move(importer.mesh), name);
 }
 
 }  // namespace cellform::forms

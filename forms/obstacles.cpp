@@ -401,6 +401,36 @@ bool constrain(const Box& box, double margin, const Vec3& prev, Vec3& p, Vec3& v
 
 }  // namespace
 
+void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& positions, const ObstacleNames& names) {
+  validate(obstacles);
+  auto refuse_if_inside = [&](const auto& solid, const std::vector<std::string>& given, const char* kind,
+                              std::size_t index, const char* where) {
+    std::size_t count = 0, first = 0;
+    for (std::size_t i = positions.size(); i-- > 0;) {
+      if (inside(positions[i], solid, 0.0)) {
+        ++count;
+        first = i;
+      }
+    }
+    if (count == 0) return;
+    const std::string name = index < given.size() ? given[index] : std::string(kind) + " " + std::to_string(index);
+    const Vec3& p = positions[first];
+    throw InvalidInput(name + ": " + std::to_string(count) + " of the " + std::to_string(positions.size()) +
+                       (count == 1 ? " cells lies " : " cells lie ") + where + " (the first at {" +
+                       core::number_text(p.x()) + ", " + core::number_text(p.y()) + ", " + core::number_text(p.z()) +
+                       "}); obstacles must start outside the cells (touching them is fine)");
+  };
+  for (std::size_t i = 0; i < obstacles.half_spaces.size(); ++i) {
+    HalfSpace h = obstacles.half_spaces[i];
+    h.normal.normalize();
+    refuse_if_inside(h, names.half_spaces, "ground", i, "on its solid side");
+  }
+  for (std::size_t i = 0; i < obstacles.spheres.size(); ++i)
+    refuse_if_inside(obstacles.spheres[i], names.spheres, "sphere", i, "inside it");
+  for (std::size_t i = 0; i < obstacles.boxes.size(); ++i)
+    refuse_if_inside(obstacles.boxes[i], names.boxes, "box", i, "inside it");
+}
+
 bool PreparedObstacles::inside_solid(const Vec3& position, double margin) const {
   for (const HalfSpace& h : obstacles_.half_spaces)
     if (inside(position, h, margin)) return true;

@@ -4,6 +4,7 @@
 #include <array>
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "cells/cells.h"
@@ -48,10 +49,24 @@ struct Obstacles {
   bool empty() const { return half_spaces.empty() && spheres.empty() && boxes.empty() && meshes.empty(); }
 };
 
+/// How error messages name each obstacle, by kind and index in Obstacles (e.g. "leaf.lua:4: ball{...}", which
+/// says where it was asked for). An obstacle without a name here is "ground 0", "sphere 2", "box 1" or "mesh 0".
+struct ObstacleNames {
+  std::vector<std::string> half_spaces, spheres, boxes, meshes;
+};
+
 /// Throws core::InvalidInput naming the obstacle ("ground 0", "sphere 2", "box 1", "mesh 0") and what is
 /// allowed, for a zero or non-finite normal, a radius <= 0, a box with min > max, non-finite coordinates,
 /// or a mesh triangle index out of range.
 void validate(const Obstacles& obstacles);
+
+/// Throws core::InvalidInput if one of `positions` (model units) lies inside a solid obstacle: on the solid
+/// side of a half space, or inside a sphere or a box, deeper than a rounding tolerance; a position on the
+/// surface is outside. Obstacles only stop cells that cross their surface (and push them out across it), so
+/// cells that start inside would be thrown to the far side of the solid: obstacles must start outside the
+/// cells. The message names the first such obstacle (half spaces, then spheres, then boxes) as `names` does,
+/// how many positions it holds and the first of them. Also throws as validate() does.
+void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& positions, const ObstacleNames& names = {});
 
 /// Obstacles prepared for repeated use: a bounding-volume hierarchy over every mesh triangle.
 /// Build once per scene and call apply() every step; apply_obstacles() builds one per call.
@@ -100,7 +115,8 @@ void apply_obstacles(cells::Cells& cells, const std::vector<Vec3>& previous_posi
 /// Reads a triangle mesh from STL (ASCII or binary) or OBJ, chosen by the file extension. Polygons are
 /// split into triangle fans; non-manifold and open meshes are kept as they are. Throws core::FileError for a
 /// missing or unreadable file, core::InvalidInput for an unsupported extension, a malformed file, a file
-/// without triangles ("not a mesh") or non-finite coordinates; every message names the file.
+/// without triangles ("not a mesh") or non-finite coordinates; every message names the file. ASCII STL is read
+/// by parse_ascii_stl (forms/mesh_io.h), so a damaged or cut-short one is refused naming the line.
 TriangleMesh load_mesh(const std::filesystem::path& path);
 
 }  // namespace cellform::forms

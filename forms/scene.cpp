@@ -77,6 +77,7 @@ void Scene::apply_petioles(std::uint64_t step) {
 
 void Scene::start() {
   apply_petioles(sim_.step_count());
+  check_outside(desc_.obstacles, sim_.cells().position, desc_.obstacle_names);
   if (desc_.venation) {
     bool any = false;
     for (const cells::CellType t : sim_.cells().type) any = any || t == cells::CellType::petiole;

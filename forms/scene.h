@@ -29,6 +29,7 @@ struct SceneDescription {
   bool split_along_auxin = false;            ///< divisions split along the local auxin flow
   std::vector<PetioleSpec> petioles;         ///< sinks of the auxin flow and roots of the veins
   Obstacles obstacles;                       ///< solids and surfaces cells cannot pass
+  ObstacleNames obstacle_names;              ///< how messages name the obstacles (e.g. with their script line)
   std::vector<Attractor> attractors;         ///< points pulling cells
   double obstacle_margin = 0.0;              ///< model units cells keep from obstacle surfaces; 0 = 1% of rest length
 };
@@ -55,7 +56,8 @@ class Scene {
   const SceneDescription& description() const { return desc_; }
 
   /// Makes the petioles due at the current step count (call once after placing the initial cells).
-  /// Throws core::InvalidInput if venation is on and no petiole exists before the first step.
+  /// Throws core::InvalidInput if a cell lies inside a solid obstacle (see check_outside), or if venation is
+  /// on and no petiole exists before the first step.
   void start();
 
   /// Per-cell auxin source for venation (empty = venation.source for every cell).

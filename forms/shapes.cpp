@@ -1,8 +1,10 @@
 // Initial point sets.
 #include "forms/shapes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include "core/errors.h"
 
@@ -13,6 +15,21 @@ void check_positive(double v, const char* what) {
   if (!(v > 0) || !std::isfinite(v))
     throw core::InvalidInput(std::string(what) + " must be a positive number (model units), got " + std::to_string(v));
 }
+
+// A shape places at most this many cells (the limit division.max_cells has too).
+constexpr double kMaxShapeCells = 5e7;
+
+// Refuses a shape whose cell count, estimated in double precision (so a huge size or a tiny spacing
+// gives a huge or infinite count, never an overflowing integer), is above the limit. `what` names the
+// sizes the count comes from, e.g. "radius 10 at spacing 0.1".
+void check_cell_count(double count, const std::string& what) {
+  if (count <= kMaxShapeCells) return;
+  const std::string need = std::isfinite(count) ? "about " + core::number_text(count) + " cells (more than 50 million)"
+                                                : "more than 50 million cells";
+  throw core::InvalidInput(what + " would need " + need + "; raise the spacing or shrink the shape");
+}
+std::string at_spacing(double spacing) { return " at spacing " + core::number_text(spacing); }
+
 Vec3 unit_normal(const Vec3& n) {
   const double len = n.norm();
   if (!(len > 0) || !std::isfinite(len)) throw core::InvalidInput("shape normal must be a non-zero vector");
@@ -33,11 +50,10 @@ std::vector<Vec3> hex_rectangle(const Vec3& centre, const Vec3& normal, double w
   Vec3 u, v;
   plane_basis(unit_normal(normal), u, v);
   const double row = spacing * std::sqrt(3.0) / 2.0;
-  const long nx = static_cast<long>(std::floor(width / 2 / spacing)) + 1;
-  const long ny = static_cast<long>(std::floor(height / 2 / row));
-  if (static_cast<double>(2 * nx + 1) * static_cast<double>(2 * ny + 1) > 5e7)
-    throw core::InvalidInput("shape would need about " + std::to_string((2 * nx + 1) * (2 * ny + 1)) +
-                             " cells (more than 50 million); raise the spacing or shrink the shape");
+  const double half_columns = std::floor(width / 2 / spacing) + 1, half_rows = std::floor(height / 2 / row);
+  check_cell_count((2 * half_columns + 1) * (2 * half_rows + 1), "width " + core::number_text(width) + " x height " +
+                                                                     core::number_text(height) + at_spacing(spacing));
+  const auto nx = static_cast<long>(half_columns), ny = static_cast<long>(half_rows);
   std::vector<Vec3> out;
   for (long j = -ny; j <= ny; ++j) {
     const double shift = (j % 2 != 0) ? spacing / 2 : 0.0;
@@ -53,6 +69,10 @@ std::vector<Vec3> hex_rectangle(const Vec3& centre, const Vec3& normal, double w
 std::vector<Vec3> hex_disc(const Vec3& centre, const Vec3& normal, double radius, double spacing) {
   check_positive(radius, "radius");
   check_positive(spacing, "spacing");
+  // the lattice square around the disc, as hex_rectangle counts it (which would overflow its sides first)
+  const double side = 2 * (radius / spacing) + 2;
+  check_cell_count((side + 3) * (side / (std::sqrt(3.0) / 2) + 1),
+                   "radius " + core::number_text(radius) + at_spacing(spacing));
   std::vector<Vec3> out;
   for (const Vec3& p : hex_rectangle(centre, normal, 2 * radius + 2 * spacing, 2 * radius + 2 * spacing, spacing))
     if ((p - centre).norm() <= radius + 1e-9) out.push_back(p);
@@ -62,9 +82,10 @@ std::vector<Vec3> hex_disc(const Vec3& centre, const Vec3& normal, double radius
 std::vector<Vec3> sphere_points(const Vec3& centre, double radius, double spacing) {
   check_positive(radius, "radius");
   check_positive(spacing, "spacing");
-  const double area = 4 * std::numbers::pi * radius * radius;
-  const auto n = static_cast<long>(std::max(4.0, std::round(area / (spacing * spacing * std::sqrt(3.0) / 2))));
-  if (n > 50'000'000) throw core::InvalidInput("sphere would need " + std::to_string(n) + " cells; raise the spacing");
+  const double ratio = radius / spacing;  // squared after dividing: a tiny spacing cannot underflow to 0 first
+  const double count = std::max(4.0, std::round(4 * std::numbers::pi * ratio * ratio / (std::sqrt(3.0) / 2)));
+  check_cell_count(count, "radius " + core::number_text(radius) + at_spacing(spacing));
+  const auto n = static_cast<long>(count);
   std::vector<Vec3> out;
   out.reserve(static_cast<std::size_t>(n));
   const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
@@ -79,9 +100,11 @@ std::vector<Vec3> sphere_points(const Vec3& centre, double radius, double spacin
 
 std::vector<Vec3> line_points(const Vec3& from, const Vec3& to, double spacing) {
   check_positive(spacing, "spacing");
+  if (!from.allFinite() || !to.allFinite()) throw core::InvalidInput("line from and to must be finite positions");
   const double len = (to - from).norm();
-  const auto n = static_cast<long>(std::ceil(len / spacing));
-  if (n > 50'000'000) throw core::InvalidInput("line would need " + std::to_string(n) + " cells; raise the spacing");
+  const double count = std::ceil(len / spacing) + 1;
+  check_cell_count(count, "length " + core::number_text((to - from).stableNorm()) + at_spacing(spacing));
+  const auto n = static_cast<long>(count) - 1;
   std::vector<Vec3> out;
   for (long i = 0; i <= n; ++i)
     out.push_back(n == 0 ? from : from + (to - from) * (static_cast<double>(i) / static_cast<double>(n)));

@@ -11,6 +11,8 @@ using core::Vec3;
 
 /// Points of a hexagonal lattice with spacing `spacing` (model units) inside a disc of `radius`
 /// around `centre`, in the plane with unit normal `normal`. Always contains the centre.
+/// Every shape throws core::InvalidInput for a size or spacing that is not a finite number > 0, and for
+/// one that would need more than 50 million cells (the message names the sizes and the spacing).
 std::vector<Vec3> hex_disc(const Vec3& centre, const Vec3& normal, double radius, double spacing);
 
 /// Points of a hexagonal lattice filling a `width` x `height` rectangle centred at `centre` in the

@@ -91,6 +91,53 @@ TEST_CASE("input errors exit with 2 and one clear line", "[cli]") {
   CHECK_FALSE(fs::exists(t.path / "none"));  // nothing written on an input error
 }
 
+TEST_CASE("bad shapes, obstacle meshes and obstacles around the cells exit with 2 and their script line", "[cli]") {
+  TempDir t("cli-bad-forms");
+  auto run = [&](const std::string& name, const std::string& script) {
+    const auto path = t.write(name, script);
+    return cli({"run", path.string(), "--out", (t.path / "out").string(), "--quiet", "--steps", "2"});
+  };
+  // shapes too large to build: the cell limit, never a silent empty shape, a library error or a garbled count
+  for (const char* shape :
+       {"disc { radius = 1e300 }", "disc { radius = math.maxinteger }", "disc { radius = 1e18 }",
+        "disc { radius = 1, spacing = 1e-300 }", "rectangle { width = 2, height = 2, spacing = 1e-300 }",
+        "sphere { radius = 1e18 }", "sphere { radius = 1, spacing = 1e-300 }",
+        "line { from = {0, 0, 0}, to = {1, 0, 0}, spacing = 1e-300 }"}) {
+    INFO(shape);
+    const auto r = run("big.lua", "cell { at = {5, 5, 5} }\n" + std::string(shape) + "\n");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains("big.lua:2:") && Contains("more than 50 million"));
+    const auto need = r.err.find("would need");  // and no negative count
+    CHECK((need != std::string::npos && r.err.find('-', need) == std::string::npos));
+  }
+  // an ASCII STL obstacle cut in the middle of a facet
+  t.write("cut.stl", "solid t\nfacet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n");
+  auto r = run("cut.lua", "disc { radius = 2 }\nmesh { file = 'cut.stl' }\n");
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("cut.lua:2: mesh") && Contains("cut.stl") && Contains("line 5"));
+  // obstacles that start around the cells: named at their line, before the first step
+  r = run("ball.lua", "disc { radius = 2 }\nball { radius = 1e9 }\n");
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("ball.lua:2: ball{...}: 19 of the 19 cells") && Contains("must start outside"));
+  CHECK_FALSE(fs::exists(t.path / "out"));
+  r = run("ground.lua", "venation {}\ndisc { radius = 2 }\npetiole { at = {0, 0, 0} }\nground { height = 1e9 }\n");
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("ground.lua:4: ground{...}"));
+  // sizes and positions stay within 1e9 model units, as every script position does
+  r = run("huge.lua", "disc { radius = 2 }\nball { radius = 1e300 }\n");
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("huge.lua:2:") && Contains("ball.radius"));
+  t.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  r = run("scaled.lua", "disc { radius = 2 }\nmesh { file = 'tri.obj', scale = 1e12 }\n");
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("scaled.lua:2: mesh") && Contains("1e+09"));
+  // touching obstacles and a ground below the cells are fine
+  r = run("fine.lua",
+          "disc { radius = 2, centre = {0, 0, 0.5} }\nground {}\nball { centre = {0, 0, 1.5}, radius = 1 }\n"
+          "box { min = {-1, -1, -3}, max = {1, 1, 0.5} }\n");
+  CHECK(r.code == 0);
+}
+
 TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {
   TempDir t("cli-run");
   const auto script = t.write("small.lua", kSmall);

@@ -267,6 +267,18 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "padded.stl"),
                     Catch::Contains("damaged binary STL") && Catch::Contains("announces 2 triangles (184 bytes)"));
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "none.stl"), Catch::Contains("no facets"));
+  {  // ASCII STL cut short after a whole facet, and one with a word for a number
+    const std::string facet =
+        "facet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 0 1 0\n endloop\nendfacet\n";
+    std::ofstream(dir / "cut.stl") << "solid t\n" + facet;
+    std::string word = "solid t\n" + facet + "endsolid t\n";
+    std::ofstream(dir / "word.stl") << word.replace(word.find("vertex 1 0 0"), 12, "vertex 5 five 5");
+  }
+  CHECK_THROWS_AS(exporters::read_mesh(dir / "cut.stl"), core::FileError);
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "cut.stl"),
+                    Catch::Contains("cut.stl") && Catch::Contains("line 8") && Catch::Contains("endsolid"));
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "word.stl"),
+                    Catch::Contains("word.stl") && Catch::Contains("line 5") && Catch::Contains("three numbers"));
   {
     std::ofstream(dir / "flat.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                                        "element face 1\nproperty list uchar int vertex_indices\nend_header\n"

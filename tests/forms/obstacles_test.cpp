@@ -572,3 +572,47 @@ TEST_CASE("load_mesh errors name the file and the problem", "[forms][mesh_io]") 
   CHECK_THROWS_AS(forms::load_mesh(dir / "folder.stl"), core::FileError);
   fs::remove_all(dir);
 }
+
+TEST_CASE("load_mesh refuses a malformed ASCII STL, naming the file and the line", "[forms][mesh_io]") {
+  using Catch::Contains;
+  const fs::path dir = temp_dir("ascii_stl");
+  const std::string facet1 =
+      "facet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 0 1 0\n endloop\nendfacet\n";
+  const std::string facet2 =
+      "facet normal 0 0 1\n outer loop\n  vertex 0 0 1\n  vertex 1 0 1\n  vertex 0 1 1\n endloop\nendfacet\n";
+  // line numbers: "solid t" is line 1, facet1 lines 2-8, facet2 lines 9-15, "endsolid t" line 16
+  const std::string good = "solid t\n" + facet1 + facet2 + "endsolid t\n";
+  write_text(dir / "good.stl", good);
+  CHECK(forms::load_mesh(dir / "good.stl").triangles.size() == 2);
+
+  auto refuses = [&](const std::string& name, const std::string& text, const std::string& line,
+                     const std::string& what) {
+    INFO(name << ":\n" << text);
+    write_text(dir / name, text);
+    CHECK_THROWS_AS(forms::load_mesh(dir / name), core::InvalidInput);
+    CHECK_THROWS_WITH(forms::load_mesh(dir / name), Contains(name) && Contains(line) && Contains(what));
+  };
+  std::string word = good;
+  word.replace(word.find("vertex 1 0 1"), 12, "vertex 5 five 5");
+  refuses("word.stl", word, "line 12", "three numbers");
+  std::string two = good;
+  two.replace(two.find("vertex 1 0 1"), 12, "vertex 1 0");
+  refuses("two_numbers.stl", two, "line 12", "three numbers");
+  std::string junk = good;
+  junk.replace(junk.find("vertex 1 0 1"), 12, "vertex 1 0 1x");
+  refuses("junk.stl", junk, "line 12", "three numbers");
+  std::string nan = good;
+  nan.replace(nan.find("vertex 1 0 1"), 12, "vertex 1 nan 1");
+  refuses("nan.stl", nan, "line 12", "NaN");
+  // cut in the middle of the second facet, after a complete first one
+  refuses("cut.stl", good.substr(0, good.find("vertex 0 1 1")), "line 12", "ends inside the facet of line 9");
+  refuses("cut_vertex.stl", good.substr(0, good.find(" 1\n  vertex 0 1 1")), "line 12", "three numbers");
+  refuses("unclosed.stl", "solid t\n" + facet1 + facet2, "line 15", "endsolid");
+  std::string four = good;
+  four.insert(four.find(" endloop", four.find("vertex 0 1 1")), "  vertex 1 1 1\n");
+  refuses("four.stl", four, "line 14", "three vertices");
+  std::string short_facet = good;
+  short_facet.erase(short_facet.find("  vertex 0 1 1\n"), 15);
+  refuses("short.stl", short_facet, "line 13", "three vertices");
+  fs::remove_all(dir);
+}

@@ -1,0 +1,20 @@
+// The strict ASCII STL parser shared by the mesh loader (load_mesh) and the exporters' mesh reader.
+#pragma once
+
+#include <string_view>
+#include <vector>
+
+#include "core/types.h"
+
+namespace cellform::forms {
+
+/// The triangle corners of an ASCII STL text, three per facet, in file order (model units as written).
+/// Strict, so that a damaged file is refused instead of read as something else: the text is one or more
+/// "solid [name]" ... "endsolid [name]" blocks, each facet is the seven lines "facet normal nx ny nz",
+/// "outer loop", three "vertex x y z" lines, "endloop" and "endfacet" (keywords in any case, blank lines
+/// allowed), and a vertex is three finite numbers. Throws core::InvalidInput "line N: ..." saying what was
+/// wrong, the caller adds the file name; a file cut short ends inside a facet or before "endsolid" and is
+/// refused too. A solid without facets gives no corners.
+std::vector<core::Vec3> parse_ascii_stl(std::string_view text);
+
+}  // namespace cellform::forms

@@ -1,0 +1,54 @@
+// Tests of forms/scene.h: a scene refuses to start with cells inside an obstacle.
+#include "forms/scene.h"
+
+#include <catch2/catch.hpp>
+#include <string>
+
+#include "cells/cells.h"
+#include "core/errors.h"
+#include "forms/shapes.h"
+
+using namespace cellform;
+using Catch::Contains;
+using core::Vec3;
+
+namespace {
+
+// A scene with these obstacles and a disc of radius 2 (rest length 1) at z = 0.5, started.
+void start_disc(const forms::Obstacles& obstacles, const forms::ObstacleNames& names = {}) {
+  forms::SceneDescription d;
+  d.obstacles = obstacles;
+  d.obstacle_names = names;
+  forms::Scene scene(d, 1);
+  for (const Vec3& p : forms::hex_disc(Vec3(0, 0, 0.5), Vec3::UnitZ(), 2.0, 1.0))
+    cells::add_cell(scene.simulation().cells(), p);
+  scene.start();
+}
+
+}  // namespace
+
+TEST_CASE("a scene does not start with cells inside an obstacle", "[forms][scene]") {
+  forms::Obstacles ball;
+  ball.spheres.push_back({Vec3(0, 0, 0), 1e9});  // encloses every cell
+  CHECK_THROWS_AS(start_disc(ball), core::InvalidInput);
+  CHECK_THROWS_WITH(start_disc(ball), Contains("sphere 0") && Contains("19 of the 19 cells") &&
+                                          Contains("obstacles must start outside the cells"));
+  forms::ObstacleNames names;
+  names.spheres.push_back("leaf.lua:4: ball{...}");
+  CHECK_THROWS_WITH(start_disc(ball, names), Contains("leaf.lua:4: ball{...}: 19 of the 19 cells lie inside it"));
+  forms::Obstacles ground;
+  ground.half_spaces.push_back({Vec3(0, 0, 1e9), Vec3::UnitZ()});  // every cell below it
+  CHECK_THROWS_WITH(start_disc(ground), Contains("ground 0") && Contains("19 of the 19 cells"));
+  forms::Obstacles box;
+  box.boxes.push_back({Vec3(-0.5, -0.5, 0), Vec3(0.5, 0.5, 1)});  // around the centre cell only
+  CHECK_THROWS_WITH(start_disc(box), Contains("box 0") && Contains("1 of the 19 cells") && Contains("{0, 0, 0.5}"));
+
+  // Touching is fine, and so is a ground below the cells, as in the shell examples
+  forms::Obstacles fine;
+  fine.half_spaces.push_back({Vec3(0, 0, 0), Vec3::UnitZ()});
+  fine.half_spaces.push_back({Vec3(0, 0, 0.5), Vec3::UnitZ()});  // the cells lie on it
+  fine.spheres.push_back({Vec3(0, 0, 1.5), 1.0});                // touches the centre cell from above
+  fine.boxes.push_back({Vec3(-1, -1, -3), Vec3(1, 1, 0.5)});     // touches from below
+  fine.spheres.push_back({Vec3(0, 0, -1e8), 1e8 - 1});           // far below, huge
+  CHECK_NOTHROW(start_disc(fine));
+}

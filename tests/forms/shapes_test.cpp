@@ -1,0 +1,58 @@
+// Tests of forms/shapes.h: lattice counts and spacing, and shapes too large to build refused clearly.
+#include "forms/shapes.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+
+#include "core/errors.h"
+
+using namespace cellform;
+using core::Vec3;
+
+namespace {
+
+const Vec3 kO = Vec3::Zero();
+const Vec3 kZ = Vec3::UnitZ();
+
+}  // namespace
+
+TEST_CASE("shapes place cells spacing apart on the shape", "[forms][shapes]") {
+  const std::vector<Vec3> disc = forms::hex_disc(kO, kZ, 5.0, 1.0);
+  // a hexagonal lattice covers sqrt(3)/2 spacing^2 per cell
+  CHECK(static_cast<double>(disc.size()) == Approx(std::numbers::pi * 25 / (std::sqrt(3.0) / 2)).epsilon(0.1));
+  for (const Vec3& p : disc) CHECK(p.norm() <= 5.0 + 1e-9);
+  CHECK(forms::hex_rectangle(kO, kZ, 4.0, 0.5, 1.0).size() == 5);  // one row, x = -2 ... 2
+  const std::vector<Vec3> sphere = forms::sphere_points(kO, 3.0, 1.0);
+  for (const Vec3& p : sphere) CHECK(p.norm() == Approx(3.0));
+  CHECK(forms::line_points(kO, Vec3(3, 0, 0), 1.0).size() == 4);
+  CHECK(forms::line_points(kO, kO, 1.0).size() == 1);
+}
+
+TEST_CASE("shapes too large to build are refused with the cell limit, never built wrong", "[forms][shapes]") {
+  using Catch::Contains;
+  const double big_int = static_cast<double>(std::numeric_limits<long long>::max());  // Lua's math.maxinteger
+  // Each would overflow a long if its cell count were cast before the limit is checked.
+  for (const double radius : {1e18, big_int, 1e300, 1e308}) {
+    INFO("disc radius " << radius);
+    CHECK_THROWS_AS(forms::hex_disc(kO, kZ, radius, 1.0), core::InvalidInput);
+    CHECK_THROWS_WITH(forms::hex_disc(kO, kZ, radius, 1.0),
+                      Contains("more than 50 million") && Contains("radius") && !Contains("-"));
+    INFO("sphere radius " << radius);
+    CHECK_THROWS_AS(forms::sphere_points(kO, radius, 1.0), core::InvalidInput);
+    CHECK_THROWS_WITH(forms::sphere_points(kO, radius, 1.0),
+                      Contains("more than 50 million") && Contains("radius") && !Contains("-"));
+  }
+  CHECK_THROWS_WITH(forms::hex_disc(kO, kZ, 1.0, 1e-300), Contains("more than 50 million") && Contains("spacing"));
+  CHECK_THROWS_WITH(forms::sphere_points(kO, 1.0, 1e-300), Contains("more than 50 million") && Contains("spacing"));
+  CHECK_THROWS_WITH(forms::hex_rectangle(kO, kZ, 2.0, 3.0, 1e-300),
+                    Contains("more than 50 million") && Contains("spacing"));
+  CHECK_THROWS_WITH(forms::hex_rectangle(kO, kZ, 1e300, 0.1, 1.0), Contains("more than 50 million"));
+  CHECK_THROWS_WITH(forms::line_points(kO, Vec3(1, 0, 0), 1e-300),
+                    Contains("more than 50 million") && Contains("spacing"));
+  CHECK_THROWS_WITH(forms::line_points(Vec3(-1e300, 0, 0), Vec3(1e300, 0, 0), 1.0), Contains("more than 50 million"));
+  // just under the limit in one dimension still builds
+  CHECK(forms::line_points(kO, Vec3(1e6, 0, 0), 1.0).size() == 1'000'001);
+}
