@@ -189,7 +189,7 @@ std::vector<Field> build() {
   f.push_back(vec("volume.box", "min", "", -kFar, kFar, "model units", "lowest corner"));
   f.push_back(vec("volume.box", "max", "", -kFar, kFar, "model units", "highest corner"));
   f.push_back(vec("volume.ball", "centre", "{0, 0, 0}", -kFar, kFar, "model units", "centre"));
-  f.push_back(num("volume.ball", "radius", "", 0, kInf, true, "model units", "radius"));
+  f.push_back(num("volume.ball", "radius", "", 0, kFar, true, "model units", "radius"));
   f.push_back(text("surface", "file", "(none)",
                    "sources lie on the triangles of this STL or OBJ mesh (open or closed; relative to the script)"));
   f.push_back(num("surface", "scale", "1", 0, kInf, true, "factor", "file: scales the mesh's coordinates"));

@@ -63,16 +63,16 @@ std::vector<Vec3> read_points(Impl& I, const std::string& section, const std::st
 venation::Mesh read_domain_mesh(Impl& I, const std::string& section, const Values& v, const std::string& at) {
   std::filesystem::path file = v.at("file").str;
   if (file.is_relative()) file = I.script_dir / file;
+  venation::Mesh out;
   try {
     forms::TriangleMesh m = forms::load_mesh(file);
-    venation::Mesh out;
     out.vertices = std::move(m.vertices);
-    for (Vec3& p : out.vertices) p *= v.at("scale").num;
     out.triangles = std::move(m.triangles);
-    return out;
   } catch (const std::exception& e) {
     throw InvalidInput(at + section + ".file: " + e.what());
   }
+  I.scale_mesh(out.vertices, v.at("scale").num, v.at("file").str, at + section + ".file: ");
+  return out;
 }
 
 }  // namespace

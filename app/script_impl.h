@@ -458,6 +458,18 @@ struct ScriptHost::Impl {
     throw InvalidInput(at + section + "{...} is given twice (first at " + first + ")");
   }
 
+  /// Scales a mesh read from `file` (as the script names it) into model units; refuses one that then lies
+  /// beyond kFarthest, like every position a script gives.
+  void scale_mesh(std::vector<Vec3>& vertices, double scale, const std::string& file, const std::string& at) const {
+    for (Vec3& p : vertices) {
+      p *= scale;
+      if (!(p.cwiseAbs().maxCoeff() <= kFarthest))
+        throw InvalidInput(at + "with scale = " + core::number_text(scale) + ", a vertex of '" + file +
+                           "' lies beyond " + core::number_text(kFarthest) +
+                           " model units, farther than any script position may");
+    }
+  }
+
   /// The scene is described while the script loads; a rule function runs later, during the steps.
   void require_loading(const std::string& section, const std::string& at) const {
     if (!cfg)

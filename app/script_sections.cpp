@@ -232,13 +232,7 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
     } catch (const std::exception& e) {
       throw InvalidInput(at + "mesh: " + e.what());
     }
-    for (Vec3& p : mesh.vertices) {
-      p *= v["scale"].num;
-      if (!(p.cwiseAbs().maxCoeff() <= kFarthest))  // as every script position
-        throw InvalidInput(at + "mesh: with scale = " + core::number_text(v["scale"].num) + ", a vertex of '" +
-                           v["file"].str + "' lies beyond " + core::number_text(kFarthest) +
-                           " model units, farther than any script position may");
-    }
+    I.scale_mesh(mesh.vertices, v["scale"].num, v["file"].str, at + "mesh: ");
     o.meshes.push_back(std::move(mesh));
     names.meshes.push_back(name);
   } else if (kind == "attractor") {

@@ -346,6 +346,11 @@ TEST_CASE("volume{} and surface{} give space colonisation a 3-D domain", "[scrip
   CHECK_THAT(load_error("surface { file = '" + open + "', seeds = {{0, 0, 0}} }\ncolonisation {}\n"),
              Contains("surface.seeds[1]") && Contains("not on the surface"));
   CHECK_THAT(load_error("volume { file = '" + closed + "' }\ncolonisation {}\n"), Contains("needs seeds"));
+  // domains are bounded like every script position (1e9 model units)
+  CHECK_THAT(load_error("surface { file = '" + open + "', scale = 1e300, seeds = {{2, 0, 0}} }\ncolonisation {}\n"),
+             Contains("test/leaf.lua:1: surface.file: with scale = 1e+300") && Contains("lies beyond 1e+09"));
+  CHECK_THAT(load_error("volume { ball = { radius = 1e300 } }\ncolonisation {}\n"),
+             Contains("volume.ball.radius must be a number from 0 (exclusive) to 1e+09"));
   std::filesystem::remove_all(dir);
 
   CHECK_THAT(load_error("volume { box = { min = {0, 0, 0}, max = {1, 1, 1} }, seeds = {{0, 0, 2}} }\n"
