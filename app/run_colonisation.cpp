@@ -320,7 +320,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
                             : "continue with: cellform resume " + checkpoint.string() + "\n");
     return code;
   } catch (const core::InvalidInput& e) {
-    err << "cellform: " << e.what() << "\n";
+    const std::string m = e.what();  // a parameter the steps found wrong: where the script sets it
+    err << "cellform: " << (m.rfind("colonisation.", 0) == 0 ? spec.where : std::string()) << m << "\n";
     code = usage;
   } catch (const std::exception& e) {
     err << "cellform: " << e.what() << "\n";

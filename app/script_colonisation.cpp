@@ -361,6 +361,7 @@ void section_colonisation(Impl& I, const std::string& at) {
   I.once("colonisation", at);
   Values v = I.read_section("colonisation", 1, at, &I.cfg->resolved["colonisation"]);
   if (!I.cfg->colonisation) I.cfg->colonisation.emplace();
+  I.cfg->colonisation->where = at;
   venation::ColonisationParams& p = I.cfg->colonisation->params;
   p.type = v["type"].str == "closed" ? venation::VenationType::closed : venation::VenationType::open;
   p.neighbourhood =

@@ -54,6 +54,7 @@ struct ColonisationSpec {
   venation::Domain domain;    ///< kind leaf: grows in `leaf`; else in this volume or surface
   bool on_cells = false;      ///< surface{cells = true}: grow the cells first, the domain is their sheet
   bool growth_given = false;  ///< colonisation.growth was set (a 3-D domain then needs "none")
+  std::string where;          ///< "file:line: " of colonisation{...}, for its errors found while it runs
 };
 
 /// A printable solid requested by print{...}.

@@ -25,6 +25,13 @@ TEST_CASE("a colonisation that never places a source says so", "[cli][colonisati
   r = cli({"run", dense.string(), "--out", (t.path / "d").string(), "--quiet"});
   CHECK(r.code == 0);
   CHECK(r.err.find("no auxin source") == std::string::npos);
+  // a parameter only the steps can find wrong is named with the line of colonisation{...}
+  const auto flood = t.write("flood.lua",
+                             "leaf { shape = 'ellipse' }\n"
+                             "colonisation { type = 'open', growth = 'isogonic', darts = 1e12 }\n");
+  r = cli({"run", flood.string(), "--out", (t.path / "f").string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("flood.lua:2: colonisation.darts: "));
 }
 
 TEST_CASE("3-D space colonisation: veins in a volume and on a grown cell sheet", "[cli][colonisation]") {
