@@ -17,9 +17,11 @@
 #include <cstdio>
 #include <limits>
 #include <mutex>
+#include <sstream>
 #include <string>
 
 #include "core/atomic_file.h"
+#include "core/chunk_file.h"
 #include "core/errors.h"
 #include "core/parallel.h"
 #include "export/mesh_check.h"
@@ -642,13 +644,28 @@ PrintableMesh thicken(const std::vector<Segment>& segments, const std::vector<st
 void write_vdb(const std::filesystem::path& path, const LevelSet& level_set) {
   init_openvdb();
   openvdb::GridPtrVec grids{level_set.impl().grid};
-  core::write_file_atomically(path, [&](std::ostream& os) {
-    try {
-      openvdb::io::Stream(os).write(grids);
-    } catch (const openvdb::Exception& e) {
-      throw core::FileError(path.string() + ": cannot write the level set: " + e.what());
-    }
-  });
+  std::ostringstream body;
+  try {
+    openvdb::io::Stream(body).write(grids);
+  } catch (const openvdb::Exception& e) {
+    throw core::FileError(path.string() + ": cannot write the level set: " + e.what());
+  }
+  std::string bytes = std::move(body).str();
+  // OpenVDB stamps each file with a random UUID (36 characters after the 21-byte magic and version
+  // header); it is made from the content instead, so the same level set gives the same file
+  constexpr std::size_t kUuidAt = 21, kUuidLength = 36;
+  auto dash_at = [&](std::size_t i) { return bytes[kUuidAt + i] == '-'; };
+  if (bytes.size() > kUuidAt + kUuidLength && dash_at(8) && dash_at(13) && dash_at(18) && dash_at(23)) {
+    const char* rest = bytes.data() + kUuidAt + kUuidLength;
+    const std::size_t n = bytes.size() - kUuidAt - kUuidLength;
+    const std::string hex =
+        core::hex64(core::fnv1a64(rest, n)) + core::hex64(core::fnv1a64(rest, n, 0x9e3779b97f4a7c15ull));
+    const std::string uuid = hex.substr(0, 8) + "-" + hex.substr(8, 4) + "-" + hex.substr(12, 4) + "-" +
+                             hex.substr(16, 4) + "-" + hex.substr(20, 12);
+    bytes.replace(kUuidAt, kUuidLength, uuid);
+  }
+  core::write_file_atomically(
+      path, [&](std::ostream& os) { os.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); });
 }
 
 std::vector<Segment> vein_segments(const venation::VeinGraph& g) {

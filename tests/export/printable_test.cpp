@@ -2,6 +2,9 @@
 // and the files checked by check_mesh, admesh and OpenSCAD.
 #include "export/printable.h"
 
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -304,6 +307,21 @@ TEST_CASE("write_vdb writes the level set", "[printable][files]") {
   exporters::write_vdb(dir / "tree.vdb", ls);
   REQUIRE(fs::exists(dir / "tree.vdb"));
   CHECK(fs::file_size(dir / "tree.vdb") > 1000);
+  // OpenVDB reads it back, with every active voxel
+  openvdb::initialize();
+  openvdb::io::File file((dir / "tree.vdb").string());
+  file.open();
+  const openvdb::GridPtrVecPtr grids = file.getGrids();
+  file.close();
+  REQUIRE(grids->size() == 1);
+  CHECK((*grids)[0]->activeVoxelCount() == ls.active_voxels());
+  // the same level set gives the same bytes (OpenVDB's random file UUID is replaced by one from the content)
+  exporters::write_vdb(dir / "again.vdb", ls);
+  std::ifstream a(dir / "tree.vdb", std::ios::binary), b(dir / "again.vdb", std::ios::binary);
+  const std::string sa((std::istreambuf_iterator<char>(a)), {}), sb((std::istreambuf_iterator<char>(b)), {});
+  CHECK(sa == sb);
+  CHECK(
+      std::regex_match(sa.substr(21, 36), std::regex("[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}")));
   CHECK_THROWS_AS(exporters::write_vdb(dir / "no" / "such" / "dir.vdb", ls), core::FileError);
   fs::remove_all(dir);
 }
