@@ -251,7 +251,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
         for (const auto& [p, c] : tree.edges())
           segments.push_back({tree.positions[p], tree.positions[c], tree.radius[p], tree.radius[c]});
         std::vector<std::array<core::Vec3, 3>> shell;
-        if (cfg.print->shell && sheet) shell = exporters::shell_triangles(*sheet, cells::triangulate(*sheet));
+        if (cfg.print->shell && sheet) shell = exporters::shell_triangles(*sheet, cells::triangulate(*sheet, false));
         printed = thicken_and_write(staging, *cfg.print, segments, shell, o.threads, outputs, err, o.quiet);
       } catch (const core::Cancelled&) {
         err << (o.quiet ? "" : "\n")

@@ -135,7 +135,7 @@ const GrownForm& leaf50k() {
     GrownForm f;
     f.cells = sim.cells().size();
     f.veins = exporters::vein_segments(venation::vein_graph(sim.cells()));
-    f.sheet = exporters::shell_triangles(sim.cells(), cells::triangulate(sim.cells()));
+    f.sheet = exporters::shell_triangles(sim.cells(), cells::triangulate(sim.cells(), false));
     return f;
   }();
   return form;

@@ -1,12 +1,165 @@
-// Triangles of the cell sheet: 3-cliques of the link graph, oriented consistently by a breadth-first walk.
+// Triangles of the cell sheet: 3-cliques of the link graph (for files, in one layer), oriented consistently
+// by a breadth-first walk.
 #include "cells/surface.h"
 
 #include <algorithm>
 #include <deque>
+#include <iterator>
 
 namespace cellform::cells {
 
-Surface triangulate(const Cells& cells) {
+namespace {
+
+/// Whether segments pq and rs cross as the two diagonals of a quad do: their closest points lie inside
+/// both (not at an end) and are nearer each other than a quarter of the shorter (a folded quad still
+/// counts; two edges of a thick clump, far apart, do not).
+bool diagonals_cross(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) {
+  const Vec3 d1 = q - p, d2 = s - r, w = p - r;
+  const double a = d1.squaredNorm(), b = d1.dot(d2), c = d2.squaredNorm(), d = d1.dot(w), e = d2.dot(w);
+  const double den = a * c - b * b;
+  if (!(den > 1e-12 * a * c)) return false;  // parallel
+  const double t1 = (b * e - c * d) / den, t2 = (a * e - b * d) / den;
+  if (!(t1 > 0.02 && t1 < 0.98 && t2 > 0.02 && t2 < 0.98)) return false;
+  const double gap2 = (p + t1 * d1 - (r + t2 * d2)).squaredNorm();
+  return gap2 < std::min(a, c) / 16;
+}
+
+/// Whether point k lies on segment pq, or close to it (within a quarter of its length, away from its ends):
+/// then the triangle pqk is a sliver lying along the two shorter edges pk and kq.
+bool splits(const Vec3& p, const Vec3& q, const Vec3& k) {
+  const Vec3 d = q - p;
+  const double len2 = d.squaredNorm();
+  if (!(len2 > 0)) return false;
+  const double t = (k - p).dot(d) / len2;
+  return t > 0.02 && t < 0.98 && (p + t * d - k).squaredNorm() < len2 / 16;
+}
+
+/// `edges` (sorted, i < j) without the edges that cross a shorter one joining two of their common
+/// neighbours, or pass (nearly) through a common neighbour, as a greedy triangulation decides: shortest first
+/// (ties by index pair), an edge stays unless it crosses one that stayed or a neighbour linked to both
+/// ends by edges that stayed lies on it. Deterministic; the result is sorted like `edges`.
+std::vector<std::array<Index, 2>> uncrossed(const std::vector<Vec3>& pos,
+                                            const std::vector<std::array<Index, 2>>& edges) {
+  const std::size_t n = pos.size();
+  std::vector<std::size_t> start(n + 1, 0);  // full adjacency (both directions), sorted
+  for (const auto& e : edges) {
+    ++start[e[0] + 1];
+    ++start[e[1] + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+  std::vector<Index> adj(start[n]);
+  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+  for (const auto& e : edges) {
+    adj[fill[e[0]]++] = e[1];
+    adj[fill[e[1]]++] = e[0];
+  }
+  auto row = [&](Index u) {
+    return std::pair{adj.begin() + static_cast<long>(start[u]), adj.begin() + static_cast<long>(start[u + 1])};
+  };
+  for (std::size_t i = 0; i < n; ++i) std::sort(row(static_cast<Index>(i)).first, row(static_cast<Index>(i)).second);
+  auto edge_index = [&](Index u, Index v) -> std::size_t {  // edges.size() if not an edge
+    const std::array<Index, 2> key{std::min(u, v), std::max(u, v)};
+    const auto it = std::lower_bound(edges.begin(), edges.end(), key);
+    return it != edges.end() && *it == key ? static_cast<std::size_t>(it - edges.begin()) : edges.size();
+  };
+  std::vector<double> len2(edges.size());
+  std::vector<std::size_t> order(edges.size());
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    len2[e] = (pos[edges[e][0]] - pos[edges[e][1]]).squaredNorm();
+    order[e] = e;
+  }
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return len2[a] < len2[b] || (len2[a] == len2[b] && a < b);  // edges are sorted: index order breaks ties
+  });
+  std::vector<char> kept(edges.size(), 0);
+  std::vector<Index> common;
+  for (const std::size_t e : order) {
+    const auto [i, j] = edges[e];
+    common.clear();
+    const auto [ai, bi] = row(i);
+    const auto [aj, bj] = row(j);
+    std::set_intersection(ai, bi, aj, bj, std::back_inserter(common));
+    bool crossed = false;
+    for (std::size_t x = 0; x < common.size() && !crossed; ++x) {  // a cell on the edge splits it
+      const Index k = common[x];
+      crossed = kept[edge_index(i, k)] && kept[edge_index(j, k)] && splits(pos[i], pos[j], pos[k]);
+    }
+    for (std::size_t x = 0; x < common.size() && !crossed; ++x)
+      for (std::size_t y = x + 1; y < common.size() && !crossed; ++y) {
+        const std::size_t other = edge_index(common[x], common[y]);
+        crossed =
+            other < edges.size() && kept[other] && diagonals_cross(pos[i], pos[j], pos[common[x]], pos[common[y]]);
+      }
+    kept[e] = crossed ? 0 : 1;
+  }
+  std::vector<std::array<Index, 2>> out;
+  out.reserve(edges.size());
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    if (kept[e]) out.push_back(edges[e]);
+  return out;
+}
+
+/// Closes the 4-cycles of `edges` (sorted, i < j) that have no diagonal and whose four sides each border
+/// at most one triangle of `tris` (a gap in the sheet the size of a cell): two triangles on the shorter
+/// diagonal (ties: the smaller index pair). Appends triangles as sorted triples, in a deterministic order.
+void close_quads(const std::vector<Vec3>& pos, const std::vector<std::array<Index, 2>>& edges,
+                 std::vector<std::array<Index, 3>>& tris) {
+  auto index = [&](Index u, Index v) -> std::size_t {  // edges.size() if not an edge
+    const std::array<Index, 2> key{std::min(u, v), std::max(u, v)};
+    const auto it = std::lower_bound(edges.begin(), edges.end(), key);
+    return it != edges.end() && *it == key ? static_cast<std::size_t>(it - edges.begin()) : edges.size();
+  };
+  std::vector<std::uint8_t> uses(edges.size(), 0);
+  auto use = [&](Index u, Index v) {
+    std::uint8_t& c = uses[index(u, v)];
+    c = static_cast<std::uint8_t>(std::min(c + 1, 255));
+  };
+  for (const auto& t : tris) {
+    use(t[0], t[1]);
+    use(t[1], t[2]);
+    use(t[0], t[2]);
+  }
+  std::vector<std::vector<Index>> adj(pos.size());
+  for (const auto& [a, b] : edges) {
+    adj[a].push_back(b);
+    adj[b].push_back(a);
+  }
+  auto open = [&](Index u, Index v) { return uses[index(u, v)] <= 1; };
+  auto linked = [&](Index u, Index v) { return index(u, v) < edges.size(); };
+  std::vector<std::array<Index, 4>> quads;  // 4-cycles q0-q1-q2-q3; the diagonals (q0, q2), (q1, q3) are not edges
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    if (uses[e] > 1) continue;
+    const auto [a, b] = edges[e];
+    for (const Index c : adj[b]) {
+      if (c == a || linked(a, c) || !open(b, c)) continue;
+      for (const Index d : adj[a]) {
+        if (d == b || d == c || linked(b, d) || !linked(c, d) || !open(a, d) || !open(c, d)) continue;
+        std::array<Index, 4> q{a, b, c, d};  // named from its smallest corner, then its smaller neighbour
+        std::rotate(q.begin(), std::min_element(q.begin(), q.end()), q.end());
+        if (q[3] < q[1]) std::swap(q[1], q[3]);
+        quads.push_back(q);
+      }
+    }
+  }
+  std::sort(quads.begin(), quads.end());
+  quads.erase(std::unique(quads.begin(), quads.end()), quads.end());
+  for (const auto& q : quads) {  // q[0]-q[1]-q[2]-q[3] in a cycle, diagonals (q0, q2) and (q1, q3)
+    if (!open(q[0], q[1]) || !open(q[1], q[2]) || !open(q[2], q[3]) || !open(q[3], q[0])) continue;
+    const double d02 = (pos[q[0]] - pos[q[2]]).squaredNorm(), d13 = (pos[q[1]] - pos[q[3]]).squaredNorm();
+    const bool first = d02 < d13 || (d02 == d13 && std::min(q[0], q[2]) < std::min(q[1], q[3]));
+    std::array<Index, 3> t1 = first ? std::array<Index, 3>{q[0], q[1], q[2]} : std::array<Index, 3>{q[1], q[2], q[3]};
+    std::array<Index, 3> t2 = first ? std::array<Index, 3>{q[0], q[2], q[3]} : std::array<Index, 3>{q[1], q[3], q[0]};
+    for (auto* t : {&t1, &t2}) {
+      std::sort(t->begin(), t->end());
+      tris.push_back(*t);
+    }
+    for (int k = 0; k < 4; ++k) use(q[k], q[(k + 1) % 4]);
+  }
+}
+
+}  // namespace
+
+Surface triangulate(const Cells& cells, bool one_layer) {
   const std::size_t n = cells.size();
   const std::size_t stride = static_cast<std::size_t>(cells.link_stride);
   Surface s;
@@ -25,12 +178,16 @@ Surface triangulate(const Cells& cells) {
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
 
+  // One layer: the edges the triangles are made of leave out long edges that cross or run along shorter
+  // ones (see uncrossed); s.edges keeps every link.
+  const std::vector<std::array<Index, 2>> faces_edges = one_layer ? uncrossed(cells.position, edges) : edges;
+
   // Adjacency to larger indices only (CSR); lists are sorted because edges are.
   std::vector<std::size_t> start(n + 1, 0);
-  for (const auto& e : edges) ++start[e[0] + 1];
+  for (const auto& e : faces_edges) ++start[e[0] + 1];
   for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
-  std::vector<Index> up(edges.size());
-  for (std::size_t e = 0; e < edges.size(); ++e) up[e] = edges[e][1];  // edges sorted by e[0] already
+  std::vector<Index> up(faces_edges.size());
+  for (std::size_t e = 0; e < faces_edges.size(); ++e) up[e] = faces_edges[e][1];  // sorted by e[0] already
 
   // Triangles a < b < c: c in up(a) and up(b).
   auto& tris = s.triangles;
@@ -51,6 +208,11 @@ Surface triangulate(const Cells& cells) {
         }
       }
     }
+  }
+
+  if (one_layer) {
+    close_quads(cells.position, faces_edges, tris);
+    std::sort(tris.begin(), tris.end());
   }
 
   // Triangles around each edge: (edge index, triangle) pairs sorted by edge.

@@ -14,8 +14,12 @@ struct Surface {
   std::vector<std::array<Index, 2>> edges;      ///< every link (i < j), including vein parent links
 };
 
-/// Edges are pairs linked either way (or vein parent and child); triangles are 3-cliques of that graph.
-/// Deterministic: sorted by smallest index.
-Surface triangulate(const Cells& cells);
+/// Edges are pairs linked either way (or vein parent and child). Triangles are 3-cliques of that graph;
+/// with `one_layer` (for files a modeller opens), of that graph less each edge crossing a shorter one as
+/// the diagonals of a quad do (the k-nearest links often hold both diagonals, whose cliques lay four
+/// triangles over the quad in two layers), with the 4-cycles then left open closed on their shorter
+/// diagonal. Without it every clique is kept: overlapping, but with no gap (what a thickened shell wants).
+/// Deterministic: triangles sorted by smallest index.
+Surface triangulate(const Cells& cells, bool one_layer = true);
 
 }  // namespace cellform::cells

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "cells/simulation.h"
+#include "core/random.h"
 #include "tests/fixtures.h"
 
 using namespace cellform::cells;
@@ -84,4 +85,65 @@ TEST_CASE("triangulate a relaxed simulated sheet: every edge has at most one tri
   const Surface s = triangulate(sim.cells());
   // with the default link range the links are the lattice edges: exactly the lattice's triangles
   REQUIRE(s.triangles.size() == static_cast<std::size_t>(2 * 19 * 19));
+}
+
+TEST_CASE("a jittered square grid whose links hold both diagonals: one layer of two triangles per square",
+          "[surface]") {
+  // eight nearest links: the four sides and both diagonals of every square. Every 3-clique would lay
+  // four triangles over each square (two layers); one layer keeps the shorter diagonal of each.
+  const int n = 12;
+  Cells c;
+  c.link_stride = 8;
+  cellform::core::Rng rng(5);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) add_cell(c, Vec3(x + rng.uniform(-0.05, 0.05), y + rng.uniform(-0.05, 0.05), 0));
+  for (Index i = 0; i < c.size(); ++i) {  // brute-force eight nearest
+    std::vector<std::pair<double, Index>> d;
+    for (Index j = 0; j < c.size(); ++j)
+      if (j != i) d.push_back({(c.position[j] - c.position[i]).squaredNorm(), j});
+    std::sort(d.begin(), d.end());
+    for (int k = 0; k < 8; ++k) c.links[i * 8 + k] = d[static_cast<std::size_t>(k)].second;
+  }
+  auto area = [&](const Surface& s) {
+    double a = 0;
+    for (const auto& t : s.triangles)
+      a += 0.5 * (c.position[t[1]] - c.position[t[0]]).cross(c.position[t[2]] - c.position[t[0]]).norm();
+    return a;
+  };
+  const Surface all = triangulate(c, false), one = triangulate(c);
+  CHECK(all.edges == one.edges);  // the links are all kept as edges either way
+  const std::size_t squares = (n - 1) * (n - 1);
+  CHECK(all.triangles.size() > 3 * squares);  // overlapping
+  REQUIRE(one.triangles.size() == 2 * squares);
+  CHECK(area(one) == Approx(static_cast<double>(squares)).epsilon(0.02));  // the grid's area once
+  CHECK(area(all) > 1.9 * static_cast<double>(squares));
+  std::map<std::pair<Index, Index>, int> directed;
+  for (const auto& t : one.triangles) {
+    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+    const Vec3 normal = (c.position[t[1]] - c.position[t[0]]).cross(c.position[t[2]] - c.position[t[0]]);
+    CHECK(normal.z() > 0);  // one orientation throughout
+  }
+  std::size_t boundary = 0;
+  for (const auto& [edge, count] : directed) {
+    REQUIRE(count == 1);
+    boundary += directed.count({edge.second, edge.first}) == 0;
+  }
+  CHECK(boundary == static_cast<std::size_t>(4 * (n - 1)));  // no gap inside: only the outline is open
+}
+
+TEST_CASE("a square without diagonals in a sheet is closed on its shorter diagonal", "[surface]") {
+  // a quad 0-1-2-3 linked only along its sides (each side of the quad borders no triangle): a gap of one
+  // cell; the one-layer surface closes it with two triangles on the shorter diagonal (1-3 here)
+  Cells c;
+  for (const Vec3& p : {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.1, 1.0, 0), Vec3(0, 0.9, 0)}) add_cell(c, p);
+  for (Index i = 0; i < 4; ++i) {
+    c.links[i * 6] = (i + 1) % 4;
+    c.links[i * 6 + 1] = (i + 3) % 4;
+  }
+  CHECK(triangulate(c, false).triangles.empty());
+  const Surface s = triangulate(c);
+  REQUIRE(s.triangles.size() == 2);
+  CHECK(s.triangles[0] == std::array<Index, 3>{0, 1, 3});
+  CHECK(s.triangles[1] == std::array<Index, 3>{1, 2, 3});
+  CHECK(s.edges.size() == 4);  // no link is invented
 }
