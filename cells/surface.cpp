@@ -215,19 +215,26 @@ Surface triangulate(const Cells& cells, bool one_layer) {
     std::sort(tris.begin(), tris.end());
   }
 
-  // Triangles around each edge: (edge index, triangle) pairs sorted by edge.
-  auto edge_index = [&](Index u, Index v) {
+  // Triangles around each side: (side index, triangle) pairs sorted by side. The sides are the links the
+  // triangles use, and the diagonals of closed quads, which are not links.
+  std::vector<std::array<Index, 2>> sides;
+  sides.reserve(tris.size() * 3);
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k) sides.push_back({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])});
+  std::sort(sides.begin(), sides.end());
+  sides.erase(std::unique(sides.begin(), sides.end()), sides.end());
+  auto edge_index = [&](Index u, Index v) {  // every side is there
     const std::array<Index, 2> key{std::min(u, v), std::max(u, v)};
-    return static_cast<std::size_t>(std::lower_bound(edges.begin(), edges.end(), key) - edges.begin());
+    return static_cast<std::size_t>(std::lower_bound(sides.begin(), sides.end(), key) - sides.begin());
   };
   std::vector<std::pair<std::size_t, std::size_t>> incidence;
   incidence.reserve(tris.size() * 3);
   for (std::size_t t = 0; t < tris.size(); ++t)
     for (int k = 0; k < 3; ++k) incidence.push_back({edge_index(tris[t][k], tris[t][(k + 1) % 3]), t});
   std::sort(incidence.begin(), incidence.end());
-  std::vector<std::size_t> inc_start(edges.size() + 1, 0);
+  std::vector<std::size_t> inc_start(sides.size() + 1, 0);
   for (const auto& [e, t] : incidence) ++inc_start[e + 1];
-  for (std::size_t e = 0; e < edges.size(); ++e) inc_start[e + 1] += inc_start[e];
+  for (std::size_t e = 0; e < sides.size(); ++e) inc_start[e + 1] += inc_start[e];
 
   // Does triangle t traverse u -> v?
   auto has_directed = [&](std::size_t t, Index u, Index v) {

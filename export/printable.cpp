@@ -220,6 +220,52 @@ int arena_threads(int threads) {
 
 }  // namespace
 
+namespace {
+
+/// mm per model unit at which the printed form, as it is thickened (vein radii raised to `min_radius` mm,
+/// the shell `half_shell` mm to each side), is `target` mm along its largest side. Along an axis the printed
+/// form reaches max(s max(a + r), s max(a) + min_radius, s max(p) + half_shell) over vein ends a (radius r)
+/// and shell corners p, and as far the other way: an extent that grows with s, solved by bisection below
+/// `upper` (where the model's own radii alone give `target`).
+double auto_scale(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell,
+                  double min_radius, double half_shell, double target, double upper) {
+  const double inf = std::numeric_limits<double>::infinity();
+  Vec3 hi_r = Vec3::Constant(-inf), hi_c = hi_r, hi_s = hi_r, lo_r = Vec3::Constant(inf), lo_c = lo_r, lo_s = lo_r;
+  for (const Segment& g : segments)
+    for (const auto& [p, r] : {std::pair{g.a, g.ra}, std::pair{g.b, g.rb}}) {
+      hi_r = hi_r.cwiseMax(p + Vec3::Constant(r));
+      lo_r = lo_r.cwiseMin(p - Vec3::Constant(r));
+      hi_c = hi_c.cwiseMax(p);
+      lo_c = lo_c.cwiseMin(p);
+    }
+  for (const auto& t : shell)
+    for (const Vec3& p : t) {
+      hi_s = hi_s.cwiseMax(p);
+      lo_s = lo_s.cwiseMin(p);
+    }
+  auto printed_extent = [&](double s) {  // s > 0
+    double e = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double top = std::max({s * hi_r[k], s * hi_c[k] + min_radius, s * hi_s[k] + half_shell});
+      const double bottom = std::min({s * lo_r[k], s * lo_c[k] - min_radius, s * lo_s[k] - half_shell});
+      e = std::max(e, top - bottom);
+    }
+    return e;
+  };
+  double lo = 0, hi = upper;
+  // the model's radii alone reach the target at `upper`; a target below the thickness of one vein or of
+  // the shell (reached at any scale) keeps `upper`, as when the thickness did not count
+  if (!(printed_extent(hi) >= target) || printed_extent(upper * 1e-9) >= target) return upper;
+  for (int i = 0; i < 200 && lo < hi; ++i) {
+    const double mid = lo + (hi - lo) / 2;
+    if (mid <= lo || mid >= hi) break;
+    (printed_extent(mid) < target ? lo : hi) = mid;
+  }
+  return hi;  // the least scale found that reaches the target; 0 < hi <= upper
+}
+
+}  // namespace
+
 LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell,
                   const ThickenParams& params, ThickenReport* report) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -246,10 +292,13 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
       hi = hi.cwiseMax(p);
     }
   const double extent = (hi - lo).maxCoeff();
-  const double scale = params.scale > 0 ? params.scale : (extent > 0 ? params.auto_extent / extent : 1.0);
+  const double half_shell = params.shell_thickness / 2;
+  const double scale = params.scale > 0 ? params.scale
+                       : extent > 0     ? auto_scale(segments, shell, params.min_radius, half_shell, params.auto_extent,
+                                                     params.auto_extent / extent)
+                                        : 1.0;
   const double voxel = params.voxel_size > 0 ? params.voxel_size : params.min_radius / 2;
   const double band = kHalfWidth * voxel;  // mm, also the grid's background value
-  const double half_shell = params.shell_thickness / 2;
 
   // Primitives in mm, with radii raised to the printable minimum.
   std::vector<Capsule> caps;

@@ -28,7 +28,8 @@ struct Segment {
 
 /// Settings of thicken(). Lengths are in millimetres of the printed part unless stated otherwise.
 struct ThickenParams {
-  double scale = 0;  ///< mm per model unit; 0 = auto: the form's largest extent (radii included) becomes `auto_extent`
+  double scale = 0;  ///< mm per model unit; 0 = auto: the printed form's largest extent (radii raised to min_radius,
+                     ///< shell thickness included) becomes `auto_extent`
   double auto_extent = 120;      ///< mm: size of the largest side of the bounding box when scale = 0
   double voxel_size = 0;         ///< mm; 0 = auto: min_radius / 2 (a minimum-radius vein is 4 voxels across)
   double min_radius = 0.4;       ///< mm: thinner veins are raised to this printable minimum

@@ -210,6 +210,19 @@ TEST_CASE("automatic scale makes the largest extent 120 mm", "[printable]") {
   const Vec3 size = check.bbox_max - check.bbox_min;
   CHECK(size.maxCoeff() == Approx(120).margin(2 * p.voxel_size));
   CHECK(rep.scale > 1);
+
+  // the size counts the form as printed: thin veins raised to min_radius, and the shell's thickness (they
+  // were left out, so such prints came out up to a few mm larger than asked)
+  std::vector<Segment> thin = y_tree();
+  for (Segment& g : thin) g.ra = g.rb = 0.001;
+  p.min_radius = 3;
+  const auto raised = require_printable(exporters::thicken(thin, {}, p, &rep));
+  CHECK((raised.bbox_max - raised.bbox_min).maxCoeff() == Approx(120).margin(2 * p.voxel_size));
+  p.min_radius = 0.4;
+  p.shell_thickness = 4;
+  const std::vector<std::array<Vec3, 3>> sheet = {{Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(0, 5, 0)}};
+  const auto slab = require_printable(exporters::thicken({}, sheet, p, &rep));
+  CHECK((slab.bbox_max - slab.bbox_min).maxCoeff() == Approx(120).margin(2 * p.voxel_size));
 }
 
 TEST_CASE("a Y-shaped vein tree is one watertight part of genus 0", "[printable]") {
