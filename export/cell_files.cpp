@@ -88,6 +88,7 @@ void write_cells_ply(const std::filesystem::path& path, const Cells& cells, cons
 
   std::string header = "ply\nformat binary_little_endian 1.0\ncomment cellform cell sheet\n";
   header += "comment id is the low 32 bits of the 64-bit cell id\n";
+  header += "comment type: 0 general, 1 petiole, 2 vein\n";
   header += "element vertex " + std::to_string(n) + "\n";
   header += "property float x\nproperty float y\nproperty float z\n";
   header += "property uchar type\nproperty uint age\nproperty uint generation\nproperty uint id\n";
