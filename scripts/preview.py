@@ -29,7 +29,7 @@ def read_ply(path):
         elif w[0] == "property":
             elements[-1][2].append(w[1:])
     out = {}
-    if b"format ascii" in data[:end]:  # e.g. the veins.ply of space colonisation
+    if b"format ascii" in data[:end]:  # PLY from elsewhere (cellform writes binary)
         words = iter(data[end:].split())
         for name, count, props in elements:
             rows = []

@@ -2,6 +2,8 @@
 #include "venation/vein_io.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 #include <ostream>
 #include <string>
 
@@ -94,66 +96,81 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
 }
 
 void write_vein_ply(const std::filesystem::path& path, const VeinTree& tree) {
-  const auto edges = tree.edges();
+  // the layout of the cell runs' veins.ply (export/vein_files.h), without their cell ids: binary, per node
+  // x y z flow radius order, edges child -> parent, then the loop-closing edges (anastomoses)
+  const bool flows = tree.flow.size() == tree.size(), orders = tree.order.size() == tree.size();
+  std::string body;
+  body.reserve(tree.size() * 24 + (tree.size() + tree.anastomoses.size()) * 8);
+  auto put = [&](auto v) {
+    char b[sizeof v];
+    std::memcpy(b, &v, sizeof v);  // little-endian hosts only (x86-64, arm64), as the header says
+    body.append(b, sizeof v);
+  };
+  for (Index i = 0; i < tree.size(); ++i) {
+    const Vec3& q = tree.positions[i];
+    for (double x : {q.x(), q.y(), q.z(), flows ? tree.flow[i] : 0.0, radius_of(tree, i)}) put(static_cast<float>(x));
+    put(static_cast<std::int32_t>(orders ? tree.order[i] : 0));
+  }
+  std::size_t edges = 0;
+  for (Index i = 0; i < tree.size(); ++i)
+    if (tree.parent[i] != kNoIndex) {
+      put(static_cast<std::int32_t>(i));
+      put(static_cast<std::int32_t>(tree.parent[i]));
+      ++edges;
+    }
+  for (const auto& [a, b] : tree.anastomoses) {
+    put(static_cast<std::int32_t>(a));
+    put(static_cast<std::int32_t>(b));
+    ++edges;
+  }
+  std::string header =
+      "ply\nformat binary_little_endian 1.0\ncomment cellform space-colonisation veins: edges run child -> parent, "
+      "then the edges that close loops\nelement vertex ";
+  core::append_integer(header, tree.size());
+  header +=
+      "\nproperty float x\nproperty float y\nproperty float z\nproperty float flow\nproperty float radius\n"
+      "property int order\nelement edge ";
+  core::append_integer(header, edges);
+  header += "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
   core::write_file_atomically(path, [&](std::ostream& os) {
-    std::string out = "ply\nformat ascii 1.0\ncomment cellform space-colonisation veins\nelement vertex ";
-    core::append_integer(out, tree.size());
-    out +=
-        "\nproperty float x\nproperty float y\nproperty float z\nproperty float radius\nproperty float "
-        "flow\nproperty int order\nelement edge ";
-    core::append_integer(out, edges.size());
-    out += "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
-    for (Index i = 0; i < tree.size(); ++i) {  // numbers as "%.9g"
-      const Vec3& q = tree.positions[i];
-      for (double x : {q.x(), q.y(), q.z(), radius_of(tree, i), tree.flow.size() == tree.size() ? tree.flow[i] : 0.0}) {
-        core::append_general(out, x);
-        out += ' ';
-      }
-      core::append_integer(out, tree.order.size() == tree.size() ? tree.order[i] : 0);
-      out += '\n';
-      core::drain(out, os);
-    }
-    for (const auto& [a, b] : edges) {
-      core::append_integer(out, a);
-      out += ' ';
-      core::append_integer(out, b);
-      out += '\n';
-      core::drain(out, os);
-    }
-    core::drain(out, os, 0);
+    os.write(header.data(), static_cast<std::streamsize>(header.size()));
+    os.write(body.data(), static_cast<std::streamsize>(body.size()));
   });
 }
 
 void write_vein_obj(const std::filesystem::path& path, const VeinTree& tree) {
+  // the layout of the cell runs' veins.obj: "#a flow radius order" after each vertex, lines child parent
   core::write_file_atomically(path, [&](std::ostream& os) {
     std::string out = "# cellform space-colonisation veins: ";
     core::append_integer(out, tree.size());
-    out += " nodes\n# per vertex: \"# r radius order flow\"\n";
+    out += " nodes\n# per vertex: '#a flow radius order' follows its 'v' line\no veins\n";
     for (Index i = 0; i < tree.size(); ++i) {  // numbers as "%.9g"
       const Vec3& q = tree.positions[i];
-      out += "v ";
-      core::append_general(out, q.x());
+      out += 'v';
+      for (double x : {q.x(), q.y(), q.z()}) {
+        out += ' ';
+        core::append_general(out, x);
+      }
+      out += "\n#a ";
+      core::append_general(out, tree.flow.size() == tree.size() ? tree.flow[i] : 0.0);
       out += ' ';
-      core::append_general(out, q.y());
-      out += ' ';
-      core::append_general(out, q.z());
-      out += "\n# r ";
       core::append_general(out, radius_of(tree, i));
       out += ' ';
       core::append_integer(out, tree.order.size() == tree.size() ? tree.order[i] : 0);
-      out += ' ';
-      core::append_general(out, tree.flow.size() == tree.size() ? tree.flow[i] : 0.0);
       out += '\n';
       core::drain(out, os);
     }
-    for (const auto& [a, b] : tree.edges()) {
+    auto line = [&](Index a, Index b) {
       out += "l ";
       core::append_integer(out, a + 1);
       out += ' ';
       core::append_integer(out, b + 1);
       out += '\n';
       core::drain(out, os);
-    }
+    };
+    for (Index i = 0; i < tree.size(); ++i)
+      if (tree.parent[i] != kNoIndex) line(i, tree.parent[i]);
+    for (const auto& [a, b] : tree.anastomoses) line(a, b);
     core::drain(out, os, 0);
   });
 }

@@ -25,12 +25,13 @@ struct SvgParams {
 void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline,
                const SvgParams& params = {}, const std::vector<Vec3>& sources = {});
 
-/// ASCII PLY: vertices (x, y, z, radius, flow as float; order as int) and an edge element (vertex1 =
-/// base-side node, vertex2 = tip-side node), anastomoses last. Atomic; core::FileError on failure.
+/// Binary little-endian PLY in the layout of the cell runs' veins.ply (exporters::write_veins_ply, less the
+/// cell id): vertices (x, y, z, flow, radius as float; order as int) and an edge element (vertex1 = the
+/// tip-side node, vertex2 = its parent), the anastomoses last. Atomic; core::FileError on failure.
 void write_vein_ply(const std::filesystem::path& path, const VeinTree& tree);
 
-/// OBJ: `v` lines, one `l a b` line per edge (1-based), and a comment header naming the per-vertex
-/// radius / order / flow lines ("# r radius order flow" per vertex, OBJ has no vertex attributes). Atomic.
+/// OBJ: `v` lines, each followed by "#a flow radius order" (OBJ has no vertex attributes), and one
+/// `l child parent` line per edge (1-based), anastomoses last; as the cell runs' veins.obj. Atomic.
 void write_vein_obj(const std::filesystem::path& path, const VeinTree& tree);
 
 }  // namespace cellform::venation

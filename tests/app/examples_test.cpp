@@ -1,5 +1,6 @@
 // Every example script runs on small settings, so examples cannot rot.
 #include <catch2/catch.hpp>
+#include <cstring>
 #include <nlohmann/json.hpp>
 
 #include <numeric>
@@ -68,18 +69,31 @@ struct Graph {
 };
 
 Graph read_vein_graph(const fs::path& ply) {
-  std::istringstream in(slurp(ply));
+  const std::string bytes = slurp(ply);
+  std::istringstream in(bytes);
   std::string line;
   Graph g;
+  std::size_t vertex_bytes = 0;  // binary little-endian: 4 bytes per float or int property of a vertex
+  bool in_vertex = false;
   while (std::getline(in, line) && line != "end_header") {
     std::istringstream ls(line);
     std::string a, b;
     std::size_t n = 0;
     ls >> a >> b >> n;
+    if (a == "format") REQUIRE(b == "binary_little_endian");
+    if (a == "element") in_vertex = b == "vertex";
     if (a == "element" && b == "vertex") g.nodes = n;
     if (a == "element" && b == "edge") g.edges = n;
+    if (a == "property" && in_vertex) vertex_bytes += 4;
   }
-  for (std::size_t i = 0; i < g.nodes; ++i) std::getline(in, line);
+  std::size_t at = static_cast<std::size_t>(in.tellg()) + g.nodes * vertex_bytes;
+  REQUIRE(bytes.size() == at + g.edges * 8);
+  auto next_int = [&] {
+    std::int32_t v = 0;
+    std::memcpy(&v, bytes.data() + at, 4);
+    at += 4;
+    return static_cast<std::size_t>(v);
+  };
   std::vector<std::size_t> up(g.nodes);
   std::iota(up.begin(), up.end(), 0);
   auto find = [&](std::size_t x) {
@@ -88,8 +102,7 @@ Graph read_vein_graph(const fs::path& ply) {
   };
   std::size_t merged = 0;
   for (std::size_t e = 0; e < g.edges; ++e) {
-    std::size_t a = 0, b = 0;
-    in >> a >> b;
+    const std::size_t a = next_int(), b = next_int();
     REQUIRE(a < g.nodes);
     REQUIRE(b < g.nodes);
     const std::size_t ra = find(a), rb = find(b);

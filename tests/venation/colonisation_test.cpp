@@ -3,6 +3,7 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -414,21 +415,45 @@ TEST_CASE("SVG, PLY and OBJ output", "[colonisation]") {
   CHECK_THAT(text, Contains("<svg") && Contains("</svg>"));
   const auto edges = t.edges();
   CHECK(std::count(text.begin(), text.end(), '\n') >= static_cast<long>(edges.size()));
-  std::ifstream ply(dir / "veins.ply");
-  std::string line;
-  std::getline(ply, line);
-  CHECK(line == "ply");
   std::stringstream all;
-  all << ply.rdbuf();
-  CHECK_THAT(all.str(), Contains("element vertex " + std::to_string(t.size())) &&
-                            Contains("element edge " + std::to_string(edges.size())));
+  all << std::ifstream(dir / "veins.ply", std::ios::binary).rdbuf();
+  const std::string ply = all.str();
+  CHECK(ply.rfind("ply\nformat binary_little_endian 1.0\n", 0) == 0);  // as the cell runs' veins.ply
+  CHECK_THAT(ply, Contains("element vertex " + std::to_string(t.size())) &&
+                      Contains("property float flow\nproperty float radius\nproperty int order\n") &&
+                      Contains("element edge " + std::to_string(edges.size())));
+  // the body: 24 bytes per node (x y z flow radius order), then 8 per edge, child -> parent first
+  const std::size_t body = ply.find("end_header\n") + 11;
+  REQUIRE(ply.size() == body + 24 * t.size() + 8 * edges.size());
+  auto f32 = [&](std::size_t at) {
+    float v;
+    std::memcpy(&v, ply.data() + at, 4);
+    return v;
+  };
+  auto i32 = [&](std::size_t at) {
+    std::int32_t v;
+    std::memcpy(&v, ply.data() + at, 4);
+    return v;
+  };
+  const Index last = static_cast<Index>(t.size() - 1);
+  CHECK(f32(body + 24 * last) == static_cast<float>(t.positions[last].x()));
+  CHECK(f32(body + 24 * last + 12) == static_cast<float>(t.flow[last]));
+  CHECK(f32(body + 24 * last + 16) == static_cast<float>(t.radius[last]));
+  CHECK(i32(body + 24 * last + 20) == static_cast<std::int32_t>(t.order[last]));
+  const std::size_t first_edge = body + 24 * t.size();
+  REQUIRE(t.parent[1] != kNoIndex);
+  CHECK(i32(first_edge) == 1);  // node 0 is the seed: the first edge is node 1's, to its parent
+  CHECK(i32(first_edge + 4) == static_cast<std::int32_t>(t.parent[1]));
   std::ifstream obj(dir / "veins.obj");
-  std::size_t v_lines = 0, l_lines = 0;
+  std::string line;
+  std::size_t v_lines = 0, l_lines = 0, a_lines = 0;
   while (std::getline(obj, line)) {
     v_lines += line.rfind("v ", 0) == 0;
     l_lines += line.rfind("l ", 0) == 0;
+    a_lines += line.rfind("#a ", 0) == 0;
   }
   CHECK(v_lines == t.size());
+  CHECK(a_lines == t.size());
   CHECK(l_lines == edges.size());
   std::filesystem::remove_all(dir);
 }
