@@ -6,7 +6,7 @@
 -- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
 -- 1 / scale^2): the default, scale = 0.2, grows the leaf from 23 to 700 (about 5 s here);
 -- `--set scale=1` gives the paper's size: 3.9 million nodes, the veins in about 3.5 minutes on 2 cores and
--- the whole run with its print in 5 (see docs/benchmarks.md).
+-- the whole run with its print in about 4.5 (see docs/benchmarks.md).
 
 local P = params {
   neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (here not faster: exact reuses sector bests)
@@ -32,6 +32,6 @@ colonisation {
 }
 
 -- At 120 mm a full-size leaf has vein segments of 0.03 mm, far below the 0.4 mm printable radius: its
--- reticulum prints as one closed plate (4.45 million segments thickened in about 45 s with 3 GB at the
+-- reticulum prints as one closed plate (4.45 million segments thickened in about 47 s with 3 GB at the
 -- peak; the estimate before thickening says 4.5 GB, above the default limit of 2000 MB, hence max_memory).
 print { formats = "stl", max_memory = 5000 }
