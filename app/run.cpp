@@ -275,8 +275,9 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
   }
   // every file is checked before any moves, so a missing one leaves the earlier outputs as they were
   std::vector<std::string> order;
+  std::set<std::string> listed;
   for (const std::string& n : names)
-    if (std::find(order.begin(), order.end(), n) == order.end()) order.push_back(n);
+    if (listed.insert(n).second) order.push_back(n);
   for (const std::string& n : order)
     if (!fs::is_regular_file(staging / n))
       throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': it was not written");

@@ -70,7 +70,7 @@ venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cel
   if (!sheet) return make(spec.domain);
   venation::Domain d = spec.domain;
   d.mesh.vertices = sheet->position;
-  d.mesh.triangles = cells::triangulate(*sheet).triangles;
+  d.mesh.triangles = cells::triangulate(*sheet, false).triangles;  // as before one-layer files: no gaps
   if (d.mesh.triangles.empty())
     throw core::InvalidInput(
         "surface{cells = true}: the grown cells form no triangles to grow veins on (place a "

@@ -213,7 +213,7 @@ struct ScriptHost::Impl {
 
   /// Message handler: error(x) with x not a string or number becomes a message with the script line.
   static int error_object_text(lua_State* L) {
-    if (lua_type(L, 1) == LUA_TSTRING || lua_type(L, 1) == LUA_TNUMBER) return 1;
+    if (lua_type(L, 1) == LUA_TSTRING) return 1;
     const std::string type = luaL_typename(L, 1);
     for (int level = 1; level <= 2; ++level) {  // the caller of error(), past error() itself
       luaL_where(L, level);
@@ -221,7 +221,10 @@ struct ScriptHost::Impl {
       lua_pop(L, 1);
       if (level == 2) lua_pushliteral(L, "");
     }
-    lua_pushfstring(L, "error() was raised with a %s value, not a message; give error a string", type.c_str());
+    if (lua_type(L, 1) == LUA_TNUMBER)  // error(42): the number is the message
+      luaL_tolstring(L, 1, nullptr);  // pushes its text
+    else
+      lua_pushfstring(L, "error() was raised with a %s value, not a message; give error a string", type.c_str());
     lua_concat(L, 2);
     return 1;
   }

@@ -98,6 +98,7 @@ Cells load(const std::string& bytes, const std::string& what) {
     c.type[i] = static_cast<CellType>(type[i]);
     if (c.vein_parent[i] != kNoIndex && c.vein_parent[i] >= n) throw bad("vein parent out of range");
     if (c.id[i] >= c.next_id) throw bad("cell id not below next id");
+    if (!c.position[i].allFinite() || !c.velocity[i].allFinite()) throw bad("non-finite cell position or velocity");
   }
   for (const Index l : c.links)
     if (l != kNoIndex && l >= n) throw bad("link out of range");

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <deque>
 #include <iterator>
+#include <limits>
+#include <set>
 
 namespace cellform::cells {
 
@@ -41,55 +43,66 @@ bool splits(const Vec3& p, const Vec3& q, const Vec3& k) {
 std::vector<std::array<Index, 2>> uncrossed(const std::vector<Vec3>& pos,
                                             const std::vector<std::array<Index, 2>>& edges) {
   const std::size_t n = pos.size();
-  std::vector<std::size_t> start(n + 1, 0);  // full adjacency (both directions), sorted
+  struct Link {
+    Index to;
+    std::size_t edge;
+    bool operator<(const Link& o) const { return to < o.to; }
+  };
+  std::vector<std::size_t> start(n + 1, 0);  // full adjacency (both directions), sorted, with edge indices
   for (const auto& e : edges) {
     ++start[e[0] + 1];
     ++start[e[1] + 1];
   }
   for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
-  std::vector<Index> adj(start[n]);
+  std::vector<Link> adj(start[n]);
   std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-  for (const auto& e : edges) {
-    adj[fill[e[0]]++] = e[1];
-    adj[fill[e[1]]++] = e[0];
-  }
-  auto row = [&](Index u) {
-    return std::pair{adj.begin() + static_cast<long>(start[u]), adj.begin() + static_cast<long>(start[u + 1])};
-  };
-  for (std::size_t i = 0; i < n; ++i) std::sort(row(static_cast<Index>(i)).first, row(static_cast<Index>(i)).second);
-  auto edge_index = [&](Index u, Index v) -> std::size_t {  // edges.size() if not an edge
-    const std::array<Index, 2> key{std::min(u, v), std::max(u, v)};
-    const auto it = std::lower_bound(edges.begin(), edges.end(), key);
-    return it != edges.end() && *it == key ? static_cast<std::size_t>(it - edges.begin()) : edges.size();
-  };
-  std::vector<double> len2(edges.size());
-  std::vector<std::size_t> order(edges.size());
   for (std::size_t e = 0; e < edges.size(); ++e) {
-    len2[e] = (pos[edges[e][0]] - pos[edges[e][1]]).squaredNorm();
-    order[e] = e;
+    adj[fill[edges[e][0]]++] = {edges[e][1], e};
+    adj[fill[edges[e][1]]++] = {edges[e][0], e};
   }
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return len2[a] < len2[b] || (len2[a] == len2[b] && a < b);  // edges are sorted: index order breaks ties
-  });
+  auto first = [&](Index u) { return adj.begin() + static_cast<long>(start[u]); };
+  for (Index i = 0; i < n; ++i) std::sort(first(i), first(i + 1));
+  std::vector<std::pair<double, std::size_t>> order(edges.size());  // shortest first, ties by index pair
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    const double len2 = (pos[edges[e][0]] - pos[edges[e][1]]).squaredNorm();
+    order[e] = {len2 <= std::numeric_limits<double>::max() ? len2 : std::numeric_limits<double>::infinity(), e};
+  }
+  std::sort(order.begin(), order.end());
   std::vector<char> kept(edges.size(), 0);
-  std::vector<Index> common;
-  for (const std::size_t e : order) {
+  std::vector<std::array<std::size_t, 3>> common;    // (cell, its edge to i, its edge to j)
+  std::vector<std::size_t> stamp(n, 0), mark(n, 0);  // mark[v]: the edge to v of the cell stamped (tokens from 1)
+  std::size_t token = 0;
+  for (const auto& [len2, e] : order) {
     const auto [i, j] = edges[e];
     common.clear();
-    const auto [ai, bi] = row(i);
-    const auto [aj, bj] = row(j);
-    std::set_intersection(ai, bi, aj, bj, std::back_inserter(common));
+    for (auto a = first(i), b = first(j); a != first(i + 1) && b != first(j + 1);) {
+      if (a->to < b->to) {
+        ++a;
+      } else if (b->to < a->to) {
+        ++b;
+      } else {
+        common.push_back({a->to, a->edge, b->edge});
+        ++a;
+        ++b;
+      }
+    }
     bool crossed = false;
     for (std::size_t x = 0; x < common.size() && !crossed; ++x) {  // a cell on the edge splits it
-      const Index k = common[x];
-      crossed = kept[edge_index(i, k)] && kept[edge_index(j, k)] && splits(pos[i], pos[j], pos[k]);
+      const auto [k, ik, jk] = common[x];
+      crossed = kept[ik] && kept[jk] && splits(pos[i], pos[j], pos[k]);
     }
-    for (std::size_t x = 0; x < common.size() && !crossed; ++x)
-      for (std::size_t y = x + 1; y < common.size() && !crossed; ++y) {
-        const std::size_t other = edge_index(common[x], common[y]);
-        crossed =
-            other < edges.size() && kept[other] && diagonals_cross(pos[i], pos[j], pos[common[x]], pos[common[y]]);
+    for (std::size_t x = 0; x < common.size() && !crossed; ++x) {
+      const Index k = static_cast<Index>(common[x][0]);
+      ++token;  // the neighbours of k, with their edges, for the pairs (k, l) below
+      for (auto a = first(k); a != first(k + 1); ++a) {
+        stamp[a->to] = token;
+        mark[a->to] = a->edge;
       }
+      for (std::size_t y = x + 1; y < common.size() && !crossed; ++y) {
+        const Index l = static_cast<Index>(common[y][0]);
+        crossed = stamp[l] == token && kept[mark[l]] && diagonals_cross(pos[i], pos[j], pos[k], pos[l]);
+      }
+    }
     kept[e] = crossed ? 0 : 1;
   }
   std::vector<std::array<Index, 2>> out;
@@ -143,15 +156,29 @@ void close_quads(const std::vector<Vec3>& pos, const std::vector<std::array<Inde
   }
   std::sort(quads.begin(), quads.end());
   quads.erase(std::unique(quads.begin(), quads.end()), quads.end());
+  std::set<std::array<Index, 3>> have(tris.begin(), tris.end());  // sorted triples
+  std::set<std::array<Index, 2>> diagonals;                       // closing diagonals used so far
   for (const auto& q : quads) {  // q[0]-q[1]-q[2]-q[3] in a cycle, diagonals (q0, q2) and (q1, q3)
     if (!open(q[0], q[1]) || !open(q[1], q[2]) || !open(q[2], q[3]) || !open(q[3], q[0])) continue;
+    // a cell linked to all four corners means the cycle is a wheel already filled (or a fan around it)
+    bool filled = false;
+    for (const Index v : adj[q[0]])
+      filled = filled || (v != q[2] && linked(v, q[1]) && linked(v, q[2]) && linked(v, q[3]));
+    if (filled) continue;
     const double d02 = (pos[q[0]] - pos[q[2]]).squaredNorm(), d13 = (pos[q[1]] - pos[q[3]]).squaredNorm();
     const bool first = d02 < d13 || (d02 == d13 && std::min(q[0], q[2]) < std::min(q[1], q[3]));
     std::array<Index, 3> t1 = first ? std::array<Index, 3>{q[0], q[1], q[2]} : std::array<Index, 3>{q[1], q[2], q[3]};
     std::array<Index, 3> t2 = first ? std::array<Index, 3>{q[0], q[2], q[3]} : std::array<Index, 3>{q[1], q[3], q[0]};
-    for (auto* t : {&t1, &t2}) {
-      std::sort(t->begin(), t->end());
-      tris.push_back(*t);
+    std::sort(t1.begin(), t1.end());
+    std::sort(t2.begin(), t2.end());
+    const std::array<Index, 2> diagonal = first ? std::array<Index, 2>{std::min(q[0], q[2]), std::max(q[0], q[2])}
+                                                : std::array<Index, 2>{std::min(q[1], q[3]), std::max(q[1], q[3])};
+    // a diagonal another quad closed already would border four triangles
+    if (diagonals.count(diagonal) || have.count(t1) || have.count(t2)) continue;
+    diagonals.insert(diagonal);
+    for (const auto& t : {t1, t2}) {
+      tris.push_back(t);
+      have.insert(t);
     }
     for (int k = 0; k < 4; ++k) use(q[k], q[(k + 1) % 4]);
   }

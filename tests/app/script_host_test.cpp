@@ -240,6 +240,7 @@ TEST_CASE("errors without a message, runaway loops and file headers name the lin
         "test/leaf.lua:2: error() was raised with a table value, not a message; give error a string");
   CHECK(load_error("error()\n") ==
         "test/leaf.lua:1: error() was raised with a nil value, not a message; give error a string");
+  CHECK(load_error("error(42)\n") == "test/leaf.lua:1: 42");
   ScriptLimits tight;
   tight.instructions = 100000;
   CHECK_THAT(load_error("disc { radius = 2 }\nlocal n = 0\nwhile true do\n  n = n + 1\nend\n", {}, tight),

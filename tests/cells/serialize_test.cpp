@@ -2,6 +2,7 @@
 #include "cells/serialize.h"
 
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstring>
 
 #include "cells/simulation.h"
@@ -67,4 +68,8 @@ TEST_CASE("damaged bytes throw FileError naming the source", "[serialize]") {
   std::string bad = bytes;
   bad[0] = 'X';
   REQUIRE_THROWS_AS(load(bad, "x"), cellform::core::FileError);
+  // a state with a non-finite position (only a forged or damaged one has it) is refused, not simulated
+  Cells nan = c;
+  nan.position[4].y() = std::nan("");
+  CHECK_THROWS_WITH(load(save(nan), "nan.bin"), Catch::Matchers::Contains("non-finite cell position"));
 }

@@ -147,3 +147,34 @@ TEST_CASE("a square without diagonals in a sheet is closed on its shorter diagon
   CHECK(s.triangles[1] == std::array<Index, 3>{1, 2, 3});
   CHECK(s.edges.size() == 4);  // no link is invented
 }
+
+TEST_CASE("closing quads never doubles a layer: a filled wheel, and quads that share a diagonal", "[surface]") {
+  auto area = [](const Cells& c, const Surface& s) {
+    double a = 0;
+    for (const auto& t : s.triangles)
+      a += 0.5 * (c.position[t[1]] - c.position[t[0]]).cross(c.position[t[2]] - c.position[t[0]]).norm();
+    return a;
+  };
+  auto link_all = [](Cells& c, const std::vector<std::pair<Index, Index>>& pairs) {
+    std::vector<int> used(c.size(), 0);
+    for (const auto& [a, b] : pairs) c.links[a * 6 + static_cast<std::size_t>(used[a]++)] = b;
+  };
+  // a wheel: the centre linked to four rim cells, the rim a 4-cycle; the diameters run through the centre
+  Cells wheel;
+  for (const Vec3& p : {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(-1, 0, 0), Vec3(0, -1, 0)})
+    add_cell(wheel, p);
+  link_all(wheel, {{0, 1}, {0, 2}, {0, 3}, {0, 4}, {1, 2}, {2, 3}, {3, 4}, {4, 1}, {1, 3}, {2, 4}});
+  const Surface w = triangulate(wheel);
+  CHECK(w.triangles.size() == 4);
+  CHECK(area(wheel, w) == Approx(2.0));
+  // three quads a-x-c-y around the same diagonal a-c (x, y among three cells): closed once
+  Cells fan;
+  for (const Vec3& p : {Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(2, 0, 0), Vec3(1, -1, 0), Vec3(1, 0, 3)}) add_cell(fan, p);
+  link_all(fan, {{0, 1}, {0, 3}, {0, 4}, {2, 1}, {2, 3}, {2, 4}});
+  const Surface f = triangulate(fan);
+  CHECK(f.triangles.size() == 2);
+  std::map<std::pair<Index, Index>, int> sides;
+  for (const auto& t : f.triangles)
+    for (int k = 0; k < 3; ++k) ++sides[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}];
+  for (const auto& [side, count] : sides) CHECK(count <= 2);
+}
