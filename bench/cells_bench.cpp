@@ -8,6 +8,7 @@
 
 #include "bench/bench.h"
 #include "cells/simulation.h"
+#include "cells/surface.h"
 #include "forms/shapes.h"
 
 namespace cellform::bench {
@@ -72,6 +73,37 @@ const Register r6{
        while (sim->cells().size() < 20000) sim->step();
        return process_cpu_seconds() - a;
      }}};
+
+/// Seconds to triangulate a sheet of about n cells with k links per cell (link_range 0 with k > 6: every
+/// cell links its k nearest, the dense case), after three steps; one layer (files) or every clique (shells).
+double surface_seconds(std::size_t n, int k, bool one_layer) {
+  static std::map<std::pair<std::size_t, int>, std::unique_ptr<cells::Simulation>> cache;
+  auto& sim = cache[{n, k}];
+  if (!sim) {
+    sim = sheet(n, false);
+    cells::Params p = sim->params();
+    p.neighbours = k;
+    p.link_range = k > 6 ? 0 : p.link_range;
+    auto dense = std::make_unique<cells::Simulation>(p, 7);
+    for (std::size_t i = 0; i < sim->cells().size(); ++i) cells::add_cell(dense->cells(), sim->cells().position[i]);
+    dense->set_threads(2);
+    for (int i = 0; i < 3; ++i) dense->step();
+    sim = std::move(dense);
+  }
+  const auto a = std::chrono::steady_clock::now();
+  const cells::Surface s = cells::triangulate(sim->cells(), one_layer);
+  const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+  return s.triangles.empty() ? -1 : t;
+}
+
+const Register r7{{"cells.surface.1m", "s", "triangulate 1,000,000 cells in one layer (cells.ply, cells.obj)", 3,
+                   [] { return surface_seconds(1000000, 6, true); }}};
+const Register r8{{"cells.surface.1m.cliques", "s", "the same keeping every 3-clique (printed shells)", 3,
+                   [] { return surface_seconds(1000000, 6, false); }}};
+const Register r9{{"cells.surface.20k.k32", "s", "one layer, 20,000 cells with their 32 nearest links each", 3,
+                   [] { return surface_seconds(20000, 32, true); }}};
+const Register r10{{"cells.surface.20k.k32.cliques", "s", "every clique, 20,000 cells with 32 nearest links each", 3,
+                    [] { return surface_seconds(20000, 32, false); }}};
 
 }  // namespace
 

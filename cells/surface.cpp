@@ -68,11 +68,17 @@ std::vector<std::array<Index, 2>> uncrossed(const std::vector<Vec3>& pos,
     order[e] = {len2 <= std::numeric_limits<double>::max() ? len2 : std::numeric_limits<double>::infinity(), e};
   }
   std::sort(order.begin(), order.end());
-  std::vector<char> kept(edges.size(), 0);
-  std::vector<std::array<std::size_t, 3>> common;    // (cell, its edge to i, its edge to j)
-  std::vector<std::size_t> stamp(n, 0), mark(n, 0);  // mark[v]: the edge to v of the cell stamped (tokens from 1)
-  std::size_t token = 0;
-  for (const auto& [len2, e] : order) {
+  std::vector<std::size_t> rank(edges.size());
+  for (std::size_t r = 0; r < order.size(); ++r) rank[order[r].second] = r;
+  // First, in index order (neighbouring cells, neighbouring memory), what could remove each edge: the
+  // shorter edges it crosses, and the pairs of shorter edges through a cell lying on it. Few edges have any.
+  struct Blocker {
+    std::size_t a, b;  // removes the edge if both were kept (a == b: one crossing edge)
+  };
+  std::vector<std::size_t> block_start(edges.size() + 1, 0);
+  std::vector<Blocker> blockers;
+  std::vector<std::array<std::size_t, 3>> common;  // (cell, its edge to i, its edge to j)
+  for (std::size_t e = 0; e < edges.size(); ++e) {
     const auto [i, j] = edges[e];
     common.clear();
     for (auto a = first(i), b = first(j); a != first(i + 1) && b != first(j + 1);) {
@@ -86,24 +92,28 @@ std::vector<std::array<Index, 2>> uncrossed(const std::vector<Vec3>& pos,
         ++b;
       }
     }
-    bool crossed = false;
-    for (std::size_t x = 0; x < common.size() && !crossed; ++x) {  // a cell on the edge splits it
-      const auto [k, ik, jk] = common[x];
-      crossed = kept[ik] && kept[jk] && splits(pos[i], pos[j], pos[k]);
-    }
-    for (std::size_t x = 0; x < common.size() && !crossed; ++x) {
+    for (const auto& [k, ik, jk] : common)  // a cell on the edge splits it
+      if (rank[ik] < rank[e] && rank[jk] < rank[e] && splits(pos[i], pos[j], pos[k])) blockers.push_back({ik, jk});
+    for (std::size_t x = 0; x + 1 < common.size(); ++x) {
       const Index k = static_cast<Index>(common[x][0]);
-      ++token;  // the neighbours of k, with their edges, for the pairs (k, l) below
-      for (auto a = first(k); a != first(k + 1); ++a) {
-        stamp[a->to] = token;
-        mark[a->to] = a->edge;
-      }
-      for (std::size_t y = x + 1; y < common.size() && !crossed; ++y) {
+      for (std::size_t y = x + 1; y < common.size(); ++y) {
         const Index l = static_cast<Index>(common[y][0]);
-        crossed = stamp[l] == token && kept[mark[l]] && diagonals_cross(pos[i], pos[j], pos[k], pos[l]);
+        const auto kl = std::lower_bound(first(k), first(k + 1), Link{l, 0});  // k's row is short and sorted
+        if (kl != first(k + 1) && kl->to == l && rank[kl->edge] < rank[e] &&
+            diagonals_cross(pos[i], pos[j], pos[k], pos[l]))
+          blockers.push_back({kl->edge, kl->edge});
       }
     }
-    kept[e] = crossed ? 0 : 1;
+    block_start[e + 1] = blockers.size();
+  }
+  // Then, shortest first: an edge stays unless something that stayed blocks it (the blockers are shorter,
+  // so they are decided already).
+  std::vector<char> kept(edges.size(), 0);
+  for (const auto& [len2, e] : order) {
+    bool blocked = false;
+    for (std::size_t b = block_start[e]; b < block_start[e + 1] && !blocked; ++b)
+      blocked = kept[blockers[b].a] && kept[blockers[b].b];
+    kept[e] = blocked ? 0 : 1;
   }
   std::vector<std::array<Index, 2>> out;
   out.reserve(edges.size());
@@ -114,9 +124,11 @@ std::vector<std::array<Index, 2>> uncrossed(const std::vector<Vec3>& pos,
 
 /// Closes the 4-cycles of `edges` (sorted, i < j) that have no diagonal and whose four sides each border
 /// at most one triangle of `tris` (a gap in the sheet the size of a cell): two triangles on the shorter
-/// diagonal (ties: the smaller index pair). Appends triangles as sorted triples, in a deterministic order.
-void close_quads(const std::vector<Vec3>& pos, const std::vector<std::array<Index, 2>>& edges,
-                 std::vector<std::array<Index, 3>>& tris) {
+/// diagonal (ties: the smaller index pair). Appends triangles as sorted triples, in a deterministic order;
+/// returns the diagonals used (sorted), the only triangle sides that are not edges.
+std::vector<std::array<Index, 2>> close_quads(const std::vector<Vec3>& pos,
+                                              const std::vector<std::array<Index, 2>>& edges,
+                                              std::vector<std::array<Index, 3>>& tris) {
   auto index = [&](Index u, Index v) -> std::size_t {  // edges.size() if not an edge
     const std::array<Index, 2> key{std::min(u, v), std::max(u, v)};
     const auto it = std::lower_bound(edges.begin(), edges.end(), key);
@@ -156,9 +168,10 @@ void close_quads(const std::vector<Vec3>& pos, const std::vector<std::array<Inde
   }
   std::sort(quads.begin(), quads.end());
   quads.erase(std::unique(quads.begin(), quads.end()), quads.end());
-  std::set<std::array<Index, 3>> have(tris.begin(), tris.end());  // sorted triples
-  std::set<std::array<Index, 2>> diagonals;                       // closing diagonals used so far
-  for (const auto& q : quads) {  // q[0]-q[1]-q[2]-q[3] in a cycle, diagonals (q0, q2) and (q1, q3)
+  // A new triangle has the quad's diagonal, which is no link, as a side: it can only repeat a triangle of
+  // another quad on the same diagonal, which `diagonals` prevents.
+  std::set<std::array<Index, 2>> diagonals;  // closing diagonals used so far
+  for (const auto& q : quads) {              // q[0]-q[1]-q[2]-q[3] in a cycle, diagonals (q0, q2) and (q1, q3)
     if (!open(q[0], q[1]) || !open(q[1], q[2]) || !open(q[2], q[3]) || !open(q[3], q[0])) continue;
     // a cell linked to all four corners means the cycle is a wheel already filled (or a fan around it)
     bool filled = false;
@@ -174,14 +187,12 @@ void close_quads(const std::vector<Vec3>& pos, const std::vector<std::array<Inde
     const std::array<Index, 2> diagonal = first ? std::array<Index, 2>{std::min(q[0], q[2]), std::max(q[0], q[2])}
                                                 : std::array<Index, 2>{std::min(q[1], q[3]), std::max(q[1], q[3])};
     // a diagonal another quad closed already would border four triangles
-    if (diagonals.count(diagonal) || have.count(t1) || have.count(t2)) continue;
-    diagonals.insert(diagonal);
-    for (const auto& t : {t1, t2}) {
-      tris.push_back(t);
-      have.insert(t);
-    }
+    if (!diagonals.insert(diagonal).second) continue;
+    tris.push_back(t1);
+    tris.push_back(t2);
     for (int k = 0; k < 4; ++k) use(q[k], q[(k + 1) % 4]);
   }
+  return {diagonals.begin(), diagonals.end()};
 }
 
 }  // namespace
@@ -237,19 +248,16 @@ Surface triangulate(const Cells& cells, bool one_layer) {
     }
   }
 
+  std::vector<std::array<Index, 2>> sides = faces_edges;  // every triangle side (and edges without one), sorted
   if (one_layer) {
-    close_quads(cells.position, faces_edges, tris);
+    const std::vector<std::array<Index, 2>> diagonals = close_quads(cells.position, faces_edges, tris);
     std::sort(tris.begin(), tris.end());
+    const auto middle = sides.insert(sides.end(), diagonals.begin(), diagonals.end());
+    std::inplace_merge(sides.begin(), middle, sides.end());
   }
 
   // Triangles around each side: (side index, triangle) pairs sorted by side. The sides are the links the
   // triangles use, and the diagonals of closed quads, which are not links.
-  std::vector<std::array<Index, 2>> sides;
-  sides.reserve(tris.size() * 3);
-  for (const auto& t : tris)
-    for (int k = 0; k < 3; ++k) sides.push_back({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])});
-  std::sort(sides.begin(), sides.end());
-  sides.erase(std::unique(sides.begin(), sides.end()), sides.end());
   auto edge_index = [&](Index u, Index v) {  // every side is there
     const std::array<Index, 2> key{std::min(u, v), std::max(u, v)};
     return static_cast<std::size_t>(std::lower_bound(sides.begin(), sides.end(), key) - sides.begin());
