@@ -222,7 +222,7 @@ struct ScriptHost::Impl {
       if (level == 2) lua_pushliteral(L, "");
     }
     if (lua_type(L, 1) == LUA_TNUMBER)  // error(42): the number is the message
-      luaL_tolstring(L, 1, nullptr);  // pushes its text
+      luaL_tolstring(L, 1, nullptr);    // pushes its text
     else
       lua_pushfstring(L, "error() was raised with a %s value, not a message; give error a string", type.c_str());
     lua_concat(L, 2);

@@ -7,7 +7,6 @@
 
 namespace cellform::venation {
 
-
 /// Squared distance from q to the box [lo, hi] (0 inside); the pruning bound of both trees.
 inline double box_distance2(const Vec3& lo, const Vec3& hi, const Vec3& q) {
   double d2 = 0;

@@ -3,11 +3,11 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstring>
 #include <ostream>
 #include <string>
 
 #include "core/atomic_file.h"
+#include "core/chunk_file.h"
 #include "core/text.h"
 
 namespace cellform::venation {
@@ -99,30 +99,22 @@ void write_vein_ply(const std::filesystem::path& path, const VeinTree& tree) {
   // the layout of the cell runs' veins.ply (export/vein_files.h), without their cell ids: binary, per node
   // x y z flow radius order, edges child -> parent, then the loop-closing edges (anastomoses)
   const bool flows = tree.flow.size() == tree.size(), orders = tree.order.size() == tree.size();
-  std::string body;
-  body.reserve(tree.size() * 24 + (tree.size() + tree.anastomoses.size()) * 8);
-  auto put = [&](auto v) {
-    char b[sizeof v];
-    std::memcpy(b, &v, sizeof v);  // little-endian hosts only (x86-64, arm64), as the header says
-    body.append(b, sizeof v);
-  };
+  core::ByteWriter w;  // host byte order: little-endian hosts only (x86-64, arm64), as the header says
   for (Index i = 0; i < tree.size(); ++i) {
     const Vec3& q = tree.positions[i];
-    for (double x : {q.x(), q.y(), q.z(), flows ? tree.flow[i] : 0.0, radius_of(tree, i)}) put(static_cast<float>(x));
-    put(static_cast<std::int32_t>(orders ? tree.order[i] : 0));
+    for (double x : {q.x(), q.y(), q.z(), flows ? tree.flow[i] : 0.0, radius_of(tree, i)}) w.put(static_cast<float>(x));
+    w.put(static_cast<std::int32_t>(orders ? tree.order[i] : 0));
   }
   std::size_t edges = 0;
-  for (Index i = 0; i < tree.size(); ++i)
-    if (tree.parent[i] != kNoIndex) {
-      put(static_cast<std::int32_t>(i));
-      put(static_cast<std::int32_t>(tree.parent[i]));
-      ++edges;
-    }
-  for (const auto& [a, b] : tree.anastomoses) {
-    put(static_cast<std::int32_t>(a));
-    put(static_cast<std::int32_t>(b));
+  auto edge = [&](Index a, Index b) {
+    w.put(static_cast<std::int32_t>(a));
+    w.put(static_cast<std::int32_t>(b));
     ++edges;
-  }
+  };
+  for (Index i = 0; i < tree.size(); ++i)
+    if (tree.parent[i] != kNoIndex) edge(i, tree.parent[i]);
+  for (const auto& [a, b] : tree.anastomoses) edge(a, b);
+  const std::string body = w.take();
   std::string header =
       "ply\nformat binary_little_endian 1.0\ncomment cellform space-colonisation veins: edges run child -> parent, "
       "then the edges that close loops\nelement vertex ";
