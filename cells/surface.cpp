@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <deque>
-#include <iterator>
 #include <limits>
 #include <set>
+#include <span>
 
 namespace cellform::cells {
 
@@ -144,20 +144,28 @@ std::vector<std::array<Index, 2>> close_quads(const std::vector<Vec3>& pos,
     use(t[1], t[2]);
     use(t[0], t[2]);
   }
-  std::vector<std::vector<Index>> adj(pos.size());
+  std::vector<std::size_t> start(pos.size() + 1, 0);  // adjacency, both directions (CSR)
   for (const auto& [a, b] : edges) {
-    adj[a].push_back(b);
-    adj[b].push_back(a);
+    ++start[a + 1];
+    ++start[b + 1];
   }
+  for (std::size_t i = 0; i < pos.size(); ++i) start[i + 1] += start[i];
+  std::vector<Index> neighbours(start.back());
+  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+  for (const auto& [a, b] : edges) {
+    neighbours[fill[a]++] = b;
+    neighbours[fill[b]++] = a;
+  }
+  auto adj = [&](Index u) { return std::span<const Index>(neighbours.data() + start[u], start[u + 1] - start[u]); };
   auto open = [&](Index u, Index v) { return uses[index(u, v)] <= 1; };
   auto linked = [&](Index u, Index v) { return index(u, v) < edges.size(); };
   std::vector<std::array<Index, 4>> quads;  // 4-cycles q0-q1-q2-q3; the diagonals (q0, q2), (q1, q3) are not edges
   for (std::size_t e = 0; e < edges.size(); ++e) {
     if (uses[e] > 1) continue;
     const auto [a, b] = edges[e];
-    for (const Index c : adj[b]) {
+    for (const Index c : adj(b)) {
       if (c == a || linked(a, c) || !open(b, c)) continue;
-      for (const Index d : adj[a]) {
+      for (const Index d : adj(a)) {
         if (d == b || d == c || linked(b, d) || !linked(c, d) || !open(a, d) || !open(c, d)) continue;
         std::array<Index, 4> q{a, b, c, d};  // named from its smallest corner, then its smaller neighbour
         std::rotate(q.begin(), std::min_element(q.begin(), q.end()), q.end());
@@ -175,7 +183,7 @@ std::vector<std::array<Index, 2>> close_quads(const std::vector<Vec3>& pos,
     if (!open(q[0], q[1]) || !open(q[1], q[2]) || !open(q[2], q[3]) || !open(q[3], q[0])) continue;
     // a cell linked to all four corners means the cycle is a wheel already filled (or a fan around it)
     bool filled = false;
-    for (const Index v : adj[q[0]])
+    for (const Index v : adj(q[0]))
       filled = filled || (v != q[2] && linked(v, q[1]) && linked(v, q[2]) && linked(v, q[3]));
     if (filled) continue;
     const double d02 = (pos[q[0]] - pos[q[2]]).squaredNorm(), d13 = (pos[q[1]] - pos[q[3]]).squaredNorm();
