@@ -1,5 +1,8 @@
-// Thickening into a level set and meshing it: the only file of cellform that includes OpenVDB.
+// Thickening into a level set (voxelise); meshing it is in printable_mesh.cpp. With it, the only files of
+// cellform that include OpenVDB.
 #include "export/printable.h"
+
+#include "export/printable_internal.h"
 
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
@@ -28,12 +31,61 @@
 
 namespace cellform::exporters {
 
-struct LevelSet::Impl {
-  openvdb::FloatGrid::Ptr grid;
-  double voxel_size = 0;
-  double scale = 0;
-  std::size_t active_voxels = 0;
-};
+using detail::arena_threads;
+using detail::check_params;
+using detail::fmt;
+using detail::init_openvdb;
+using detail::report_progress;
+using detail::seconds_since;
+
+namespace detail {
+
+std::string fmt(const char* f, double x) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, x);
+  return b;
+}
+
+void init_openvdb() {
+  static std::once_flag once;
+  std::call_once(once, [] { openvdb::initialize(); });
+}
+
+void check_params(const ThickenParams& p) {
+  const auto bad = [](const std::string& what) { throw core::InvalidInput("thicken: " + what); };
+  if (!(std::isfinite(p.scale) && p.scale >= 0))
+    bad("scale must be >= 0 mm per model unit (0 = auto), got " + fmt("%g", p.scale));
+  if (!(std::isfinite(p.auto_extent) && p.auto_extent > 0))
+    bad("auto_extent must be > 0 mm, got " + fmt("%g", p.auto_extent));
+  if (!(std::isfinite(p.min_radius) && p.min_radius > 0))
+    bad("min_radius must be > 0 mm, got " + fmt("%g", p.min_radius));
+  if (!(std::isfinite(p.voxel_size) && p.voxel_size >= 0))
+    bad("voxel_size must be >= 0 mm (0 = auto), got " + fmt("%g", p.voxel_size));
+  if (p.voxel_size > p.min_radius)
+    bad("voxel_size " + fmt("%g", p.voxel_size) + " mm exceeds min_radius " + fmt("%g", p.min_radius) +
+        " mm: the thinnest veins would vanish; use a voxel size of at most min_radius");
+  if (!(std::isfinite(p.shell_thickness) && p.shell_thickness > 0))
+    bad("shell_thickness must be > 0 mm, got " + fmt("%g", p.shell_thickness));
+  if (!(p.adaptivity >= 0 && p.adaptivity <= 1)) bad("adaptivity must be in [0, 1], got " + fmt("%g", p.adaptivity));
+  if (!(p.max_memory_bytes > 0)) bad("max_memory_bytes must be > 0");
+  if (p.threads < 0) bad("threads must be >= 0 (0 = all cores)");
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// Calls params.progress (if any); throws core::Cancelled when it asks to stop.
+void report_progress(const ThickenParams& params, double fraction) {
+  if (params.progress && !params.progress(fraction)) throw core::Cancelled();
+}
+
+// More threads than cores cannot help, and TBB warns on stderr when asked for them.
+int arena_threads(int threads) {
+  return threads > 0 ? std::min(threads, core::hardware_threads()) : tbb::task_arena::automatic;
+}
+
+}  // namespace detail
 
 LevelSet::LevelSet() = default;
 LevelSet::LevelSet(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
@@ -53,18 +105,7 @@ static_assert(FloatLeaf::DIM == (1 << kLeafLog2));
 constexpr double kBytesPerActiveVoxel = 14;
 constexpr double kBytesPerQuad = 160;
 
-std::string fmt(const char* f, double x) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, x);
-  return b;
-}
-
 std::string bytes_text(double b) { return b >= 1e9 ? fmt("%.1f GB", b / 1e9) : fmt("%.0f MB", std::ceil(b / 1e6)); }
-
-void init_openvdb() {
-  static std::once_flag once;
-  std::call_once(once, [] { openvdb::initialize(); });
-}
 
 // Exact signed distance to a round cone, after Inigo Quilez's sdRoundCone (one square root per voxel);
 // falls back to a sphere when one end sphere contains the other.
@@ -183,40 +224,6 @@ openvdb::Coord leaf_origin(std::uint64_t key) {
 }
 
 bool finite(const Vec3& v) { return v.allFinite(); }
-
-void check_params(const ThickenParams& p) {
-  const auto bad = [](const std::string& what) { throw core::InvalidInput("thicken: " + what); };
-  if (!(std::isfinite(p.scale) && p.scale >= 0))
-    bad("scale must be >= 0 mm per model unit (0 = auto), got " + fmt("%g", p.scale));
-  if (!(std::isfinite(p.auto_extent) && p.auto_extent > 0))
-    bad("auto_extent must be > 0 mm, got " + fmt("%g", p.auto_extent));
-  if (!(std::isfinite(p.min_radius) && p.min_radius > 0))
-    bad("min_radius must be > 0 mm, got " + fmt("%g", p.min_radius));
-  if (!(std::isfinite(p.voxel_size) && p.voxel_size >= 0))
-    bad("voxel_size must be >= 0 mm (0 = auto), got " + fmt("%g", p.voxel_size));
-  if (p.voxel_size > p.min_radius)
-    bad("voxel_size " + fmt("%g", p.voxel_size) + " mm exceeds min_radius " + fmt("%g", p.min_radius) +
-        " mm: the thinnest veins would vanish; use a voxel size of at most min_radius");
-  if (!(std::isfinite(p.shell_thickness) && p.shell_thickness > 0))
-    bad("shell_thickness must be > 0 mm, got " + fmt("%g", p.shell_thickness));
-  if (!(p.adaptivity >= 0 && p.adaptivity <= 1)) bad("adaptivity must be in [0, 1], got " + fmt("%g", p.adaptivity));
-  if (!(p.max_memory_bytes > 0)) bad("max_memory_bytes must be > 0");
-  if (p.threads < 0) bad("threads must be >= 0 (0 = all cores)");
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
-// Calls params.progress (if any); throws core::Cancelled when it asks to stop.
-void report_progress(const ThickenParams& params, double fraction) {
-  if (params.progress && !params.progress(fraction)) throw core::Cancelled();
-}
-
-// More threads than cores cannot help, and TBB warns on stderr when asked for them.
-int arena_threads(int threads) {
-  return threads > 0 ? std::min(threads, core::hardware_threads()) : tbb::task_arena::automatic;
-}
 
 }  // namespace
 
@@ -482,239 +489,9 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   return LevelSet(std::move(impl));
 }
 
-namespace {
-
-// One volumeToMesh pass; voxels active in `no_merge` are meshed without adaptivity. Quads are split
-// along their shorter diagonal; triangles with a repeated vertex (from merged points) are dropped.
-PrintableMesh mesh_once(const openvdb::FloatGrid& grid, double adaptivity, const openvdb::BoolTree::Ptr& no_merge) {
-  openvdb::tools::VolumeToMesh mesher(0.0, adaptivity, true);
-  if (no_merge) mesher.setAdaptivityMask(no_merge);
-  mesher(grid);
-  PrintableMesh mesh;
-  mesh.vertices.resize(mesher.pointListSize());
-  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-    const openvdb::Vec3s& p = mesher.pointList()[i];
-    mesh.vertices[i] = Vec3(p.x(), p.y(), p.z());
-  }
-  const auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    if (a != b && b != c && c != a) mesh.triangles.push_back({a, b, c});
-  };
-  const auto& v = mesh.vertices;
-  for (std::size_t n = 0; n < mesher.polygonPoolListSize(); ++n) {
-    const openvdb::tools::PolygonPool& pool = mesher.polygonPoolList()[n];
-    for (std::size_t i = 0; i < pool.numQuads(); ++i) {
-      const openvdb::Vec4I& q = pool.quad(i);
-      if ((v[q[0]] - v[q[2]]).squaredNorm() <= (v[q[1]] - v[q[3]]).squaredNorm()) {
-        add(q[0], q[1], q[2]);
-        add(q[0], q[2], q[3]);
-      } else {
-        add(q[0], q[1], q[3]);
-        add(q[1], q[2], q[3]);
-      }
-    }
-    for (std::size_t i = 0; i < pool.numTriangles(); ++i) {
-      const openvdb::Vec3I& t = pool.triangle(i);
-      add(t[0], t[1], t[2]);
-    }
-  }
-  return mesh;
-}
-
-}  // namespace
-
-namespace {
-
-/// Signed volume of each connected part (through shared vertices), keyed by its root vertex.
-std::vector<double> part_volumes(const PrintableMesh& mesh, std::vector<std::uint32_t>& root) {
-  const std::size_t nv = mesh.vertices.size();
-  root.resize(nv);
-  for (std::size_t i = 0; i < nv; ++i) root[i] = static_cast<std::uint32_t>(i);
-  auto find = [&](std::uint32_t x) {
-    while (root[x] != x) x = root[x] = root[root[x]];
-    return x;
-  };
-  for (const auto& t : mesh.triangles) {
-    const std::uint32_t a = find(t[0]), b = find(t[1]);
-    root[b] = a;
-    root[find(t[2])] = a;
-  }
-  for (std::size_t i = 0; i < nv; ++i) root[i] = find(static_cast<std::uint32_t>(i));
-  std::vector<double> volume(nv, 0.0);
-  for (const auto& t : mesh.triangles) {
-    const Vec3& a = mesh.vertices[t[0]];
-    volume[root[t[0]]] += a.dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]])) / 6.0;
-  }
-  return volume;
-}
-
-/// Parts of positive volume (pieces) and of negative volume (walls of cavities).
-void count_pieces(const PrintableMesh& mesh, std::size_t& pieces, std::size_t& cavities) {
-  std::vector<std::uint32_t> root;
-  const std::vector<double> volume = part_volumes(mesh, root);
-  pieces = cavities = 0;
-  std::vector<char> used(root.size(), 0);
-  for (const auto& t : mesh.triangles) used[root[t[0]]] = 1;
-  for (std::size_t i = 0; i < root.size(); ++i)
-    if (root[i] == i && used[i]) (volume[i] < 0 ? cavities : pieces) += 1;
-}
-
-}  // namespace
-
-std::size_t fill_cavities(PrintableMesh& mesh) {
-  std::vector<std::uint32_t> root;
-  const std::vector<double> part_volume = part_volumes(mesh, root);
-  const std::size_t nv = mesh.vertices.size();
-  auto find = [&](std::uint32_t x) { return root[x]; };
-  std::size_t removed = 0;
-  for (std::size_t i = 0; i < nv; ++i) removed += find(static_cast<std::uint32_t>(i)) == i && part_volume[i] < 0;
-  if (removed == 0) return 0;
-  std::vector<std::array<std::uint32_t, 3>> kept;
-  kept.reserve(mesh.triangles.size());
-  for (const auto& t : mesh.triangles)
-    if (part_volume[find(t[0])] >= 0) kept.push_back(t);
-  std::vector<std::uint32_t> remap(nv, 0xffffffffu);
-  std::vector<Vec3> vertices;
-  for (auto& t : kept)
-    for (auto& v : t) {
-      if (remap[v] == 0xffffffffu) {
-        remap[v] = static_cast<std::uint32_t>(vertices.size());
-        vertices.push_back(mesh.vertices[v]);
-      }
-      v = remap[v];
-    }
-  mesh.vertices.swap(vertices);
-  mesh.triangles.swap(kept);
-  return removed;
-}
-
-PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& params, ThickenReport* report) {
-  const auto t0 = std::chrono::steady_clock::now();
-  check_params(params);
-  const auto& grid = *level_set.impl().grid;
-  const double voxel = level_set.voxel_size();
-  PrintableMesh mesh;
-  std::size_t repaired = 0, intersections = 0;
-  tbb::task_arena arena(arena_threads(params.threads));
-  arena.execute([&] {
-    report_progress(params, 0.0);
-    mesh = mesh_once(grid, params.adaptivity, nullptr);
-    report_progress(params, 0.5);
-    if (params.adaptivity <= 0) return;  // uniform dual contouring: no folds seen in any test
-    // Adaptive merging can fold triangles into each other at creases. Find every intersecting pair and
-    // mesh the voxels around them again without merging, until none is left (at most a few passes).
-    auto no_merge = std::make_shared<openvdb::BoolTree>(false);
-    openvdb::BoolTree recheck(false);  // the re-meshed regions widened by 3 voxels: only there can new folds appear
-    auto pairs = self_intersecting_pairs(mesh, params.threads);
-    for (int pass = 0; pass < 4 && !pairs.empty(); ++pass) {
-      report_progress(params, 0.6 + 0.1 * pass);
-      const double a = pass < 3 ? params.adaptivity : 0.0;  // last resort: no merging anywhere
-      const int margin = 2 + 2 * pass;                      // voxels
-      const auto box = [&](std::uint32_t t, int m) {
-        Vec3 lo = mesh.vertices[mesh.triangles[t][0]], hi = lo;
-        for (std::uint32_t i : mesh.triangles[t]) {
-          lo = lo.cwiseMin(mesh.vertices[i]);
-          hi = hi.cwiseMax(mesh.vertices[i]);
-        }
-        return openvdb::CoordBBox(openvdb::Coord(static_cast<int>(std::floor(lo.x() / voxel)) - m,
-                                                 static_cast<int>(std::floor(lo.y() / voxel)) - m,
-                                                 static_cast<int>(std::floor(lo.z() / voxel)) - m),
-                                  openvdb::Coord(static_cast<int>(std::ceil(hi.x() / voxel)) + m,
-                                                 static_cast<int>(std::ceil(hi.y() / voxel)) + m,
-                                                 static_cast<int>(std::ceil(hi.z() / voxel)) + m));
-      };
-      for (const auto& pr : pairs)
-        for (std::uint32_t t : pr) {
-          no_merge->sparseFill(box(t, margin), true, true);
-          recheck.sparseFill(box(t, margin + 3), true, true);
-          ++repaired;
-        }
-      mesh = mesh_once(grid, a, no_merge);
-      // Re-check only triangles touching the widened regions; elsewhere the mesh is as before.
-      openvdb::tree::ValueAccessor<const openvdb::BoolTree> acc(recheck);
-      std::vector<std::array<std::uint32_t, 3>> near;
-      std::vector<std::uint32_t> near_id;
-      for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
-        const auto& t = mesh.triangles[k];
-        bool in = false;
-        for (std::uint32_t i : t) {
-          const Vec3& p = mesh.vertices[i];
-          in = in || acc.isValueOn(openvdb::Coord(static_cast<int>(std::floor(p.x() / voxel + 0.5)),
-                                                  static_cast<int>(std::floor(p.y() / voxel + 0.5)),
-                                                  static_cast<int>(std::floor(p.z() / voxel + 0.5))));
-        }
-        if (in) {
-          near.push_back(t);
-          near_id.push_back(static_cast<std::uint32_t>(k));
-        }
-      }
-      pairs = self_intersecting_pairs(mesh.vertices, near, params.threads);
-      for (auto& pr : pairs)  // back to indices of mesh.triangles
-        for (auto& t : pr) t = near_id[t];
-    }
-    intersections = pairs.size();
-  });
-  report_progress(params, 1.0);
-  // volumeToMesh winds level sets inward. Flip the whole mesh, never single parts: an inner wall of a
-  // hollow part correctly has negative volume on its own.
-  double volume = signed_volume(mesh);
-  if (volume < 0) {
-    for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
-    volume = -volume;
-  }
-  // Closed cavities inside the solid (thick capsules walling in a pocket, or a shell around a closed
-  // sheet) mesh as separate parts of negative volume: they are not separate pieces. Filled on request.
-  std::size_t cavities = 0, pieces = 0;
-  count_pieces(mesh, pieces, cavities);
-  if (params.fill_cavities && cavities > 0) {
-    fill_cavities(mesh);
-    volume = signed_volume(mesh);
-  }
-  if (report) {
-    report->pieces = pieces;
-    report->cavities = cavities;
-    report->filled_cavities = params.fill_cavities ? cavities : 0;
-    report->triangles = mesh.triangles.size();
-    report->vertices = mesh.vertices.size();
-    report->parts = count_parts(mesh);
-    report->volume = volume;
-    report->area = surface_area(mesh);
-    report->remeshed_triangles = repaired;
-    report->self_intersections = intersections;
-    report->mesh_seconds = seconds_since(t0);
-  }
-  return mesh;
-}
-
 PrintableMesh thicken(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell_triangles,
                       const ThickenParams& params, ThickenReport* report) {
   return mesh_level_set(voxelise(segments, shell_triangles, params, report), params, report);
-}
-
-void write_vdb(const std::filesystem::path& path, const LevelSet& level_set) {
-  init_openvdb();
-  openvdb::GridPtrVec grids{level_set.impl().grid};
-  std::ostringstream body;
-  try {
-    openvdb::io::Stream(body).write(grids);
-  } catch (const openvdb::Exception& e) {
-    throw core::FileError(path.string() + ": cannot write the level set: " + e.what());
-  }
-  std::string bytes = std::move(body).str();
-  // OpenVDB stamps each file with a random UUID (36 characters after the 21-byte magic and version
-  // header); it is made from the content instead, so the same level set gives the same file
-  constexpr std::size_t kUuidAt = 21, kUuidLength = 36;
-  auto dash_at = [&](std::size_t i) { return bytes[kUuidAt + i] == '-'; };
-  if (bytes.size() > kUuidAt + kUuidLength && dash_at(8) && dash_at(13) && dash_at(18) && dash_at(23)) {
-    const char* rest = bytes.data() + kUuidAt + kUuidLength;
-    const std::size_t n = bytes.size() - kUuidAt - kUuidLength;
-    const std::string hex =
-        core::hex64(core::fnv1a64(rest, n)) + core::hex64(core::fnv1a64(rest, n, 0x9e3779b97f4a7c15ull));
-    const std::string uuid = hex.substr(0, 8) + "-" + hex.substr(8, 4) + "-" + hex.substr(12, 4) + "-" +
-                             hex.substr(16, 4) + "-" + hex.substr(20, 12);
-    bytes.replace(kUuidAt, kUuidLength, uuid);
-  }
-  core::write_file_atomically(
-      path, [&](std::ostream& os) { os.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); });
 }
 
 std::vector<Segment> vein_segments(const venation::VeinGraph& g) {

@@ -1,0 +1,38 @@
+// Private to export/: what printable.cpp (voxelising) and printable_mesh.cpp (meshing) share. Includes
+// OpenVDB; not for other folders.
+#pragma once
+
+#include <openvdb/openvdb.h>
+
+#include <chrono>
+#include <string>
+
+#include "export/printable.h"
+
+namespace cellform::exporters {
+
+struct LevelSet::Impl {
+  openvdb::FloatGrid::Ptr grid;
+  double voxel_size = 0;
+  double scale = 0;
+  std::size_t active_voxels = 0;
+};
+
+namespace detail {
+
+/// printf-formats one number (messages).
+std::string fmt(const char* f, double x);
+/// openvdb::initialize(), once per process.
+void init_openvdb();
+/// Throws core::InvalidInput naming the first ThickenParams field out of range.
+void check_params(const ThickenParams& p);
+double seconds_since(std::chrono::steady_clock::time_point t);
+/// Calls params.progress (if any); throws core::Cancelled when it asks to stop.
+void report_progress(const ThickenParams& params, double fraction);
+/// The TBB arena size for `threads` (0 = all cores): more threads than cores cannot help, and TBB warns
+/// on stderr when asked for them.
+int arena_threads(int threads);
+
+}  // namespace detail
+
+}  // namespace cellform::exporters
