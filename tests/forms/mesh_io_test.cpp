@@ -1,18 +1,60 @@
-// Tests of forms/mesh_io.h: the strict ASCII STL parser reads what real files hold and nothing else.
+// Tests of forms/mesh_io.{h,cpp}: the strict ASCII STL parser reads what real files hold and nothing else,
+// and load_mesh (declared in forms/obstacles.h) reads STL and OBJ files or says what is wrong.
 #include "forms/mesh_io.h"
 
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
 #include <string>
 
 #include "core/errors.h"
+#include "forms/obstacles.h"
 
 using namespace cellform;
+using Catch::Matchers::Contains;
 using core::Vec3;
+namespace fs = std::filesystem;
 
 namespace {
 
 std::string facet(const std::string& a, const std::string& b, const std::string& c) {
   return "facet normal 0 0 1\nouter loop\nvertex " + a + "\nvertex " + b + "\nvertex " + c + "\nendloop\nendfacet\n";
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("cellform-forms-test-" + std::to_string(::getpid()) + "-" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+template <class T>
+void put(std::string& s, T v) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  s.append(b, sizeof(T));
+}
+
+std::string binary_stl(const std::vector<std::array<Vec3, 3>>& tris) {
+  std::string s(80, ' ');
+  put(s, static_cast<std::uint32_t>(tris.size()));
+  for (const auto& t : tris) {
+    for (int k = 0; k < 3; ++k) put(s, 0.0f);
+    for (const Vec3& v : t)
+      for (int k = 0; k < 3; ++k) put(s, static_cast<float>(v[k]));
+    put(s, std::uint16_t{0});
+  }
+  return s;
 }
 
 }  // namespace
@@ -57,4 +99,151 @@ TEST_CASE("parse_ascii_stl refuses anything else, saying the line", "[forms][mes
   CHECK_THAT(error("solid\n" + f + "vertex 0 0 0\nendsolid\n"), Contains("line 9") && Contains("'facet normal"));
   CHECK_THAT(error("solid\n" + f), Contains("line 8") && Contains("without 'endsolid'"));
   CHECK_THAT(error("solid\n" + f.substr(0, f.find("endloop"))), Contains("line 6") && Contains("inside the facet"));
+}
+
+TEST_CASE("load_mesh reads ASCII STL, binary STL and OBJ", "[forms][mesh_io]") {
+  const fs::path dir = temp_dir("load");
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0), d(0, 0, 1);
+  const std::vector<std::array<Vec3, 3>> tet = {{a, c, b}, {a, b, d}, {a, d, c}, {b, c, d}};
+
+  std::string ascii = "solid tet\n";
+  for (const auto& t : tet) {
+    ascii += "facet normal 0 0 0\n outer loop\n";
+    for (const Vec3& v : t)
+      ascii += "  vertex " + std::to_string(v.x()) + " " + std::to_string(v.y()) + " " + std::to_string(v.z()) + "\n";
+    ascii += " endloop\nendfacet\n";
+  }
+  ascii += "endsolid tet\n";
+  write_text(dir / "tet_ascii.stl", ascii);
+  write_text(dir / "tet_binary.STL", binary_stl(tet));
+  // OBJ with a quad (split into two triangles), a comment, and negative (relative) indices.
+  write_text(dir / "quad.obj",
+             "# a unit square and a triangle\nv 0 0 0\nv 2 0 0\nv 2 3 0\nv 0 3 0\nv 1 1 5\nf 1 2 3 4\nf -5 -4 -1\n");
+
+  for (const char* name : {"tet_ascii.stl", "tet_binary.STL"}) {
+    INFO(name);
+    const forms::TriangleMesh m = forms::load_mesh(dir / name);
+    REQUIRE(m.triangles.size() == 4);
+    // Same triangles, corner by corner, whatever the vertex numbering.
+    for (std::size_t t = 0; t < 4; ++t)
+      for (int k = 0; k < 3; ++k) CHECK((m.vertices[m.triangles[t][k]] - tet[t][k]).norm() < 1e-6);
+    // A closed tetrahedron: stops a cell moving from inside to outside.
+    forms::Obstacles o;
+    o.meshes.push_back(m);
+    cells::Cells cells;
+    cells::add_cell(cells, Vec3(2, 2, 2));
+    forms::apply_obstacles(cells, {Vec3(0.1, 0.1, 0.1)}, o, 0.01);
+    CHECK(cells.position[0].sum() < 1.0);
+  }
+
+  const forms::TriangleMesh q = forms::load_mesh(dir / "quad.obj");
+  REQUIRE(q.vertices.size() == 5);
+  REQUIRE(q.triangles.size() == 3);
+  CHECK(q.vertices[2] == Vec3(2, 3, 0));
+  CHECK(q.vertices[4] == Vec3(1, 1, 5));
+  double area = 0;
+  for (std::size_t t = 0; t < 2; ++t) {
+    const auto& tr = q.triangles[t];
+    area += 0.5 * (q.vertices[tr[1]] - q.vertices[tr[0]]).cross(q.vertices[tr[2]] - q.vertices[tr[0]]).norm();
+  }
+  CHECK(area == Approx(6.0));
+  CHECK(q.triangles[2] == std::array<core::Index, 3>{0, 1, 4});
+  fs::remove_all(dir);
+}
+
+TEST_CASE("load_mesh keeps non-manifold triangles", "[forms][mesh_io]") {
+  const fs::path dir = temp_dir("nonmanifold");
+  // Three triangles on one edge: a half-edge mesh would drop one of them.
+  write_text(dir / "fin.obj", "v 0 0 0\nv 0 0 1\nv 1 0 0\nv -1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\nf 1 2 5\n");
+  CHECK(forms::load_mesh(dir / "fin.obj").triangles.size() == 3);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("load_mesh errors name the file and the problem", "[forms][mesh_io]") {
+  const fs::path dir = temp_dir("errors");
+  const fs::path missing = dir / "missing.stl";
+  CHECK_THROWS_AS(forms::load_mesh(missing), core::FileError);
+  CHECK_THROWS_WITH(forms::load_mesh(missing), Catch::Contains("missing.stl") && Catch::Contains("does not exist"));
+
+  write_text(dir / "empty.obj", "");
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "empty.obj"), Catch::Contains("empty.obj") && Catch::Contains("not a mesh"));
+
+  write_text(dir / "points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+  CHECK_THROWS_AS(forms::load_mesh(dir / "points.obj"), core::InvalidInput);
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "points.obj"),
+                    Catch::Contains("points.obj") && Catch::Contains("not a mesh"));
+
+  write_text(dir / "garbage.stl", "this is not\nan STL file at all\n\x01\x02\x03");
+  CHECK_THROWS_AS(forms::load_mesh(dir / "garbage.stl"), core::InvalidInput);
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "garbage.stl"), Catch::Contains("garbage.stl"));
+
+  write_text(dir / "bad_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "bad_index.obj"), Catch::Contains("bad_index.obj"));
+
+  const double nan = std::nan("");
+  write_text(dir / "nan.stl", binary_stl({{Vec3(0, 0, 0), Vec3(1, nan, 0), Vec3(0, 1, 0)}}));
+  CHECK_THROWS_AS(forms::load_mesh(dir / "nan.stl"), core::InvalidInput);
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "nan.stl"), Catch::Contains("nan.stl") && Catch::Contains("non-finite"));
+
+  write_text(dir / "nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "nan.obj"), Catch::Contains("nan.obj") && Catch::Contains("NaN"));
+
+  std::string truncated =
+      binary_stl({{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}});
+  truncated.resize(truncated.size() - 20);
+  write_text(dir / "truncated.stl", truncated);
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "truncated.stl"),
+                    Catch::Contains("truncated.stl") && Catch::Contains("damaged binary STL"));
+
+  write_text(dir / "mesh.ply", "ply\n");
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "mesh.ply"), Catch::Contains("mesh.ply") && Catch::Contains(".obj"));
+
+  CHECK_THROWS_AS(forms::load_mesh(dir), core::InvalidInput);  // no extension: unsupported format
+  fs::create_directories(dir / "folder.stl");
+  CHECK_THROWS_AS(forms::load_mesh(dir / "folder.stl"), core::FileError);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("load_mesh refuses a malformed ASCII STL, naming the file and the line", "[forms][mesh_io]") {
+  using Catch::Contains;
+  const fs::path dir = temp_dir("ascii_stl");
+  const std::string facet1 =
+      "facet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 0 1 0\n endloop\nendfacet\n";
+  const std::string facet2 =
+      "facet normal 0 0 1\n outer loop\n  vertex 0 0 1\n  vertex 1 0 1\n  vertex 0 1 1\n endloop\nendfacet\n";
+  // line numbers: "solid t" is line 1, facet1 lines 2-8, facet2 lines 9-15, "endsolid t" line 16
+  const std::string good = "solid t\n" + facet1 + facet2 + "endsolid t\n";
+  write_text(dir / "good.stl", good);
+  CHECK(forms::load_mesh(dir / "good.stl").triangles.size() == 2);
+
+  auto refuses = [&](const std::string& name, const std::string& text, const std::string& line,
+                     const std::string& what) {
+    INFO(name << ":\n" << text);
+    write_text(dir / name, text);
+    CHECK_THROWS_AS(forms::load_mesh(dir / name), core::InvalidInput);
+    CHECK_THROWS_WITH(forms::load_mesh(dir / name), Contains(name) && Contains(line) && Contains(what));
+  };
+  std::string word = good;
+  word.replace(word.find("vertex 1 0 1"), 12, "vertex 5 five 5");
+  refuses("word.stl", word, "line 12", "three numbers");
+  std::string two = good;
+  two.replace(two.find("vertex 1 0 1"), 12, "vertex 1 0");
+  refuses("two_numbers.stl", two, "line 12", "three numbers");
+  std::string junk = good;
+  junk.replace(junk.find("vertex 1 0 1"), 12, "vertex 1 0 1x");
+  refuses("junk.stl", junk, "line 12", "three numbers");
+  std::string nan = good;
+  nan.replace(nan.find("vertex 1 0 1"), 12, "vertex 1 nan 1");
+  refuses("nan.stl", nan, "line 12", "NaN");
+  // cut in the middle of the second facet, after a complete first one
+  refuses("cut.stl", good.substr(0, good.find("vertex 0 1 1")), "line 12", "ends inside the facet of line 9");
+  refuses("cut_vertex.stl", good.substr(0, good.find(" 1\n  vertex 0 1 1")), "line 12", "three numbers");
+  refuses("unclosed.stl", "solid t\n" + facet1 + facet2, "line 15", "endsolid");
+  std::string four = good;
+  four.insert(four.find(" endloop", four.find("vertex 0 1 1")), "  vertex 1 1 1\n");
+  refuses("four.stl", four, "line 14", "three vertices");
+  std::string short_facet = good;
+  short_facet.erase(short_facet.find("  vertex 0 1 1\n"), 15);
+  refuses("short.stl", short_facet, "line 13", "three vertices");
+  fs::remove_all(dir);
 }
