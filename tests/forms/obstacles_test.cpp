@@ -1,4 +1,4 @@
-// Tests of forms/obstacles.h: no cell ends inside or beyond an obstacle; mesh files load or fail clearly.
+// Tests of forms/obstacles.h: no cell ends inside or beyond an obstacle (mesh files: mesh_io_test.cpp).
 #include "forms/obstacles.h"
 
 #include <Eigen/Geometry>
