@@ -211,7 +211,8 @@ struct ScriptHost::Impl {
     return describe(msg);
   }
 
-  /// Message handler: error(x) with x not a string or number becomes a message with the script line.
+  /// Message handler: error(x) with x not a string gets the script line, with x as the message if it is a
+  /// number and a note of its type otherwise (Lua adds the line only to string messages).
   static int error_object_text(lua_State* L) {
     if (lua_type(L, 1) == LUA_TSTRING) return 1;
     const std::string type = luaL_typename(L, 1);
