@@ -223,7 +223,9 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     }
     std::vector<std::string> outputs;
     if (planar) {  // a drawing of the leaf; a 3-D pattern has no one plane to draw it in
-      venation::write_svg(staging / "veins.svg", tree, col.outline());
+      venation::SvgParams svg;
+      svg.size = cfg.output.svg_size;
+      venation::write_svg(staging / "veins.svg", tree, col.outline(), svg);
       outputs.push_back("veins.svg");
     }
     if (cfg.output.ply) {

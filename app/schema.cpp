@@ -266,6 +266,8 @@ std::vector<Field> build() {
   f.push_back(boolean("output", "png", "false",
                       "space colonisation: also write veins.png, a raster preview of veins and outline"));
   f.push_back(integer("output", "png_size", "1024", 16, 20000, "pixels", "longer side of veins.png"));
+  f.push_back(num("output", "svg_size", "200", 1, 1e5, false, "mm",
+                  "longer side of the leaf (outline and veins) in veins.svg, which is drawn in mm with a 5 mm margin"));
   return f;
 }
 

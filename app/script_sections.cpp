@@ -183,6 +183,7 @@ void section_output(Impl& I, const std::string& at) {
   I.cfg->output.checkpoint_seconds = v["checkpoint_seconds"].num;
   I.cfg->output.png = v["png"].flag;
   I.cfg->output.png_size = static_cast<int>(v["png_size"].num);
+  I.cfg->output.svg_size = v["svg_size"].num;
 }
 
 void section_shape(Impl& I, const std::string& kind, const std::string& at) {

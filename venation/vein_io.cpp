@@ -33,7 +33,7 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
                const std::vector<Vec3>& sources) {
   const auto [lo, hi] = drawing_bounds(tree, outline);
   const double extent = std::max({hi.x() - lo.x(), hi.y() - lo.y(), 1e-12});
-  const double s = sp.pixels_per_unit > 0 ? sp.pixels_per_unit : 1000.0 / extent;
+  const double s = sp.size / extent;  // mm per model unit
   const double w = (hi.x() - lo.x()) * s + 2 * sp.margin, h = (hi.y() - lo.y()) * s + 2 * sp.margin;
   auto X = [&](double x) { return (x - lo.x()) * s + sp.margin; };
   auto Y = [&](double y) { return (hi.y() - y) * s + sp.margin; };
@@ -41,19 +41,21 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
   if (tree.radius.size() == tree.size() && !tree.radius.empty())
     tip = *std::min_element(tree.radius.begin(), tree.radius.end());
   core::write_file_atomically(path, [&](std::ostream& os) {
-    std::string out;  // numbers as "%.2f"
-    auto num = [&](double x) { core::append_fixed(out, x, 2); };
+    std::string out;  // numbers as "%.3f" (micrometres)
+    auto num = [&](double x) { core::append_fixed(out, x, 3); };
     out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"";
     num(w);
-    out += "\" height=\"";
+    out += "mm\" height=\"";
     num(h);
-    out += "\" viewBox=\"0 0 ";
+    out += "mm\" viewBox=\"0 0 ";
     num(w);
     out += ' ';
     num(h);
     out += "\">\n";
     if (!outline.points.empty()) {
-      out += "<path fill=\"#d8ecc0\" stroke=\"#4a7a2a\" stroke-width=\"1\" d=\"";
+      out += "<path fill=\"#d8ecc0\" stroke=\"#4a7a2a\" stroke-width=\"";
+      num(sp.outline_stroke);
+      out += "\" d=\"";
       for (std::size_t i = 0; i < outline.points.size(); ++i) {
         out += i ? " L" : "M";
         num(X(outline.points[i].x()));
@@ -87,7 +89,7 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
         num(X(q.x()));
         out += "\" cy=\"";
         num(Y(q.y()));
-        out += "\" r=\"2\" fill=\"#c03020\"/>\n";
+        out += "\" r=\"0.5\" fill=\"#c03020\"/>\n";
         core::drain(out, os);
       }
     out += "</svg>\n";

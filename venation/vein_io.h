@@ -12,16 +12,20 @@ namespace cellform::venation {
 std::pair<Vec2, Vec2> drawing_bounds(const VeinTree& tree, const Outline& outline);
 
 /// Drawing options for write_svg().
+/// The drawing is in millimetres, for plotters and laser cutters: the file's width and height carry "mm"
+/// and one user unit of the viewBox is one millimetre.
 struct SvgParams {
-  double pixels_per_unit = 0;  ///< 0 = fit the leaf into about 1000 pixels
-  double margin = 10;          ///< pixels around the drawing
-  double min_stroke = 0.5;     ///< pixels: thinnest drawn vein (radius 0 or before compute_widths)
-  bool draw_sources = false;   ///< draw the sources passed in as small dots
+  double size = 200;          ///< mm: longer side of the drawn box (outline and vein nodes), margin excluded
+  double margin = 5;          ///< mm: blank border around the drawing
+  double min_stroke = 0.1;    ///< mm: thinnest drawn vein (radius 0 or before compute_widths)
+  double outline_stroke = 0.2;  ///< mm: width of the outline's line
+  bool draw_sources = false;  ///< draw the sources passed in as dots of 1 mm diameter
 };
 
 /// SVG of the outline (filled light green) and every vein segment as a stroked path of width 2 * radius
-/// of its child node (tip radius for anastomoses; min_stroke if widths were not computed), y pointing
-/// up. Written atomically; core::FileError on failure.
+/// of its child node (tip radius for anastomoses; at least min_stroke), all scaled by the same factor
+/// (size / the box's longer side, mm per model unit), y pointing up. Written atomically; core::FileError
+/// on failure.
 void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline,
                const SvgParams& params = {}, const std::vector<Vec3>& sources = {});
 

@@ -169,12 +169,13 @@ TEST_CASE("a space-colonisation run writes the vein files output{} asks for", "[
   const auto script = t.write("few.lua",
                               "leaf { shape = 'ellipse' }\n"
                               "colonisation { type = 'open', growth = 'none', initial_length = 30, darts = 20000 }\n"
-                              "output { ply = false, obj = false, png = true, png_size = 16 }\n");
+                              "output { ply = false, obj = false, png = true, png_size = 16, svg_size = 50 }\n");
   const fs::path out = t.path / "out";
   const auto r = cli({"run", script.string(), "--out", out.string(), "--steps", "4", "--quiet"});
   INFO(r.err);
   REQUIRE(r.code == 0);
-  CHECK(fs::exists(out / "veins.svg"));
+  // the leaf is longer than wide (y up): 50 mm high plus the 5 mm margins
+  CHECK_THAT(slurp(out / "veins.svg"), Contains("height=\"60.000mm\""));
   CHECK(fs::exists(out / "veins.png"));  // the smallest size allowed still draws
   CHECK_FALSE(fs::exists(out / "veins.ply"));
   CHECK_FALSE(fs::exists(out / "veins.obj"));

@@ -1,0 +1,75 @@
+// Tests of venation/vein_io.h: the SVG drawing's physical units.
+#include "venation/vein_io.h"
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace cellform;
+using core::Index;
+using core::kNoIndex;
+using core::Vec3;
+namespace v = cellform::venation;
+
+namespace {
+
+std::string read_text(const std::filesystem::path& p) {
+  std::stringstream s;
+  s << std::ifstream(p).rdbuf();
+  return s.str();
+}
+
+/// Every number captured by the first group of `pattern` in `text`.
+std::vector<double> captured(const std::string& text, const std::string& pattern) {
+  std::vector<double> out;
+  const std::regex re(pattern);
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), re); it != std::sregex_iterator(); ++it)
+    out.push_back(std::stod((*it)[1].str()));
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("the SVG is drawn in millimetres at svg size", "[vein_io]") {
+  // a 40 x 10 model-unit box: a rectangle outline, a vein along its middle and one branch
+  v::Outline outline;
+  outline.points = {{-20, 0}, {20, 0}, {20, 10}, {-20, 10}};
+  v::VeinTree t;
+  t.positions = {Vec3(0, 0, 0), Vec3(0, 5, 0), Vec3(10, 8, 0)};
+  t.parent = {kNoIndex, 0, 1};
+  t.radius = {0.5, 0.5, 0.01};
+  const auto dir = std::filesystem::temp_directory_path() / "cellform_vein_io_test";
+  std::filesystem::create_directories(dir);
+  v::SvgParams sp;
+  sp.size = 120;  // mm for the 40 units: 3 mm per unit
+  v::write_svg(dir / "leaf.svg", t, outline, sp);
+  const std::string svg = read_text(dir / "leaf.svg");
+  std::filesystem::remove_all(dir);
+
+  // the page: 120 x 30 mm of drawing plus 5 mm on each side, and one user unit is one millimetre
+  const std::vector<double> w = captured(svg, "width=\"([0-9.]+)mm\""), h = captured(svg, "height=\"([0-9.]+)mm\"");
+  REQUIRE(w.size() == 1);
+  REQUIRE(h.size() == 1);
+  CHECK(w[0] == Approx(130).margin(1e-9));
+  CHECK(h[0] == Approx(40).margin(1e-9));
+  CHECK(svg.find("viewBox=\"0 0 130.000 40.000\"") != std::string::npos);
+
+  // the outline's corners land 120 mm apart, inside the 5 mm margin, y up
+  const std::vector<double> xs = captured(svg, "[ML]([0-9.]+) [0-9.]+");
+  REQUIRE(xs.size() >= 4);
+  CHECK(*std::min_element(xs.begin(), xs.end()) == Approx(5));
+  CHECK(*std::max_element(xs.begin(), xs.end()) == Approx(125));
+  CHECK(svg.find("M65.000 35.000 L65.000 20.000") != std::string::npos);  // the midvein, base (y = 0) below
+
+  // strokes: 2 r mm per unit for veins, the minimum for the thin branch, the outline's own width
+  const std::vector<double> strokes = captured(svg, "stroke-width=\"([0-9.]+)\"");
+  REQUIRE(strokes.size() == 3);
+  CHECK(strokes[0] == Approx(sp.outline_stroke));
+  CHECK(strokes[1] == Approx(2 * 0.5 * 3));          // the midvein: 3 mm wide
+  CHECK(strokes[2] == Approx(sp.min_stroke));        // 0.06 mm drawn at the minimum
+}
