@@ -187,6 +187,7 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   tp.max_memory_bytes = spec.max_memory_mb * 1e6;
   tp.threads = threads;
   tp.fill_cavities = spec.fill_cavities;
+  tp.flat_base = spec.flat_base;
   // Ctrl-C stops the thickening at the next block; on a terminal the stage shows its percentage.
   const bool tty = !quiet && ::isatty(2) != 0;
   auto stage_progress = [&](const char* stage) {
@@ -233,6 +234,7 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
           {"segments", rep.segments},
           {"shell_triangles", rep.shell_triangles},
           {"raised_radii", rep.raised_radii},
+          {"base_z_mm", rep.base_z},
           {"triangles", rep.triangles},
           {"parts", rep.pieces},
           {"cavities", rep.cavities},

@@ -249,6 +249,8 @@ std::vector<Field> build() {
   f.push_back(text("print", "formats", "stl", "comma-separated: stl, obj, ply, scad, vdb"));
   f.push_back(boolean("print", "fill_cavities", "false",
                       "fill closed pockets inside the solid (a shell around a closed sheet becomes solid)"));
+  f.push_back(num("print", "flat_base", "0", 0, 1e5, false, "mm",
+                  "cut this much off the bottom of the form so it stands on a flat face (0 = no cut)"));
   f.push_back(choice("print", "pieces", Kind::choice, "warn", "any|warn|one",
                      "one: a form that falls apart is an error; warn: a warning with the part count"));
 

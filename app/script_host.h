@@ -72,6 +72,7 @@ struct PrintSpec {
   std::vector<std::string> formats{"stl"};  ///< stl, obj, ply, scad, vdb
   std::string pieces = "warn";              ///< any, warn, one
   bool fill_cavities = false;               ///< fill closed pockets inside the solid
+  double flat_base = 0;                     ///< mm cut off the bottom for a flat base (0 = none)
 };
 
 /// Everything a script describes, resolved (script values, then --set overrides, then defaults).

@@ -153,6 +153,7 @@ void section_print(Impl& I, const std::string& at) {
   p.max_memory_mb = v["max_memory"].num;
   p.pieces = v["pieces"].str;
   p.fill_cavities = v["fill_cavities"].flag;
+  p.flat_base = v["flat_base"].num;
   p.formats.clear();
   std::stringstream ss(v["formats"].str);
   std::string f;

@@ -27,4 +27,4 @@ colonisation {
   tip_radius = 0.25,
 }
 
-print { formats = "stl", pieces = "one", min_radius = 0.6 }
+print { formats = "stl", pieces = "one", min_radius = 0.6, flat_base = 1 }  -- stands on a flat foot

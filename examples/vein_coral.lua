@@ -33,4 +33,4 @@ ground { height = 0 }
 disc { radius = 3, centre = {0, 0, 0.5} }
 petiole { at = {0, 0, 0.5} }
 
-print { formats = "stl", pieces = "one" }
+print { formats = "stl", pieces = "one", flat_base = 1 }  -- 1 mm off the bottom: it stands on a flat foot

@@ -69,6 +69,8 @@ void check_params(const ThickenParams& p) {
   if (!(p.adaptivity >= 0 && p.adaptivity <= 1)) bad("adaptivity must be in [0, 1], got " + fmt("%g", p.adaptivity));
   if (!(p.max_memory_bytes > 0)) bad("max_memory_bytes must be > 0");
   if (p.threads < 0) bad("threads must be >= 0 (0 = all cores)");
+  if (!(std::isfinite(p.flat_base) && p.flat_base >= 0))
+    bad("flat_base must be >= 0 mm (0 = no cut), got " + fmt("%g", p.flat_base));
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
@@ -327,8 +329,13 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     const auto [first, last] = std::equal_range(ends.begin(), ends.end(), k);
     return last - first == 1;
   };
+  // the lowest point of the solid, mm: of a round cone, the lower of its end spheres' lowest points;
+  // of a slab, its lowest corner less half the thickness
+  double bottom = std::numeric_limits<double>::infinity(), top = -bottom;
   for (const Segment& s : segments) {
     const double ra = std::max(s.ra * scale, params.min_radius), rb = std::max(s.rb * scale, params.min_radius);
+    bottom = std::min({bottom, s.a.z() * scale - ra, s.b.z() * scale - rb});
+    top = std::max({top, s.a.z() * scale + ra, s.b.z() * scale + rb});
     raised += (s.ra * scale < params.min_radius) + (s.rb * scale < params.min_radius);
     caps.emplace_back(s.a * scale, s.b * scale, ra, rb);
     const double len = (s.b - s.a).norm() * scale;
@@ -341,8 +348,17 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   for (const auto& t : shell) {
     slabs.emplace_back(t[0] * scale, t[1] * scale, t[2] * scale, half_shell);
     const Vec3 a = t[0] * scale, b = t[1] * scale, c = t[2] * scale;
+    bottom = std::min(bottom, std::min({a.z(), b.z(), c.z()}) - half_shell);
+    top = std::max(top, std::max({a.z(), b.z(), c.z()}) + half_shell);
     area += (b - a).cross(c - a).norm();  // both faces; rims are mostly shared with neighbours
   }
+
+  if (params.flat_base > 0 && !(params.flat_base < top - bottom))
+    throw core::InvalidInput("thicken: flat_base (" + fmt("%g", params.flat_base) +
+                             " mm) must be less than the height of the printed form (" + fmt("%.4g", top - bottom) +
+                             " mm), or nothing is left to print");
+  const double base_z = params.flat_base > 0 ? bottom + params.flat_base : bottom;  // mm: the cut plane
+  const bool cut = params.flat_base > 0;
 
   // Memory: narrow-band voxels (both sides of the surface) and surface quads both scale as voxel^-2.
   const double active_estimate = area * 2 * band / (voxel * voxel * voxel);
@@ -355,6 +371,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     report->segments = caps.size();
     report->shell_triangles = slabs.size();
     report->raised_radii = raised;
+    report->base_z = base_z;
     report->estimated_bytes = estimate;
   }
   if (estimate > params.max_memory_bytes) {
@@ -450,6 +467,9 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
                                     slot = std::min(slot, dist);
                                   }
                             }
+                            if (cut)  // intersect with the half space above the base plane
+                              for (openvdb::Index n = 0; n < FloatLeaf::SIZE; ++n)
+                                d[n] = std::max(d[n], base_z - (origin.z() + FloatLeaf::offsetToLocalCoord(n).z()) * voxel);
                             bool any = false;
                             for (double v : d) any = any || std::abs(v) < band;
                             if (!any) continue;  // entirely inside or outside: the flood fill below supplies the sign

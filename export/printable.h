@@ -38,6 +38,9 @@ struct ThickenParams {
   double max_memory_bytes = 2e9;  ///< refuse (core::InvalidInput) when the estimated peak memory exceeds this
   int threads = 0;                ///< worker threads; 0 = all cores. Output is bitwise identical for any value
   bool fill_cavities = false;     ///< fill closed pockets inside the solid (drop their inner walls)
+  /// mm: cut this much off the bottom of the solid (its lowest z, after scaling) so that it stands on a
+  /// flat face instead of the round end of a vein; 0 = no cut. Must be less than the solid's height.
+  double flat_base = 0;
   /// Called on the calling thread between blocks of work with the fraction of the stage done (0..1,
   /// non-decreasing within voxelise() and within mesh_level_set()); return false to stop, which throws
   /// core::Cancelled (OpenVDB's interrupter idea). Empty = never stops. Does not change the output.
@@ -51,6 +54,7 @@ struct ThickenReport {
   std::size_t segments = 0;         ///< capsules voxelised
   std::size_t shell_triangles = 0;  ///< shell triangles voxelised
   std::size_t raised_radii = 0;     ///< segment end radii raised to min_radius
+  double base_z = 0;                ///< mm: height of the flat base's plane (flat_base > 0), else the lowest z
   std::size_t active_voxels = 0;    ///< narrow-band voxels of the level set
   double estimated_bytes = 0;       ///< memory estimate the refusal check used
   std::size_t triangles = 0;        ///< triangles of the output mesh

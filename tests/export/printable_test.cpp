@@ -225,6 +225,50 @@ TEST_CASE("automatic scale makes the largest extent 120 mm", "[printable]") {
   CHECK((slab.bbox_max - slab.bbox_min).maxCoeff() == Approx(120).margin(2 * p.voxel_size));
 }
 
+TEST_CASE("flat_base cuts the bottom off so a standing vein rests on a flat disc", "[printable]") {
+  // a vertical vein of radius 2 from z = 0 to 10: its bottom is a hemisphere reaching z = -2
+  const double r = 2, cut = 1, v = 0.05;
+  const std::vector<Segment> post{{{0, 0, 0}, {0, 0, 10}, r, r}};
+  // downward-facing area, and the widest reach of the vertices on the lowest plane
+  auto base = [](const PrintableMesh& m, double z0) {
+    double down = 0, reach = 0;
+    for (const auto& t : m.triangles) {
+      const Vec3 a = m.vertices[t[0]], b = m.vertices[t[1]], c = m.vertices[t[2]];
+      const Vec3 n = (b - a).cross(c - a);
+      if (n.z() < -0.999 * n.norm()) down += n.norm() / 2;
+    }
+    for (const Vec3& q : m.vertices)
+      if (std::abs(q.z() - z0) < 1e-4) reach = std::max(reach, std::hypot(q.x(), q.y()));
+    return std::pair{down, reach};
+  };
+  ThickenReport rep;
+  const PrintableMesh round_mesh = exporters::thicken(post, {}, exact(v), &rep);
+  const auto round = require_printable(round_mesh);
+  CHECK(round.bbox_min.z() == Approx(-r).margin(v));
+  CHECK(base(round_mesh, round.bbox_min.z()).first < 0.05);  // a round end: almost nothing faces straight down
+
+  ThickenParams p = exact(v);
+  p.flat_base = cut;
+  const PrintableMesh flat_mesh = exporters::thicken(post, {}, p, &rep);
+  const auto flat = require_printable(flat_mesh);
+  CHECK(rep.base_z == Approx(-r + cut));
+  CHECK(flat.bbox_min.z() == Approx(-r + cut).margin(1e-3 * v));  // the plane itself, not a voxel off
+  CHECK(flat.bbox_max.z() == Approx(10 + r).margin(v));
+  // the cut disc: radius sqrt(r^2 - (r - cut)^2) = sqrt(3), all of it facing down
+  const auto [down, reach] = base(flat_mesh, flat.bbox_min.z());
+  CHECK(reach == Approx(std::sqrt(3.0)).margin(v));
+  CHECK(down < 3 * M_PI);  // the faces at its rim are slanted, within a voxel or two of the edge
+  CHECK(down > M_PI * std::pow(std::sqrt(3.0) - 2 * v, 2));
+  // and the volume lost is the spherical cap of height `cut`
+  CHECK(round.volume - flat.volume == Approx(M_PI * cut * cut * (3 * r - cut) / 3).epsilon(0.05));
+
+  p.flat_base = 14;  // the whole height
+  CHECK_THROWS_WITH(exporters::thicken(post, {}, p), Catch::Matchers::Contains("flat_base (14 mm)") &&
+                                                         Catch::Matchers::Contains("height of the printed form (14 mm)"));
+  p.flat_base = -1;
+  CHECK_THROWS_WITH(exporters::thicken(post, {}, p), Catch::Matchers::Contains("flat_base must be >= 0"));
+}
+
 TEST_CASE("a Y-shaped vein tree is one watertight part of genus 0", "[printable]") {
   ThickenReport rep;
   const auto m = exporters::thicken(y_tree(), {}, exact(0.1), &rep);
