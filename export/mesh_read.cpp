@@ -61,9 +61,7 @@ PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s) 
       return weld_soup(std::move(corners));
     }
   }
-  std::istringstream in(s);
-  std::string word;
-  if (!(in >> word) || word != "solid") {
+  if (!forms::starts_like_ascii_stl(std::string_view(s).substr(0, 84))) {
     if (s.size() >= 84) {  // a binary header whose triangle count does not fit the file: truncated or padded
       const std::size_t n = get<std::uint32_t>(s, 80);
       malformed(path, "a damaged binary STL: its header announces " + std::to_string(n) + " triangles (" +

@@ -159,7 +159,7 @@ bool is_binary_stl(std::istream& in, std::uintmax_t size, const std::string& nam
   in.clear();
   in.seekg(0);
   if (got < 84) {
-    if (std::string(head, std::min<std::size_t>(got, 5)) != "solid")
+    if (!starts_like_ascii_stl(std::string_view(head, got)))
       throw core::InvalidInput("mesh " + name +
                                " is not an STL file: too short for binary STL and does not start with 'solid'");
     return false;
@@ -168,7 +168,7 @@ bool is_binary_stl(std::istream& in, std::uintmax_t size, const std::string& nam
   for (int k = 3; k >= 0; --k) n = (n << 8) | static_cast<unsigned char>(head[80 + k]);
   const std::uintmax_t expected = 84 + 50 * static_cast<std::uintmax_t>(n);
   if (size == expected) return true;
-  if (std::string(head, 5) == "solid") return false;
+  if (starts_like_ascii_stl(std::string_view(head, got))) return false;
   throw core::InvalidInput("mesh " + name + " is a damaged binary STL: its header announces " + std::to_string(n) +
                            " triangles (" + std::to_string(expected) + " bytes) but the file has " +
                            std::to_string(size) + " bytes");
@@ -226,7 +226,17 @@ TriangleMesh checked(TriangleMesh mesh, const std::string& name) {
 
 }  // namespace
 
+bool starts_like_ascii_stl(std::string_view head) {
+  if (head.substr(0, 3) == "\xEF\xBB\xBF") head.remove_prefix(3);
+  head.remove_prefix(std::min(head.find_first_not_of(" \t\r\n\f\v"), head.size()));
+  if (head.size() < 5) return false;
+  for (std::size_t k = 0; k < 5; ++k)
+    if (std::tolower(static_cast<unsigned char>(head[k])) != "solid"[k]) return false;
+  return head.size() == 5 || std::isspace(static_cast<unsigned char>(head[5]));
+}
+
 std::vector<Vec3> parse_ascii_stl(std::string_view text) {
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // a UTF-8 byte-order mark
   enum class Expect { solid, facet, outer, vertex, endfacet, end };  // what the next line may be
   Expect expect = Expect::solid;
   std::vector<Vec3> corners;

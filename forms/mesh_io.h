@@ -15,6 +15,11 @@ namespace cellform::forms {
 /// allowed), and a vertex is three finite numbers. Throws core::InvalidInput "line N: ..." saying what was
 /// wrong, the caller adds the file name; a file cut short ends inside a facet or before "endsolid" and is
 /// refused too. A solid without facets gives no corners.
+/// A UTF-8 byte-order mark before the first line is skipped.
 std::vector<core::Vec3> parse_ascii_stl(std::string_view text);
+
+/// Whether `head` (the first bytes of a file) starts as an ASCII STL does: after an optional UTF-8
+/// byte-order mark and blanks, the word "solid" in any case ("SOLID" from some CAD programs).
+bool starts_like_ascii_stl(std::string_view head);
 
 }  // namespace cellform::forms

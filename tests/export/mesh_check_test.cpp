@@ -9,7 +9,9 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <cctype>
 #include <fstream>
+#include <sstream>
 #include <limits>
 
 #include "core/errors.h"
@@ -224,6 +226,17 @@ TEST_CASE("read_mesh reads what the writers wrote, and welds STL soups", "[mesh_
   const auto a = exporters::read_mesh(dir / "a.stl");
   CHECK(a.vertices.size() == 4);
   CHECK(exporters::check_mesh(a).printable());
+  // the same in upper case after a UTF-8 byte-order mark, as some CAD programs save it
+  {
+    std::stringstream in;
+    in << std::ifstream(dir / "a.stl").rdbuf();
+    std::string upper = in.str();
+    for (char& ch : upper) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+    std::ofstream(dir / "upper.stl", std::ios::binary) << "\xEF\xBB\xBF" << upper;
+  }
+  const auto up = exporters::read_mesh(dir / "upper.stl");
+  CHECK(up.vertices.size() == 4);
+  CHECK(up.triangles == a.triangles);
   // non-manifold input is read as is, not dropped
   {
     std::ofstream f(dir / "nm.obj");

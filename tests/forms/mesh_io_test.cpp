@@ -6,6 +6,7 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cctype>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -101,6 +102,18 @@ TEST_CASE("parse_ascii_stl refuses anything else, saying the line", "[forms][mes
   CHECK_THAT(error("solid\n" + f.substr(0, f.find("endloop"))), Contains("line 6") && Contains("inside the facet"));
 }
 
+TEST_CASE("starts_like_ascii_stl knows the first word of an ASCII STL in any case, after a BOM", "[forms][mesh_io]") {
+  CHECK(forms::starts_like_ascii_stl("solid x\n"));
+  CHECK(forms::starts_like_ascii_stl("SOLID"));
+  CHECK(forms::starts_like_ascii_stl("\xEF\xBB\xBF  Solid part\r\n"));
+  CHECK(forms::starts_like_ascii_stl("\n\nsolid\tx"));
+  CHECK_FALSE(forms::starts_like_ascii_stl("solidworks binary header"));
+  CHECK_FALSE(forms::starts_like_ascii_stl("soli"));
+  CHECK_FALSE(forms::starts_like_ascii_stl("\xEF\xBB solid"));
+  CHECK_FALSE(forms::starts_like_ascii_stl(""));
+  CHECK(forms::parse_ascii_stl("\xEF\xBB\xBFsolid\n" + facet("0 0 0", "1 0 0", "0 1 0") + "endsolid\n").size() == 3);
+}
+
 TEST_CASE("load_mesh reads ASCII STL, binary STL and OBJ", "[forms][mesh_io]") {
   const fs::path dir = temp_dir("load");
   const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0), d(0, 0, 1);
@@ -116,11 +129,15 @@ TEST_CASE("load_mesh reads ASCII STL, binary STL and OBJ", "[forms][mesh_io]") {
   ascii += "endsolid tet\n";
   write_text(dir / "tet_ascii.stl", ascii);
   write_text(dir / "tet_binary.STL", binary_stl(tet));
+  // the same text in upper case and after a UTF-8 byte-order mark (as some CAD programs and editors save it)
+  std::string upper = ascii;
+  for (char& ch : upper) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  write_text(dir / "tet_upper.stl", "\xEF\xBB\xBF" + upper);
   // OBJ with a quad (split into two triangles), a comment, and negative (relative) indices.
   write_text(dir / "quad.obj",
              "# a unit square and a triangle\nv 0 0 0\nv 2 0 0\nv 2 3 0\nv 0 3 0\nv 1 1 5\nf 1 2 3 4\nf -5 -4 -1\n");
 
-  for (const char* name : {"tet_ascii.stl", "tet_binary.STL"}) {
+  for (const char* name : {"tet_ascii.stl", "tet_binary.STL", "tet_upper.stl"}) {
     INFO(name);
     const forms::TriangleMesh m = forms::load_mesh(dir / name);
     REQUIRE(m.triangles.size() == 4);
