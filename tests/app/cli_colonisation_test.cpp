@@ -184,6 +184,11 @@ TEST_CASE("a space-colonisation run writes the vein files output{} asks for", "[
   const auto empty = cli({"run", script.string(), "--out", ""});
   CHECK(empty.code == 2);
   CHECK_THAT(empty.err, Contains("--out needs a folder name"));
+  for (const char* root : {"/", "//", "/./"}) {
+    const auto at_root = cli({"run", script.string(), "--out", root});
+    CHECK(at_root.code == 2);
+    CHECK_THAT(at_root.err, Contains("is the root of the file system"));
+  }
 }
 
 TEST_CASE("a colonisation run stopped by max_nodes says so, and resumes under the larger limit it suggests",
