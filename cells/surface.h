@@ -18,7 +18,9 @@ struct Surface {
 /// with `one_layer` (for files a modeller opens), of that graph less each edge crossing a shorter one as
 /// the diagonals of a quad do (the k-nearest links often hold both diagonals, whose cliques lay four
 /// triangles over the quad in two layers), with the 4-cycles then left open closed on their shorter
-/// diagonal. Without it every clique is kept: overlapping, but with no gap (what a thickened shell wants).
+/// diagonal, and the small holes left after orienting (a loop of 3 to 6 boundary sides without a chord,
+/// where the fill faces as the triangles around it) closed by their shortest-diagonal triangulation.
+/// Without it every clique is kept: overlapping, but with no gap (what a thickened shell wants).
 /// Deterministic: triangles sorted by smallest index.
 Surface triangulate(const Cells& cells, bool one_layer = true);
 

@@ -178,3 +178,39 @@ TEST_CASE("closing quads never doubles a layer: a filled wheel, and quads that s
     for (int k = 0; k < 3; ++k) ++sides[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}];
   for (const auto& [side, count] : sides) CHECK(count <= 2);
 }
+
+TEST_CASE("a hexagonal hole in the sheet is filled, facing as around it; a sheet's own outline is not", "[surface]") {
+  // a 7 x 7 hex sheet without its middle cell: the six cells around it bound a hole with no chord
+  const Cells full = cellform::testing::hex_sheet(7, 7);
+  const Index middle = 3 * 7 + 3;
+  Cells holed;
+  for (Index i = 0; i < full.size(); ++i)
+    if (i != middle) add_cell(holed, full.position[i]);
+  cellform::testing::link_lattice(holed);
+  CHECK(triangulate(holed, false).triangles.size() == 6 * 2 * 6 - 6);  // every clique: the hole stays
+  const Surface s = triangulate(holed);
+  REQUIRE(s.triangles.size() == 6 * 2 * 6 - 6 + 4);  // four triangles close the hexagon
+  double area = 0;
+  std::map<std::pair<Index, Index>, int> directed;
+  for (const auto& t : s.triangles) {
+    const Vec3 n = (holed.position[t[1]] - holed.position[t[0]]).cross(holed.position[t[2]] - holed.position[t[0]]);
+    CHECK(n.z() > 0);  // one orientation throughout (the first triangle's, +z here)
+    area += n.norm() / 2;
+    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+  }
+  CHECK(area == Approx(6 * 6 * 2 * std::sqrt(3.0) / 4));  // as the full sheet
+  std::size_t boundary = 0;
+  for (const auto& [edge, count] : directed) {
+    CHECK(count == 1);
+    boundary += directed.count({edge.second, edge.first}) == 0;
+  }
+  CHECK(boundary == 4 * 6);  // only the outline of the sheet
+  CHECK(s.edges.size() == triangulate(holed, false).edges.size());  // no link is invented
+
+  // seven cells: the outline of a hexagon around its centre is the sheet's edge, not a hole
+  Cells small;
+  add_cell(small, Vec3(0, 0, 0));
+  for (int k = 0; k < 6; ++k) add_cell(small, Vec3(std::cos(k * M_PI / 3), std::sin(k * M_PI / 3), 0));
+  cellform::testing::link_lattice(small);
+  CHECK(triangulate(small).triangles.size() == 6);
+}
