@@ -188,17 +188,19 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   tp.threads = threads;
   tp.fill_cavities = spec.fill_cavities;
   tp.flat_base = spec.flat_base;
-  // Ctrl-C stops the thickening at the next block; on a terminal the stage shows its percentage.
+  // Ctrl-C stops the thickening at the next block; on a terminal the stage shows its percentage. A Ctrl-C
+  // that stopped the steps before printing began asked for the outputs, the solid included: it is not one.
   const bool tty = !quiet && ::isatty(2) != 0;
-  auto stage_progress = [&](const char* stage) {
-    return [&err, tty, stage, shown = -1](double f) mutable {
+  const bool stopped_before = g_interrupt.load();
+  auto stage_progress = [&err, tty, stopped_before](const char* stage) {
+    return [&err, tty, stopped_before, stage, shown = -1](double f) mutable {
       const int pct = static_cast<int>(f * 100);
       if (tty && pct != shown) {
         shown = pct;
         err << "\r" << stage << " " << pct << "%" << std::flush;
         if (pct == 100) err << "\n";
       }
-      return !g_interrupt.load();
+      return stopped_before || !g_interrupt.load();
     };
   };
   if (segments.empty() && shell.empty())

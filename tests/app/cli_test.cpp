@@ -253,7 +253,10 @@ TEST_CASE("Ctrl-C stops cleanly with outputs and a checkpoint that resumes ident
                               "cells { time_step = 0.2, drag = {0.8, 0.8, 0.5} }\n"
                               "division { trigger = 'none' }\n"
                               "run { steps = 1000000 }\n"
-                              "disc { radius = 40 }\n");
+                              "disc { radius = 40 }\n"
+                              "petiole { at = {0, -40, 0} }\n"
+                              "venation { threshold = 20 }\n"
+                              "print { min_radius = 1 }\n");
   const fs::path out = t.path / "o";
   const std::string exe = std::string(CELLFORM_BINARY_DIR) + "/bin/cellform";
   const pid_t pid = fork();
@@ -271,8 +274,10 @@ TEST_CASE("Ctrl-C stops cleanly with outputs and a checkpoint that resumes ident
   CHECK(WEXITSTATUS(status) == 130);
   REQUIRE(fs::exists(out / "checkpoint.cfck"));
   REQUIRE(fs::exists(out / "cells.ply"));
+  CHECK(fs::exists(out / "printable.stl"));  // the Ctrl-C came before printing: the solid is an output too
   const auto run = nlohmann::json::parse(slurp(out / "run.json"));
   CHECK(run["status"] == "interrupted");
+  CHECK(run["print"]["parts"].get<int>() >= 1);
   const std::uint64_t stopped = run["steps"]["completed"];
   REQUIRE(stopped > 0);
   // resuming to a few steps further equals an uninterrupted run to the same step
