@@ -35,7 +35,7 @@ const char* const kRunUsage =
     "       cellform resume CHECKPOINT [options]\n"
     "\n"
     "options:\n"
-    "  --out DIR               output directory (default out/<script name>/; resume: the run's own)\n"
+    "  --out DIR               output directory (default out/<script name>/; resume: the checkpoint's folder)\n"
     "  --seed N                seed of every random choice (default: run.seed of the script, 1)\n"
     "  --steps N               steps to run (resume: the total to reach)\n"
     "  --threads N             worker threads, 0 = all cores (results are identical for any N)\n"

@@ -82,7 +82,9 @@ Start start_from(const RunOptions& o) {
         throw InputError("--seed " + std::to_string(*o.seed) + ": a resumed run keeps the seed of " + what + " (" +
                          std::to_string(*s.seed) + "); start a new run to use another seed");
       if (o.steps) s.target_steps = *o.steps;
-      if (o.out) s.out_dir = *o.out;
+      // the outputs go beside the checkpoint (its run's folder, wherever that is now), not to the folder
+      // it was written in: that one may since hold another run
+      s.out_dir = o.out ? *o.out : o.checkpoint.has_parent_path() ? o.checkpoint.parent_path() : fs::path(".");
       if (meta.contains("checkpoint_every") && meta["checkpoint_every"].is_number_unsigned())
         s.checkpoint_every = meta["checkpoint_every"].get<std::uint64_t>();
       if (o.checkpoint_every) s.checkpoint_every = o.checkpoint_every;
@@ -263,10 +265,35 @@ json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Ce
 
 }  // namespace
 
+std::vector<std::string> earlier_frames(const fs::path& dir, std::uint64_t up_to) {
+  std::vector<std::string> kept;
+  try {
+    std::ifstream old(dir / "run.json");
+    if (!old) return kept;
+    const json j = json::parse(old);
+    for (const auto& n : j.value("outputs", json::array())) {
+      const std::string name = n.get<std::string>();
+      // "frames/cells_NNNNNN.ply"
+      const std::size_t a = name.rfind('_'), b = name.rfind(".ply");
+      if (name.rfind("frames/cells_", 0) != 0 || a == std::string::npos || b == std::string::npos || b <= a + 1 ||
+          name.find("..") != std::string::npos)
+        continue;
+      const std::string digits = name.substr(a + 1, b - a - 1);
+      if (digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 18) continue;
+      if (std::stoull(digits) <= up_to && fs::is_regular_file(dir / name)) kept.push_back(name);
+    }
+  } catch (...) {
+    // an unreadable old run.json: its frames are not known to be this run's
+  }
+  return kept;
+}
+
 /// Moves every file of `staging` (recursively) into `dir`, then removes the outputs of an earlier run
-/// (listed in its run.json) that this run did not write again.
-void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vector<std::string>& names) {
+/// (listed in its run.json) that this run did not write again and `keep` does not name.
+void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vector<std::string>& names,
+                    const std::vector<std::string>& keep) {
   std::set<std::string> fresh(names.begin(), names.end());
+  fresh.insert(keep.begin(), keep.end());
   std::vector<std::string> stale;
   try {
     std::ifstream old(dir / "run.json");
@@ -474,9 +501,14 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                 {"checkpoint", kCheckpointName}};
     if (cfg.print) run["print"] = printed;
     outputs.push_back("run.json");
-    run["outputs"] = outputs;
+    // a resumed run's frames from before its checkpoint are in the folder already: still this run's outputs
+    const std::vector<std::string> kept = s.resume ? earlier_frames(dir, first) : std::vector<std::string>{};
+    json listed = outputs;
+    for (const std::string& n : kept)
+      if (std::find(outputs.begin(), outputs.end(), n) == outputs.end()) listed.push_back(n);
+    run["outputs"] = listed;
     core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
-    commit_outputs(staging, dir, outputs);
+    commit_outputs(staging, dir, outputs, kept);
     if (!o.quiet || code != ok) {
       std::ostream& where = code == ok ? out : err;
       where << (code == interrupted ? "interrupted at step " : "done: step ") << sim.step_count() << ", "

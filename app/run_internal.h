@@ -89,9 +89,13 @@ nlohmann::json thicken_and_write(const std::filesystem::path& dir, const PrintSp
                                  std::vector<std::string>& names, std::ostream& err, bool quiet);
 
 /// Moves every file of `staging` (recursively) into `dir`, then removes the outputs of an earlier run
-/// (listed in its run.json) that this run did not write again.
+/// (listed in its run.json) that this run did not write again and `keep` does not name.
 void commit_outputs(const std::filesystem::path& staging, const std::filesystem::path& dir,
-                    const std::vector<std::string>& names);
+                    const std::vector<std::string>& names, const std::vector<std::string>& keep = {});
+
+/// The frames (frames/cells_NNNNNN.ply) of step <= up_to that dir's run.json lists and that exist: on
+/// resume, the frames the run wrote before its checkpoint.
+std::vector<std::string> earlier_frames(const std::filesystem::path& dir, std::uint64_t up_to);
 
 /// A space-colonisation run (run_colonisation.cpp); returns the exit code. Never throws.
 int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,

@@ -200,6 +200,35 @@ TEST_CASE("resume continues to the bit-identical result", "[cli][checkpoint]") {
   CHECK(nlohmann::json::parse(slurp(part / "run.json"))["command"] == "resume");
 }
 
+TEST_CASE("resume writes beside its checkpoint and keeps the frames written before it", "[cli][checkpoint]") {
+  TempDir t("cli-resume-frames");
+  const auto script = t.write("small.lua", std::string(kSmall) + "output { every = 5 }\n");
+  const fs::path first = t.path / "first", moved = t.path / "moved";
+  REQUIRE(cli({"run", script.string(), "--out", first.string(), "--quiet", "--steps", "12"}).code == 0);
+  // the run's folder is moved, and another run takes its old name
+  fs::rename(first, moved);
+  REQUIRE(cli({"run", script.string(), "--out", first.string(), "--quiet", "--steps", "3"}).code == 0);
+  const std::string other = slurp(first / "cells.ply");
+  auto r = cli({"resume", (moved / "checkpoint.cfck").string(), "--steps", "20", "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(slurp(first / "cells.ply") == other);  // the other run is untouched
+  const auto run = nlohmann::json::parse(slurp(moved / "run.json"));
+  CHECK(run["steps"]["completed"] == 20);
+  // frames 5 and 10 came before the checkpoint (step 12), 15 and 20 after: all four are the run's
+  for (const char* f : {"frames/cells_000005.ply", "frames/cells_000010.ply", "frames/cells_000015.ply",
+                        "frames/cells_000020.ply"}) {
+    INFO(f);
+    CHECK(fs::exists(moved / f));
+    CHECK(std::find(run["outputs"].begin(), run["outputs"].end(), f) != run["outputs"].end());
+  }
+  // and they are the frames of one uninterrupted run
+  const fs::path whole = t.path / "whole";
+  REQUIRE(cli({"run", script.string(), "--out", whole.string(), "--quiet", "--steps", "20"}).code == 0);
+  CHECK(slurp(whole / "frames/cells_000005.ply") == slurp(moved / "frames/cells_000005.ply"));
+  CHECK(slurp(whole / "frames/cells_000020.ply") == slurp(moved / "frames/cells_000020.ply"));
+}
+
 TEST_CASE("corrupt, foreign and truncated checkpoints are refused clearly", "[cli][checkpoint]") {
   TempDir t("cli-corrupt");
   const auto script = t.write("small.lua", kSmall);
