@@ -207,8 +207,9 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   };
   if (segments.empty() && shell.empty())
     throw core::InvalidInput(
-        !spec.shell  ? "print: nothing to print yet (no vein has grown; run longer, lower venation.threshold, or use "
-                       "shell = true)"
+        g_interrupt.load() ? "print: nothing to print: the run was interrupted before anything printable grew"
+        : !spec.shell      ? "print: nothing to print yet (no vein has grown; run longer, lower venation.threshold, or use "
+                             "shell = true)"
         : spec.veins ? "print: nothing to print yet (no vein has grown, and the cells form no sheet of triangles to "
                        "thicken; grow a sheet, for example from a disc{...})"
                      : "print: the cells form no sheet of triangles to thicken yet (a line or a single cell has no "
@@ -470,7 +471,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       } catch (const std::exception& e) {
         err << "cellform: " << e.what() << "\n  (the other outputs and the checkpoint are written)\n";
         printed = {{"error", e.what()}};
-        code = failure;
+        if (code != interrupted) code = failure;  // a Ctrl-C that came first stays the reason the run ended
       }
     }
     const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - b).count();

@@ -254,6 +254,12 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
           segments.push_back({tree.positions[p], tree.positions[c], tree.radius[p], tree.radius[c]});
         std::vector<std::array<core::Vec3, 3>> shell;
         if (cfg.print->shell && sheet) shell = exporters::shell_triangles(*sheet, cells::triangulate(*sheet, false));
+        if (segments.empty() && shell.empty())
+          throw core::InvalidInput(
+              code == interrupted
+                  ? "print: nothing to print: the run was interrupted before anything printable grew"
+                  : "print: nothing to print: no vein grew (run longer, raise colonisation.darts, or lower "
+                    "colonisation.birth_distance)");
         printed = thicken_and_write(staging, *cfg.print, segments, shell, o.threads, outputs, err, o.quiet);
       } catch (const core::Cancelled&) {
         err << (o.quiet ? "" : "\n")
@@ -263,7 +269,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
       } catch (const std::exception& e) {
         err << "cellform: " << e.what() << "\n";
         printed = {{"error", e.what()}};
-        code = failure;
+        if (code != interrupted) code = failure;  // a Ctrl-C that came first stays the reason the run ended
       }
     }
     json run = {{"program", "cellform"},

@@ -318,6 +318,36 @@ TEST_CASE("Ctrl-C stops cleanly with outputs and a checkpoint that resumes ident
   CHECK(slurp(whole / "cells.ply") == slurp(out / "cells.ply"));
 }
 
+TEST_CASE("a Ctrl-C before the first step: the print still runs, or says why it cannot; exit 130", "[cli][signal]") {
+  TempDir t("cli-early-interrupt");
+  struct Reset {
+    ~Reset() { cellform::app::g_interrupt = false; }
+  } reset;
+  // a sheet (linked by a few steps) to print as a shell: printed although the resumed run stops at once
+  const auto shell = t.write("shell.lua", "disc { radius = 4 }\nprint { veins = false, shell = true, size = 30 }\n");
+  auto r = cli({"run", shell.string(), "--out", (t.path / "shell").string(), "--quiet", "--steps", "5"});
+  REQUIRE(r.code == 0);
+  fs::remove(t.path / "shell" / "printable.stl");
+  cellform::app::g_interrupt = true;
+  r = cli({"resume", (t.path / "shell" / "checkpoint.cfck").string(), "--quiet", "--steps", "50"});
+  INFO(r.err);
+  CHECK(r.code == 130);
+  CHECK(fs::exists(t.path / "shell" / "printable.stl"));
+  CHECK(nlohmann::json::parse(slurp(t.path / "shell" / "run.json"))["status"] == "interrupted");
+  // nothing printable yet: the reason is the interrupt, and the exit code says interrupted, not failed
+  for (const char* script : {"disc { radius = 4 }\npetiole { at = {0, 0, 0} }\nvenation {}\nprint {}\n",
+                             "leaf { shape = 'ellipse' }\ncolonisation { type = 'open', growth = 'none', "
+                             "initial_length = 30, darts = 20000 }\nprint {}\n"}) {
+    const auto file = t.write("veins.lua", script);
+    cellform::app::g_interrupt = true;
+    r = cli({"run", file.string(), "--out", (t.path / "veins").string(), "--quiet", "--steps", "50"});
+    INFO(r.err);
+    CHECK(r.code == 130);
+    CHECK_THAT(r.err, Contains("interrupted before anything printable grew"));
+    CHECK(nlohmann::json::parse(slurp(t.path / "veins" / "run.json"))["status"] == "interrupted");
+  }
+}
+
 TEST_CASE("cells and veins are bit-identical for 1 and 2 threads", "[cli][determinism]") {
   TempDir t("cli-threads");
   // about 5,800 cells, so the parallel paths (which start above 2,048 items) really run
