@@ -448,10 +448,17 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     }
     progress.finish();
     const auto b = std::chrono::steady_clock::now();
+    // the checkpoint first: outputs that then fail to write leave it to resume from; and a checkpoint that
+    // cannot be written (a full disk) still leaves the outputs
+    std::string checkpoint_error;
+    try {
+      write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
+      saved = true;
+    } catch (const std::exception& e) {
+      checkpoint_error = e.what();
+    }
     for (const std::string& n : write_outputs(staging, cfg.output, sim.cells(), cfg.scene.venation.has_value()))
       outputs.push_back(n);
-    write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
-    saved = true;
     json printed;
     if (cfg.print) {
       try {
@@ -499,7 +506,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                   {"simulation_s", sim_seconds},
                   {"output_s", output_seconds},
                   {"steps_per_s", sim_seconds > 0 ? static_cast<double>(done) / sim_seconds : 0.0}}},
-                {"checkpoint", kCheckpointName}};
+                {"checkpoint", checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr)}};
     if (cfg.print) run["print"] = printed;
     outputs.push_back("run.json");
     // a resumed run's frames from before its checkpoint are in the folder already: still this run's outputs
@@ -510,11 +517,15 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     run["outputs"] = listed;
     core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
     commit_outputs(staging, dir, outputs, kept);
+    if (!checkpoint_error.empty()) {
+      err << "cellform: " << checkpoint_error << "\n  (the other outputs are written, but this run cannot be resumed)\n";
+      code = failure;
+    }
     if (!o.quiet || code != ok) {
       std::ostream& where = code == ok ? out : err;
       where << (code == interrupted ? "interrupted at step " : "done: step ") << sim.step_count() << ", "
             << sim.cells().size() << " cells; outputs in " << dir.string() << "/\n";
-      if (code == interrupted) err << "continue with: cellform resume " << checkpoint.string() << "\n";
+      if (code == interrupted && saved) err << "continue with: cellform resume " << checkpoint.string() << "\n";
     }
     return code;
   } catch (const core::InvalidInput& e) {

@@ -205,7 +205,15 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
       throw;
     }
     if (!o.quiet && ::isatty(2)) err << "\n";
-    save();  // before the outputs: a failure writing them leaves the checkpoint
+    // before the outputs: a failure writing them leaves the checkpoint; and a checkpoint that cannot be
+    // written (a full disk) still leaves the outputs
+    std::string checkpoint_error;
+    try {
+      save();
+      saved = saved || !partial_sheet;
+    } catch (const std::exception& e) {
+      checkpoint_error = e.what();
+    }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
     venation::VeinTree tree = col.tree();
     venation::compute_widths(tree, spec.widths);
@@ -298,7 +306,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
                 {"timings",
                  {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
                   {"simulation_s", seconds}}},
-                {"checkpoint", kCheckpointName}};
+                {"checkpoint", checkpoint_error.empty() && !partial_sheet ? json(kCheckpointName) : json(nullptr)}};
     if (cfg.print) run["print"] = printed;
     if (planar) run["veins"]["leaf_length"] = leaf_length;
     if (sheet) run["cells"] = {{"initial", cfg.initial_cells.size()}, {"final", sheet->size()}};
@@ -306,6 +314,10 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     run["outputs"] = outputs;
     core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
     commit_outputs(staging, dir, outputs);
+    if (!checkpoint_error.empty()) {
+      err << "cellform: " << checkpoint_error << "\n  (the other outputs are written, but this run cannot be resumed)\n";
+      code = failure;
+    }
     std::ostream& where = code == ok ? out : err;
     if (!o.quiet || code != ok)
       where << (code == interrupted ? "interrupted"
@@ -315,7 +327,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
                                     : "stopped at max_steps")
             << ": " << rep.steps << " steps, " << rep.nodes << " vein nodes, " << rep.loops << " loops; outputs in "
             << dir.string() << "/\n";
-    if ((!o.quiet || code != ok) && code != interrupted && !rep.finished && !rep.stalled) {
+    if ((!o.quiet || code != ok) && code != interrupted && !rep.finished && !rep.stalled && checkpoint_error.empty()) {
       // both limits can be reached in one step; doubled, within what --steps and --set accept
       auto twice = [](std::size_t n) { return std::to_string(std::min<std::size_t>(2 * n, 1'000'000'000)); };
       where << "continue with: cellform resume " << checkpoint.string();
@@ -323,7 +335,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
       if (rep.hit_max_steps) where << " --steps " << twice(spec.params.max_steps);
       where << "\n";
     }
-    if (code == interrupted)
+    if (code == interrupted && checkpoint_error.empty())
       err << (partial_sheet ? std::string("no checkpoint: the cell sheet was not fully grown; run the script again\n")
                             : "continue with: cellform resume " + checkpoint.string() + "\n");
     return code;

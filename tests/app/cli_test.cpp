@@ -348,6 +348,26 @@ TEST_CASE("a Ctrl-C before the first step: the print still runs, or says why it 
   }
 }
 
+TEST_CASE("a checkpoint that cannot be written still leaves the outputs, and says so", "[cli][checkpoint]") {
+  TempDir t("cli-no-checkpoint");
+  const auto cells = t.write("small.lua", kSmall);
+  const auto veins = t.write("leaf.lua",
+                             "leaf { shape = 'ellipse' }\n"
+                             "colonisation { type = 'open', growth = 'none', initial_length = 30, darts = 20000 }\n");
+  for (const fs::path& script : {cells, veins}) {
+    INFO(script.filename().string());
+    const fs::path out = t.path / script.stem();
+    fs::create_directories(out / "checkpoint.cfck");  // a folder in the way: the checkpoint cannot be written
+    const auto r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "5"});
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Contains("checkpoint.cfck") && Contains("this run cannot be resumed"));
+    const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+    CHECK(run["checkpoint"].is_null());
+    for (const auto& name : run["outputs"]) CHECK(fs::is_regular_file(out / name.get<std::string>()));
+    CHECK(run["outputs"].size() >= 3);
+  }
+}
+
 TEST_CASE("cells and veins are bit-identical for 1 and 2 threads", "[cli][determinism]") {
   TempDir t("cli-threads");
   // about 5,800 cells, so the parallel paths (which start above 2,048 items) really run
