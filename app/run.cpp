@@ -289,6 +289,29 @@ std::vector<std::string> earlier_frames(const fs::path& dir, std::uint64_t up_to
   return kept;
 }
 
+namespace {
+
+/// run.json's "veins": the last canalisation step's report; when this command ran no step (a resume of a
+/// finished run), what the cells' saved attributes tell (the count of cells with no path to a petiole is
+/// not kept, so it is null).
+json vein_summary(const cells::Cells& c, const venation::Report& last, bool from_cells) {
+  if (!from_cells)
+    return {{"vein_cells", last.vein_cells},
+            {"petiole_inflow", last.petiole_inflow},
+            {"unconnected_cells", last.unconnected}};
+  std::size_t veins = 0;
+  double inflow = 0;
+  const auto flow = c.attributes.find(venation::kFlow);
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    veins += c.type[i] == cells::CellType::vein;
+    if (c.type[i] == cells::CellType::petiole && c.vein_parent[i] == core::kNoIndex && flow != c.attributes.end())
+      inflow += flow->second[i];
+  }
+  return {{"vein_cells", veins}, {"petiole_inflow", inflow}, {"unconnected_cells", nullptr}};
+}
+
+}  // namespace
+
 /// Moves every file of `staging` (recursively) into `dir`, then removes the outputs of an earlier run
 /// (listed in its run.json) that this run did not write again and `keep` does not name.
 void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vector<std::string>& names,
@@ -496,9 +519,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                 {"steps", {{"first", first}, {"completed", sim.step_count()}, {"target", target}}},
                 {"cells", {{"initial", initial_cells}, {"final", sim.cells().size()}}},
                 {"veins",
-                 {{"vein_cells", scene->venation_report().vein_cells},
-                  {"petiole_inflow", scene->venation_report().petiole_inflow},
-                  {"unconnected_cells", scene->venation_report().unconnected}}},
+                 vein_summary(sim.cells(), scene->venation_report(), cfg.scene.venation.has_value() && done == 0)},
                 {"overrides", s.sets},
                 {"parameters", cfg.resolved},
                 {"timings",

@@ -229,6 +229,21 @@ TEST_CASE("resume writes beside its checkpoint and keeps the frames written befo
   CHECK(slurp(whole / "frames/cells_000020.ply") == slurp(moved / "frames/cells_000020.ply"));
 }
 
+TEST_CASE("resuming a finished run reports its veins as the run did", "[cli][checkpoint]") {
+  TempDir t("cli-resume-veins");
+  const auto script = t.write("veins.lua", std::string(kSmall) + "venation { threshold = 5 }\n");
+  const fs::path out = t.path / "o";
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "30"}).code == 0);
+  const auto before = nlohmann::json::parse(slurp(out / "run.json"))["veins"];
+  REQUIRE(before["vein_cells"].get<int>() > 0);
+  const auto r = cli({"resume", (out / "checkpoint.cfck").string(), "--quiet"});  // at its target: no step
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const auto after = nlohmann::json::parse(slurp(out / "run.json"))["veins"];
+  CHECK(after["vein_cells"] == before["vein_cells"]);
+  CHECK(after["petiole_inflow"] == before["petiole_inflow"]);
+}
+
 TEST_CASE("corrupt, foreign and truncated checkpoints are refused clearly", "[cli][checkpoint]") {
   TempDir t("cli-corrupt");
   const auto script = t.write("small.lua", kSmall);
