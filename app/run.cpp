@@ -158,12 +158,16 @@ std::vector<std::string> write_outputs(const fs::path& dir, const OutputSpec& sp
 /// Creates `dir` and a private staging folder inside it, where a run's outputs wait until all are complete.
 fs::path make_staging(const fs::path& dir) {
   core::ensure_directory(dir);
-  // staging folders of runs that were killed (a second Ctrl-C, SIGKILL) are removed: their process is gone
+  // staging folders and half-written checkpoints ("checkpoint.cfck.tmp-PID") of runs that were killed (a
+  // second Ctrl-C, SIGKILL) are removed: their process is gone
   std::error_code ec;
+  const std::string tmp_checkpoint = std::string(kCheckpointName) + ".tmp-";
   for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
-    if (name.rfind(".partial-", 0) != 0 || !e.is_directory(ec)) continue;
-    const std::string digits = name.substr(9);
+    const bool staging_dir = name.rfind(".partial-", 0) == 0 && e.is_directory(ec);
+    const bool checkpoint_tmp = name.rfind(tmp_checkpoint, 0) == 0 && e.is_regular_file(ec);
+    if (!staging_dir && !checkpoint_tmp) continue;
+    const std::string digits = name.substr(staging_dir ? 9 : tmp_checkpoint.size());
     if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
     const auto pid = static_cast<pid_t>(std::stol(digits));
     if (pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) fs::remove_all(e.path(), ec);

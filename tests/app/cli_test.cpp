@@ -611,7 +611,7 @@ TEST_CASE("periodic checkpoints come every N steps, but not within output.checkp
   CHECK(timed.due(4));
 }
 
-TEST_CASE("a run removes the staging folders of killed runs, and only those", "[cli]") {
+TEST_CASE("a run removes the staging folders and checkpoint drafts of killed runs, and only those", "[cli]") {
   TempDir t("cli-stale");
   const auto script = t.write("small.lua", kSmall);
   const fs::path out = t.path / "out";
@@ -620,9 +620,14 @@ TEST_CASE("a run removes the staging folders of killed runs, and only those", "[
   const fs::path live = out / (".partial-" + std::to_string(::getppid()));  // a process that is running
   fs::create_directories(live);
   fs::create_directories(out / ".partial-notes");  // not a run's
+  std::ofstream(out / "checkpoint.cfck.tmp-999999999") << "half a checkpoint";  // a killed run's
+  const fs::path live_tmp = out / ("checkpoint.cfck.tmp-" + std::to_string(::getppid()));
+  std::ofstream(live_tmp) << "being written";
   REQUIRE(cli({"run", script.string(), "--out", out.string(), "--steps", "3", "--quiet"}).code == 0);
   CHECK_FALSE(fs::exists(out / ".partial-999999999"));
+  CHECK_FALSE(fs::exists(out / "checkpoint.cfck.tmp-999999999"));
   CHECK(fs::exists(live));
+  CHECK(fs::exists(live_tmp));
   CHECK(fs::exists(out / ".partial-notes"));
   CHECK(fs::exists(out / "cells.ply"));
 }
