@@ -28,6 +28,8 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
                         {"triangles", r.triangles},
                         {"vertices", r.vertices},
                         {"parts", r.parts},
+                        {"pieces", r.pieces},
+                        {"cavities", r.cavities},
                         {"boundary_edges", r.boundary_edges},
                         {"nonmanifold_edges", r.nonmanifold_edges},
                         {"nonmanifold_vertices", r.nonmanifold_vertices},
@@ -50,7 +52,7 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
   } else {
     out << file.string() << ": " << (r.printable() ? "printable" : "NOT printable") << "\n" << r.summary();
     if (th.samples > 0)
-      out << "wall thickness (mm): 1% of the surface is thinner than " << th.p01 << ", median " << th.median
+      out << "wall thickness (in the file's units; cellform prints are in mm): 1% of the surface is thinner than " << th.p01 << ", median " << th.median
           << "; shortest ray " << th.min << " near (" << th.min_at.x() << ", " << th.min_at.y() << ", " << th.min_at.z()
           << ")\n";
     else

@@ -408,6 +408,19 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
   for (const auto& e : edges) ++E[part_of[uf.find(e.first)]];
   for (std::size_t t = 0; t < nt; ++t)
     if (!collapsed(t)) ++F[part_of[uf.find(tris[t][0])]];
+  // per part: the signed volume (a closed pocket's walls face into it, so its volume is negative)
+  std::vector<double> part_volume(r.parts, 0.0);
+  for (std::size_t t = 0; t < nt; ++t)
+    if (!collapsed(t)) {
+      const Vec3& a = mesh.vertices[tris[t][0]];
+      const Vec3& b = mesh.vertices[tris[t][1]];
+      const Vec3& c = mesh.vertices[tris[t][2]];
+      part_volume[part_of[uf.find(tris[t][0])]] += a.dot(b.cross(c)) / 6.0;
+    }
+  for (const double v : part_volume) {
+    r.pieces += v > 0;
+    r.cavities += v < 0;
+  }
   r.genus.resize(r.parts);
   for (std::size_t p = 0; p < r.parts; ++p) {
     const std::int64_t chi = V[p] - E[p] + F[p];
@@ -423,8 +436,11 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
 
 std::string MeshReport::summary() const {
   std::ostringstream s;
-  s << triangles << " triangles, " << vertices << " vertices, " << parts << (parts == 1 ? " part" : " parts")
-    << "; volume " << volume << ", area " << area << "; bounding box " << (bbox_max - bbox_min).transpose() << "\n";
+  s << triangles << " triangles, " << vertices << " vertices, " << parts << (parts == 1 ? " part" : " parts");
+  if (cavities > 0)  // the inner walls of closed pockets are parts too, but not pieces that come apart
+    s << " (" << pieces << (pieces == 1 ? " solid piece, " : " solid pieces, ") << cavities
+      << (cavities == 1 ? " closed cavity inside" : " closed cavities inside") << ")";
+  s << "; volume " << volume << ", area " << area << "; bounding box " << (bbox_max - bbox_min).transpose() << "\n";
   s << "boundary edges " << boundary_edges << ", non-manifold edges " << nonmanifold_edges << ", non-manifold vertices "
     << nonmanifold_vertices << ", misoriented edges " << misoriented_edges << ", self-intersecting pairs "
     << self_intersections << ", degenerate triangles " << degenerate_triangles << "\n";

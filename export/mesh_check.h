@@ -19,6 +19,8 @@ struct MeshReport {
   std::size_t vertices = 0;              ///< distinct vertex positions after welding
   std::size_t welded_vertices = 0;       ///< input vertices merged into an equal-position vertex
   std::size_t parts = 0;                 ///< connected components (through shared vertices)
+  std::size_t pieces = 0;                ///< parts of positive signed volume: separate solid pieces
+  std::size_t cavities = 0;              ///< parts of negative signed volume: walls of closed pockets inside a piece
   std::size_t boundary_edges = 0;        ///< edges used by one triangle (holes)
   std::size_t nonmanifold_edges = 0;     ///< edges used by three or more triangles
   std::size_t nonmanifold_vertices = 0;  ///< vertices whose triangles form more than one fan

@@ -180,7 +180,24 @@ TEST_CASE("two disjoint parts do not intersect, each has its genus", "[mesh_chec
   const auto r = exporters::check_mesh(m);
   CHECK(r.printable());
   CHECK(r.parts == 2);
+  CHECK(r.pieces == 2);
+  CHECK(r.cavities == 0);
   CHECK(r.genus == std::vector<int>{1, 0});
+}
+
+TEST_CASE("the walls of a closed pocket inside a solid count as a cavity, not a piece", "[mesh_check]") {
+  // a sphere with a smaller sphere inside it wound inward: one solid piece holding one hollow
+  auto m = uv_sphere(24, 48, 2.0);
+  PrintableMesh pocket = uv_sphere(16, 32, 1.0);
+  for (auto& t : pocket.triangles) std::swap(t[1], t[2]);
+  append(m, pocket);
+  const auto r = exporters::check_mesh(m);
+  CHECK(r.printable());
+  CHECK(r.parts == 2);
+  CHECK(r.pieces == 1);
+  CHECK(r.cavities == 1);
+  CHECK(r.volume == Approx(exporters::signed_volume(uv_sphere(24, 48, 2.0)) - exporters::signed_volume(uv_sphere(16, 32, 1.0))));
+  CHECK_THAT(r.summary(), Catch::Contains("2 parts (1 solid piece, 1 closed cavity inside)"));
 }
 
 TEST_CASE("check_mesh takes about a second for 500k triangles and gives no false intersections", "[mesh_check]") {
