@@ -242,11 +242,14 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
       if (f.kind != Kind::function && f.kind != Kind::table && f.kind != Kind::table_or_function)
         names.push_back(f.section + "." + f.name);
     const std::string near = core::closest_name(key, names);
-    const bool is_shape =
-        key.find('.') != std::string::npos && find_field(key.substr(0, key.find('.')), key.substr(key.find('.') + 1));
+    // a real parameter of a section the script does not call (run, cells, division and output are read
+    // whether called or not, so theirs are always used)
+    const std::string section = key.substr(0, key.find('.'));
+    const bool uncalled =
+        key.find('.') != std::string::npos && find_field(section, key.substr(key.find('.') + 1));
     throw InvalidInput("--set " + key + "=" + value + ": " +
-                       (is_shape ? "shapes and constraints may be called several times, so they cannot be set by name; "
-                                   "declare a knob with params{...} in the script and use it"
+                       (uncalled ? "the script does not call " + section + "{...}, so there is nothing for " + key +
+                                       " to change; add " + section + "{...} to the script"
                                  : "the script has no parameter '" + key + "'" +
                                        (near.empty() ? "" : "; did you mean '" + near + "'?")));
   }

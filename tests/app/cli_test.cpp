@@ -75,6 +75,13 @@ TEST_CASE("input errors exit with 2 and one clear line", "[cli]") {
   r = cli({"run", ok.string(), "--set", "sise=3", "--out", (t.path / "o").string()});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("did you mean 'size'"));
+  // a parameter of a function the script calls can be set; one of a function it does not call says so
+  r = cli({"run", ok.string(), "--set", "disc.radius=2", "--quiet", "--steps", "2", "--out", (t.path / "o").string()});
+  CHECK(r.code == 0);
+  CHECK(nlohmann::json::parse(slurp(t.path / "o" / "run.json"))["cells"]["initial"].get<int>() < 61);
+  r = cli({"run", ok.string(), "--set", "print.size=50", "--out", (t.path / "o").string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("the script does not call print{...}"));
   // a petiole placed away from the form is reported at its script line, also when it appears later
   const auto far = t.write("far.lua",
                            "venation {}\nrun { steps = 5 }\ndisc { radius = 3 }\npetiole { at = {0, -3, 0} }\n"
