@@ -34,7 +34,8 @@ Field text(const char* s, const char* n, const char* def, const char* doc) {
 std::vector<Field> build() {
   std::vector<Field> f;
   // run{}
-  f.push_back(integer("run", "steps", "200", 0, 1e9, "steps", "how many steps to simulate (--steps overrides)"));
+  f.push_back(integer("run", "steps", "200", 0, 1e9, "steps",
+                      "cell steps to simulate (--steps overrides); space colonisation uses colonisation.max_steps"));
   f.push_back(integer("run", "seed", "1", 0, 9.2e18, "", "seed of every random choice (--seed overrides)"));
 
   // cells{}

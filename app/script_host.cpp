@@ -269,6 +269,11 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
                        "colonisation{...} grows veins in a leaf{...}, volume{...} or surface{...}; it cannot be "
                        "combined with venation{...}, nor with cells unless surface{cells = true} grows on them");
   if (cfg.colonisation && !on_cells) {  // statements about cells would be silently ignored: say so instead
+    if (!cfg.steps_given_at.empty())
+      throw InvalidInput(cfg.steps_given_at +
+                         "run.steps counts the steps of cells (a cell run, or the sheet surface{cells = true} grows); "
+                         "this space-colonisation run stops at colonisation.max_steps, or at --steps N");
+    if (cfg.resolved.contains("run")) cfg.resolved["run"].erase("steps");  // not a parameter of this run
     for (const char* section : {"cells", "division"})
       if (called.count(section))
         throw InvalidInput(called.at(section) + section +

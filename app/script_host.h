@@ -80,6 +80,7 @@ struct SceneConfig {
   forms::SceneDescription scene;
   std::vector<InitialCell> initial_cells;
   std::uint64_t steps = 200;
+  std::string steps_given_at;  ///< where run.steps was given ("file:line: " or "--set run.steps=N: "), or empty
   std::uint64_t seed = 1;
   OutputSpec output;
   std::optional<PrintSpec> print;

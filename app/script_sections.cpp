@@ -112,6 +112,11 @@ void section_run(Impl& I, const std::string& at) {
   I.once("run", at);
   Values v = I.read_section("run", 1, at, &I.cfg->resolved["run"]);
   I.cfg->steps = static_cast<std::uint64_t>(v["steps"].num);
+  if (v["steps"].present) {  // where, for a run that has no use for it
+    I.cfg->steps_given_at = at;
+    if (I.overrides && I.overrides->count("run.steps"))
+      I.cfg->steps_given_at = "--set run.steps=" + I.overrides->at("run.steps") + ": ";
+  }
   I.cfg->seed = static_cast<std::uint64_t>(v["seed"].num);
 }
 

@@ -174,6 +174,12 @@ TEST_CASE("a space-colonisation run writes the vein files output{} asks for", "[
   const auto r = cli({"run", script.string(), "--out", out.string(), "--steps", "4", "--quiet"});
   INFO(r.err);
   REQUIRE(r.code == 0);
+  // run.steps counts cell steps: it has no meaning here, and is neither recorded nor accepted
+  CHECK_FALSE(nlohmann::json::parse(slurp(out / "run.json"))["parameters"]["run"].contains("steps"));
+  const auto steps = cli({"run", script.string(), "--out", out.string(), "--set", "run.steps=3"});
+  CHECK(steps.code == 2);
+  CHECK_THAT(steps.err, Contains("--set run.steps=3: run.steps counts the steps of cells") &&
+                            Contains("colonisation.max_steps"));
   // the leaf is longer than wide (y up): 50 mm high plus the 5 mm margins
   CHECK_THAT(slurp(out / "veins.svg"), Contains("height=\"60.000mm\""));
   CHECK(fs::exists(out / "veins.png"));  // the smallest size allowed still draws
