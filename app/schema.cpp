@@ -36,7 +36,8 @@ std::vector<Field> build() {
   // run{}
   f.push_back(integer("run", "steps", "200", 0, 1e9, "steps",
                       "cell steps to simulate (--steps overrides); space colonisation uses colonisation.max_steps"));
-  f.push_back(integer("run", "seed", "1", 0, 9.2e18, "", "seed of every random choice (--seed overrides)"));
+  // 2^53: every whole number up to it is exact in Lua's numbers (and in --set's), so no two seeds alias
+  f.push_back(integer("run", "seed", "1", 0, 9007199254740992.0, "", "seed of every random choice (--seed overrides)"));
 
   // cells{}
   f.push_back(num("cells", "rest_length", "1", 0, kInf, true, "model units",

@@ -75,6 +75,12 @@ TEST_CASE("input errors exit with 2 and one clear line", "[cli]") {
   r = cli({"run", ok.string(), "--set", "sise=3", "--out", (t.path / "o").string()});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("did you mean 'size'"));
+  // --seed and run.seed take the same whole numbers: up to 2^53, where Lua's numbers are all exact
+  r = cli({"run", ok.string(), "--seed", "9007199254740993", "--out", (t.path / "o").string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--seed takes a whole number from 0 to 9007199254740992"));
+  r = cli({"run", ok.string(), "--set", "run.seed=1e16", "--out", (t.path / "o").string()});
+  CHECK(r.code == 2);
   // a parameter of a function the script calls can be set; one of a function it does not call says so
   r = cli({"run", ok.string(), "--set", "disc.radius=2", "--quiet", "--steps", "2", "--out", (t.path / "o").string()});
   CHECK(r.code == 0);
@@ -155,6 +161,7 @@ TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {
   for (const char* f : {"cells.ply", "cells.obj", "run.json", "checkpoint.cfck"}) CHECK(fs::exists(out / f));
   const auto run = nlohmann::json::parse(slurp(out / "run.json"));
   CHECK(run["seed"] == 4);
+  CHECK(run["parameters"]["run"]["seed"] == 4);  // the seed used, not the script's
   CHECK(run["steps"]["completed"] == 30);
   CHECK(run["cells"]["final"].get<int>() <= 300);
   CHECK(run["cells"]["final"].get<int>() > run["cells"]["initial"].get<int>());
