@@ -222,12 +222,31 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
     err << "thickening " << segments.size() << " vein segments" << (spec.shell ? " and the cell sheet" : "") << "...\n";
   exporters::ThickenReport rep;
   tp.progress = stage_progress("voxelising");
-  const exporters::LevelSet level_set = exporters::voxelise(segments, shell, tp, &rep);
+  exporters::LevelSet level_set;
+  try {
+    level_set = exporters::voxelise(segments, shell, tp, &rep);
+  } catch (const core::InvalidInput& e) {  // the library's names for what the script calls print.*
+    std::string m = e.what();
+    for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+             {"thicken: ", "print: "},
+             {"flat_base", "print.flat_base"},
+             {"use a voxel size of", "use a print.voxel_size of"},
+             {"a larger voxel size", "a larger print.voxel_size"},
+             {"(at most min_radius,", "(at most print.min_radius,"},
+             {"above min_radius", "above print.min_radius"},
+             {"a smaller scale or size", "a smaller print.size (or print.scale)"},
+             {"a smaller scale", "a smaller print.size (or print.scale)"},
+             {"raise the memory limit", "raise print.max_memory"}})
+      for (std::size_t at = m.find(from); at != std::string::npos; at = m.find(from, at + to.size()))
+        m.replace(at, from.size(), to);
+    throw core::InvalidInput(m);
+  }
   tp.progress = stage_progress("meshing");
   const exporters::PrintableMesh mesh = exporters::mesh_level_set(level_set, tp, &rep);
   if (rep.pieces > 1 && spec.pieces == "one")
     throw core::InvalidInput("print{pieces = \"one\"}: the form falls apart into " + std::to_string(rep.pieces) +
-                             " parts (raise print.min_radius, grow longer, or set pieces = \"warn\")");
+                             " parts (" + (spec.flat_base > 0 ? "lower print.flat_base, " : "") +
+                             "raise print.min_radius, grow longer, or set pieces = \"warn\")");
   if (rep.pieces > 1 && spec.pieces == "warn")
     err << "cellform: warning: the printable form has " << rep.pieces << " separate parts\n";
   for (const std::string& f : spec.formats) {
@@ -238,12 +257,11 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
       exporters::write_mesh(dir / name, mesh);
     names.push_back(name);
   }
-  return {{"scale_mm_per_unit", rep.scale},
+  json printed = {{"scale_mm_per_unit", rep.scale},
           {"voxel_size_mm", rep.voxel_size},
           {"segments", rep.segments},
           {"shell_triangles", rep.shell_triangles},
           {"raised_radii", rep.raised_radii},
-          {"base_z_mm", rep.base_z},
           {"triangles", rep.triangles},
           {"parts", rep.pieces},
           {"cavities", rep.cavities},
@@ -251,6 +269,8 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
           {"volume_mm3", rep.volume},
           {"area_mm2", rep.area},
           {"seconds", rep.voxelise_seconds + rep.mesh_seconds}};
+  if (spec.flat_base > 0) printed["base_z_mm"] = rep.base_z;
+  return printed;
 }
 
 namespace {

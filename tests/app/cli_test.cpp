@@ -467,6 +467,17 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
     CHECK(std::count(outputs.begin(), outputs.end(), "printable.stl") == 1);
   }
 
+  SECTION("print errors name the script's parameters") {
+    r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.flat_base=500"});
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Contains("print: print.flat_base (500 mm) must be less than the height"));
+    r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.max_memory=1"});
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Contains("a smaller print.size (or print.scale)") && Contains("raise print.max_memory") &&
+                          Contains("above print.min_radius"));
+    CHECK_FALSE(nlohmann::json::parse(slurp(out / "run.json"))["print"].contains("base_z_mm"));  // no cut asked
+  }
+
   SECTION("a form that falls apart is an error when one piece is required") {
     const auto two = t.write("two.lua",
                              "cells { time_step = 0.2, drag = {0.8, 0.8, 0.3} }\n"
