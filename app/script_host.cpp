@@ -215,8 +215,21 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     lua_pop(L, 1);
     throw InvalidInput(I.describe(msg));
   }
-  const std::string err = I.protected_call(0, 0, I.limits.instructions);
-  if (!err.empty()) throw InvalidInput(err);
+  std::string err = I.protected_call(0, 0, I.limits.instructions);
+  if (!err.empty()) {
+    // a misspelt function ("dsic{...}") is a call of nil: name the function meant
+    const std::string nil_call = "attempt to call a nil value (global '";
+    const std::size_t at = err.find(nil_call);
+    if (at != std::string::npos) {
+      const std::size_t from = at + nil_call.size(), to = err.find('\'', from);
+      std::vector<std::string> names(std::begin(kSections), std::end(kSections));
+      names.push_back("params");
+      const std::string near =
+          to == std::string::npos ? std::string() : core::closest_name(err.substr(from, to - from), names);
+      err += near.empty() ? "; no such function" : "; did you mean '" + near + "'?";
+    }
+    throw InvalidInput(err);
+  }
 
   const std::map<std::string, std::string> called = I.sections_seen;  // by the script, before the defaults
   // defaults for sections the script did not call

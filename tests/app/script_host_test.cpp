@@ -441,6 +441,9 @@ TEST_CASE("positions beyond 1e9 model units are refused (their squares would ove
 }
 
 TEST_CASE("a print voxel coarser than the thinnest vein is refused before the run", "[script][print]") {
+  CHECK_THAT(load_error("dsic { radius = 3 }\n"),
+             Contains(":1: attempt to call a nil value (global 'dsic'); did you mean 'disc'?"));
+  CHECK_THAT(load_error("disc { radius = 3 }\nfrobnicate()\n"), Contains(":2:") && Contains("; no such function"));
   CHECK_THAT(load_error("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { voxel_size = 1, min_radius = 0.4 }\n"),
              Contains(":4: print.voxel_size (1 mm) exceeds print.min_radius (0.4 mm)"));
 }
