@@ -284,7 +284,7 @@ json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Ce
     if (!g.edges.empty()) segments = exporters::vein_segments(g);  // petioles alone are no structure to print
   }
   std::vector<std::array<core::Vec3, 3>> shell;
-  if (spec.shell) shell = exporters::shell_triangles(c, cells::triangulate(c, false));  // no gaps
+  if (spec.shell) shell = exporters::shell_triangles(c, cells::Surface{cells::covering_triangles(c), {}});
   return thicken_and_write(dir, spec, segments, shell, threads, names, err, quiet);
 }
 

@@ -261,7 +261,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
         for (const auto& [p, c] : tree.edges())
           segments.push_back({tree.positions[p], tree.positions[c], tree.radius[p], tree.radius[c]});
         std::vector<std::array<core::Vec3, 3>> shell;
-        if (cfg.print->shell && sheet) shell = exporters::shell_triangles(*sheet, cells::triangulate(*sheet, false));
+        if (cfg.print->shell && sheet)
+          shell = exporters::shell_triangles(*sheet, cells::Surface{cells::covering_triangles(*sheet), {}});
         if (segments.empty() && shell.empty())
           throw core::InvalidInput(
               code == interrupted

@@ -450,4 +450,20 @@ Surface triangulate(const Cells& cells, bool one_layer) {
   return s;
 }
 
+std::vector<std::array<Index, 3>> covering_triangles(const Cells& cells) {
+  std::vector<std::array<Index, 3>> out = triangulate(cells, false).triangles;
+  auto sorted = [](std::array<Index, 3> t) {
+    std::sort(t.begin(), t.end());
+    return t;
+  };
+  std::vector<std::array<Index, 3>> have;  // corner sets, sorted
+  have.reserve(out.size());
+  for (const auto& t : out) have.push_back(sorted(t));
+  std::sort(have.begin(), have.end());
+  for (const auto& t : triangulate(cells, true).triangles)
+    if (!std::binary_search(have.begin(), have.end(), sorted(t))) out.push_back(t);
+  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });
+  return out;
+}
+
 }  // namespace cellform::cells

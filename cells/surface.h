@@ -24,4 +24,9 @@ struct Surface {
 /// Deterministic: triangles sorted by smallest index.
 Surface triangulate(const Cells& cells, bool one_layer = true);
 
+/// For a thickened shell, where overlapping triangles cost nothing and every gap is a hole in the print:
+/// every clique of the link graph, then the triangles of the one-layer surface that are no clique (closed
+/// quads and filled holes). Sorted; each corner triple once (as the first of the two surfaces has it).
+std::vector<std::array<Index, 3>> covering_triangles(const Cells& cells);
+
 }  // namespace cellform::cells

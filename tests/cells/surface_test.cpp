@@ -207,6 +207,12 @@ TEST_CASE("a hexagonal hole in the sheet is filled, facing as around it; a sheet
   CHECK(boundary == 4 * 6);  // only the outline of the sheet
   CHECK(s.edges.size() == triangulate(holed, false).edges.size());  // no link is invented
 
+  // for a shell: every clique, and the fill as well
+  const auto cover = covering_triangles(holed);
+  CHECK(cover.size() == triangulate(holed, false).triangles.size() + 4);
+  for (const auto& t : triangulate(holed, false).triangles)
+    CHECK(std::find(cover.begin(), cover.end(), t) != cover.end());
+
   // seven cells: the outline of a hexagon around its centre is the sheet's edge, not a hole
   Cells small;
   add_cell(small, Vec3(0, 0, 0));
