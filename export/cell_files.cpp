@@ -86,7 +86,8 @@ void write_cells_ply(const std::filesystem::path& path, const Cells& cells, cons
   const std::size_t n = cells.size();
   const std::vector<std::string> names = attribute_names(cells);
 
-  std::string header = "ply\nformat binary_little_endian 1.0\ncomment cellform cell sheet\n";
+  std::string header =
+      "ply\nformat binary_little_endian 1.0\ncomment cellform cell sheet, in model units (printable.* is in mm)\n";
   header += "comment id is the low 32 bits of the 64-bit cell id\n";
   header += "comment type: 0 general, 1 petiole, 2 vein\n";
   header += "element vertex " + std::to_string(n) + "\n";
@@ -153,7 +154,7 @@ void write_cells_obj(const std::filesystem::path& path, const Cells& cells, cons
 
   std::string text;
   text.reserve(n * 40 + surface.triangles.size() * 24 + lines.size() * 16);
-  text += "# cellform cell sheet\n";
+  text += "# cellform cell sheet, in model units (printable.* is in mm: run.json gives print.scale_mm_per_unit)\n";
   text += "# " + std::to_string(n) + " vertices, " + std::to_string(surface.triangles.size()) + " faces, " +
           std::to_string(lines.size()) + " lines\n";
   for (std::size_t i = 0; i < n; ++i) {  // "v %.9g %.9g %.9g"
