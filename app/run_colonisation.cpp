@@ -230,12 +230,6 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
       leaf_length = hi - lo;
     }
     std::vector<std::string> outputs;
-    if (planar) {  // a drawing of the leaf; a 3-D pattern has no one plane to draw it in
-      venation::SvgParams svg;
-      svg.size = cfg.output.svg_size;
-      venation::write_svg(staging / "veins.svg", tree, col.outline(), svg);
-      outputs.push_back("veins.svg");
-    }
     if (cfg.output.ply) {
       venation::write_vein_ply(staging / "veins.ply", tree);
       outputs.push_back("veins.ply");
@@ -280,6 +274,15 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
         printed = {{"error", e.what()}};
         if (code != interrupted) code = failure;  // a Ctrl-C that came first stays the reason the run ended
       }
+    }
+    if (planar) {  // a drawing of the leaf; a 3-D pattern has no one plane to draw it in
+      venation::SvgParams svg;
+      svg.size = cfg.output.svg_size > 0 ? cfg.output.svg_size : 200;
+      // svg_size 0: at the print's scale, so that a cut outline fits the printed veins
+      if (cfg.output.svg_size == 0 && printed.contains("scale_mm_per_unit"))
+        svg.scale = printed["scale_mm_per_unit"].get<double>();
+      venation::write_svg(staging / "veins.svg", tree, col.outline(), svg);
+      outputs.push_back("veins.svg");
     }
     json run = {{"program", "cellform"},
                 {"version", version()},

@@ -44,7 +44,7 @@ struct OutputSpec {
   double checkpoint_seconds = 60;  ///< s: a periodic checkpoint this soon after the last one is skipped (0: never)
   bool png = false;                ///< space colonisation: also write veins.png
   int png_size = 1024;             ///< pixels: longer side of veins.png
-  double svg_size = 200;           ///< mm: longer side of the leaf drawn in veins.svg
+  double svg_size = 0;             ///< mm: longer side of the leaf drawn in veins.svg (0: the print's scale, or 200)
 };
 
 /// Space colonisation requested by colonisation{...} in a leaf{...}, volume{...} or surface{...}.

@@ -33,7 +33,7 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
                const std::vector<Vec3>& sources) {
   const auto [lo, hi] = drawing_bounds(tree, outline);
   const double extent = std::max({hi.x() - lo.x(), hi.y() - lo.y(), 1e-12});
-  const double s = sp.size / extent;  // mm per model unit
+  const double s = sp.scale > 0 ? sp.scale : sp.size / extent;  // mm per model unit
   const double w = (hi.x() - lo.x()) * s + 2 * sp.margin, h = (hi.y() - lo.y()) * s + 2 * sp.margin;
   auto X = [&](double x) { return (x - lo.x()) * s + sp.margin; };
   auto Y = [&](double y) { return (hi.y() - y) * s + sp.margin; };

@@ -16,6 +16,7 @@ std::pair<Vec2, Vec2> drawing_bounds(const VeinTree& tree, const Outline& outlin
 /// and one user unit of the viewBox is one millimetre.
 struct SvgParams {
   double size = 200;          ///< mm: longer side of the drawn box (outline and vein nodes), margin excluded
+  double scale = 0;           ///< mm per model unit; when > 0 it replaces `size` (e.g. a print's scale)
   double margin = 5;          ///< mm: blank border around the drawing
   double min_stroke = 0.1;    ///< mm: thinnest drawn vein (radius 0 or before compute_widths)
   double outline_stroke = 0.2;  ///< mm: width of the outline's line
@@ -24,7 +25,7 @@ struct SvgParams {
 
 /// SVG of the outline (filled light green) and every vein segment as a stroked path of width 2 * radius
 /// of its child node (tip radius for anastomoses; at least min_stroke), all scaled by the same factor
-/// (size / the box's longer side, mm per model unit), y pointing up. Written atomically; core::FileError
+/// (`scale`, or else size / the box's longer side: mm per model unit), y pointing up. Written atomically; core::FileError
 /// on failure.
 void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline,
                const SvgParams& params = {}, const std::vector<Vec3>& sources = {});

@@ -197,6 +197,31 @@ TEST_CASE("a space-colonisation run writes the vein files output{} asks for", "[
   }
 }
 
+TEST_CASE("with print{}, veins.svg is drawn at the print's scale, so a cut outline fits the printed veins",
+          "[cli][colonisation]") {
+  TempDir t("cli-col-svg-print");
+  const auto script = t.write("leaf.lua",
+                              "leaf { shape = 'ellipse' }\n"
+                              "colonisation { type = 'open', growth = 'none', initial_length = 30, darts = 20000 }\n"
+                              "print { size = 70 }\n");
+  const fs::path out = t.path / "out";
+  const auto r = cli({"run", script.string(), "--out", out.string(), "--steps", "30", "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  const double scale = run["print"]["scale_mm_per_unit"];
+  const auto check = nlohmann::json::parse(cli({"check", (out / "printable.stl").string(), "--json"}).out);
+  const double printed_width = check["bbox_max_mm"][0].get<double>() - check["bbox_min_mm"][0].get<double>();
+  // the drawing's width (less its 5 mm margins) is the leaf's at the print's scale: the printed veins' width
+  // less their radii, and at most the outline's width
+  const std::string svg = slurp(out / "veins.svg");
+  const std::size_t at = svg.find("width=\"") + 7;
+  const double drawn = std::stod(svg.substr(at, svg.find("mm\"", at) - at)) - 10;
+  CHECK(drawn >= printed_width - 2 * 0.4 * 2);      // veins inside the outline, radii at least min_radius
+  CHECK(drawn == Approx(30 * 0.5 * scale).epsilon(0.35));  // about the ellipse's width at that scale
+  CHECK(scale > 0);
+}
+
 TEST_CASE("a colonisation run stopped by max_nodes says so, and resumes under the larger limit it suggests",
           "[cli][colonisation]") {
   TempDir t("cli-maxnodes");

@@ -72,4 +72,13 @@ TEST_CASE("the SVG is drawn in millimetres at svg size", "[vein_io]") {
   CHECK(strokes[0] == Approx(sp.outline_stroke));
   CHECK(strokes[1] == Approx(2 * 0.5 * 3));          // the midvein: 3 mm wide
   CHECK(strokes[2] == Approx(sp.min_stroke));        // 0.06 mm drawn at the minimum
+
+  // a given scale (a print's, mm per model unit) replaces the size
+  sp.scale = 2;
+  const auto dir2 = std::filesystem::temp_directory_path() / "cellform_vein_io_test2";
+  std::filesystem::create_directories(dir2);
+  v::write_svg(dir2 / "leaf.svg", t, outline, sp);
+  const std::string scaled = read_text(dir2 / "leaf.svg");
+  std::filesystem::remove_all(dir2);
+  CHECK(scaled.find("width=\"90.000mm\" height=\"30.000mm\"") != std::string::npos);  // 40 x 10 units at 2 mm
 }
