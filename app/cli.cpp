@@ -78,6 +78,8 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       out << kUsage;
       return ok;
     }
+    if ((cmd == "--version" || cmd == "version" || cmd == "params") && args.size() > 1)
+      throw UsageError("cellform " + cmd + " takes no arguments, got '" + args[1] + "'");
     if (cmd == "--version" || cmd == "version") {
       out << "cellform " << version() << "\n";
       return ok;

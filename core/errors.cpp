@@ -2,12 +2,14 @@
 #include "core/errors.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <vector>
 
 namespace cellform::core {
 
 std::string number_text(double x) {
+  if (std::isnan(x)) return "NaN";  // the stream writes "nan" or "-nan", by the sign bit
   std::ostringstream o;
   o << x;
   return o.str();

@@ -5,11 +5,13 @@
 
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <thread>
 
 #include "app/run_internal.h"
 #include "core/chunk_file.h"
+#include "core/errors.h"
 #include "tests/app/test_util.h"
 
 using namespace cellform::test;
@@ -54,6 +56,14 @@ TEST_CASE("help, version and usage errors", "[cli]") {
   r = cli({"params"});
   CHECK(r.code == 0);
   CHECK_THAT(r.out, Contains("rest_length"));
+  for (const char* cmd : {"params", "--version"}) {
+    r = cli({cmd, "--bogus"});
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains(std::string("cellform ") + cmd + " takes no arguments, got '--bogus'"));
+  }
+  // a NaN reads the same whatever its sign bit
+  CHECK(cellform::core::number_text(std::nan("")) == "NaN");
+  CHECK(cellform::core::number_text(-std::nan("")) == "NaN");
 }
 
 TEST_CASE("input errors exit with 2 and one clear line", "[cli]") {
