@@ -88,7 +88,18 @@ Start start_from(const RunOptions& o) {
       if (meta.contains("checkpoint_every") && meta["checkpoint_every"].is_number_unsigned())
         s.checkpoint_every = meta["checkpoint_every"].get<std::uint64_t>();
       if (o.checkpoint_every) s.checkpoint_every = o.checkpoint_every;
-      for (const auto& [k, v] : o.sets) s.sets[k] = v;
+      for (const auto& [k, v] : o.sets) {
+        // a cell run continues bit-identically only with the physics it was saved with; what it writes may
+        // change (space colonisation checks its own parameters when its state is read)
+        const auto saved_value = s.sets.find(k);
+        const std::string section = k.find('.') == std::string::npos ? std::string() : k.substr(0, k.find('.'));
+        if (s.colonisation_bytes.empty() && section != "output" && section != "print" &&
+            (saved_value == s.sets.end() || saved_value->second != v))
+          throw InputError("--set " + k + "=" + v + ": " + what +
+                           " continues with the parameters it was saved with (only output.* and print.* may change "
+                           "when resuming a cell run); start a new run to change " + k);
+        s.sets[k] = v;
+      }
       return s;
     }
     s.script_path = o.script;

@@ -625,6 +625,14 @@ TEST_CASE("resume refuses to go back in steps or to change the seed, leaving the
     CHECK(slurp(ck) == before);
     CHECK(cli({"resume", ck.string(), "--steps", "6", "--quiet"}).code == 0);  // the same step: outputs again
   }
+  // a cell run's physics stay as saved; what it writes may change
+  const fs::path ck = t.path / "small" / "checkpoint.cfck";
+  for (const char* set : {"cells.spring=2", "size=100", "run.seed=5"}) {
+    const CliResult physics = cli({"resume", ck.string(), "--set", set, "--quiet", "--steps", "8"});
+    CHECK(physics.code == 2);
+    CHECK_THAT(physics.err, Contains(std::string("--set ") + set) && Contains("only output.* and print.* may change"));
+  }
+  CHECK(cli({"resume", ck.string(), "--set", "output.obj=false", "--quiet", "--steps", "8"}).code == 0);
 }
 
 TEST_CASE("periodic checkpoints come every N steps, but not within output.checkpoint_seconds of the last", "[cli]") {
