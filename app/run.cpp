@@ -580,7 +580,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     }
     if (!o.quiet || code != ok) {
       std::ostream& where = code == ok ? out : err;
-      where << (code == interrupted ? "interrupted at step " : "done: step ") << sim.step_count() << ", "
+      where << (code == interrupted ? "interrupted at step " : code == ok ? "done: step " : "stopped with an error at step ")
+            << sim.step_count() << ", "
             << sim.cells().size() << " cells; outputs in " << dir.string() << "/\n";
       if (code == interrupted && saved) err << "continue with: cellform resume " << checkpoint.string() << "\n";
     }

@@ -318,6 +318,10 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     run["outputs"] = outputs;
     core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
     commit_outputs(staging, dir, outputs);
+    if (partial_sheet) {  // an earlier run's checkpoint would resume that run beside this one's outputs
+      std::error_code ec;
+      fs::remove(checkpoint, ec);
+    }
     if (!checkpoint_error.empty()) {
       err << "cellform: " << checkpoint_error << "\n  (the other outputs are written, but this run cannot be resumed)\n";
       code = failure;
