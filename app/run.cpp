@@ -191,9 +191,22 @@ fs::path make_staging(const fs::path& dir) {
 /// Thickens vein segments (model units, Murray radii) and shell triangles into a printable solid and
 /// writes the requested formats into `dir`. Appends the file names to `names`; returns what run.json
 /// records. Throws on failure.
+double shell_closing(const cells::Cells& c, double close_holes) {
+  std::vector<double> lengths;
+  const std::size_t stride = static_cast<std::size_t>(std::max(c.link_stride, 0));
+  for (std::size_t i = 0; i < c.size(); ++i)
+    for (std::size_t k = 0; k < stride && i * stride + k < c.links.size(); ++k) {
+      const core::Index j = c.links[i * stride + k];
+      if (j != core::kNoIndex && j < c.size() && j != i) lengths.push_back((c.position[j] - c.position[i]).norm());
+    }
+  if (lengths.empty()) return 0;
+  std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
+  return 0.5 * close_holes * lengths[lengths.size() / 2];
+}
+
 json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::vector<exporters::Segment>& segments,
                        const std::vector<std::array<core::Vec3, 3>>& shell, int threads,
-                       std::vector<std::string>& names, std::ostream& err, bool quiet) {
+                       std::vector<std::string>& names, std::ostream& err, bool quiet, double close_holes) {
   exporters::ThickenParams tp;
   tp.scale = spec.scale;
   tp.auto_extent = spec.size;
@@ -205,6 +218,7 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   tp.threads = threads;
   tp.fill_cavities = spec.fill_cavities;
   tp.flat_base = spec.flat_base;
+  tp.close_holes = close_holes;
   // Ctrl-C stops the thickening at the next block; on a terminal the stage shows its percentage. A Ctrl-C
   // that stopped the steps before printing began asked for the outputs, the solid included: it is not one.
   const bool tty = !quiet && ::isatty(2) != 0;
@@ -296,7 +310,8 @@ json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Ce
   }
   std::vector<std::array<core::Vec3, 3>> shell;
   if (spec.shell) shell = exporters::shell_triangles(c, cells::Surface{cells::covering_triangles(c), {}});
-  return thicken_and_write(dir, spec, segments, shell, threads, names, err, quiet);
+  return thicken_and_write(dir, spec, segments, shell, threads, names, err, quiet,
+                           spec.shell ? shell_closing(c, spec.close_holes) : 0.0);
 }
 
 }  // namespace

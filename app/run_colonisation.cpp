@@ -263,7 +263,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
                   ? "print: nothing to print: the run was interrupted before anything printable grew"
                   : "print: nothing to print: no vein grew (run longer, raise colonisation.darts, or lower "
                     "colonisation.birth_distance)");
-        printed = thicken_and_write(staging, *cfg.print, segments, shell, o.threads, outputs, err, o.quiet);
+        printed = thicken_and_write(staging, *cfg.print, segments, shell, o.threads, outputs, err, o.quiet,
+                                    cfg.print->shell && sheet ? shell_closing(*sheet, cfg.print->close_holes) : 0.0);
       } catch (const core::Cancelled&) {
         err << (o.quiet ? "" : "\n")
             << "cellform: printing interrupted: no printable files (the vein files are written)\n";

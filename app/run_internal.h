@@ -83,10 +83,16 @@ std::filesystem::path make_staging(const std::filesystem::path& dir);
 /// Thickens vein segments (model units, Murray radii) and shell triangles into a printable solid and
 /// writes the requested formats into `dir`. Appends the file names to `names`; returns what run.json
 /// records. Throws on failure (core::Cancelled on Ctrl-C).
+/// `close_holes`: model units, the radius of the shell's closing (exporters::ThickenParams::close_holes).
 nlohmann::json thicken_and_write(const std::filesystem::path& dir, const PrintSpec& spec,
                                  const std::vector<exporters::Segment>& segments,
                                  const std::vector<std::array<core::Vec3, 3>>& shell, int threads,
-                                 std::vector<std::string>& names, std::ostream& err, bool quiet);
+                                 std::vector<std::string>& names, std::ostream& err, bool quiet,
+                                 double close_holes = 0);
+
+/// The radius of the shell's closing for print.close_holes (cell spacings) on this sheet: half that many
+/// median link lengths, model units (0 without links).
+double shell_closing(const cells::Cells& cells, double close_holes);
 
 /// Moves every file of `staging` (recursively) into `dir`, then removes the outputs of an earlier run
 /// (listed in its run.json) that this run did not write again and `keep` does not name.

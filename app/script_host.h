@@ -73,6 +73,7 @@ struct PrintSpec {
   std::string pieces = "warn";              ///< any, warn, one
   bool fill_cavities = false;               ///< fill closed pockets inside the solid
   double flat_base = 0;                     ///< mm cut off the bottom for a flat base (0 = none)
+  double close_holes = 1;                   ///< cell spacings: holes in the shell up to this size are filled
 };
 
 /// Everything a script describes, resolved (script values, then --set overrides, then defaults).

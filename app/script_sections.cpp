@@ -159,6 +159,7 @@ void section_print(Impl& I, const std::string& at) {
   p.pieces = v["pieces"].str;
   p.fill_cavities = v["fill_cavities"].flag;
   p.flat_base = v["flat_base"].num;
+  p.close_holes = v["close_holes"].num;
   p.formats.clear();
   std::stringstream ss(v["formats"].str);
   std::string f;

@@ -6,6 +6,8 @@
 
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/Composite.h>
+#include <openvdb/tools/FastSweeping.h>
 #include <openvdb/tools/SignedFloodFill.h>
 #include <openvdb/tools/VolumeToMesh.h>
 #include <tbb/blocked_range.h>
@@ -69,6 +71,8 @@ void check_params(const ThickenParams& p) {
   if (!(p.adaptivity >= 0 && p.adaptivity <= 1)) bad("adaptivity must be in [0, 1], got " + fmt("%g", p.adaptivity));
   if (!(p.max_memory_bytes > 0)) bad("max_memory_bytes must be > 0");
   if (p.threads < 0) bad("threads must be >= 0 (0 = all cores)");
+  if (!(std::isfinite(p.close_holes) && p.close_holes >= 0))
+    bad("close_holes must be >= 0 model units (0 = none), got " + fmt("%g", p.close_holes));
   if (!(std::isfinite(p.flat_base) && p.flat_base >= 0))
     bad("flat_base must be >= 0 mm (0 = no cut), got " + fmt("%g", p.flat_base));
 }
@@ -363,7 +367,15 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   // Memory: narrow-band voxels (both sides of the surface) and surface quads both scale as voxel^-2.
   const double active_estimate = area * 2 * band / (voxel * voxel * voxel);
   const double quads_estimate = area / (voxel * voxel);
-  const double estimate = active_estimate * kBytesPerActiveVoxel + quads_estimate * kBytesPerQuad +
+  // a shell's closing holds the dilated shell's grid and its exact distances through the whole dilated
+  // thickness at once: about (h + r) / voxel + the band voxels on each side of every slab, three grids
+  double shell_area = 0;
+  for (const Slab& w : slabs) shell_area += (w.p1 - w.p0).cross(w.p2 - w.p0).norm() / 2;
+  const double closing_voxels = params.close_holes > 0 && !slabs.empty()
+                                    ? 3 * shell_area * 2 * (half_shell + params.close_holes * scale + 2 * band) /
+                                          (voxel * voxel * voxel)
+                                    : 0.0;
+  const double estimate = (active_estimate + closing_voxels) * kBytesPerActiveVoxel + quads_estimate * kBytesPerQuad +
                           static_cast<double>(caps.size() + slabs.size()) * 200;
   if (report) {
     report->scale = scale;
@@ -389,13 +401,18 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
                              bytes_text(params.max_memory_bytes) + "; " + advice);
   }
 
+  // One narrow-band grid of the union of capsules `cs` and slabs `ss`, cut below z = cut_z when `cut`;
+  // progress goes from p0 to p1 of the stage.
+  const float bg = static_cast<float>(band);
+  auto rasterise = [&](const std::vector<Capsule>& cs, const std::vector<Slab>& ss, bool cut, double cut_z, double p0,
+                       double p1) {
   // Index boxes of the primitives widened by the band; voxel (i, j, k) sits at (i, j, k) * voxel mm.
-  const std::size_t nprim = caps.size() + slabs.size();
+  const std::size_t nprim = cs.size() + ss.size();
   std::vector<Box> boxes(nprim);
   const double max_index = static_cast<double>(kKeyOffset - 2) * (1 << kLeafLog2);
   for (std::size_t i = 0; i < nprim; ++i) {
-    const Vec3& plo = i < caps.size() ? caps[i].lo : slabs[i - caps.size()].lo;
-    const Vec3& phi = i < caps.size() ? caps[i].hi : slabs[i - caps.size()].hi;
+    const Vec3& plo = i < cs.size() ? cs[i].lo : ss[i - cs.size()].lo;
+    const Vec3& phi = i < cs.size() ? cs[i].hi : ss[i - cs.size()].hi;
     const Vec3 ilo = ((plo.array() - band) / voxel).ceil(), ihi = ((phi.array() + band) / voxel).floor();
     if (ilo.cwiseAbs().maxCoeff() > max_index || ihi.cwiseAbs().maxCoeff() > max_index)
       throw core::InvalidInput("thicken: the form spans more than " + fmt("%.0f", max_index) +
@@ -404,8 +421,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     boxes[i].hi = openvdb::Coord(static_cast<int>(ihi.x()), static_cast<int>(ihi.y()), static_cast<int>(ihi.z()));
   }
 
-  init_openvdb();
-  auto grid = openvdb::FloatGrid::create(static_cast<float>(band));
+  auto grid = openvdb::FloatGrid::create(bg);
   grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
   grid->setGridClass(openvdb::GRID_LEVEL_SET);
   grid->setName("cellform");
@@ -439,13 +455,12 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
 
     const std::size_t nleaves = runs.size() - 1;
     std::vector<std::unique_ptr<FloatLeaf>> leaves(nleaves);
-    const float bg = static_cast<float>(band);
     const double nudge = 1e-3 * voxel;  // mm: moves the surface by at most this much
     // Leaves in blocks, so the progress callback runs on this thread between them; the blocks split
     // the work the same way for any thread count, and each leaf is computed alone anyway.
     const std::size_t block = std::max<std::size_t>(256, nleaves / 64 + 1);
     for (std::size_t first = 0; first < nleaves; first += block) {
-      report_progress(params, static_cast<double>(first) / static_cast<double>(nleaves));
+      report_progress(params, p0 + (p1 - p0) * static_cast<double>(first) / static_cast<double>(nleaves));
       tbb::parallel_for(tbb::blocked_range<std::size_t>(first, std::min(nleaves, first + block), 16),
                         [&](const tbb::blocked_range<std::size_t>& r) {
                           std::array<double, FloatLeaf::SIZE> d;
@@ -462,14 +477,14 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
                                   for (int z = a.z(); z <= b.z(); ++z) {
                                     const Vec3 p(x * voxel, y * voxel, z * voxel);
                                     const double dist =
-                                        i < caps.size() ? caps[i].distance(p) : slabs[i - caps.size()].distance(p);
+                                        i < cs.size() ? cs[i].distance(p) : ss[i - cs.size()].distance(p);
                                     double& slot = d[FloatLeaf::coordToOffset(openvdb::Coord(x, y, z))];
                                     slot = std::min(slot, dist);
                                   }
                             }
                             if (cut)  // intersect with the half space above the base plane
                               for (openvdb::Index n = 0; n < FloatLeaf::SIZE; ++n)
-                                d[n] = std::max(d[n], base_z - (origin.z() + FloatLeaf::offsetToLocalCoord(n).z()) * voxel);
+                                d[n] = std::max(d[n], cut_z - (origin.z() + FloatLeaf::offsetToLocalCoord(n).z()) * voxel);
                             bool any = false;
                             for (double v : d) any = any || std::abs(v) < band;
                             if (!any) continue;  // entirely inside or outside: the flood fill below supplies the sign
@@ -490,12 +505,61 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
                           }
                         });
     }
-    report_progress(params, 1.0);
+    report_progress(params, p1);
     auto& tree = grid->tree();
     for (auto& leaf : leaves)
       if (leaf) tree.addLeaf(leaf.release());
     openvdb::tools::signedFloodFill(tree);
   });
+  return grid;
+  };
+
+  init_openvdb();
+  openvdb::FloatGrid::Ptr grid;
+  const double close = params.close_holes * scale;  // mm: radius of the shell's closing
+  if (close > 0 && !slabs.empty()) {
+    // The shell closed (dilated by `close`, then eroded by it): holes narrower than about 2 (h + close)
+    // fill, and the shell keeps its thickness elsewhere. The dilated slabs' grid is made exact by meshing
+    // and re-voxelising its surface (levelSetRebuild) with an inner band past `close`; its level set at
+    // -close is the eroded surface. A cut is made `close` lower, so the erosion brings it to base_z.
+    std::vector<Slab> wide;
+    wide.reserve(slabs.size());
+    for (const Slab& w : slabs) wide.emplace_back(w.p0, w.p1, w.p2, w.h + close);
+    const openvdb::FloatGrid::Ptr dilated = rasterise({}, wide, cut, base_z - close, 0.0, 0.5);
+    const int inner = static_cast<int>(std::ceil(close / voxel)) + kHalfWidth + 1;  // voxels past the band
+    openvdb::FloatGrid::Ptr closed = openvdb::FloatGrid::create(bg);
+    closed->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+    closed->setGridClass(openvdb::GRID_LEVEL_SET);
+    tbb::task_arena arena(arena_threads(params.threads));
+    arena.execute([&] {
+      // exact distances from the dilated surface (fast sweeping), on a band widened inward past `close`
+      const openvdb::FloatGrid::Ptr exact = openvdb::tools::dilateSdf(
+          *openvdb::tools::sdfToSdf(*dilated), inner, openvdb::tools::NN_FACE_EDGE, 1,
+          openvdb::tools::FastSweepingDomain::SWEEP_LESS_THAN_ISOVALUE);
+      // the erosion: distances shifted by `close`, kept in a narrow band again
+      auto acc = closed->getAccessor();
+      for (auto v = exact->tree().cbeginValueOn(); v; ++v) {
+        const double d = static_cast<double>(*v) + close;
+        if (std::abs(d) < band)
+          acc.setValueOn(v.getCoord(), static_cast<float>(d));
+        else if (d < 0)
+          acc.setValueOff(v.getCoord(), -bg);
+      }
+      openvdb::tools::signedFloodFill(closed->tree());
+    });
+    report_progress(params, 0.75);
+    grid = caps.empty() ? closed : rasterise(caps, {}, cut, base_z, 0.75, 1.0);
+    if (!caps.empty()) arena.execute([&] { openvdb::tools::csgUnion(*grid, *closed); });
+    // as for the gathered leaves: no value at (or next to) 0, where volumeToMesh would make zero-area triangles
+    const float nudge = static_cast<float>(1e-3 * voxel);
+    for (auto v = grid->tree().beginValueOn(); v; ++v)
+      if (std::abs(*v) < nudge) v.setValue(*v < 0 ? -nudge : nudge);
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+    grid->setGridClass(openvdb::GRID_LEVEL_SET);
+    grid->setName("cellform");
+  } else {
+    grid = rasterise(caps, slabs, cut, base_z, 0.0, 1.0);
+  }
 
   auto impl = std::make_shared<LevelSet::Impl>();
   impl->grid = grid;

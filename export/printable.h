@@ -41,6 +41,9 @@ struct ThickenParams {
   /// mm: cut this much off the bottom of the solid (its lowest z, after scaling) so that it stands on a
   /// flat face instead of the round end of a vein; 0 = no cut. Must be less than the solid's height.
   double flat_base = 0;
+  /// model units: close the shell (dilate by this radius, then erode by it) so that holes in the triangle
+  /// soup narrower than about twice it are filled; 0 = the shell as given. Veins are not affected.
+  double close_holes = 0;
   /// Called on the calling thread between blocks of work with the fraction of the stage done (0..1,
   /// non-decreasing within voxelise() and within mesh_level_set()); return false to stop, which throws
   /// core::Cancelled (OpenVDB's interrupter idea). Empty = never stops. Does not change the output.
@@ -63,6 +66,7 @@ struct ThickenReport {
   std::size_t pieces = 0;           ///< parts of positive volume: separate solid pieces
   std::size_t cavities = 0;         ///< parts of negative volume: walls of closed pockets inside a piece
   std::size_t filled_cavities = 0;  ///< cavities filled (fill_cavities) by removing their walls
+  std::size_t dust_parts = 0;       ///< parts of less than a voxel's volume, removed
   double volume = 0;                ///< mm^3, enclosed by the output mesh (positive)
   double area = 0;                  ///< mm^2, surface area of the output mesh
   std::size_t remeshed_triangles =

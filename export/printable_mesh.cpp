@@ -110,18 +110,24 @@ void count_pieces(const PrintableMesh& mesh, std::size_t& pieces, std::size_t& c
 
 }  // namespace
 
-std::size_t fill_cavities(PrintableMesh& mesh) {
+namespace {
+
+/// Removes every part whose signed volume `drop` accepts, and the vertices only they used; returns how many.
+template <class Drop>
+std::size_t remove_parts(PrintableMesh& mesh, Drop drop) {
   std::vector<std::uint32_t> root;
   const std::vector<double> part_volume = part_volumes(mesh, root);
   const std::size_t nv = mesh.vertices.size();
   auto find = [&](std::uint32_t x) { return root[x]; };
+  std::vector<char> used(nv, 0);
+  for (const auto& t : mesh.triangles) used[find(t[0])] = 1;
   std::size_t removed = 0;
-  for (std::size_t i = 0; i < nv; ++i) removed += find(static_cast<std::uint32_t>(i)) == i && part_volume[i] < 0;
+  for (std::size_t i = 0; i < nv; ++i) removed += used[i] && find(static_cast<std::uint32_t>(i)) == i && drop(part_volume[i]);
   if (removed == 0) return 0;
   std::vector<std::array<std::uint32_t, 3>> kept;
   kept.reserve(mesh.triangles.size());
   for (const auto& t : mesh.triangles)
-    if (part_volume[find(t[0])] >= 0) kept.push_back(t);
+    if (!drop(part_volume[find(t[0])])) kept.push_back(t);
   std::vector<std::uint32_t> remap(nv, 0xffffffffu);
   std::vector<Vec3> vertices;
   for (auto& t : kept)
@@ -135,6 +141,12 @@ std::size_t fill_cavities(PrintableMesh& mesh) {
   mesh.vertices.swap(vertices);
   mesh.triangles.swap(kept);
   return removed;
+}
+
+}  // namespace
+
+std::size_t fill_cavities(PrintableMesh& mesh) {
+  return remove_parts(mesh, [](double volume) { return volume < 0; });
 }
 
 PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& params, ThickenReport* report) {
@@ -211,6 +223,11 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
     volume = -volume;
   }
+  // Dust: parts smaller than a voxel (a grain left in a pocket by the shell's closing) are no structure
+  // and could not be printed.
+  const double grain = voxel * voxel * voxel;
+  const std::size_t dust = remove_parts(mesh, [grain](double v) { return std::abs(v) < grain; });
+  if (dust > 0) volume = signed_volume(mesh);
   // Closed cavities inside the solid (thick capsules walling in a pocket, or a shell around a closed
   // sheet) mesh as separate parts of negative volume: they are not separate pieces. Filled on request.
   std::size_t cavities = 0, pieces = 0;
@@ -223,6 +240,7 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
     report->pieces = pieces;
     report->cavities = cavities;
     report->filled_cavities = params.fill_cavities ? cavities : 0;
+    report->dust_parts = dust;
     report->triangles = mesh.triangles.size();
     report->vertices = mesh.vertices.size();
     report->parts = count_parts(mesh);

@@ -445,6 +445,48 @@ TEST_CASE("thickening is bitwise identical with 1 and 2 threads", "[printable]")
   require_printable(a);
 }
 
+TEST_CASE("close_holes fills gaps in a shell's triangles and keeps its thickness, the same on 1 and 2 threads",
+          "[printable]") {
+  // a 12 x 12 sheet of unit squares (two triangles each) with one square left out: a 1 x 1 hole
+  Shell sheet;
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j) {
+      if (i == 5 && j == 5) continue;
+      const Vec3 a(i, j, 0), b(i + 1, j, 0), c(i + 1, j + 1, 0), d(i, j + 1, 0);
+      sheet.push_back({a, b, c});
+      sheet.push_back({a, c, d});
+    }
+  ThickenParams p = exact(0.05);
+  p.min_radius = 0.1;
+  p.shell_thickness = 0.4;
+  const auto open = require_printable(exporters::thicken({}, sheet, p));
+  CHECK(open.genus == std::vector<int>{1});  // the hole goes through
+  // model units (mm here). The dilated shell spans a hole of width w where sqrt((h + r)^2 - (w / 2)^2) > r,
+  // so r = 1 closes gaps up to 2 sqrt(h^2 + 2 h r) = 1.33 across: the 1 x 1 square here
+  p.close_holes = 1.0;
+  ThickenReport rep;
+  p.threads = 1;
+  const PrintableMesh one = exporters::thicken({}, sheet, p, &rep);
+  const auto closed = require_printable(one);
+  CHECK(closed.genus == std::vector<int>{0});
+  CHECK(rep.pieces == 1);
+  // the thickness stays: the volume changes by less than the hole's filling (1 x 0.4, thinner at its
+  // middle) and the first-order error of the distances (fast sweeping: here under 1%); the rim stays round
+  CHECK(closed.volume == Approx(open.volume).margin(0.4 + 0.01 * open.volume));
+  CHECK(closed.bbox_max.z() == Approx(0.2).margin(0.05));
+  CHECK(closed.bbox_min.z() == Approx(-0.2).margin(0.05));
+  p.threads = 2;
+  const PrintableMesh two = exporters::thicken({}, sheet, p);
+  CHECK(one.triangles == two.triangles);
+  CHECK(one.vertices == two.vertices);
+  // and the veins are left as they are: a capsule's volume is the same with and without a closing
+  const std::vector<Segment> bar{{{0, 0, 3}, {10, 0, 3}, 0.5, 0.5}};
+  ThickenParams q = exact(0.05);
+  const double alone = require_printable(exporters::thicken(bar, {}, q)).volume;
+  q.close_holes = 1.0;
+  CHECK(require_printable(exporters::thicken(bar, {}, q)).volume == alone);
+}
+
 TEST_CASE("the progress callback sees each stage advance to 1 and can cancel it", "[printable]") {
   const auto tree = random_tree(800, 11);
   ThickenParams p;
