@@ -60,6 +60,7 @@ Start start_from(const RunOptions& o) {
         s.target_steps = meta.at("target_steps").get<std::uint64_t>();
         s.step = meta.at("step").get<std::uint64_t>();
         s.out_dir = meta.at("out").get<std::string>();
+        s.initial_cells = meta.value("initial_cells", std::size_t{0});  // older checkpoints: unknown
         const std::string mode = meta.value("mode", std::string("cells"));
         if (mode != "cells" && mode != "colonisation")
           throw core::FileError(what + " is corrupt (unknown run mode '" + mode.substr(0, 40) + "')");
@@ -127,7 +128,8 @@ std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t t
                {"checkpoint_every", s.checkpoint_every ? json(*s.checkpoint_every) : json(nullptr)},
                {"target_steps", target},
                {"step", scene.simulation().step_count()},
-               {"out", absolute_path_text(s.out_dir)}};
+               {"out", absolute_path_text(s.out_dir)},
+               {"initial_cells", s.initial_cells}};
   return core::write_chunk_file(
       kCheckpointKind, kCheckpointVersion,
       {{"meta", meta.dump()}, {"script", s.source}, {"cells", cells::save(scene.simulation().cells())}});
@@ -475,7 +477,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   }
 
   const std::uint64_t first = sim.step_count();
-  const std::size_t initial_cells = sim.cells().size();
+  const std::size_t initial_cells = sim.cells().size();  // of this command
+  if (s.initial_cells == 0) s.initial_cells = initial_cells;  // a fresh run (or a checkpoint that did not say)
   if (!o.quiet)
     err << (s.resume ? "resuming " : "running ") << s.script_path.string() << " from step " << first << " to " << target
         << " (" << initial_cells << " cells, seed " << seed << ")\n";
@@ -568,7 +571,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                 {"threads", o.threads},
                 {"status", status},
                 {"steps", {{"first", first}, {"completed", sim.step_count()}, {"target", target}}},
-                {"cells", {{"initial", initial_cells}, {"final", sim.cells().size()}}},
+                {"cells", {{"initial", s.initial_cells}, {"final", sim.cells().size()}}},
                 {"veins",
                  vein_summary(sim.cells(), scene->venation_report(), cfg.scene.venation.has_value() && done == 0)},
                 {"overrides", s.sets},

@@ -221,7 +221,10 @@ TEST_CASE("resume continues to the bit-identical result", "[cli][checkpoint]") {
   INFO(r.err);
   REQUIRE(r.code == 0);
   CHECK(slurp(whole / "cells.ply") == slurp(part / "cells.ply"));
-  CHECK(nlohmann::json::parse(slurp(part / "run.json"))["command"] == "resume");
+  const auto resumed = nlohmann::json::parse(slurp(part / "run.json"));
+  CHECK(resumed["command"] == "resume");
+  // the run's counts, not this command's: cells at the start of the run, as the uninterrupted run says
+  CHECK(resumed["cells"] == nlohmann::json::parse(slurp(whole / "run.json"))["cells"]);
 }
 
 TEST_CASE("resume writes beside its checkpoint and keeps the frames written before it", "[cli][checkpoint]") {
