@@ -2,19 +2,34 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <cstddef>
 #include <iostream>
 
 #include "app/cli.h"
 #include "app/run.h"
 
 namespace {
+void say(const char* text, std::size_t size) {
+  const ssize_t written = ::write(2, text, size);  // async-signal-safe, unlike iostreams
+  (void)written;
+}
+
 void on_interrupt(int) {
-  if (cellform::app::g_interrupt.exchange(true)) std::_Exit(130);  // a second Ctrl-C quits at once
+  using namespace cellform::app;
+  if (g_interrupt.exchange(true)) {
+    // a print the first Ctrl-C asked for: this one cancels it, keeping the other outputs
+    if (g_print_after_interrupt.load() && !g_print_cancel.exchange(true)) {
+      static const char kCancel[] = "\ncellform: cancelling the print; Ctrl-C again quits at once, without outputs\n";
+      say(kCancel, sizeof kCancel - 1);
+      return;
+    }
+    std::_Exit(130);  // quits at once
+  }
   // the first waits for the step (or the script's own code) to end: say so, or a busy step looks hung
   static const char kMessage[] =
-      "\ncellform: stopping after the current step; Ctrl-C again quits at once, without outputs\n";
-  const ssize_t written = ::write(2, kMessage, sizeof kMessage - 1);  // async-signal-safe, unlike iostreams
-  (void)written;
+      "\ncellform: stopping after the current step, then writing the outputs; Ctrl-C again skips the printable "
+      "solid while it is made, and otherwise quits at once, without outputs\n";
+  say(kMessage, sizeof kMessage - 1);
 }
 }  // namespace
 

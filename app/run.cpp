@@ -33,6 +33,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 std::atomic<bool> g_interrupt{false};
+std::atomic<bool> g_print_after_interrupt{false};
+std::atomic<bool> g_print_cancel{false};
 
 std::string version() { return CELLFORM_VERSION; }
 
@@ -225,6 +227,11 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   // that stopped the steps before printing began asked for the outputs, the solid included: it is not one.
   const bool tty = !quiet && ::isatty(2) != 0;
   const bool stopped_before = g_interrupt.load();
+  g_print_cancel = false;
+  g_print_after_interrupt = stopped_before;
+  struct PrintDone {
+    ~PrintDone() { g_print_after_interrupt = false; }
+  } print_done;
   auto stage_progress = [&err, tty, stopped_before](const char* stage) {
     return [&err, tty, stopped_before, stage, shown = -1](double f) mutable {
       const int pct = static_cast<int>(f * 100);
@@ -233,7 +240,7 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
         err << "\r" << stage << " " << pct << "%" << std::flush;
         if (pct == 100) err << "\n";
       }
-      return stopped_before || !g_interrupt.load();
+      return stopped_before ? !g_print_cancel.load() : !g_interrupt.load();
     };
   };
   if (segments.empty() && shell.empty())
@@ -318,12 +325,25 @@ json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Ce
 
 }  // namespace
 
-std::vector<std::string> earlier_frames(const fs::path& dir, std::uint64_t up_to) {
+std::vector<std::string> earlier_frames(const fs::path& dir, std::uint64_t up_to, const std::string& script_hash,
+                                        std::uint64_t seed, const Overrides& overrides) {
+  // the overrides that shape the cells (output.* and print.* may change on resume)
+  auto shaping = [](const Overrides& all) {
+    Overrides out;
+    for (const auto& [k, v] : all)
+      if (k.rfind("output.", 0) != 0 && k.rfind("print.", 0) != 0) out[k] = v;
+    return out;
+  };
   std::vector<std::string> kept;
   try {
     std::ifstream old(dir / "run.json");
     if (!old) return kept;
     const json j = json::parse(old);
+    // frames of this run only: the same script and seed, and it got as far as the checkpoint
+    if (j.at("script").at("hash").get<std::string>() != script_hash || j.at("seed").get<std::uint64_t>() != seed ||
+        j.at("steps").at("completed").get<std::uint64_t>() < up_to ||
+        shaping(j.at("overrides").get<Overrides>()) != shaping(overrides))
+      return kept;
     for (const auto& n : j.value("outputs", json::array())) {
       const std::string name = n.get<std::string>();
       // "frames/cells_NNNNNN.ply"
@@ -585,7 +605,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     if (cfg.print) run["print"] = printed;
     outputs.push_back("run.json");
     // a resumed run's frames from before its checkpoint are in the folder already: still this run's outputs
-    const std::vector<std::string> kept = s.resume ? earlier_frames(dir, first) : std::vector<std::string>{};
+    const std::vector<std::string> kept =
+        s.resume ? earlier_frames(dir, first, "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size())),
+                                  seed, s.sets)
+                 : std::vector<std::string>{};
     json listed = outputs;
     for (const std::string& n : kept)
       if (std::find(outputs.begin(), outputs.end(), n) == outputs.end()) listed.push_back(n);

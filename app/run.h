@@ -31,6 +31,10 @@ enum ExitCode : int { ok = 0, failure = 1, usage = 2, interrupted = 130 };
 
 /// Set by the SIGINT handler; the run stops after the current step, writes outputs and a checkpoint.
 extern std::atomic<bool> g_interrupt;
+/// Set while a print runs that a first Ctrl-C asked for (the steps stopped, the outputs are due): the
+/// next Ctrl-C sets g_print_cancel and cancels that print, keeping the other outputs; one more quits.
+extern std::atomic<bool> g_print_after_interrupt;
+extern std::atomic<bool> g_print_cancel;
 
 /// Runs a script (or resumes a checkpoint when options.checkpoint is set); reports to `out`/`err`
 /// and returns an exit code. Never throws.

@@ -6,8 +6,10 @@
 
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/ChangeBackground.h>
 #include <openvdb/tools/Composite.h>
 #include <openvdb/tools/FastSweeping.h>
+#include <openvdb/tools/Prune.h>
 #include <openvdb/tools/SignedFloodFill.h>
 #include <openvdb/tools/VolumeToMesh.h>
 #include <tbb/blocked_range.h>
@@ -518,38 +520,40 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   openvdb::FloatGrid::Ptr grid;
   const double close = params.close_holes * scale;  // mm: radius of the shell's closing
   if (close > 0 && !slabs.empty()) {
-    // The shell closed (dilated by `close`, then eroded by it): holes narrower than about 2 (h + close)
-    // fill, and the shell keeps its thickness elsewhere. The dilated slabs' grid is made exact by meshing
-    // and re-voxelising its surface (levelSetRebuild) with an inner band past `close`; its level set at
-    // -close is the eroded surface. A cut is made `close` lower, so the erosion brings it to base_z.
+    // The shell closed (dilated by `close`, then eroded by it). The dilated slabs' grid is made exact by
+    // fast sweeping from its surface, on a band widened inward past `close`; its level set at -close is
+    // the eroded surface. A gap of width w in a sheet of half thickness h stays closed while the dilated
+    // sheet covers its middle deeper than `close`: w < 2 sqrt(h^2 + 2 h close). A cut is made `close`
+    // lower, so the erosion brings it up to base_z.
     std::vector<Slab> wide;
     wide.reserve(slabs.size());
     for (const Slab& w : slabs) wide.emplace_back(w.p0, w.p1, w.p2, w.h + close);
     const openvdb::FloatGrid::Ptr dilated = rasterise({}, wide, cut, base_z - close, 0.0, 0.5);
     const int inner = static_cast<int>(std::ceil(close / voxel)) + kHalfWidth + 1;  // voxels past the band
-    openvdb::FloatGrid::Ptr closed = openvdb::FloatGrid::create(bg);
-    closed->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
-    closed->setGridClass(openvdb::GRID_LEVEL_SET);
+    openvdb::FloatGrid::Ptr closed;
     tbb::task_arena arena(arena_threads(params.threads));
     arena.execute([&] {
-      // exact distances from the dilated surface (fast sweeping), on a band widened inward past `close`
-      const openvdb::FloatGrid::Ptr exact = openvdb::tools::dilateSdf(
-          *openvdb::tools::sdfToSdf(*dilated), inner, openvdb::tools::NN_FACE_EDGE, 1,
-          openvdb::tools::FastSweepingDomain::SWEEP_LESS_THAN_ISOVALUE);
-      // the erosion: distances shifted by `close`, kept in a narrow band again
-      auto acc = closed->getAccessor();
-      for (auto v = exact->tree().cbeginValueOn(); v; ++v) {
-        const double d = static_cast<double>(*v) + close;
-        if (std::abs(d) < band)
-          acc.setValueOn(v.getCoord(), static_cast<float>(d));
-        else if (d < 0)
-          acc.setValueOff(v.getCoord(), -bg);
-      }
-      openvdb::tools::signedFloodFill(closed->tree());
+      closed = openvdb::tools::dilateSdf(*openvdb::tools::sdfToSdf(*dilated), inner, openvdb::tools::NN_FACE_EDGE,
+                                         1, openvdb::tools::FastSweepingDomain::SWEEP_LESS_THAN_ISOVALUE);
+      // The erosion, over every voxel of every leaf (inactive ones hold +-FLT_MAX with the right sign): a
+      // leaf is never left with unwritten voxels, whose sign a flood fill would have to guess.
+      for (auto leaf = closed->tree().beginLeaf(); leaf; ++leaf)
+        for (openvdb::Index n = 0; n < FloatLeaf::SIZE; ++n) {
+          const double d = static_cast<double>(leaf->getValue(n)) + close;
+          if (std::abs(d) < band)
+            leaf->setValueOn(n, static_cast<float>(d));
+          else
+            leaf->setValueOff(n, d < 0 ? -bg : bg);
+        }
+      openvdb::tools::changeLevelSetBackground(closed->tree(), bg);  // tiles: +-bg by their sign
+      openvdb::tools::pruneLevelSet(closed->tree());
     });
+    closed->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+    closed->setGridClass(openvdb::GRID_LEVEL_SET);
     report_progress(params, 0.75);
     grid = caps.empty() ? closed : rasterise(caps, {}, cut, base_z, 0.75, 1.0);
     if (!caps.empty()) arena.execute([&] { openvdb::tools::csgUnion(*grid, *closed); });
+    report_progress(params, 1.0);
     // as for the gathered leaves: no value at (or next to) 0, where volumeToMesh would make zero-area triangles
     const float nudge = static_cast<float>(1e-3 * voxel);
     for (auto v = grid->tree().beginValueOn(); v; ++v)

@@ -41,8 +41,9 @@ struct ThickenParams {
   /// mm: cut this much off the bottom of the solid (its lowest z, after scaling) so that it stands on a
   /// flat face instead of the round end of a vein; 0 = no cut. Must be less than the solid's height.
   double flat_base = 0;
-  /// model units: close the shell (dilate by this radius, then erode by it) so that holes in the triangle
-  /// soup narrower than about twice it are filled; 0 = the shell as given. Veins are not affected.
+  /// model units: close the shell (dilate by this radius r, then erode by it), so that gaps in the triangle
+  /// soup narrower than 2 sqrt(h^2 + 2 h r) (h = half the shell's thickness, in mm after scaling) are
+  /// filled, thinner at their middle; 0 = the shell as given. Veins are not affected.
   double close_holes = 0;
   /// Called on the calling thread between blocks of work with the fraction of the stage done (0..1,
   /// non-decreasing within voxelise() and within mesh_level_set()); return false to stop, which throws

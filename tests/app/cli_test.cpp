@@ -1,4 +1,5 @@
 // Tests of the cellform command line: exit codes, help, outputs, run.json, checkpoints and resume.
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -254,6 +255,19 @@ TEST_CASE("resume writes beside its checkpoint and keeps the frames written befo
   REQUIRE(cli({"run", script.string(), "--out", whole.string(), "--quiet", "--steps", "20"}).code == 0);
   CHECK(slurp(whole / "frames/cells_000005.ply") == slurp(moved / "frames/cells_000005.ply"));
   CHECK(slurp(whole / "frames/cells_000020.ply") == slurp(moved / "frames/cells_000020.ply"));
+  // a checkpoint resumed in the folder of another run (other overrides) adopts none of that run's frames
+  const fs::path other_run = t.path / "other";
+  REQUIRE(cli({"run", script.string(), "--out", other_run.string(), "--quiet", "--steps", "20", "--set", "size=300"})
+              .code == 0);
+  const auto half = cli({"run", script.string(), "--out", (t.path / "half").string(), "--quiet", "--steps", "12"});
+  REQUIRE(half.code == 0);
+  fs::copy_file(t.path / "half" / "checkpoint.cfck", other_run / "checkpoint.cfck",
+                fs::copy_options::overwrite_existing);
+  r = cli({"resume", (other_run / "checkpoint.cfck").string(), "--steps", "20", "--quiet"});
+  REQUIRE(r.code == 0);
+  const auto adopted = nlohmann::json::parse(slurp(other_run / "run.json"))["outputs"];
+  CHECK(std::find(adopted.begin(), adopted.end(), "frames/cells_000005.ply") == adopted.end());
+  CHECK_FALSE(fs::exists(other_run / "frames/cells_000005.ply"));  // the other run's, removed with it
 }
 
 TEST_CASE("resuming a finished run reports its veins as the run did", "[cli][checkpoint]") {
@@ -358,6 +372,45 @@ TEST_CASE("Ctrl-C stops cleanly with outputs and a checkpoint that resumes ident
           0);
   REQUIRE(cli({"resume", (out / "checkpoint.cfck").string(), "--steps", std::to_string(target), "--quiet"}).code == 0);
   CHECK(slurp(whole / "cells.ply") == slurp(out / "cells.ply"));
+}
+
+TEST_CASE("after a first Ctrl-C, a second during the print skips only the print", "[cli][signal]") {
+  TempDir t("cli-signal-print");
+  const auto script = t.write("long.lua",
+                              "cells { time_step = 0.2, drag = {0.8, 0.8, 0.5} }\n"
+                              "division { trigger = 'none' }\n"
+                              "run { steps = 1000000 }\n"
+                              "disc { radius = 30 }\n"
+                              "print { veins = false, shell = true }\n");  // about 4 s: closing the shell
+  const fs::path out = t.path / "o", log = t.path / "err.txt";
+  const std::string exe = std::string(CELLFORM_BINARY_DIR) + "/bin/cellform";
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(fd, 2);
+    execl(exe.c_str(), exe.c_str(), "run", script.c_str(), "--out", out.c_str(), static_cast<char*>(nullptr));
+    _exit(99);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));
+  kill(pid, SIGINT);  // stop the steps: the outputs, the print among them, follow
+  bool printing = false;
+  for (int i = 0; i < 300 && !printing; ++i) {  // up to 30 s for the print to start
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    printing = slurp(log).find("thickening") != std::string::npos;
+  }
+  REQUIRE(printing);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  kill(pid, SIGINT);  // the second: skips the print
+  int status = 0;
+  waitpid(pid, &status, 0);
+  INFO(slurp(log));
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 130);
+  CHECK(fs::exists(out / "cells.ply"));  // the other outputs and the checkpoint are kept
+  CHECK(fs::exists(out / "checkpoint.cfck"));
+  CHECK_FALSE(fs::exists(out / "printable.stl"));
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["print"]["error"] == "interrupted");
 }
 
 TEST_CASE("a Ctrl-C before the first step: the print still runs, or says why it cannot; exit 130", "[cli][signal]") {

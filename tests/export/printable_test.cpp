@@ -479,12 +479,36 @@ TEST_CASE("close_holes fills gaps in a shell's triangles and keeps its thickness
   const PrintableMesh two = exporters::thicken({}, sheet, p);
   CHECK(one.triangles == two.triangles);
   CHECK(one.vertices == two.vertices);
-  // and the veins are left as they are: a capsule's volume is the same with and without a closing
-  const std::vector<Segment> bar{{{0, 0, 3}, {10, 0, 3}, 0.5, 0.5}};
+  // and the veins are left as they are: a bar above the sheet adds its own volume, closing or not
+  const std::vector<Segment> bar{{{1, 6, 3}, {11, 6, 3}, 0.5, 0.5}};
   ThickenParams q = exact(0.05);
-  const double alone = require_printable(exporters::thicken(bar, {}, q)).volume;
-  q.close_holes = 1.0;
-  CHECK(require_printable(exporters::thicken(bar, {}, q)).volume == alone);
+  const double bar_alone = exporters::check_mesh(exporters::thicken(bar, {}, q)).volume;
+  p.threads = 0;
+  ThickenReport both;
+  const auto with_bar = require_printable(exporters::thicken(bar, sheet, p, &both));
+  CHECK(both.pieces == 2);
+  CHECK(with_bar.volume == Approx(closed.volume + bar_alone).epsilon(1e-3));
+}
+
+TEST_CASE("a closing that joins two sheets into one thick solid leaves no false surface inside it", "[printable]") {
+  // two parallel 12 x 12 sheets 4.7 mm apart, closed with r = 6: the gap between them fills, a block
+  // about 5.3 mm thick, far deeper than the band, whose inside must stay inside (leaves of it have no surface)
+  Shell sheets;
+  for (const double z : {0.3, 5.0})
+    for (int i = 0; i < 12; ++i)
+      for (int j = 0; j < 12; ++j) {
+        const Vec3 a(i, j, z), b(i + 1, j, z), c(i + 1, j + 1, z), d(i, j + 1, z);
+        sheets.push_back({a, b, c});
+        sheets.push_back({a, c, d});
+      }
+  ThickenParams p = exact(0.2);
+  p.min_radius = 0.4;
+  p.shell_thickness = 0.6;
+  p.close_holes = 6.0;
+  const auto r = require_printable(exporters::thicken({}, sheets, p));
+  CHECK(r.parts == 1);
+  CHECK(r.genus == std::vector<int>{0});
+  CHECK(r.volume > 12 * 12 * 4.7);  // solid between the sheets
 }
 
 TEST_CASE("the progress callback sees each stage advance to 1 and can cancel it", "[printable]") {
