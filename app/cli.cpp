@@ -78,6 +78,10 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       out << kUsage;
       return ok;
     }
+    if (cmd == "params" && args.size() == 2 && (args[1] == "-h" || args[1] == "--help")) {
+      out << "usage: cellform params\nPrints every script parameter: its default, allowed values, unit and meaning.\n";
+      return ok;
+    }
     if ((cmd == "--version" || cmd == "version" || cmd == "params") && args.size() > 1)
       throw UsageError("cellform " + cmd + " takes no arguments, got '" + args[1] + "'");
     if (cmd == "--version" || cmd == "version") {

@@ -36,7 +36,7 @@ std::vector<Field> build() {
   // run{}
   f.push_back(integer("run", "steps", "200", 0, 1e9, "steps",
                       "cell steps to simulate (--steps overrides); space colonisation uses colonisation.max_steps"));
-  // 2^53: every whole number up to it is exact in Lua's numbers (and in --set's), so no two seeds alias
+  // 2^53: every whole number up to it is exact in Lua's numbers (a larger literal would round to another)
   f.push_back(integer("run", "seed", "1", 0, 9007199254740992.0, "", "seed of every random choice (--seed overrides)"));
 
   // cells{}
@@ -251,7 +251,7 @@ std::vector<Field> build() {
   f.push_back(text("print", "formats", "stl", "comma-separated: stl, obj, ply, scad, vdb"));
   f.push_back(boolean("print", "fill_cavities", "false",
                       "fill closed pockets inside the solid (a shell around a closed sheet becomes solid)"));
-  f.push_back(num("print", "close_holes", "1", 0, 100, false, "cell spacings",
+  f.push_back(num("print", "close_holes", "1", 0, 10, false, "cell spacings",
                   "shell: fill holes in the printed sheet by a closing of radius r = half this many cell spacings; it "
                   "spans gaps up to 2 sqrt(h^2 + 2 h r) across (h = shell_thickness / 2); 0 = no closing"));
   f.push_back(num("print", "flat_base", "0", 0, 1e5, false, "mm",

@@ -437,7 +437,9 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
 std::string MeshReport::summary() const {
   std::ostringstream s;
   s << triangles << " triangles, " << vertices << " vertices, " << parts << (parts == 1 ? " part" : " parts");
-  if (cavities > 0)  // the inner walls of closed pockets are parts too, but not pieces that come apart
+  // the inner walls of closed pockets are parts too, but not pieces that come apart (a volume's sign means
+  // that only on a closed, consistently oriented mesh)
+  if (cavities > 0 && closed_manifold() && consistently_oriented)
     s << " (" << pieces << (pieces == 1 ? " solid piece, " : " solid pieces, ") << cavities
       << (cavities == 1 ? " closed cavity inside" : " closed cavities inside") << ")";
   s << "; volume " << volume << ", area " << area << "; bounding box " << (bbox_max - bbox_min).transpose() << "\n";
