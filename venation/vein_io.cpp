@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "core/atomic_file.h"
 #include "core/chunk_file.h"
@@ -79,8 +80,39 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
       out += "\"/>\n";
       core::drain(out, os);
     };
-    for (Index i = 0; i < tree.size(); ++i)
-      if (tree.parent[i] != kNoIndex) segment(tree.parent[i], i, radius_of(tree, i));
+    // Veins as polylines, so a plotter draws a vein without lifting its pen at every node: a path runs on
+    // through a node with one child while the width stays the same (between branch points it does).
+    const Index n = tree.size();
+    std::vector<Index> children(n, 0), only_child(n, kNoIndex);
+    for (Index i = 0; i < n; ++i)
+      if (tree.parent[i] != kNoIndex) {
+        ++children[tree.parent[i]];
+        only_child[tree.parent[i]] = i;
+      }
+    auto width = [&](Index i) { return std::max(sp.min_stroke, 2 * radius_of(tree, i) * s); };
+    auto continues = [&](Index i) {  // does the segment into i go on from the segment into its parent?
+      const Index p = tree.parent[i];
+      return p != kNoIndex && tree.parent[p] != kNoIndex && children[p] == 1 && width(p) == width(i);
+    };
+    auto point = [&](Index i) {
+      num(X(tree.positions[i].x()));
+      out += ' ';
+      num(Y(tree.positions[i].y()));
+    };
+    for (Index i = 0; i < n; ++i) {
+      if (tree.parent[i] == kNoIndex || continues(i)) continue;  // not the first segment of a path
+      out += "<path stroke-width=\"";
+      num(width(i));
+      out += "\" d=\"M";
+      point(tree.parent[i]);
+      for (Index at = i;; at = only_child[at]) {
+        out += " L";
+        point(at);
+        if (children[at] != 1 || !continues(only_child[at])) break;
+      }
+      out += "\"/>\n";
+      core::drain(out, os);
+    }
     for (const auto& [a, b] : tree.anastomoses) segment(a, b, tip);
     out += "</g>\n";
     if (sp.draw_sources)

@@ -23,8 +23,10 @@ struct SvgParams {
   bool draw_sources = false;  ///< draw the sources passed in as dots of 1 mm diameter
 };
 
-/// SVG of the outline (filled light green) and every vein segment as a stroked path of width 2 * radius
-/// of its child node (tip radius for anastomoses; at least min_stroke), all scaled by the same factor
+/// SVG of the outline (filled light green) and the veins as stroked paths of width 2 * radius of each
+/// segment's child node (tip radius for anastomoses; at least min_stroke): one path runs through every node
+/// with a single child while the width stays the same, so a plotter lifts its pen only at branch points,
+/// width changes and tips. Anastomoses are one path each. All is scaled by the same factor
 /// (`scale`, or else size / the box's longer side: mm per model unit), y pointing up. Written atomically; core::FileError
 /// on failure.
 void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline,

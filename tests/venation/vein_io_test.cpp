@@ -82,3 +82,34 @@ TEST_CASE("the SVG is drawn in millimetres at svg size", "[vein_io]") {
   std::filesystem::remove_all(dir2);
   CHECK(scaled.find("width=\"90.000mm\" height=\"30.000mm\"") != std::string::npos);  // 40 x 10 units at 2 mm
 }
+
+TEST_CASE("the SVG draws a vein as one path between branch points and width changes", "[vein_io]") {
+  // 0 - 1 - 2 - 3 - 4 in a line, all 0.5 wide but the last segment; a branch 1 - 5 of the same width
+  v::Outline outline;
+  outline.points = {{-1, -1}, {10, -1}, {10, 5}, {-1, 5}};
+  v::VeinTree t;
+  t.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0), Vec3(4, 0, 0), Vec3(1, 2, 0)};
+  t.parent = {kNoIndex, 0, 1, 2, 3, 1};
+  t.radius = {0.5, 0.5, 0.5, 0.5, 0.25, 0.5};
+  t.anastomoses = {{4, 5}};
+  const auto dir = std::filesystem::temp_directory_path() / "cellform_vein_io_paths";
+  std::filesystem::create_directories(dir);
+  v::SvgParams sp;
+  sp.scale = 1;
+  v::write_svg(dir / "p.svg", t, outline, sp);
+  const std::string svg = read_text(dir / "p.svg");
+  std::filesystem::remove_all(dir);
+  std::vector<std::string> paths;  // the "d" of each vein path, in order
+  const std::regex re("<path stroke-width=\"([0-9.]+)\" d=\"([^\"]*)\"/>");
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), re); it != std::sregex_iterator(); ++it)
+    paths.push_back((*it)[1].str() + ": " + (*it)[2].str());
+  // x -> 5 + x, y -> 5 + (5 - y): the trunk 0-1 ends at the branch point 1; 1-2-3 runs on; 3-4 is thinner;
+  // the branch 1-5; then the anastomosis 4-5 on its own
+  const std::vector<std::string> expected{
+      "1.000: M6.000 10.000 L7.000 10.000",
+      "1.000: M7.000 10.000 L8.000 10.000 L9.000 10.000",
+      "0.500: M9.000 10.000 L10.000 10.000",
+      "1.000: M7.000 10.000 L7.000 8.000",
+      "0.500: M10.000 10.000 L7.000 8.000"};  // the tip radius, 0.25
+  CHECK(paths == expected);
+}
