@@ -195,6 +195,19 @@ fs::path make_staging(const fs::path& dir) {
 /// Thickens vein segments (model units, Murray radii) and shell triangles into a printable solid and
 /// writes the requested formats into `dir`. Appends the file names to `names`; returns what run.json
 /// records. Throws on failure.
+bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, bool& warned) {
+  try {
+    write();
+    return true;
+  } catch (const core::FileError& e) {
+    if (!warned)
+      err << "\ncellform: warning: " << e.what()
+          << "\n  (the run goes on, and tries again at the next periodic checkpoint and at the end)\n";
+    warned = true;
+    return false;
+  }
+}
+
 double shell_closing(const cells::Cells& c, double close_holes) {
   std::vector<double> lengths;
   const std::size_t stride = static_cast<std::size_t>(std::max(c.link_stride, 0));
@@ -510,6 +523,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   double sim_seconds = 0;
   int code = ok;
   bool saved = false;  // this run wrote checkpoint.cfck (an older one may be there from another run)
+  bool checkpoint_warned = false;
   try {
     while (sim.step_count() < target) {
       if (g_interrupt.load()) {
@@ -538,10 +552,11 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         exporters::write_cells_ply(staging / name, sim.cells(), cells::triangulate(sim.cells()));
         outputs.push_back(name);
       }
-      if (step < target && checkpoints.due(step)) {
-        write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
-        saved = true;
-      }
+      if (step < target && checkpoints.due(step))
+        saved = periodic_checkpoint(
+                    [&] { write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene)); }, err,
+                    checkpoint_warned) ||
+                saved;
     }
     progress.finish();
     const auto b = std::chrono::steady_clock::now();

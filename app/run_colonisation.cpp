@@ -178,6 +178,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     std::size_t last_print = 0;
     bool saved = false;  // this run wrote checkpoint.cfck (an older one may be there from another run)
     CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
+    bool checkpoint_warned = false;
     try {
       while (!col.done()) {
         if (g_interrupt.load()) {
@@ -191,10 +192,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
           if (planar) err << (nonuniform ? ", growth step " : ", leaf length ") << r.scale;
           err << (::isatty(2) ? "\r" : "\n") << std::flush;
         }
-        if (!col.done() && checkpoints.due(r.steps)) {
-          save();
-          saved = true;
-        }
+        if (!col.done() && checkpoints.due(r.steps)) saved = periodic_checkpoint(save, err, checkpoint_warned) || saved;
       }
     } catch (const std::exception&) {
       // a step that failed may have left the state half changed: the last checkpoint is the one to resume

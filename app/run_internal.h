@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
@@ -90,6 +91,10 @@ nlohmann::json thicken_and_write(const std::filesystem::path& dir, const PrintSp
                                  const std::vector<std::array<core::Vec3, 3>>& shell, int threads,
                                  std::vector<std::string>& names, std::ostream& err, bool quiet,
                                  double close_holes = 0);
+
+/// Writes a periodic checkpoint with `write`. A failure (a full disk) is reported on `err` the first time
+/// (`warned`) and the run goes on, to try again at the next one; returns whether it was written.
+bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, bool& warned);
 
 /// The radius of the shell's closing for print.close_holes (cell spacings) on this sheet: half that many
 /// median link lengths, model units (0 without links).

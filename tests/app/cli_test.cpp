@@ -453,9 +453,14 @@ TEST_CASE("a checkpoint that cannot be written still leaves the outputs, and say
     INFO(script.filename().string());
     const fs::path out = t.path / script.stem();
     fs::create_directories(out / "checkpoint.cfck");  // a folder in the way: the checkpoint cannot be written
-    const auto r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "5"});
+    // periodic checkpoints every step fail too: said once, and the run goes on to its end
+    const auto r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "5", "--set",
+                        "output.checkpoint_every=1", "--set", "output.checkpoint_seconds=0"});
     CHECK(r.code == 1);
     CHECK_THAT(r.err, Contains("checkpoint.cfck") && Contains("this run cannot be resumed"));
+    const std::string goes_on = "the run goes on";
+    CHECK(r.err.find(goes_on) != std::string::npos);
+    CHECK(r.err.find(goes_on) == r.err.rfind(goes_on));
     const auto run = nlohmann::json::parse(slurp(out / "run.json"));
     CHECK(run["checkpoint"].is_null());
     for (const auto& name : run["outputs"]) CHECK(fs::is_regular_file(out / name.get<std::string>()));
