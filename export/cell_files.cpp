@@ -1,10 +1,13 @@
 // PLY (binary) and OBJ writers for the cell sheet; every write is atomic.
 #include "export/cell_files.h"
 
+#include "venation/canalisation.h"
+
 #include <algorithm>
 #include <array>
 #include <bit>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <limits>
@@ -94,15 +97,21 @@ void write_cells_ply(const std::filesystem::path& path, const Cells& cells, cons
   header += "property float x\nproperty float y\nproperty float z\n";
   header += "property uchar type\nproperty uint age\nproperty uint generation\nproperty uint id\n";
   header += "property uchar fixed\n";
-  for (const std::string& name : names) header += "property float " + name + "\n";
+  // vein order is a whole number (1 = primary); every other attribute is written as a float
+  std::vector<const std::vector<double>*> columns;
+  std::vector<char> whole_column;
+  for (const auto& entry : cells.attributes) {
+    columns.push_back(&entry.second);
+    whole_column.push_back(entry.first == venation::kOrder ? 1 : 0);
+  }
+  for (std::size_t k = 0; k < names.size(); ++k)
+    header += (whole_column[k] ? "property int " : "property float ") + names[k] + "\n";
   header += "element face " + std::to_string(surface.triangles.size()) + "\n";
   header += "property list uchar int vertex_indices\n";
   header += "element edge " + std::to_string(surface.edges.size()) + "\n";
   header += "property int vertex1\nproperty int vertex2\n";
   header += "end_header\n";
 
-  std::vector<const std::vector<double>*> columns;
-  for (const auto& entry : cells.attributes) columns.push_back(&entry.second);
 
   std::string body;
   body.reserve(n * (22 + 4 * columns.size()) + surface.triangles.size() * 13 + surface.edges.size() * 8);
@@ -116,7 +125,13 @@ void write_cells_ply(const std::filesystem::path& path, const Cells& cells, cons
     put(body, cells.generation[i]);
     put(body, static_cast<std::uint32_t>(cells.id[i] & 0xffffffffu));
     put(body, static_cast<std::uint8_t>(cells.fixed[i] ? 1 : 0));
-    for (const auto* column : columns) put(body, static_cast<float>((*column)[i]));
+    for (std::size_t k = 0; k < columns.size(); ++k) {
+      const double v = (*columns[k])[i];
+      if (whole_column[k])
+        put(body, static_cast<std::int32_t>(std::isfinite(v) && std::abs(v) < 2e9 ? std::llround(v) : 0));
+      else
+        put(body, static_cast<float>(v));
+    }
   }
   for (const auto& t : surface.triangles) {
     put(body, std::uint8_t{3});

@@ -252,6 +252,27 @@ TEST_CASE("binary PLY holds every cell field, the triangles and the links", "[ex
   fs::remove_all(dir);
 }
 
+TEST_CASE("vein_order is written as a whole number", "[export][ply]") {
+  const fs::path dir = temp_dir("ply-order");
+  Sheet s = make_sheet();
+  Cells& c = s.cells;
+  std::vector<double>& order = c.attributes["vein_order"];
+  order.assign(c.size(), 0.0);
+  order[1] = 1;
+  order[2] = 3;
+  const fs::path path = dir / "cells.ply";
+  exporters::write_cells_ply(path, c, s.surface);
+  const Ply ply = parse_ply(slurp(path));
+  const PlyElement& v = ply.elements[0];
+  std::size_t column = v.properties.size();
+  for (std::size_t k = 0; k < v.properties.size(); ++k)
+    if (v.properties[k].name == "vein_order") column = k;
+  REQUIRE(column < v.properties.size());
+  CHECK(v.properties[column].type == "int");
+  for (std::size_t i = 0; i < c.size(); ++i) CHECK(v.rows[i][column] == order[i]);
+  fs::remove_all(dir);
+}
+
 TEST_CASE("OpenMesh reads the PLY with the same counts and positions", "[export][ply]") {
   const fs::path dir = temp_dir("openmesh");
   const Sheet s = make_sheet();
