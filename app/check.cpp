@@ -28,8 +28,11 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
                         {"triangles", r.triangles},
                         {"vertices", r.vertices},
                         {"parts", r.parts},
-                        {"pieces", r.pieces},
-                        {"cavities", r.cavities},
+                        // a part's volume sign means solid or pocket only on a closed, oriented mesh
+                        {"pieces", r.closed_manifold() && r.consistently_oriented ? nlohmann::json(r.pieces)
+                                                                                  : nlohmann::json(nullptr)},
+                        {"cavities", r.closed_manifold() && r.consistently_oriented ? nlohmann::json(r.cavities)
+                                                                                    : nlohmann::json(nullptr)},
                         {"boundary_edges", r.boundary_edges},
                         {"nonmanifold_edges", r.nonmanifold_edges},
                         {"nonmanifold_vertices", r.nonmanifold_vertices},

@@ -27,8 +27,9 @@ void on_interrupt(int) {
   }
   // the first waits for the step (or the script's own code) to end: say so, or a busy step looks hung
   static const char kMessage[] =
-      "\ncellform: stopping after the current step, then writing the outputs; Ctrl-C again skips the printable "
-      "solid while it is made, and otherwise quits at once, without outputs\n";
+      "\ncellform: interrupted: the steps stop after the current one (a printable solid being made is skipped) "
+      "and the outputs are written; Ctrl-C again skips a printable solid being made, and otherwise quits at "
+      "once, without outputs\n";
   say(kMessage, sizeof kMessage - 1);
 }
 }  // namespace

@@ -192,9 +192,6 @@ fs::path make_staging(const fs::path& dir) {
   return staging;
 }
 
-/// Thickens vein segments (model units, Murray radii) and shell triangles into a printable solid and
-/// writes the requested formats into `dir`. Appends the file names to `names`; returns what run.json
-/// records. Throws on failure.
 bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, bool& warned) {
   try {
     write();
@@ -221,6 +218,9 @@ double shell_closing(const cells::Cells& c, double close_holes) {
   return 0.5 * close_holes * lengths[lengths.size() / 2];
 }
 
+/// Thickens vein segments (model units, Murray radii) and shell triangles into a printable solid and
+/// writes the requested formats into `dir`. Appends the file names to `names`; returns what run.json
+/// records. Throws on failure.
 json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::vector<exporters::Segment>& segments,
                        const std::vector<std::array<core::Vec3, 3>>& shell, int threads,
                        std::vector<std::string>& names, std::ostream& err, bool quiet, double close_holes) {
@@ -352,9 +352,9 @@ std::vector<std::string> earlier_frames(const fs::path& dir, std::uint64_t up_to
     std::ifstream old(dir / "run.json");
     if (!old) return kept;
     const json j = json::parse(old);
-    // frames of this run only: the same script and seed, and it got as far as the checkpoint
+    // frames of this run only: the same script, seed and overrides give the same frames (a run.json older
+    // than the checkpoint is fine: its frames are the run's up to where it stopped)
     if (j.at("script").at("hash").get<std::string>() != script_hash || j.at("seed").get<std::uint64_t>() != seed ||
-        j.at("steps").at("completed").get<std::uint64_t>() < up_to ||
         shaping(j.at("overrides").get<Overrides>()) != shaping(overrides))
       return kept;
     for (const auto& n : j.value("outputs", json::array())) {

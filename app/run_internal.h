@@ -106,9 +106,8 @@ void commit_outputs(const std::filesystem::path& staging, const std::filesystem:
                     const std::vector<std::string>& names, const std::vector<std::string>& keep = {});
 
 /// The frames (frames/cells_NNNNNN.ply) of step <= up_to that dir's run.json lists and that exist, if that
-/// run.json is of the same script (hash "fnv1a64:..."), seed and overrides (output.* and print.* aside)
-/// and completed at least up_to steps: on resume, the frames the run wrote before its checkpoint, and
-/// never another run's.
+/// run.json is of the same script (hash "fnv1a64:..."), seed and overrides (output.* and print.* aside):
+/// on resume, the frames the run wrote before its checkpoint, and never another run's.
 std::vector<std::string> earlier_frames(const std::filesystem::path& dir, std::uint64_t up_to,
                                         const std::string& script_hash, std::uint64_t seed,
                                         const Overrides& overrides);

@@ -535,11 +535,17 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     arena.execute([&] {
       closed = openvdb::tools::dilateSdf(*openvdb::tools::sdfToSdf(*dilated), inner, openvdb::tools::NN_FACE_EDGE,
                                          1, openvdb::tools::FastSweepingDomain::SWEEP_LESS_THAN_ISOVALUE);
-      // The erosion, over every voxel of every leaf (inactive ones hold +-FLT_MAX with the right sign): a
-      // leaf is never left with unwritten voxels, whose sign a flood fill would have to guess.
+      // The erosion, over every voxel of every leaf, so that none is left unwritten with a sign a flood fill
+      // would have to guess. Inactive voxels lie past the widened band (outside, or deeper inside than
+      // `close` plus the band): their sign alone decides.
       for (auto leaf = closed->tree().beginLeaf(); leaf; ++leaf)
         for (openvdb::Index n = 0; n < FloatLeaf::SIZE; ++n) {
-          const double d = static_cast<double>(leaf->getValue(n)) + close;
+          const float v = leaf->getValue(n);
+          if (!leaf->isValueOn(n)) {
+            leaf->setValueOff(n, v < 0 ? -bg : bg);
+            continue;
+          }
+          const double d = static_cast<double>(v) + close;
           if (std::abs(d) < band)
             leaf->setValueOn(n, static_cast<float>(d));
           else

@@ -65,7 +65,7 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
       }
       out += " Z\"/>\n";
     }
-    out += "<g stroke=\"#2b3a1a\" stroke-linecap=\"round\" fill=\"none\">\n";
+    out += "<g stroke=\"#2b3a1a\" stroke-linecap=\"round\" stroke-linejoin=\"round\" fill=\"none\">\n";
     auto segment = [&](Index a, Index b, double r) {
       out += "<path stroke-width=\"";
       num(std::max(sp.min_stroke, 2 * r * s));

@@ -255,6 +255,15 @@ TEST_CASE("resume writes beside its checkpoint and keeps the frames written befo
   REQUIRE(cli({"run", script.string(), "--out", whole.string(), "--quiet", "--steps", "20"}).code == 0);
   CHECK(slurp(whole / "frames/cells_000005.ply") == slurp(moved / "frames/cells_000005.ply"));
   CHECK(slurp(whole / "frames/cells_000020.ply") == slurp(moved / "frames/cells_000020.ply"));
+  // a checkpoint newer than the folder's run.json (a resume that was killed after a periodic checkpoint)
+  // still keeps the frames that run.json lists
+  const std::string old_run = slurp(moved / "run.json");  // at step 20
+  REQUIRE(cli({"resume", (moved / "checkpoint.cfck").string(), "--steps", "26", "--quiet"}).code == 0);
+  std::ofstream(moved / "run.json") << old_run;  // as if the resume to 26 had died before its run.json
+  r = cli({"resume", (moved / "checkpoint.cfck").string(), "--steps", "30", "--quiet"});
+  REQUIRE(r.code == 0);
+  for (const char* f : {"frames/cells_000005.ply", "frames/cells_000020.ply", "frames/cells_000030.ply"})
+    CHECK(fs::exists(moved / f));
   // a checkpoint resumed in the folder of another run (other overrides) adopts none of that run's frames
   const fs::path other_run = t.path / "other";
   REQUIRE(cli({"run", script.string(), "--out", other_run.string(), "--quiet", "--steps", "20", "--set", "size=300"})
