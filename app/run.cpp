@@ -100,7 +100,8 @@ Start start_from(const RunOptions& o) {
             (saved_value == s.sets.end() || saved_value->second != v))
           throw InputError("--set " + k + "=" + v + ": " + what +
                            " continues with the parameters it was saved with (only output.* and print.* may change "
-                           "when resuming a cell run); start a new run to change " + k);
+                           "when resuming a cell run); start a new run to change " +
+                           k);
         s.sets[k] = v;
       }
       return s;
@@ -204,139 +205,6 @@ bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, 
     return false;
   }
 }
-
-double shell_closing(const cells::Cells& c, double close_holes) {
-  std::vector<double> lengths;
-  const std::size_t stride = static_cast<std::size_t>(std::max(c.link_stride, 0));
-  for (std::size_t i = 0; i < c.size(); ++i)
-    for (std::size_t k = 0; k < stride && i * stride + k < c.links.size(); ++k) {
-      const core::Index j = c.links[i * stride + k];
-      if (j != core::kNoIndex && j < c.size() && j != i) lengths.push_back((c.position[j] - c.position[i]).norm());
-    }
-  if (lengths.empty()) return 0;
-  std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
-  return 0.5 * close_holes * lengths[lengths.size() / 2];
-}
-
-/// Thickens vein segments (model units, Murray radii) and shell triangles into a printable solid and
-/// writes the requested formats into `dir`. Appends the file names to `names`; returns what run.json
-/// records. Throws on failure.
-json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::vector<exporters::Segment>& segments,
-                       const std::vector<std::array<core::Vec3, 3>>& shell, int threads,
-                       std::vector<std::string>& names, std::ostream& err, bool quiet, double close_holes) {
-  exporters::ThickenParams tp;
-  tp.scale = spec.scale;
-  tp.auto_extent = spec.size;
-  tp.voxel_size = spec.voxel_size;
-  tp.min_radius = spec.min_radius;
-  tp.shell_thickness = spec.shell_thickness;
-  tp.adaptivity = spec.adaptivity;
-  tp.max_memory_bytes = spec.max_memory_mb * 1e6;
-  tp.threads = threads;
-  tp.fill_cavities = spec.fill_cavities;
-  tp.flat_base = spec.flat_base;
-  tp.close_holes = close_holes;
-  // Ctrl-C stops the thickening at the next block; on a terminal the stage shows its percentage. A Ctrl-C
-  // that stopped the steps before printing began asked for the outputs, the solid included: it is not one.
-  const bool tty = !quiet && ::isatty(2) != 0;
-  const bool stopped_before = g_interrupt.load();
-  g_print_cancel = false;
-  g_print_after_interrupt = stopped_before;
-  struct PrintDone {
-    ~PrintDone() { g_print_after_interrupt = false; }
-  } print_done;
-  auto stage_progress = [&err, tty, stopped_before](const char* stage) {
-    return [&err, tty, stopped_before, stage, shown = -1](double f) mutable {
-      const int pct = static_cast<int>(f * 100);
-      if (tty && pct != shown) {
-        shown = pct;
-        err << "\r" << stage << " " << pct << "%" << std::flush;
-        if (pct == 100) err << "\n";
-      }
-      return stopped_before ? !g_print_cancel.load() : !g_interrupt.load();
-    };
-  };
-  if (segments.empty() && shell.empty())
-    throw core::InvalidInput(
-        g_interrupt.load() ? "print: nothing to print: the run was interrupted before anything printable grew"
-        : !spec.shell      ? "print: nothing to print yet (no vein has grown; run longer, lower venation.threshold, or use "
-                             "shell = true)"
-        : spec.veins ? "print: nothing to print yet (no vein has grown, and the cells form no sheet of triangles to "
-                       "thicken; grow a sheet, for example from a disc{...})"
-                     : "print: the cells form no sheet of triangles to thicken yet (a line or a single cell has no "
-                       "surface; grow a sheet, for example from a disc{...})");
-  if (!quiet)
-    err << "thickening " << segments.size() << " vein segments" << (spec.shell ? " and the cell sheet" : "") << "...\n";
-  exporters::ThickenReport rep;
-  tp.progress = stage_progress("voxelising");
-  exporters::LevelSet level_set;
-  try {
-    level_set = exporters::voxelise(segments, shell, tp, &rep);
-  } catch (const core::InvalidInput& e) {  // the library's names for what the script calls print.*
-    std::string m = e.what();
-    for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
-             {"thicken: ", "print: "},
-             {"flat_base", "print.flat_base"},
-             {"use a voxel size of", "use a print.voxel_size of"},
-             {"a larger voxel size", "a larger print.voxel_size"},
-             {"(at most min_radius,", "(at most print.min_radius,"},
-             {"above min_radius", "above print.min_radius"},
-             {"a smaller scale or size", "a smaller print.size (or print.scale)"},
-             {"a smaller scale", "a smaller print.size (or print.scale)"},
-             {"raise the memory limit", "raise print.max_memory"}})
-      for (std::size_t at = m.find(from); at != std::string::npos; at = m.find(from, at + to.size()))
-        m.replace(at, from.size(), to);
-    throw core::InvalidInput(m);
-  }
-  tp.progress = stage_progress("meshing");
-  const exporters::PrintableMesh mesh = exporters::mesh_level_set(level_set, tp, &rep);
-  if (rep.pieces > 1 && spec.pieces == "one")
-    throw core::InvalidInput("print{pieces = \"one\"}: the form falls apart into " + std::to_string(rep.pieces) +
-                             " parts (" + (spec.flat_base > 0 ? "lower print.flat_base, " : "") +
-                             "raise print.min_radius, grow longer, or set pieces = \"warn\")");
-  if (rep.pieces > 1 && spec.pieces == "warn")
-    err << "cellform: warning: the printable form has " << rep.pieces << " separate parts\n";
-  for (const std::string& f : spec.formats) {
-    const std::string name = "printable." + f;
-    if (f == "vdb")
-      exporters::write_vdb(dir / name, level_set);
-    else
-      exporters::write_mesh(dir / name, mesh);
-    names.push_back(name);
-  }
-  json printed = {{"scale_mm_per_unit", rep.scale},
-          {"voxel_size_mm", rep.voxel_size},
-          {"segments", rep.segments},
-          {"shell_triangles", rep.shell_triangles},
-          {"raised_radii", rep.raised_radii},
-          {"triangles", rep.triangles},
-          {"parts", rep.pieces},
-          {"cavities", rep.cavities},
-          {"filled_cavities", rep.filled_cavities},
-          {"volume_mm3", rep.volume},
-          {"area_mm2", rep.area},
-          {"seconds", rep.voxelise_seconds + rep.mesh_seconds}};
-  if (spec.flat_base > 0) printed["base_z_mm"] = rep.base_z;
-  return printed;
-}
-
-namespace {
-
-/// print{} for a cell run: the vein graph and, if asked, the cell sheet.
-json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Cells& c, bool has_veins, int threads,
-                     std::vector<std::string>& names, std::ostream& err, bool quiet) {
-  std::vector<exporters::Segment> segments;
-  if (spec.veins && has_veins) {
-    const venation::VeinGraph g = venation::vein_graph(c);
-    if (!g.edges.empty()) segments = exporters::vein_segments(g);  // petioles alone are no structure to print
-  }
-  std::vector<std::array<core::Vec3, 3>> shell;
-  if (spec.shell) shell = exporters::shell_triangles(c, cells::Surface{cells::covering_triangles(c), {}});
-  return thicken_and_write(dir, spec, segments, shell, threads, names, err, quiet,
-                           spec.shell ? shell_closing(c, spec.close_holes) : 0.0);
-}
-
-}  // namespace
 
 std::vector<std::string> earlier_frames(const fs::path& dir, std::uint64_t up_to, const std::string& script_hash,
                                         std::uint64_t seed, const Overrides& overrides) {
@@ -510,7 +378,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   }
 
   const std::uint64_t first = sim.step_count();
-  const std::size_t initial_cells = sim.cells().size();  // of this command
+  const std::size_t initial_cells = sim.cells().size();       // of this command
   if (s.initial_cells == 0) s.initial_cells = initial_cells;  // a fresh run (or a checkpoint that did not say)
   if (!o.quiet)
     err << (s.resume ? "resuming " : "running ") << s.script_path.string() << " from step " << first << " to " << target
@@ -553,9 +421,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         outputs.push_back(name);
       }
       if (step < target && checkpoints.due(step))
-        saved = periodic_checkpoint(
-                    [&] { write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene)); }, err,
-                    checkpoint_warned) ||
+        saved = periodic_checkpoint([&] { write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene)); },
+                                    err, checkpoint_warned) ||
                 saved;
     }
     progress.finish();
@@ -596,27 +463,27 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - b).count();
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::uint64_t done = sim.step_count() - first;
-    json run = {{"program", "cellform"},
-                {"version", version()},
-                {"command", s.resume ? "resume" : "run"},
-                {"script",
-                 {{"path", s.script_path.string()},
-                  {"hash", "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size()))}}},
-                {"seed", seed},
-                {"threads", o.threads},
-                {"status", status},
-                {"steps", {{"first", first}, {"completed", sim.step_count()}, {"target", target}}},
-                {"cells", {{"initial", s.initial_cells}, {"final", sim.cells().size()}}},
-                {"veins",
-                 vein_summary(sim.cells(), scene->venation_report(), cfg.scene.venation.has_value() && done == 0)},
-                {"overrides", s.sets},
-                {"parameters", cfg.resolved},
-                {"timings",
-                 {{"total_s", total},
-                  {"simulation_s", sim_seconds},
-                  {"output_s", output_seconds},
-                  {"steps_per_s", sim_seconds > 0 ? static_cast<double>(done) / sim_seconds : 0.0}}},
-                {"checkpoint", checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr)}};
+    json run = {
+        {"program", "cellform"},
+        {"version", version()},
+        {"command", s.resume ? "resume" : "run"},
+        {"script",
+         {{"path", s.script_path.string()},
+          {"hash", "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size()))}}},
+        {"seed", seed},
+        {"threads", o.threads},
+        {"status", status},
+        {"steps", {{"first", first}, {"completed", sim.step_count()}, {"target", target}}},
+        {"cells", {{"initial", s.initial_cells}, {"final", sim.cells().size()}}},
+        {"veins", vein_summary(sim.cells(), scene->venation_report(), cfg.scene.venation.has_value() && done == 0)},
+        {"overrides", s.sets},
+        {"parameters", cfg.resolved},
+        {"timings",
+         {{"total_s", total},
+          {"simulation_s", sim_seconds},
+          {"output_s", output_seconds},
+          {"steps_per_s", sim_seconds > 0 ? static_cast<double>(done) / sim_seconds : 0.0}}},
+        {"checkpoint", checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr)}};
     if (cfg.print) run["print"] = printed;
     outputs.push_back("run.json");
     // a resumed run's frames from before its checkpoint are in the folder already: still this run's outputs
@@ -631,14 +498,16 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
     commit_outputs(staging, dir, outputs, kept);
     if (!checkpoint_error.empty()) {
-      err << "cellform: " << checkpoint_error << "\n  (the other outputs are written, but this run cannot be resumed)\n";
+      err << "cellform: " << checkpoint_error
+          << "\n  (the other outputs are written, but this run cannot be resumed)\n";
       code = failure;
     }
     if (!o.quiet || code != ok) {
       std::ostream& where = code == ok ? out : err;
-      where << (code == interrupted ? "interrupted at step " : code == ok ? "done: step " : "stopped with an error at step ")
-            << sim.step_count() << ", "
-            << sim.cells().size() << " cells; outputs in " << dir.string() << "/\n";
+      where << (code == interrupted ? "interrupted at step "
+                : code == ok        ? "done: step "
+                                    : "stopped with an error at step ")
+            << sim.step_count() << ", " << sim.cells().size() << " cells; outputs in " << dir.string() << "/\n";
       if (code == interrupted && saved) err << "continue with: cellform resume " << checkpoint.string() << "\n";
     }
     return code;

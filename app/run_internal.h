@@ -96,6 +96,11 @@ nlohmann::json thicken_and_write(const std::filesystem::path& dir, const PrintSp
 /// (`warned`) and the run goes on, to try again at the next one; returns whether it was written.
 bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, bool& warned);
 
+/// print{} for a cell run: the vein graph and, if asked, the cell sheet (print.cpp).
+nlohmann::json write_printable(const std::filesystem::path& dir, const PrintSpec& spec, const cells::Cells& cells,
+                               bool has_veins, int threads, std::vector<std::string>& names, std::ostream& err,
+                               bool quiet);
+
 /// The radius of the shell's closing for print.close_holes (cell spacings) on this sheet: half that many
 /// median link lengths, model units (0 without links).
 double shell_closing(const cells::Cells& cells, double close_holes);
@@ -109,8 +114,7 @@ void commit_outputs(const std::filesystem::path& staging, const std::filesystem:
 /// run.json is of the same script (hash "fnv1a64:..."), seed and overrides (output.* and print.* aside):
 /// on resume, the frames the run wrote before its checkpoint, and never another run's.
 std::vector<std::string> earlier_frames(const std::filesystem::path& dir, std::uint64_t up_to,
-                                        const std::string& script_hash, std::uint64_t seed,
-                                        const Overrides& overrides);
+                                        const std::string& script_hash, std::uint64_t seed, const Overrides& overrides);
 
 /// A space-colonisation run (run_colonisation.cpp); returns the exit code. Never throws.
 int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,

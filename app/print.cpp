@@ -1,0 +1,150 @@
+// print{...}: thickening the veins and the cell sheet into a printable solid, and writing its files.
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "app/run.h"
+#include "app/run_internal.h"
+#include "cells/surface.h"
+#include "core/errors.h"
+#include "export/mesh_files.h"
+#include "export/printable.h"
+
+namespace cellform::app {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+double shell_closing(const cells::Cells& c, double close_holes) {
+  std::vector<double> lengths;
+  const std::size_t stride = static_cast<std::size_t>(std::max(c.link_stride, 0));
+  for (std::size_t i = 0; i < c.size(); ++i)
+    for (std::size_t k = 0; k < stride && i * stride + k < c.links.size(); ++k) {
+      const core::Index j = c.links[i * stride + k];
+      if (j != core::kNoIndex && j < c.size() && j != i) lengths.push_back((c.position[j] - c.position[i]).norm());
+    }
+  if (lengths.empty()) return 0;
+  std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
+  return 0.5 * close_holes * lengths[lengths.size() / 2];
+}
+
+/// Thickens vein segments (model units, Murray radii) and shell triangles into a printable solid and
+/// writes the requested formats into `dir`. Appends the file names to `names`; returns what run.json
+/// records. Throws on failure.
+json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::vector<exporters::Segment>& segments,
+                       const std::vector<std::array<core::Vec3, 3>>& shell, int threads,
+                       std::vector<std::string>& names, std::ostream& err, bool quiet, double close_holes) {
+  exporters::ThickenParams tp;
+  tp.scale = spec.scale;
+  tp.auto_extent = spec.size;
+  tp.voxel_size = spec.voxel_size;
+  tp.min_radius = spec.min_radius;
+  tp.shell_thickness = spec.shell_thickness;
+  tp.adaptivity = spec.adaptivity;
+  tp.max_memory_bytes = spec.max_memory_mb * 1e6;
+  tp.threads = threads;
+  tp.fill_cavities = spec.fill_cavities;
+  tp.flat_base = spec.flat_base;
+  tp.close_holes = close_holes;
+  // Ctrl-C stops the thickening at the next block; on a terminal the stage shows its percentage. A Ctrl-C
+  // that stopped the steps before printing began asked for the outputs, the solid included: it is not one.
+  const bool tty = !quiet && ::isatty(2) != 0;
+  const bool stopped_before = g_interrupt.load();
+  g_print_cancel = false;
+  g_print_after_interrupt = stopped_before;
+  struct PrintDone {
+    ~PrintDone() { g_print_after_interrupt = false; }
+  } print_done;
+  auto stage_progress = [&err, tty, stopped_before](const char* stage) {
+    return [&err, tty, stopped_before, stage, shown = -1](double f) mutable {
+      const int pct = static_cast<int>(f * 100);
+      if (tty && pct != shown) {
+        shown = pct;
+        err << "\r" << stage << " " << pct << "%" << std::flush;
+        if (pct == 100) err << "\n";
+      }
+      return stopped_before ? !g_print_cancel.load() : !g_interrupt.load();
+    };
+  };
+  if (segments.empty() && shell.empty())
+    throw core::InvalidInput(
+        g_interrupt.load() ? "print: nothing to print: the run was interrupted before anything printable grew"
+        : !spec.shell ? "print: nothing to print yet (no vein has grown; run longer, lower venation.threshold, or use "
+                        "shell = true)"
+        : spec.veins  ? "print: nothing to print yet (no vein has grown, and the cells form no sheet of triangles to "
+                        "thicken; grow a sheet, for example from a disc{...})"
+                      : "print: the cells form no sheet of triangles to thicken yet (a line or a single cell has no "
+                        "surface; grow a sheet, for example from a disc{...})");
+  if (!quiet)
+    err << "thickening " << segments.size() << " vein segments" << (spec.shell ? " and the cell sheet" : "") << "...\n";
+  exporters::ThickenReport rep;
+  tp.progress = stage_progress("voxelising");
+  exporters::LevelSet level_set;
+  try {
+    level_set = exporters::voxelise(segments, shell, tp, &rep);
+  } catch (const core::InvalidInput& e) {  // the library's names for what the script calls print.*
+    std::string m = e.what();
+    for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+             {"thicken: ", "print: "},
+             {"flat_base", "print.flat_base"},
+             {"use a voxel size of", "use a print.voxel_size of"},
+             {"a larger voxel size", "a larger print.voxel_size"},
+             {"(at most min_radius,", "(at most print.min_radius,"},
+             {"above min_radius", "above print.min_radius"},
+             {"a smaller scale or size", "a smaller print.size (or print.scale)"},
+             {"a smaller scale", "a smaller print.size (or print.scale)"},
+             {"raise the memory limit", "raise print.max_memory"}})
+      for (std::size_t at = m.find(from); at != std::string::npos; at = m.find(from, at + to.size()))
+        m.replace(at, from.size(), to);
+    throw core::InvalidInput(m);
+  }
+  tp.progress = stage_progress("meshing");
+  const exporters::PrintableMesh mesh = exporters::mesh_level_set(level_set, tp, &rep);
+  if (rep.pieces > 1 && spec.pieces == "one")
+    throw core::InvalidInput("print{pieces = \"one\"}: the form falls apart into " + std::to_string(rep.pieces) +
+                             " parts (" + (spec.flat_base > 0 ? "lower print.flat_base, " : "") +
+                             "raise print.min_radius, grow longer, or set pieces = \"warn\")");
+  if (rep.pieces > 1 && spec.pieces == "warn")
+    err << "cellform: warning: the printable form has " << rep.pieces << " separate parts\n";
+  for (const std::string& f : spec.formats) {
+    const std::string name = "printable." + f;
+    if (f == "vdb")
+      exporters::write_vdb(dir / name, level_set);
+    else
+      exporters::write_mesh(dir / name, mesh);
+    names.push_back(name);
+  }
+  json printed = {{"scale_mm_per_unit", rep.scale},
+                  {"voxel_size_mm", rep.voxel_size},
+                  {"segments", rep.segments},
+                  {"shell_triangles", rep.shell_triangles},
+                  {"raised_radii", rep.raised_radii},
+                  {"triangles", rep.triangles},
+                  {"parts", rep.pieces},
+                  {"cavities", rep.cavities},
+                  {"filled_cavities", rep.filled_cavities},
+                  {"volume_mm3", rep.volume},
+                  {"area_mm2", rep.area},
+                  {"seconds", rep.voxelise_seconds + rep.mesh_seconds}};
+  if (spec.flat_base > 0) printed["base_z_mm"] = rep.base_z;
+  return printed;
+}
+
+json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Cells& c, bool has_veins, int threads,
+                     std::vector<std::string>& names, std::ostream& err, bool quiet) {
+  std::vector<exporters::Segment> segments;
+  if (spec.veins && has_veins) {
+    const venation::VeinGraph g = venation::vein_graph(c);
+    if (!g.edges.empty()) segments = exporters::vein_segments(g);  // petioles alone are no structure to print
+  }
+  std::vector<std::array<core::Vec3, 3>> shell;
+  if (spec.shell) shell = exporters::shell_triangles(c, cells::Surface{cells::covering_triangles(c), {}});
+  return thicken_and_write(dir, spec, segments, shell, threads, names, err, quiet,
+                           spec.shell ? shell_closing(c, spec.close_holes) : 0.0);
+}
+
+}  // namespace cellform::app
