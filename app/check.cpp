@@ -23,41 +23,41 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
     return usage;
   }
   if (json) {
-    nlohmann::json j = {{"file", file.string()},
-                        {"printable", r.printable()},
-                        {"triangles", r.triangles},
-                        {"vertices", r.vertices},
-                        {"parts", r.parts},
-                        // a part's volume sign means solid or pocket only on a closed, oriented mesh
-                        {"pieces", r.closed_manifold() && r.consistently_oriented ? nlohmann::json(r.pieces)
-                                                                                  : nlohmann::json(nullptr)},
-                        {"cavities", r.closed_manifold() && r.consistently_oriented ? nlohmann::json(r.cavities)
-                                                                                    : nlohmann::json(nullptr)},
-                        {"boundary_edges", r.boundary_edges},
-                        {"nonmanifold_edges", r.nonmanifold_edges},
-                        {"nonmanifold_vertices", r.nonmanifold_vertices},
-                        {"consistently_oriented", r.consistently_oriented},
-                        {"self_intersections", r.self_intersections},
-                        {"degenerate_triangles", r.degenerate_triangles},
-                        {"volume_mm3", r.volume},
-                        {"area_mm2", r.area},
-                        {"bbox_min_mm", {r.bbox_min.x(), r.bbox_min.y(), r.bbox_min.z()}},
-                        {"bbox_max_mm", {r.bbox_max.x(), r.bbox_max.y(), r.bbox_max.z()}},
-                        {"genus", r.genus},
-                        {"wall_thickness_mm",
-                         {{"min", th.min},
-                          {"min_at", {th.min_at.x(), th.min_at.y(), th.min_at.z()}},
-                          {"p01", th.p01},
-                          {"median", th.median},
-                          {"samples", th.samples},
-                          {"missed", th.missed}}}};
+    nlohmann::json j = {
+        {"file", file.string()},
+        {"printable", r.printable()},
+        {"triangles", r.triangles},
+        {"vertices", r.vertices},
+        {"parts", r.parts},
+        // a part's volume sign means solid or pocket only on a closed, oriented mesh
+        {"pieces", r.closed_manifold() && r.consistently_oriented ? nlohmann::json(r.pieces) : nlohmann::json(nullptr)},
+        {"cavities",
+         r.closed_manifold() && r.consistently_oriented ? nlohmann::json(r.cavities) : nlohmann::json(nullptr)},
+        {"boundary_edges", r.boundary_edges},
+        {"nonmanifold_edges", r.nonmanifold_edges},
+        {"nonmanifold_vertices", r.nonmanifold_vertices},
+        {"consistently_oriented", r.consistently_oriented},
+        {"self_intersections", r.self_intersections},
+        {"degenerate_triangles", r.degenerate_triangles},
+        {"volume_mm3", r.volume},
+        {"area_mm2", r.area},
+        {"bbox_min_mm", {r.bbox_min.x(), r.bbox_min.y(), r.bbox_min.z()}},
+        {"bbox_max_mm", {r.bbox_max.x(), r.bbox_max.y(), r.bbox_max.z()}},
+        {"genus", r.genus},
+        {"wall_thickness_mm",
+         {{"min", th.min},
+          {"min_at", {th.min_at.x(), th.min_at.y(), th.min_at.z()}},
+          {"p01", th.p01},
+          {"median", th.median},
+          {"samples", th.samples},
+          {"missed", th.missed}}}};
     out << j.dump(2) << "\n";
   } else {
     out << file.string() << ": " << (r.printable() ? "printable" : "NOT printable") << "\n" << r.summary();
     if (th.samples > 0)
-      out << "wall thickness (in the file's units; cellform prints are in mm): 1% of the surface is thinner than " << th.p01 << ", median " << th.median
-          << "; shortest ray " << th.min << " near (" << th.min_at.x() << ", " << th.min_at.y() << ", " << th.min_at.z()
-          << ")\n";
+      out << "wall thickness (in the file's units; cellform prints are in mm): 1% of the surface is thinner than "
+          << th.p01 << ", median " << th.median << "; shortest ray " << th.min << " near (" << th.min_at.x() << ", "
+          << th.min_at.y() << ", " << th.min_at.z() << ")\n";
     else
       out << "wall thickness: not measurable (no ray from the surface left the solid through another wall)\n";
   }

@@ -133,7 +133,8 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
         o.out = value();
         if (o.out->empty()) throw UsageError("--out needs a folder name, got an empty one");
         if (o.out->has_root_path() && o.out->lexically_normal() == o.out->root_path())
-          throw UsageError("--out " + o.out->string() + " is the root of the file system; name a folder for the outputs");
+          throw UsageError("--out " + o.out->string() +
+                           " is the root of the file system; name a folder for the outputs");
       } else if (a == "--seed") {
         o.seed = parse_count(a, value(), 9007199254740992ull);  // as run.seed: 2^53
       } else if (a == "--steps") {

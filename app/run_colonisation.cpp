@@ -322,7 +322,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
       fs::remove(checkpoint, ec);
     }
     if (!checkpoint_error.empty()) {
-      err << "cellform: " << checkpoint_error << "\n  (the other outputs are written, but this run cannot be resumed)\n";
+      err << "cellform: " << checkpoint_error
+          << "\n  (the other outputs are written, but this run cannot be resumed)\n";
       code = failure;
     }
     std::ostream& where = code == ok ? out : err;

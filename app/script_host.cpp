@@ -258,8 +258,7 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     // a real parameter of a section the script does not call (run, cells, division and output are read
     // whether called or not, so theirs are always used)
     const std::string section = key.substr(0, key.find('.'));
-    const bool uncalled =
-        key.find('.') != std::string::npos && find_field(section, key.substr(key.find('.') + 1));
+    const bool uncalled = key.find('.') != std::string::npos && find_field(section, key.substr(key.find('.') + 1));
     throw InvalidInput("--set " + key + "=" + value + ": " +
                        (uncalled ? "the script does not call " + section + "{...}, so there is nothing for " + key +
                                        " to change; add " + section + "{...} to the script"

@@ -203,7 +203,6 @@ std::vector<std::array<Index, 2>> close_quads(const std::vector<Vec3>& pos,
   return {diagonals.begin(), diagonals.end()};
 }
 
-
 /// The triangulation of polygon p[0..n) (n <= kMaxHole) with the least total diagonal length (dynamic
 /// programming over sub-polygons; ties to the first found), as corner triples in polygon order.
 constexpr std::size_t kMaxHole = 6;
@@ -225,15 +224,15 @@ std::vector<std::array<std::size_t, 3>> shortest_triangulation(const std::vector
       }
     }
   std::vector<std::array<std::size_t, 3>> out;
-  std::vector<std::array<std::size_t, 2>> todo{{0, n - 1}};
-  while (!todo.empty()) {
-    const auto [i, j] = todo.back();
-    todo.pop_back();
+  std::vector<std::array<std::size_t, 2>> pending{{0, n - 1}};  // sub-polygons left to split
+  while (!pending.empty()) {
+    const auto [i, j] = pending.back();
+    pending.pop_back();
     if (j < i + 2) continue;
     const std::size_t k = pick[i][j];
     out.push_back({i, k, j});
-    todo.push_back({i, k});
-    todo.push_back({k, j});
+    pending.push_back({i, k});
+    pending.push_back({k, j});
   }
   return out;
 }

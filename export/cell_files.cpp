@@ -112,7 +112,6 @@ void write_cells_ply(const std::filesystem::path& path, const Cells& cells, cons
   header += "property int vertex1\nproperty int vertex2\n";
   header += "end_header\n";
 
-
   std::string body;
   body.reserve(n * (22 + 4 * columns.size()) + surface.triangles.size() * 13 + surface.edges.size() * 8);
   for (std::size_t i = 0; i < n; ++i) {

@@ -373,10 +373,10 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   // thickness at once: about (h + r) / voxel + the band voxels on each side of every slab, three grids
   double shell_area = 0;
   for (const Slab& w : slabs) shell_area += (w.p1 - w.p0).cross(w.p2 - w.p0).norm() / 2;
-  const double closing_voxels = params.close_holes > 0 && !slabs.empty()
-                                    ? 3 * shell_area * 2 * (half_shell + params.close_holes * scale + 2 * band) /
-                                          (voxel * voxel * voxel)
-                                    : 0.0;
+  const double closing_voxels =
+      params.close_holes > 0 && !slabs.empty()
+          ? 3 * shell_area * 2 * (half_shell + params.close_holes * scale + 2 * band) / (voxel * voxel * voxel)
+          : 0.0;
   const double estimate = (active_estimate + closing_voxels) * kBytesPerActiveVoxel + quads_estimate * kBytesPerQuad +
                           static_cast<double>(caps.size() + slabs.size()) * 200;
   if (report) {
@@ -408,112 +408,112 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   const float bg = static_cast<float>(band);
   auto rasterise = [&](const std::vector<Capsule>& cs, const std::vector<Slab>& ss, bool cut, double cut_z, double p0,
                        double p1) {
-  // Index boxes of the primitives widened by the band; voxel (i, j, k) sits at (i, j, k) * voxel mm.
-  const std::size_t nprim = cs.size() + ss.size();
-  std::vector<Box> boxes(nprim);
-  const double max_index = static_cast<double>(kKeyOffset - 2) * (1 << kLeafLog2);
-  for (std::size_t i = 0; i < nprim; ++i) {
-    const Vec3& plo = i < cs.size() ? cs[i].lo : ss[i - cs.size()].lo;
-    const Vec3& phi = i < cs.size() ? cs[i].hi : ss[i - cs.size()].hi;
-    const Vec3 ilo = ((plo.array() - band) / voxel).ceil(), ihi = ((phi.array() + band) / voxel).floor();
-    if (ilo.cwiseAbs().maxCoeff() > max_index || ihi.cwiseAbs().maxCoeff() > max_index)
-      throw core::InvalidInput("thicken: the form spans more than " + fmt("%.0f", max_index) +
-                               " voxels from the origin; use a larger voxel size or a smaller scale");
-    boxes[i].lo = openvdb::Coord(static_cast<int>(ilo.x()), static_cast<int>(ilo.y()), static_cast<int>(ilo.z()));
-    boxes[i].hi = openvdb::Coord(static_cast<int>(ihi.x()), static_cast<int>(ihi.y()), static_cast<int>(ihi.z()));
-  }
-
-  auto grid = openvdb::FloatGrid::create(bg);
-  grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
-  grid->setGridClass(openvdb::GRID_LEVEL_SET);
-  grid->setName("cellform");
-
-  tbb::task_arena arena(arena_threads(params.threads));
-  arena.execute([&] {
-    // Gather: list every (leaf, primitive) overlap, sort by leaf, then each leaf takes the minimum
-    // over its primitives. Every leaf is computed by one task from sorted input: no races, no order effects.
-    std::vector<std::size_t> offset(nprim + 1, 0);
+    // Index boxes of the primitives widened by the band; voxel (i, j, k) sits at (i, j, k) * voxel mm.
+    const std::size_t nprim = cs.size() + ss.size();
+    std::vector<Box> boxes(nprim);
+    const double max_index = static_cast<double>(kKeyOffset - 2) * (1 << kLeafLog2);
     for (std::size_t i = 0; i < nprim; ++i) {
-      const openvdb::Coord a = boxes[i].lo >> kLeafLog2, b = boxes[i].hi >> kLeafLog2;
-      offset[i + 1] = offset[i] + static_cast<std::size_t>(b.x() - a.x() + 1) *
-                                      static_cast<std::size_t>(b.y() - a.y() + 1) *
-                                      static_cast<std::size_t>(b.z() - a.z() + 1);
+      const Vec3& plo = i < cs.size() ? cs[i].lo : ss[i - cs.size()].lo;
+      const Vec3& phi = i < cs.size() ? cs[i].hi : ss[i - cs.size()].hi;
+      const Vec3 ilo = ((plo.array() - band) / voxel).ceil(), ihi = ((phi.array() + band) / voxel).floor();
+      if (ilo.cwiseAbs().maxCoeff() > max_index || ihi.cwiseAbs().maxCoeff() > max_index)
+        throw core::InvalidInput("thicken: the form spans more than " + fmt("%.0f", max_index) +
+                                 " voxels from the origin; use a larger voxel size or a smaller scale");
+      boxes[i].lo = openvdb::Coord(static_cast<int>(ilo.x()), static_cast<int>(ilo.y()), static_cast<int>(ilo.z()));
+      boxes[i].hi = openvdb::Coord(static_cast<int>(ihi.x()), static_cast<int>(ihi.y()), static_cast<int>(ihi.z()));
     }
-    std::vector<LeafRef> refs(offset[nprim]);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nprim, 256), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t i = r.begin(); i < r.end(); ++i) {
-        const openvdb::Coord a = boxes[i].lo >> kLeafLog2, b = boxes[i].hi >> kLeafLog2;
-        std::size_t k = offset[i];
-        for (int x = a.x(); x <= b.x(); ++x)
-          for (int y = a.y(); y <= b.y(); ++y)
-            for (int z = a.z(); z <= b.z(); ++z) refs[k++] = {leaf_key(x, y, z), static_cast<std::uint32_t>(i)};
-      }
-    });
-    tbb::parallel_sort(refs.begin(), refs.end());  // unique elements: the sorted order is unique too
-    std::vector<std::size_t> runs;
-    for (std::size_t k = 0; k < refs.size(); ++k)
-      if (k == 0 || refs[k].leaf != refs[k - 1].leaf) runs.push_back(k);
-    runs.push_back(refs.size());
 
-    const std::size_t nleaves = runs.size() - 1;
-    std::vector<std::unique_ptr<FloatLeaf>> leaves(nleaves);
-    const double nudge = 1e-3 * voxel;  // mm: moves the surface by at most this much
-    // Leaves in blocks, so the progress callback runs on this thread between them; the blocks split
-    // the work the same way for any thread count, and each leaf is computed alone anyway.
-    const std::size_t block = std::max<std::size_t>(256, nleaves / 64 + 1);
-    for (std::size_t first = 0; first < nleaves; first += block) {
-      report_progress(params, p0 + (p1 - p0) * static_cast<double>(first) / static_cast<double>(nleaves));
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(first, std::min(nleaves, first + block), 16),
-                        [&](const tbb::blocked_range<std::size_t>& r) {
-                          std::array<double, FloatLeaf::SIZE> d;
-                          for (std::size_t l = r.begin(); l < r.end(); ++l) {
-                            const openvdb::Coord origin = leaf_origin(refs[runs[l]].leaf);
-                            const openvdb::Coord last = origin.offsetBy(FloatLeaf::DIM - 1);
-                            d.fill(band);
-                            for (std::size_t k = runs[l]; k < runs[l + 1]; ++k) {
-                              const std::uint32_t i = refs[k].prim;
-                              const openvdb::Coord a = openvdb::Coord::maxComponent(boxes[i].lo, origin);
-                              const openvdb::Coord b = openvdb::Coord::minComponent(boxes[i].hi, last);
-                              for (int x = a.x(); x <= b.x(); ++x)
-                                for (int y = a.y(); y <= b.y(); ++y)
-                                  for (int z = a.z(); z <= b.z(); ++z) {
-                                    const Vec3 p(x * voxel, y * voxel, z * voxel);
-                                    const double dist =
-                                        i < cs.size() ? cs[i].distance(p) : ss[i - cs.size()].distance(p);
-                                    double& slot = d[FloatLeaf::coordToOffset(openvdb::Coord(x, y, z))];
-                                    slot = std::min(slot, dist);
-                                  }
-                            }
-                            if (cut)  // intersect with the half space above the base plane
-                              for (openvdb::Index n = 0; n < FloatLeaf::SIZE; ++n)
-                                d[n] = std::max(d[n], cut_z - (origin.z() + FloatLeaf::offsetToLocalCoord(n).z()) * voxel);
-                            bool any = false;
-                            for (double v : d) any = any || std::abs(v) < band;
-                            if (!any) continue;  // entirely inside or outside: the flood fill below supplies the sign
-                            auto leaf = std::make_unique<FloatLeaf>(origin, bg, false);
-                            for (openvdb::Index n = 0; n < FloatLeaf::SIZE; ++n) {
-                              const double v = d[n];
-                              // A value at or next to 0 puts the crossings of several voxel edges on the same point and
-                              // volumeToMesh then emits distinct vertices at one position (zero-area triangles); push
-                              // it off.
-                              if (std::abs(v) < nudge)
-                                leaf->setValueOn(n, static_cast<float>(v < 0 ? -nudge : nudge));
-                              else if (std::abs(v) < band)
-                                leaf->setValueOn(n, static_cast<float>(v));
-                              else
-                                leaf->setValueOff(n, v < 0 ? -bg : bg);
-                            }
-                            leaves[l] = std::move(leaf);
-                          }
-                        });
-    }
-    report_progress(params, p1);
-    auto& tree = grid->tree();
-    for (auto& leaf : leaves)
-      if (leaf) tree.addLeaf(leaf.release());
-    openvdb::tools::signedFloodFill(tree);
-  });
-  return grid;
+    auto grid = openvdb::FloatGrid::create(bg);
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+    grid->setGridClass(openvdb::GRID_LEVEL_SET);
+    grid->setName("cellform");
+
+    tbb::task_arena arena(arena_threads(params.threads));
+    arena.execute([&] {
+      // Gather: list every (leaf, primitive) overlap, sort by leaf, then each leaf takes the minimum
+      // over its primitives. Every leaf is computed by one task from sorted input: no races, no order effects.
+      std::vector<std::size_t> offset(nprim + 1, 0);
+      for (std::size_t i = 0; i < nprim; ++i) {
+        const openvdb::Coord a = boxes[i].lo >> kLeafLog2, b = boxes[i].hi >> kLeafLog2;
+        offset[i + 1] = offset[i] + static_cast<std::size_t>(b.x() - a.x() + 1) *
+                                        static_cast<std::size_t>(b.y() - a.y() + 1) *
+                                        static_cast<std::size_t>(b.z() - a.z() + 1);
+      }
+      std::vector<LeafRef> refs(offset[nprim]);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nprim, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+          const openvdb::Coord a = boxes[i].lo >> kLeafLog2, b = boxes[i].hi >> kLeafLog2;
+          std::size_t k = offset[i];
+          for (int x = a.x(); x <= b.x(); ++x)
+            for (int y = a.y(); y <= b.y(); ++y)
+              for (int z = a.z(); z <= b.z(); ++z) refs[k++] = {leaf_key(x, y, z), static_cast<std::uint32_t>(i)};
+        }
+      });
+      tbb::parallel_sort(refs.begin(), refs.end());  // unique elements: the sorted order is unique too
+      std::vector<std::size_t> runs;
+      for (std::size_t k = 0; k < refs.size(); ++k)
+        if (k == 0 || refs[k].leaf != refs[k - 1].leaf) runs.push_back(k);
+      runs.push_back(refs.size());
+
+      const std::size_t nleaves = runs.size() - 1;
+      std::vector<std::unique_ptr<FloatLeaf>> leaves(nleaves);
+      const double nudge = 1e-3 * voxel;  // mm: moves the surface by at most this much
+      // Leaves in blocks, so the progress callback runs on this thread between them; the blocks split
+      // the work the same way for any thread count, and each leaf is computed alone anyway.
+      const std::size_t block = std::max<std::size_t>(256, nleaves / 64 + 1);
+      for (std::size_t first = 0; first < nleaves; first += block) {
+        report_progress(params, p0 + (p1 - p0) * static_cast<double>(first) / static_cast<double>(nleaves));
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(first, std::min(nleaves, first + block), 16),
+            [&](const tbb::blocked_range<std::size_t>& r) {
+              std::array<double, FloatLeaf::SIZE> d;
+              for (std::size_t l = r.begin(); l < r.end(); ++l) {
+                const openvdb::Coord origin = leaf_origin(refs[runs[l]].leaf);
+                const openvdb::Coord last = origin.offsetBy(FloatLeaf::DIM - 1);
+                d.fill(band);
+                for (std::size_t k = runs[l]; k < runs[l + 1]; ++k) {
+                  const std::uint32_t i = refs[k].prim;
+                  const openvdb::Coord a = openvdb::Coord::maxComponent(boxes[i].lo, origin);
+                  const openvdb::Coord b = openvdb::Coord::minComponent(boxes[i].hi, last);
+                  for (int x = a.x(); x <= b.x(); ++x)
+                    for (int y = a.y(); y <= b.y(); ++y)
+                      for (int z = a.z(); z <= b.z(); ++z) {
+                        const Vec3 p(x * voxel, y * voxel, z * voxel);
+                        const double dist = i < cs.size() ? cs[i].distance(p) : ss[i - cs.size()].distance(p);
+                        double& slot = d[FloatLeaf::coordToOffset(openvdb::Coord(x, y, z))];
+                        slot = std::min(slot, dist);
+                      }
+                }
+                if (cut)  // intersect with the half space above the base plane
+                  for (openvdb::Index n = 0; n < FloatLeaf::SIZE; ++n)
+                    d[n] = std::max(d[n], cut_z - (origin.z() + FloatLeaf::offsetToLocalCoord(n).z()) * voxel);
+                bool any = false;
+                for (double v : d) any = any || std::abs(v) < band;
+                if (!any) continue;  // entirely inside or outside: the flood fill below supplies the sign
+                auto leaf = std::make_unique<FloatLeaf>(origin, bg, false);
+                for (openvdb::Index n = 0; n < FloatLeaf::SIZE; ++n) {
+                  const double v = d[n];
+                  // A value at or next to 0 puts the crossings of several voxel edges on the same point and
+                  // volumeToMesh then emits distinct vertices at one position (zero-area triangles); push
+                  // it off.
+                  if (std::abs(v) < nudge)
+                    leaf->setValueOn(n, static_cast<float>(v < 0 ? -nudge : nudge));
+                  else if (std::abs(v) < band)
+                    leaf->setValueOn(n, static_cast<float>(v));
+                  else
+                    leaf->setValueOff(n, v < 0 ? -bg : bg);
+                }
+                leaves[l] = std::move(leaf);
+              }
+            });
+      }
+      report_progress(params, p1);
+      auto& tree = grid->tree();
+      for (auto& leaf : leaves)
+        if (leaf) tree.addLeaf(leaf.release());
+      openvdb::tools::signedFloodFill(tree);
+    });
+    return grid;
   };
 
   init_openvdb();
@@ -533,8 +533,8 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     openvdb::FloatGrid::Ptr closed;
     tbb::task_arena arena(arena_threads(params.threads));
     arena.execute([&] {
-      closed = openvdb::tools::dilateSdf(*openvdb::tools::sdfToSdf(*dilated), inner, openvdb::tools::NN_FACE_EDGE,
-                                         1, openvdb::tools::FastSweepingDomain::SWEEP_LESS_THAN_ISOVALUE);
+      closed = openvdb::tools::dilateSdf(*openvdb::tools::sdfToSdf(*dilated), inner, openvdb::tools::NN_FACE_EDGE, 1,
+                                         openvdb::tools::FastSweepingDomain::SWEEP_LESS_THAN_ISOVALUE);
       // The erosion, over every voxel of every leaf, so that none is left unwritten with a sign a flood fill
       // would have to guess. Inactive voxels lie past the widened band (outside, or deeper inside than
       // `close` plus the band): their sign alone decides.

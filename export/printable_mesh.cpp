@@ -122,7 +122,8 @@ std::size_t remove_parts(PrintableMesh& mesh, Drop drop) {
   std::vector<char> used(nv, 0);
   for (const auto& t : mesh.triangles) used[find(t[0])] = 1;
   std::size_t removed = 0;
-  for (std::size_t i = 0; i < nv; ++i) removed += used[i] && find(static_cast<std::uint32_t>(i)) == i && drop(part_volume[i]);
+  for (std::size_t i = 0; i < nv; ++i)
+    removed += used[i] && find(static_cast<std::uint32_t>(i)) == i && drop(part_volume[i]);
   if (removed == 0) return 0;
   std::vector<std::array<std::uint32_t, 3>> kept;
   kept.reserve(mesh.triangles.size());

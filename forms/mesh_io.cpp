@@ -236,7 +236,7 @@ bool starts_like_ascii_stl(std::string_view head) {
 }
 
 std::vector<Vec3> parse_ascii_stl(std::string_view text) {
-  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // a UTF-8 byte-order mark
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);    // a UTF-8 byte-order mark
   enum class Expect { solid, facet, outer, vertex, endfacet, end };  // what the next line may be
   Expect expect = Expect::solid;
   std::vector<Vec3> corners;

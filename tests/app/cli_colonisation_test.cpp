@@ -178,8 +178,8 @@ TEST_CASE("a space-colonisation run writes the vein files output{} asks for", "[
   CHECK_FALSE(nlohmann::json::parse(slurp(out / "run.json"))["parameters"]["run"].contains("steps"));
   const auto steps = cli({"run", script.string(), "--out", out.string(), "--set", "run.steps=3"});
   CHECK(steps.code == 2);
-  CHECK_THAT(steps.err, Contains("--set run.steps=3: run.steps counts the steps of cells") &&
-                            Contains("colonisation.max_steps"));
+  CHECK_THAT(steps.err,
+             Contains("--set run.steps=3: run.steps counts the steps of cells") && Contains("colonisation.max_steps"));
   // the leaf is longer than wide (y up): 50 mm high plus the 5 mm margins
   CHECK_THAT(slurp(out / "veins.svg"), Contains("height=\"60.000mm\""));
   CHECK(fs::exists(out / "veins.png"));  // the smallest size allowed still draws
@@ -217,7 +217,7 @@ TEST_CASE("with print{}, veins.svg is drawn at the print's scale, so a cut outli
   const std::string svg = slurp(out / "veins.svg");
   const std::size_t at = svg.find("width=\"") + 7;
   const double drawn = std::stod(svg.substr(at, svg.find("mm\"", at) - at)) - 10;
-  CHECK(drawn >= printed_width - 2 * 0.4 * 2);      // veins inside the outline, radii at least min_radius
+  CHECK(drawn >= printed_width - 2 * 0.4 * 2);             // veins inside the outline, radii at least min_radius
   CHECK(drawn == Approx(30 * 0.5 * scale).epsilon(0.35));  // about the ellipse's width at that scale
   CHECK(scale > 0);
 }
