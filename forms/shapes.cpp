@@ -43,40 +43,55 @@ void plane_basis(const Vec3& normal, Vec3& u, Vec3& v) {
   v = normal.cross(u);
 }
 
-std::vector<Vec3> hex_rectangle(const Vec3& centre, const Vec3& normal, double width, double height, double spacing) {
-  check_positive(width, "width");
-  check_positive(height, "height");
-  check_positive(spacing, "spacing");
+namespace {
+// The hexagonal lattice points of the width x height rectangle (model units) about `centre` in the
+// plane of `normal`, rows `spacing` sqrt(3) / 2 apart, that `keep` accepts. Sizes already checked.
+template <class Keep>
+std::vector<Vec3> hex_lattice(const Vec3& centre, const Vec3& normal, double width, double height, double spacing,
+                              const Keep& keep) {
   Vec3 u, v;
   plane_basis(unit_normal(normal), u, v);
   const double row = spacing * std::sqrt(3.0) / 2.0;
-  const double half_columns = std::floor(width / 2 / spacing) + 1, half_rows = std::floor(height / 2 / row);
-  check_cell_count((2 * half_columns + 1) * (2 * half_rows + 1), "width " + core::number_text(width) + " x height " +
-                                                                     core::number_text(height) + at_spacing(spacing));
-  const auto nx = static_cast<long>(half_columns), ny = static_cast<long>(half_rows);
+  const auto nx = static_cast<long>(std::floor(width / 2 / spacing) + 1);
+  const auto ny = static_cast<long>(std::floor(height / 2 / row));
   std::vector<Vec3> out;
   for (long j = -ny; j <= ny; ++j) {
     const double shift = (j % 2 != 0) ? spacing / 2 : 0.0;
     for (long i = -nx; i <= nx; ++i) {
       const double x = static_cast<double>(i) * spacing + shift;
       if (std::abs(x) > width / 2 + 1e-9) continue;
-      out.push_back(centre + x * u + static_cast<double>(j) * row * v);
+      const Vec3 p = centre + x * u + static_cast<double>(j) * row * v;
+      if (keep(p)) out.push_back(p);
     }
   }
   return out;
+}
+}  // namespace
+
+std::vector<Vec3> hex_rectangle(const Vec3& centre, const Vec3& normal, double width, double height, double spacing) {
+  check_positive(width, "width");
+  check_positive(height, "height");
+  check_positive(spacing, "spacing");
+  unit_normal(normal);
+  const double row = spacing * std::sqrt(3.0) / 2.0;
+  const double half_columns = std::floor(width / 2 / spacing) + 1, half_rows = std::floor(height / 2 / row);
+  check_cell_count((2 * half_columns + 1) * (2 * half_rows + 1), "width " + core::number_text(width) + " x height " +
+                                                                     core::number_text(height) + at_spacing(spacing));
+  return hex_lattice(centre, normal, width, height, spacing, [](const Vec3&) { return true; });
 }
 
 std::vector<Vec3> hex_disc(const Vec3& centre, const Vec3& normal, double radius, double spacing) {
   check_positive(radius, "radius");
   check_positive(spacing, "spacing");
-  // the lattice square around the disc, as hex_rectangle counts it (which would overflow its sides first)
-  const double side = 2 * (radius / spacing) + 2;
-  check_cell_count((side + 3) * (side / (std::sqrt(3.0) / 2) + 1),
+  unit_normal(normal);
+  // the disc's own count: its area over a lattice cell's (the lattice square around it is not built
+  // when the disc is refused, and holds 4 / pi times as many points)
+  const double ratio = radius / spacing;  // squared after dividing: a tiny spacing cannot underflow to 0 first
+  check_cell_count(std::numbers::pi * ratio * ratio / (std::sqrt(3.0) / 2) + 1,
                    "radius " + core::number_text(radius) + at_spacing(spacing));
-  std::vector<Vec3> out;
-  for (const Vec3& p : hex_rectangle(centre, normal, 2 * radius + 2 * spacing, 2 * radius + 2 * spacing, spacing))
-    if ((p - centre).norm() <= radius + 1e-9) out.push_back(p);
-  return out;
+  const double side = 2 * radius + 2 * spacing;
+  return hex_lattice(centre, normal, side, side, spacing,
+                     [&](const Vec3& p) { return (p - centre).norm() <= radius + 1e-9; });
 }
 
 std::vector<Vec3> sphere_points(const Vec3& centre, double radius, double spacing) {

@@ -56,3 +56,26 @@ TEST_CASE("shapes too large to build are refused with the cell limit, never buil
   // just under the limit in one dimension still builds
   CHECK(forms::line_points(kO, Vec3(1e6, 0, 0), 1.0).size() == 1'000'001);
 }
+
+TEST_CASE("a disc too large to build names its own cell count, not its bounding square's", "[forms][shapes]") {
+  using Catch::Contains;
+  // at spacing 1 a disc of radius R holds about pi R^2 / (sqrt(3) / 2) cells; the square around it
+  // 4 / pi times as many. Radius 5000: 90.7 million (the square would say 115 million).
+  const double count = std::numbers::pi * 5000.0 * 5000.0 / (std::sqrt(3.0) / 2);
+  std::string message;
+  try {
+    forms::hex_disc(kO, kZ, 5000.0, 1.0);
+  } catch (const core::InvalidInput& e) {
+    message = e.what();
+  }
+  INFO(message);
+  const auto at = message.find("about ");
+  REQUIRE(at != std::string::npos);
+  const double said = std::stod(message.substr(at + 6));
+  CHECK(said == Approx(count).epsilon(0.01));
+  // and the estimate is the count a smaller disc really gets, within the boundary's cells
+  for (const double radius : {20.0, 60.0}) {
+    const double n = static_cast<double>(forms::hex_disc(kO, kZ, radius, 1.0).size());
+    CHECK(n == Approx(std::numbers::pi * radius * radius / (std::sqrt(3.0) / 2)).epsilon(2.5 / radius));
+  }
+}
