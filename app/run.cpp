@@ -58,6 +58,10 @@ Start start_from(const RunOptions& o) {
         meta = json::parse(f.at("meta", what));
         s.script_path = meta.at("script").get<std::string>();
         s.sets = meta.at("overrides").get<Overrides>();
+        // counts must be whole numbers >= 0 (a negative one would wrap round to a huge step)
+        for (const char* key : {"seed", "target_steps", "step"})
+          if (!meta.at(key).is_number_unsigned())
+            throw core::FileError(what + " is corrupt (metadata '" + key + "' is not a whole number >= 0)");
         s.seed = meta.at("seed").get<std::uint64_t>();
         s.target_steps = meta.at("target_steps").get<std::uint64_t>();
         s.step = meta.at("step").get<std::uint64_t>();

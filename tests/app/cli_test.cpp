@@ -329,6 +329,14 @@ TEST_CASE("corrupt, foreign and truncated checkpoints are refused clearly", "[cl
   r = cli({"resume", t.write("empty.cfck", cellform::core::write_chunk_file("CKPT", 1, forged)).string()});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("empty colonisation state"));
+  // a negative step would wrap round to 2^64 - 1 and run as if almost done
+  meta = nlohmann::json::parse(good.chunks.at("meta"));
+  meta["step"] = -1;
+  forged = good.chunks;
+  forged["meta"] = meta.dump();
+  r = cli({"resume", t.write("negative.cfck", cellform::core::write_chunk_file("CKPT", 1, forged)).string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("corrupt") && Contains("'step' is not a whole number >= 0"));
 }
 
 TEST_CASE("an unwritable output location fails clearly", "[cli]") {
