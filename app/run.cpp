@@ -5,6 +5,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <fstream>
@@ -293,6 +294,15 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
   for (const std::string& n : order)
     if (!fs::is_regular_file(staging / n))
       throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': it was not written");
+  // the old run.json goes first and the new one last: a folder that a kill leaves between two runs' files
+  // has no run.json (README: such a folder is unfinished)
+  if (listed.count("run.json")) {
+    std::stable_partition(order.begin(), order.end(), [](const std::string& n) { return n != "run.json"; });
+    std::error_code ec;
+    fs::remove(dir / "run.json", ec);
+    if (ec && fs::exists(dir / "run.json"))
+      throw core::FileError("cannot replace '" + (dir / "run.json").string() + "': " + ec.message());
+  }
   for (const std::string& n : order) {
     const fs::path to = dir / n;
     core::ensure_directory(to.parent_path());

@@ -106,7 +106,9 @@ nlohmann::json write_printable(const std::filesystem::path& dir, const PrintSpec
 double shell_closing(const cells::Cells& cells, double close_holes);
 
 /// Moves every file of `staging` (recursively) into `dir`, then removes the outputs of an earlier run
-/// (listed in its run.json) that this run did not write again and `keep` does not name.
+/// (listed in its run.json) that this run did not write again and `keep` does not name. The old run.json
+/// is removed before the first move and the new one moved last, so a folder left between two runs' files
+/// (a kill, a failed move) has no run.json.
 void commit_outputs(const std::filesystem::path& staging, const std::filesystem::path& dir,
                     const std::vector<std::string>& names, const std::vector<std::string>& keep = {});
 

@@ -339,6 +339,25 @@ TEST_CASE("corrupt, foreign and truncated checkpoints are refused clearly", "[cl
   CHECK_THAT(r.err, Contains("corrupt") && Contains("'step' is not a whole number >= 0"));
 }
 
+TEST_CASE("a commit stopped between two runs' files leaves no run.json", "[cli]") {
+  TempDir t("cli-commit");
+  const fs::path dir = t.path / "out", staging = t.path / "staging";
+  fs::create_directories(dir / "b.txt" / "inside");  // b.txt cannot be replaced: the move fails there
+  std::ofstream(dir / "a.txt") << "old a";
+  std::ofstream(dir / "run.json") << R"({"outputs": ["a.txt", "b.txt", "run.json"]})";
+  fs::create_directories(staging);
+  for (const char* n : {"run.json", "a.txt", "b.txt"}) std::ofstream(staging / n) << "new " << n;
+  using cellform::app::commit_outputs;
+  CHECK_THROWS_AS(commit_outputs(staging, dir, {"run.json", "a.txt", "b.txt"}), cellform::core::FileError);
+  CHECK(slurp(dir / "a.txt") == "new a.txt");  // moved before the failure
+  CHECK_FALSE(fs::exists(dir / "run.json"));   // the old one does not describe the mix
+  // a whole commit moves run.json too, listed in any position
+  fs::remove_all(dir / "b.txt");
+  REQUIRE_NOTHROW(commit_outputs(staging, dir, {"run.json", "b.txt"}));
+  CHECK(slurp(dir / "run.json") == "new run.json");
+  CHECK(slurp(dir / "b.txt") == "new b.txt");
+}
+
 TEST_CASE("an unwritable output location fails clearly", "[cli]") {
   TempDir t("cli-unwritable");
   const auto script = t.write("small.lua", kSmall);
