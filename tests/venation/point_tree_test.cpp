@@ -425,3 +425,67 @@ TEST_CASE("PointBatch::nearest reports exact distance ties", "[point_tree]") {
   }
   CHECK(ties > 50);
 }
+
+TEST_CASE("hints change no answer of PointBatch::nearest and sector_merge, ties included", "[point_tree]") {
+  using venation::PointBatch;
+  // integer points (many exact ties), numbered from 1000; older points below 1000 at half-integers
+  std::vector<Vec3> pts;
+  for (int x = 0; x < 12; ++x)
+    for (int y = 0; y < 12; ++y) pts.emplace_back(x, y, 0);
+  PointBatch b;
+  b.assign(pts, 1000);
+  core::Rng rng(11);
+  int ties = 0, sector_ties = 0;
+  for (int q = 0; q < 400; ++q) {
+    const Vec3 s = q % 2 ? Vec3(0.5 * std::floor(rng.uniform(-2, 26)), 0.5 * std::floor(rng.uniform(-2, 26)), 0)
+                         : Vec3(rng.uniform(-2, 13), rng.uniform(-2, 13), 0);
+    INFO("query " << q << " at " << s.transpose());
+    // nearest: a candidate from outside the batch or none, then with and without a hint
+    const Index cand = q % 3 == 0 ? Index{7} : core::kNoIndex;
+    const double cand_d2 = q % 3 == 0 ? (s - Vec3(5.5, 5.5, 0)).squaredNorm() : 0;
+    Index plain = cand, hinted = cand;
+    double plain_d2 = cand_d2, hinted_d2 = cand_d2;
+    bool plain_tie = true, hinted_tie = false;
+    b.nearest(s, plain, plain_d2, &plain_tie);
+    const auto h = static_cast<std::size_t>(rng.uniform(0, static_cast<double>(pts.size()) - 1e-9));
+    b.nearest(s, hinted, hinted_d2, &hinted_tie, static_cast<Index>(1000 + h), &pts[h]);
+    CHECK(hinted == plain);
+    CHECK(hinted_d2 == plain_d2);
+    CHECK(hinted_tie == plain_tie);
+    ties += plain_tie ? 1 : 0;
+    // sector bests: older points at half-integer offsets, then the batch merged with up to six hints
+    Index best_plain[6], best_hinted[6];
+    double d2_plain[6], d2_hinted[6];
+    for (int k = 0; k < 6; ++k) {
+      best_plain[k] = core::kNoIndex;
+      d2_plain[k] = std::numeric_limits<double>::infinity();
+    }
+    for (Index i = 0; i < 20; ++i) {
+      const Vec3 d = Vec3(0.5 + std::floor(rng.uniform(0, 12)), 0.5 + std::floor(rng.uniform(0, 12)), 0) - s;
+      const int k = PointTree::sector(d.x(), d.y());
+      if (d.squaredNorm() < d2_plain[k] || (d.squaredNorm() == d2_plain[k] && i < best_plain[k])) {
+        d2_plain[k] = d.squaredNorm();
+        best_plain[k] = i;
+      }
+    }
+    std::copy(best_plain, best_plain + 6, best_hinted);
+    std::copy(d2_plain, d2_plain + 6, d2_hinted);
+    std::vector<std::pair<Index, Vec3>> hints;
+    for (int k = 0; k < q % 7; ++k) {
+      const auto j = static_cast<std::size_t>(rng.uniform(0, static_cast<double>(pts.size()) - 1e-9));
+      if (std::none_of(hints.begin(), hints.end(), [&](const auto& e) { return e.first == 1000 + j; }))
+        hints.emplace_back(static_cast<Index>(1000 + j), pts[j]);
+    }
+    unsigned t_plain = 0, t_hinted = 0;
+    b.sector_merge(s, best_plain, d2_plain, &t_plain);
+    b.sector_merge(s, best_hinted, d2_hinted, &t_hinted, hints);
+    for (int k = 0; k < 6; ++k) {
+      CHECK(best_hinted[k] == best_plain[k]);
+      CHECK(d2_hinted[k] == d2_plain[k]);
+    }
+    CHECK(t_hinted == t_plain);
+    sector_ties += t_plain ? 1 : 0;
+  }
+  CHECK(ties > 50);
+  CHECK(sector_ties > 50);
+}
