@@ -324,6 +324,23 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
   if (cfg.print && cfg.print->veins && !cfg.print->shell && !cfg.scene.venation && !cfg.colonisation)
     throw InvalidInput(I.sections_seen["print"] +
                        "print{veins = true} needs veins: add venation{...}, or print the sheet with shell = true");
+  if (on_cells && cfg.colonisation->domain.initial_nodes.empty() && cfg.scene.petioles.empty())
+    throw InvalidInput(I.sections_seen["surface"] +
+                       "surface{cells = true} needs seeds = {{x, y, z}, ...} or a petiole{...} cell where the veins "
+                       "start");
+  if (!cfg.colonisation || on_cells) {
+    // the checks that need several parameters at once (the stable time step) name the section, or the --set
+    try {
+      cells::validate(cfg.scene.cells);
+    } catch (const InvalidInput& e) {
+      std::string m = e.what();
+      if (m.rfind("cells.division.", 0) == 0) m.erase(0, 6);  // the script's name: division.radius
+      const std::string key = m.substr(0, m.find(' '));
+      const std::string section = key.substr(0, key.find('.'));
+      const std::string at = I.sections_seen.count(section) ? I.sections_seen[section] : I.script_name + ": ";
+      throw InvalidInput(I.value_at(key, at) + m);
+    }
+  }
   return cfg;
 }
 

@@ -454,6 +454,14 @@ struct ScriptHost::Impl {
     return values;
   }
 
+  /// Where the value of `key` (section.name) came from, for a message about it: "--set key=value: " when
+  /// overridden, else `at` (the script line).
+  std::string value_at(const std::string& key, const std::string& at) const {
+    if (overrides)
+      if (auto it = overrides->find(key); it != overrides->end()) return "--set " + key + "=" + it->second + ": ";
+    return at;
+  }
+
   void once(const std::string& section, const std::string& at) {
     auto [it, fresh] = sections_seen.emplace(section, at);
     if (fresh) return;

@@ -1,6 +1,8 @@
 // The sections of the growth-script API for the cell system and its outputs (cells{}, division{}, disc{},
 // ground{}, print{}, ...): each reads its table against the schema and fills the scene configuration.
 // The colonisation sections are in script_colonisation.cpp.
+#include <cctype>
+
 #include "app/script_impl.h"
 #include "forms/obstacles.h"
 #include "forms/shapes.h"
@@ -151,7 +153,10 @@ void section_print(Impl& I, const std::string& at) {
   p.shell_thickness = v["shell_thickness"].num;
   p.voxel_size = v["voxel_size"].num;
   if (p.voxel_size > p.min_radius)  // known now: said before the run, not after it
-    throw InvalidInput(at + "print.voxel_size (" + core::number_text(p.voxel_size) + " mm) exceeds print.min_radius (" +
+    throw InvalidInput(I.value_at(I.overrides && I.overrides->count("print.voxel_size") ? "print.voxel_size"
+                                                                                        : "print.min_radius",
+                                  at) +
+                       "print.voxel_size (" + core::number_text(p.voxel_size) + " mm) exceeds print.min_radius (" +
                        core::number_text(p.min_radius) +
                        " mm): the thinnest veins would vanish; use a voxel size of at most min_radius");
   p.adaptivity = v["adaptivity"].num;
@@ -166,15 +171,17 @@ void section_print(Impl& I, const std::string& at) {
   const std::vector<std::string> known{"stl", "obj", "ply", "scad", "vdb"};
   while (std::getline(ss, f, ',')) {
     f = trim(f);
+    std::transform(f.begin(), f.end(), f.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (f.empty()) continue;
     if (std::find(known.begin(), known.end(), f) == known.end()) {
       const std::string near = core::closest_name(f, known);
-      throw InvalidInput(at + "print.formats: unknown format '" + f + "' (allowed: stl, obj, ply, scad, vdb)" +
+      throw InvalidInput(I.value_at("print.formats", at) + "print.formats: unknown format '" + f + "' (allowed: stl, obj, ply, scad, vdb)" +
                          (near.empty() ? "" : "; did you mean '" + near + "'?"));
     }
     if (std::find(p.formats.begin(), p.formats.end(), f) == p.formats.end()) p.formats.push_back(f);  // once each
   }
-  if (p.formats.empty()) throw InvalidInput(at + "print.formats must name at least one of stl, obj, ply, scad, vdb");
+  if (p.formats.empty())
+    throw InvalidInput(I.value_at("print.formats", at) + "print.formats must name at least one of stl, obj, ply, scad, vdb");
   if (!p.veins && !p.shell)
     throw InvalidInput(at + "print{...} with veins = false needs shell = true (nothing to print)");
   I.cfg->print = p;

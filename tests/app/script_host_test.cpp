@@ -468,3 +468,27 @@ TEST_CASE("a division rule with trigger settings is refused, not half applied", 
       "max_cells = 100 }\n");
   CHECK(cfg.scene.cells.division.max_cells == 100);
 }
+
+TEST_CASE("a value that fails a check of several parameters is reported where it was given", "[script]") {
+  // the time step's stability limit depends on the force weights: checked after the section is read
+  CHECK_THAT(load_error("run { steps = 3 }\ncells { time_step = 5 }\ndisc { radius = 3 }\n"),
+             Contains("test/leaf.lua:2:") && Contains("cells.time_step 5 is above the stable limit"));
+  CHECK_THAT(load_error("cells { }\ndisc { radius = 3 }\n", {{"cells.time_step", "4"}}),
+             Contains("--set cells.time_step=4: cells.time_step 4"));
+  // a --set value is named as the --set, not as the script line that set another value
+  const std::string print = "disc { radius = 3 }\npetiole { at = {0, 0, 0} }\nvenation { }\nprint { formats = \"stl\" }\n";
+  CHECK_THAT(load_error(print, {{"print.formats", "stl,stp"}}),
+             Contains("--set print.formats=stl,stp: print.formats: unknown format 'stp'"));
+  CHECK_THAT(load_error(print, {{"print.voxel_size", "1"}}), Contains("--set print.voxel_size=1: print.voxel_size"));
+  CHECK_THAT(load_error("disc { radius = 3 }\npetiole { at = {0, 0, 0} }\nvenation { }\nprint { voxel_size = 1 }\n"),
+             Contains("test/leaf.lua:4: print.voxel_size"));
+  // surface{cells = true} without a start for the veins: said with the section's line, before any growth
+  CHECK_THAT(load_error("disc { radius = 3 }\nsurface { cells = true }\ncolonisation { type = \"open\" }\n"),
+             Contains("test/leaf.lua:2: surface{cells = true} needs seeds"));
+}
+
+TEST_CASE("print formats are case-blind", "[script]") {
+  const auto cfg = load("disc { radius = 3 }\nprint { shell = true, veins = false, formats = \"STL, Obj\" }\n");
+  REQUIRE(cfg.print);
+  CHECK(cfg.print->formats == std::vector<std::string>{"stl", "obj"});
+}
