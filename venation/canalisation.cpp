@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "core/errors.h"
@@ -36,6 +37,9 @@ double murray_radius(double flow, const Params& p) {
 }
 
 namespace {
+
+// Flows are sums of sources; the cell and vein files keep them as 32-bit floats.
+constexpr double kMaxFlow = static_cast<double>(std::numeric_limits<float>::max());
 
 bool is_vein_node(CellType t) { return t == CellType::vein || t == CellType::petiole; }
 
@@ -436,9 +440,10 @@ Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Worksp
         "venation needs at least one petiole cell (the sink of the auxin flow); add petiole{at = {x, y, z}}");
   if (!source_rule) {
     const double s = p.source;
-    if (!std::isfinite(s * static_cast<double>(n) * 2))
+    if (!(s * static_cast<double>(n) * 2 <= kMaxFlow))
       throw core::InvalidInput("venation.source (" + core::number_text(s) + ") times " + std::to_string(n) +
-                               " cells overflows the flow; use a smaller source strength");
+                               " cells overflows the flow (the files keep flows as 32-bit numbers, at most 3.4e38); "
+                               "use a smaller source strength");
     return run(
         c, p, [s](std::size_t) { return s; }, true, w, threads);
   }
@@ -452,8 +457,9 @@ Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Worksp
       throw core::InvalidInput("venation.source must give a finite number >= 0 for every cell; cell " +
                                std::to_string(c.id[i]) + " got " + core::number_text(s));
     total += s;
-    if (!std::isfinite(2 * total))
-      throw core::InvalidInput("venation.source: the sources add up beyond the range of numbers at cell " +
+    if (!(2 * total <= kMaxFlow))
+      throw core::InvalidInput("venation.source: the sources add up beyond the range of the files' 32-bit flows "
+                               "(3.4e38) at cell " +
                                std::to_string(c.id[i]) + ", which gave " + core::number_text(s) +
                                "; use smaller source strengths");
     src[i] = s;

@@ -234,6 +234,13 @@ TEST_CASE("bad input is refused with a clear message", "[venation]") {
   venation::Params big;
   big.source = 1e308;
   CHECK_THROWS_WITH(venation::canalise(c, big, {}, ws), Contains("venation.source") && Contains("overflows"));
+  // finite as doubles, but beyond the 32-bit flows of the cell and vein files (they would read inf)
+  const venation::SourceRule vast = [](const cells::Cells&, Index) { return 1e300; };
+  CHECK_THROWS_WITH(venation::canalise(c, {}, vast, ws), Contains("venation.source") && Contains("32-bit"));
+  big.source = 1e38;
+  CHECK_THROWS_WITH(venation::canalise(c, big, {}, ws), Contains("venation.source") && Contains("32-bit"));
+  big.source = 1e30;  // five cells: 5e30, well inside
+  CHECK_NOTHROW(venation::canalise(c, big, {}, ws));
 }
 
 // ---------------------------------------------------------------------------------------------------
