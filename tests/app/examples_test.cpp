@@ -49,6 +49,24 @@ TEST_CASE("every example runs on small settings", "[examples]") {
   }
 }
 
+TEST_CASE("the first script of docs/scripting.md grows a leaf, as copied", "[examples]") {
+  // the block a new user copies first: it must grow well beyond its disc with the documented defaults
+  const std::string doc = slurp(fs::path(CELLFORM_SOURCE_DIR) / "docs" / "scripting.md");
+  const auto start = doc.find("```lua\n");
+  REQUIRE(start != std::string::npos);
+  const auto end = doc.find("```", start + 7);
+  REQUIRE(end != std::string::npos);
+  TempDir t("doc-example");
+  const fs::path script = t.write("doc.lua", doc.substr(start + 7, end - start - 7));
+  const auto r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const auto run = nlohmann::json::parse(slurp(t.path / "o" / "run.json"));
+  INFO(run["cells"].dump());
+  // 62 cells at the start; with division.radius = 1.5 the sheet stalled at 99
+  CHECK(run["cells"]["final"].get<int>() > 5 * run["cells"]["initial"].get<int>());
+}
+
 namespace {
 
 /// One Table 1 row of Runions et al. 2005 as a preset in examples/colonisation/ uses it.
