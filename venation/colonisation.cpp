@@ -194,8 +194,6 @@ void Colonisation::Impl::grow_nonuniform() {
   synced = static_cast<Index>(nodes.size());
   fresh.assign({}, synced);
   fresh_first = fresh_last = synced;
-  for (Index v : fresh_parents) fresh_child[v] = kNoIndex;
-  fresh_parents.clear();
   grid.reset(grid.cell());
   for (Index s : active) {
     src[s] = detail::lift(to_current(src_mat[s]));
@@ -299,12 +297,7 @@ void Colonisation::Impl::sector_update(Index s, std::vector<Index>& out, bool cl
     Index old[6];
     for (int k = 0; k < 6; ++k) old[k] = st.best[k];
     unsigned ties = 0;
-    std::pair<Index, Vec3> hints[6];  // the bests' new children, likely the new bests
-    std::size_t nh = 0;
-    for (int k = 0; k < 6; ++k)
-      if (const Index h = st.best[k] == kNoIndex ? kNoIndex : fresh_child_of(st.best[k]); h != kNoIndex)
-        hints[nh++] = {h, nodes.point(h)};
-    fresh.sector_merge(q, st.best, st.d2, &ties, std::span(hints, nh));
+    fresh.sector_merge(q, st.best, st.d2, &ties);
     for (int k = 0; k < 6; ++k) {
       if (st.best[k] == kNoIndex || !closed) continue;
       if (st.best[k] != old[k]) {
@@ -355,7 +348,7 @@ bool Colonisation::Impl::lazy_step(Index s, Sectors& st) {
   near[s] = st.anchor;  // the nearest of the nodes before `fresh` (a removal test may have looked ahead)
   near_d2[s] = (nodes.point(st.anchor) - q).squaredNorm();
   bool tie = false;
-  fresh_nearest(s, &tie);
+  fresh.nearest(q, near[s], near_d2[s], &tie);
   const double moved = (nodes.point(near[s]) - nodes.point(st.anchor)).norm() * (1 + 1e-12);
   const double r0 = std::sqrt(near_d2[s]);
   const double tol = tolerance(q);

@@ -181,8 +181,6 @@ struct Colonisation::Impl {
   bool lazy_ok = false;  // lazy sector mode allowed this step
   PointBatch fresh;      // nodes [fresh_first, fresh_last), indexed once for all sources
   Index fresh_first = 0, fresh_last = 0;
-  std::vector<Index> fresh_child;    // per node: a node of `fresh` grown from it, or kNoIndex
-  std::vector<Index> fresh_parents;  // the nodes whose fresh_child is set
 
   std::vector<std::vector<Index>> per_source;  // V(s) of the i-th active source this step
   std::vector<std::vector<Vec3>> per_dir;      // unit vectors from those nodes to the source (NaN: none)
@@ -372,22 +370,6 @@ struct Colonisation::Impl {
     fresh.assign(std::span<const Vec3>(nodes.points()).subspan(synced), synced);
     fresh_first = synced;
     fresh_last = n;
-    for (Index v : fresh_parents) fresh_child[v] = kNoIndex;
-    fresh_parents.clear();
-    fresh_child.resize(n, kNoIndex);
-    for (Index w = synced; w < n; ++w) {
-      const Index par = parent[w];
-      if (par == kNoIndex || par >= n || fresh_child[par] != kNoIndex) continue;
-      fresh_child[par] = w;
-      fresh_parents.push_back(par);
-    }
-  }
-
-  /// A node of `fresh` grown from v (the first, if several), or kNoIndex: a search hint.
-  Index fresh_child_of(Index v) const { return v < fresh_child.size() ? fresh_child[v] : kNoIndex; }
-  void fresh_nearest(Index s, bool* tie = nullptr) {
-    const Index hint = near[s] == kNoIndex ? kNoIndex : fresh_child_of(near[s]);
-    fresh.nearest(src[s], near[s], near_d2[s], tie, hint, hint == kNoIndex ? nullptr : &nodes.point(hint));
   }
 
   /// Open and Urquhart patterns need only near[s]: the last nearest node is the candidate, so only the
@@ -396,7 +378,7 @@ struct Colonisation::Impl {
     if (near[s] == kNoIndex)
       nodes.nearest(src[s], near[s], near_d2[s]);
     else
-      fresh_nearest(s);
+      fresh.nearest(src[s], near[s], near_d2[s]);
   }
 
   /// Step 4 for the a-th active source after the new nodes are in: its nearest node, and, closed, its

@@ -62,20 +62,10 @@ void PointBatch::build(int n, int first, int last) {
 
 double PointBatch::mindist2(const Node& nd, const Vec3& q) const { return box_distance2(nd.lo, nd.hi, q); }
 
-void PointBatch::nearest(const Vec3& q, Index& best, double& best_d2, bool* tie, Index hint, const Vec3* hint_pos) const {
+void PointBatch::nearest(const Vec3& q, Index& best, double& best_d2, bool* tie) const {
   if (best == kNoIndex) best_d2 = std::numeric_limits<double>::infinity();
   if (tie) *tie = false;
   if (nodes_.empty()) return;
-  // the hint is taken as the first point visited (the result does not depend on the order); when the
-  // search meets it again it changes nothing, as it is then the best or no nearer than the best
-  if (hint != kNoIndex && hint_pos) {
-    const double d2 = (*hint_pos - q).squaredNorm();
-    if (tie && d2 <= best_d2) *tie = d2 == best_d2 && hint != best;
-    if (d2 < best_d2 || (d2 == best_d2 && hint < best)) {
-      best_d2 = d2;
-      best = hint;
-    }
-  }
   int stack[64];
   int top = 0;
   stack[top++] = 0;
@@ -85,8 +75,7 @@ void PointBatch::nearest(const Vec3& q, Index& best, double& best_d2, bool* tie,
     if (nd.child < 0) {
       for (int i = nd.first; i < nd.last; ++i) {
         const double d2 = (pos_[i] - q).squaredNorm();
-        if (id_[i] == best) continue;                   // the hint, met again
-        if (tie && d2 <= best_d2) *tie = d2 == best_d2;  // a nearer point clears it
+        if (tie && d2 <= best_d2) *tie = d2 == best_d2 && id_[i] != best;  // a nearer point clears it
         if (d2 < best_d2 || (d2 == best_d2 && id_[i] < best)) {
           best_d2 = d2;
           best = id_[i];
@@ -203,33 +192,9 @@ unsigned PointBatch::sector_mask(const Vec3& lo, const Vec3& hi, const Vec3& s) 
   return m;
 }
 
-void PointBatch::sector_merge(const Vec3& s, Index* best, double* best_d2, unsigned* ties,
-                              std::span<const std::pair<Index, Vec3>> hints) const {
+void PointBatch::sector_merge(const Vec3& s, Index* best, double* best_d2, unsigned* ties) const {
   if (ties) *ties = 0;
   if (nodes_.empty()) return;
-  // one point into its sector's best; a nearer point clears the sector's tie
-  auto merge = [&](Index id, const Vec3& d, double pd2) {
-    const int k = PointTree::sector(d.x(), d.y());
-    if (id == best[k]) return false;  // a hint, met again in the search
-    if (ties && pd2 <= best_d2[k]) {
-      if (pd2 == best_d2[k])
-        *ties |= 1u << k;
-      else
-        *ties &= ~(1u << k);
-    }
-    if (pd2 <= best_d2[k] && (pd2 < best_d2[k] || id < best[k])) {
-      best_d2[k] = pd2;
-      best[k] = id;
-      return true;
-    }
-    return false;
-  };
-  // hints (points of the batch, such as the new children of the bests) are merged first: near bounds
-  // early; the result does not depend on the order in which points are merged
-  for (const auto& [id, p] : hints) {
-    const Vec3 d = p - s;
-    merge(id, d, d.squaredNorm());
-  }
   auto worst = [&] { return std::max({best_d2[0], best_d2[1], best_d2[2], best_d2[3], best_d2[4], best_d2[5]}); };
   auto least = [&] { return std::min({best_d2[0], best_d2[1], best_d2[2], best_d2[3], best_d2[4], best_d2[5]}); };
   double far = worst();    // no point beyond this can be a best
@@ -256,7 +221,18 @@ void PointBatch::sector_merge(const Vec3& s, Index* best, double* best_d2, unsig
         const Vec3 d = pos_[i] - s;
         const double pd2 = d.squaredNorm();
         if (pd2 > reach) continue;
-        changed |= merge(id_[i], d, pd2);
+        const int k = PointTree::sector(d.x(), d.y());
+        if (ties && pd2 <= best_d2[k]) {  // a nearer point clears the sector's tie
+          if (pd2 == best_d2[k] && id_[i] != best[k])
+            *ties |= 1u << k;
+          else
+            *ties &= ~(1u << k);
+        }
+        if (pd2 <= best_d2[k] && (pd2 < best_d2[k] || id_[i] < best[k])) {
+          best_d2[k] = pd2;
+          best[k] = id_[i];
+          changed = true;
+        }
       }
       if (changed) {
         far = worst();

@@ -192,10 +192,7 @@ class PointBatch {
   /// As PointTree::nearest: improves the candidate (best, best_d2) if a point is nearer (ties: smaller index).
   /// With `tie`, also says whether a point other than the final best is exactly as near (the candidate
   /// given is assumed to have no tie among points outside this batch).
-  /// `hint` (a point of the batch at `hint_pos`, such as the new child of the last nearest node) only
-  /// speeds the search up: it starts with a near bound. The result is the same without it.
-  void nearest(const Vec3& q, Index& best, double& best_d2, bool* tie = nullptr, Index hint = kNoIndex,
-               const Vec3* hint_pos = nullptr) const;
+  void nearest(const Vec3& q, Index& best, double& best_d2, bool* tie = nullptr) const;
   /// True if a point lies at squared distance <= r2 from q.
   bool any_within(const Vec3& q, double r2) const;
   /// Appends (squared distance from s, index) of every point that can clip `cell`, the Voronoi cell of
@@ -208,10 +205,7 @@ class PointBatch {
   /// index). A box is skipped when no sector it can reach has a best as far as the box.
   /// With `ties`, bit k is set when another point of the batch is exactly as near as the final best of
   /// sector k (a best from outside the batch is assumed to have no such tie outside it).
-  /// `hints` (points of the batch with their positions, such as the new children of the bests) only
-  /// speed the search up; the result is the same without them.
-  void sector_merge(const Vec3& s, Index* best, double* best_d2, unsigned* ties = nullptr,
-                    std::span<const std::pair<Index, Vec3>> hints = {}) const;
+  void sector_merge(const Vec3& s, Index* best, double* best_d2, unsigned* ties = nullptr) const;
 
   /// Bit k set if PointTree::sector() can give sector k to a point of the box [lo, hi] seen from s.
   static unsigned sector_mask(const Vec3& lo, const Vec3& hi, const Vec3& s);
