@@ -101,7 +101,12 @@ std::string script_colonisation_message(const std::string& message) {
       {"colonisation.source_birth_distance", "colonisation.birth_distance"},
       {"colonisation.node_distance", "the vein segment"},
       {"colonisation.max_steps", "the step limit (--steps or colonisation.max_steps)"},
-      {"leaf.initial_nodes", "leaf.seeds"}};
+      {"leaf.initial_nodes", "leaf.seeds"},
+      {"leaf.petiole at", "the petiole, the point (0, 0) of the outline, at"},
+      {"shape.teeth: teeth", "leaf.teeth and leaf.tooth_depth: teeth"},
+      {"shape.lobe_depth", "leaf.lobe_depth"},
+      {"shape.lobes", "leaf.lobes"},
+      {"shape.width", "leaf.width"}};
   for (const auto& [from, to] : names)
     for (std::size_t at = m.find(from); at != std::string::npos; at = m.find(from, at + to.size()))
       m.replace(at, from.size(), to);

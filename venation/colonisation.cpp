@@ -85,7 +85,7 @@ void validate(const Leaf& leaf) {
     return index.contains(q) || distance_to_boundary(leaf.outline, q) <= 1e-6 * size;
   };
   if (!leaf.petiole.allFinite() || !inside(leaf.petiole))
-    throw InvalidInput("leaf.petiole (" + std::to_string(leaf.petiole.x()) + ", " + std::to_string(leaf.petiole.y()) +
+    throw InvalidInput("leaf.petiole at (" + number_text(leaf.petiole.x()) + ", " + number_text(leaf.petiole.y()) +
                        ") lies outside the blade outline; it must be inside or on it");
   for (std::size_t i = 0; i < leaf.initial_nodes.size(); ++i)
     if (!leaf.initial_nodes[i].allFinite() || !inside(leaf.initial_nodes[i]))

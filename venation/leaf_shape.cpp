@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <sstream>
 
@@ -34,6 +35,36 @@ bool segments_touch(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) 
          (o4 == 0 && on_segment(c, d, b));
 }
 
+/// The margin offset outward around a sharp concave corner crosses itself in a small loop (a swallowtail);
+/// the outer margin runs straight through the crossing. Cuts every loop of at most `reach` edges out at
+/// its crossing point. Larger crossings are left for validate_outline to report.
+Outline without_local_loops(const Outline& o, std::size_t reach = 64) {
+  Outline out;
+  const std::size_t n = o.points.size();
+  if (n < 8) return o;
+  std::size_t i = 0;
+  while (i < n) {
+    const Vec2& a = o.points[i];
+    const Vec2& b = o.points[(i + 1) % n];
+    out.points.push_back(a);
+    std::size_t skip = 0;
+    for (std::size_t d = reach; d >= 2; --d) {  // the farthest crossing: nested loops go at once
+      const std::size_t j = i + d;
+      if (j + 1 >= n) continue;  // not across the start: the petiole stays
+      const Vec2& c = o.points[j];
+      const Vec2& e = o.points[(j + 1) % n];
+      const double den = cross(b - a, e - c);
+      if (den == 0 || !segments_touch(a, b, c, e)) continue;
+      const double t = cross(c - a, e - c) / den;
+      out.points.push_back(a + t * (b - a));
+      skip = d;
+      break;
+    }
+    i += skip ? skip + 1 : 1;
+  }
+  return out;
+}
+
 double tri(double x) { return 1.0 - std::abs(2.0 * (x - std::floor(x)) - 1.0); }
 
 /// Adds triangular-wave teeth along the outward normal (outline counter-clockwise, starting at the petiole).
@@ -44,35 +75,79 @@ Outline add_teeth(const Outline& smooth, const std::vector<TriangularWave>& teet
   std::vector<double> cum(n0 + 1, 0.0);
   for (std::size_t i = 0; i < n0; ++i) cum[i + 1] = cum[i] + (smooth.points[(i + 1) % n0] - smooth.points[i]).norm();
   const double total = cum[n0];
-  const std::size_t n = std::max<std::size_t>(n0, static_cast<std::size_t>(16 * max_count));
-  Outline dense;
+  // In a concave bend of radius R an outward offset beyond R folds the margin over itself (the sinuses
+  // between lobes): there the teeth are at most half the bend's radius, from the circle through each
+  // smooth vertex and its neighbours (a real margin's teeth shrink into its sinuses, too).
+  std::vector<double> room(n0, std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < n0; ++i) {
+    const Vec2& a = smooth.points[(i + n0 - 1) % n0];
+    const Vec2& b = smooth.points[i];
+    const Vec2& c = smooth.points[(i + 1) % n0];
+    const double turn = cross(b - a, c - b);  // < 0: concave (the outline runs counter-clockwise)
+    if (turn < 0) room[i] = 0.5 * (b - a).norm() * (c - b).norm() * (c - a).norm() / (2 * -turn);
+  }
+  // Samples: every smooth vertex (a sharp bend keeps its shape) and points evenly spaced along the
+  // margin, at least 16 per tooth; each with its arc length and its room
+  struct Sample {
+    Vec2 p;
+    double s, room;
+  };
+  // (a sample closer than a third of the even spacing to the one before is dropped, or replaced by a
+  // smooth vertex: near-coincident samples would turn the normals between them)
+  const std::size_t even = std::max<std::size_t>(n0, static_cast<std::size_t>(16 * max_count));
+  const double close = total / static_cast<double>(even) / 3;
+  std::vector<Sample> dense;
+  auto add = [&](const Sample& q, bool vertex) {
+    if (!dense.empty() && q.s - dense.back().s < close) {
+      if (vertex && dense.size() > 1) dense.back() = {q.p, q.s, std::min(q.room, dense.back().room)};
+      return;
+    }
+    dense.push_back(q);
+  };
   std::size_t seg = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    const double s = total * static_cast<double>(k) / static_cast<double>(n);
-    while (cum[seg + 1] < s) ++seg;
+  for (std::size_t k = 0; k < even; ++k) {
+    const double s = total * static_cast<double>(k) / static_cast<double>(even);
+    for (; cum[seg + 1] < s; ++seg)  // the smooth vertices passed on the way
+      add({smooth.points[(seg + 1) % n0], cum[seg + 1], room[(seg + 1) % n0]}, true);
     const Vec2& a = smooth.points[seg];
     const Vec2& b = smooth.points[(seg + 1) % n0];
     const double len = cum[seg + 1] - cum[seg];
-    dense.points.push_back(len > 0 ? Vec2(a + (b - a) * ((s - cum[seg]) / len)) : a);
+    add({len > 0 ? Vec2(a + (b - a) * ((s - cum[seg]) / len)) : a, s, std::min(room[seg], room[(seg + 1) % n0])},
+        false);
   }
+  for (++seg; seg < n0; ++seg)
+    if (total - cum[seg] >= close) add({smooth.points[seg], cum[seg], room[seg]}, true);
+  const std::size_t n = dense.size();
   // Teeth fade out within fade_radius of the petiole: in the notch of a cordate or palmate base the
   // normals converge, and full-height teeth there would cross each other (real leaves are entire at the
   // base, too).
   const Vec2 petiole = smooth.points[0];
   Outline out;
   for (std::size_t k = 0; k < n; ++k) {
-    const Vec2 e = dense.points[(k + 1) % n] - dense.points[(k + n - 1) % n];
+    const Vec2& p = dense[k].p;
+    const Vec2 e = dense[(k + 1) % n].p - dense[(k + n - 1) % n].p;
     const Vec2 normal = Vec2(e.y(), -e.x()).normalized();
-    const double u = static_cast<double>(k) / static_cast<double>(n);
+    const double u = dense[k].s / total;
     double offset = 0;
     for (const auto& t : teeth) offset += t.amplitude * tri(t.count * u);
     // fourth power: a cardioid's notch narrows like d^1.5 with the distance d from the petiole, the
     // palmate one like d^3, and the teeth must shrink faster than that
-    const double f = fade_radius > 0 ? std::min(1.0, (dense.points[k] - petiole).norm() / fade_radius) : 1.0;
+    const double f = fade_radius > 0 ? std::min(1.0, (p - petiole).norm() / fade_radius) : 1.0;
     const double fade = (f * f) * (f * f);
-    out.points.push_back(dense.points[k] + fade * offset * normal);
+    double cap = dense[k].room;
+    // a narrow sinus: the facing flank, straight ahead along the normal, is as near as the bend is sharp
+    for (std::size_t j = 0; j < n0; ++j) {
+      const Vec2& a = smooth.points[j];
+      const Vec2 e2 = smooth.points[(j + 1) % n0] - a;
+      const double den = cross(normal, e2);
+      if (den == 0) continue;
+      const Vec2 w = a - p;
+      const double t = cross(w, e2) / den, v = cross(w, normal) / den;  // p + t normal = a + v e2
+      if (t > 1e-9 * total && v >= 0 && v <= 1) cap = std::min(cap, 0.45 * t);
+    }
+    out.points.push_back(p + std::min(fade * offset, cap) * normal);
   }
-  return out;
+  return without_local_loops(out);
 }
 
 }  // namespace
@@ -113,8 +188,9 @@ void validate_outline(const Outline& o, const std::string& what) {
         continue;
       }
       if (segments_touch(p, q, r, s))
-        throw InvalidInput(what + ": the outline intersects itself (edges " + std::to_string(std::min(i, j)) + " and " +
-                           std::to_string(std::max(i, j)) + ")");
+        throw InvalidInput(what + ": the outline intersects itself near (" + core::number_text(p.x()) + ", " +
+                           core::number_text(p.y()) + ") (edges " + std::to_string(std::min(i, j) + 1) + " and " +
+                           std::to_string(std::max(i, j) + 1) + ")");
     }
   }
   double extent = 0;
@@ -211,8 +287,14 @@ Outline make_outline(const ShapeParams& sp) {
       try {
         validate_outline(o, "shape.teeth");
         break;
-      } catch (const InvalidInput&) {
-        if (fade * 1.5 > 0.5 * L) throw;
+      } catch (const InvalidInput& e) {
+        if (fade * 1.5 > 0.5 * L) {
+          std::string m = e.what();
+          m = m.substr(m.find("near"));
+          throw InvalidInput("shape.teeth: teeth " + core::number_text(amplitude) +
+                             " deep cross each other on this outline (the margin " + m +
+                             "); use shallower or fewer teeth");
+        }
       }
     }
   } else {

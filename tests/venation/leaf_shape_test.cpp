@@ -115,3 +115,29 @@ TEST_CASE("OutlineIndex agrees with a plain crossing test", "[leaf_shape]") {
   }
   CHECK(inside > 100);
 }
+
+TEST_CASE("teeth follow a lobed margin into its sinuses without crossing", "[leaf_shape]") {
+  using Catch::Matchers::Contains;
+  // the defaults of leaf{shape = "lobed"}: width 0.6, five lobes 0.35 deep, teeth 0.02 deep (leaf lengths)
+  venation::ShapeParams lobed;
+  lobed.kind = ShapeKind::lobed;
+  lobed.length = 1;
+  lobed.width = 0.6;
+  lobed.lobes = 5;
+  lobed.lobe_depth = 0.35;
+  const Outline smooth = venation::make_outline(lobed);
+  for (const int count : {1, 2, 5, 20, 60}) {
+    INFO(count << " teeth");
+    lobed.teeth = {{0.02, count}};
+    const Outline toothed = venation::make_outline(lobed);  // validated inside: simple, counter-clockwise
+    CHECK(venation::signed_area(toothed) > 0);
+    // the teeth only add: the toothed blade covers the smooth one (outward offsets, cut loops)
+    CHECK(venation::signed_area(toothed) >= venation::signed_area(smooth) * (1 - 1e-9));
+    // and stay within a tooth's depth of the smooth margin
+    for (const Vec2& q : toothed.points) CHECK(venation::distance_to_boundary(smooth, q) <= 0.02 * (1 + 1e-9));
+  }
+  // teeth far too deep for the sinuses are refused naming what to change, with a place
+  lobed.teeth = {{0.2, 200}};
+  CHECK_THROWS_WITH(venation::make_outline(lobed), Contains("shape.teeth: teeth 0.2 deep cross each other") &&
+                                                       Contains("near (") && Contains("shallower or fewer"));
+}
