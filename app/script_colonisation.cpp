@@ -223,6 +223,12 @@ void section_leaf(Impl& I, const std::string& at) {
       std::filesystem::path file = v["file"].str;
       if (file.is_relative()) file = I.script_dir / file;
       leaf.outline = venation::read_outline(file);
+      // any drawing unit: the farthest vertex from the petiole (0, 0) is one leaf length
+      double reach = 0;
+      for (const venation::Vec2& q : leaf.outline.points) reach = std::max(reach, q.norm());
+      if (!(reach > 0) || !std::isfinite(1 / reach))
+        throw InvalidInput("leaf.file: every vertex of the outline is at the petiole (0, 0)");
+      for (venation::Vec2& q : leaf.outline.points) q /= reach;
     } else {
       venation::ShapeParams sp;
       const std::string k = v["shape"].str;
