@@ -423,13 +423,16 @@ Surface triangulate(const Cells& cells, bool one_layer) {
   // edge the other way. Seeds in index order keep their sorted orientation, so the result is deterministic.
   std::vector<std::uint8_t> seen(tris.size(), 0);
   std::deque<std::size_t> queue;
+  std::vector<std::size_t> component;  // the triangles the walk from one seed reached
   for (std::size_t seed = 0; seed < tris.size(); ++seed) {
     if (seen[seed]) continue;
     seen[seed] = 1;
     queue.push_back(seed);
+    component.clear();
     while (!queue.empty()) {
       const std::size_t t = queue.front();
       queue.pop_front();
+      component.push_back(t);
       for (int k = 0; k < 3; ++k) {
         const Index u = tris[t][k], v = tris[t][(k + 1) % 3];
         const std::size_t e = edge_index(u, v);
@@ -443,6 +446,24 @@ Surface triangulate(const Cells& cells, bool one_layer) {
         }
       }
     }
+    // Which side faces out: a closed piece (every edge manifold) outward, by its signed volume; an open
+    // sheet up (+z, then +y, then +x), by its area vector, so a leaf's normals point to the sky
+    bool closed = true;
+    double volume = 0;
+    Vec3 area = Vec3::Zero();
+    for (const std::size_t t : component) {
+      const Vec3 &a = cells.position[tris[t][0]], &b = cells.position[tris[t][1]], &c = cells.position[tris[t][2]];
+      volume += a.dot(b.cross(c));
+      area += (b - a).cross(c - a);
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t e = edge_index(tris[t][k], tris[t][(k + 1) % 3]);
+        closed = closed && inc_start[e + 1] - inc_start[e] == 2;
+      }
+    }
+    const bool flip = closed ? volume < 0
+                             : (area.z() != 0 ? area.z() < 0 : area.y() != 0 ? area.y() < 0 : area.x() < 0);
+    if (flip)
+      for (const std::size_t t : component) std::swap(tris[t][1], tris[t][2]);
   }
 
   if (one_layer) fill_small_holes(cells.position, sides, inc_start, incidence, tris);

@@ -220,3 +220,39 @@ TEST_CASE("a hexagonal hole in the sheet is filled, facing as around it; a sheet
   cellform::testing::link_lattice(small);
   CHECK(triangulate(small).triangles.size() == 6);
 }
+
+TEST_CASE("a closed sheet faces outward, an open one up", "[surface]") {
+  Params p;
+  p.division.trigger = DivisionTrigger::none;
+  // a sphere of radius 5, about one rest length between cells (golden spiral), relaxed one step
+  Simulation sim(p, 1);
+  Cells& c = sim.cells();
+  const int n = 363;
+  const double r = 5, golden = M_PI * (3 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double z = 1 - 2 * (i + 0.5) / n, rho = std::sqrt(1 - z * z);
+    add_cell(c, Vec3(r * rho * std::cos(golden * i), r * rho * std::sin(golden * i), r * z));
+  }
+  sim.step();
+  const Surface s = triangulate(c);
+  double volume = 0;
+  std::map<std::pair<Index, Index>, int> sides;
+  for (const auto& t : s.triangles) {
+    volume += c.position[t[0]].dot(c.position[t[1]].cross(c.position[t[2]])) / 6;
+    ++sides[{std::min(t[0], t[1]), std::max(t[0], t[1])}];
+    ++sides[{std::min(t[1], t[2]), std::max(t[1], t[2])}];
+    ++sides[{std::min(t[2], t[0]), std::max(t[2], t[0])}];
+  }
+  bool closed = true;
+  for (const auto& [e, k] : sides) closed = closed && k == 2;
+  REQUIRE(closed);
+  const double ball = 4.0 / 3 * M_PI * r * r * r;
+  CHECK(volume > 0.85 * ball);  // outward: positive, near the ball's (was negative)
+  CHECK(volume < ball);
+  // an open sheet, mirrored so that its lattice order would face down: its normals point up (+z)
+  Cells sheet = cellform::testing::hex_sheet(6, 7);
+  for (Vec3& q : sheet.position) q.x() = -q.x();
+  cellform::testing::link_lattice(sheet);
+  for (const auto& t : triangulate(sheet).triangles)
+    CHECK((sheet.position[t[1]] - sheet.position[t[0]]).cross(sheet.position[t[2]] - sheet.position[t[0]]).z() > 0);
+}
