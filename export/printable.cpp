@@ -536,12 +536,20 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     openvdb::FloatGrid::Ptr closed;
     tbb::task_arena arena(arena_threads(params.threads));
     arena.execute([&] {
-      closed = openvdb::tools::dilateSdf(*openvdb::tools::sdfToSdf(*dilated), inner, openvdb::tools::NN_FACE_EDGE, 1,
+      // OpenVDB's sweeps take no interrupter: a cancel is seen between them (each a few seconds to tens of
+      // seconds on a large shell) and every few thousand leaves of the erosion
+      const openvdb::FloatGrid::Ptr exact = openvdb::tools::sdfToSdf(*dilated);
+      report_progress(params, 0.55);
+      closed = openvdb::tools::dilateSdf(*exact, inner, openvdb::tools::NN_FACE_EDGE, 1,
                                          openvdb::tools::FastSweepingDomain::SWEEP_LESS_THAN_ISOVALUE);
+      report_progress(params, 0.65);
+      const double leaves = static_cast<double>(closed->tree().leafCount());
+      std::size_t done = 0;
       // The erosion, over every voxel of every leaf, so that none is left unwritten with a sign a flood fill
       // would have to guess. Inactive voxels lie past the widened band (outside, or deeper inside than
       // `close` plus the band): their sign alone decides.
-      for (auto leaf = closed->tree().beginLeaf(); leaf; ++leaf)
+      for (auto leaf = closed->tree().beginLeaf(); leaf; ++leaf, ++done) {
+        if (done % 4096 == 0) report_progress(params, 0.65 + 0.1 * static_cast<double>(done) / std::max(leaves, 1.0));
         for (openvdb::Index n = 0; n < FloatLeaf::SIZE; ++n) {
           const float v = leaf->getValue(n);
           if (!leaf->isValueOn(n)) {
@@ -554,6 +562,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
           else
             leaf->setValueOff(n, d < 0 ? -bg : bg);
         }
+      }
       openvdb::tools::changeLevelSetBackground(closed->tree(), bg);  // tiles: +-bg by their sign
       openvdb::tools::pruneLevelSet(closed->tree());
     });

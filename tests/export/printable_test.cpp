@@ -488,6 +488,17 @@ TEST_CASE("close_holes fills gaps in a shell's triangles and keeps its thickness
   const auto with_bar = require_printable(exporters::thicken(bar, sheet, p, &both));
   CHECK(both.pieces == 2);
   CHECK(with_bar.volume == Approx(closed.volume + bar_alone).epsilon(1e-3));
+  // the closing's sweeps (which take no interrupter) are watched between them: a cancel asked for after
+  // the dilated grid is seen before the erosion ends, not only when the veins' stage begins (0.75)
+  std::vector<double> fractions;
+  p.progress = [&](double f) {
+    fractions.push_back(f);
+    return f <= 0.5;
+  };
+  CHECK_THROWS_AS(exporters::voxelise({}, sheet, p), core::Cancelled);
+  REQUIRE(!fractions.empty());
+  CHECK(fractions.back() > 0.5);
+  CHECK(fractions.back() < 0.75);
 }
 
 TEST_CASE("a closing that joins two sheets into one thick solid leaves no false surface inside it", "[printable]") {
