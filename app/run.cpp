@@ -392,6 +392,12 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   }
 
   const std::uint64_t first = sim.step_count();
+  const auto& links = sim.cells().links;
+  if (first >= target && std::all_of(links.begin(), links.end(), [](core::Index l) { return l == core::kNoIndex; })) {
+    // no step will run (run{steps = 0}): the links the first step would make, for the surface and the print
+    core::PointGrid grid;
+    cells::update_links(sim.cells(), sim.params(), grid, sim.threads());
+  }
   const std::size_t initial_cells = sim.cells().size();       // of this command
   if (s.initial_cells == 0) s.initial_cells = initial_cells;  // a fresh run (or a checkpoint that did not say)
   if (!o.quiet)

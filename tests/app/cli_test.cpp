@@ -789,3 +789,19 @@ TEST_CASE("print with no vein grown, or no sheet to thicken, says so instead of 
   CHECK(r.code == 1);
   CHECK_THAT(r.err, Contains("no sheet of triangles") && !Contains("use shell = true"));
 }
+
+TEST_CASE("a run of no steps writes the surface and prints the sheet the shapes placed", "[cli]") {
+  TempDir t("cli-no-steps");
+  const auto script = t.write("s0.lua", "run { steps = 0 }\ndisc { radius = 3 }\n"
+                                        "print { veins = false, shell = true, size = 30 }\n");
+  const auto r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  // the links the first step would make: a disc of 37 cells on a unit lattice has 54 triangles
+  const std::string obj = slurp(t.path / "o" / "cells.obj");
+  std::size_t faces = 0;
+  for (std::size_t at = obj.find("\nf "); at != std::string::npos; at = obj.find("\nf ", at + 1)) ++faces;
+  CHECK(faces == 54);
+  const auto check = cli({"check", (t.path / "o" / "printable.stl").string(), "--json"});
+  CHECK(nlohmann::json::parse(check.out)["printable"] == true);
+}
