@@ -288,13 +288,14 @@ void build_shapes(Impl& I) {
             {v["at"].vec, v["fixed"].flag, static_cast<std::uint64_t>(v["step"].num), s.where});
         r["at"] = {v["at"].vec.x(), v["at"].vec.y(), v["at"].vec.z()};
         r["fixed"] = v["fixed"].flag;
-        r["step"] = v["step"].num;
+        r["step"] = static_cast<std::uint64_t>(v["step"].num);
       }
     } catch (const std::exception& e) {
       throw InvalidInput(s.where + s.kind + ": " + e.what());
     }
     if (s.kind != "cell" && s.kind != "petiole") r["spacing"] = spacing();
-    r["cells"] = points.size();
+    // a petiole turns the nearest cell into one or adds a cell, at its step: not known here
+    if (s.kind != "petiole") r["cells"] = s.kind == "cell" ? std::size_t{1} : points.size();
     for (const Vec3& p : points) cfg.initial_cells.push_back({p, false});
     if (cfg.initial_cells.size() > cfg.scene.cells.division.max_cells)
       throw InvalidInput(

@@ -492,3 +492,14 @@ TEST_CASE("print formats are case-blind", "[script]") {
   REQUIRE(cfg.print);
   CHECK(cfg.print->formats == std::vector<std::string>{"stl", "obj"});
 }
+
+TEST_CASE("run.json's shapes say how many cells each placed, in whole numbers", "[script]") {
+  const auto cfg = load("disc { radius = 1 }\ncell { at = {5, 0, 0} }\npetiole { at = {0, 0, 0}, step = 100 }\n");
+  const auto& shapes = cfg.resolved.at("shapes");
+  REQUIRE(shapes.size() == 3);
+  CHECK(shapes[0]["cells"] == 7);  // a unit disc on the unit lattice: the centre and its six neighbours
+  CHECK(shapes[1]["cells"] == 1);
+  CHECK_FALSE(shapes[2].contains("cells"));  // a petiole turns the nearest cell, or adds one, at its step
+  CHECK(shapes[2]["step"].is_number_unsigned());
+  CHECK(shapes[2]["step"] == 100);
+}
