@@ -384,6 +384,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
 
   cells::Simulation& sim = scene->simulation();
   const fs::path dir = s.out_dir;
+  const bool dir_existed = fs::exists(dir);
   try {
     staging = make_staging(dir);
   } catch (const std::exception& e) {
@@ -548,6 +549,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   }
   std::error_code ec;
   fs::remove_all(staging, ec);
+  if (!dir_existed && fs::is_empty(dir, ec) && !ec) fs::remove(dir, ec);  // a failed run leaves no empty folder
   return code;
 }
 

@@ -805,3 +805,20 @@ TEST_CASE("a run of no steps writes the surface and prints the sheet the shapes 
   const auto check = cli({"check", (t.path / "o" / "printable.stl").string(), "--json"});
   CHECK(nlohmann::json::parse(check.out)["printable"] == true);
 }
+
+TEST_CASE("a rule that fails in a step before any checkpoint leaves no empty output folder", "[cli]") {
+  TempDir t("cli-rule-fails");
+  const auto script = t.write("bad.lua",
+                              "run { steps = 20 }\ndisc { radius = 3 }\npetiole { at = {0, -3, 0} }\n"
+                              "venation { source = function(c) if c.step >= 5 then return nil end return 1 end }\n");
+  const fs::path out = t.path / "o";
+  const auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("bad.lua:4:") && Contains("step 5"));
+  CHECK_FALSE(fs::exists(out));
+  // a folder that was there stays, with what it held
+  fs::create_directories(out);
+  std::ofstream(out / "notes.txt") << "mine";
+  CHECK(cli({"run", script.string(), "--out", out.string(), "--quiet"}).code == 2);
+  CHECK(slurp(out / "notes.txt") == "mine");
+}
