@@ -372,7 +372,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   // a shell's closing holds the dilated shell's grid and its exact distances through the whole dilated
   // thickness at once: about (h + r) / voxel + the band voxels on each side of every slab. The factor 1.6
   // (grids alive at once, less the overlap of the covering triangles counted twice) is measured: peak
-  // memory of the closing 0.81 GB on a flat 300-cell disc and about 2 GB on a 363-cell sphere at 120 mm,
+  // memory of the closing 0.81 GB on a flat 89-cell disc and about 2 GB on a 363-cell sphere at 120 mm,
   // where 3 said 1.95 and 4.0 GB
   double shell_area = 0;
   for (const Slab& w : slabs) shell_area += (w.p1 - w.p0).cross(w.p2 - w.p0).norm() / 2;
