@@ -153,12 +153,12 @@ void section_print(Impl& I, const std::string& at) {
   p.shell_thickness = v["shell_thickness"].num;
   p.voxel_size = v["voxel_size"].num;
   if (p.voxel_size > p.min_radius)  // known now: said before the run, not after it
-    throw InvalidInput(I.value_at(I.overrides && I.overrides->count("print.voxel_size") ? "print.voxel_size"
-                                                                                        : "print.min_radius",
-                                  at) +
-                       "print.voxel_size (" + core::number_text(p.voxel_size) + " mm) exceeds print.min_radius (" +
-                       core::number_text(p.min_radius) +
-                       " mm): the thinnest veins would vanish; use a voxel size of at most min_radius");
+    throw InvalidInput(
+        I.value_at(I.overrides && I.overrides->count("print.voxel_size") ? "print.voxel_size" : "print.min_radius",
+                   at) +
+        "print.voxel_size (" + core::number_text(p.voxel_size) + " mm) exceeds print.min_radius (" +
+        core::number_text(p.min_radius) +
+        " mm): the thinnest veins would vanish; use a voxel size of at most min_radius");
   p.adaptivity = v["adaptivity"].num;
   p.max_memory_mb = v["max_memory"].num;
   p.pieces = v["pieces"].str;
@@ -175,13 +175,15 @@ void section_print(Impl& I, const std::string& at) {
     if (f.empty()) continue;
     if (std::find(known.begin(), known.end(), f) == known.end()) {
       const std::string near = core::closest_name(f, known);
-      throw InvalidInput(I.value_at("print.formats", at) + "print.formats: unknown format '" + f + "' (allowed: stl, obj, ply, scad, vdb)" +
+      throw InvalidInput(I.value_at("print.formats", at) + "print.formats: unknown format '" + f +
+                         "' (allowed: stl, obj, ply, scad, vdb)" +
                          (near.empty() ? "" : "; did you mean '" + near + "'?"));
     }
     if (std::find(p.formats.begin(), p.formats.end(), f) == p.formats.end()) p.formats.push_back(f);  // once each
   }
   if (p.formats.empty())
-    throw InvalidInput(I.value_at("print.formats", at) + "print.formats must name at least one of stl, obj, ply, scad, vdb");
+    throw InvalidInput(I.value_at("print.formats", at) +
+                       "print.formats must name at least one of stl, obj, ply, scad, vdb");
   if (!p.veins && !p.shell)
     throw InvalidInput(at + "print{...} with veins = false needs shell = true (nothing to print)");
   I.cfg->print = p;

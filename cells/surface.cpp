@@ -461,7 +461,9 @@ Surface triangulate(const Cells& cells, bool one_layer) {
       }
     }
     const bool flip = closed ? volume < 0
-                             : (area.z() != 0 ? area.z() < 0 : area.y() != 0 ? area.y() < 0 : area.x() < 0);
+                             : (area.z() != 0   ? area.z() < 0
+                                : area.y() != 0 ? area.y() < 0
+                                                : area.x() < 0);
     if (flip)
       for (const std::size_t t : component) std::swap(tris[t][1], tris[t][2]);
   }

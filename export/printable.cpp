@@ -409,8 +409,8 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   // One narrow-band grid of the union of capsules `cs` and slabs `ss`, cut below z = cut_z when `cut`;
   // progress goes from p0 to p1 of the stage.
   const float bg = static_cast<float>(band);
-  auto rasterise = [&](const std::vector<Capsule>& cs, const std::vector<Slab>& ss, bool cut, double cut_z, double p0,
-                       double p1) {
+  auto rasterise = [&](const std::vector<Capsule>& cs, const std::vector<Slab>& ss, bool cut_below, double cut_z,
+                       double p0, double p1) {
     // Index boxes of the primitives widened by the band; voxel (i, j, k) sits at (i, j, k) * voxel mm.
     const std::size_t nprim = cs.size() + ss.size();
     std::vector<Box> boxes(nprim);
@@ -487,7 +487,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
                         slot = std::min(slot, dist);
                       }
                 }
-                if (cut)  // intersect with the half space above the base plane
+                if (cut_below)  // intersect with the half space above the base plane
                   for (openvdb::Index n = 0; n < FloatLeaf::SIZE; ++n)
                     d[n] = std::max(d[n], cut_z - (origin.z() + FloatLeaf::offsetToLocalCoord(n).z()) * voxel);
                 bool any = false;

@@ -458,10 +458,10 @@ Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Worksp
                                std::to_string(c.id[i]) + " got " + core::number_text(s));
     total += s;
     if (!(2 * total <= kMaxFlow))
-      throw core::InvalidInput("venation.source: the sources add up beyond the range of the files' 32-bit flows "
-                               "(3.4e38) at cell " +
-                               std::to_string(c.id[i]) + ", which gave " + core::number_text(s) +
-                               "; use smaller source strengths");
+      throw core::InvalidInput(
+          "venation.source: the sources add up beyond the range of the files' 32-bit flows "
+          "(3.4e38) at cell " +
+          std::to_string(c.id[i]) + ", which gave " + core::number_text(s) + "; use smaller source strengths");
     src[i] = s;
   }
   const double* s = src.data();

@@ -82,7 +82,7 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
     };
     // Veins as polylines, so a plotter draws a vein without lifting its pen at every node: a path runs on
     // through a node with one child while the width stays the same (between branch points it does).
-    const Index n = tree.size();
+    const auto n = static_cast<Index>(tree.size());
     std::vector<Index> children(n, 0), only_child(n, kNoIndex);
     for (Index i = 0; i < n; ++i)
       if (tree.parent[i] != kNoIndex) {
@@ -150,7 +150,8 @@ void write_vein_ply(const std::filesystem::path& path, const VeinTree& tree) {
   for (const auto& [a, b] : tree.anastomoses) edge(a, b);
   const std::string body = w.take();
   std::string header =
-      "ply\nformat binary_little_endian 1.0\ncomment cellform space-colonisation veins, in model units: edges run child -> parent, "
+      "ply\nformat binary_little_endian 1.0\ncomment cellform space-colonisation veins, in model units: edges run "
+      "child -> parent, "
       "then the edges that close loops\nelement vertex ";
   core::append_integer(header, tree.size());
   header +=

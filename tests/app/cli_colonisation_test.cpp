@@ -248,16 +248,16 @@ TEST_CASE("a colonisation run stopped by max_nodes says so, and resumes under th
   CHECK(run2["veins"]["nodes"].get<std::size_t>() >= 80);
 }
 
-TEST_CASE("an outline file in any unit is one leaf length from petiole to its farthest vertex",
-          "[cli][colonisation]") {
+TEST_CASE("an outline file in any unit is one leaf length from petiole to its farthest vertex", "[cli][colonisation]") {
   TempDir t("cli-outline-unit");
   // a kite with its tip 1 from the petiole, and the same drawn 128 times larger (scaling back is exact)
   const std::string kite = "0 0\n0.5 0.5\n0 1\n-0.5 0.5\n0 0\n";
   const std::string big = "0 0\n64 64\n0 128\n-64 64\n0 0\n";
   t.write("kite.txt", kite);
   t.write("big.txt", big);
-  const std::string rest = "colonisation { type = 'open', initial_length = 20, final_length = 30, length_step = 1 }\n"
-                           "run { seed = 4 }\n";
+  const std::string rest =
+      "colonisation { type = 'open', initial_length = 20, final_length = 30, length_step = 1 }\n"
+      "run { seed = 4 }\n";
   const auto a = t.write("a.lua", "leaf { file = 'kite.txt' }\n" + rest);
   const auto b = t.write("b.lua", "leaf { file = 'big.txt' }\n" + rest);
   REQUIRE(cli({"run", a.string(), "--out", (t.path / "a").string(), "--quiet"}).code == 0);

@@ -244,8 +244,8 @@ TEST_CASE("resume writes beside its checkpoint and keeps the frames written befo
   const auto run = nlohmann::json::parse(slurp(moved / "run.json"));
   CHECK(run["steps"]["completed"] == 20);
   // frames 5 and 10 came before the checkpoint (step 12), 15 and 20 after: all four are the run's
-  for (const char* f : {"frames/cells_000005.ply", "frames/cells_000010.ply", "frames/cells_000015.ply",
-                        "frames/cells_000020.ply"}) {
+  for (const char* f :
+       {"frames/cells_000005.ply", "frames/cells_000010.ply", "frames/cells_000015.ply", "frames/cells_000020.ply"}) {
     INFO(f);
     CHECK(fs::exists(moved / f));
     CHECK(std::find(run["outputs"].begin(), run["outputs"].end(), f) != run["outputs"].end());
@@ -759,7 +759,7 @@ TEST_CASE("a run removes the staging folders and checkpoint drafts of killed run
   std::ofstream(out / ".partial-999999999" / "veins.ply") << "half";
   const fs::path live = out / (".partial-" + std::to_string(::getppid()));  // a process that is running
   fs::create_directories(live);
-  fs::create_directories(out / ".partial-notes");  // not a run's
+  fs::create_directories(out / ".partial-notes");                               // not a run's
   std::ofstream(out / "checkpoint.cfck.tmp-999999999") << "half a checkpoint";  // a killed run's
   const fs::path live_tmp = out / ("checkpoint.cfck.tmp-" + std::to_string(::getppid()));
   std::ofstream(live_tmp) << "being written";
@@ -792,8 +792,9 @@ TEST_CASE("print with no vein grown, or no sheet to thicken, says so instead of 
 
 TEST_CASE("a run of no steps writes the surface and prints the sheet the shapes placed", "[cli]") {
   TempDir t("cli-no-steps");
-  const auto script = t.write("s0.lua", "run { steps = 0 }\ndisc { radius = 3 }\n"
-                                        "print { veins = false, shell = true, size = 30 }\n");
+  const auto script = t.write("s0.lua",
+                              "run { steps = 0 }\ndisc { radius = 3 }\n"
+                              "print { veins = false, shell = true, size = 30 }\n");
   const auto r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet"});
   INFO(r.err);
   REQUIRE(r.code == 0);

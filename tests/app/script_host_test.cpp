@@ -476,7 +476,8 @@ TEST_CASE("a value that fails a check of several parameters is reported where it
   CHECK_THAT(load_error("cells { }\ndisc { radius = 3 }\n", {{"cells.time_step", "4"}}),
              Contains("--set cells.time_step=4: cells.time_step 4"));
   // a --set value is named as the --set, not as the script line that set another value
-  const std::string print = "disc { radius = 3 }\npetiole { at = {0, 0, 0} }\nvenation { }\nprint { formats = \"stl\" }\n";
+  const std::string print =
+      "disc { radius = 3 }\npetiole { at = {0, 0, 0} }\nvenation { }\nprint { formats = \"stl\" }\n";
   CHECK_THAT(load_error(print, {{"print.formats", "stl,stp"}}),
              Contains("--set print.formats=stl,stp: print.formats: unknown format 'stp'"));
   CHECK_THAT(load_error(print, {{"print.voxel_size", "1"}}), Contains("--set print.voxel_size=1: print.voxel_size"));

@@ -204,7 +204,7 @@ TEST_CASE("a hexagonal hole in the sheet is filled, facing as around it; a sheet
     CHECK(count == 1);
     boundary += directed.count({edge.second, edge.first}) == 0;
   }
-  CHECK(boundary == 4 * 6);  // only the outline of the sheet
+  CHECK(boundary == 4 * 6);                                         // only the outline of the sheet
   CHECK(s.edges.size() == triangulate(holed, false).edges.size());  // no link is invented
 
   // for a shell: every clique, and the fill as well

@@ -263,8 +263,9 @@ TEST_CASE("flat_base cuts the bottom off so a standing vein rests on a flat disc
   CHECK(round.volume - flat.volume == Approx(M_PI * cut * cut * (3 * r - cut) / 3).epsilon(0.05));
 
   p.flat_base = 14;  // the whole height
-  CHECK_THROWS_WITH(exporters::thicken(post, {}, p), Catch::Matchers::Contains("flat_base (14 mm)") &&
-                                                         Catch::Matchers::Contains("height of the printed form (14 mm)"));
+  CHECK_THROWS_WITH(exporters::thicken(post, {}, p),
+                    Catch::Matchers::Contains("flat_base (14 mm)") &&
+                        Catch::Matchers::Contains("height of the printed form (14 mm)"));
   p.flat_base = -1;
   CHECK_THROWS_WITH(exporters::thicken(post, {}, p), Catch::Matchers::Contains("flat_base must be >= 0"));
 }
