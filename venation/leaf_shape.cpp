@@ -38,29 +38,32 @@ bool segments_touch(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) 
 /// The margin offset outward around a sharp concave corner crosses itself in a small loop (a swallowtail);
 /// the outer margin runs straight through the crossing. Cuts every loop of at most `reach` edges out at
 /// its crossing point. Larger crossings are left for validate_outline to report.
-Outline without_local_loops(const Outline& o, std::size_t reach = 64) {
-  Outline out;
+Outline without_local_loops(const Outline& o, std::size_t reach) {
   const std::size_t n = o.points.size();
   if (n < 8) return o;
+  Outline out;
+  out.points.push_back(o.points[0]);
+  Vec2 a = o.points[0];  // the current edge runs from a (a vertex, or a crossing on edge i) to vertex i + 1
   std::size_t i = 0;
   while (i < n) {
-    const Vec2& a = o.points[i];
-    const Vec2& b = o.points[(i + 1) % n];
-    out.points.push_back(a);
-    std::size_t skip = 0;
-    for (std::size_t d = reach; d >= 2; --d) {  // the farthest crossing: nested loops go at once
+    const Vec2 b = o.points[(i + 1) % n];
+    bool cut = false;
+    for (std::size_t d = reach; d >= 2 && !cut; --d) {  // the farthest crossing: nested loops go at once
       const std::size_t j = i + d;
       if (j + 1 >= n) continue;  // not across the start: the petiole stays
       const Vec2& c = o.points[j];
-      const Vec2& e = o.points[(j + 1) % n];
+      const Vec2& e = o.points[j + 1];
       const double den = cross(b - a, e - c);
       if (den == 0 || !segments_touch(a, b, c, e)) continue;
-      const double t = cross(c - a, e - c) / den;
-      out.points.push_back(a + t * (b - a));
-      skip = d;
-      break;
+      a = a + (cross(c - a, e - c) / den) * (b - a);  // the crossing; the margin goes on along edge j
+      out.points.push_back(a);
+      i = j;
+      cut = true;
     }
-    i += skip ? skip + 1 : 1;
+    if (cut) continue;  // the rest of edge j may cross a later edge too
+    if (i + 1 < n) out.points.push_back(b);
+    a = b;
+    ++i;
   }
   return out;
 }
@@ -147,7 +150,11 @@ Outline add_teeth(const Outline& smooth, const std::vector<TriangularWave>& teet
     }
     out.points.push_back(p + std::min(fade * offset, cap) * normal);
   }
-  return without_local_loops(out);
+  // a loop round a corner spans about its teeth's depth each way: that many samples, with room to spare
+  double depth = 0;
+  for (const auto& t : teeth) depth += t.amplitude;
+  const double reach = 64 + std::ceil(4 * depth / (total / static_cast<double>(even)));
+  return without_local_loops(out, static_cast<std::size_t>(std::min(reach, static_cast<double>(n) / 4)));
 }
 
 }  // namespace
@@ -290,7 +297,8 @@ Outline make_outline(const ShapeParams& sp) {
       } catch (const InvalidInput& e) {
         if (fade * 1.5 > 0.5 * L) {
           std::string m = e.what();
-          m = m.substr(m.find("near"));
+          const auto near = m.find("near");
+          m = near == std::string::npos ? m.substr(m.find(':') + 2) : m.substr(near);
           throw InvalidInput("shape.teeth: teeth " + core::number_text(amplitude) +
                              " deep cross each other on this outline (the margin " + m +
                              "); use shallower or fewer teeth");
