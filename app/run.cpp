@@ -198,6 +198,29 @@ fs::path make_staging(const fs::path& dir) {
   return staging;
 }
 
+fs::path first_missing(const fs::path& dir) {
+  std::error_code ec;
+  fs::path missing;
+  for (fs::path p = fs::absolute(dir, ec).lexically_normal(); !ec && !p.empty() && !fs::exists(p, ec);
+       p = p.parent_path()) {
+    missing = p;
+    if (p == p.parent_path()) break;
+  }
+  return missing;
+}
+
+void remove_empty_up_to(const fs::path& dir, const fs::path& top) {
+  if (top.empty()) return;
+  std::error_code ec;
+  fs::path p = fs::absolute(dir, ec).lexically_normal();
+  const fs::path stop = top.lexically_normal();
+  while (!ec && fs::is_directory(p, ec) && fs::is_empty(p, ec) && !ec) {
+    fs::remove(p, ec);
+    if (p == stop || p == p.parent_path()) break;
+    p = p.parent_path();
+  }
+}
+
 bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, bool& warned) {
   try {
     write();
@@ -384,7 +407,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
 
   cells::Simulation& sim = scene->simulation();
   const fs::path dir = s.out_dir;
-  const bool dir_existed = fs::exists(dir);
+  const fs::path created = first_missing(dir);  // made by this run: removed again if it stays empty
   try {
     staging = make_staging(dir);
   } catch (const std::exception& e) {
@@ -393,12 +416,6 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   }
 
   const std::uint64_t first = sim.step_count();
-  const auto& links = sim.cells().links;
-  if (first >= target && std::all_of(links.begin(), links.end(), [](core::Index l) { return l == core::kNoIndex; })) {
-    // no step will run (run{steps = 0}): the links the first step would make, for the surface and the print
-    core::PointGrid grid;
-    cells::update_links(sim.cells(), sim.params(), grid, sim.threads());
-  }
   const std::size_t initial_cells = sim.cells().size();       // of this command
   if (s.initial_cells == 0) s.initial_cells = initial_cells;  // a fresh run (or a checkpoint that did not say)
   if (!o.quiet)
@@ -414,6 +431,12 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   bool saved = false;  // this run wrote checkpoint.cfck (an older one may be there from another run)
   bool checkpoint_warned = false;
   try {
+    const auto& links = sim.cells().links;
+    if (first >= target && std::all_of(links.begin(), links.end(), [](core::Index l) { return l == core::kNoIndex; })) {
+      // no step will run (run{steps = 0}): the links the first step would make, for the surface and the print
+      core::PointGrid grid;
+      cells::update_links(sim.cells(), sim.params(), grid, sim.threads());
+    }
     while (sim.step_count() < target) {
       if (g_interrupt.load()) {
         status = "interrupted";
@@ -549,7 +572,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   }
   std::error_code ec;
   fs::remove_all(staging, ec);
-  if (!dir_existed && fs::is_empty(dir, ec) && !ec) fs::remove(dir, ec);  // a failed run leaves no empty folder
+  remove_empty_up_to(dir, created);  // a failed run leaves no empty folder
   return code;
 }
 

@@ -47,6 +47,10 @@ cells::Cells grow_sheet(const RunOptions& o, const SceneConfig& cfg, ScriptHost&
     progress.update(sim.step_count(), sim.cells().size());
   }
   progress.finish();
+  if (sim.step_count() == 0) {  // no step ran: the links the first step would make, for the sheet's triangles
+    core::PointGrid grid;
+    cells::update_links(sim.cells(), sim.params(), grid, sim.threads());
+  }
   return sim.cells();
 }
 
@@ -131,6 +135,7 @@ const char* domain_name(venation::DomainKind k) {
 int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
                      std::ostream& out, std::ostream& err, std::chrono::steady_clock::time_point t0) {
   const fs::path dir = s.out_dir;
+  const fs::path created = first_missing(dir);  // made by this run: removed again if it stays empty
   fs::path staging;
   try {
     staging = make_staging(dir);
@@ -357,6 +362,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
   }
   std::error_code ec;
   fs::remove_all(staging, ec);
+  remove_empty_up_to(dir, created);  // a failed run leaves no empty folder
   return code;
 }
 

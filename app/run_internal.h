@@ -105,6 +105,13 @@ nlohmann::json write_printable(const std::filesystem::path& dir, const PrintSpec
 /// median link lengths, model units (0 without links).
 double shell_closing(const cells::Cells& cells, double close_holes);
 
+/// The highest of `dir` and its parents that does not exist yet (absolute), or empty when `dir` exists.
+std::filesystem::path first_missing(const std::filesystem::path& dir);
+
+/// Removes `dir` and then its parents, up to and including `top`, while they are empty folders; nothing
+/// when `top` is empty.
+void remove_empty_up_to(const std::filesystem::path& dir, const std::filesystem::path& top);
+
 /// Moves every file of `staging` (recursively) into `dir`, then removes the outputs of an earlier run
 /// (listed in its run.json) that this run did not write again and `keep` does not name. The old run.json
 /// is removed before the first move and the new one moved last, so a folder left between two runs' files

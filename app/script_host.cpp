@@ -338,7 +338,12 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
       const std::string key = m.substr(0, m.find(' '));
       const std::string section = key.substr(0, key.find('.'));
       const std::string at = I.sections_seen.count(section) ? I.sections_seen[section] : I.script_name + ": ";
-      throw InvalidInput(I.value_at(key, at) + m);
+      const std::string where = I.value_at(key, at);
+      std::string sets;  // other values of the section from the command line that took part
+      if (where == at && I.overrides)
+        for (const auto& [k, v] : *I.overrides)
+          if (k.rfind(section + ".", 0) == 0) sets += (sets.empty() ? "" : ", ") + ("--set " + k + "=" + v);
+      throw InvalidInput(where + m + (sets.empty() ? "" : " (with " + sets + ")"));
     }
   }
   return cfg;

@@ -32,6 +32,7 @@ TEST_CASE("a colonisation that never places a source says so", "[cli][colonisati
   r = cli({"run", flood.string(), "--out", (t.path / "f").string(), "--quiet"});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("flood.lua:2: colonisation.darts: "));
+  CHECK_FALSE(fs::exists(t.path / "f"));  // nothing written: no empty folder left
 }
 
 TEST_CASE("3-D space colonisation: veins in a volume and on a grown cell sheet", "[cli][colonisation]") {

@@ -817,6 +817,9 @@ TEST_CASE("a rule that fails in a step before any checkpoint leaves no empty out
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("bad.lua:4:") && Contains("step 5"));
   CHECK_FALSE(fs::exists(out));
+  // nor the folders it made to hold it
+  CHECK(cli({"run", script.string(), "--out", (t.path / "nest" / "a" / "b").string(), "--quiet"}).code == 2);
+  CHECK_FALSE(fs::exists(t.path / "nest"));
   // a folder that was there stays, with what it held
   fs::create_directories(out);
   std::ofstream(out / "notes.txt") << "mine";

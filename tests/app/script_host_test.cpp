@@ -475,6 +475,9 @@ TEST_CASE("a value that fails a check of several parameters is reported where it
              Contains("test/leaf.lua:2:") && Contains("cells.time_step 5 is above the stable limit"));
   CHECK_THAT(load_error("cells { }\ndisc { radius = 3 }\n", {{"cells.time_step", "4"}}),
              Contains("--set cells.time_step=4: cells.time_step 4"));
+  // a --set of another weight that lowered the limit is named too
+  CHECK_THAT(load_error("cells { rest_length = 1 }\ndisc { radius = 3 }\n", {{"cells.spring", "100000"}}),
+             Contains("test/leaf.lua:1: cells.time_step") && Contains("(with --set cells.spring=100000)"));
   // a --set value is named as the --set, not as the script line that set another value
   const std::string print =
       "disc { radius = 3 }\npetiole { at = {0, 0, 0} }\nvenation { }\nprint { formats = \"stl\" }\n";
