@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <chrono>
 #include <fstream>
 #include <iostream>
@@ -39,6 +40,40 @@ std::atomic<bool> g_print_cancel{false};
 
 std::string version() { return CELLFORM_VERSION; }
 
+json physics_of(const json& resolved) {
+  json out = json::object();
+  for (const char* section : {"cells", "division", "venation"}) {
+    if (!resolved.contains(section) || !resolved[section].is_object()) continue;
+    for (const auto& [k, v] : resolved[section].items())
+      if ((v.is_number() || v.is_boolean() || v.is_string()) && v != "<function>") out[section][k] = v;
+  }
+  return out;
+}
+
+Overrides with_physics(const Overrides& overrides, const json& physics) {
+  Overrides out = overrides;
+  if (!physics.is_object()) return out;
+  for (const auto& [section, values] : physics.items())
+    for (const auto& [k, v] : values.items()) {
+      const std::string key = section + "." + k;
+      if (out.count(key)) continue;
+      std::string text;
+      if (v.is_boolean()) {
+        text = v.get<bool>() ? "true" : "false";
+      } else if (v.is_string()) {
+        text = v.get<std::string>();
+      } else if (v.is_number_integer()) {
+        text = v.dump();
+      } else {  // the shortest text that reads back as the same double
+        char buf[32];
+        const auto r = std::to_chars(buf, buf + sizeof buf, v.get<double>());
+        text.assign(buf, r.ptr);
+      }
+      out[key] = text;
+    }
+  return out;
+}
+
 std::string absolute_path_text(const fs::path& p) {
   std::error_code ec;
   const fs::path a = fs::absolute(p, ec);
@@ -68,6 +103,7 @@ Start start_from(const RunOptions& o) {
         s.step = meta.at("step").get<std::uint64_t>();
         s.out_dir = meta.at("out").get<std::string>();
         s.initial_cells = meta.value("initial_cells", std::size_t{0});  // older checkpoints: unknown
+        s.physics = meta.value("physics", json());                      // older checkpoints: not recorded
         const std::string mode = meta.value("mode", std::string("cells"));
         if (mode != "cells" && mode != "colonisation")
           throw core::FileError(what + " is corrupt (unknown run mode '" + mode.substr(0, 40) + "')");
@@ -137,7 +173,8 @@ std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t t
                {"target_steps", target},
                {"step", scene.simulation().step_count()},
                {"out", absolute_path_text(s.out_dir)},
-               {"initial_cells", s.initial_cells}};
+               {"initial_cells", s.initial_cells},
+               {"physics", s.physics}};
   return core::write_chunk_file(
       kCheckpointKind, kCheckpointVersion,
       {{"meta", meta.dump()}, {"script", s.source}, {"cells", cells::save(scene.simulation().cells())}});
@@ -355,6 +392,16 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     s = start_from(o);
     try {
       cfg = host.load(s.source, s.script_path, s.sets);
+      // a resumed cell run steps with the values it was saved with, whatever the defaults are now: the
+      // script is read again with those that changed set
+      if (s.resume && s.physics.is_object() && !cfg.colonisation) {
+        const json now = physics_of(cfg.resolved);
+        json changed = json::object();
+        for (const auto& [section, values] : s.physics.items())
+          for (const auto& [k, v] : values.items())
+            if (!now.contains(section) || !now[section].contains(k) || now[section][k] != v) changed[section][k] = v;
+        if (!changed.empty()) cfg = host.load(s.source, s.script_path, with_physics(s.sets, changed));
+      }
     } catch (const core::InvalidInput& e) {
       if (!s.resume) throw;  // a resumed script is the checkpoint's copy, with its saved --set overrides
       throw core::InvalidInput(std::string(e.what()) + " (resuming checkpoint '" + o.checkpoint.string() +
@@ -369,6 +416,11 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                                " run, but its script with these --set overrides now describes a " +
                                (cfg.colonisation ? "space-colonisation" : "cell") + " run");
     if (cfg.colonisation) return run_colonisation(o, s, cfg, host, seed, out, err, t0);
+    if (s.resume && !s.physics.is_object())
+      err << "cellform: note: checkpoint '" << o.checkpoint.string()
+          << "' does not record its run's parameter values (an older cellform): defaults changed since apply "
+             "(division.radius is 1.25, was 1.5)\n";
+    s.physics = physics_of(cfg.resolved);
     if (s.checkpoint_every) {  // exactly as asked (now or by the run resumed): no seconds between them
       cfg.output.checkpoint_every = *s.checkpoint_every;
       cfg.output.checkpoint_seconds = 0;

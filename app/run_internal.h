@@ -45,7 +45,17 @@ struct Start {
   std::size_t initial_cells = 0;   // cells when the run (not this resume) started; 0 = not known yet
   bool resume = false;
   std::optional<std::uint64_t> checkpoint_every;  // --checkpoint-every of the run (kept by its checkpoints)
+  nlohmann::json physics;  // the run's cell, division and venation values (physics_of); resume: as saved, or null
 };
+
+/// The scalar values of `resolved`'s cells, division and venation sections (rule functions left out): what
+/// a cell checkpoint keeps, so that a resume steps with the values the run was saved with even when
+/// cellform's defaults have changed since.
+nlohmann::json physics_of(const nlohmann::json& resolved);
+
+/// `overrides` plus, for every value of `physics` (physics_of, or a part of it) that they do not set, that
+/// value as an override text that reads back the same.
+Overrides with_physics(const Overrides& overrides, const nlohmann::json& physics);
 
 /// `p` made absolute (against the current directory) for a checkpoint, so that resume works from
 /// anywhere; `p` itself if the current directory cannot be read.

@@ -826,3 +826,39 @@ TEST_CASE("a rule that fails in a step before any checkpoint leaves no empty out
   CHECK(cli({"run", script.string(), "--out", out.string(), "--quiet"}).code == 2);
   CHECK(slurp(out / "notes.txt") == "mine");
 }
+
+TEST_CASE("a resume steps with the values its run was saved with, though a default changed since",
+          "[cli][checkpoint]") {
+  TempDir t("cli-physics");
+  const auto script =
+      t.write("n.lua", "division { trigger = 'neighbours' }\ndisc { radius = 3 }\nrun { steps = 10 }\n");
+  const fs::path out = t.path / "o";
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "4"}).code == 0);
+  cellform::core::ChunkFile saved = cellform::core::read_chunk_file(slurp(out / "checkpoint.cfck"), "CKPT", 1, "test");
+  auto meta = nlohmann::json::parse(saved.chunks.at("meta"));
+  REQUIRE(meta["physics"]["division"]["radius"] == 1.25);  // recorded, though the script does not set it
+  // as if saved when the default was 1.5
+  meta["physics"]["division"]["radius"] = 1.5;
+  auto forged = saved.chunks;
+  forged["meta"] = meta.dump();
+  const fs::path older = t.path / "older" / "checkpoint.cfck";
+  fs::create_directories(older.parent_path());
+  t.write("older/checkpoint.cfck", cellform::core::write_chunk_file("CKPT", 1, forged));
+  auto r = cli({"resume", older.string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const auto run = nlohmann::json::parse(slurp(older.parent_path() / "run.json"));
+  CHECK(run["parameters"]["division"]["radius"] == 1.5);
+  const auto again = nlohmann::json::parse(
+      cellform::core::read_chunk_file(slurp(older), "CKPT", 1, "test").chunks.at("meta"))["physics"];
+  CHECK(again["division"]["radius"] == 1.5);
+  CHECK(again["division"]["trigger"] == "neighbours");
+  // a checkpoint that records no values (an older cellform) resumes with today's, and says so
+  meta.erase("physics");
+  forged["meta"] = meta.dump();
+  fs::create_directories(t.path / "oldest");
+  const auto oldest = t.write("oldest/checkpoint.cfck", cellform::core::write_chunk_file("CKPT", 1, forged));
+  r = cli({"resume", oldest.string(), "--quiet"});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("does not record its run's parameter values"));
+}
