@@ -223,9 +223,14 @@ void section_leaf(Impl& I, const std::string& at) {
       std::filesystem::path file = v["file"].str;
       if (file.is_relative()) file = I.script_dir / file;
       leaf.outline = venation::read_outline(file);
-      // any drawing unit: the farthest vertex from the petiole (0, 0) is one leaf length
-      double reach = 0;
-      for (const venation::Vec2& q : leaf.outline.points) reach = std::max(reach, q.norm());
+      // any drawing unit: the tip (the highest y; the petiole is (0, 0)) is one leaf length, as the built-in
+      // shapes' is; an outline drawn below its petiole is measured by its farthest vertex instead
+      double reach = 0, far = 0;
+      for (const venation::Vec2& q : leaf.outline.points) {
+        reach = std::max(reach, q.y());
+        far = std::max(far, q.norm());
+      }
+      if (!(reach > 1e-6 * far)) reach = far;
       if (!(reach > 0) || !std::isfinite(1 / reach))
         throw InvalidInput("leaf.file: every vertex of the outline is at the petiole (0, 0)");
       for (venation::Vec2& q : leaf.outline.points) q /= reach;

@@ -249,7 +249,7 @@ TEST_CASE("a colonisation run stopped by max_nodes says so, and resumes under th
   CHECK(run2["veins"]["nodes"].get<std::size_t>() >= 80);
 }
 
-TEST_CASE("an outline file in any unit is one leaf length from petiole to its farthest vertex", "[cli][colonisation]") {
+TEST_CASE("an outline file in any unit is one leaf length from petiole to tip", "[cli][colonisation]") {
   TempDir t("cli-outline-unit");
   // a kite with its tip 1 from the petiole, and the same drawn 128 times larger (scaling back is exact)
   const std::string kite = "0 0\n0.5 0.5\n0 1\n-0.5 0.5\n0 0\n";
