@@ -102,6 +102,8 @@ Start start_from(const RunOptions& o) {
         s.target_steps = meta.at("target_steps").get<std::uint64_t>();
         s.step = meta.at("step").get<std::uint64_t>();
         s.out_dir = meta.at("out").get<std::string>();
+        if (meta.contains("initial_cells") && !meta["initial_cells"].is_number_unsigned())
+          throw core::FileError(what + " is corrupt (metadata 'initial_cells' is not a whole number >= 0)");
         s.initial_cells = meta.value("initial_cells", std::size_t{0});  // older checkpoints: unknown
         s.physics = meta.value("physics", json());                      // older checkpoints: not recorded
         const std::string mode = meta.value("mode", std::string("cells"));

@@ -337,6 +337,12 @@ TEST_CASE("corrupt, foreign and truncated checkpoints are refused clearly", "[cl
   r = cli({"resume", t.write("negative.cfck", cellform::core::write_chunk_file("CKPT", 1, forged)).string()});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("corrupt") && Contains("'step' is not a whole number >= 0"));
+  meta["step"] = 5;
+  meta["initial_cells"] = -3;
+  forged["meta"] = meta.dump();
+  r = cli({"resume", t.write("negative2.cfck", cellform::core::write_chunk_file("CKPT", 1, forged)).string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("'initial_cells' is not a whole number >= 0"));
 }
 
 TEST_CASE("a commit stopped between two runs' files leaves no run.json", "[cli]") {
