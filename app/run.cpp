@@ -410,6 +410,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                                "', which keeps the script and the --set overrides of its run)");
     }
     seed = s.seed ? *s.seed : cfg.seed;
+    host.set_seed(seed);  // math.random in rules: from the seed and the step
     if (cfg.resolved.contains("run")) cfg.resolved["run"]["seed"] = seed;  // run.json: the seed used (--seed too)
     target = s.has_target ? s.target_steps : cfg.steps;
     if (s.resume && cfg.colonisation.has_value() != !s.colonisation_bytes.empty())

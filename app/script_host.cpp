@@ -2,6 +2,7 @@
 #include "app/script_host.h"
 
 #include "app/script_impl.h"
+#include "core/random.h"
 
 namespace cellform::app {
 
@@ -165,6 +166,15 @@ ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
   lua_pushnil(L);
   lua_setfield(L, -2, "dump");
   lua_pop(L, 1);
+  // math.random is reproducible: Lua 5.4 seeds it randomly; here 0 while a script is read, then the run's
+  // seed and the step (set_step). The library's own randomseed is kept for that, whatever a script does.
+  lua_getglobal(L, LUA_MATHLIBNAME);
+  lua_getfield(L, -1, "randomseed");
+  lua_pushvalue(L, -1);
+  I.randomseed_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+  lua_pushinteger(L, 0);
+  lua_call(L, 1, 0);
+  lua_pop(L, 1);
   for (const char* section : kSections) {
     lua_pushstring(L, section);
     lua_pushcclosure(L, std::string_view(section) == "print" ? api_print : api_section, 1);
@@ -179,6 +189,15 @@ ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
 
 ScriptHost::~ScriptHost() {
   if (impl_ && impl_->L) lua_close(impl_->L);
+}
+
+void ScriptHost::set_step(std::uint64_t step) {
+  step_ = step;
+  lua_State* L = impl_->L;
+  lua_rawgeti(L, LUA_REGISTRYINDEX, impl_->randomseed_ref);
+  lua_pushinteger(L, static_cast<lua_Integer>(core::mix64(seed_) & 0x7fffffffffffffffull));
+  lua_pushinteger(L, static_cast<lua_Integer>(step));
+  lua_call(L, 2, 0);
 }
 
 void ScriptHost::set_print(std::function<void(const std::string&)> print) { impl_->print = std::move(print); }

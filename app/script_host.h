@@ -113,8 +113,14 @@ class ScriptHost {
   /// The venation source rule of the loaded script (empty if it gave a number).
   venation::SourceRule source_rule();
 
-  /// The step number that rule errors report.
-  void set_step(std::uint64_t step) { step_ = step; }
+  /// The step number that rule errors report. Also reseeds the script's math.random from the run's seed
+  /// and this step, so that rules drawing random numbers give the same results for the same seed, on any
+  /// thread count, and after a resume.
+  void set_step(std::uint64_t step);
+
+  /// The run's seed, for math.random in rules (set_step). While a script is read, math.random is seeded
+  /// with 0.
+  void set_seed(std::uint64_t seed) { seed_ = seed; }
 
   /// Where print() in a script goes (default: nowhere).
   void set_print(std::function<void(const std::string&)> print);
@@ -125,6 +131,7 @@ class ScriptHost {
  private:
   std::unique_ptr<Impl> impl_;
   std::uint64_t step_ = 0;
+  std::uint64_t seed_ = 0;
 };
 
 /// A message of venation/ in the script's terms (colonisation.scale_step -> colonisation.length_step,

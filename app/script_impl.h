@@ -142,6 +142,7 @@ struct ScriptHost::Impl {
   // "file:line: " of the section that set each rule, for the messages of its calls during the run
   std::string divides_at, direction_at, source_at;
   int cell_table_ref = LUA_NOREF;
+  int randomseed_ref = LUA_NOREF;  // math.randomseed as the library made it (ScriptHost::set_step)
 
   static void* alloc(void* ud, void* ptr, std::size_t osize, std::size_t nsize) {
     auto* self = static_cast<Impl*>(ud);
