@@ -446,32 +446,37 @@ Surface triangulate(const Cells& cells, bool one_layer) {
         }
       }
     }
-    // Which side faces out: a piece that encloses a volume (closed, or nearly: a small hole is filled
-    // below) outward, by its signed volume about its centroid; an open sheet up (+z, then +y, then +x),
-    // by its area vector, so a leaf's normals point to the sky. Enclosing: its area vector (what its
-    // boundary spans) is under a quarter of its area; a hemisphere's is half, a flat sheet's all of it.
+    // Which side faces out: a piece that encloses a volume (closed, or nearly: small holes, filled below)
+    // outward, by its signed volume about its centroid; an open sheet up (+z, then +y, then +x), by its
+    // area vector, so a leaf's normals point to the sky. Enclosing: its boundary is short for its area,
+    // length^2 < 3 area (a sphere without a cap of 0.3 of its radius: 1.3; a hemisphere: 2 pi; a disc,
+    // however ruffled: at least 4 pi).
     Vec3 centre = Vec3::Zero();
     for (const std::size_t t : component)
       centre += cells.position[tris[t][0]] + cells.position[tris[t][1]] + cells.position[tris[t][2]];
     centre /= 3.0 * static_cast<double>(component.size());
-    double volume = 0, total = 0;
-    Vec3 area = Vec3::Zero();
+    double volume = 0, area = 0, boundary = 0;
+    Vec3 up = Vec3::Zero();
     for (const std::size_t t : component) {
       const Vec3 a = cells.position[tris[t][0]] - centre, b = cells.position[tris[t][1]] - centre,
                  c = cells.position[tris[t][2]] - centre;
       volume += a.dot(b.cross(c));
       const Vec3 n = (b - a).cross(c - a);
-      area += n;
-      total += n.norm();
+      up += n;
+      area += n.norm() / 2;
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t e = edge_index(tris[t][k], tris[t][(k + 1) % 3]);
+        if (inc_start[e + 1] - inc_start[e] == 1)
+          boundary += (cells.position[tris[t][k]] - cells.position[tris[t][(k + 1) % 3]]).norm();
+      }
     }
-    const double span = area.norm();
     bool flip = false;
-    if (span < 0.25 * total)
+    if (boundary * boundary < 3 * area)
       flip = volume < 0;
     else
       for (int axis : {2, 1, 0})
-        if (std::abs(area[axis]) > 1e-6 * span) {
-          flip = area[axis] < 0;
+        if (std::abs(up[axis]) > 1e-6 * up.norm()) {
+          flip = up[axis] < 0;
           break;
         }
     if (flip)

@@ -279,6 +279,23 @@ TEST_CASE("a closed sheet faces outward, an open one up", "[surface]") {
         sphere_surface([&](int, const Vec3& q) { return cut > 0 ? q.z() > cut * r : q.z() < cut * r; });
     CHECK(signed_volume(capped, cs) > 0.5 * ball);
   }
+  // a steeply ruffled open sheet (an egg crate, its area vector a small part of its area) faces up too:
+  // its volume about its centroid says nothing
+  for (const double amplitude : {0.0, 1.5, 6.0}) {
+    INFO("ruffles " << amplitude);
+    Cells crate = cellform::testing::hex_sheet(12, 12);
+    cellform::testing::link_lattice(crate);  // the links of the flat lattice, then the ruffles
+    for (Vec3& q : crate.position) q.z() = amplitude * std::sin(1.6 * q.x()) * std::sin(1.6 * q.y());
+    Vec3 up = Vec3::Zero();
+    double total = 0;
+    for (const auto& t : triangulate(crate).triangles) {
+      const Vec3 n = (crate.position[t[1]] - crate.position[t[0]]).cross(crate.position[t[2]] - crate.position[t[0]]);
+      up += n;
+      total += n.norm();
+    }
+    CHECK(up.z() > 0);
+    if (amplitude == 6.0) CHECK(up.norm() < 0.25 * total);  // where the area-vector test took it for closed
+  }
   // an open sheet, mirrored so that its lattice order would face down: its normals point up (+z)
   Cells sheet = cellform::testing::hex_sheet(6, 7);
   for (Vec3& q : sheet.position) q.x() = -q.x();
