@@ -399,10 +399,23 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       if (s.resume && s.physics.is_object() && !cfg.colonisation) {
         const json now = physics_of(cfg.resolved);
         json changed = json::object();
+        std::string listed;
         for (const auto& [section, values] : s.physics.items())
           for (const auto& [k, v] : values.items())
-            if (!now.contains(section) || !now[section].contains(k) || now[section][k] != v) changed[section][k] = v;
-        if (!changed.empty()) cfg = host.load(s.source, s.script_path, with_physics(s.sets, changed));
+            if (now.contains(section) && now[section].contains(k) && now[section][k] != v) {  // known both ways
+              changed[section][k] = v;
+              listed += (listed.empty() ? "" : ", ") + section + "." + k + " = " + v.dump() + " (now " +
+                        now[section][k].dump() + ")";
+            }
+        if (!changed.empty()) {
+          try {
+            cfg = host.load(s.source, s.script_path, with_physics(s.sets, changed));
+          } catch (const core::InvalidInput& e) {  // a value the script now refuses (one a rule replaces)
+            cfg = host.load(s.source, s.script_path, s.sets);
+            err << "cellform: warning: the run was saved with " << listed << ", which this script no longer accepts ("
+                << e.what() << "); it continues with today's\n";
+          }
+        }
       }
     } catch (const core::InvalidInput& e) {
       if (!s.resume) throw;  // a resumed script is the checkpoint's copy, with its saved --set overrides
@@ -419,10 +432,14 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                                " run, but its script with these --set overrides now describes a " +
                                (cfg.colonisation ? "space-colonisation" : "cell") + " run");
     if (cfg.colonisation) return run_colonisation(o, s, cfg, host, seed, out, err, t0);
-    if (s.resume && !s.physics.is_object())
+    // the one default changed since checkpoints record their values: say so where it applies
+    const json division = cfg.resolved.value("division", json::object());
+    if (s.resume && !s.physics.is_object() && division.value("trigger", "") == "neighbours" &&
+        division.value("radius", 0.0) == 1.25 && !division.value("rule", json()).is_string() &&
+        !s.sets.count("division.radius"))
       err << "cellform: note: checkpoint '" << o.checkpoint.string()
-          << "' does not record its run's parameter values (an older cellform): defaults changed since apply "
-             "(division.radius is 1.25, was 1.5)\n";
+          << "' does not record its run's parameter values (an older cellform): if the script leaves "
+             "division.radius to its default, the run continues with 1.25 (the default was 1.5)\n";
     s.physics = physics_of(cfg.resolved);
     if (s.checkpoint_every) {  // exactly as asked (now or by the run resumed): no seconds between them
       cfg.output.checkpoint_every = *s.checkpoint_every;

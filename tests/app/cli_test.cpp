@@ -867,6 +867,25 @@ TEST_CASE("a resume steps with the values its run was saved with, though a defau
   r = cli({"resume", oldest.string(), "--quiet"});
   CHECK(r.code == 0);
   CHECK_THAT(r.err, Contains("does not record its run's parameter values"));
+  // a changed value the script refuses now (division.radius beside a division.rule) is said, not fatal;
+  // a value this cellform does not know is left alone
+  const auto ruled = t.write("r.lua",
+                             "division { rule = function(c) return c.age > 4 end, max_cells = 200 }\n"
+                             "disc { radius = 3 }\nrun { steps = 10 }\n");
+  REQUIRE(cli({"run", ruled.string(), "--out", (t.path / "r").string(), "--quiet", "--steps", "4"}).code == 0);
+  saved = cellform::core::read_chunk_file(slurp(t.path / "r" / "checkpoint.cfck"), "CKPT", 1, "test");
+  meta = nlohmann::json::parse(saved.chunks.at("meta"));
+  meta["physics"]["division"]["radius"] = 1.5;
+  meta["physics"]["cells"]["no_such_weight"] = 2;
+  forged = saved.chunks;
+  forged["meta"] = meta.dump();
+  fs::create_directories(t.path / "ruled");
+  const auto ruled_ck = t.write("ruled/checkpoint.cfck", cellform::core::write_chunk_file("CKPT", 1, forged));
+  r = cli({"resume", ruled_ck.string(), "--quiet"});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("warning: the run was saved with division.radius = 1.5 (now 1.25)") &&
+                        !Contains("no_such_weight"));
 }
 
 TEST_CASE("math.random in a rule gives the same cells for the same seed, after a resume too", "[cli][checkpoint]") {
