@@ -237,11 +237,19 @@ fs::path make_staging(const fs::path& dir) {
   return staging;
 }
 
+namespace {
+/// `dir` absolute and normal, without a trailing separator ("a/b/" is "a/b").
+fs::path plain_path(const fs::path& dir, std::error_code& ec) {
+  fs::path p = fs::absolute(dir, ec).lexically_normal();
+  if (p.has_parent_path() && p.filename().empty()) p = p.parent_path();
+  return p;
+}
+}  // namespace
+
 fs::path first_missing(const fs::path& dir) {
   std::error_code ec;
   fs::path missing;
-  for (fs::path p = fs::absolute(dir, ec).lexically_normal(); !ec && !p.empty() && !fs::exists(p, ec);
-       p = p.parent_path()) {
+  for (fs::path p = plain_path(dir, ec); !ec && !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
     missing = p;
     if (p == p.parent_path()) break;
   }
@@ -251,8 +259,8 @@ fs::path first_missing(const fs::path& dir) {
 void remove_empty_up_to(const fs::path& dir, const fs::path& top) {
   if (top.empty()) return;
   std::error_code ec;
-  fs::path p = fs::absolute(dir, ec).lexically_normal();
-  const fs::path stop = top.lexically_normal();
+  fs::path p = plain_path(dir, ec);
+  const fs::path stop = plain_path(top, ec);
   while (!ec && fs::is_directory(p, ec) && fs::is_empty(p, ec) && !ec) {
     fs::remove(p, ec);
     if (p == stop || p == p.parent_path()) break;
@@ -484,6 +492,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     staging = make_staging(dir);
   } catch (const std::exception& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
+    remove_empty_up_to(dir, created);
     return failure;
   }
 

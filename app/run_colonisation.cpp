@@ -141,6 +141,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     staging = make_staging(dir);
   } catch (const std::exception& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
+    remove_empty_up_to(dir, created);
     return failure;
   }
   ColonisationSpec& spec = *cfg.colonisation;

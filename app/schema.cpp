@@ -173,7 +173,8 @@ std::vector<Field> build() {
   f.push_back(num("leaf", "tooth_depth", "0.02", 0, 1, false, "leaf lengths", "height of the teeth"));
   f.push_back(text("leaf", "file", "(none)",
                    "outline file (one 'x y' per line, closed, petiole at (0, 0), any unit: scaled so its tip, the "
-                   "highest y, is one leaf length; relative to the script) instead of a shape"));
+                   "highest y (at least half the farthest vertex's distance), is one leaf length; relative to "
+                   "the script) instead of a shape"));
   f.push_back(integer("leaf", "seeds", "1", 1, 10000, "",
                       "initial vein nodes spread along the base (several: grass-like parallel veins)"));
   f.push_back(

@@ -224,13 +224,14 @@ void section_leaf(Impl& I, const std::string& at) {
       if (file.is_relative()) file = I.script_dir / file;
       leaf.outline = venation::read_outline(file);
       // any drawing unit: the tip (the highest y; the petiole is (0, 0)) is one leaf length, as the built-in
-      // shapes' is; an outline drawn below its petiole is measured by its farthest vertex instead
+      // shapes' is; an outline not drawn upwards from its petiole by at least half its farthest vertex's
+      // distance is measured by that half (so the scale never jumps with a vertex nudged across y = 0)
       double reach = 0, far = 0;
       for (const venation::Vec2& q : leaf.outline.points) {
         reach = std::max(reach, q.y());
         far = std::max(far, q.norm());
       }
-      if (!(reach > 1e-6 * far)) reach = far;
+      reach = std::max(reach, 0.5 * far);
       if (!(reach > 0) || !std::isfinite(1 / reach))
         throw InvalidInput("leaf.file: every vertex of the outline is at the petiole (0, 0)");
       for (venation::Vec2& q : leaf.outline.points) q /= reach;

@@ -266,6 +266,18 @@ TEST_CASE("an outline file in any unit is one leaf length from petiole to tip", 
   const auto ja = nlohmann::json::parse(slurp(t.path / "a" / "run.json"));
   CHECK(ja["veins"]["nodes"].get<int>() > 20);
   CHECK(slurp(t.path / "a" / "veins.ply") == slurp(t.path / "b" / "veins.ply"));  // the same leaf, 30 long
+  // one drawn hanging below its petiole is measured by half its farthest vertex, so nudging a vertex
+  // just above y = 0 changes nothing (it once scaled the leaf by a thousand)
+  t.write("hang.txt", "0 0\n0.5 -0.5\n0 -1\n-0.5 -0.5\n0 0\n");
+  t.write("nudged.txt", "0 0\n0.5 0.001\n0.5 -0.5\n0 -1\n-0.5 -0.5\n0 0\n");
+  std::vector<double> born;
+  for (const char* f : {"hang", "nudged"}) {
+    const auto sc = t.write(std::string(f) + ".lua", "leaf { file = '" + std::string(f) + ".txt' }\n" + rest);
+    const fs::path o = t.path / f;
+    REQUIRE(cli({"run", sc.string(), "--out", o.string(), "--quiet"}).code == 0);
+    born.push_back(nlohmann::json::parse(slurp(o / "run.json"))["veins"]["sources_born"].get<double>());
+  }
+  CHECK(born[1] < 2 * born[0] + 10);
   // a file whose every vertex is the petiole is refused
   t.write("dot.txt", "0 0\n0 0\n0 0\n0 0\n");
   const auto c = t.write("c.lua", "leaf { file = 'dot.txt' }\n" + rest);

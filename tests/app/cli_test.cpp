@@ -826,6 +826,8 @@ TEST_CASE("a rule that fails in a step before any checkpoint leaves no empty out
   // nor the folders it made to hold it
   CHECK(cli({"run", script.string(), "--out", (t.path / "nest" / "a" / "b").string(), "--quiet"}).code == 2);
   CHECK_FALSE(fs::exists(t.path / "nest"));
+  CHECK(cli({"run", script.string(), "--out", (t.path / "nest" / "a" / "b").string() + "/", "--quiet"}).code == 2);
+  CHECK_FALSE(fs::exists(t.path / "nest"));  // a trailing slash too
   // a folder that was there stays, with what it held
   fs::create_directories(out);
   std::ofstream(out / "notes.txt") << "mine";
