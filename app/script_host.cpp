@@ -358,10 +358,15 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
       const std::string section = key.substr(0, key.find('.'));
       const std::string at = I.sections_seen.count(section) ? I.sections_seen[section] : I.script_name + ": ";
       const std::string where = I.value_at(key, at);
-      std::string sets;  // other values of the section from the command line that took part
-      if (where == at && I.overrides)
-        for (const auto& [k, v] : *I.overrides)
-          if (k.rfind(section + ".", 0) == 0) sets += (sets.empty() ? "" : ", ") + ("--set " + k + "=" + v);
+      std::string sets;  // the stable time step's other inputs set on the command line
+      if (key == "cells.time_step" && I.overrides)
+        for (const auto& [k, v] : *I.overrides) {
+          const bool weight = k.rfind("cells.vein.", 0) == 0 || k.rfind("cells.petiole.", 0) == 0 ||
+                              k == "cells.spring" || k == "cells.planar" || k == "cells.cohesion" ||
+                              k == "cells.separation" || k == "cells.rest_length" || k == "cells.integrator" ||
+                              k == "cells.vein_cohesion_factor" || k == "cells.vein_separation_factor";
+          if (weight) sets += (sets.empty() ? "" : ", ") + ("--set " + k + "=" + v);
+        }
       throw InvalidInput(where + m + (sets.empty() ? "" : " (with " + sets + ")"));
     }
   }

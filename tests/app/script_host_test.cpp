@@ -476,8 +476,11 @@ TEST_CASE("a value that fails a check of several parameters is reported where it
   CHECK_THAT(load_error("cells { }\ndisc { radius = 3 }\n", {{"cells.time_step", "4"}}),
              Contains("--set cells.time_step=4: cells.time_step 4"));
   // a --set of another weight that lowered the limit is named too
-  CHECK_THAT(load_error("cells { rest_length = 1 }\ndisc { radius = 3 }\n", {{"cells.spring", "100000"}}),
+  CHECK_THAT(load_error("cells { rest_length = 1 }\ndisc { radius = 3 }\n",
+                        {{"cells.spring", "100000"}, {"cells.max_speed", "5"}}),
              Contains("test/leaf.lua:1: cells.time_step") && Contains("(with --set cells.spring=100000)"));
+  CHECK_THAT(load_error("cells { }\ndisc { radius = 3 }\n", {{"cells.time_step", "3"}, {"cells.spring", "3"}}),
+             Contains("--set cells.time_step=3: ") && Contains("(with --set cells.spring=3)"));
   // a --set value is named as the --set, not as the script line that set another value
   const std::string print =
       "disc { radius = 3 }\npetiole { at = {0, 0, 0} }\nvenation { }\nprint { formats = \"stl\" }\n";
