@@ -15,20 +15,20 @@ std::pair<Vec2, Vec2> drawing_bounds(const VeinTree& tree, const Outline& outlin
 /// The drawing is in millimetres, for plotters and laser cutters: the file's width and height carry "mm"
 /// and one user unit of the viewBox is one millimetre.
 struct SvgParams {
-  double size = 200;          ///< mm: longer side of the drawn box (outline and vein nodes), margin excluded
-  double scale = 0;           ///< mm per model unit; when > 0 it replaces `size` (e.g. a print's scale)
-  double margin = 5;          ///< mm: blank border around the drawing
-  double min_stroke = 0.1;    ///< mm: thinnest drawn vein (radius 0 or before compute_widths)
+  double size = 200;            ///< mm: longer side of the drawn box (outline and vein nodes), margin excluded
+  double scale = 0;             ///< mm per model unit; when > 0 it replaces `size` (e.g. a print's scale)
+  double margin = 5;            ///< mm: blank border around the drawing
+  double min_stroke = 0.1;      ///< mm: thinnest drawn vein (radius 0 or before compute_widths)
   double outline_stroke = 0.2;  ///< mm: width of the outline's line
-  bool draw_sources = false;  ///< draw the sources passed in as dots of 1 mm diameter
+  bool draw_sources = false;    ///< draw the sources passed in as dots of 1 mm diameter
 };
 
 /// SVG of the outline (filled light green) and the veins as stroked paths of width 2 * radius of each
 /// segment's child node (tip radius for anastomoses; at least min_stroke): one path runs through every node
 /// with a single child while the width stays the same, so a plotter lifts its pen only at branch points,
 /// width changes and tips. Anastomoses are one path each. All is scaled by the same factor
-/// (`scale`, or else size / the box's longer side: mm per model unit), y pointing up. Written atomically; core::FileError
-/// on failure.
+/// (`scale`, or else size / the box's longer side: mm per model unit), y pointing up. Written atomically;
+/// core::FileError on failure.
 void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline,
                const SvgParams& params = {}, const std::vector<Vec3>& sources = {});
 

@@ -6,13 +6,13 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <cctype>
 #include <fstream>
-#include <sstream>
 #include <limits>
+#include <sstream>
 
 #include "core/errors.h"
 #include "export/mesh_files.h"
@@ -196,7 +196,8 @@ TEST_CASE("the walls of a closed pocket inside a solid count as a cavity, not a 
   CHECK(r.parts == 2);
   CHECK(r.pieces == 1);
   CHECK(r.cavities == 1);
-  CHECK(r.volume == Approx(exporters::signed_volume(uv_sphere(24, 48, 2.0)) - exporters::signed_volume(uv_sphere(16, 32, 1.0))));
+  CHECK(r.volume ==
+        Approx(exporters::signed_volume(uv_sphere(24, 48, 2.0)) - exporters::signed_volume(uv_sphere(16, 32, 1.0))));
   CHECK_THAT(r.summary(), Catch::Contains("2 parts (1 solid piece, 1 closed cavity inside)"));
 }
 

@@ -70,8 +70,8 @@ TEST_CASE("the SVG is drawn in millimetres at svg size", "[vein_io]") {
   const std::vector<double> strokes = captured(svg, "stroke-width=\"([0-9.]+)\"");
   REQUIRE(strokes.size() == 3);
   CHECK(strokes[0] == Approx(sp.outline_stroke));
-  CHECK(strokes[1] == Approx(2 * 0.5 * 3));          // the midvein: 3 mm wide
-  CHECK(strokes[2] == Approx(sp.min_stroke));        // 0.06 mm drawn at the minimum
+  CHECK(strokes[1] == Approx(2 * 0.5 * 3));    // the midvein: 3 mm wide
+  CHECK(strokes[2] == Approx(sp.min_stroke));  // 0.06 mm drawn at the minimum
 
   // a given scale (a print's, mm per model unit) replaces the size
   sp.scale = 2;
@@ -105,11 +105,9 @@ TEST_CASE("the SVG draws a vein as one path between branch points and width chan
     paths.push_back((*it)[1].str() + ": " + (*it)[2].str());
   // x -> 5 + x, y -> 5 + (5 - y): the trunk 0-1 ends at the branch point 1; 1-2-3 runs on; 3-4 is thinner;
   // the branch 1-5; then the anastomosis 4-5 on its own
-  const std::vector<std::string> expected{
-      "1.000: M6.000 10.000 L7.000 10.000",
-      "1.000: M7.000 10.000 L8.000 10.000 L9.000 10.000",
-      "0.500: M9.000 10.000 L10.000 10.000",
-      "1.000: M7.000 10.000 L7.000 8.000",
-      "0.500: M10.000 10.000 L7.000 8.000"};  // the tip radius, 0.25
+  const std::vector<std::string> expected{"1.000: M6.000 10.000 L7.000 10.000",
+                                          "1.000: M7.000 10.000 L8.000 10.000 L9.000 10.000",
+                                          "0.500: M9.000 10.000 L10.000 10.000", "1.000: M7.000 10.000 L7.000 8.000",
+                                          "0.500: M10.000 10.000 L7.000 8.000"};  // the tip radius, 0.25
   CHECK(paths == expected);
 }
