@@ -11,6 +11,15 @@
 
 namespace cellform::test {
 
+/// A small cell run (a disc with a petiole, 30 steps, up to 400 cells): seconds to run.
+inline const char* kSmall =
+    "local P = params { size = 400 }\n"
+    "cells { time_step = 0.2, separation = 0.05, drag = {0.8, 0.8, 0.5} }\n"
+    "division { trigger = 'age', age = 6, min_age = 3, probability = 0.5, max_cells = P.size }\n"
+    "run { steps = 30 }\n"
+    "disc { radius = 3 }\n"
+    "petiole { at = {0, 0, 0} }\n";
+
 /// A fresh directory under the system temp dir, removed at scope end.
 struct TempDir {
   std::filesystem::path path;

@@ -1,0 +1,158 @@
+// The output folder of a run: its staging folder, the commit of the outputs into it, the frames an
+// earlier run left there, and the empty folders a failed run made.
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <fstream>
+#include <set>
+
+#include "app/run_internal.h"
+#include "core/atomic_file.h"
+#include "core/errors.h"
+
+namespace cellform::app {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+/// Creates `dir` and a private staging folder inside it, where a run's outputs wait until all are complete.
+fs::path make_staging(const fs::path& dir) {
+  core::ensure_directory(dir);
+  // staging folders and half-written checkpoints ("checkpoint.cfck.tmp-PID") of runs that were killed (a
+  // second Ctrl-C, SIGKILL) are removed: their process is gone
+  std::error_code ec;
+  const std::string tmp_checkpoint = std::string(kCheckpointName) + ".tmp-";
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    const bool staging_dir = name.rfind(".partial-", 0) == 0 && e.is_directory(ec);
+    const bool checkpoint_tmp = name.rfind(tmp_checkpoint, 0) == 0 && e.is_regular_file(ec);
+    if (!staging_dir && !checkpoint_tmp) continue;
+    const std::string digits = name.substr(staging_dir ? 9 : tmp_checkpoint.size());
+    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    const auto pid = static_cast<pid_t>(std::stol(digits));
+    if (pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) fs::remove_all(e.path(), ec);
+  }
+  const fs::path staging = dir / (".partial-" + std::to_string(::getpid()));
+  core::ensure_directory(staging);
+  return staging;
+}
+
+namespace {
+/// `dir` absolute and normal, without a trailing separator ("a/b/" is "a/b").
+fs::path plain_path(const fs::path& dir, std::error_code& ec) {
+  fs::path p = fs::absolute(dir, ec).lexically_normal();
+  if (p.has_parent_path() && p.filename().empty()) p = p.parent_path();
+  return p;
+}
+}  // namespace
+
+fs::path first_missing(const fs::path& dir) {
+  std::error_code ec;
+  fs::path missing;
+  for (fs::path p = plain_path(dir, ec); !ec && !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+    missing = p;
+    if (p == p.parent_path()) break;
+  }
+  return missing;
+}
+
+void remove_empty_up_to(const fs::path& dir, const fs::path& top) {
+  if (top.empty()) return;
+  std::error_code ec;
+  fs::path p = plain_path(dir, ec);
+  const fs::path stop = plain_path(top, ec);
+  while (!ec && fs::is_directory(p, ec) && fs::is_empty(p, ec) && !ec) {
+    fs::remove(p, ec);
+    if (p == stop || p == p.parent_path()) break;
+    p = p.parent_path();
+  }
+}
+
+std::vector<std::string> earlier_frames(const fs::path& dir, std::uint64_t up_to, const std::string& script_hash,
+                                        std::uint64_t seed, const Overrides& overrides) {
+  // the overrides that shape the cells (output.* and print.* may change on resume)
+  auto shaping = [](const Overrides& all) {
+    Overrides out;
+    for (const auto& [k, v] : all)
+      if (k.rfind("output.", 0) != 0 && k.rfind("print.", 0) != 0) out[k] = v;
+    return out;
+  };
+  std::vector<std::string> kept;
+  try {
+    std::ifstream old(dir / "run.json");
+    if (!old) return kept;
+    const json j = json::parse(old);
+    // frames of this run only: the same script, seed and overrides give the same frames (a run.json older
+    // than the checkpoint is fine: its frames are the run's up to where it stopped)
+    if (j.at("script").at("hash").get<std::string>() != script_hash || j.at("seed").get<std::uint64_t>() != seed ||
+        shaping(j.at("overrides").get<Overrides>()) != shaping(overrides))
+      return kept;
+    for (const auto& n : j.value("outputs", json::array())) {
+      const std::string name = n.get<std::string>();
+      // "frames/cells_NNNNNN.ply"
+      const std::size_t a = name.rfind('_'), b = name.rfind(".ply");
+      if (name.rfind("frames/cells_", 0) != 0 || a == std::string::npos || b == std::string::npos || b <= a + 1 ||
+          name.find("..") != std::string::npos)
+        continue;
+      const std::string digits = name.substr(a + 1, b - a - 1);
+      if (digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 18) continue;
+      if (std::stoull(digits) <= up_to && fs::is_regular_file(dir / name)) kept.push_back(name);
+    }
+  } catch (...) {
+    // an unreadable old run.json: its frames are not known to be this run's
+  }
+  return kept;
+}
+
+/// Moves every file of `staging` (recursively) into `dir`, then removes the outputs of an earlier run
+/// (listed in its run.json) that this run did not write again and `keep` does not name.
+void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vector<std::string>& names,
+                    const std::vector<std::string>& keep) {
+  std::set<std::string> fresh(names.begin(), names.end());
+  fresh.insert(keep.begin(), keep.end());
+  std::vector<std::string> stale;
+  try {
+    std::ifstream old(dir / "run.json");
+    if (old) {
+      const json j = json::parse(old);
+      for (const auto& n : j.value("outputs", json::array())) stale.push_back(n.get<std::string>());
+    }
+  } catch (...) {
+    // an unreadable old run.json only means we cannot clean up after it
+  }
+  // every file is checked before any moves, so a missing one leaves the earlier outputs as they were
+  std::vector<std::string> order;
+  std::set<std::string> listed;
+  for (const std::string& n : names)
+    if (listed.insert(n).second) order.push_back(n);
+  for (const std::string& n : order)
+    if (!fs::is_regular_file(staging / n))
+      throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': it was not written");
+  // the old run.json goes first and the new one last: a folder that a kill leaves between two runs' files
+  // has no run.json (README: such a folder is unfinished)
+  if (listed.count("run.json")) {
+    std::stable_partition(order.begin(), order.end(), [](const std::string& n) { return n != "run.json"; });
+    std::error_code ec;
+    fs::remove(dir / "run.json", ec);
+    if (ec && fs::exists(dir / "run.json"))
+      throw core::FileError("cannot replace '" + (dir / "run.json").string() + "': " + ec.message());
+  }
+  for (const std::string& n : order) {
+    const fs::path to = dir / n;
+    core::ensure_directory(to.parent_path());
+    std::error_code ec;
+    fs::rename(staging / n, to, ec);
+    if (ec) throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': " + ec.message());
+  }
+  for (const std::string& n : stale) {
+    if (fresh.count(n) || n.find("..") != std::string::npos || fs::path(n).is_absolute()) continue;  // only inside dir
+    std::error_code ec;
+    fs::remove(dir / n, ec);
+  }
+  std::error_code ec;
+  fs::remove_all(staging, ec);
+}
+
+}  // namespace cellform::app

@@ -1,0 +1,85 @@
+// Tests of app/output_folder.cpp through the command line: the staging folder, the commit of the
+// outputs, what a killed or failed run leaves in its folder.
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "app/run_internal.h"
+#include "core/errors.h"
+#include "tests/app/test_util.h"
+
+using namespace cellform::test;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+TEST_CASE("a commit stopped between two runs' files leaves no run.json", "[cli]") {
+  TempDir t("cli-commit");
+  const fs::path dir = t.path / "out", staging = t.path / "staging";
+  fs::create_directories(dir / "b.txt" / "inside");  // b.txt cannot be replaced: the move fails there
+  std::ofstream(dir / "a.txt") << "old a";
+  std::ofstream(dir / "run.json") << R"({"outputs": ["a.txt", "b.txt", "run.json"]})";
+  fs::create_directories(staging);
+  for (const char* n : {"run.json", "a.txt", "b.txt"}) std::ofstream(staging / n) << "new " << n;
+  using cellform::app::commit_outputs;
+  CHECK_THROWS_AS(commit_outputs(staging, dir, {"run.json", "a.txt", "b.txt"}), cellform::core::FileError);
+  CHECK(slurp(dir / "a.txt") == "new a.txt");  // moved before the failure
+  CHECK_FALSE(fs::exists(dir / "run.json"));   // the old one does not describe the mix
+  // a whole commit moves run.json too, listed in any position
+  fs::remove_all(dir / "b.txt");
+  REQUIRE_NOTHROW(commit_outputs(staging, dir, {"run.json", "b.txt"}));
+  CHECK(slurp(dir / "run.json") == "new run.json");
+  CHECK(slurp(dir / "b.txt") == "new b.txt");
+}
+
+TEST_CASE("an unwritable output location fails clearly", "[cli]") {
+  TempDir t("cli-unwritable");
+  const auto script = t.write("small.lua", kSmall);
+  const auto file = t.write("a-file", "x");
+  auto r = cli({"run", script.string(), "--out", file.string(), "--quiet", "--steps", "2"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("is not a directory"));
+  CHECK(slurp(file) == "x");
+}
+
+TEST_CASE("a run removes the staging folders and checkpoint drafts of killed runs, and only those", "[cli]") {
+  TempDir t("cli-stale");
+  const auto script = t.write("small.lua", kSmall);
+  const fs::path out = t.path / "out";
+  fs::create_directories(out / ".partial-999999999");  // no such process (beyond any pid_max)
+  std::ofstream(out / ".partial-999999999" / "veins.ply") << "half";
+  const fs::path live = out / (".partial-" + std::to_string(::getppid()));  // a process that is running
+  fs::create_directories(live);
+  fs::create_directories(out / ".partial-notes");                               // not a run's
+  std::ofstream(out / "checkpoint.cfck.tmp-999999999") << "half a checkpoint";  // a killed run's
+  const fs::path live_tmp = out / ("checkpoint.cfck.tmp-" + std::to_string(::getppid()));
+  std::ofstream(live_tmp) << "being written";
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--steps", "3", "--quiet"}).code == 0);
+  CHECK_FALSE(fs::exists(out / ".partial-999999999"));
+  CHECK_FALSE(fs::exists(out / "checkpoint.cfck.tmp-999999999"));
+  CHECK(fs::exists(live));
+  CHECK(fs::exists(live_tmp));
+  CHECK(fs::exists(out / ".partial-notes"));
+  CHECK(fs::exists(out / "cells.ply"));
+}
+
+TEST_CASE("a rule that fails in a step before any checkpoint leaves no empty output folder", "[cli]") {
+  TempDir t("cli-rule-fails");
+  const auto script = t.write("bad.lua",
+                              "run { steps = 20 }\ndisc { radius = 3 }\npetiole { at = {0, -3, 0} }\n"
+                              "venation { source = function(c) if c.step >= 5 then return nil end return 1 end }\n");
+  const fs::path out = t.path / "o";
+  const auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("bad.lua:4:") && Contains("step 5"));
+  CHECK_FALSE(fs::exists(out));
+  // nor the folders it made to hold it
+  CHECK(cli({"run", script.string(), "--out", (t.path / "nest" / "a" / "b").string(), "--quiet"}).code == 2);
+  CHECK_FALSE(fs::exists(t.path / "nest"));
+  CHECK(cli({"run", script.string(), "--out", (t.path / "nest" / "a" / "b").string() + "/", "--quiet"}).code == 2);
+  CHECK_FALSE(fs::exists(t.path / "nest"));  // a trailing slash too
+  // a folder that was there stays, with what it held
+  fs::create_directories(out);
+  std::ofstream(out / "notes.txt") << "mine";
+  CHECK(cli({"run", script.string(), "--out", out.string(), "--quiet"}).code == 2);
+  CHECK(slurp(out / "notes.txt") == "mine");
+}
