@@ -600,25 +600,4 @@ PrintableMesh thicken(const std::vector<Segment>& segments, const std::vector<st
   return mesh_level_set(voxelise(segments, shell_triangles, params, report), params, report);
 }
 
-std::vector<Segment> vein_segments(const venation::VeinGraph& g) {
-  std::vector<Segment> out;
-  out.reserve(g.edges.size());
-  std::vector<char> used(g.position.size(), 0);
-  for (const auto& e : g.edges) {
-    out.push_back({g.position[e[0]], g.position[e[1]], g.radius[e[0]], g.radius[e[1]]});
-    used[e[0]] = used[e[1]] = 1;
-  }
-  for (std::size_t i = 0; i < g.position.size(); ++i)
-    if (!used[i]) out.push_back({g.position[i], g.position[i], g.radius[i], g.radius[i]});
-  return out;
-}
-
-std::vector<std::array<Vec3, 3>> shell_triangles(const cells::Cells& cells, const cells::Surface& surface) {
-  std::vector<std::array<Vec3, 3>> out;
-  out.reserve(surface.triangles.size());
-  for (const auto& t : surface.triangles)
-    out.push_back({cells.position[t[0]], cells.position[t[1]], cells.position[t[2]]});
-  return out;
-}
-
 }  // namespace cellform::exporters

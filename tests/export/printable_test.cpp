@@ -561,24 +561,6 @@ TEST_CASE("the progress callback sees each stage advance to 1 and can cancel it"
   }
 }
 
-TEST_CASE("vein_segments and shell_triangles turn the model into primitives", "[printable]") {
-  venation::VeinGraph g;
-  g.position = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {5, 5, 5}};
-  g.radius = {0.3, 0.2, 0.1, 0.4};
-  g.cell = {0, 1, 2, 3};
-  g.flow = {3, 2, 1, 1};
-  g.order = {1, 1, 1, 1};
-  g.edges = {{1, 0}, {2, 1}};
-  const auto s = exporters::vein_segments(g);
-  REQUIRE(s.size() == 3);
-  CHECK(s[0].a == g.position[1]);
-  CHECK(s[0].b == g.position[0]);
-  CHECK(s[0].ra == 0.2);
-  CHECK(s[0].rb == 0.3);
-  CHECK(s[2].a == s[2].b);  // the lone node becomes a sphere
-  CHECK(s[2].ra == 0.4);
-}
-
 TEST_CASE("a shell around a closed surface has a cavity, counted apart from the pieces and fillable", "[printable]") {
   // the closed surface of a 10 mm tetrahedron: its shell is a hollow solid with one sealed pocket
   const Vec3 a(0, 0, 0), b(10, 0, 0), c(0, 10, 0), d(0, 0, 10);

@@ -1,0 +1,39 @@
+// Tests of export/primitives.cpp: the vein graph and the cell sheet as printing primitives.
+#include <catch2/catch.hpp>
+
+#include "cells/surface.h"
+#include "export/printable.h"
+
+using namespace cellform;
+using core::Vec3;
+
+TEST_CASE("vein_segments and shell_triangles turn the model into primitives", "[printable]") {
+  venation::VeinGraph g;
+  g.position = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {5, 5, 5}};
+  g.radius = {0.3, 0.2, 0.1, 0.4};
+  g.cell = {0, 1, 2, 3};
+  g.flow = {3, 2, 1, 1};
+  g.order = {1, 1, 1, 1};
+  g.edges = {{1, 0}, {2, 1}};
+  const auto s = exporters::vein_segments(g);
+  REQUIRE(s.size() == 3);
+  CHECK(s[0].a == g.position[1]);
+  CHECK(s[0].b == g.position[0]);
+  CHECK(s[0].ra == 0.2);
+  CHECK(s[0].rb == 0.3);
+  CHECK(s[1].a == g.position[2]);
+  CHECK(s[1].rb == 0.2);
+  CHECK(s[2].a == s[2].b);  // the lone node becomes a sphere
+  CHECK(s[2].a == g.position[3]);
+  CHECK(s[2].ra == 0.4);
+  // a sheet's triangles become their corners' positions, in order
+  cells::Cells c;
+  for (const Vec3& p : {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 1)}) cells::add_cell(c, p);
+  cells::Surface surface;
+  surface.triangles = {{0, 1, 2}, {1, 3, 2}};
+  const auto t = exporters::shell_triangles(c, surface);
+  REQUIRE(t.size() == 2);
+  CHECK(t[1][0] == Vec3(1, 0, 0));
+  CHECK(t[1][1] == Vec3(1, 1, 1));
+  CHECK(t[1][2] == Vec3(0, 1, 0));
+}
