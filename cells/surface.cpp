@@ -122,6 +122,19 @@ std::vector<std::array<Index, 2>> uncrossed(const std::vector<Vec3>& pos,
   return out;
 }
 
+/// Whether triangles uvw1 and uvw2, on side uv, fold onto each other: their third corners seen from the
+/// side less than 60 degrees apart round it (or a corner on the side's line). A sheet of one layer never
+/// does; overlapping cliques of a crowded sheet do.
+bool folded(const std::vector<Vec3>& pos, Index u, Index v, Index w1, Index w2) {
+  constexpr double kCosMinFold = 0.5;  // cos 60 degrees
+  const Vec3 axis = (pos[v] - pos[u]).normalized();
+  auto across = [&](Index w) -> Vec3 {
+    const Vec3 d = pos[w] - pos[u];
+    return (d - d.dot(axis) * axis).normalized();
+  };
+  return !(across(w1).dot(across(w2)) < kCosMinFold);
+}
+
 /// Closes the 4-cycles of `edges` (sorted, i < j) that have no diagonal and whose four sides each border
 /// at most one triangle of `tris` (a gap in the sheet the size of a cell): two triangles on the shorter
 /// diagonal (ties: the smaller index pair). Appends triangles as sorted triples, in a deterministic order;
@@ -139,10 +152,12 @@ std::vector<std::array<Index, 2>> close_quads(const std::vector<Vec3>& pos,
     std::uint8_t& c = uses[index(u, v)];
     c = static_cast<std::uint8_t>(std::min(c + 1, 255));
   };
+  std::vector<Index> third(edges.size(), kNoIndex);  // the third corner of a side's one triangle
   for (const auto& t : tris) {
     use(t[0], t[1]);
     use(t[1], t[2]);
     use(t[0], t[2]);
+    for (int k = 0; k < 3; ++k) third[index(t[(k + 1) % 3], t[(k + 2) % 3])] = t[k];
   }
   std::vector<std::size_t> start(pos.size() + 1, 0);  // adjacency, both directions (CSR)
   for (const auto& [a, b] : edges) {
@@ -194,13 +209,75 @@ std::vector<std::array<Index, 2>> close_quads(const std::vector<Vec3>& pos,
     std::sort(t2.begin(), t2.end());
     const std::array<Index, 2> diagonal = first ? std::array<Index, 2>{std::min(q[0], q[2]), std::max(q[0], q[2])}
                                                 : std::array<Index, 2>{std::min(q[1], q[3]), std::max(q[1], q[3])};
+    // a side's triangle and the new one on it must not fold onto each other (the quad is no gap then)
+    bool folds = false;
+    for (const auto& t : {t1, t2})
+      for (int k = 0; k < 3; ++k) {
+        const Index u = t[(k + 1) % 3], v = t[(k + 2) % 3];
+        const std::size_t e = index(u, v);
+        folds = folds || (e < edges.size() && uses[e] == 1 && folded(pos, u, v, t[k], third[e]));
+      }
+    if (folds) continue;
     // a diagonal another quad closed already would border four triangles
     if (!diagonals.insert(diagonal).second) continue;
     tris.push_back(t1);
     tris.push_back(t2);
     for (int k = 0; k < 4; ++k) use(q[k], q[(k + 1) % 4]);
+    for (const auto& t : {t1, t2})
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t e = index(t[(k + 1) % 3], t[(k + 2) % 3]);
+        if (e < edges.size()) third[e] = t[k];
+      }
   }
   return {diagonals.begin(), diagonals.end()};
+}
+
+/// The triangles of `tris` (3-cliques of the edges in `up`, the CSR adjacency to larger indices of
+/// `start`) that lie in one layer: at most two on any side, and those two not folded onto each other
+/// (see folded: overlapping triangles, which the links of a crowded or crumpled sheet give, would be
+/// non-manifold edges in a modeller). Greedy, best first: shortest longest side (ties by position in
+/// `tris`), a triangle stays unless one of its sides has two already, or one folded onto it. Keeps the
+/// order of `tris`.
+void keep_one_layer(const std::vector<Vec3>& pos, const std::vector<std::size_t>& start, const std::vector<Index>& up,
+                    std::vector<std::array<Index, 3>>& tris) {
+  auto side = [&](Index u, Index v) {  // the edge's position in up
+    const Index a = std::min(u, v), b = std::max(u, v);
+    return static_cast<std::size_t>(
+        std::lower_bound(up.begin() + static_cast<long>(start[a]), up.begin() + static_cast<long>(start[a + 1]), b) -
+        up.begin());
+  };
+  std::vector<std::pair<double, std::size_t>> order(tris.size());
+  for (std::size_t t = 0; t < tris.size(); ++t) {
+    const Vec3 &a = pos[tris[t][0]], &b = pos[tris[t][1]], &c = pos[tris[t][2]];
+    order[t] = {std::max({(a - b).squaredNorm(), (b - c).squaredNorm(), (c - a).squaredNorm()}), t};
+  }
+  std::sort(order.begin(), order.end());
+  std::vector<std::array<Index, 2>> third(up.size(), {kNoIndex, kNoIndex});  // third corners of the kept triangles
+  std::vector<std::uint8_t> keep(tris.size(), 0);
+  for (const auto& [longest, t] : order) {
+    const auto& tri = tris[t];
+    std::size_t e[3];
+    bool ok = true;
+    for (int k = 0; k < 3 && ok; ++k) {
+      const Index u = tri[(k + 1) % 3], v = tri[(k + 2) % 3];
+      e[k] = side(u, v);
+      const auto& th = third[e[k]];
+      if (th[1] != kNoIndex)
+        ok = false;  // two already
+      else if (th[0] != kNoIndex)
+        ok = !folded(pos, u, v, tri[k], th[0]);
+    }
+    if (!ok) continue;
+    keep[t] = 1;
+    for (int k = 0; k < 3; ++k) {
+      auto& th = third[e[k]];
+      th[th[0] == kNoIndex ? 0 : 1] = tri[k];
+    }
+  }
+  std::size_t w = 0;
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    if (keep[t]) tris[w++] = tris[t];
+  tris.resize(w);
 }
 
 /// The triangulation of polygon p[0..n) (n <= kMaxHole) with the least total diagonal length (dynamic
@@ -391,6 +468,7 @@ Surface triangulate(const Cells& cells, bool one_layer) {
 
   std::vector<std::array<Index, 2>> sides = faces_edges;  // every triangle side (and edges without one), sorted
   if (one_layer) {
+    keep_one_layer(cells.position, start, up, tris);
     const std::vector<std::array<Index, 2>> diagonals = close_quads(cells.position, faces_edges, tris);
     std::sort(tris.begin(), tris.end());
     const auto middle = sides.insert(sides.end(), diagonals.begin(), diagonals.end());
@@ -456,14 +534,14 @@ Surface triangulate(const Cells& cells, bool one_layer) {
       centre += cells.position[tris[t][0]] + cells.position[tris[t][1]] + cells.position[tris[t][2]];
     centre /= 3.0 * static_cast<double>(component.size());
     double volume = 0, area = 0, boundary = 0;
-    Vec3 up = Vec3::Zero();
+    Vec3 area_vector = Vec3::Zero();
     for (const std::size_t t : component) {
       const Vec3 a = cells.position[tris[t][0]] - centre, b = cells.position[tris[t][1]] - centre,
                  c = cells.position[tris[t][2]] - centre;
       volume += a.dot(b.cross(c));
-      const Vec3 n = (b - a).cross(c - a);
-      up += n;
-      area += n.norm() / 2;
+      const Vec3 normal = (b - a).cross(c - a);
+      area_vector += normal;
+      area += normal.norm() / 2;
       for (int k = 0; k < 3; ++k) {
         const std::size_t e = edge_index(tris[t][k], tris[t][(k + 1) % 3]);
         if (inc_start[e + 1] - inc_start[e] == 1)
@@ -475,8 +553,8 @@ Surface triangulate(const Cells& cells, bool one_layer) {
       flip = volume < 0;
     else
       for (int axis : {2, 1, 0})
-        if (std::abs(up[axis]) > 1e-6 * up.norm()) {
-          flip = up[axis] < 0;
+        if (std::abs(area_vector[axis]) > 1e-6 * area_vector.norm()) {
+          flip = area_vector[axis] < 0;
           break;
         }
     if (flip)

@@ -1,4 +1,5 @@
-// A triangulation of the cell sheet from the link graph; non-manifold wherever the sheet is.
+// A triangulation of the cell sheet from the link graph: in one layer for files (edge-manifold), or every
+// clique for printed shells.
 #pragma once
 
 #include <array>
@@ -17,9 +18,12 @@ struct Surface {
 /// Edges are pairs linked either way (or vein parent and child). Triangles are 3-cliques of that graph;
 /// with `one_layer` (for files a modeller opens), of that graph less each edge crossing a shorter one as
 /// the diagonals of a quad do (the k-nearest links often hold both diagonals, whose cliques lay four
-/// triangles over the quad in two layers), with the 4-cycles then left open closed on their shorter
+/// triangles over the quad in two layers), then at most two on any side and no two folded onto each other
+/// (third corners less than 60 degrees apart round their side; greedy, shortest longest side first: a
+/// crowded or buckled sheet's cliques overlap), with the 4-cycles then left open closed on their shorter
 /// diagonal, and the small holes left after orienting (a loop of 3 to 6 boundary sides without a chord,
 /// where the fill faces as the triangles around it) closed by their shortest-diagonal triangulation.
+/// So every side of the one-layer surface borders one or two triangles; sheets that meet keep a seam.
 /// Without it every clique is kept: overlapping, but with no gap (what a thickened shell wants).
 /// Deterministic: triangles sorted by smallest index.
 Surface triangulate(const Cells& cells, bool one_layer = true);

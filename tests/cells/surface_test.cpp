@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <functional>
 #include <map>
 
@@ -72,9 +73,85 @@ TEST_CASE("non-manifold fan: three triangles on one edge", "[surface]") {
     c.links[t * 6] = 0;
     c.links[t * 6 + 1] = 1;
   }
-  const Surface s = triangulate(c);
-  REQUIRE(s.triangles.size() == 3);
-  REQUIRE(s.edges.size() == 7);
+  const Surface all = triangulate(c, false);
+  REQUIRE(all.triangles.size() == 3);  // every clique: the fin on top too
+  REQUIRE(all.edges.size() == 7);
+  // one layer (files for a modeller): at most two triangles on a side; of three equally good ones the
+  // first two in order stay, here the flat pair (third corners 180 degrees apart round the side)
+  const Surface one = triangulate(c);
+  REQUIRE(one.edges.size() == 7);
+  REQUIRE(one.triangles.size() == 2);
+  CHECK(one.triangles[0][0] == 0);
+  CHECK(one.triangles[1][0] == 0);
+  for (const auto& t : one.triangles) CHECK(std::find(t.begin(), t.end(), Index{4}) == t.end());
+}
+
+TEST_CASE("one layer leaves out a triangle folded onto its neighbour, not a crease", "[surface]") {
+  // triangles 0-1-2 and 0-1-3 share side 0-1; corner 3 is seen from the side 0-1 at angle a from corner 2
+  // (round the side): below 60 degrees the two overlap (a fold), and the one with the longer longest
+  // side goes; from 60 degrees on both stay (a crease)
+  for (const double deg : {0.0, 20.0, 59.0, 61.0, 90.0, 150.0}) {
+    CAPTURE(deg);
+    const double a = deg * 3.14159265358979323846 / 180;
+    Cells c;
+    add_cell(c, Vec3(0, 0, 0));
+    add_cell(c, Vec3(1, 0, 0));
+    add_cell(c, Vec3(0.5, 0.8, 0));
+    add_cell(c, Vec3(0.45, 0.9 * std::cos(a), 0.9 * std::sin(a)));  // longest side 0-3 or 1-3 > 0.94 > 0-2
+    c.links[0] = 1;
+    for (Index t = 2; t < 4; ++t) {
+      c.links[t * 6] = 0;
+      c.links[t * 6 + 1] = 1;
+    }
+    const Surface one = triangulate(c);
+    if (deg < 60) {
+      REQUIRE(one.triangles.size() == 1);
+      CHECK(std::find(one.triangles[0].begin(), one.triangles[0].end(), Index{2}) != one.triangles[0].end());
+    } else {
+      CHECK(one.triangles.size() == 2);
+    }
+    CHECK(triangulate(c, false).triangles.size() == 2);  // a shell keeps every clique
+  }
+}
+
+TEST_CASE("a crowded, crumpled grown sheet in one layer: at most two triangles on a side, none folded", "[surface]") {
+  // the first script of docs/scripting.md in miniature: growth by neighbour count with the default
+  // parameters crowds and buckles the sheet, and its link cliques overlap in many places
+  Params p;
+  p.division.trigger = DivisionTrigger::neighbours;
+  p.division.max_cells = 500;
+  Simulation sim(p, 1);
+  sim.cells() = cellform::testing::hex_sheet(8, 8);
+  for (int i = 0; i < 600 && sim.cells().size() < 500; ++i) sim.step();
+  const Cells& c = sim.cells();
+  REQUIRE(c.size() >= 400);
+  auto sides = [](const Surface& s) {
+    std::map<std::pair<Index, Index>, std::vector<Index>> m;  // side -> third corners
+    for (const auto& t : s.triangles)
+      for (int k = 0; k < 3; ++k) {
+        const Index a = t[(k + 1) % 3], b = t[(k + 2) % 3];
+        m[{std::min(a, b), std::max(a, b)}].push_back(t[k]);
+      }
+    return m;
+  };
+  std::size_t crowded = 0;
+  for (const auto& [side, third] : sides(triangulate(c, false))) crowded += third.size() > 2;
+  CHECK(crowded > 20);  // the cliques: many sides with three triangles or more
+  const Surface one = triangulate(c);
+  std::size_t two = 0;
+  for (const auto& [side, third] : sides(one)) {
+    REQUIRE(third.size() <= 2);
+    if (third.size() < 2) continue;
+    ++two;
+    const Vec3 &u = c.position[side.first], &v = c.position[side.second];
+    const Vec3 axis = (v - u).normalized();
+    auto across = [&](Index w) {
+      const Vec3 d = c.position[w] - u;
+      return Vec3(d - d.dot(axis) * axis).normalized();
+    };
+    CHECK(across(third[0]).dot(across(third[1])) < 0.5 + 1e-9);  // at least 60 degrees apart
+  }
+  CHECK(two > c.size());  // still a sheet: most sides inside it
 }
 
 TEST_CASE("triangulate a relaxed simulated sheet: every edge has at most one triangle per direction", "[surface]") {
