@@ -252,7 +252,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   Start s;
   SceneConfig cfg;
   ScriptHost host(o.limits);
-  host.set_print([&err](const std::string& line) { err << "script: " << line << "\n"; });
+  const auto show_print = [&err](const std::string& line) { err << "script: " << line << "\n"; };
+  host.set_print(show_print);
   std::unique_ptr<forms::Scene> scene;
   std::uint64_t seed = 0, target = 0;
   fs::path staging;
@@ -274,6 +275,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                         now[section][k].dump() + ")";
             }
         if (!changed.empty()) {
+          host.set_print([](const std::string&) {});  // its print() lines were shown by the first reading
           try {
             cfg = host.load(s.source, s.script_path, with_physics(s.sets, changed));
           } catch (const core::InvalidInput& e) {  // a value the script now refuses (one a rule replaces)
@@ -281,6 +283,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
             err << "cellform: warning: the run was saved with " << listed << ", which this script no longer accepts ("
                 << e.what() << "); it continues with today's\n";
           }
+          host.set_print(show_print);
         }
       }
     } catch (const core::InvalidInput& e) {

@@ -282,7 +282,8 @@ TEST_CASE("a resume steps with the values its run was saved with, though a defau
           "[cli][checkpoint]") {
   TempDir t("cli-physics");
   const auto script =
-      t.write("n.lua", "division { trigger = 'neighbours' }\ndisc { radius = 3 }\nrun { steps = 10 }\n");
+      t.write("n.lua",
+              "print('reading n.lua')\ndivision { trigger = 'neighbours' }\ndisc { radius = 3 }\nrun { steps = 10 }\n");
   const fs::path out = t.path / "o";
   REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "4"}).code == 0);
   cellform::core::ChunkFile saved = cellform::core::read_chunk_file(slurp(out / "checkpoint.cfck"), "CKPT", 1, "test");
@@ -298,6 +299,15 @@ TEST_CASE("a resume steps with the values its run was saved with, though a defau
   auto r = cli({"resume", older.string(), "--quiet"});
   INFO(r.err);
   REQUIRE(r.code == 0);
+  // read twice (the second time with the saved value), its print() shown once
+  const auto shown = [](const std::string& err) {
+    std::size_t n = 0;
+    for (auto at = err.find("script: reading n.lua"); at != std::string::npos;
+         at = err.find("script: reading n.lua", at + 1))
+      ++n;
+    return n;
+  };
+  CHECK(shown(r.err) == 1);
   const auto run = nlohmann::json::parse(slurp(older.parent_path() / "run.json"));
   CHECK(run["parameters"]["division"]["radius"] == 1.5);
   const auto again = nlohmann::json::parse(
