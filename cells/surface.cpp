@@ -123,10 +123,10 @@ std::vector<std::array<Index, 2>> uncrossed(const std::vector<Vec3>& pos,
 }
 
 /// Whether triangles uvw1 and uvw2, on side uv, fold onto each other: their third corners seen from the
-/// side less than 60 degrees apart round it (or a corner on the side's line). A sheet of one layer never
+/// side less than 90 degrees apart round it (or a corner on the side's line). A sheet of one layer never
 /// does; overlapping cliques of a crowded sheet do.
 bool folded(const std::vector<Vec3>& pos, Index u, Index v, Index w1, Index w2) {
-  constexpr double kCosMinFold = 0.5;  // cos 60 degrees
+  constexpr double kCosMinFold = 0.0;  // cos 90 degrees
   const Vec3 axis = (pos[v] - pos[u]).normalized();
   auto across = [&](Index w) -> Vec3 {
     const Vec3 d = pos[w] - pos[u];
@@ -209,8 +209,9 @@ std::vector<std::array<Index, 2>> close_quads(const std::vector<Vec3>& pos,
     std::sort(t2.begin(), t2.end());
     const std::array<Index, 2> diagonal = first ? std::array<Index, 2>{std::min(q[0], q[2]), std::max(q[0], q[2])}
                                                 : std::array<Index, 2>{std::min(q[1], q[3]), std::max(q[1], q[3])};
-    // a side's triangle and the new one on it must not fold onto each other (the quad is no gap then)
-    bool folds = false;
+    // a side's triangle and the new one on it must not fold onto each other (the quad is no gap then),
+    // nor the two new ones on the diagonal (a quad bent or folded across it)
+    bool folds = first ? folded(pos, q[0], q[2], q[1], q[3]) : folded(pos, q[1], q[3], q[2], q[0]);
     for (const auto& t : {t1, t2})
       for (int k = 0; k < 3; ++k) {
         const Index u = t[(k + 1) % 3], v = t[(k + 2) % 3];
