@@ -19,7 +19,7 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
     r = exporters::check_mesh(mesh);
     th = exporters::wall_thickness(mesh);
   } catch (const std::exception& e) {
-    err << "cellform: " << e.what() << "\n";
+    err << "cellform: " << core::error_text(e) << "\n";
     return usage;
   }
   if (json) {

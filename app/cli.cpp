@@ -176,7 +176,7 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
     err << "cellform: " << e.what() << "\n";
     return usage;
   } catch (const std::exception& e) {
-    err << "cellform: " << e.what() << "\n";
+    err << "cellform: " << core::error_text(e) << "\n";
     return failure;
   }
 }

@@ -37,6 +37,8 @@ void on_interrupt(int) {
 int main(int argc, char** argv) {
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
+  std::signal(SIGHUP, on_interrupt);  // a closed terminal or a dropped ssh: stop as on Ctrl-C, with a checkpoint
+  std::signal(SIGPIPE, SIG_IGN);      // a closed pipe on stdout or stderr: the writes fail, the run goes on
   std::vector<std::string> args(argv + 1, argv + argc);
   return cellform::app::cli_main(args, std::cout, std::cerr);
 }

@@ -1,10 +1,13 @@
 // The output folder of a run: its staging folder, the commit of the outputs into it, the frames an
 // earlier run left there, and the empty folders a failed run made.
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <set>
 
@@ -17,9 +20,77 @@ namespace cellform::app {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-/// Creates `dir` and a private staging folder inside it, where a run's outputs wait until all are complete.
-fs::path make_staging(const fs::path& dir) {
+namespace {
+
+/// The process ids of the live staging folders (".partial-PID") in `dir` other than this process's.
+std::vector<long> live_stagings(const fs::path& dir) {
+  std::vector<long> out;
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(".partial-", 0) != 0) continue;
+    const std::string digits = name.substr(9);
+    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    const auto pid = static_cast<pid_t>(std::stol(digits));
+    if (pid != ::getpid() && ::kill(pid, 0) == 0) out.push_back(pid);
+  }
+  return out;
+}
+
+/// Whether run.json `j` is cellform's.
+bool is_cellform_run(const json& j) { return j.is_object() && j.value("program", std::string()) == "cellform"; }
+
+/// Whether `name`, listed as an output in a run.json, names a file cellform writes inside `dir`: a plain
+/// name, or one inside frames/, reached through no symbolic link (a listed "link/x" must not delete a
+/// file outside the folder).
+bool own_output(const fs::path& dir, const std::string& name) {
+  const fs::path p(name);
+  if (name.empty() || p.is_absolute() || name.find("..") != std::string::npos) return false;
+  std::vector<fs::path> parts(p.begin(), p.end());
+  if (parts.size() > 2 || (parts.size() == 2 && parts[0] != "frames")) return false;
+  std::error_code ec;
+  return parts.size() == 1 || !fs::is_symlink(dir / parts[0], ec);
+}
+
+}  // namespace
+
+FolderLock::FolderLock(const fs::path& dir) {
+  fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd_ < 0) throw core::FileError("cannot open '" + dir.string() + "': " + std::strerror(errno));
+  if (::flock(fd_, LOCK_EX | LOCK_NB) == 0) return;
+  const int why = errno;
+  ::close(fd_);
+  fd_ = -1;
+  if (why != EWOULDBLOCK) return;  // a file system without locks: run unlocked, as before
+  std::string who;
+  for (const long pid : live_stagings(dir)) who += (who.empty() ? " (process " : ", ") + std::to_string(pid);
+  if (!who.empty()) who += ")";
+  throw core::FileError("another cellform run" + who + " is writing to '" + dir.string() +
+                        "': wait for it to end, or choose another --out folder");
+}
+
+FolderLock::~FolderLock() {
+  if (fd_ >= 0) ::close(fd_);  // releases the lock
+}
+
+fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock) {
   core::ensure_directory(dir);
+  lock.emplace(dir);
+  {
+    std::error_code ec;
+    if (fs::exists(dir / "run.json", ec)) {
+      bool ours = false;
+      try {
+        std::ifstream in(dir / "run.json");
+        ours = is_cellform_run(json::parse(in));
+      } catch (...) {
+      }
+      if (!ours)
+        throw core::FileError("'" + (dir / "run.json").string() +
+                              "' was not written by cellform; a run there would replace it and delete the files it "
+                              "lists: choose another --out folder, or move that file away");
+    }
+  }
   // staging folders and half-written checkpoints ("checkpoint.cfck.tmp-PID") of runs that were killed (a
   // second Ctrl-C, SIGKILL) are removed: their process is gone
   std::error_code ec;
@@ -84,6 +155,7 @@ std::vector<std::string> earlier_frames(const fs::path& dir, std::uint64_t up_to
     std::ifstream old(dir / "run.json");
     if (!old) return kept;
     const json j = json::parse(old);
+    if (!is_cellform_run(j)) return kept;
     // frames of this run only: the same script, seed and overrides give the same frames (a run.json older
     // than the checkpoint is fine: its frames are the run's up to where it stopped)
     if (j.at("script").at("hash").get<std::string>() != script_hash || j.at("seed").get<std::uint64_t>() != seed ||
@@ -98,7 +170,8 @@ std::vector<std::string> earlier_frames(const fs::path& dir, std::uint64_t up_to
         continue;
       const std::string digits = name.substr(a + 1, b - a - 1);
       if (digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 18) continue;
-      if (std::stoull(digits) <= up_to && fs::is_regular_file(dir / name)) kept.push_back(name);
+      if (std::stoull(digits) <= up_to && own_output(dir, name) && fs::is_regular_file(dir / name))
+        kept.push_back(name);
     }
   } catch (...) {
     // an unreadable old run.json: its frames are not known to be this run's
@@ -117,7 +190,8 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
     std::ifstream old(dir / "run.json");
     if (old) {
       const json j = json::parse(old);
-      for (const auto& n : j.value("outputs", json::array())) stale.push_back(n.get<std::string>());
+      if (is_cellform_run(j))
+        for (const auto& n : j.value("outputs", json::array())) stale.push_back(n.get<std::string>());
     }
   } catch (...) {
     // an unreadable old run.json only means we cannot clean up after it
@@ -147,7 +221,7 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
     if (ec) throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': " + ec.message());
   }
   for (const std::string& n : stale) {
-    if (fresh.count(n) || n.find("..") != std::string::npos || fs::path(n).is_absolute()) continue;  // only inside dir
+    if (fresh.count(n) || !own_output(dir, n)) continue;  // only cellform's files, inside dir
     std::error_code ec;
     fs::remove(dir / n, ec);
   }

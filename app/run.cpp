@@ -257,6 +257,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   std::unique_ptr<forms::Scene> scene;
   std::uint64_t seed = 0, target = 0;
   fs::path staging;
+  std::optional<FolderLock> lock;  // held until the run has written its last file
   try {
     s = start_from(o);
     try {
@@ -342,7 +343,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     err << "cellform: " << e.what() << "\n";
     return usage;
   } catch (const std::exception& e) {
-    err << "cellform: " << e.what() << "\n";
+    err << "cellform: " << core::error_text(e) << "\n";
     return failure;
   }
 
@@ -350,9 +351,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   const fs::path dir = s.out_dir;
   const fs::path created = first_missing(dir);  // made by this run: removed again if it stays empty
   try {
-    staging = make_staging(dir);
+    staging = make_staging(dir, lock);
   } catch (const std::exception& e) {
-    err << "cellform: cannot write outputs: " << e.what() << "\n";
+    err << "cellform: cannot write outputs: " << core::error_text(e) << "\n";
     remove_empty_up_to(dir, created);
     return failure;
   }
@@ -420,7 +421,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
       saved = true;
     } catch (const std::exception& e) {
-      checkpoint_error = e.what();
+      checkpoint_error = core::error_text(e);
     }
     for (const std::string& n : write_outputs(staging, cfg.output, sim.cells(), cfg.scene.venation.has_value()))
       outputs.push_back(n);
@@ -441,8 +442,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         status = "interrupted";
         code = interrupted;
       } catch (const std::exception& e) {
-        err << "cellform: " << e.what() << "\n  (the other outputs and the checkpoint are written)\n";
-        printed = {{"error", e.what()}};
+        err << "cellform: " << core::error_text(e) << "\n  (the other outputs and the checkpoint are written)\n";
+        printed = {{"error", core::error_text(e)}};
         if (code != interrupted) code = failure;  // a Ctrl-C that came first stays the reason the run ended
       }
     }
@@ -509,7 +510,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     code = usage;
   } catch (const std::exception& e) {
     progress.finish();
-    err << "cellform: " << e.what() << "\n";
+    err << "cellform: " << core::error_text(e) << "\n";
     code = failure;
   }
   std::error_code ec;

@@ -137,10 +137,11 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
   const fs::path dir = s.out_dir;
   const fs::path created = first_missing(dir);  // made by this run: removed again if it stays empty
   fs::path staging;
+  std::optional<FolderLock> lock;  // held until the run has written its last file
   try {
-    staging = make_staging(dir);
+    staging = make_staging(dir, lock);
   } catch (const std::exception& e) {
-    err << "cellform: cannot write outputs: " << e.what() << "\n";
+    err << "cellform: cannot write outputs: " << core::error_text(e) << "\n";
     remove_empty_up_to(dir, created);
     return failure;
   }
@@ -216,7 +217,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
       save();
       saved = saved || !partial_sheet;
     } catch (const std::exception& e) {
-      checkpoint_error = e.what();
+      checkpoint_error = core::error_text(e);
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
     venation::VeinTree tree = col.tree();
@@ -275,8 +276,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
         printed = {{"error", "interrupted"}};
         code = interrupted;
       } catch (const std::exception& e) {
-        err << "cellform: " << e.what() << "\n";
-        printed = {{"error", e.what()}};
+        err << "cellform: " << core::error_text(e) << "\n";
+        printed = {{"error", core::error_text(e)}};
         if (code != interrupted) code = failure;  // a Ctrl-C that came first stays the reason the run ended
       }
     }
@@ -358,7 +359,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     err << "cellform: " << (m.rfind("colonisation.", 0) == 0 ? spec.where : std::string()) << m << "\n";
     code = usage;
   } catch (const std::exception& e) {
-    err << "cellform: " << e.what() << "\n";
+    err << "cellform: " << core::error_text(e) << "\n";
     code = failure;
   }
   std::error_code ec;

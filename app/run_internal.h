@@ -89,8 +89,24 @@ class CheckpointClock {
 std::vector<std::string> write_outputs(const std::filesystem::path& dir, const OutputSpec& spec, const cells::Cells& c,
                                        bool veins);
 
-/// Creates `dir` and a private staging folder inside it, where a run's outputs wait until all are complete.
-std::filesystem::path make_staging(const std::filesystem::path& dir);
+/// An exclusive lock on an output folder (flock on the folder itself: nothing is left in it), held while
+/// a run writes there, so that two runs never mix their files in one folder.
+class FolderLock {
+ public:
+  /// Throws core::FileError naming the folder (and the other run's process when known) if it is locked.
+  explicit FolderLock(const std::filesystem::path& dir);
+  ~FolderLock();
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
+/// Creates `dir`, locks it into `lock` and makes a private staging folder inside it, where a run's outputs
+/// wait until all are complete. Refuses (core::FileError) a folder whose run.json cellform did not write:
+/// a run replaces run.json and deletes the earlier outputs it lists.
+std::filesystem::path make_staging(const std::filesystem::path& dir, std::optional<FolderLock>& lock);
 
 /// Thickens vein segments (model units, Murray radii) and shell triangles into a printable solid and
 /// writes the requested formats into `dir`. Appends the file names to `names`; returns what run.json

@@ -69,7 +69,7 @@ venation::Mesh read_domain_mesh(Impl& I, const std::string& section, const Value
     out.vertices = std::move(m.vertices);
     out.triangles = std::move(m.triangles);
   } catch (const std::exception& e) {
-    throw InvalidInput(at + section + ".file: " + e.what());
+    throw InvalidInput(at + section + ".file: " + core::error_text(e));
   }
   I.scale_mesh(out.vertices, v.at("scale").num, v.at("file").str, at + section + ".file: ");
   return out;
@@ -208,7 +208,7 @@ void finish_colonisation(Impl& I) {
   try {
     venation::validate(spec.domain, p);
   } catch (const std::exception& e) {
-    throw InvalidInput(at + script_colonisation_message(e.what()));
+    throw InvalidInput(at + script_colonisation_message(core::error_text(e)));
   }
 }
 
@@ -258,7 +258,7 @@ void section_leaf(Impl& I, const std::string& at) {
     }
     venation::validate(leaf);
   } catch (const std::exception& e) {
-    throw InvalidInput(at + "leaf: " + script_colonisation_message(e.what()));
+    throw InvalidInput(at + "leaf: " + script_colonisation_message(core::error_text(e)));
   }
 }
 
@@ -410,7 +410,7 @@ void section_colonisation(Impl& I, const std::string& at) {
   try {
     venation::validate(p);
   } catch (const std::exception& e) {
-    throw InvalidInput(at + script_colonisation_message(e.what()));
+    throw InvalidInput(at + script_colonisation_message(core::error_text(e)));
   }
 }
 

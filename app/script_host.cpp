@@ -18,7 +18,7 @@ int guarded(lua_State* L, Body&& body) {
   try {
     results = body(I);
   } catch (const std::exception& e) {
-    I.pending_error = e.what();
+    I.pending_error = core::error_text(e);
     failed = true;
   }
   if (failed) {
@@ -224,7 +224,8 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     }
   } reset{I};
 
-  const std::string chunk = "@" + script_path.string();
+  std::string chunk = "@";  // (not "@" + path: GCC 12 warns falsely of overlapping copies there, -Wrestrict)
+  chunk += script_path.string();
   I.memory_exceeded = false;
   // as the lua command accepts them: a UTF-8 byte-order mark, and a first line "#!..." (made a comment)
   std::string text = source.rfind("\xEF\xBB\xBF", 0) == 0 ? source.substr(3) : source;

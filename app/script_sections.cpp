@@ -247,7 +247,7 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
     try {
       mesh = forms::load_mesh(file);
     } catch (const std::exception& e) {
-      throw InvalidInput(at + "mesh: " + e.what());
+      throw InvalidInput(at + "mesh: " + core::error_text(e));
     }
     I.scale_mesh(mesh.vertices, v["scale"].num, v["file"].str, at + "mesh: ");
     o.meshes.push_back(std::move(mesh));
@@ -293,7 +293,7 @@ void build_shapes(Impl& I) {
         r["step"] = static_cast<std::uint64_t>(v["step"].num);
       }
     } catch (const std::exception& e) {
-      throw InvalidInput(s.where + s.kind + ": " + e.what());
+      throw InvalidInput(s.where + s.kind + ": " + core::error_text(e));
     }
     if (s.kind != "cell" && s.kind != "petiole") r["spacing"] = spacing();
     // a petiole turns the nearest cell into one or adds a cell, at its step: not known here

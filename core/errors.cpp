@@ -1,12 +1,21 @@
 // Helpers for error messages.
 #include "core/errors.h"
 
+#include <new>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <vector>
 
 namespace cellform::core {
+
+std::string error_text(const std::exception& e) {
+  if (dynamic_cast<const std::bad_alloc*>(&e))
+    return "out of memory: the machine (or a limit such as ulimit -v) gave no more; fewer cells or nodes, a coarser "
+           "print.voxel_size or a smaller print.size need less";
+  return e.what();
+}
 
 std::string number_text(double x) {
   if (std::isnan(x)) return "NaN";  // the stream writes "nan" or "-nan", by the sign bit

@@ -34,6 +34,10 @@ class Cancelled : public std::runtime_error {
 /// print 300 digits, or 0.000000).
 std::string number_text(double x);
 
+/// What went wrong, for a message: e.what(), but an allocation that failed (std::bad_alloc, whose what()
+/// says only "std::bad_alloc") is said in words.
+std::string error_text(const std::exception& e);
+
 /// Levenshtein distance; used to suggest the closest valid name for a misspelt one.
 std::size_t edit_distance(const std::string& a, const std::string& b);
 

@@ -242,6 +242,49 @@ TEST_CASE("Ctrl-C stops cleanly with outputs and a checkpoint that resumes ident
   CHECK(slurp(whole / "cells.ply") == slurp(out / "cells.ply"));
 }
 
+TEST_CASE("a closed terminal (SIGHUP) stops like Ctrl-C; a closed stderr pipe does not stop the run", "[cli][signal]") {
+  TempDir t("cli-hup");
+  const auto script =
+      t.write("long.lua", "division { trigger = 'none' }\nrun { steps = 1000000 }\ndisc { radius = 20 }\n");
+  const std::string exe = std::string(CELLFORM_BINARY_DIR) + "/bin/cellform";
+  const fs::path out = t.path / "o";
+  pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    execl(exe.c_str(), exe.c_str(), "run", script.c_str(), "--out", out.c_str(), "--quiet",
+          static_cast<char*>(nullptr));
+    _exit(99);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+  kill(pid, SIGHUP);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 130);
+  CHECK(fs::exists(out / "checkpoint.cfck"));
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "interrupted");
+  // progress lines into a pipe nobody reads any more (cellform run ... 2>&1 | head -c 10)
+  int fds[2];
+  REQUIRE(pipe(fds) == 0);
+  close(fds[0]);
+  const fs::path piped = t.path / "p";
+  pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    dup2(fds[1], 1);
+    dup2(fds[1], 2);
+    execl(exe.c_str(), exe.c_str(), "run", script.c_str(), "--out", piped.c_str(), "--steps", "50",
+          static_cast<char*>(nullptr));
+    _exit(99);
+  }
+  close(fds[1]);
+  waitpid(pid, &status, 0);
+  REQUIRE(WIFEXITED(status));  // not killed by SIGPIPE
+  CHECK(WEXITSTATUS(status) == 0);
+  CHECK(fs::exists(piped / "cells.ply"));
+  CHECK(fs::exists(piped / "run.json"));
+}
+
 TEST_CASE("after a first Ctrl-C, a second during the print skips only the print", "[cli][signal]") {
   TempDir t("cli-signal-print");
   const auto script = t.write("long.lua",

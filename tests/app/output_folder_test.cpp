@@ -83,3 +83,49 @@ TEST_CASE("a rule that fails in a step before any checkpoint leaves no empty out
   CHECK(cli({"run", script.string(), "--out", out.string(), "--quiet"}).code == 2);
   CHECK(slurp(out / "notes.txt") == "mine");
 }
+
+TEST_CASE("a folder whose run.json another program wrote is refused, and nothing in it is deleted", "[cli]") {
+  TempDir t("cli-foreign");
+  const auto script = t.write("small.lua", kSmall);
+  const fs::path dir = t.path / "out", outside = t.path / "outside";
+  fs::create_directories(dir);
+  fs::create_directories(outside);
+  t.write("out/notes.txt", "mine");
+  t.write("outside/data.txt", "mine too");
+  fs::create_directory_symlink("../outside", dir / "lnk");
+  const std::string foreign = R"({"tool": "other", "outputs": ["notes.txt", "lnk/data.txt"]})";
+  t.write("out/run.json", foreign);
+  auto r = cli({"run", script.string(), "--out", dir.string(), "--quiet", "--steps", "2"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("run.json' was not written by cellform"));
+  CHECK(slurp(dir / "run.json") == foreign);
+  CHECK(fs::exists(dir / "notes.txt"));
+  CHECK(fs::exists(outside / "data.txt"));
+  CHECK_FALSE(fs::exists(dir / "cells.ply"));
+  // cellform's own run.json that lists a file through a link (or outside frames/) deletes nothing there
+  t.write("out/run.json", R"({"program": "cellform", "outputs": ["lnk/data.txt", "frames/../notes.txt", "x/y.ply"]})");
+  fs::create_directories(dir / "x");
+  t.write("out/x/y.ply", "kept");
+  r = cli({"run", script.string(), "--out", dir.string(), "--quiet", "--steps", "2"});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  CHECK(fs::exists(outside / "data.txt"));
+  CHECK(fs::exists(dir / "notes.txt"));
+  CHECK(fs::exists(dir / "x" / "y.ply"));
+  CHECK(fs::exists(dir / "cells.ply"));
+}
+
+TEST_CASE("two runs never write into one folder at once", "[cli]") {
+  TempDir t("cli-lock");
+  const auto script = t.write("small.lua", kSmall);
+  const fs::path dir = t.path / "out";
+  fs::create_directories(dir);
+  {
+    const cellform::app::FolderLock held(dir);  // as a run in another process holds it
+    const auto r = cli({"run", script.string(), "--out", dir.string(), "--quiet", "--steps", "2"});
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Contains("another cellform run") && Contains("is writing to"));
+    CHECK(fs::is_empty(dir));  // no staging folder, no outputs
+  }
+  CHECK(cli({"run", script.string(), "--out", dir.string(), "--quiet", "--steps", "2"}).code == 0);  // released
+}

@@ -1,0 +1,20 @@
+// Message helpers of core/errors.h.
+#include "core/errors.h"
+
+#include <catch2/catch.hpp>
+#include <new>
+#include <stdexcept>
+
+using cellform::core::error_text;
+
+TEST_CASE("error_text says a failed allocation in words, and other errors as they are", "[core]") {
+  const std::bad_alloc no_memory;
+  CHECK(error_text(no_memory).rfind("out of memory: ", 0) == 0);
+  CHECK(error_text(std::runtime_error("cannot open 'x'")) == "cannot open 'x'");
+  CHECK(error_text(cellform::core::InvalidInput("cells.drag must be ...")) == "cells.drag must be ...");
+}
+
+TEST_CASE("number_text keeps messages short", "[core]") {
+  CHECK(cellform::core::number_text(1e300) == "1e+300");
+  CHECK(cellform::core::number_text(0.5) == "0.5");
+}
