@@ -338,7 +338,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     return usage;
   } catch (const core::InvalidInput& e) {
     err << "cellform: " << e.what() << "\n";
-    return usage;
+    return g_interrupt.load() ? interrupted : usage;  // a Ctrl-C while the script was read stops it there
   } catch (const core::FileError& e) {
     err << "cellform: " << e.what() << "\n";
     return usage;

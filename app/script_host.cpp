@@ -141,6 +141,19 @@ const char* const kSections[] = {"run",    "cells",        "division", "output",
                                  "sphere", "line",         "cell",     "petiole",  "ground",   "half_space",
                                  "ball",   "box",          "mesh",     "attractor"};
 
+/// setmetatable without __gc (upvalue 1: the library's setmetatable).
+int api_setmetatable(lua_State* L) {
+  if (lua_type(L, 2) == LUA_TTABLE && lua_getfield(L, 2, "__gc") != LUA_TNIL)
+    return luaL_error(L,
+                      "setmetatable: a metatable with __gc (a finalizer) is not allowed in a script: Lua runs "
+                      "finalizers beyond the instruction budget and Ctrl-C");
+  lua_settop(L, 2);
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, 2, 1);
+  return 1;
+}
+
 }  // namespace
 
 ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
@@ -166,6 +179,10 @@ ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
   lua_pushnil(L);
   lua_setfield(L, -2, "dump");
   lua_pop(L, 1);
+  // no finalizers: Lua runs __gc with the hook off, out of reach of the instruction budget and Ctrl-C
+  lua_getglobal(L, "setmetatable");
+  lua_pushcclosure(L, api_setmetatable, 1);
+  lua_setglobal(L, "setmetatable");
   // math.random is reproducible: Lua 5.4 seeds it randomly; here 0 while a script is read, then the run's
   // seed and the step (set_step). The library's own randomseed is kept for that, whatever a script does.
   lua_getglobal(L, LUA_MATHLIBNAME);

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "app/run.h"
 #include "app/schema.h"
 #include "app/script_host.h"
 #include "core/errors.h"
@@ -121,6 +122,10 @@ struct ScriptHost::Impl {
   std::uint64_t executed = 0;
   std::uint64_t budget = 0;
   bool rule_call = false;  // the budget is a rule function's per-call one, which no option raises
+  // the call ran out of budget or was interrupted: every instruction from then on raises the error again,
+  // so a script's pcall cannot catch it and go on (the hook runs each instruction then)
+  bool stopping = false;
+  std::string stop_message;
   std::string script_name;
   std::filesystem::path script_dir;
   std::function<void(const std::string&)> print;
@@ -163,7 +168,17 @@ struct ScriptHost::Impl {
 
   static void hook(lua_State* L, lua_Debug* ar) {
     Impl* self = *static_cast<Impl**>(lua_getextraspace(L));
+    if (self->stopping) {
+      lua_pushstring(L, self->stop_message.c_str());
+      lua_error(L);
+    }
     self->executed += kHookEvery;
+    // Ctrl-C while a script is read (a rule's step ends first: the run then stops after it)
+    if (!self->rule_call && g_interrupt.load(std::memory_order_relaxed)) {
+      self->stop("interrupted while the script was read; nothing was written");
+      lua_pushstring(L, self->stop_message.c_str());
+      lua_error(L);
+    }
     if (self->executed > self->budget) {
       // the line running now (luaL_error would name the caller's, which for the main chunk is none)
       lua_getinfo(L, "Sl", ar);
@@ -181,8 +196,16 @@ struct ScriptHost::Impl {
             L, "instruction budget of %I instructions exceeded (an endless loop?); raise it with --lua-instructions",
             static_cast<lua_Integer>(self->budget));
       lua_concat(L, 2);
+      self->stop(lua_tostring(L, -1));
       lua_error(L);
     }
+  }
+
+  /// From now until the call ends, every instruction raises `message` (see `stopping`).
+  void stop(const std::string& message) {
+    stopping = true;
+    stop_message = message;
+    lua_sethook(L, &Impl::hook, LUA_MASKCOUNT, 1);
   }
 
   /// Turns a Lua error message into one line that names the script; adds the memory-limit hint.
@@ -201,14 +224,20 @@ struct ScriptHost::Impl {
     budget = call_budget;
     rule_call = rule;
     memory_exceeded = false;
+    if (stopping) {
+      stopping = false;
+      lua_sethook(L, &Impl::hook, LUA_MASKCOUNT, kHookEvery);
+    }
     const int base = lua_gettop(L) - nargs;  // the function; the handler goes below it
     lua_pushcfunction(L, &Impl::error_object_text);
     lua_insert(L, base);
     const int rc = lua_pcall(L, nargs, nresults, base);
     lua_remove(L, base);
-    if (rc == LUA_OK) return {};
-    std::string msg = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "error object is not a string";
-    lua_pop(L, 1);
+    if (rc == LUA_OK && !stopping) return {};
+    std::string msg =
+        rc != LUA_OK && lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "error object is not a string";
+    lua_pop(L, rc != LUA_OK ? 1 : nresults);
+    if (stopping) msg = stop_message;  // whatever the script made of it
     return describe(msg);
   }
 

@@ -285,6 +285,27 @@ TEST_CASE("a closed terminal (SIGHUP) stops like Ctrl-C; a closed stderr pipe do
   CHECK(fs::exists(piped / "run.json"));
 }
 
+TEST_CASE("Ctrl-C while a script is read stops it there", "[cli][signal]") {
+  TempDir t("cli-int-load");
+  const auto script = t.write("loop.lua", "while true do end\n");
+  const std::string exe = std::string(CELLFORM_BINARY_DIR) + "/bin/cellform";
+  const fs::path out = t.path / "o";
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    execl(exe.c_str(), exe.c_str(), "run", script.c_str(), "--out", out.c_str(), "--quiet", "--lua-instructions",
+          "18446744073709551615", static_cast<char*>(nullptr));
+    _exit(99);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 130);
+  CHECK_FALSE(fs::exists(out));
+}
+
 TEST_CASE("after a first Ctrl-C, a second during the print skips only the print", "[cli][signal]") {
   TempDir t("cli-signal-print");
   const auto script = t.write("long.lua",

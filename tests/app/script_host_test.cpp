@@ -116,6 +116,17 @@ TEST_CASE("runaway scripts are stopped", "[script][limits]") {
   memory.instructions = 2'000'000'000;
   CHECK_THAT(load_error("local t = {} for i = 1, 1e9 do t[i] = i end", {}, memory), Contains("memory limit of 16 MiB"));
   CHECK_THAT(load_error("local s = 'x' while true do s = s .. s end", {}, memory), Contains("memory limit"));
+  // a pcall catches neither the instruction budget nor the memory limit for good
+  CHECK_THAT(load_error("while true do pcall(function() while true do end end) end", {}, limits),
+             Contains("instruction budget"));
+  CHECK_THAT(load_error("pcall(function() while true do end end) disc { radius = 2 }", {}, limits),
+             Contains("instruction budget"));
+  CHECK_THAT(load_error("while true do pcall(string.rep, 'x', 1 << 30) end", {}, limits),
+             Contains("memory limit of 16 MiB"));  // stopped by the budget, said as what it tried
+  // finalizers would run beyond the budget (with Lua's hook off): refused; other metatables work
+  CHECK_THAT(load_error("setmetatable({}, { __gc = function() while true do end end })", {}, limits),
+             Contains("__gc") && Contains("test/leaf.lua:1"));
+  CHECK_NOTHROW(load("local t = setmetatable({}, { __index = function(_, k) return 2 * k end }) assert(t[21] == 42)"));
   // the host is usable after a limit error
   ScriptHost host(limits);
   CHECK_THROWS(host.load("while true do end", "a.lua", {}));
@@ -200,6 +211,18 @@ TEST_CASE("rule functions run per cell and report errors with step and cell", "[
   CHECK_THROWS_WITH(
       loop.rules().divides(c, 0),
       Contains("rule function ran more than 10000 instructions in one call") && !Contains("--lua-instructions"));
+  // pcall cannot catch running out of budget and go on
+  ScriptHost caught(tight);
+  caught.load("division { rule = function(cell) while true do pcall(function() while true do end end) end end }",
+              "caught.lua", {});
+  const auto r4 = caught.rules();
+  CHECK_THROWS_WITH(r4.divides(c, 0), Contains("rule function ran more than 10000 instructions in one call"));
+  CHECK_THROWS_WITH(r4.divides(c, 1), Contains("rule function ran more than 10000 instructions"));  // each call anew
+  // a rule that returns the value after a caught budget error is refused all the same
+  ScriptHost swallowed(tight);
+  swallowed.load("division { rule = function(cell) pcall(function() while true do end end) return true end }",
+                 "swallowed.lua", {});
+  CHECK_THROWS_WITH(swallowed.rules().divides(c, 0), Contains("rule function ran more than 10000 instructions"));
 }
 
 TEST_CASE("print writes a line, print{} is the print section, and no section runs inside a rule", "[script][rules]") {
