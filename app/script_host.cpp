@@ -83,15 +83,23 @@ int api_params(lua_State* L) {
       I.param_names.insert(key);
       auto it = I.overrides->find(key);
       const int t = lua_type(L, -1);
+      const bool integer = t == LUA_TNUMBER && lua_isinteger(L, -1);
       if (it != I.overrides->end()) {
         I.used_overrides.insert(key);
         const std::string& text = it->second;
         double x;
         lua_pop(L, 1);
         if (t == LUA_TNUMBER) {
-          if (!parse_double(text, x)) throw InvalidInput("--set " + key + ": expected a number, got \"" + text + "\"");
-          lua_pushnumber(L, x);
-          rec[key] = x;
+          if (!parse_double(text, x) || !std::isfinite(x))
+            throw InvalidInput("--set " + key + ": expected a finite number, got \"" + text + "\"");
+          // a whole default stays whole (a count such as 3 given as --set n=5 is 5, not 5.0)
+          if (integer && x == std::floor(x) && std::abs(x) < 0x1p63) {
+            lua_pushinteger(L, static_cast<lua_Integer>(x));
+            rec[key] = static_cast<std::int64_t>(x);
+          } else {
+            lua_pushnumber(L, x);
+            rec[key] = x;
+          }
         } else if (t == LUA_TBOOLEAN) {
           if (text != "true" && text != "false")
             throw InvalidInput("--set " + key + ": expected true or false, got \"" + text + "\"");

@@ -144,6 +144,17 @@ TEST_CASE("command-line overrides (--set) replace script parameters", "[script][
   CHECK(cfg.scene.cells.weights[0].spring == 2.5);
   CHECK(cfg.scene.cells.drag.z() == 0.25);
   CHECK(cfg.resolved["params"]["size"] == 250.0);
+  CHECK(cfg.resolved["params"]["size"].is_number_integer());  // a whole default stays whole
+  SECTION("a whole default takes a fraction as a fraction; a knob is never NaN or infinite") {
+    const std::string q =
+        "local P = params { n = 3, w = 0.5 }\n"
+        "assert(math.type(P.n) == (P.n == math.floor(P.n) and 'integer' or 'float'))\n"
+        "assert(math.type(P.w) == 'float')\n";
+    CHECK(load(q, {{"n", "5"}, {"w", "2"}}).resolved["params"]["n"].is_number_integer());
+    CHECK(load(q, {{"n", "2.5"}}).resolved["params"]["n"] == 2.5);
+    for (const char* bad : {"nan", "inf", "-inf"})
+      CHECK_THAT(load_error(q, {{"n", bad}}), Contains("--set n: expected a finite number"));
+  }
   SECTION("an unknown name suggests the closest") {
     CHECK_THAT(load_error(src, {{"flat", "false"}, {"sise", "3"}}), Contains("did you mean 'size'"));
     CHECK_THAT(load_error(src, {{"flat", "false"}, {"cells.sprin", "3"}}), Contains("did you mean 'cells.spring'"));
