@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/atomic_file.h"
+#include "core/polylines.h"
 #include "core/text.h"
 
 namespace cellform::exporters {
@@ -69,11 +70,12 @@ void write_veins_obj(const std::filesystem::path& path, const venation::VeinGrap
       out += '\n';
       core::drain(out, os);
     }
-    for (const auto& e : g.edges) {
-      out += "l ";
-      core::append_integer(out, e[0] + 1);
-      out += ' ';
-      core::append_integer(out, e[1] + 1);
+    for (const auto& line : core::polylines(g.cell.size(), g.edges)) {  // a curve per branch
+      out += 'l';
+      for (const core::Index v : line) {
+        out += ' ';
+        core::append_integer(out, v + 1);
+      }
       out += '\n';
       core::drain(out, os);
     }

@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.h"
 #include "core/chunk_file.h"
+#include "core/polylines.h"
 #include "core/text.h"
 
 namespace cellform::venation {
@@ -187,17 +188,20 @@ void write_vein_obj(const std::filesystem::path& path, const VeinTree& tree) {
       out += '\n';
       core::drain(out, os);
     }
-    auto line = [&](Index a, Index b) {
-      out += "l ";
-      core::append_integer(out, a + 1);
-      out += ' ';
-      core::append_integer(out, b + 1);
+    std::vector<std::array<Index, 2>> edges;  // child -> parent, then the loops' closing segments
+    edges.reserve(tree.size() + tree.anastomoses.size());
+    for (Index i = 0; i < tree.size(); ++i)
+      if (tree.parent[i] != kNoIndex) edges.push_back({i, tree.parent[i]});
+    for (const auto& [a, b] : tree.anastomoses) edges.push_back({a, b});
+    for (const auto& line : core::polylines(tree.size(), edges)) {  // a curve per branch
+      out += 'l';
+      for (const Index v : line) {
+        out += ' ';
+        core::append_integer(out, v + 1);
+      }
       out += '\n';
       core::drain(out, os);
-    };
-    for (Index i = 0; i < tree.size(); ++i)
-      if (tree.parent[i] != kNoIndex) line(i, tree.parent[i]);
-    for (const auto& [a, b] : tree.anastomoses) line(a, b);
+    }
     core::drain(out, os, 0);
   });
 }
