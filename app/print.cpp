@@ -50,6 +50,7 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   tp.fill_cavities = spec.fill_cavities;
   tp.flat_base = spec.flat_base;
   tp.close_holes = close_holes;
+  tp.close_holes_max = spec.close_holes_max;
   // Ctrl-C stops the thickening at the next block; on a terminal the stage shows its percentage. A Ctrl-C
   // that stopped the steps before printing began asked for the outputs, the solid included: it is not one.
   const bool tty = !quiet && ::isatty(2) != 0;

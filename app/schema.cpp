@@ -255,7 +255,11 @@ std::vector<Field> build() {
                       "fill closed pockets inside the solid (a shell around a closed sheet becomes solid)"));
   f.push_back(num("print", "close_holes", "1", 0, 10, false, "cell spacings",
                   "shell: fill holes in the printed sheet by a closing of radius r = half this many cell spacings; it "
-                  "spans gaps up to 2 sqrt(h^2 + 2 h r) across (h = shell_thickness / 2); 0 = no closing"));
+                  "spans gaps up to 2 sqrt(h^2 + 2 h r) across (h = shell_thickness / 2), and joins folds of the "
+                  "sheet closer than 2 r; 0 = no closing"));
+  f.push_back(num("print", "close_holes_max", "2", 0, 100, false, "mm",
+                  "shell: the closing's radius r at most this (0 = no cap): at a large print scale half a cell "
+                  "spacing is many millimetres, and a closing that large fills the space between nearby folds"));
   f.push_back(num("print", "flat_base", "0", 0, 1e5, false, "mm",
                   "cut this much off the bottom of the form so it stands on a flat face (0 = no cut)"));
   f.push_back(choice("print", "pieces", Kind::choice, "warn", "any|warn|one",

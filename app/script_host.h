@@ -74,6 +74,7 @@ struct PrintSpec {
   bool fill_cavities = false;               ///< fill closed pockets inside the solid
   double flat_base = 0;                     ///< mm cut off the bottom for a flat base (0 = none)
   double close_holes = 1;                   ///< cell spacings: holes in the shell up to this size are filled
+  double close_holes_max = 2;               ///< mm: the closing's radius at most (0 = no cap)
 };
 
 /// Everything a script describes, resolved (script values, then --set overrides, then defaults).

@@ -165,6 +165,7 @@ void section_print(Impl& I, const std::string& at) {
   p.fill_cavities = v["fill_cavities"].flag;
   p.flat_base = v["flat_base"].num;
   p.close_holes = v["close_holes"].num;
+  p.close_holes_max = v["close_holes_max"].num;
   p.formats.clear();
   std::stringstream ss(v["formats"].str);
   std::string f;

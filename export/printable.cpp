@@ -75,6 +75,8 @@ void check_params(const ThickenParams& p) {
   if (p.threads < 0) bad("threads must be >= 0 (0 = all cores)");
   if (!(std::isfinite(p.close_holes) && p.close_holes >= 0))
     bad("close_holes must be >= 0 model units (0 = none), got " + fmt("%g", p.close_holes));
+  if (!(std::isfinite(p.close_holes_max) && p.close_holes_max >= 0))
+    bad("close_holes_max must be >= 0 mm (0 = no cap), got " + fmt("%g", p.close_holes_max));
   if (!(std::isfinite(p.flat_base) && p.flat_base >= 0))
     bad("flat_base must be >= 0 mm (0 = no cut), got " + fmt("%g", p.flat_base));
 }
@@ -102,6 +104,12 @@ double LevelSet::scale() const { return impl_ ? impl_->scale : 0.0; }
 std::size_t LevelSet::active_voxels() const { return impl_ ? impl_->active_voxels : 0; }
 
 namespace {
+
+/// mm: the radius of the shell's closing, close_holes at the scale, capped by close_holes_max.
+double closing_radius(const ThickenParams& p, double scale) {
+  const double r = p.close_holes * scale;
+  return p.close_holes_max > 0 ? std::min(r, p.close_holes_max) : r;
+}
 
 constexpr int kHalfWidth = 3;  // narrow band half width in voxels (OpenVDB's LEVEL_SET_HALF_WIDTH)
 constexpr int kLeafLog2 = 3;   // 8^3 voxels per leaf
@@ -378,7 +386,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   for (const Slab& w : slabs) shell_area += (w.p1 - w.p0).cross(w.p2 - w.p0).norm() / 2;
   const double closing_voxels =
       params.close_holes > 0 && !slabs.empty()
-          ? 1.6 * shell_area * 2 * (half_shell + params.close_holes * scale + 2 * band) / (voxel * voxel * voxel)
+          ? 1.6 * shell_area * 2 * (half_shell + closing_radius(params, scale) + 2 * band) / (voxel * voxel * voxel)
           : 0.0;
   const double estimate = (active_estimate + closing_voxels) * kBytesPerActiveVoxel + quads_estimate * kBytesPerQuad +
                           static_cast<double>(caps.size() + slabs.size()) * 200;
@@ -521,7 +529,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
 
   init_openvdb();
   openvdb::FloatGrid::Ptr grid;
-  const double close = params.close_holes * scale;  // mm: radius of the shell's closing
+  const double close = closing_radius(params, scale);  // mm: radius of the shell's closing
   if (close > 0 && !slabs.empty()) {
     // The shell closed (dilated by `close`, then eroded by it). The dilated slabs' grid is made exact by
     // fast sweeping from its surface, on a band widened inward past `close`; its level set at -close is

@@ -45,6 +45,10 @@ struct ThickenParams {
   /// soup narrower than 2 sqrt(h^2 + 2 h r) (h = half the shell's thickness, in mm after scaling) are
   /// filled, thinner at their middle; 0 = the shell as given. Veins are not affected.
   double close_holes = 0;
+  /// mm: the closing's radius is at most this (0 = no cap). A sheet's cells can be far apart at a large print
+  /// scale, and a closing of half their spacing would also fill the space between folds of the sheet that
+  /// lie closer than twice its radius: walls many times shell_thickness.
+  double close_holes_max = 0;
   /// Called on the calling thread between blocks of work with the fraction of the stage done (0..1,
   /// non-decreasing within voxelise() and within mesh_level_set()); return false to stop, which throws
   /// core::Cancelled (OpenVDB's interrupter idea). Empty = never stops. Does not change the output.

@@ -521,6 +521,14 @@ TEST_CASE("a closing that joins two sheets into one thick solid leaves no false 
   CHECK(r.parts == 1);
   CHECK(r.genus == std::vector<int>{0});
   CHECK(r.volume > 12 * 12 * 4.7);  // solid between the sheets
+  // close_holes_max caps the radius: at 2 mm the sheets (4.7 apart, more than 2 r + the shell) stay two
+  // 0.6 mm plates, each about its own volume
+  p.close_holes_max = 2.0;
+  const auto capped = require_printable(exporters::thicken({}, sheets, p));
+  CHECK(capped.parts == 2);
+  CHECK(capped.volume == Approx(2 * 12.6 * 12.6 * 0.6).epsilon(0.03));  // rims 0.3 round the 12 x 12
+  p.close_holes_max = -1;
+  CHECK_THROWS_WITH(exporters::thicken({}, sheets, p), Catch::Matchers::Contains("close_holes_max must be >= 0 mm"));
 }
 
 TEST_CASE("the progress callback sees each stage advance to 1 and can cancel it", "[printable]") {
