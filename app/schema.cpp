@@ -140,7 +140,9 @@ std::vector<Field> build() {
       "flow a cell next to a vein must exceed to become a vein cell (about its upstream cells); sets vein spacing"));
   f.push_back(Field{"venation", "source", Kind::number_or_function, "1", 0, kInf, false, "", "auxin per step",
                     "auxin every cell produces; or function(cell) returning it"});
-  f.push_back(num("venation", "murray_exponent", "3", 1, 4, false, "", "n of Murray's law r_parent^n = sum r_child^n"));
+  f.push_back(num("venation", "murray_exponent", "3", 1, 4, false, "",
+                  "n of Murray's law: radius = radius_scale flow^(1/n), so r_parent^n = sum r_child^n plus the auxin "
+                  "that joins between forks"));
   f.push_back(num("venation", "radius_scale", "0.05", 0, kInf, true, "model units",
                   "radius of a vein carrying unit flow: r = radius_scale * flow^(1/n)"));
   f.push_back(num("venation", "min_radius", "0.05", 0, kInf, false, "model units", "no vein is thinner"));
@@ -241,7 +243,8 @@ std::vector<Field> build() {
   // print{}
   f.push_back(boolean("print", "veins", "true", "veins become solid tapered members with their Murray radii"));
   f.push_back(boolean("print", "shell", "false", "the cell sheet becomes a shell of shell_thickness"));
-  f.push_back(num("print", "size", "120", 0, 1e5, true, "mm", "largest extent of the printed form when scale = 0"));
+  f.push_back(num("print", "size", "120", 0, 1e5, true, "mm", "largest extent of the printed form when scale = 0 (of its ideal round members; the mesh lies on "
+                  "chords of them, up to about a voxel less)"));
   f.push_back(num("print", "scale", "0", 0, 1e9, false, "mm per model unit", "0 = automatic from size"));
   f.push_back(
       num("print", "min_radius", "0.4", 0, 1e3, true, "mm", "thinner veins are raised to this printable minimum"));

@@ -31,7 +31,9 @@ colonisation {
   max_nodes = 5000000,  -- the full size grows 3.9 million nodes; the default limit stops at 2 million
 }
 
--- At 120 mm a full-size leaf has vein segments of 0.03 mm, far below the 0.4 mm printable radius: its
--- reticulum prints as one closed plate (4.45 million segments thickened in about 47 s with 3 GB at the
--- peak; the estimate before thickening says 4.5 GB, above the default limit of 2000 MB, hence max_memory).
+-- The reticulum is finer than a print can be at 120 mm: veins b_s = 2 segments apart are 0.34 mm apart
+-- at the default scale (0.03 mm at full size), under the 0.4 mm printable radius, so the leaf prints as a
+-- closed plate with pinholes (a lattice needs a print several times larger). At full size
+-- 4.45 million segments thicken in about 47 s with 3 GB at the peak; the estimate before thickening says
+-- 4.5 GB, above the default limit of 2000 MB, hence max_memory.
 print { formats = "stl", max_memory = 5000 }
