@@ -595,6 +595,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   impl->grid = grid;
   impl->voxel_size = voxel;
   impl->scale = scale;
+  if (cut) impl->base_z = base_z;
   impl->active_voxels = static_cast<std::size_t>(grid->activeVoxelCount());
   if (report) {
     report->active_voxels = impl->active_voxels;

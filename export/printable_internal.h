@@ -5,6 +5,7 @@
 #include <openvdb/openvdb.h>
 
 #include <chrono>
+#include <limits>
 #include <string>
 
 #include "export/printable.h"
@@ -16,6 +17,7 @@ struct LevelSet::Impl {
   double voxel_size = 0;
   double scale = 0;
   std::size_t active_voxels = 0;
+  double base_z = std::numeric_limits<double>::quiet_NaN();  ///< mm: the flat_base cut plane, NaN without one
 };
 
 namespace detail {
