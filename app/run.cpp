@@ -371,7 +371,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   std::string status = "complete";
   double sim_seconds = 0;
   int code = ok;
-  bool saved = false;  // this run wrote checkpoint.cfck (an older one may be there from another run)
+  bool saved = false;            // this run wrote checkpoint.cfck (an older one may be there from another run)
+  std::string checkpoint_error;  // why the final checkpoint could not be written
   bool checkpoint_warned = false;
   try {
     const auto& links = sim.cells().links;
@@ -416,7 +417,6 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     const auto b = std::chrono::steady_clock::now();
     // the checkpoint first: outputs that then fail to write leave it to resume from; and a checkpoint that
     // cannot be written (a full disk) still leaves the outputs
-    std::string checkpoint_error;
     try {
       write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
       saved = true;
@@ -511,6 +511,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   } catch (const std::exception& e) {
     progress.finish();
     err << "cellform: " << core::error_text(e) << "\n";
+    // the outputs failed (a full disk): what is left to continue from
+    if (!checkpoint_error.empty()) err << "cellform: the final checkpoint failed too: " << checkpoint_error << "\n";
+    if (saved && fs::exists(checkpoint))
+      err << "  (the last checkpoint written is " << checkpoint.string() << "; cellform resume continues from it)\n";
     code = failure;
   }
   std::error_code ec;

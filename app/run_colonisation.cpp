@@ -138,6 +138,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
   const fs::path created = first_missing(dir);  // made by this run: removed again if it stays empty
   fs::path staging;
   std::optional<FolderLock> lock;  // held until the run has written its last file
+  bool resumable = false;          // a checkpoint of this run is in the folder when the outputs are written
+  std::string checkpoint_failure;  // why the final checkpoint could not be written
   try {
     staging = make_staging(dir, lock);
   } catch (const std::exception& e) {
@@ -219,6 +221,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     } catch (const std::exception& e) {
       checkpoint_error = core::error_text(e);
     }
+    resumable = saved && !partial_sheet;
+    checkpoint_failure = checkpoint_error;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
     venation::VeinTree tree = col.tree();
     venation::compute_widths(tree, spec.widths);
@@ -360,6 +364,11 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     code = usage;
   } catch (const std::exception& e) {
     err << "cellform: " << core::error_text(e) << "\n";
+    // the outputs failed (a full disk): what is left to continue from
+    if (!checkpoint_failure.empty()) err << "cellform: the final checkpoint failed too: " << checkpoint_failure << "\n";
+    if (resumable && fs::exists(dir / kCheckpointName))
+      err << "  (the last checkpoint written is " << (dir / kCheckpointName).string()
+          << "; cellform resume continues from it)\n";
     code = failure;
   }
   std::error_code ec;

@@ -129,3 +129,23 @@ TEST_CASE("two runs never write into one folder at once", "[cli]") {
   }
   CHECK(cli({"run", script.string(), "--out", dir.string(), "--quiet", "--steps", "2"}).code == 0);  // released
 }
+
+TEST_CASE("outputs that cannot be moved into place say where the run can continue from", "[cli]") {
+  TempDir t("cli-commit-fails");
+  const auto script = t.write("small.lua", kSmall);
+  const fs::path dir = t.path / "out";
+  fs::create_directories(dir / "cells.ply" / "inside");  // cells.ply cannot be replaced
+  const auto r = cli({"run", script.string(), "--out", dir.string(), "--quiet", "--steps", "3"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("cells.ply") && Contains("the last checkpoint written is") &&
+                        Contains("checkpoint.cfck; cellform resume continues from it"));
+  CHECK(fs::exists(dir / "checkpoint.cfck"));
+  // and so for space colonisation
+  const auto veins = t.write("veins.lua", "leaf {}\ncolonisation { initial_length = 20, final_length = 24 }\n");
+  const fs::path vdir = t.path / "veins";
+  fs::create_directories(vdir / "veins.svg" / "inside");
+  const auto v = cli({"run", veins.string(), "--out", vdir.string(), "--quiet"});
+  CHECK(v.code == 1);
+  CHECK_THAT(v.err, Contains("veins.svg") && Contains("the last checkpoint written is"));
+  CHECK(fs::exists(vdir / "checkpoint.cfck"));
+}
