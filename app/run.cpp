@@ -83,6 +83,9 @@ Start start_from(const RunOptions& o) {
   try {
     if (!o.checkpoint.empty()) {
       const std::string what = "checkpoint '" + o.checkpoint.string() + "'";
+      if (o.checkpoint.extension() == ".lua")  // a script given to resume: say how to run it
+        throw core::FileError(what + " is a script, not a checkpoint: run it with cellform run " +
+                              o.checkpoint.string() + ", or resume its run's checkpoint.cfck");
       const core::ChunkFile f =
           core::read_chunk_file(core::read_file(o.checkpoint), kCheckpointKind, kCheckpointVersion, what);
       json meta;

@@ -243,7 +243,8 @@ std::vector<Field> build() {
   // print{}
   f.push_back(boolean("print", "veins", "true", "veins become solid tapered members with their Murray radii"));
   f.push_back(boolean("print", "shell", "false", "the cell sheet becomes a shell of shell_thickness"));
-  f.push_back(num("print", "size", "120", 0, 1e5, true, "mm", "largest extent of the printed form when scale = 0 (of its ideal round members; the mesh lies on "
+  f.push_back(num("print", "size", "120", 0, 1e5, true, "mm",
+                  "largest extent of the printed form when scale = 0 (of its ideal round members; the mesh lies on "
                   "chords of them, up to about a voxel less)"));
   f.push_back(num("print", "scale", "0", 0, 1e9, false, "mm per model unit", "0 = automatic from size"));
   f.push_back(

@@ -107,6 +107,16 @@ void section_division(Impl& I, const std::string& at) {
                            "divides; remove one of them");
     I.divides_ref = v["rule"].ref;
     I.divides_at = at;
+  } else {
+    // a setting of the other trigger would be dropped unseen
+    const std::string trigger = v["trigger"].str;
+    for (const char* f : {"age", "radius", "min_neighbours"}) {
+      const bool used = std::string(f) == "age" ? trigger == "age" : trigger == "neighbours";
+      if (v[f].present && !used)
+        throw InvalidInput(at + "division." + f + " has no effect with trigger = \"" + trigger + "\" (it belongs to " +
+                           (std::string(f) == "age" ? "trigger = \"age\"" : "trigger = \"neighbours\"") +
+                           "); remove it, or choose that trigger");
+    }
   }
 }
 

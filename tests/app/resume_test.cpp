@@ -110,6 +110,9 @@ TEST_CASE("corrupt, foreign and truncated checkpoints are refused clearly", "[cl
   CHECK_THAT(r.err, Contains("checksum"));
   r = cli({"resume", script.string()});
   CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("is a script, not a checkpoint: run it with cellform run"));
+  r = cli({"resume", t.write("notes.txt", "some text").string()});
+  CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("not a cellform file"));
   r = cli({"resume", (t.path / "nothing.cfck").string()});
   CHECK(r.code == 2);

@@ -491,6 +491,18 @@ TEST_CASE("directions that mean nothing are refused, not replaced", "[script]") 
              Contains(":2: division.direction = \"auxin\"") && Contains("venation{...}"));
 }
 
+TEST_CASE("a setting of the other division trigger is refused, not dropped unseen", "[script]") {
+  CHECK_THAT(load_error("disc { radius = 2 }\ndivision { trigger = 'neighbours', age = 5 }\n"),
+             Contains(":2: division.age has no effect with trigger = \"neighbours\""));
+  CHECK_THAT(load_error("disc { radius = 2 }\ndivision { radius = 2 }\n"),  // the default trigger is age
+             Contains(":2: division.radius has no effect with trigger = \"age\""));
+  CHECK_THAT(load_error("disc { radius = 2 }\ndivision { trigger = 'none', min_neighbours = 4 }\n"),
+             Contains("division.min_neighbours has no effect with trigger = \"none\""));
+  CHECK(load("disc { radius = 2 }\ndivision { trigger = 'neighbours', radius = 2, min_neighbours = 5 }\n")
+            .scene.cells.division.min_neighbours == 5);
+  CHECK(load("disc { radius = 2 }\ndivision { trigger = 'age', age = 7 }\n").scene.cells.division.division_age == 7);
+}
+
 TEST_CASE("a division rule with trigger settings is refused, not half applied", "[script]") {
   CHECK_THAT(load_error("disc { radius = 2 }\ndivision { rule = function(cell) return true end, trigger = 'age' }\n"),
              Contains(":2: division.trigger has no effect with division.rule"));
