@@ -313,7 +313,8 @@ Outline make_outline(const ShapeParams& sp) {
 
 Outline parse_outline(const std::string& text, const std::string& source) {
   Outline o;
-  std::istringstream in(text);
+  // a UTF-8 byte-order mark, which some editors write, is no content
+  std::istringstream in(text.rfind("\xEF\xBB\xBF", 0) == 0 ? text.substr(3) : text);
   std::string line;
   int line_no = 0, last_line = 0;
   while (std::getline(in, line)) {

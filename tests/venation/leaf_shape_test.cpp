@@ -75,6 +75,13 @@ TEST_CASE("toothed margins: summed triangular waves stay simple, a too deep toot
 
 TEST_CASE("outline files: closed polygons parse, open, malformed and self-intersecting ones fail", "[leaf_shape]") {
   const Outline sq = venation::parse_outline("# a square, clockwise\n0 0\n0 1\n1 1\n1 0\n0 0\n", "sq.txt");
+  // a byte-order mark from an editor changes nothing
+  CHECK(venation::parse_outline("\xEF\xBB\xBF# a square, clockwise\n0 0\n0 1\n1 1\n1 0\n0 0\n", "bom.txt").points ==
+        sq.points);
+  CHECK(venation::parse_outline("\xEF\xBB\xBF"
+                                "0 0\n0 1\n1 1\n1 0\n0 0\n",
+                                "bom.txt")
+            .points.size() == sq.points.size());
   CHECK(sq.points.size() == 4);
   CHECK(venation::signed_area(sq) == Approx(1));  // reoriented
   CHECK_THROWS_AS(venation::parse_outline("0 0\n1 0\n1 1\n0 1\n", "open.txt"), core::InvalidInput);
