@@ -256,7 +256,17 @@ void section_leaf(Impl& I, const std::string& at) {
       const double spread = v["seed_spread"].num;
       leaf.initial_nodes.push_back(venation::Vec2(-spread / 2 + spread * i / (seeds - 1), 0.001));
     }
-    venation::validate(leaf);
+    try {
+      venation::validate(leaf);
+    } catch (const InvalidInput& e) {
+      const std::string m = e.what();
+      if (seeds <= 1 || m.rfind("leaf.initial_nodes[", 0) != 0) throw;
+      const std::string nth = m.substr(19, m.find(']') - 19);
+      throw InvalidInput(
+          "leaf.seeds: seed " + nth + " of " + std::to_string(seeds) +
+          " lies outside the blade: the seeds span leaf.seed_spread = " + core::number_text(v["seed_spread"].num) +
+          " leaf lengths along the base, wider than the blade there; use a smaller seed_spread");
+    }
   } catch (const std::exception& e) {
     throw InvalidInput(at + "leaf: " + script_colonisation_message(core::error_text(e)));
   }

@@ -329,7 +329,7 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
   CHECK_THAT(load_error("leaf {}\ncolonisation { initial_length = 50, final_length = 20 }\n"),
              Contains("colonisation.final_length") && Contains("colonisation.initial_length"));
   CHECK_THAT(load_error("leaf { shape = 'ellipse', seeds = 3, seed_spread = 5 }\ncolonisation {}\n"),
-             Contains("leaf.seeds[1]"));
+             Contains("leaf.seeds: seed 1 of 3 lies outside the blade") && Contains("seed_spread = 5"));
   // settings the run would ignore
   CHECK_THAT(load_error("leaf {}\ncolonisation { type = 'open', neighbourhood = 'urquhart' }\n"),
              Contains(":2: colonisation.neighbourhood"));
