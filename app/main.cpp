@@ -32,13 +32,22 @@ void on_interrupt(int) {
       "once, without outputs\n";
   say(kMessage, sizeof kMessage - 1);
 }
+void on_hangup(int) {
+  using namespace cellform::app;
+  if (g_interrupt.exchange(true)) return;  // never escalates: a hang-up may come more than once
+  static const char kMessage[] =
+      "\ncellform: hang-up: the steps stop after the current one and the outputs and a checkpoint are written\n";
+  say(kMessage, sizeof kMessage - 1);
+}
 }  // namespace
 
 int main(int argc, char** argv) {
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
-  std::signal(SIGHUP, on_interrupt);  // a closed terminal or a dropped ssh: stop as on Ctrl-C, with a checkpoint
-  std::signal(SIGPIPE, SIG_IGN);      // a closed pipe on stdout or stderr: the writes fail, the run goes on
+  // a closed terminal or a dropped ssh: stop as after one Ctrl-C, with a checkpoint (however often it
+  // comes); under nohup, which ignores it, go on
+  if (std::signal(SIGHUP, SIG_IGN) != SIG_IGN) std::signal(SIGHUP, on_hangup);
+  std::signal(SIGPIPE, SIG_IGN);  // a closed pipe on stdout or stderr: the writes fail, the run goes on
   std::vector<std::string> args(argv + 1, argv + argc);
   return cellform::app::cli_main(args, std::cout, std::cerr);
 }

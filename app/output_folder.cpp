@@ -65,8 +65,8 @@ FolderLock::FolderLock(const fs::path& dir) {
   std::string who;
   for (const long pid : live_stagings(dir)) who += (who.empty() ? " (process " : ", ") + std::to_string(pid);
   if (!who.empty()) who += ")";
-  throw core::FileError("another cellform run" + who + " is writing to '" + dir.string() +
-                        "': wait for it to end, or choose another --out folder");
+  throw FolderBusy("another cellform run" + who + " is writing to '" + dir.string() +
+                   "': wait for it to end, or choose another --out folder");
 }
 
 FolderLock::~FolderLock() {
@@ -79,14 +79,22 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock) {
   {
     std::error_code ec;
     if (fs::exists(dir / "run.json", ec)) {
-      bool ours = false;
+      const fs::path file = dir / "run.json";
+      std::ifstream in(file);
+      if (!in)
+        throw core::FileError("cannot read '" + file.string() + "' (" + std::strerror(errno) +
+                              "); a run there replaces it");
+      json j;
       try {
-        std::ifstream in(dir / "run.json");
-        ours = is_cellform_run(json::parse(in));
-      } catch (...) {
+        j = json::parse(in);
+      } catch (const std::exception&) {
+        throw core::FileError("'" + file.string() +
+                              "' is not valid JSON: cellform writes it whole, so another program "
+                              "wrote it, or a disk failed; a run there would replace it: choose another --out "
+                              "folder, or move that file away");
       }
-      if (!ours)
-        throw core::FileError("'" + (dir / "run.json").string() +
+      if (!is_cellform_run(j))
+        throw core::FileError("'" + file.string() +
                               "' was not written by cellform; a run there would replace it and delete the files it "
                               "lists: choose another --out folder, or move that file away");
     }

@@ -283,6 +283,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
           try {
             cfg = host.load(s.source, s.script_path, with_physics(s.sets, changed));
           } catch (const core::InvalidInput& e) {  // a value the script now refuses (one a rule replaces)
+            if (g_interrupt.load()) throw;
             cfg = host.load(s.source, s.script_path, s.sets);
             err << "cellform: warning: the run was saved with " << listed << ", which this script no longer accepts ("
                 << e.what() << "); it continues with today's\n";
@@ -291,7 +292,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         }
       }
     } catch (const core::InvalidInput& e) {
-      if (!s.resume) throw;  // a resumed script is the checkpoint's copy, with its saved --set overrides
+      if (!s.resume || g_interrupt.load()) throw;  // a resumed script is the checkpoint's copy, with its --sets
       throw core::InvalidInput(std::string(e.what()) + " (resuming checkpoint '" + o.checkpoint.string() +
                                "', which keeps the script and the --set overrides of its run)");
     }
@@ -355,6 +356,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   const fs::path created = first_missing(dir);  // made by this run: removed again if it stays empty
   try {
     staging = make_staging(dir, lock);
+  } catch (const FolderBusy& e) {
+    err << "cellform: cannot write outputs: " << e.what() << "\n";
+    return failure;  // the folder is the other run's now
   } catch (const std::exception& e) {
     err << "cellform: cannot write outputs: " << core::error_text(e) << "\n";
     remove_empty_up_to(dir, created);

@@ -142,6 +142,9 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
   std::string checkpoint_failure;  // why the final checkpoint could not be written
   try {
     staging = make_staging(dir, lock);
+  } catch (const FolderBusy& e) {
+    err << "cellform: cannot write outputs: " << e.what() << "\n";
+    return failure;  // the folder is the other run's now
   } catch (const std::exception& e) {
     err << "cellform: cannot write outputs: " << core::error_text(e) << "\n";
     remove_empty_up_to(dir, created);

@@ -17,6 +17,7 @@
 #include "app/run.h"
 #include "app/script_host.h"
 #include "cells/cells.h"
+#include "core/errors.h"
 #include "export/printable.h"
 
 namespace cellform::app {
@@ -88,6 +89,13 @@ class CheckpointClock {
 /// Writes the cell outputs (cells.ply/obj, and the vein graph if `veins`) of `c` into `dir`; returns their names.
 std::vector<std::string> write_outputs(const std::filesystem::path& dir, const OutputSpec& spec, const cells::Cells& c,
                                        bool veins);
+
+/// The output folder is locked by another run: the caller must leave the folder alone (even an empty one
+/// it made a moment ago: the other run may be about to write into it).
+class FolderBusy : public core::FileError {
+ public:
+  using core::FileError::FileError;
+};
 
 /// An exclusive lock on an output folder (flock on the folder itself: nothing is left in it), held while
 /// a run writes there, so that two runs never mix their files in one folder.

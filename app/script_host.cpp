@@ -113,7 +113,7 @@ int api_params(lua_State* L) {
         }
       } else {
         if (t == LUA_TNUMBER)
-          rec[key] = lua_tonumber(L, -1);
+          rec[key] = integer ? nlohmann::json(lua_tointeger(L, -1)) : nlohmann::json(lua_tonumber(L, -1));
         else if (t == LUA_TBOOLEAN)
           rec[key] = lua_toboolean(L, -1) != 0;
         else if (t == LUA_TSTRING)
@@ -404,13 +404,20 @@ namespace {
 void fill_cell_table(Impl& I, const cells::Cells& c, core::Index i, std::uint64_t step) {
   lua_State* L = I.L;
   lua_rawgeti(L, LUA_REGISTRYINDEX, I.cell_table_ref);
+  // raw sets: a metatable the script gave the table (__newindex raising an error) must not run here,
+  // outside any protected call
+  auto set_top = [&](const char* k) {  // table[k] = the value on top
+    lua_pushstring(L, k);
+    lua_insert(L, -2);
+    lua_rawset(L, -3);
+  };
   auto set_num = [&](const char* k, double v) {
     lua_pushnumber(L, v);
-    lua_setfield(L, -2, k);
+    set_top(k);
   };
   auto set_int = [&](const char* k, long long v) {
     lua_pushinteger(L, v);
-    lua_setfield(L, -2, k);
+    set_top(k);
   };
   set_int("id", static_cast<long long>(c.id[i]));
   set_int("index", static_cast<long long>(i) + 1);
@@ -419,9 +426,9 @@ void fill_cell_table(Impl& I, const cells::Cells& c, core::Index i, std::uint64_
   set_int("step", static_cast<long long>(step));
   static const char* const type_names[] = {"general", "petiole", "vein"};
   lua_pushstring(L, type_names[static_cast<int>(c.type[i])]);
-  lua_setfield(L, -2, "type");
+  set_top("type");
   lua_pushboolean(L, c.fixed[i]);
-  lua_setfield(L, -2, "fixed");
+  set_top("fixed");
   set_num("x", c.position[i].x());
   set_num("y", c.position[i].y());
   set_num("z", c.position[i].z());

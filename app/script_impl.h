@@ -169,13 +169,20 @@ struct ScriptHost::Impl {
   static void hook(lua_State* L, lua_Debug* ar) {
     Impl* self = *static_cast<Impl**>(lua_getextraspace(L));
     if (self->stopping) {
+      // every thread the script runs (a coroutine has its own hook count) raises at each instruction
+      if (lua_gethookcount(L) != 1) lua_sethook(L, &Impl::hook, LUA_MASKCOUNT, 1);
       lua_pushstring(L, self->stop_message.c_str());
       lua_error(L);
+    }
+    if (lua_gethookcount(L) != kHookEvery) {  // a coroutine kept from a call that was stopped
+      lua_sethook(L, &Impl::hook, LUA_MASKCOUNT, kHookEvery);
+      return;
     }
     self->executed += kHookEvery;
     // Ctrl-C while a script is read (a rule's step ends first: the run then stops after it)
     if (!self->rule_call && g_interrupt.load(std::memory_order_relaxed)) {
       self->stop("interrupted while the script was read; nothing was written");
+      lua_sethook(L, &Impl::hook, LUA_MASKCOUNT, 1);
       lua_pushstring(L, self->stop_message.c_str());
       lua_error(L);
     }
@@ -197,6 +204,7 @@ struct ScriptHost::Impl {
             static_cast<lua_Integer>(self->budget));
       lua_concat(L, 2);
       self->stop(lua_tostring(L, -1));
+      lua_sethook(L, &Impl::hook, LUA_MASKCOUNT, 1);  // this thread too: a coroutine has its own count
       lua_error(L);
     }
   }
@@ -237,7 +245,8 @@ struct ScriptHost::Impl {
     std::string msg =
         rc != LUA_OK && lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "error object is not a string";
     lua_pop(L, rc != LUA_OK ? 1 : nresults);
-    if (stopping) msg = stop_message;  // whatever the script made of it
+    if (stopping && g_interrupt.load()) return stop_message;  // a Ctrl-C, whatever else happened
+    if (stopping) msg = stop_message;                         // whatever the script made of it
     return describe(msg);
   }
 

@@ -25,6 +25,13 @@ std::vector<std::vector<Index>> polylines(std::size_t n, std::span<const std::ar
     }
   }
   auto degree = [&](Index v) { return start[v + 1] - start[v]; };
+  // where a polyline ends: a tip, a fork, or a vertex where the direction turns (a root with two
+  // children, a node with two parents)
+  auto stop = [&](Index v) {
+    if (degree(v) != 2) return true;
+    const std::size_t e1 = incident[start[v]], e2 = incident[start[v] + 1];
+    return (edges[e1][1] == v) == (edges[e2][1] == v);
+  };
   auto other = [&](std::size_t e, Index v) { return edges[e][0] == v ? edges[e][1] : edges[e][0]; };
   std::vector<std::uint8_t> used(edges.size(), 0);
   std::vector<std::vector<Index>> out;
@@ -36,7 +43,7 @@ std::vector<std::vector<Index>> polylines(std::size_t n, std::span<const std::ar
       used[e] = 1;
       const Index w = other(e, line.back());
       line.push_back(w);
-      if (degree(w) != 2 || w == v) break;
+      if (stop(w) || w == v) break;
       const std::size_t e1 = incident[start[w]], e2 = incident[start[w] + 1];
       e = used[e1] ? e2 : e1;
       if (used[e]) break;
@@ -45,11 +52,11 @@ std::vector<std::vector<Index>> polylines(std::size_t n, std::span<const std::ar
     out.push_back(std::move(line));
   };
   for (Index v = 0; v < n; ++v) {
-    if (degree(v) == 2) continue;
+    if (!stop(v)) continue;
     for (std::size_t k = start[v]; k < start[v + 1]; ++k)
       if (!used[incident[k]]) walk(v, incident[k]);
   }
-  for (Index v = 0; v < n; ++v)  // what is left: cycles of vertices with two edge ends each
+  for (Index v = 0; v < n; ++v)  // what is left: directed cycles through vertices with two edge ends each
     for (std::size_t k = start[v]; k < start[v + 1]; ++k)
       if (!used[incident[k]]) walk(v, incident[k]);
   return out;

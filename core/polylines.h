@@ -9,11 +9,12 @@
 
 namespace cellform::core {
 
-/// The edges of a graph on `n` vertices (pairs a, b < n; a == b is skipped) as polylines: maximal walks
-/// whose inner vertices have exactly two edge ends, so a vein tree gives one polyline per branch between
-/// tips, forks and roots. Every other edge is in exactly one polyline, as vertex sequences. A cycle of
-/// such vertices alone is one closed polyline that starts and ends at its smallest vertex. A polyline
-/// follows its edges' direction (a -> b) where its first edge allows. Deterministic: in the order of the
+/// The edges of a graph on `n` vertices (directed pairs a -> b, a, b < n; a == b is skipped) as
+/// polylines: maximal walks along the edges' direction whose inner vertices have exactly two edge ends, one
+/// in and one out. A vein tree (edges child -> parent) gives one polyline per branch, from a tip or fork
+/// towards the root, ending at the next fork, root, or node where two edges meet head to head. Every
+/// other edge is in exactly one polyline, as vertex sequences. A directed cycle of such vertices alone is
+/// one closed polyline that starts and ends at its smallest vertex. Deterministic: in the order of the
 /// vertices it starts from, then of their edges.
 std::vector<std::vector<Index>> polylines(std::size_t n, std::span<const std::array<Index, 2>> edges);
 

@@ -172,6 +172,7 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
         no_merge->sparseFill(openvdb::CoordBBox(openvdb::Coord(box.min().x(), box.min().y(), z0),
                                                 openvdb::Coord(box.max().x(), box.max().y(), z1)),
                              true, true);
+      no_merge->topologyIntersection(grid.tree());  // only where the grid has voxels: the foot, not its box
     }
     mesh = mesh_once(grid, params.adaptivity, no_merge->empty() ? nullptr : no_merge);
     report_progress(params, 0.5);

@@ -11,8 +11,8 @@ namespace cellform::exporters {
 /// and an edge element (vertex1, vertex2: child node, parent node). Atomic; core::FileError on failure.
 void write_veins_ply(const std::filesystem::path& path, const venation::VeinGraph& graph, const cells::Cells& cells);
 
-/// OBJ with `v` lines and one `l` polyline per branch (core::polylines: between tips, forks and roots,
-/// towards the root), plus a comment per vertex giving flow, radius and order (OBJ has no vertex
+/// OBJ with `v` lines and one `l` polyline per branch (core::polylines: child to parent, from a tip or
+/// fork to the next fork or root), plus a comment per vertex giving flow, radius and order (OBJ has no vertex
 /// attributes). Atomic.
 void write_veins_obj(const std::filesystem::path& path, const venation::VeinGraph& graph);
 

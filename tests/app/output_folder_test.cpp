@@ -102,6 +102,10 @@ TEST_CASE("a folder whose run.json another program wrote is refused, and nothing
   CHECK(fs::exists(dir / "notes.txt"));
   CHECK(fs::exists(outside / "data.txt"));
   CHECK_FALSE(fs::exists(dir / "cells.ply"));
+  t.write("out/run.json", "{\"program\": \"cellform\", \"outp");  // cut short: no program's whole file
+  r = cli({"run", script.string(), "--out", dir.string(), "--quiet", "--steps", "2"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("run.json' is not valid JSON"));
   // cellform's own run.json that lists a file through a link (or outside frames/) deletes nothing there
   t.write("out/run.json", R"({"program": "cellform", "outputs": ["lnk/data.txt", "frames/../notes.txt", "x/y.ply"]})");
   fs::create_directories(dir / "x");

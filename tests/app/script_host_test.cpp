@@ -123,6 +123,10 @@ TEST_CASE("runaway scripts are stopped", "[script][limits]") {
              Contains("instruction budget"));
   CHECK_THAT(load_error("while true do pcall(string.rep, 'x', 1 << 30) end", {}, limits),
              Contains("memory limit of 16 MiB"));  // stopped by the budget, said as what it tried
+  // nor in a coroutine, which has its own hook count
+  CHECK_THAT(load_error("coroutine.wrap(function() while true do pcall(function() while true do end end) end end)()",
+                        {}, limits),
+             Contains("instruction budget"));
   // finalizers would run beyond the budget (with Lua's hook off): refused; other metatables work
   CHECK_THAT(load_error("setmetatable({}, { __gc = function() while true do end end })", {}, limits),
              Contains("__gc") && Contains("test/leaf.lua:1"));
@@ -151,6 +155,8 @@ TEST_CASE("command-line overrides (--set) replace script parameters", "[script][
         "assert(math.type(P.n) == (P.n == math.floor(P.n) and 'integer' or 'float'))\n"
         "assert(math.type(P.w) == 'float')\n";
     CHECK(load(q, {{"n", "5"}, {"w", "2"}}).resolved["params"]["n"].is_number_integer());
+    CHECK(load(q, {}).resolved["params"]["n"].is_number_integer());  // and so when not set
+    CHECK(load(q, {}).resolved["params"]["w"] == 0.5);
     CHECK(load(q, {{"n", "2.5"}}).resolved["params"]["n"] == 2.5);
     for (const char* bad : {"nan", "inf", "-inf"})
       CHECK_THAT(load_error(q, {{"n", bad}}), Contains("--set n: expected a finite number"));
@@ -234,6 +240,26 @@ TEST_CASE("rule functions run per cell and report errors with step and cell", "[
   swallowed.load("division { rule = function(cell) pcall(function() while true do end end) return true end }",
                  "swallowed.lua", {});
   CHECK_THROWS_WITH(swallowed.rules().divides(c, 0), Contains("rule function ran more than 10000 instructions"));
+  // a rule that puts a raising __newindex on its cell table: the next call's table is filled raw
+  ScriptHost meta(tight);
+  meta.load(
+      "division { rule = function(cell) setmetatable(cell, { __newindex = function() error('boom') end })\n"
+      "cell.id = nil return true end }",
+      "meta.lua", {});
+  const auto r6 = meta.rules();
+  CHECK(r6.divides(c, 0));
+  CHECK(r6.divides(c, 1));  // its id was removed: refilling it raised 'boom' outside any pcall (an abort)
+  // a coroutine kept across calls: stopped in one call, counting normally in the next
+  ScriptHost kept(tight);
+  kept.load(
+      "local co = coroutine.wrap(function() while true do pcall(function() while true do end end) coroutine.yield() "
+      "end end)\n"
+      "local n = 0\n"
+      "division { rule = function(cell) n = n + 1 if n == 1 then co() end return true end }",
+      "kept.lua", {});
+  const auto r5 = kept.rules();
+  CHECK_THROWS_WITH(r5.divides(c, 0), Contains("rule function ran more than 10000 instructions"));
+  CHECK(r5.divides(c, 1));
 }
 
 TEST_CASE("print writes a line, print{} is the print section, and no section runs inside a rule", "[script][rules]") {
