@@ -211,20 +211,11 @@ TEST_CASE("Ctrl-C stops cleanly with outputs and a checkpoint that resumes ident
                               "venation { threshold = 20 }\n"
                               "print { min_radius = 1 }\n");
   const fs::path out = t.path / "o";
-  const std::string exe = std::string(CELLFORM_BINARY_DIR) + "/bin/cellform";
-  const pid_t pid = fork();
-  REQUIRE(pid >= 0);
-  if (pid == 0) {
-    execl(exe.c_str(), exe.c_str(), "run", script.c_str(), "--out", out.c_str(), "--quiet", "--threads", "2",
-          static_cast<char*>(nullptr));
-    _exit(99);
-  }
+  const pid_t pid = spawn_cellform({"run", script.string(), "--out", out.string(), "--quiet", "--threads", "2"});
+  REQUIRE(pid > 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   kill(pid, SIGINT);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  REQUIRE(WIFEXITED(status));
-  CHECK(WEXITSTATUS(status) == 130);
+  CHECK(wait_exit(pid) == 130);
   REQUIRE(fs::exists(out / "checkpoint.cfck"));
   REQUIRE(fs::exists(out / "cells.ply"));
   CHECK(fs::exists(out / "printable.stl"));  // the Ctrl-C came before printing: the solid is an output too
@@ -246,23 +237,13 @@ TEST_CASE("a closed terminal (SIGHUP) stops like Ctrl-C; a closed stderr pipe do
   TempDir t("cli-hup");
   const auto script =
       t.write("long.lua", "division { trigger = 'none' }\nrun { steps = 1000000 }\ndisc { radius = 20 }\n");
-  const std::string exe = std::string(CELLFORM_BINARY_DIR) + "/bin/cellform";
   const fs::path out = t.path / "o";
-  pid_t pid = fork();
-  REQUIRE(pid >= 0);
-  if (pid == 0) {
-    signal(SIGHUP, SIG_DFL);  // as from a terminal (ctest may run under nohup)
-    execl(exe.c_str(), exe.c_str(), "run", script.c_str(), "--out", out.c_str(), "--quiet",
-          static_cast<char*>(nullptr));
-    _exit(99);
-  }
+  pid_t pid = spawn_cellform({"run", script.string(), "--out", out.string(), "--quiet"});
+  REQUIRE(pid > 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(1000));
   kill(pid, SIGHUP);
   kill(pid, SIGHUP);  // a hang-up can come twice: still one orderly stop
-  int status = 0;
-  waitpid(pid, &status, 0);
-  REQUIRE(WIFEXITED(status));
-  CHECK(WEXITSTATUS(status) == 130);
+  CHECK(wait_exit(pid) == 130);
   CHECK(fs::exists(out / "checkpoint.cfck"));
   CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "interrupted");
   // progress lines into a pipe nobody reads any more (cellform run ... 2>&1 | head -c 10)
@@ -270,19 +251,10 @@ TEST_CASE("a closed terminal (SIGHUP) stops like Ctrl-C; a closed stderr pipe do
   REQUIRE(pipe(fds) == 0);
   close(fds[0]);
   const fs::path piped = t.path / "p";
-  pid = fork();
-  REQUIRE(pid >= 0);
-  if (pid == 0) {
-    dup2(fds[1], 1);
-    dup2(fds[1], 2);
-    execl(exe.c_str(), exe.c_str(), "run", script.c_str(), "--out", piped.c_str(), "--steps", "50",
-          static_cast<char*>(nullptr));
-    _exit(99);
-  }
+  pid = spawn_cellform({"run", script.string(), "--out", piped.string(), "--steps", "50"}, fds[1]);
+  REQUIRE(pid > 0);
   close(fds[1]);
-  waitpid(pid, &status, 0);
-  REQUIRE(WIFEXITED(status));  // not killed by SIGPIPE
-  CHECK(WEXITSTATUS(status) == 0);
+  CHECK(wait_exit(pid) == 0);  // not killed by SIGPIPE (that would be -1)
   CHECK(fs::exists(piped / "cells.ply"));
   CHECK(fs::exists(piped / "run.json"));
 }
@@ -290,21 +262,13 @@ TEST_CASE("a closed terminal (SIGHUP) stops like Ctrl-C; a closed stderr pipe do
 TEST_CASE("Ctrl-C while a script is read stops it there", "[cli][signal]") {
   TempDir t("cli-int-load");
   const auto script = t.write("loop.lua", "while true do end\n");
-  const std::string exe = std::string(CELLFORM_BINARY_DIR) + "/bin/cellform";
   const fs::path out = t.path / "o";
-  const pid_t pid = fork();
-  REQUIRE(pid >= 0);
-  if (pid == 0) {
-    execl(exe.c_str(), exe.c_str(), "run", script.c_str(), "--out", out.c_str(), "--quiet", "--lua-instructions",
-          "18446744073709551615", static_cast<char*>(nullptr));
-    _exit(99);
-  }
+  const pid_t pid = spawn_cellform(
+      {"run", script.string(), "--out", out.string(), "--quiet", "--lua-instructions", "18446744073709551615"});
+  REQUIRE(pid > 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
   kill(pid, SIGINT);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  REQUIRE(WIFEXITED(status));
-  CHECK(WEXITSTATUS(status) == 130);
+  CHECK(wait_exit(pid) == 130);
   CHECK_FALSE(fs::exists(out));
 }
 
@@ -317,15 +281,11 @@ TEST_CASE("after a first Ctrl-C, a second during the print skips only the print"
                               "disc { radius = 30 }\n"
                               "print { veins = false, shell = true }\n");  // about 4 s: closing the shell
   const fs::path out = t.path / "o", log = t.path / "err.txt";
-  const std::string exe = std::string(CELLFORM_BINARY_DIR) + "/bin/cellform";
-  const pid_t pid = fork();
-  REQUIRE(pid >= 0);
-  if (pid == 0) {
-    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(fd, 2);
-    execl(exe.c_str(), exe.c_str(), "run", script.c_str(), "--out", out.c_str(), static_cast<char*>(nullptr));
-    _exit(99);
-  }
+  const int log_fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  REQUIRE(log_fd >= 0);
+  const pid_t pid = spawn_cellform({"run", script.string(), "--out", out.string()}, log_fd);
+  ::close(log_fd);
+  REQUIRE(pid > 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(800));
   kill(pid, SIGINT);  // stop the steps: the outputs, the print among them, follow
   bool printing = false;
@@ -336,11 +296,9 @@ TEST_CASE("after a first Ctrl-C, a second during the print skips only the print"
   REQUIRE(printing);
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   kill(pid, SIGINT);  // the second: skips the print
-  int status = 0;
-  waitpid(pid, &status, 0);
+  const int code = wait_exit(pid);
   INFO(slurp(log));
-  REQUIRE(WIFEXITED(status));
-  CHECK(WEXITSTATUS(status) == 130);
+  CHECK(code == 130);
   CHECK(fs::exists(out / "cells.ply"));  // the other outputs and the checkpoint are kept
   CHECK(fs::exists(out / "checkpoint.cfck"));
   CHECK_FALSE(fs::exists(out / "printable.stl"));

@@ -1,5 +1,9 @@
-// Helpers for app tests: temporary directories and files, running the CLI in-process.
+// Helpers for app tests: temporary directories and files, running the CLI in-process or as a process.
 #pragma once
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -54,6 +58,36 @@ inline CliResult cli(const std::vector<std::string>& args) {
   std::ostringstream out, err;
   const int code = app::cli_main(args, out, err);
   return {code, out.str(), err.str()};
+}
+
+/// Starts the built cellform binary with `args` as a child process, for tests that send it signals.
+/// SIGHUP is at its default, as from a terminal (ctest may run under nohup); stdout and stderr go to
+/// `output` when it is a descriptor (>= 0). Returns the child's pid.
+inline pid_t spawn_cellform(const std::vector<std::string>& args, int output = -1) {
+  const std::string exe = std::string(CELLFORM_BINARY_DIR) + "/bin/cellform";
+  std::vector<std::string> all{exe};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    signal(SIGHUP, SIG_DFL);
+    if (output >= 0) {
+      dup2(output, 1);
+      dup2(output, 2);
+    }
+    execv(exe.c_str(), argv.data());
+    _exit(99);
+  }
+  return pid;
+}
+
+/// Waits for child `pid` to end: its exit code, or -1 if a signal ended it.
+inline int wait_exit(pid_t pid) {
+  int status = 0;
+  if (waitpid(pid, &status, 0) != pid) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 }  // namespace cellform::test

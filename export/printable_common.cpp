@@ -1,0 +1,75 @@
+// Shared by the printing stages (printable.cpp voxelises, printable_mesh.cpp meshes): parameter checks,
+// progress and cancelling, thread counts, OpenVDB's one-time set-up.
+#include <openvdb/openvdb.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <string>
+
+#include "core/errors.h"
+#include "core/parallel.h"
+#include "export/printable.h"
+#include "export/printable_internal.h"
+
+namespace cellform::exporters {
+
+namespace detail {
+
+std::string fmt(const char* f, double x) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, x);
+  return b;
+}
+
+void init_openvdb() {
+  static std::once_flag once;
+  std::call_once(once, [] { openvdb::initialize(); });
+}
+
+void check_params(const ThickenParams& p) {
+  const auto bad = [](const std::string& what) { throw core::InvalidInput("thicken: " + what); };
+  if (!(std::isfinite(p.scale) && p.scale >= 0))
+    bad("scale must be >= 0 mm per model unit (0 = auto), got " + fmt("%g", p.scale));
+  if (!(std::isfinite(p.auto_extent) && p.auto_extent > 0))
+    bad("auto_extent must be > 0 mm, got " + fmt("%g", p.auto_extent));
+  if (!(std::isfinite(p.min_radius) && p.min_radius > 0))
+    bad("min_radius must be > 0 mm, got " + fmt("%g", p.min_radius));
+  if (!(std::isfinite(p.voxel_size) && p.voxel_size >= 0))
+    bad("voxel_size must be >= 0 mm (0 = auto), got " + fmt("%g", p.voxel_size));
+  if (p.voxel_size > p.min_radius)
+    bad("voxel_size " + fmt("%g", p.voxel_size) + " mm exceeds min_radius " + fmt("%g", p.min_radius) +
+        " mm: the thinnest veins would vanish; use a voxel size of at most min_radius");
+  if (!(std::isfinite(p.shell_thickness) && p.shell_thickness > 0))
+    bad("shell_thickness must be > 0 mm, got " + fmt("%g", p.shell_thickness));
+  if (!(p.adaptivity >= 0 && p.adaptivity <= 1)) bad("adaptivity must be in [0, 1], got " + fmt("%g", p.adaptivity));
+  if (!(p.max_memory_bytes > 0)) bad("max_memory_bytes must be > 0");
+  if (p.threads < 0) bad("threads must be >= 0 (0 = all cores)");
+  if (!(std::isfinite(p.close_holes) && p.close_holes >= 0))
+    bad("close_holes must be >= 0 model units (0 = none), got " + fmt("%g", p.close_holes));
+  if (!(std::isfinite(p.close_holes_max) && p.close_holes_max >= 0))
+    bad("close_holes_max must be >= 0 mm (0 = no cap), got " + fmt("%g", p.close_holes_max));
+  if (!(std::isfinite(p.flat_base) && p.flat_base >= 0))
+    bad("flat_base must be >= 0 mm (0 = no cut), got " + fmt("%g", p.flat_base));
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// Calls params.progress (if any); throws core::Cancelled when it asks to stop.
+void report_progress(const ThickenParams& params, double fraction) {
+  if (params.progress && !params.progress(fraction)) throw core::Cancelled();
+}
+
+// More threads than cores cannot help, and TBB warns on stderr when asked for them.
+int arena_threads(int threads) {
+  return threads > 0 ? std::min(threads, core::hardware_threads()) : tbb::task_arena::automatic;
+}
+
+}  // namespace detail
+
+}  // namespace cellform::exporters
