@@ -18,7 +18,7 @@ void one_domain(Impl& I, const std::string& section, const std::string& at) {
 std::vector<Vec3> read_points(Impl& I, const std::string& section, const std::string& at) {
   lua_State* L = I.L;
   std::vector<Vec3> out;
-  lua_getfield(L, 1, "seeds");
+  raw_field(L, 1, "seeds");
   const int idx = lua_gettop(L);
   auto fail = [&](const std::string& what) {
     lua_settop(L, idx - 1);
@@ -125,7 +125,7 @@ void section_domain(Impl& I, const std::string& section, const std::string& at) 
   // a nested table such as volume{box = {min = ..., max = ...}}, read against the schema's "volume.box"
   auto nested = [&](const char* name, Values& out) {
     if (lua_type(L, 1) != LUA_TTABLE) return false;
-    lua_getfield(L, 1, name);
+    raw_field(L, 1, name);
     const int idx = lua_gettop(L);
     if (lua_type(L, idx) == LUA_TNIL) {
       lua_pop(L, 1);
@@ -303,6 +303,7 @@ venation::GrowthFunction read_growth_function(Impl& I, const Value& given, const
       const double y0 = -0.5 + 2.0 * k / (kSamples - 1);
       lua_rawgeti(L, LUA_REGISTRYINDEX, given.ref);
       lua_pushnumber(L, y0);
+      const LuaRunsHere lua_runs(I);          // the function's allocations count against the memory limit
       if (lua_pcall(L, 1, 1, 0) != LUA_OK) {  // counts against the script's own instruction budget
         const std::string msg = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "error object is not a string";
         lua_pop(L, 1);
@@ -323,7 +324,7 @@ venation::GrowthFunction read_growth_function(Impl& I, const Value& given, const
     }
     return f;
   }
-  lua_getfield(L, 1, name);
+  raw_field(L, 1, name);
   const int t = lua_gettop(L);
   const auto n = static_cast<int>(lua_rawlen(L, t));
   try {

@@ -15,12 +15,14 @@ int guarded(lua_State* L, Body&& body) {
   Impl& I = *self_of(L);
   int results = 0;
   bool failed = false;
+  I.in_host = true;  // no Lua memory error inside the body (the script's next allocation fails instead)
   try {
     results = body(I);
   } catch (const std::exception& e) {
     I.pending_error = core::error_text(e);
     failed = true;
   }
+  I.in_host = false;
   if (failed) {
     lua_pushstring(L, I.pending_error.c_str());
     return lua_error(L);
@@ -134,11 +136,12 @@ int api_print(lua_State* L) {
   if (lua_gettop(L) == 1 && lua_type(L, 1) == LUA_TTABLE) return api_section(L);
   Impl& I = *self_of(L);
   const int n = lua_gettop(L);
+  // __tostring may raise: convert every argument before any C++ object lives in this frame
+  for (int i = 1; i <= n; ++i) luaL_tolstring(L, i, nullptr);
   std::string line;
   for (int i = 1; i <= n; ++i) {
     if (i > 1) line += "\t";
-    line += luaL_tolstring(L, i, nullptr);
-    lua_pop(L, 1);
+    line += lua_tostring(L, n + i);
   }
   if (I.print) I.print(line);
   return 0;
@@ -151,7 +154,7 @@ const char* const kSections[] = {"run",    "cells",        "division", "output",
 
 /// setmetatable without __gc (upvalue 1: the library's setmetatable).
 int api_setmetatable(lua_State* L) {
-  if (lua_type(L, 2) == LUA_TTABLE && lua_getfield(L, 2, "__gc") != LUA_TNIL)
+  if (lua_type(L, 2) == LUA_TTABLE && raw_field(L, 2, "__gc") != LUA_TNIL)
     return luaL_error(L,
                       "setmetatable: a metatable with __gc (a finalizer) is not allowed in a script: Lua runs "
                       "finalizers beyond the instruction budget and Ctrl-C");

@@ -119,6 +119,7 @@ struct ScriptHost::Impl {
   ScriptLimits limits;
   std::size_t used = 0;
   bool memory_exceeded = false;
+  bool in_host = false;  // an API function's C++ body runs: no Lua error may be raised (see alloc)
   std::uint64_t executed = 0;
   std::uint64_t budget = 0;
   bool rule_call = false;  // the budget is a rule function's per-call one, which no option raises
@@ -157,7 +158,9 @@ struct ScriptHost::Impl {
       std::free(ptr);
       return nullptr;
     }
-    if (nsize > old && self->used - old + nsize > self->limits.memory_bytes) {
+    // host code (an API function's C++ body) may pass the limit: a Lua memory error there would longjmp
+    // past its C++ objects; the script's next allocation fails instead
+    if (nsize > old && !self->in_host && self->used - old + nsize > self->limits.memory_bytes) {
       self->memory_exceeded = true;
       return nullptr;
     }
@@ -534,6 +537,27 @@ using Impl = ScriptHost::Impl;
 
 /// The host of the Lua state running now (kept in the state's extra space).
 inline Impl* self_of(lua_State* L) { return *static_cast<Impl**>(lua_getextraspace(L)); }
+
+/// Pushes t[name] of the table at `idx` without metamethods (a script's __index could raise a Lua error,
+/// which would longjmp past the C++ objects of the caller); returns its type.
+inline int raw_field(lua_State* L, int idx, const char* name) {
+  idx = lua_absindex(L, idx);
+  lua_pushstring(L, name);
+  return lua_rawget(L, idx);
+}
+
+/// Lets the script's memory limit fail allocations again while Lua code runs inside host code.
+class LuaRunsHere {
+ public:
+  explicit LuaRunsHere(Impl& i) : i_(i), was_(i.in_host) { i.in_host = false; }
+  ~LuaRunsHere() { i_.in_host = was_; }
+  LuaRunsHere(const LuaRunsHere&) = delete;
+  LuaRunsHere& operator=(const LuaRunsHere&) = delete;
+
+ private:
+  Impl& i_;
+  bool was_;
+};
 
 // The script API's sections (script_sections.cpp): each reads the table at stack index 1 against the
 // schema and fills the scene configuration; `at` is "file:line: " of the call.

@@ -44,7 +44,7 @@ void section_cells(Impl& I, const std::string& at) {
                                                            {"vein", cells::CellType::vein}};
   for (const auto& [name, type] : types) {
     if (lua_type(I.L, 1) == LUA_TTABLE)
-      lua_getfield(I.L, 1, name);
+      raw_field(I.L, 1, name);
     else
       lua_pushnil(I.L);
     const int idx = lua_gettop(I.L);

@@ -131,6 +131,21 @@ TEST_CASE("runaway scripts are stopped", "[script][limits]") {
   CHECK_THAT(load_error("setmetatable({}, { __gc = function() while true do end end })", {}, limits),
              Contains("__gc") && Contains("test/leaf.lua:1"));
   CHECK_NOTHROW(load("local t = setmetatable({}, { __index = function(_, k) return 2 * k end }) assert(t[21] == 42)"));
+  // a section reads its table raw: a metatable's __index is never run inside the host's C++ code, where an
+  // error or the budget's stop would longjmp past its objects (a leak, or worse)
+  CHECK_NOTHROW(
+      load("disc { radius = 2 } cells(setmetatable({}, { __index = function() error('boom') end }))", {}, limits));
+  CHECK_NOTHROW(
+      load("disc { radius = 2 } cells(setmetatable({}, { __index = function() while true do end end }))", {}, limits));
+  CHECK(load("disc { radius = 2 } cells(setmetatable({}, { __index = { vein = { cohesion = 0.5 } } }))")
+            .resolved["cells"]["vein"]["cohesion"] == 0.05);
+  CHECK_THAT(load_error("print('a', setmetatable({}, { __tostring = function() error('tostring boom') end }))"),
+             Contains("test/leaf.lua:1") && Contains("tostring boom"));
+  // a section called with the memory limit reached: the script's next allocation fails, not the host's
+  CHECK_THAT(load_error("local t = {} pcall(function() while true do t[#t + 1] = {} end end) "
+                        "cells { spring = 1 } disc { radius = 2 } local u = {} for i = 1, 1e6 do u[i] = {} end",
+                        {}, memory),
+             Contains("memory limit of 16 MiB"));
   // the host is usable after a limit error
   ScriptHost host(limits);
   CHECK_THROWS(host.load("while true do end", "a.lua", {}));
