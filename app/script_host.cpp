@@ -406,6 +406,9 @@ namespace {
 
 void fill_cell_table(Impl& I, const cells::Cells& c, core::Index i, std::uint64_t step) {
   lua_State* L = I.L;
+  // outside any protected call a Lua memory error would abort: the limit waits for the rule's allocations
+  const bool was_host = I.in_host;
+  I.in_host = true;
   lua_rawgeti(L, LUA_REGISTRYINDEX, I.cell_table_ref);
   // raw sets: a metatable the script gave the table (__newindex raising an error) must not run here,
   // outside any protected call
@@ -443,6 +446,7 @@ void fill_cell_table(Impl& I, const cells::Cells& c, core::Index i, std::uint64_
     if (c.links[static_cast<std::size_t>(i) * c.link_stride + k] != core::kNoIndex) ++links;
   set_int("neighbours", links);
   for (const auto& [name, values] : c.attributes) set_num(name.c_str(), values[i]);
+  I.in_host = was_host;
 }
 
 }  // namespace
