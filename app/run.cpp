@@ -106,8 +106,11 @@ Start start_from(const RunOptions& o) {
         s.initial_cells = meta.value("initial_cells", std::size_t{0});  // older checkpoints: unknown
         s.physics = meta.value("physics", json());                      // older checkpoints: not recorded
         const std::string mode = meta.value("mode", std::string("cells"));
-        if (mode != "cells" && mode != "colonisation")
+        if (mode != "cells" && mode != "colonisation" && mode != "sheet")
           throw core::FileError(what + " is corrupt (unknown run mode '" + mode.substr(0, 40) + "')");
+        s.sheet_partial = mode == "sheet";  // surface{cells = true} stopped while its cells grew
+        // a sheet checkpoint's target is the step limit its run was given (--steps), if any
+        s.has_target = !s.sheet_partial || meta.value("steps_given", false);
         if (mode == "colonisation") {
           s.colonisation_bytes = f.at("colonisation", what);
           if (s.colonisation_bytes.empty()) throw core::FileError(what + " is corrupt (empty colonisation state)");
@@ -117,7 +120,6 @@ Start start_from(const RunOptions& o) {
       }
       s.source = f.at("script", what);
       if (s.colonisation_bytes.empty() || f.chunks.count("cells")) s.cells_bytes = f.at("cells", what);
-      s.has_target = true;
       s.resume = true;
       // refused before anything is written: the checkpoint keeps its run's target and seed
       if (o.steps && *o.steps < s.step)
@@ -126,7 +128,10 @@ Start start_from(const RunOptions& o) {
       if (o.seed && *o.seed != *s.seed)
         throw InputError("--seed " + std::to_string(*o.seed) + ": a resumed run keeps the seed of " + what + " (" +
                          std::to_string(*s.seed) + "); start a new run to use another seed");
-      if (o.steps) s.target_steps = *o.steps;
+      if (o.steps) {
+        s.target_steps = *o.steps;
+        s.has_target = true;
+      }
       // the outputs go beside the checkpoint (its run's folder, wherever that is now), not to the folder
       // it was written in: that one may since hold another run
       s.out_dir = o.out ? *o.out : o.checkpoint.has_parent_path() ? o.checkpoint.parent_path() : fs::path(".");
@@ -138,11 +143,12 @@ Start start_from(const RunOptions& o) {
         // change (space colonisation checks its own parameters when its state is read)
         const auto saved_value = s.sets.find(k);
         const std::string section = k.find('.') == std::string::npos ? std::string() : k.substr(0, k.find('.'));
-        if (s.colonisation_bytes.empty() && section != "output" && section != "print" &&
+        if ((s.colonisation_bytes.empty() || s.sheet_partial) && section != "output" && section != "print" &&
             (saved_value == s.sets.end() || saved_value->second != v))
           throw InputError("--set " + k + "=" + v + ": " + what +
                            " continues with the parameters it was saved with (only output.* and print.* may change "
-                           "when resuming a cell run); start a new run to change " +
+                           "when resuming a cell run, or a run stopped while its cell sheet grew); start a new run "
+                           "to change " +
                            k);
         s.sets[k] = v;
       }
@@ -300,9 +306,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     host.set_seed(seed);  // math.random in rules: from the seed and the step
     if (cfg.resolved.contains("run")) cfg.resolved["run"]["seed"] = seed;  // run.json: the seed used (--seed too)
     target = s.has_target ? s.target_steps : cfg.steps;
-    if (s.resume && cfg.colonisation.has_value() != !s.colonisation_bytes.empty())
+    const bool colonisation_checkpoint = !s.colonisation_bytes.empty() || s.sheet_partial;
+    if (s.resume && cfg.colonisation.has_value() != colonisation_checkpoint)
       throw core::InvalidInput("checkpoint '" + o.checkpoint.string() + "' is of a " +
-                               (s.colonisation_bytes.empty() ? "cell" : "space-colonisation") +
+                               (colonisation_checkpoint ? "space-colonisation" : "cell") +
                                " run, but its script with these --set overrides now describes a " +
                                (cfg.colonisation ? "space-colonisation" : "cell") + " run");
     if (cfg.colonisation) return run_colonisation(o, s, cfg, host, seed, out, err, t0);

@@ -25,33 +25,84 @@ using nlohmann::json;
 
 namespace {
 
+/// A checkpoint taken while surface{cells = true}'s sheet grows: the cells and their step, with what
+/// resume needs to finish the growth bit-identically and then grow the veins.
+std::string sheet_checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t target,
+                                   const cells::Simulation& sim) {
+  json meta = {{"program", "cellform"},
+               {"version", version()},
+               {"mode", "sheet"},
+               {"script", absolute_path_text(s.script_path)},
+               {"overrides", s.sets},
+               {"seed", seed},
+               {"checkpoint_every", s.checkpoint_every ? json(*s.checkpoint_every) : json(nullptr)},
+               {"target_steps", target},
+               {"steps_given", s.has_target},
+               {"step", sim.step_count()},
+               {"out", absolute_path_text(s.out_dir)}};
+  return core::write_chunk_file(kCheckpointKind, kCheckpointVersion,
+                                {{"meta", meta.dump()}, {"script", s.source}, {"cells", cells::save(sim.cells())}});
+}
+
+/// The cells of surface{cells = true}, and whether they grew for all their steps.
+struct Sheet {
+  cells::Cells cells;
+  std::uint64_t step = 0, target = 0;
+  bool complete = false;
+};
+
 /// surface{cells = true}: grows the script's cells (cells{}, division{}, run{}, shapes) for --steps or
-/// run.steps steps and returns them. Ctrl-C ends the growth early.
-cells::Cells grow_sheet(const RunOptions& o, const SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
-                        std::ostream& err) {
+/// run.steps steps (from a sheet checkpoint's step when `s` resumes one). Writes a sheet checkpoint to
+/// `checkpoint` as output.checkpoint_every asks and when a Ctrl-C ends the growth early.
+Sheet grow_sheet(const RunOptions& o, const Start& s, const SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
+                 const fs::path& checkpoint, std::ostream& err) {
   forms::Scene scene(cfg.scene, seed);
   cells::Simulation& sim = scene.simulation();
   sim.set_threads(o.threads);
-  for (const InitialCell& c : cfg.initial_cells)
-    cells::add_cell(sim.cells(), c.position, cells::CellType::general, c.fixed);
-  scene.start();
+  if (s.resume) {
+    sim.cells() = cells::load(s.cells_bytes, "checkpoint '" + o.checkpoint.string() + "'");
+    sim.set_step_count(s.step);
+  } else {
+    for (const InitialCell& c : cfg.initial_cells)
+      cells::add_cell(sim.cells(), c.position, cells::CellType::general, c.fixed);
+    scene.start();
+  }
   const cells::Rules rules = host.rules();
   if (rules.divides) sim.rules().divides = rules.divides;
   if (rules.split_direction) sim.rules().split_direction = rules.split_direction;
-  const std::uint64_t target = o.steps ? *o.steps : cfg.steps;
-  if (!o.quiet) err << "growing the cell sheet for " << target << " steps (" << sim.cells().size() << " cells)\n";
-  Progress progress(err, ::isatty(2) != 0, o.quiet, 0, target);
-  while (sim.step_count() < target && !g_interrupt.load()) {
-    host.set_step(sim.step_count() + 1);
-    scene.step();
-    progress.update(sim.step_count(), sim.cells().size());
+  Sheet out;
+  out.target = s.has_target ? s.target_steps : cfg.steps;
+  if (!o.quiet)
+    err << (s.resume ? "resuming the cell sheet from step " + std::to_string(s.step) + " to "
+                     : std::string("growing the cell sheet for "))
+        << out.target << " steps (" << sim.cells().size() << " cells)\n";
+  auto save = [&] { write_checkpoint(checkpoint, sheet_checkpoint_bytes(s, seed, out.target, sim)); };
+  CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
+  bool saved = false, warned = false;
+  Progress progress(err, ::isatty(2) != 0, o.quiet, sim.step_count(), out.target);
+  try {
+    while (sim.step_count() < out.target && !g_interrupt.load()) {
+      host.set_step(sim.step_count() + 1);
+      scene.step();
+      progress.update(sim.step_count(), sim.cells().size());
+      if (sim.step_count() < out.target && checkpoints.due(sim.step_count()))
+        saved = periodic_checkpoint(save, err, warned) || saved;
+    }
+  } catch (const std::exception&) {
+    if (!o.quiet && ::isatty(2)) err << "\n";
+    if (saved) err << "cellform: (the last checkpoint is " << checkpoint.string() << ", taken while the sheet grew)\n";
+    throw;
   }
   progress.finish();
+  out.complete = sim.step_count() >= out.target;
+  if (!out.complete) save();    // a Ctrl-C: the growth continues from here on resume
   if (sim.step_count() == 0) {  // no step ran: the links the first step would make, for the sheet's triangles
     core::PointGrid grid;
     cells::update_links(sim.cells(), sim.params(), grid, sim.threads());
   }
-  return sim.cells();
+  out.step = sim.step_count();
+  out.cells = std::move(sim.cells());
+  return out;
 }
 
 constexpr const char* kNoSheetSeeds =
@@ -163,28 +214,67 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
   const bool planar = spec.domain.kind == venation::DomainKind::leaf;
   try {
     std::optional<cells::Cells> sheet;
+    if (s.sheet_partial && !spec.on_cells)
+      throw core::InvalidInput("checkpoint '" + o.checkpoint.string() +
+                               "' was taken while a cell sheet grew, but its script grows no veins on cells");
     if (spec.on_cells) {  // resume: the sheet grown by the first run, not grown again
       if (spec.domain.initial_nodes.empty() && cfg.scene.petioles.empty())  // said now, not after the growth
         throw core::InvalidInput(kNoSheetSeeds);
       if (s.resume && s.cells_bytes.empty())
         throw core::InvalidInput("checkpoint '" + o.checkpoint.string() +
                                  "' holds no grown cells, but the script grows veins on cells (surface{cells = true})");
-      sheet = s.resume ? cells::load(s.cells_bytes, "checkpoint '" + o.checkpoint.string() + "'")
-                       : grow_sheet(o, cfg, host, seed, err);
+      if (s.resume && !s.sheet_partial) {
+        sheet = cells::load(s.cells_bytes, "checkpoint '" + o.checkpoint.string() + "'");
+      } else {
+        Sheet grown = grow_sheet(o, s, cfg, host, seed, checkpoint, err);
+        if (!grown.complete) {  // Ctrl-C: the sheet so far, and its checkpoint to finish it from
+          std::vector<std::string> outputs = write_outputs(staging, cfg.output, grown.cells, false);
+          json run = {
+              {"program", "cellform"},
+              {"version", version()},
+              {"command", s.resume ? "resume" : "run"},
+              {"mode", "colonisation"},
+              {"domain", domain_name(spec.domain.kind)},
+              {"script",
+               {{"path", s.script_path.string()},
+                {"hash", "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size()))}}},
+              {"seed", seed},
+              {"threads", o.threads},
+              {"status", "interrupted"},
+              {"phase", "cells"},  // the veins have not started
+              {"steps", {{"first", 0}, {"completed", 0}, {"limit", spec.params.max_steps}}},
+              {"cells",
+               {{"initial", cfg.initial_cells.size()},
+                {"final", grown.cells.size()},
+                {"steps", grown.step},
+                {"target", grown.target}}},
+              {"overrides", s.sets},
+              {"parameters", cfg.resolved},
+              {"timings", {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}}},
+              {"checkpoint", kCheckpointName}};
+          outputs.push_back("run.json");
+          run["outputs"] = outputs;
+          core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
+          commit_outputs(staging, dir, outputs);
+          err << "interrupted while the cell sheet grew (step " << grown.step << " of " << grown.target
+              << "; no veins yet): the sheet so far is in " << dir.string() << "/\ncontinue with: cellform resume "
+              << checkpoint.string() << "\n";
+          return interrupted;
+        }
+        sheet = std::move(grown.cells);
+      }
     }
-    venation::Colonisation col = s.resume ? make_colonisation(spec, sheet ? &*sheet : nullptr, &s.colonisation_bytes,
-                                                              "checkpoint '" + o.checkpoint.string() + "'")
-                                          : make_colonisation(spec, sheet ? &*sheet : nullptr);
+    const bool fresh = !s.resume || s.sheet_partial;  // the veins start at step 0
+    venation::Colonisation col = fresh ? make_colonisation(spec, sheet ? &*sheet : nullptr)
+                                       : make_colonisation(spec, sheet ? &*sheet : nullptr, &s.colonisation_bytes,
+                                                           "checkpoint '" + o.checkpoint.string() + "'");
     const std::size_t first = col.report().steps;
-    // Ctrl-C while the sheet grew: the veins would continue on a sheet the full run never has
-    const bool partial_sheet = spec.on_cells && !s.resume && g_interrupt.load();
     auto save = [&] {
-      if (partial_sheet) return;
       write_checkpoint(checkpoint, colonisation_checkpoint_bytes(s, seed, spec.params, col, sheet ? &*sheet : nullptr));
     };
     if (!o.quiet)
-      err << (s.resume ? "resuming" : "growing") << " veins by space colonisation in " << s.script_path.string()
-          << " (seed " << seed << (s.resume ? ", from step " + std::to_string(first) : std::string()) << ")\n";
+      err << (fresh ? "growing" : "resuming") << " veins by space colonisation in " << s.script_path.string()
+          << " (seed " << seed << (fresh ? std::string() : ", from step " + std::to_string(first)) << ")\n";
     const auto a = std::chrono::steady_clock::now();
     const bool nonuniform = spec.params.growth == venation::GrowthMode::nonuniform;
     std::size_t last_print = 0;
@@ -220,11 +310,11 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     std::string checkpoint_error;
     try {
       save();
-      saved = saved || !partial_sheet;
+      saved = true;
     } catch (const std::exception& e) {
       checkpoint_error = core::error_text(e);
     }
-    resumable = saved && !partial_sheet;
+    resumable = saved;
     checkpoint_failure = checkpoint_error;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
     venation::VeinTree tree = col.tree();
@@ -323,7 +413,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
                 {"timings",
                  {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
                   {"simulation_s", seconds}}},
-                {"checkpoint", checkpoint_error.empty() && !partial_sheet ? json(kCheckpointName) : json(nullptr)}};
+                {"checkpoint", checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr)}};
     if (cfg.print) run["print"] = printed;
     if (planar) run["veins"]["leaf_length"] = leaf_length;
     if (sheet) run["cells"] = {{"initial", cfg.initial_cells.size()}, {"final", sheet->size()}};
@@ -331,10 +421,6 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     run["outputs"] = outputs;
     core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
     commit_outputs(staging, dir, outputs);
-    if (partial_sheet) {  // an earlier run's checkpoint would resume that run beside this one's outputs
-      std::error_code ec;
-      fs::remove(checkpoint, ec);
-    }
     if (!checkpoint_error.empty()) {
       err << "cellform: " << checkpoint_error
           << "\n  (the other outputs are written, but this run cannot be resumed)\n";
@@ -358,8 +444,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
       where << "\n";
     }
     if (code == interrupted && checkpoint_error.empty())
-      err << (partial_sheet ? std::string("no checkpoint: the cell sheet was not fully grown; run the script again\n")
-                            : "continue with: cellform resume " + checkpoint.string() + "\n");
+      err << "continue with: cellform resume " << checkpoint.string() << "\n";
     return code;
   } catch (const core::InvalidInput& e) {
     const std::string m = e.what();  // a parameter the steps found wrong: where the script sets it

@@ -43,6 +43,7 @@ struct Start {
   std::string cells_bytes;         // resume only: the cells (colonisation on cells: the grown sheet)
   std::string colonisation_bytes;  // resume only: a space-colonisation state (Colonisation::save)
   std::uint64_t step = 0;          // resume only
+  bool sheet_partial = false;      // resume only: a checkpoint taken while surface{cells = true}'s sheet grew
   std::size_t initial_cells = 0;   // cells when the run (not this resume) started; 0 = not known yet
   bool resume = false;
   std::optional<std::uint64_t> checkpoint_every;  // --checkpoint-every of the run (kept by its checkpoints)

@@ -1,7 +1,11 @@
 // Tests of the cellform command line for space-colonisation runs (app/run_colonisation.cpp): outputs,
 // 3-D domains, resume, step and node limits.
+#include <signal.h>
+
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "tests/app/test_util.h"
 
@@ -284,4 +288,49 @@ TEST_CASE("an outline file in any unit is one leaf length from petiole to tip", 
   const auto r = cli({"run", c.string(), "--out", (t.path / "c").string(), "--quiet"});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("c.lua:1: leaf: "));
+}
+
+TEST_CASE("Ctrl-C while surface{cells = true}'s sheet grows leaves a checkpoint that finishes it identically",
+          "[cli][colonisation][signal]") {
+  TempDir t("cli-sheet-int");
+  const auto script = t.write("sheet.lua",
+                              "cells { time_step = 0.2, separation = 0.05, drag = {0.8, 0.8, 0.3} }\n"
+                              "division { trigger = 'age', age = 6, min_age = 3, probability = 0.5, max_cells = 400 }\n"
+                              "run { steps = 100000000 }\n"
+                              "disc { radius = 4 }\n"
+                              "petiole { at = {0, -4, 0} }\n"
+                              "surface { cells = true }\n"
+                              "colonisation { kill_distance = 1, birth_distance = 2, darts = 20000 }\n");
+  const fs::path out = t.path / "o";
+  const pid_t pid = spawn_cellform({"run", script.string(), "--out", out.string(), "--quiet"});
+  REQUIRE(pid > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+  kill(pid, SIGINT);
+  CHECK(wait_exit(pid) == 130);
+  REQUIRE(fs::exists(out / "checkpoint.cfck"));
+  CHECK(fs::exists(out / "cells.ply"));  // the sheet so far
+  CHECK_FALSE(fs::exists(out / "veins.ply"));
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["status"] == "interrupted");
+  CHECK(run["phase"] == "cells");
+  const std::uint64_t stopped = run["cells"]["steps"];
+  REQUIRE(stopped > 0);
+  fs::copy_file(out / "checkpoint.cfck", t.path / "sheet.cfck");
+  // resuming grows the rest of the sheet, then the veins: the same as one uninterrupted run
+  const std::string target = std::to_string(stopped + 20);
+  const fs::path whole = t.path / "whole";
+  auto r = cli({"run", script.string(), "--out", whole.string(), "--quiet", "--steps", target});
+  REQUIRE(r.code == 0);
+  r = cli({"resume", (out / "checkpoint.cfck").string(), "--steps", target});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err,
+             Contains("resuming the cell sheet from step " + std::to_string(stopped)) && Contains("growing veins"));
+  CHECK(slurp(whole / "cells.ply") == slurp(out / "cells.ply"));
+  CHECK(slurp(whole / "veins.ply") == slurp(out / "veins.ply"));
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["veins"]["nodes"].get<int>() > 10);
+  // the sheet's parameters cannot change on the way: the sheet would not be the run's
+  r = cli({"resume", (t.path / "sheet.cfck").string(), "--steps", target, "--set", "cells.separation=0.1"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--set cells.separation=0.1") && Contains("continues with the parameters it was saved"));
 }
