@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <sstream>
 
@@ -142,7 +143,13 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
       ls >> format;
     else if (w == "element") {
       elements.push_back({});
-      ls >> elements.back().name >> elements.back().count;
+      std::string count;
+      ls >> elements.back().name >> count;
+      // a count is a whole number (a "-1" read as a size_t would be 2^64 - 1)
+      if (count.empty() || count.size() > 12 || count.find_first_not_of("0123456789") != std::string::npos)
+        malformed(path, "PLY element '" + elements.back().name + "' has count '" + count +
+                            "', which is not a whole number >= 0");
+      elements.back().count = std::stoull(count);
     } else if (w == "property") {
       if (elements.empty()) malformed(path, "PLY property before any element");
       Property p;
@@ -173,8 +180,13 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
   };
   const auto read = [&](const std::string& t) -> double {
     if (ascii) {
-      double v;
-      if (!(body >> v)) malformed(path, "PLY data ends early");
+      std::string word;
+      if (!(body >> word)) malformed(path, "PLY data ends early");
+      // strtod, unlike >>, reads "nan" and "inf" (said as such below, with the vertex) and says what is no number
+      char* end = nullptr;
+      const double v = std::strtod(word.c_str(), &end);
+      if (end != word.c_str() + word.size())
+        malformed(path, "PLY data: '" + word.substr(0, 40) + "' is not a number (ASCII PLY holds numbers only)");
       return v;
     }
     const std::size_t n = size_of(t);

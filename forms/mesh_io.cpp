@@ -13,6 +13,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -172,6 +173,23 @@ bool is_binary_stl(std::istream& in, std::uintmax_t size, const std::string& nam
   throw core::InvalidInput("mesh " + name + " is a damaged binary STL: its header announces " + std::to_string(n) +
                            " triangles (" + std::to_string(expected) + " bytes) but the file has " +
                            std::to_string(size) + " bytes");
+}
+
+// Every corner of a binary STL (`size` bytes, its layout checked) finite; names the first that is not.
+void check_binary_stl_corners(std::istream& in, std::uintmax_t size, const std::string& name) {
+  std::vector<char> bytes(static_cast<std::size_t>(size));
+  in.read(bytes.data(), static_cast<std::streamsize>(size));
+  if (in.gcount() != static_cast<std::streamsize>(size)) throw core::FileError("mesh " + name + " could not be read");
+  in.clear();
+  in.seekg(0);
+  for (std::size_t t = 0; 84 + 50 * (t + 1) <= bytes.size(); ++t)
+    for (int k = 0; k < 9; ++k) {  // the three corners after the normal
+      float x;
+      std::memcpy(&x, bytes.data() + 84 + 50 * t + 12 + 4 * k, 4);
+      if (!std::isfinite(x))
+        throw core::InvalidInput("mesh " + name + ": triangle " + std::to_string(t + 1) + " has a corner with a " +
+                                 "coordinate that is NaN or infinite");
+    }
 }
 
 // An ASCII STL as a mesh: corners at exactly the same position become one vertex and facets with a repeated
@@ -356,6 +374,7 @@ TriangleMesh load_mesh(const fs::path& path) {
   if (size == 0) throw core::InvalidInput("mesh " + name + " is empty: not a mesh");
   // OpenMesh reads ASCII STL leniently (a bad number keeps the previous one, a cut file is a smaller mesh)
   if (ext == ".stl" && !is_binary_stl(probe, size, name)) return checked(read_ascii_stl(probe, name), name);
+  if (ext == ".stl") check_binary_stl_corners(probe, size, name);  // OpenMesh drops such triangles unsaid
   const std::size_t vertex_lines = ext == ".obj" ? count_obj_vertex_lines(probe) : 0;
   probe.close();
 

@@ -288,6 +288,22 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
     std::ofstream(dir / "nan.stl", std::ios::binary) << stl;
   }
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "nan.stl"), Catch::Contains("nan.stl") && Catch::Contains("NaN"));
+  // ASCII PLY: NaN is named as such (it read as "ends early"), as are a word that is no number and a
+  // negative count
+  const std::string head =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  std::ofstream(dir / "nan.ply") << head << "0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n";
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "nan.ply"), Catch::Contains("vertex 2") && Catch::Contains("NaN"));
+  std::ofstream(dir / "word.ply") << head << "0 0 0\n1 abc 0\n0 1 0\n3 0 1 2\n";
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "word.ply"), Catch::Contains("'abc' is not a number"));
+  std::ofstream(dir / "short.ply") << head << "0 0 0\n1 0 0\n0 1\n";
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "short.ply"), Catch::Contains("ends early"));
+  std::string negative = head;
+  negative.replace(negative.find("vertex 3"), 8, "vertex -1");
+  std::ofstream(dir / "negative.ply") << negative << "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "negative.ply"),
+                    Catch::Contains("count '-1'") && Catch::Contains("whole number"));
   {  // a binary STL announcing 2 triangles with room for 4, and one with none
     std::string stl(80, ' ');
     std::uint32_t n = 2;
