@@ -45,6 +45,8 @@ const char* const kRunUsage =
     "                          one per output.checkpoint_seconds, 60 s)\n"
     "  --lua-instructions N    instruction budget of the script (default 500000000)\n"
     "  --lua-memory MB         memory limit of the script (default 512)\n"
+    "  --lua-seconds S         longest one call of a Lua library function may run, such as a string\n"
+    "                          pattern that backtracks (default 60)\n"
     "  --quiet                 no progress output\n"
     "\n"
     "Outputs: cells.ply, cells.obj (space colonisation: veins.ply, veins.obj, veins.svg), run.json\n"
@@ -145,6 +147,8 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
         o.checkpoint_every = parse_count(a, value(), 1'000'000'000ull);
       } else if (a == "--lua-instructions") {
         o.limits.instructions = parse_count(a, value(), ~0ull, 1);
+      } else if (a == "--lua-seconds") {
+        o.limits.library_seconds = static_cast<double>(parse_count(a, value(), 86400, 1));
       } else if (a == "--lua-memory") {
         const std::uint64_t mb = parse_count(a, value(), 65536, 1);  // MB
         o.limits.memory_bytes = static_cast<std::size_t>(mb) << 20;
@@ -158,7 +162,7 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       } else if (a.size() > 1 && a[0] == '-') {
         const std::string near = core::closest_name(
             a, std::vector<std::string>{"--out", "--seed", "--steps", "--threads", "--set", "--quiet", "--help",
-                                        "--checkpoint-every", "--lua-instructions", "--lua-memory"});
+                                        "--checkpoint-every", "--lua-instructions", "--lua-memory", "--lua-seconds"});
         throw UsageError("unknown option '" + a + "'" + (near.empty() ? "" : "; did you mean '" + near + "'?"));
       } else {
         positional.push_back(a);

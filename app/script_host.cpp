@@ -1,6 +1,13 @@
 // The Lua 5.4 sandbox: state, limits, the API functions, loading scripts and calling rule functions.
 #include "app/script_host.h"
 
+#include <unistd.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+
 #include "app/script_impl.h"
 #include "core/random.h"
 
@@ -167,6 +174,66 @@ int api_setmetatable(lua_State* L) {
 
 }  // namespace
 
+/// Stops the process when a script is stuck inside one call of a C library function, which the instruction
+/// budget and Ctrl-C (both checked by the hook, between Lua instructions) cannot reach: no hook call for
+/// ScriptLimits::library_seconds while Lua code runs, or for 2 s after a Ctrl-C. Nothing can unwind the
+/// call, so it writes its message with write(2) and ends the process with _exit (a run's staging folder is
+/// removed by the next run in that folder; its last periodic checkpoint stays).
+class ScriptHost::Watchdog {
+ public:
+  explicit Watchdog(Impl& i) : i_(i), thread_([this] { watch(); }) {}
+  ~Watchdog() {
+    {
+      const std::lock_guard<std::mutex> lock(m_);
+      quit_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+  }
+  Watchdog(const Watchdog&) = delete;
+  Watchdog& operator=(const Watchdog&) = delete;
+
+ private:
+  void watch() {
+    using clock = std::chrono::steady_clock;
+    std::unique_lock<std::mutex> lock(m_);
+    std::uint64_t last = 0;
+    clock::time_point since = clock::now();
+    while (!cv_.wait_for(lock, std::chrono::milliseconds(100), [this] { return quit_; })) {
+      const std::uint64_t beats = i_.beats.load(std::memory_order_relaxed);
+      if (!i_.in_script.load(std::memory_order_acquire) || beats != last) {
+        last = beats;
+        since = clock::now();
+        continue;
+      }
+      const double stuck = std::chrono::duration<double>(clock::now() - since).count();
+      if (g_interrupt.load() && stuck >= 2)
+        die(130,
+            "cellform: interrupted, but the script is inside one call of a Lua library function (a string "
+            "pattern that backtracks?) that cannot stop cleanly: stopped without writing outputs\n");
+      if (stuck >= i_.limits.library_seconds)
+        die(2, "cellform: " + script_ + ": the script spent more than " + core::number_text(i_.limits.library_seconds) +
+                   " s in one call of a Lua library function (a string pattern that backtracks?) and was stopped "
+                   "without writing outputs; raise the limit with --lua-seconds\n");
+    }
+  }
+  [[noreturn]] static void die(int code, const std::string& message) {
+    const ssize_t ignored = ::write(2, message.data(), message.size());
+    (void)ignored;
+    ::_exit(code);
+  }
+
+ public:
+  std::string script_;  // set before the script runs (load), read only while it runs
+
+ private:
+  Impl& i_;
+  std::mutex m_;
+  std::condition_variable cv_;
+  bool quit_ = false;
+  std::thread thread_;
+};
+
 ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
   Impl& I = *impl_;
   I.limits = limits;
@@ -213,9 +280,11 @@ ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
   lua_newtable(L);
   I.cell_table_ref = luaL_ref(L, LUA_REGISTRYINDEX);
   lua_sethook(L, &Impl::hook, LUA_MASKCOUNT, kHookEvery);
+  watchdog_ = std::make_unique<Watchdog>(I);
 }
 
 ScriptHost::~ScriptHost() {
+  watchdog_.reset();
   if (impl_ && impl_->L) lua_close(impl_->L);
 }
 
@@ -243,6 +312,7 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
   I.first_constraint.clear();
   I.param_names.clear();
   I.script_name = script_path.string();
+  watchdog_->script_ = I.script_name;  // no script runs now: the watchdog reads it only while one does
   I.script_dir = script_path.has_parent_path() ? script_path.parent_path() : std::filesystem::path(".");
   struct Reset {
     Impl& I;

@@ -27,6 +27,10 @@ struct ScriptLimits {
   std::uint64_t instructions = 500'000'000;      ///< Lua VM instructions for running the script itself
   std::uint64_t rule_instructions = 10'000'000;  ///< per call of a rule function
   std::size_t memory_bytes = 512u << 20;         ///< Lua heap, bytes
+  /// Seconds one call into Lua's C libraries may run (the instruction budget does not see inside one: a
+  /// string pattern that backtracks can run for hours) before the process stops with a message (exit 2);
+  /// after a Ctrl-C, such a call gets 2 s (exit 130).
+  double library_seconds = 60;
 };
 
 /// A cell the script places before the first step.
@@ -130,7 +134,9 @@ class ScriptHost {
   struct Impl;
 
  private:
+  class Watchdog;
   std::unique_ptr<Impl> impl_;
+  std::unique_ptr<Watchdog> watchdog_;  // after impl_: stopped first
   std::uint64_t step_ = 0;
   std::uint64_t seed_ = 0;
 };

@@ -1,6 +1,8 @@
 // Private to app/: the script host's state, parameter values, and the sections of the script API.
 #pragma once
 
+#include <atomic>
+
 #include <lua.hpp>
 
 #include <algorithm>
@@ -120,6 +122,9 @@ struct ScriptHost::Impl {
   std::size_t used = 0;
   bool memory_exceeded = false;
   bool in_host = false;  // an API function's C++ body runs: no Lua error may be raised (see alloc)
+  // for the watchdog (ScriptHost::Watchdog): hook calls so far, and whether Lua code runs now
+  std::atomic<std::uint64_t> beats{0};
+  std::atomic<bool> in_script{false};
   std::uint64_t executed = 0;
   std::uint64_t budget = 0;
   bool rule_call = false;  // the budget is a rule function's per-call one, which no option raises
@@ -171,6 +176,7 @@ struct ScriptHost::Impl {
 
   static void hook(lua_State* L, lua_Debug* ar) {
     Impl* self = *static_cast<Impl**>(lua_getextraspace(L));
+    self->beats.fetch_add(1, std::memory_order_relaxed);
     if (self->stopping) {
       // every thread the script runs (a coroutine has its own hook count) raises at each instruction
       if (lua_gethookcount(L) != 1) lua_sethook(L, &Impl::hook, LUA_MASKCOUNT, 1);
@@ -242,7 +248,9 @@ struct ScriptHost::Impl {
     const int base = lua_gettop(L) - nargs;  // the function; the handler goes below it
     lua_pushcfunction(L, &Impl::error_object_text);
     lua_insert(L, base);
+    in_script.store(true, std::memory_order_release);
     const int rc = lua_pcall(L, nargs, nresults, base);
+    in_script.store(false, std::memory_order_release);
     lua_remove(L, base);
     if (rc == LUA_OK && !stopping) return {};
     std::string msg =

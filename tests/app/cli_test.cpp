@@ -272,6 +272,71 @@ TEST_CASE("Ctrl-C while a script is read stops it there", "[cli][signal]") {
   CHECK_FALSE(fs::exists(out));
 }
 
+namespace {
+/// Exit code of child `pid` if it ends within `seconds`; otherwise kills it and returns -2.
+int exit_within(pid_t pid, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < end) {
+    int status = 0;
+    if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, nullptr, 0);
+  return -2;
+}
+}  // namespace
+
+TEST_CASE("a script stuck inside one library call is stopped by its time limit, or soon after a Ctrl-C",
+          "[cli][signal][script]") {
+  TempDir t("cli-stuck");
+  // a pattern that backtracks through 2^40 ways: one call of string.find, out of reach of the budget's hook
+  const auto script = t.write("stuck.lua",
+                              "local s = string.rep('a', 40)\n"
+                              "string.find(s, string.rep('a?', 40) .. string.rep('a', 40) .. 'b')\n"
+                              "disc { radius = 2 }\n");
+  const fs::path out = t.path / "o", log = t.path / "err.txt";
+  int log_fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  REQUIRE(log_fd >= 0);
+  pid_t pid = spawn_cellform({"run", script.string(), "--out", out.string(), "--lua-seconds", "1"}, log_fd);
+  ::close(log_fd);
+  REQUIRE(pid > 0);
+  CHECK(exit_within(pid, 20) == 2);
+  CHECK_THAT(slurp(log),
+             Contains("stuck.lua") && Contains("one call of a Lua library function") && Contains("--lua-seconds"));
+  CHECK_FALSE(fs::exists(out));
+  // the default limit (60 s) is not waited for after a Ctrl-C
+  log_fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  REQUIRE(log_fd >= 0);
+  pid = spawn_cellform({"run", script.string(), "--out", out.string()}, log_fd);
+  ::close(log_fd);
+  REQUIRE(pid > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  kill(pid, SIGINT);
+  CHECK(exit_within(pid, 20) == 130);
+  CHECK_THAT(slurp(log), Contains("cannot stop cleanly"));
+  // a rule function stuck the same way in a run
+  const auto rule =
+      t.write("rule.lua",
+              "disc { radius = 2 }\n"
+              "division { rule = function(cell) local s = string.rep('a', 40)\n"
+              "  return string.find(s, string.rep('a?', 40) .. string.rep('a', 40) .. 'b') ~= nil end }\n");
+  log_fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  REQUIRE(log_fd >= 0);
+  pid = spawn_cellform({"run", rule.string(), "--out", out.string(), "--lua-seconds", "1"}, log_fd);
+  ::close(log_fd);
+  REQUIRE(pid > 0);
+  CHECK(exit_within(pid, 20) == 2);
+  CHECK_THAT(slurp(log), Contains("rule.lua") && Contains("--lua-seconds"));
+  CHECK_FALSE(fs::exists(out / "cells.ply"));
+  // the folder stays usable: the next run there clears what the stopped one left
+  const auto quick = t.write("quick.lua", "disc { radius = 2 }\nrun { steps = 2 }\n");
+  CHECK(cli({"run", quick.string(), "--out", out.string(), "--quiet"}).code == 0);
+  int hidden = 0;
+  for (const auto& e : fs::directory_iterator(out)) hidden += e.path().filename().string()[0] == '.';
+  CHECK(hidden == 0);
+}
+
 TEST_CASE("after a first Ctrl-C, a second during the print skips only the print", "[cli][signal]") {
   TempDir t("cli-signal-print");
   const auto script = t.write("long.lua",
