@@ -137,6 +137,20 @@ fs::path first_missing(const fs::path& dir) {
   return missing;
 }
 
+fs::path out_folder(const fs::path& dir) {
+  fs::path out;
+  std::error_code ec;
+  for (const fs::path& part : dir) {
+    const bool missing = !out.empty() && out.filename() != ".." && out.filename() != "." &&
+                         out.filename() != out.root_directory() && !fs::is_directory(out, ec);
+    if (part == ".." && missing)
+      out = out.parent_path();
+    else
+      out /= part;
+  }
+  return out.empty() ? fs::path(".") : out;
+}
+
 void remove_empty_up_to(const fs::path& dir, const fs::path& top) {
   if (top.empty()) return;
   std::error_code ec;

@@ -134,7 +134,9 @@ Start start_from(const RunOptions& o) {
       }
       // the outputs go beside the checkpoint (its run's folder, wherever that is now), not to the folder
       // it was written in: that one may since hold another run
-      s.out_dir = o.out ? *o.out : o.checkpoint.has_parent_path() ? o.checkpoint.parent_path() : fs::path(".");
+      s.out_dir = o.out                            ? out_folder(*o.out)
+                  : o.checkpoint.has_parent_path() ? o.checkpoint.parent_path()
+                                                   : fs::path(".");
       if (meta.contains("checkpoint_every") && meta["checkpoint_every"].is_number_unsigned())
         s.checkpoint_every = meta["checkpoint_every"].get<std::uint64_t>();
       if (o.checkpoint_every) s.checkpoint_every = o.checkpoint_every;
@@ -166,7 +168,7 @@ Start start_from(const RunOptions& o) {
     s.target_steps = *o.steps;
     s.has_target = true;
   }
-  s.out_dir = o.out ? *o.out : fs::path("out") / o.script.stem();
+  s.out_dir = o.out ? out_folder(*o.out) : fs::path("out") / o.script.stem();
   return s;
 }
 

@@ -143,6 +143,10 @@ double shell_closing(const cells::Cells& cells, double close_holes);
 /// The highest of `dir` and its parents that does not exist yet (absolute), or empty when `dir` exists.
 std::filesystem::path first_missing(const std::filesystem::path& dir);
 
+/// `--out` as a folder to create: each ".." that follows a folder that does not exist drops that folder
+/// ("new/../z" is "z": creating it would make a "new" that nothing uses); other parts stay as given.
+std::filesystem::path out_folder(const std::filesystem::path& dir);
+
 /// Removes `dir` and then its parents, up to and including `top`, while they are empty folders; nothing
 /// when `top` is empty.
 void remove_empty_up_to(const std::filesystem::path& dir, const std::filesystem::path& top);

@@ -153,3 +153,18 @@ TEST_CASE("outputs that cannot be moved into place say where the run can continu
   CHECK_THAT(v.err, Contains("veins.svg") && Contains("the last checkpoint written is"));
   CHECK(fs::exists(vdir / "checkpoint.cfck"));
 }
+
+TEST_CASE("--out through a folder that does not exist and back out creates only the folder meant", "[cli]") {
+  TempDir t("cli-out-dots");
+  fs::create_directories(t.path / "have");
+  using cellform::app::out_folder;
+  CHECK(out_folder(t.path / "new" / ".." / "z") == t.path / "z");
+  CHECK(out_folder(t.path / "a" / "b" / ".." / ".." / "c") == t.path / "c");
+  CHECK(out_folder(t.path / "have" / ".." / "z") == t.path / "have" / ".." / "z");  // an existing folder stays
+  CHECK(out_folder(fs::path("new") / "..") == fs::path("."));
+  CHECK(out_folder(fs::path("..") / "x") == fs::path("..") / "x");
+  const auto script = t.write("s.lua", "disc { radius = 2 }\nrun { steps = 1 }\n");
+  REQUIRE(cli({"run", script.string(), "--out", (t.path / "new" / ".." / "z").string(), "--quiet"}).code == 0);
+  CHECK(fs::exists(t.path / "z" / "run.json"));
+  CHECK_FALSE(fs::exists(t.path / "new"));
+}
