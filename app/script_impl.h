@@ -74,10 +74,14 @@ inline bool parse_vec(std::string text, Vec3& out) {
   return n == 3;
 }
 
+/// "a|b|c" as "a, b or c", each quoted as a script writes it.
 inline std::string choices_list(const std::string& choices) {
-  std::string s = choices;
-  for (char& c : s)
-    if (c == '|') c = ',';
+  std::vector<std::string> parts;
+  std::stringstream ss(choices);
+  for (std::string part; std::getline(ss, part, '|');) parts.push_back("\"" + part + "\"");
+  std::string s;
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    s += (i == 0 ? "" : i + 1 == parts.size() ? " or " : ", ") + parts[i];
   return s;
 }
 

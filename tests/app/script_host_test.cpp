@@ -85,6 +85,8 @@ TEST_CASE("script errors name the file and line", "[script]") {
   }
   SECTION("bad choice suggests the closest") {
     CHECK_THAT(load_error("division { trigger = 'neighbors' }"), Contains("did you mean \"neighbours\""));
+    CHECK_THAT(load_error("division { trigger = 'rule' }"),
+               Contains("division.trigger must be one of \"none\", \"age\" or \"neighbours\", got \"rule\""));
   }
   SECTION("missing required parameter") { CHECK_THAT(load_error("disc { }"), Contains("needs 'radius'")); }
   SECTION("section twice") { CHECK_THAT(load_error("cells {}\ncells {}\n"), Contains("given twice")); }
