@@ -36,6 +36,7 @@ struct Value {
   bool flag = false;
   std::string str;
   int ref = LUA_NOREF;  // a function in the registry
+  std::string set_by;   // "--set section.name=value" when an override gave it
 };
 
 using Values = std::map<std::string, Value>;
@@ -80,8 +81,7 @@ inline std::string choices_list(const std::string& choices) {
   std::stringstream ss(choices);
   for (std::string part; std::getline(ss, part, '|');) parts.push_back("\"" + part + "\"");
   std::string s;
-  for (std::size_t i = 0; i < parts.size(); ++i)
-    s += (i == 0 ? "" : i + 1 == parts.size() ? " or " : ", ") + parts[i];
+  for (std::size_t i = 0; i < parts.size(); ++i) s += (i == 0 ? "" : i + 1 == parts.size() ? " or " : ", ") + parts[i];
   return s;
 }
 
@@ -486,6 +486,7 @@ struct ScriptHost::Impl {
         if (it != overrides->end()) {
           value_at = "--set " + key + "=" + it->second + ": ";
           values[f->name] = from_text(*f, it->second, value_at);
+          values[f->name].set_by = "--set " + key + "=" + it->second;
           used_overrides.insert(key);
         }
       }

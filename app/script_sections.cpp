@@ -304,7 +304,10 @@ void build_shapes(Impl& I) {
         r["step"] = static_cast<std::uint64_t>(v["step"].num);
       }
     } catch (const std::exception& e) {
-      throw InvalidInput(s.where + s.kind + ": " + core::error_text(e));
+      std::string given;  // values of this call that came from the command line, not the script's line
+      for (const auto& [name, value] : v)
+        if (!value.set_by.empty()) given += (given.empty() ? " (given by " : ", ") + value.set_by;
+      throw InvalidInput(s.where + s.kind + ": " + core::error_text(e) + (given.empty() ? "" : given + ")"));
     }
     if (s.kind != "cell" && s.kind != "petiole") r["spacing"] = spacing();
     // a petiole turns the nearest cell into one or adds a cell, at its step: not known here

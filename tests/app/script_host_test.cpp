@@ -515,6 +515,10 @@ TEST_CASE("positions beyond 1e9 model units are refused (their squares would ove
              Contains(":2: petiole.at") && Contains("1e+09"));
   CHECK_THAT(load_error("disc { radius = 3 }\nsurface { cells = true, seeds = {{1e12, 0, 0}} }\ncolonisation {}\n"),
              Contains("surface.seeds") && Contains("beyond 1e+09"));
+  // a shape too large to place, made so on the command line: the option is named beside the script's line
+  CHECK_THAT(load_error("disc { radius = 3 }\n", {{"disc.radius", "1e9"}}),
+             Contains("test/leaf.lua:1: disc: ") && Contains("(given by --set disc.radius=1e9)"));
+  CHECK_THAT(load_error("disc { radius = 1e9 }\n"), !Contains("given by"));
 }
 
 TEST_CASE("a print voxel coarser than the thinnest vein is refused before the run", "[script][print]") {
