@@ -107,7 +107,7 @@ std::vector<Field> build() {
   f.push_back(integer("division", "max_cells", "100000", 1, 5e7, "cells", "growth stops at this many cells"));
   f.push_back(Field{"division", "rule", Kind::function, "", 0, 0, false, "", "",
                     "function(cell) returning true when the cell divides; replaces trigger, age, radius and "
-                    "min_neighbours (set none of them with it)"});
+                    "min_neighbours (set none of them with it); min_age and probability still apply"});
 
   // initial shapes
   f.push_back(

@@ -87,13 +87,15 @@ std::size_t divide(Cells& cells, const Params& params, const Rules& rules, std::
   std::size_t divisions = 0;
   for (std::size_t i = 0; i < n && cells.size() < d.max_cells; ++i) {
     const auto mother = static_cast<Index>(i);
+    if (cells.age[i] < d.min_age) continue;  // a rule replaces the trigger, not the wait after a division
     if (rules.divides ? !rules.divides(cells, mother) : !fires[i]) continue;
     core::Rng rng(core::stream_key(seed, step, cells.id[i]));
     const double draw = rng.uniform();  // drawn always, so directions do not depend on the probability
     if (d.probability < 1 && !(draw < d.probability)) continue;
     const Vec3 dir = split_direction(cells, params, rules, mother, rng);
 
-    const Vec3 pos = cells.position[i] + (0.5 * params.rest_length) * dir;
+    Vec3 pos = cells.position[i] + (0.5 * params.rest_length) * dir;
+    if (rules.place) pos = rules.place(cells, mother, pos);
     cells.position.push_back(pos);
     cells.velocity.push_back(Vec3(cells.velocity[i]));
     cells.acceleration.push_back(Vec3(cells.acceleration[i]));

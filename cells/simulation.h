@@ -18,6 +18,9 @@ struct Rules {
   std::function<bool(const Cells&, Index)> divides;
   /// Split direction of cell i (SplitDirection::rule); need not be normalised, must not be zero.
   std::function<Vec3(const Cells&, Index)> split_direction;
+  /// Where a daughter of cell `mother` that division would put at `daughter` (model units) goes instead,
+  /// e.g. not across an obstacle surface; empty: where division puts it.
+  std::function<Vec3(const Cells&, Index mother, const Vec3& daughter)> place;
 };
 
 /// Recomputes the k nearest links of every cell (exact, ties by index), using `grid` as scratch.

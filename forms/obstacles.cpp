@@ -445,6 +445,14 @@ bool PreparedObstacles::crosses_mesh(const Vec3& from, const Vec3& to) const {
   return index_ && index_->first_crossing(from, to).has_value();
 }
 
+Vec3 PreparedObstacles::stop_at_mesh(const Vec3& from, const Vec3& to, double margin) const {
+  if (!index_) return to;
+  const auto hit = index_->first_crossing(from, to);
+  if (!hit) return to;
+  const double side = (from - hit->point).dot(hit->normal) >= 0 ? 1.0 : -1.0;
+  return hit->point + std::max(margin, 1e-9 * index_->scale) * side * hit->normal;
+}
+
 void PreparedObstacles::apply(cells::Cells& cells, const std::vector<Vec3>& previous_positions, double margin,
                               int threads) const {
   if (!(margin >= 0) || !std::isfinite(margin))

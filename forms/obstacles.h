@@ -88,6 +88,10 @@ class PreparedObstacles {
   /// True if the straight move from `from` to `to` crosses (or touches) a mesh triangle.
   bool crosses_mesh(const Vec3& from, const Vec3& to) const;
 
+  /// `to`, or where the straight move from `from` first crosses a mesh triangle, `margin` (model units)
+  /// back on the side of `from`: a new cell placed at `to` by a cell at `from` stays on its mother's side.
+  Vec3 stop_at_mesh(const Vec3& from, const Vec3& to, double margin) const;
+
   const Obstacles& obstacles() const { return obstacles_; }
 
  private:

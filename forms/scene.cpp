@@ -51,6 +51,14 @@ Scene::Scene(SceneDescription description, std::uint64_t seed)
       seed_(seed),
       sim_(desc_.cells, seed),
       obstacles_(desc_.obstacles) {
+  if (!desc_.obstacles.meshes.empty()) {
+    // a daughter is placed half a rest length from its mother after the step's constraints: not across a
+    // mesh, which only stops moves (a solid's inside is pushed out at the next step)
+    const double margin = desc_.obstacle_margin > 0 ? desc_.obstacle_margin : 0.01 * desc_.cells.rest_length;
+    sim_.rules().place = [this, margin](const cells::Cells& c, core::Index mother, const Vec3& daughter) {
+      return obstacles_.stop_at_mesh(c.position[mother], daughter, margin);
+    };
+  }
   if (desc_.split_along_auxin) {
     // divide along the local auxin flow; cells without flow yet split in a seeded random direction
     sim_.rules().split_direction = [this](const cells::Cells& c, core::Index i) -> Vec3 {

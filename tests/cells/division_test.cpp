@@ -140,6 +140,7 @@ TEST_CASE("probability thins divisions deterministically", "[division]") {
 TEST_CASE("rules override the trigger and supply split directions", "[division]") {
   Cells c = line_of(6);
   Params p;
+  p.division.min_age = 0;
   p.division.direction = SplitDirection::rule;
   Rules rules;
   rules.divides = [](const Cells& cells, Index i) { return cells.id[i] % 2 == 1; };
@@ -179,4 +180,25 @@ TEST_CASE("tangent splits stay in the plane of the sheet", "[division]") {
         std::atan2(c.position[d].y() - c.position[mother].y(), c.position[d].x() - c.position[mother].x()) * 4));
   }
   CHECK(directions.size() > 10);  // random within the plane, not one axis
+}
+
+TEST_CASE("a rule replaces the trigger but not min_age, the wait after a division", "[division]") {
+  Params p;
+  p.division.min_age = 3;
+  Rules rules;
+  int calls = 0;
+  rules.divides = [&calls](const Cells&, Index) {
+    ++calls;
+    return true;
+  };
+  cellform::core::PointGrid grid;
+  Cells c = line_of(1);
+  std::vector<std::size_t> sizes;
+  for (std::uint64_t step = 1; step <= 7; ++step) {
+    divide(c, p, rules, 1, step, grid);
+    sizes.push_back(c.size());
+  }
+  // ages 1, 2: too young; at 3 the cell and, from then on, every cell three steps old divides
+  CHECK(sizes == std::vector<std::size_t>{1, 1, 2, 2, 2, 4, 4});
+  CHECK(calls == 3);  // the rule is asked only of cells old enough
 }

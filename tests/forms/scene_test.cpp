@@ -52,3 +52,40 @@ TEST_CASE("a scene does not start with cells inside an obstacle", "[forms][scene
   fine.spheres.push_back({Vec3(0, 0, -1e8), 1e8 - 1});           // far below, huge
   CHECK_NOTHROW(start_disc(fine));
 }
+
+TEST_CASE("daughters are not placed across a mesh obstacle", "[forms][scene]") {
+  // a disc just above a plane given as a mesh (two triangles at z = 0), dividing in random directions: a
+  // mesh only stops moves, so a daughter put half a rest length below it stayed below for good
+  auto grow = [](bool mesh, bool plane_below) {
+    forms::SceneDescription d;
+    d.cells.division.trigger = cells::DivisionTrigger::age;
+    d.cells.division.division_age = 10;
+    d.cells.division.min_age = 5;
+    d.cells.division.direction = cells::SplitDirection::random;
+    d.cells.division.max_cells = 400;
+    if (mesh) {
+      forms::TriangleMesh plane;
+      plane.vertices = {Vec3(-10, -10, 0), Vec3(10, -10, 0), Vec3(10, 10, 0), Vec3(-10, 10, 0)};
+      plane.triangles = {{0, 1, 2}, {0, 2, 3}};
+      if (plane_below)
+        for (Vec3& v : plane.vertices) v.z() = -100;
+      d.obstacles.meshes.push_back(plane);
+    }
+    forms::Scene scene(d, 1);
+    for (const Vec3& p : forms::hex_disc(Vec3(0, 0, 0.3), Vec3::UnitZ(), 3.0, 1.0))
+      cells::add_cell(scene.simulation().cells(), p);
+    scene.start();
+    for (int i = 0; i < 100; ++i) scene.step();
+    std::size_t below = 0;
+    for (const Vec3& p : scene.simulation().cells().position) below += p.z() < 0;
+    return std::pair{scene.simulation().cells().size(), below};
+  };
+  const auto [free_cells, free_below] = grow(false, false);
+  REQUIRE(free_cells == 400);
+  REQUIRE(free_below > 50);  // without the mesh, many daughters go below z = 0
+  const auto [cells_count, below] = grow(true, false);
+  CHECK(cells_count == 400);
+  CHECK(below == 0);
+  // a mesh out of the way changes nothing: placement is only corrected where a daughter would cross
+  CHECK(grow(true, true) == std::pair{free_cells, free_below});
+}
