@@ -143,12 +143,16 @@ int api_print(lua_State* L) {
   if (lua_gettop(L) == 1 && lua_type(L, 1) == LUA_TTABLE) return api_section(L);
   Impl& I = *self_of(L);
   const int n = lua_gettop(L);
-  // __tostring may raise: convert every argument before any C++ object lives in this frame
-  for (int i = 1; i <= n; ++i) luaL_tolstring(L, i, nullptr);
+  // __tostring may raise: convert every argument (in place: the stack has room for a few more values
+  // only) before any C++ object lives in this frame
+  for (int i = 1; i <= n; ++i) {
+    luaL_tolstring(L, i, nullptr);
+    lua_replace(L, i);
+  }
   std::string line;
   for (int i = 1; i <= n; ++i) {
     if (i > 1) line += "\t";
-    line += lua_tostring(L, n + i);
+    line += lua_tostring(L, i);
   }
   if (I.print) I.print(line);
   return 0;

@@ -141,6 +141,15 @@ TEST_CASE("runaway scripts are stopped", "[script][limits]") {
       load("disc { radius = 2 } cells(setmetatable({}, { __index = function() while true do end end }))", {}, limits));
   CHECK(load("disc { radius = 2 } cells(setmetatable({}, { __index = { vein = { cohesion = 0.5 } } }))")
             .resolved["cells"]["vein"]["cohesion"] == 0.05);
+  // many arguments: converted in place (one more stack slot each overflowed Lua's stack)
+  std::vector<std::string> printed;
+  ScriptHost many(limits);
+  many.set_print([&printed](const std::string& line) { printed.push_back(line); });
+  many.load("local t = {} for i = 1, 5000 do t[i] = i end print(table.unpack(t))", "many.lua", {});
+  REQUIRE(printed.size() == 1);
+  std::string expected;
+  for (int i = 1; i <= 5000; ++i) expected += (i > 1 ? "\t" : "") + std::to_string(i);
+  CHECK(printed[0] == expected);
   CHECK_THAT(load_error("print('a', setmetatable({}, { __tostring = function() error('tostring boom') end }))"),
              Contains("test/leaf.lua:1") && Contains("tostring boom"));
   // a section called with the memory limit reached: the script's next allocation fails, not the host's
