@@ -6,6 +6,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "app/script_impl.h"
@@ -23,12 +24,15 @@ int guarded(lua_State* L, Body&& body) {
   int results = 0;
   bool failed = false;
   I.in_host = true;  // no Lua memory error inside the body (the script's next allocation fails instead)
+  // and no watchdog: the body is the host's own work (reading a large mesh), not a library call
+  const bool was_script = I.in_script.exchange(false, std::memory_order_acq_rel);
   try {
     results = body(I);
   } catch (const std::exception& e) {
     I.pending_error = core::error_text(e);
     failed = true;
   }
+  I.in_script.store(was_script, std::memory_order_release);
   I.in_host = false;
   if (failed) {
     lua_pushstring(L, I.pending_error.c_str());
@@ -154,7 +158,11 @@ int api_print(lua_State* L) {
     if (i > 1) line += "\t";
     line += lua_tostring(L, i);
   }
-  if (I.print) I.print(line);
+  if (I.print) {  // a terminal or pipe that does not read on blocks here: not the script's time
+    const bool was_script = I.in_script.exchange(false, std::memory_order_acq_rel);
+    I.print(line);
+    I.in_script.store(was_script, std::memory_order_release);
+  }
   return 0;
 }
 
@@ -203,15 +211,20 @@ class ScriptHost::Watchdog {
     std::unique_lock<std::mutex> lock(m_);
     std::uint64_t last = 0;
     clock::time_point since = clock::now();
+    std::optional<clock::time_point> interrupted;  // when this thread first saw the Ctrl-C
     while (!cv_.wait_for(lock, std::chrono::milliseconds(100), [this] { return quit_; })) {
+      if (!interrupted && g_interrupt.load()) interrupted = clock::now();
       const std::uint64_t beats = i_.beats.load(std::memory_order_relaxed);
       if (!i_.in_script.load(std::memory_order_acquire) || beats != last) {
         last = beats;
         since = clock::now();
         continue;
       }
+      // every call begins with a beat (the hook), so no beat while Lua code runs is one library call
       const double stuck = std::chrono::duration<double>(clock::now() - since).count();
-      if (g_interrupt.load() && stuck >= 2)
+      const double since_interrupt =
+          interrupted ? std::chrono::duration<double>(clock::now() - *interrupted).count() : 0.0;
+      if (interrupted && std::min(stuck, since_interrupt) >= 2)
         die(130,
             "cellform: interrupted, but the script is inside one call of a Lua library function (a string "
             "pattern that backtracks?) that cannot stop cleanly: stopped without writing outputs\n");
@@ -283,7 +296,7 @@ ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
   lua_setglobal(L, "params");
   lua_newtable(L);
   I.cell_table_ref = luaL_ref(L, LUA_REGISTRYINDEX);
-  lua_sethook(L, &Impl::hook, LUA_MASKCOUNT, kHookEvery);
+  lua_sethook(L, &Impl::hook, kHookMask, kHookEvery);
   watchdog_ = std::make_unique<Watchdog>(I);
 }
 

@@ -27,6 +27,8 @@ using core::InvalidInput;
 using core::Vec3;
 
 inline constexpr int kHookEvery = 1000;  // instructions between budget checks
+// the hook counts instructions (budget, Ctrl-C) and sees every call begin (the watchdog's beats)
+inline constexpr int kHookMask = LUA_MASKCOUNT | LUA_MASKCALL;
 
 /// A parameter value after conversion from Lua or from a --set string.
 struct Value {
@@ -181,21 +183,23 @@ struct ScriptHost::Impl {
   static void hook(lua_State* L, lua_Debug* ar) {
     Impl* self = *static_cast<Impl**>(lua_getextraspace(L));
     self->beats.fetch_add(1, std::memory_order_relaxed);
+    // a call (Lua or C) only beats: the watchdog then sees one library call that runs too long
+    if (ar->event != LUA_HOOKCOUNT) return;
     if (self->stopping) {
       // every thread the script runs (a coroutine has its own hook count) raises at each instruction
-      if (lua_gethookcount(L) != 1) lua_sethook(L, &Impl::hook, LUA_MASKCOUNT, 1);
+      if (lua_gethookcount(L) != 1) lua_sethook(L, &Impl::hook, kHookMask, 1);
       lua_pushstring(L, self->stop_message.c_str());
       lua_error(L);
     }
     if (lua_gethookcount(L) != kHookEvery) {  // a coroutine kept from a call that was stopped
-      lua_sethook(L, &Impl::hook, LUA_MASKCOUNT, kHookEvery);
+      lua_sethook(L, &Impl::hook, kHookMask, kHookEvery);
       return;
     }
     self->executed += kHookEvery;
     // Ctrl-C while a script is read (a rule's step ends first: the run then stops after it)
     if (!self->rule_call && g_interrupt.load(std::memory_order_relaxed)) {
       self->stop("interrupted while the script was read; nothing was written");
-      lua_sethook(L, &Impl::hook, LUA_MASKCOUNT, 1);
+      lua_sethook(L, &Impl::hook, kHookMask, 1);
       lua_pushstring(L, self->stop_message.c_str());
       lua_error(L);
     }
@@ -217,7 +221,7 @@ struct ScriptHost::Impl {
             static_cast<lua_Integer>(self->budget));
       lua_concat(L, 2);
       self->stop(lua_tostring(L, -1));
-      lua_sethook(L, &Impl::hook, LUA_MASKCOUNT, 1);  // this thread too: a coroutine has its own count
+      lua_sethook(L, &Impl::hook, kHookMask, 1);  // this thread too: a coroutine has its own count
       lua_error(L);
     }
   }
@@ -226,7 +230,7 @@ struct ScriptHost::Impl {
   void stop(const std::string& message) {
     stopping = true;
     stop_message = message;
-    lua_sethook(L, &Impl::hook, LUA_MASKCOUNT, 1);
+    lua_sethook(L, &Impl::hook, kHookMask, 1);
   }
 
   /// Turns a Lua error message into one line that names the script; adds the memory-limit hint.
@@ -247,7 +251,7 @@ struct ScriptHost::Impl {
     memory_exceeded = false;
     if (stopping) {
       stopping = false;
-      lua_sethook(L, &Impl::hook, LUA_MASKCOUNT, kHookEvery);
+      lua_sethook(L, &Impl::hook, kHookMask, kHookEvery);
     }
     const int base = lua_gettop(L) - nargs;  // the function; the handler goes below it
     lua_pushcfunction(L, &Impl::error_object_text);
@@ -562,14 +566,17 @@ inline int raw_field(lua_State* L, int idx, const char* name) {
 /// Lets the script's memory limit fail allocations again while Lua code runs inside host code.
 class LuaRunsHere {
  public:
-  explicit LuaRunsHere(Impl& i) : i_(i), was_(i.in_host) { i.in_host = false; }
-  ~LuaRunsHere() { i_.in_host = was_; }
+  explicit LuaRunsHere(Impl& i) : i_(i), was_(i.in_host), was_script_(i.in_script.exchange(true)) { i.in_host = false; }
+  ~LuaRunsHere() {
+    i_.in_host = was_;
+    i_.in_script.store(was_script_);
+  }
   LuaRunsHere(const LuaRunsHere&) = delete;
   LuaRunsHere& operator=(const LuaRunsHere&) = delete;
 
  private:
   Impl& i_;
-  bool was_;
+  bool was_, was_script_;
 };
 
 // The script API's sections (script_sections.cpp): each reads the table at stack index 1 against the

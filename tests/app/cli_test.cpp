@@ -329,6 +329,27 @@ TEST_CASE("a script stuck inside one library call is stopped by its time limit, 
   CHECK(exit_within(pid, 20) == 2);
   CHECK_THAT(slurp(log), Contains("rule.lua") && Contains("--lua-seconds"));
   CHECK_FALSE(fs::exists(out / "cells.ply"));
+  // many short library calls are not one long one: a loop of 40 ms calls runs its 2 s with a limit of 1 s
+  const auto slow = t.write("slow.lua",
+                            "local s = string.rep('a', 2e7)\n"
+                            "local n = 0\n"
+                            "for i = 1, 50 do n = n + #s:upper() end\n"
+                            "disc { radius = 2 }\nrun { steps = 1 }\n");
+  pid = spawn_cellform({"run", slow.string(), "--out", (t.path / "slow").string(), "--quiet", "--lua-seconds", "1"});
+  REQUIRE(pid > 0);
+  CHECK(exit_within(pid, 60) == 0);
+  // nor do rule calls that fill a step; a Ctrl-C there ends the run after the step, with its outputs
+  const auto busy = t.write("busy.lua",
+                            "local S = string.rep('a', 1e7)\n"
+                            "disc { radius = 3 }\nrun { steps = 100000 }\n"
+                            "division { rule = function(c) return #S:upper() < 0 end }\n");
+  pid = spawn_cellform({"run", busy.string(), "--out", (t.path / "busy").string(), "--quiet", "--lua-seconds", "1"});
+  REQUIRE(pid > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(3000));
+  kill(pid, SIGINT);
+  CHECK(exit_within(pid, 60) == 130);
+  CHECK(fs::exists(t.path / "busy" / "cells.ply"));
+  CHECK(fs::exists(t.path / "busy" / "checkpoint.cfck"));
   // the folder stays usable: the next run there clears what the stopped one left
   const auto quick = t.write("quick.lua", "disc { radius = 2 }\nrun { steps = 2 }\n");
   CHECK(cli({"run", quick.string(), "--out", out.string(), "--quiet"}).code == 0);
