@@ -275,7 +275,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       cfg = host.load(s.source, s.script_path, s.sets);
       // a resumed cell run steps with the values it was saved with, whatever the defaults are now: the
       // script is read again with those that changed set
-      if (s.resume && s.physics.is_object() && !cfg.colonisation) {
+      // (a run stopped while its cell sheet grew too: the rest of the sheet grows with the saved values)
+      if (s.resume && s.physics.is_object() && (!cfg.colonisation || s.sheet_partial)) {
         const json now = physics_of(cfg.resolved);
         json changed = json::object();
         std::string listed;

@@ -28,7 +28,7 @@ namespace {
 /// A checkpoint taken while surface{cells = true}'s sheet grows: the cells and their step, with what
 /// resume needs to finish the growth bit-identically and then grow the veins.
 std::string sheet_checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t target,
-                                   const cells::Simulation& sim) {
+                                   const cells::Simulation& sim, std::size_t initial_cells, const json& physics) {
   json meta = {{"program", "cellform"},
                {"version", version()},
                {"mode", "sheet"},
@@ -39,7 +39,9 @@ std::string sheet_checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint
                {"target_steps", target},
                {"steps_given", s.has_target},
                {"step", sim.step_count()},
-               {"out", absolute_path_text(s.out_dir)}};
+               {"out", absolute_path_text(s.out_dir)},
+               {"initial_cells", initial_cells},
+               {"physics", physics}};  // a resume grows the rest with these values, whatever the defaults then
   return core::write_chunk_file(kCheckpointKind, kCheckpointVersion,
                                 {{"meta", meta.dump()}, {"script", s.source}, {"cells", cells::save(sim.cells())}});
 }
@@ -48,7 +50,10 @@ std::string sheet_checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint
 struct Sheet {
   cells::Cells cells;
   std::uint64_t step = 0, target = 0;
+  std::size_t initial = 0;  // cells when the growth began (of the run, not of this resume)
   bool complete = false;
+  bool checkpointed = false;     // a sheet checkpoint of this run is in the folder
+  std::string checkpoint_error;  // why the checkpoint on Ctrl-C could not be written
 };
 
 /// surface{cells = true}: grows the script's cells (cells{}, division{}, run{}, shapes) for --steps or
@@ -72,13 +77,18 @@ Sheet grow_sheet(const RunOptions& o, const Start& s, const SceneConfig& cfg, Sc
   if (rules.split_direction) sim.rules().split_direction = rules.split_direction;
   Sheet out;
   out.target = s.has_target ? s.target_steps : cfg.steps;
+  out.initial = s.resume && s.initial_cells > 0 ? s.initial_cells : sim.cells().size();
   if (!o.quiet)
-    err << (s.resume ? "resuming the cell sheet from step " + std::to_string(s.step) + " to "
+    err << (s.resume ? "resuming the cell sheet from step " + std::to_string(s.step) + " to step "
                      : std::string("growing the cell sheet for "))
-        << out.target << " steps (" << sim.cells().size() << " cells)\n";
-  auto save = [&] { write_checkpoint(checkpoint, sheet_checkpoint_bytes(s, seed, out.target, sim)); };
+        << out.target << (s.resume ? "" : " steps") << " (" << sim.cells().size() << " cells)\n";
+  const json physics = physics_of(cfg.resolved);
+  auto save = [&] {
+    write_checkpoint(checkpoint, sheet_checkpoint_bytes(s, seed, out.target, sim, out.initial, physics));
+  };
   CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
-  bool saved = false, warned = false;
+  bool& saved = out.checkpointed;
+  bool warned = false;
   Progress progress(err, ::isatty(2) != 0, o.quiet, sim.step_count(), out.target);
   try {
     while (sim.step_count() < out.target && !g_interrupt.load()) {
@@ -95,7 +105,12 @@ Sheet grow_sheet(const RunOptions& o, const Start& s, const SceneConfig& cfg, Sc
   }
   progress.finish();
   out.complete = sim.step_count() >= out.target;
-  if (!out.complete) save();    // a Ctrl-C: the growth continues from here on resume
+  if (!out.complete) try {  // a Ctrl-C: the growth continues from here on resume
+      save();
+      saved = true;
+    } catch (const std::exception& e) {  // a full disk: the sheet so far is still written out
+      out.checkpoint_error = core::error_text(e);
+    }
   if (sim.step_count() == 0) {  // no step ran: the links the first step would make, for the sheet's triangles
     core::PointGrid grid;
     cells::update_links(sim.cells(), sim.params(), grid, sim.threads());
@@ -145,7 +160,8 @@ venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cel
 /// A colonisation checkpoint: the script, what resume needs to rebuild the same setup (seed, --set
 /// overrides, the step limit, for surface{cells = true} the grown sheet) and the colonisation state.
 std::string colonisation_checkpoint_bytes(const Start& s, std::uint64_t seed, const venation::ColonisationParams& p,
-                                          const venation::Colonisation& col, const cells::Cells* sheet) {
+                                          const venation::Colonisation& col, const cells::Cells* sheet,
+                                          std::size_t sheet_initial) {
   json meta = {{"program", "cellform"},
                {"version", version()},
                {"mode", "colonisation"},
@@ -156,6 +172,7 @@ std::string colonisation_checkpoint_bytes(const Start& s, std::uint64_t seed, co
                {"target_steps", p.max_steps},
                {"step", col.report().steps},
                {"out", absolute_path_text(s.out_dir)}};
+  if (sheet) meta["initial_cells"] = sheet_initial;
   std::map<std::string, std::string> chunks{{"meta", meta.dump()}, {"script", s.source}, {"colonisation", col.save()}};
   if (sheet) chunks["cells"] = cells::save(*sheet);
   return core::write_chunk_file(kCheckpointKind, kCheckpointVersion, chunks);
@@ -214,6 +231,9 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
   const bool planar = spec.domain.kind == venation::DomainKind::leaf;
   try {
     std::optional<cells::Cells> sheet;
+    // cells when the sheet began to grow, for run.json (a checkpoint that does not say: the script's shapes)
+    std::size_t sheet_initial = s.initial_cells > 0 ? s.initial_cells : cfg.initial_cells.size();
+    bool sheet_checkpointed = false;  // a checkpoint written while the sheet grew is in the folder
     if (s.sheet_partial && !spec.on_cells)
       throw core::InvalidInput("checkpoint '" + o.checkpoint.string() +
                                "' was taken while a cell sheet grew, but its script grows no veins on cells");
@@ -227,6 +247,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
         sheet = cells::load(s.cells_bytes, "checkpoint '" + o.checkpoint.string() + "'");
       } else {
         Sheet grown = grow_sheet(o, s, cfg, host, seed, checkpoint, err);
+        sheet_initial = grown.initial;
+        sheet_checkpointed = grown.checkpointed;
         if (!grown.complete) {  // Ctrl-C: the sheet so far, and its checkpoint to finish it from
           std::vector<std::string> outputs = write_outputs(staging, cfg.output, grown.cells, false);
           json run = {
@@ -244,21 +266,27 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
               {"phase", "cells"},  // the veins have not started
               {"steps", {{"first", 0}, {"completed", 0}, {"limit", spec.params.max_steps}}},
               {"cells",
-               {{"initial", cfg.initial_cells.size()},
+               {{"initial", grown.initial},
                 {"final", grown.cells.size()},
                 {"steps", grown.step},
                 {"target", grown.target}}},
               {"overrides", s.sets},
               {"parameters", cfg.resolved},
               {"timings", {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}}},
-              {"checkpoint", kCheckpointName}};
+              {"checkpoint", grown.checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr)}};
           outputs.push_back("run.json");
           run["outputs"] = outputs;
           core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
           commit_outputs(staging, dir, outputs);
           err << "interrupted while the cell sheet grew (step " << grown.step << " of " << grown.target
-              << "; no veins yet): the sheet so far is in " << dir.string() << "/\ncontinue with: cellform resume "
-              << checkpoint.string() << "\n";
+              << "; no veins yet): the sheet so far is in " << dir.string() << "/\n";
+          if (!grown.checkpoint_error.empty()) {
+            err << "cellform: " << grown.checkpoint_error << "\n  (this run cannot be resumed"
+                << (grown.checkpointed ? "; the last periodic checkpoint, " + checkpoint.string() + ", can" : "")
+                << ")\n";
+            return failure;
+          }
+          err << "continue with: cellform resume " << checkpoint.string() << "\n";
           return interrupted;
         }
         sheet = std::move(grown.cells);
@@ -270,7 +298,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
                                                            "checkpoint '" + o.checkpoint.string() + "'");
     const std::size_t first = col.report().steps;
     auto save = [&] {
-      write_checkpoint(checkpoint, colonisation_checkpoint_bytes(s, seed, spec.params, col, sheet ? &*sheet : nullptr));
+      write_checkpoint(checkpoint, colonisation_checkpoint_bytes(s, seed, spec.params, col, sheet ? &*sheet : nullptr,
+                                                                 sheet_initial));
     };
     if (!o.quiet)
       err << (fresh ? "growing" : "resuming") << " veins by space colonisation in " << s.script_path.string()
@@ -299,8 +328,11 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     } catch (const std::exception&) {
       // a step that failed may have left the state half changed: the last checkpoint is the one to resume
       if (!o.quiet && ::isatty(2)) err << "\n";
-      if (saved || (s.resume && fs::exists(checkpoint)))
-        err << "cellform: (the last checkpoint is " << checkpoint.string() << (saved ? "" : ", the one resumed")
+      if (saved || sheet_checkpointed || (s.resume && fs::exists(checkpoint)))
+        err << "cellform: (the last checkpoint is " << checkpoint.string()
+            << (saved                ? ""
+                : sheet_checkpointed ? ", taken while the sheet grew"
+                                     : ", the one resumed")
             << ")\n";
       throw;
     }
@@ -416,7 +448,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
                 {"checkpoint", checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr)}};
     if (cfg.print) run["print"] = printed;
     if (planar) run["veins"]["leaf_length"] = leaf_length;
-    if (sheet) run["cells"] = {{"initial", cfg.initial_cells.size()}, {"final", sheet->size()}};
+    if (sheet) run["cells"] = {{"initial", sheet_initial}, {"final", sheet->size()}};
     outputs.push_back("run.json");
     run["outputs"] = outputs;
     core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });

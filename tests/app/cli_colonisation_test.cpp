@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "core/chunk_file.h"
 #include "tests/app/test_util.h"
 
 using namespace cellform::test;
@@ -329,6 +330,23 @@ TEST_CASE("Ctrl-C while surface{cells = true}'s sheet grows leaves a checkpoint 
   CHECK(slurp(whole / "cells.ply") == slurp(out / "cells.ply"));
   CHECK(slurp(whole / "veins.ply") == slurp(out / "veins.ply"));
   CHECK(nlohmann::json::parse(slurp(out / "run.json"))["veins"]["nodes"].get<int>() > 10);
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["cells"]["initial"] ==
+        nlohmann::json::parse(slurp(whole / "run.json"))["cells"]["initial"]);
+  // the sheet checkpoint keeps the values it grew with: a resume by a cellform whose defaults changed
+  // grows the rest with them (forged here as a saved cells.separation of 0.1)
+  cellform::core::ChunkFile saved = cellform::core::read_chunk_file(slurp(t.path / "sheet.cfck"), "CKPT", 1, "test");
+  auto meta = nlohmann::json::parse(saved.chunks.at("meta"));
+  REQUIRE(meta["mode"] == "sheet");
+  REQUIRE(meta["physics"]["cells"]["separation"] == 0.05);
+  REQUIRE(meta["initial_cells"].get<int>() > 0);
+  meta["physics"]["cells"]["separation"] = 0.1;
+  saved.chunks["meta"] = meta.dump();
+  fs::create_directories(t.path / "older");
+  t.write("older/checkpoint.cfck", cellform::core::write_chunk_file("CKPT", 1, saved.chunks));
+  r = cli({"resume", (t.path / "older" / "checkpoint.cfck").string(), "--steps", target, "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(nlohmann::json::parse(slurp(t.path / "older" / "run.json"))["parameters"]["cells"]["separation"] == 0.1);
   // the sheet's parameters cannot change on the way: the sheet would not be the run's
   r = cli({"resume", (t.path / "sheet.cfck").string(), "--steps", target, "--set", "cells.separation=0.1"});
   CHECK(r.code == 2);
