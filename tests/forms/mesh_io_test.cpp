@@ -206,6 +206,13 @@ TEST_CASE("load_mesh errors name the file and the problem", "[forms][mesh_io]") 
   write_text(dir / "nan2.stl", binary_stl({{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)},
                                            {Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, std::nan(""))}}));
   CHECK_THROWS_WITH(forms::load_mesh(dir / "nan2.stl"), Catch::Contains("triangle 2") && Catch::Contains("NaN"));
+  {  // past the first block of records the corner check reads
+    std::vector<std::array<Vec3, 3>> many;
+    for (int t = 0; t < 5000; ++t) many.push_back({Vec3(t, 0, 0), Vec3(t + 1, 0, 0), Vec3(t, 1, 0)});
+    many[4099][2].z() = std::nan("");
+    write_text(dir / "nan4100.stl", binary_stl(many));
+    CHECK_THROWS_WITH(forms::load_mesh(dir / "nan4100.stl"), Catch::Contains("triangle 4100 "));
+  }
   write_text(dir / "inf.stl", binary_stl({{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, HUGE_VAL, 0)}}));
   CHECK_THROWS_WITH(forms::load_mesh(dir / "inf.stl"), Catch::Contains("triangle 1") && Catch::Contains("infinite"));
 
