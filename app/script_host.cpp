@@ -326,6 +326,7 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
   I.used_overrides.clear();
   I.sections_seen.clear();
   I.shapes.clear();
+  I.placements = 0;
   I.first_constraint.clear();
   I.param_names.clear();
   I.script_name = script_path.string();

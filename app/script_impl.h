@@ -127,7 +127,8 @@ struct ScriptHost::Impl {
   ScriptLimits limits;
   std::size_t used = 0;
   bool memory_exceeded = false;
-  bool in_host = false;  // an API function's C++ body runs: no Lua error may be raised (see alloc)
+  std::size_t placements = 0;  // shape and constraint calls of the script being read
+  bool in_host = false;        // an API function's C++ body runs: no Lua error may be raised (see alloc)
   // for the watchdog (ScriptHost::Watchdog): hook calls so far, and whether Lua code runs now
   std::atomic<std::uint64_t> beats{0};
   std::atomic<bool> in_script{false};

@@ -213,7 +213,21 @@ void section_output(Impl& I, const std::string& at) {
   I.cfg->output.svg_size = v["svg_size"].num;
 }
 
+namespace {
+// Shapes and constraints a script may place: each keeps C++ state the Lua memory limit does not see (a
+// loop of a million disc{} calls took 770 MB)
+constexpr std::size_t kMaxPlacements = 250000;
+
+void count_placement(Impl& I, const std::string& kind, const std::string& at) {
+  if (++I.placements > kMaxPlacements)
+    throw InvalidInput(at + kind + "{...}: a script may place at most " + std::to_string(kMaxPlacements) +
+                       " shapes and constraints (cell{...} in a loop? a disc{} or rectangle{} places many cells "
+                       "in one call)");
+}
+}  // namespace
+
 void section_shape(Impl& I, const std::string& kind, const std::string& at) {
+  count_placement(I, kind, at);
   ShapeCall call{kind, I.read_section(kind, 1, at, nullptr), at};
   I.shapes.push_back(std::move(call));
 }
@@ -229,6 +243,7 @@ Vec3 unit_vector(const Vec3& n, const std::string& name) {
 }  // namespace
 
 void section_constraint(Impl& I, const std::string& kind, const std::string& at) {
+  count_placement(I, kind, at);
   nlohmann::json rec;
   Values v = I.read_section(kind, 1, at, &rec);
   rec["kind"] = kind;

@@ -157,6 +157,12 @@ TEST_CASE("runaway scripts are stopped", "[script][limits]") {
                         "cells { spring = 1 } disc { radius = 2 } local u = {} for i = 1, 1e6 do u[i] = {} end",
                         {}, memory),
              Contains("memory limit of 16 MiB"));
+  // shapes and constraints keep C++ state beyond the Lua memory limit: their number is capped
+  ScriptLimits many_calls = limits;
+  many_calls.instructions = 100'000'000;
+  CHECK_THAT(load_error("local t = { radius = 0.5 } for i = 1, 1e6 do disc(t) end", {}, many_calls),
+             Contains("test/leaf.lua:1: disc{...}: a script may place at most 250000 shapes and constraints"));
+  CHECK_NOTHROW(load("for i = 1, 1000 do cell { at = {i, 0, 0} } end"));
   // the host is usable after a limit error
   ScriptHost host(limits);
   CHECK_THROWS(host.load("while true do end", "a.lua", {}));
