@@ -461,7 +461,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       } catch (const std::exception& e) {
         err << "cellform: " << core::error_text(e) << "\n  (the other outputs and the checkpoint are written)\n";
         printed = {{"error", core::error_text(e)}};
-        if (code != interrupted) code = failure;  // a Ctrl-C that came first stays the reason the run ended
+        if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
+          code = failure;
+          status = "print failed";  // the cells are complete; run.json's print.error says why
+        }
       }
     }
     const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - b).count();

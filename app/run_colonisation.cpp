@@ -430,6 +430,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
                 {"seed", seed},
                 {"threads", o.threads},
                 {"status", code == interrupted ? "interrupted"
+                           : code == failure   ? "print failed"
                            : rep.finished      ? "complete"
                            : rep.stalled       ? "stalled"
                            : rep.hit_max_nodes ? "stopped at max_nodes"
@@ -461,6 +462,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     std::ostream& where = code == ok ? out : err;
     if (!o.quiet || code != ok)
       where << (code == interrupted ? "interrupted"
+                : code == failure   ? "veins done, but the print failed"
                 : rep.finished      ? "done"
                 : rep.stalled       ? "done (stalled: some sources can no longer be reached)"
                 : rep.hit_max_nodes ? "stopped at colonisation.max_nodes"

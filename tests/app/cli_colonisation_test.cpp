@@ -95,6 +95,19 @@ TEST_CASE("3-D space colonisation: veins in a volume and on a grown cell sheet",
     CHECK(slurp(out / "cells.ply") == cells);
     CHECK(slurp(out / "veins.ply") == veins);
   }
+  SECTION("a print that fails makes the status 'print failed', not 'complete'") {
+    const auto two =
+        t.write("two.lua",
+                "volume { box = { min = {0, 0, 0}, max = {40, 10, 10} }, seeds = {{1, 5, 5}, {39, 5, 5}} }\n"
+                "colonisation { type = 'open', kill_distance = 1, birth_distance = 30, darts = 1e-9 }\n"
+                "print { pieces = 'one', size = 40 }\n");
+    const auto r = cli({"run", two.string(), "--out", (t.path / "two").string(), "--quiet"});
+    INFO(r.err);
+    CHECK(r.code == 1);
+    const auto run = nlohmann::json::parse(slurp(t.path / "two" / "run.json"));
+    CHECK(run["status"] == "print failed");
+    CHECK_THAT(r.err, Contains("veins done, but the print failed"));
+  }
   SECTION("bad domains are input errors") {
     const auto bad = t.write("bad.lua",
                              "volume { box = { min = {0, 0, 0}, max = {5, 5, 5} }, seeds = {{9, 9, 9}} }\n"
