@@ -130,7 +130,8 @@ std::vector<Field> build() {
   f.push_back(vec("cell", "at", "", -kFar, kFar, "model units", "one cell at this position"));
   f.push_back(boolean("cell", "fixed", "false", "a fixed (static) cell never moves"));
   f.push_back(vec("petiole", "at", "{0, 0, 0}", -kFar, kFar, "model units",
-                  "the nearest cell becomes a petiole (a new one if none is near)"));
+                  "the nearest cell within half a rest length becomes a petiole, else a new petiole cell is added "
+                  "there; a cell must lie within 3 rest lengths (at its step, or the run stops with an error)"));
   f.push_back(boolean("petiole", "fixed", "true", "the petiole stays where it is"));
   f.push_back(integer("petiole", "step", "0", 0, 1e9, "steps", "when the petiole appears (0 = at the start)"));
 
