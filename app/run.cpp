@@ -309,6 +309,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     host.set_seed(seed);  // math.random in rules: from the seed and the step
     if (cfg.resolved.contains("run")) cfg.resolved["run"]["seed"] = seed;  // run.json: the seed used (--seed too)
     target = s.has_target ? s.target_steps : cfg.steps;
+    // run.json: the steps this cell run goes to (--steps, or its checkpoint's, too)
+    if (!cfg.colonisation && cfg.resolved.contains("run")) cfg.resolved["run"]["steps"] = target;
     const bool colonisation_checkpoint = !s.colonisation_bytes.empty() || s.sheet_partial;
     if (s.resume && cfg.colonisation.has_value() != colonisation_checkpoint)
       throw core::InvalidInput("checkpoint '" + o.checkpoint.string() + "' is of a " +
@@ -381,6 +383,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   if (!o.quiet)
     err << (s.resume ? "resuming " : "running ") << s.script_path.string() << " from step " << first << " to " << target
         << " (" << initial_cells << " cells, seed " << seed << ")\n";
+  if (!o.quiet && s.resume && first >= target && !o.steps)
+    err << "cellform: note: the checkpoint is at its run's last step (" << target
+        << "); give --steps N to continue to step N\n";
   Progress progress(err, ::isatty(2) != 0, o.quiet, first, target);
   CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
   std::vector<std::string> outputs;

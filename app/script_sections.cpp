@@ -294,23 +294,31 @@ void build_shapes(Impl& I) {
     nlohmann::json r = {{"kind", s.kind}};
     std::vector<Vec3> points;
     try {
+      auto xyz = [](const Vec3& p) { return nlohmann::json::array({p.x(), p.y(), p.z()}); };
       if (s.kind == "disc") {
         points = forms::hex_disc(v["centre"].vec, unit_vector(v["normal"].vec, "normal"), v["radius"].num, spacing());
         r["radius"] = v["radius"].num;
-        r["centre"] = {v["centre"].vec.x(), v["centre"].vec.y(), v["centre"].vec.z()};
+        r["centre"] = xyz(v["centre"].vec);
+        r["normal"] = xyz(v["normal"].vec);
       } else if (s.kind == "rectangle") {
         points = forms::hex_rectangle(v["centre"].vec, unit_vector(v["normal"].vec, "normal"), v["width"].num,
                                       v["height"].num, spacing());
         r["width"] = v["width"].num;
         r["height"] = v["height"].num;
+        r["centre"] = xyz(v["centre"].vec);
+        r["normal"] = xyz(v["normal"].vec);
       } else if (s.kind == "sphere") {
         points = forms::sphere_points(v["centre"].vec, v["radius"].num, spacing());
         r["radius"] = v["radius"].num;
+        r["centre"] = xyz(v["centre"].vec);
       } else if (s.kind == "line") {
         points = forms::line_points(v["from"].vec, v["to"].vec, spacing());
+        r["from"] = xyz(v["from"].vec);
+        r["to"] = xyz(v["to"].vec);
       } else if (s.kind == "cell") {
         cfg.initial_cells.push_back({v["at"].vec, v["fixed"].flag});
-        r["at"] = {v["at"].vec.x(), v["at"].vec.y(), v["at"].vec.z()};
+        r["at"] = xyz(v["at"].vec);
+        r["fixed"] = v["fixed"].flag;
       } else if (s.kind == "petiole") {
         cfg.scene.petioles.push_back(
             {v["at"].vec, v["fixed"].flag, static_cast<std::uint64_t>(v["step"].num), s.where});

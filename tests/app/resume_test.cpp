@@ -26,6 +26,13 @@ TEST_CASE("resume continues to the bit-identical result", "[cli][checkpoint]") {
   CHECK(resumed["command"] == "resume");
   // the run's counts, not this command's: cells at the start of the run, as the uninterrupted run says
   CHECK(resumed["cells"] == nlohmann::json::parse(slurp(whole / "run.json"))["cells"]);
+  // run.json's parameters say the steps run to (--steps), not the script's run.steps
+  CHECK(resumed["parameters"]["run"]["steps"] == 40);
+  CHECK(nlohmann::json::parse(slurp(whole / "run.json"))["parameters"]["run"]["steps"] == 40);
+  // resumed at its last step without --steps: nothing to do, and said how to go on
+  r = cli({"resume", (part / "checkpoint.cfck").string()});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("at its run's last step (40); give --steps N"));
 }
 
 TEST_CASE("resume writes beside its checkpoint and keeps the frames written before it", "[cli][checkpoint]") {

@@ -617,4 +617,17 @@ TEST_CASE("run.json's shapes say how many cells each placed, in whole numbers", 
   CHECK_FALSE(shapes[2].contains("cells"));  // a petiole turns the nearest cell, or adds one, at its step
   CHECK(shapes[2]["step"].is_number_unsigned());
   CHECK(shapes[2]["step"] == 100);
+  // every value each shape was placed with, given or default
+  const auto all = load(
+      "rectangle { width = 2, height = 2, centre = {10, 0, 0} }\nsphere { radius = 2, centre = {0, 9, 0} }\n"
+      "line { from = {0, 0, 5}, to = {3, 0, 5} }\ndisc { radius = 1, normal = {0, 1, 0} }\ncell { at = {1, 2, 3} }\n");
+  const auto& r = all.resolved.at("shapes");
+  REQUIRE(r.size() == 5);
+  CHECK(r[0]["centre"] == nlohmann::json::array({10.0, 0.0, 0.0}));
+  CHECK(r[0]["normal"] == nlohmann::json::array({0.0, 0.0, 1.0}));
+  CHECK(r[1]["centre"] == nlohmann::json::array({0.0, 9.0, 0.0}));
+  CHECK(r[2]["from"] == nlohmann::json::array({0.0, 0.0, 5.0}));
+  CHECK(r[2]["to"] == nlohmann::json::array({3.0, 0.0, 5.0}));
+  CHECK(r[3]["normal"] == nlohmann::json::array({0.0, 1.0, 0.0}));
+  CHECK(r[4]["fixed"] == false);
 }
