@@ -25,6 +25,11 @@ void on_interrupt(int) {
     }
     std::_Exit(130);  // quits at once
   }
+  if (g_reading_script.load()) {  // stopped at the script's next instruction
+    static const char kReading[] = "\ncellform: Ctrl-C: stopping the script being read (Ctrl-C again quits at once)\n";
+    say(kReading, sizeof kReading - 1);
+    return;
+  }
   // the first waits for the step (or the script's own code) to end: say so, or a busy step looks hung
   static const char kMessage[] =
       "\ncellform: interrupted: the steps stop after the current one (a printable solid being made is skipped) "

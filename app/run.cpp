@@ -32,6 +32,7 @@ using nlohmann::json;
 
 std::atomic<bool> g_interrupt{false};
 std::atomic<bool> g_print_after_interrupt{false};
+std::atomic<bool> g_reading_script{false};
 std::atomic<bool> g_print_cancel{false};
 
 std::string version() { return CELLFORM_VERSION; }

@@ -34,6 +34,8 @@ extern std::atomic<bool> g_interrupt;
 /// Set while a print runs that a first Ctrl-C asked for (the steps stopped, the outputs are due): the
 /// next Ctrl-C sets g_print_cancel and cancels that print, keeping the other outputs; one more quits.
 extern std::atomic<bool> g_print_after_interrupt;
+/// Set while a script is read (ScriptHost::load): a first Ctrl-C then stops the reading, and says so.
+extern std::atomic<bool> g_reading_script;
 extern std::atomic<bool> g_print_cancel;
 
 /// Runs a script (or resumes a checkpoint when options.checkpoint is set); reports to `out`/`err`

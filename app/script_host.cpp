@@ -332,11 +332,13 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
   I.script_name = script_path.string();
   watchdog_->script_ = I.script_name;  // no script runs now: the watchdog reads it only while one does
   I.script_dir = script_path.has_parent_path() ? script_path.parent_path() : std::filesystem::path(".");
+  g_reading_script = true;
   struct Reset {
     Impl& I;
     ~Reset() {
       I.cfg = nullptr;
       I.overrides = nullptr;
+      g_reading_script = false;
     }
   } reset{I};
 

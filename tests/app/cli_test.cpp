@@ -262,14 +262,19 @@ TEST_CASE("a closed terminal (SIGHUP) stops like Ctrl-C; a closed stderr pipe do
 TEST_CASE("Ctrl-C while a script is read stops it there", "[cli][signal]") {
   TempDir t("cli-int-load");
   const auto script = t.write("loop.lua", "while true do end\n");
-  const fs::path out = t.path / "o";
+  const fs::path out = t.path / "o", log = t.path / "err.txt";
+  const int log_fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  REQUIRE(log_fd >= 0);
   const pid_t pid = spawn_cellform(
-      {"run", script.string(), "--out", out.string(), "--quiet", "--lua-instructions", "18446744073709551615"});
+      {"run", script.string(), "--out", out.string(), "--quiet", "--lua-instructions", "18446744073709551615"}, log_fd);
+  ::close(log_fd);
   REQUIRE(pid > 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
   kill(pid, SIGINT);
   CHECK(wait_exit(pid) == 130);
   CHECK_FALSE(fs::exists(out));
+  // said as what happens: no steps, no outputs to wait for
+  CHECK_THAT(slurp(log), Contains("stopping the script being read") && !Contains("the steps stop"));
 }
 
 namespace {
