@@ -1,6 +1,8 @@
 // The Lua 5.4 sandbox: state, limits, the API functions, loading scripts and calling rule functions.
 #include "app/script_host.h"
 
+#include <pthread.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -193,7 +195,8 @@ int api_setmetatable(lua_State* L) {
 /// removed by the next run in that folder; its last periodic checkpoint stays).
 class ScriptHost::Watchdog {
  public:
-  explicit Watchdog(Impl& i) : i_(i), thread_([this] { watch(); }) {}
+  /// Constructed on the thread that runs the script: its CPU time is what is measured.
+  explicit Watchdog(Impl& i) : i_(i), script_cpu_(cpu_clock_of_this_thread()), thread_([this] { watch(); }) {}
   ~Watchdog() {
     {
       const std::lock_guard<std::mutex> lock(m_);
@@ -206,22 +209,35 @@ class ScriptHost::Watchdog {
   Watchdog& operator=(const Watchdog&) = delete;
 
  private:
+  static clockid_t cpu_clock_of_this_thread() {
+    clockid_t id = CLOCK_MONOTONIC;  // without a thread clock: wall time
+    if (pthread_getcpuclockid(pthread_self(), &id) != 0) id = CLOCK_MONOTONIC;
+    return id;
+  }
+  /// Seconds of the script thread's CPU time: a process stopped (Ctrl-Z) or blocked on output uses none.
+  double script_seconds() const {
+    timespec t{};
+    clock_gettime(script_cpu_, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+  }
   void watch() {
     using clock = std::chrono::steady_clock;
     std::unique_lock<std::mutex> lock(m_);
     std::uint64_t last = 0;
-    clock::time_point since = clock::now();
+    double since = script_seconds();
     std::optional<clock::time_point> interrupted;  // when this thread first saw the Ctrl-C
     while (!cv_.wait_for(lock, std::chrono::milliseconds(100), [this] { return quit_; })) {
       if (!interrupted && g_interrupt.load()) interrupted = clock::now();
       const std::uint64_t beats = i_.beats.load(std::memory_order_relaxed);
       if (!i_.in_script.load(std::memory_order_acquire) || beats != last) {
         last = beats;
-        since = clock::now();
+        since = script_seconds();
         continue;
       }
-      // every call begins with a beat (the hook), so no beat while Lua code runs is one library call
-      const double stuck = std::chrono::duration<double>(clock::now() - since).count();
+      // every call the script's code makes begins with a beat (the hook), so no beat while Lua code runs
+      // is one library call
+      const double stuck = script_seconds() - since;
+      if (stuck >= 0.2) i_.ask_caller.store(true, std::memory_order_relaxed);
       const double since_interrupt =
           interrupted ? std::chrono::duration<double>(clock::now() - *interrupted).count() : 0.0;
       if (interrupted && std::min(stuck, since_interrupt) >= 2)
@@ -245,6 +261,7 @@ class ScriptHost::Watchdog {
 
  private:
   Impl& i_;
+  clockid_t script_cpu_;
   std::mutex m_;
   std::condition_variable cv_;
   bool quit_ = false;

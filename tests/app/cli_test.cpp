@@ -334,6 +334,30 @@ TEST_CASE("a script stuck inside one library call is stopped by its time limit, 
   CHECK(exit_within(pid, 20) == 2);
   CHECK_THAT(slurp(log), Contains("rule.lua") && Contains("--lua-seconds"));
   CHECK_FALSE(fs::exists(out / "cells.ply"));
+  // one call that calls back (gsub's replacement) is one call: its callbacks do not restart the clock, and a
+  // Ctrl-C acts at them
+  const auto callback = t.write("callback.lua",
+                                "local s = string.rep(string.rep('a', 22) .. 'cb', 40)\n"
+                                "string.gsub(s, 'a-a-a-a-a-a-a-a-a-b', string.len)\n"
+                                "disc { radius = 2 }\n");
+  pid = spawn_cellform({"run", callback.string(), "--out", out.string(), "--quiet", "--lua-seconds", "1"});
+  REQUIRE(pid > 0);
+  CHECK(exit_within(pid, 20) == 2);
+  pid = spawn_cellform({"run", callback.string(), "--out", out.string(), "--quiet"});
+  REQUIRE(pid > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  kill(pid, SIGINT);
+  CHECK(exit_within(pid, 20) == 130);
+  // the limit is the script's CPU time: a run stopped (Ctrl-Z) for longer is not killed when it continues
+  pid = spawn_cellform({"run", script.string(), "--out", out.string(), "--quiet", "--lua-seconds", "2"});
+  REQUIRE(pid > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  kill(pid, SIGSTOP);
+  std::this_thread::sleep_for(std::chrono::milliseconds(3000));
+  kill(pid, SIGCONT);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  CHECK(waitpid(pid, nullptr, WNOHANG) == 0);  // still running
+  CHECK(exit_within(pid, 20) == 2);
   // many short library calls are not one long one: a loop of 40 ms calls runs its 2 s with a limit of 1 s
   const auto slow = t.write("slow.lua",
                             "local s = string.rep('a', 2e7)\n"
