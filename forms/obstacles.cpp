@@ -450,7 +450,10 @@ Vec3 PreparedObstacles::stop_at_mesh(const Vec3& from, const Vec3& to, double ma
   const auto hit = index_->first_crossing(from, to);
   if (!hit) return to;
   const double side = (from - hit->point).dot(hit->normal) >= 0 ? 1.0 : -1.0;
-  return hit->point + std::max(margin, 1e-9 * index_->scale) * side * hit->normal;
+  const Vec3 back = hit->point + std::max(margin, 1e-9 * index_->scale) * side * hit->normal;
+  // in a concave corner that step back can cross another triangle: then halfway to the first crossing,
+  // which is on the mother's side by construction
+  return index_->first_crossing(from, back) ? Vec3(from + 0.5 * (hit->point - from)) : back;
 }
 
 void PreparedObstacles::apply(cells::Cells& cells, const std::vector<Vec3>& previous_positions, double margin,

@@ -431,3 +431,29 @@ TEST_CASE("mesh crossings are fast for 1e5 cells and 2e4 triangles", "[forms][ob
   for (std::size_t i = 0; i < cells.size(); i += 97)
     REQUIRE_FALSE(segment_hits_mesh(prev[i], cells.position[i], o.meshes[0]));
 }
+
+TEST_CASE("stop_at_mesh keeps a new cell on its mother's side, also in a concave corner", "[forms][obstacles]") {
+  // a floor z = 0 and an overhang z = x meeting at the y axis: a wedge 0 < z < x
+  TriangleMesh m;
+  m.vertices = {Vec3(-10, -10, 0), Vec3(10, -10, 0), Vec3(10, 10, 0), Vec3(-10, 10, 0),
+                Vec3(0, -10, 0),   Vec3(5, -10, 5),  Vec3(5, 10, 5),  Vec3(0, 10, 0)};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
+  Obstacles o;
+  o.meshes.push_back(m);
+  const forms::PreparedObstacles prepared(o);
+  auto in_wedge = [](const Vec3& p) { return p.z() > 0 && p.z() < p.x(); };
+  const Vec3 mother(0.2, 0, 0.1);
+  REQUIRE(in_wedge(mother));
+  core::Rng rng(7);
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3 daughter = mother + 0.5 * rng.unit_vector();
+    const Vec3 placed = prepared.stop_at_mesh(mother, daughter, 0.01);
+    INFO(k << ": " << daughter.transpose() << " -> " << placed.transpose());
+    CHECK(in_wedge(placed));
+    CHECK_FALSE(prepared.crosses_mesh(mother, placed));
+    if (!prepared.crosses_mesh(mother, daughter)) CHECK(placed == daughter);  // moved only when crossing
+  }
+  // the reviewed case: through the overhang's foot, where a step back off the floor crossed the overhang
+  const Vec3 placed = prepared.stop_at_mesh(mother, mother + Vec3(-0.195, 0, -0.1).normalized() * 0.5, 0.01);
+  CHECK(in_wedge(placed));
+}
