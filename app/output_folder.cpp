@@ -141,8 +141,11 @@ fs::path out_folder(const fs::path& dir) {
   fs::path out;
   std::error_code ec;
   for (const fs::path& part : dir) {
+    if (part == "." && !out.empty()) continue;  // "new/./.." is "new/.."
+    // nothing at all there (a file or a dangling link is something: the system then says what is wrong)
     const bool missing = !out.empty() && out.filename() != ".." && out.filename() != "." &&
-                         out.filename() != out.root_directory() && !fs::is_directory(out, ec);
+                         out.filename() != out.root_directory() &&
+                         fs::symlink_status(out, ec).type() == fs::file_type::not_found;
     if (part == ".." && missing)
       out = out.parent_path();
     else

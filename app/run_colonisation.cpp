@@ -383,6 +383,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     if (sheet)
       for (const std::string& n : write_outputs(staging, cfg.output, *sheet, false)) outputs.push_back(n);
     json printed;
+    bool print_failed = false;
     if (cfg.print) {
       try {
         std::vector<exporters::Segment> segments;
@@ -407,7 +408,10 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
       } catch (const std::exception& e) {
         err << "cellform: " << core::error_text(e) << "\n";
         printed = {{"error", core::error_text(e)}};
-        if (code != interrupted) code = failure;  // a Ctrl-C that came first stays the reason the run ended
+        if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
+          code = failure;
+          print_failed = true;
+        }
       }
     }
     if (planar) {  // a drawing of the leaf; a 3-D pattern has no one plane to draw it in
@@ -430,7 +434,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
                 {"seed", seed},
                 {"threads", o.threads},
                 {"status", code == interrupted ? "interrupted"
-                           : code == failure   ? "print failed"
+                           : print_failed      ? "print failed"
                            : rep.finished      ? "complete"
                            : rep.stalled       ? "stalled"
                            : rep.hit_max_nodes ? "stopped at max_nodes"
@@ -462,7 +466,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     std::ostream& where = code == ok ? out : err;
     if (!o.quiet || code != ok)
       where << (code == interrupted ? "interrupted"
-                : code == failure   ? "veins done, but the print failed"
+                : print_failed      ? "veins done, but the print failed"
                 : rep.finished      ? "done"
                 : rep.stalled       ? "done (stalled: some sources can no longer be reached)"
                 : rep.hit_max_nodes ? "stopped at colonisation.max_nodes"

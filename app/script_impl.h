@@ -201,10 +201,8 @@ struct ScriptHost::Impl {
           self->beats.fetch_add(1, std::memory_order_relaxed);
         }
       }
-      // a library call that calls back runs no instruction of the script's own for a long time: a stop
-      // and a Ctrl-C while the script is read act at its calls too
-      if (!self->stopping && !self->rule_call && g_interrupt.load(std::memory_order_relaxed))
-        self->stop("interrupted while the script was read; nothing was written");
+      // a library call that calls back may run no instruction of the script's own for a long time: a stop
+      // acts at its calls too (a Ctrl-C inside it is the watchdog's, after 2 s)
       if (self->stopping) {
         lua_pushstring(L, self->stop_message.c_str());
         lua_error(L);

@@ -107,6 +107,15 @@ TEST_CASE("3-D space colonisation: veins in a volume and on a grown cell sheet",
     const auto run = nlohmann::json::parse(slurp(t.path / "two" / "run.json"));
     CHECK(run["status"] == "print failed");
     CHECK_THAT(r.err, Contains("veins done, but the print failed"));
+    // a checkpoint that cannot be written is not a failed print
+    const auto plain = t.write("plain.lua",
+                               "volume { box = { min = {0, 0, 0}, max = {10, 10, 10} } }\n"
+                               "colonisation { type = 'open', kill_distance = 1, birth_distance = 3, darts = 3000 }\n");
+    fs::create_directories(t.path / "blocked" / "checkpoint.cfck" / "x");
+    const auto b = cli({"run", plain.string(), "--out", (t.path / "blocked").string(), "--quiet"});
+    CHECK(b.code == 1);
+    CHECK_THAT(b.err, !Contains("print failed"));
+    CHECK(nlohmann::json::parse(slurp(t.path / "blocked" / "run.json"))["status"] != "print failed");
   }
   SECTION("bad domains are input errors") {
     const auto bad = t.write("bad.lua",

@@ -163,6 +163,10 @@ TEST_CASE("--out through a folder that does not exist and back out creates only 
   CHECK(out_folder(t.path / "have" / ".." / "z") == t.path / "have" / ".." / "z");  // an existing folder stays
   CHECK(out_folder(fs::path("new") / "..") == fs::path("."));
   CHECK(out_folder(fs::path("..") / "x") == fs::path("..") / "x");
+  CHECK(out_folder(t.path / "new" / "." / ".." / "y") == t.path / "y");
+  // a file in the way is left for the system to refuse ("not a directory"), as before
+  std::ofstream(t.path / "afile") << "x";
+  CHECK(out_folder(t.path / "afile" / ".." / "z") == t.path / "afile" / ".." / "z");
   const auto script = t.write("s.lua", "disc { radius = 2 }\nrun { steps = 1 }\n");
   REQUIRE(cli({"run", script.string(), "--out", (t.path / "new" / ".." / "z").string(), "--quiet"}).code == 0);
   CHECK(fs::exists(t.path / "z" / "run.json"));
