@@ -226,8 +226,23 @@ class ScriptHost::Watchdog {
     std::uint64_t last = 0;
     double since = script_seconds();
     std::optional<clock::time_point> interrupted;  // when this thread first saw the Ctrl-C
+    std::optional<double> stop_seen;               // script CPU seconds when a pending stop was first seen
     while (!cv_.wait_for(lock, std::chrono::milliseconds(100), [this] { return quit_; })) {
       if (!interrupted && g_interrupt.load()) interrupted = clock::now();
+      if (interrupted && std::chrono::duration<double>(clock::now() - *interrupted).count() >= 0.5)
+        i_.interrupt_at_calls.store(true, std::memory_order_relaxed);
+      // A stop (the budget, a Ctrl-C) raises at every instruction until the call ends, but Lua runs an
+      // xpcall message handler and __close handlers with the hook off: one that loops escapes it.
+      const bool stop = i_.stop_pending.load(std::memory_order_acquire) && i_.in_script.load(std::memory_order_acquire);
+      if (!stop)
+        stop_seen.reset();
+      else if (!stop_seen)
+        stop_seen = script_seconds();
+      else if (script_seconds() - *stop_seen >= 2)
+        die(interrupted ? 130 : 2, "cellform: " + script_ +
+                                       ": the script did not stop when it was stopped (an xpcall message handler "
+                                       "or a __close handler that loops runs beyond Lua's hook); stopped without "
+                                       "writing outputs\n");
       const std::uint64_t beats = i_.beats.load(std::memory_order_relaxed);
       if (!i_.in_script.load(std::memory_order_acquire) || beats != last) {
         last = beats;

@@ -131,7 +131,11 @@ struct ScriptHost::Impl {
   bool in_host = false;        // an API function's C++ body runs: no Lua error may be raised (see alloc)
   // for the watchdog (ScriptHost::Watchdog): hook calls so far, and whether Lua code runs now
   std::atomic<std::uint64_t> beats{0};
-  std::atomic<bool> ask_caller{false};  // set by the watchdog: the next call from the script's code beats
+  std::atomic<bool> ask_caller{false};    // set by the watchdog: the next call from the script's code beats
+  std::atomic<bool> stop_pending{false};  // `stopping`, for the watchdog (a stop Lua code escapes is its)
+  // set by the watchdog when a Ctrl-C has waited 0.5 s: calls check it too (a loop of library calls may
+  // run few instructions of its own)
+  std::atomic<bool> interrupt_at_calls{false};
   std::atomic<bool> in_script{false};
   std::uint64_t executed = 0;
   std::uint64_t budget = 0;
@@ -202,7 +206,10 @@ struct ScriptHost::Impl {
         }
       }
       // a library call that calls back may run no instruction of the script's own for a long time: a stop
-      // acts at its calls too (a Ctrl-C inside it is the watchdog's, after 2 s)
+      // acts at its calls too, and a Ctrl-C the count has not seen for 0.5 s
+      if (!self->stopping && !self->rule_call && self->interrupt_at_calls.load(std::memory_order_relaxed) &&
+          g_interrupt.load(std::memory_order_relaxed))
+        self->stop("interrupted while the script was read; nothing was written");
       if (self->stopping) {
         lua_pushstring(L, self->stop_message.c_str());
         lua_error(L);
@@ -254,6 +261,7 @@ struct ScriptHost::Impl {
   /// From now until the call ends, every instruction raises `message` (see `stopping`).
   void stop(const std::string& message) {
     stopping = true;
+    stop_pending.store(true, std::memory_order_release);
     stop_message = message;
     lua_sethook(L, &Impl::hook, kHookMask, 1);
   }
@@ -276,6 +284,7 @@ struct ScriptHost::Impl {
     memory_exceeded = false;
     if (stopping) {
       stopping = false;
+      stop_pending.store(false, std::memory_order_release);
       lua_sethook(L, &Impl::hook, kHookMask, kHookEvery);
     }
     const int base = lua_gettop(L) - nargs;  // the function; the handler goes below it

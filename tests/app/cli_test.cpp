@@ -358,6 +358,28 @@ TEST_CASE("a script stuck inside one library call is stopped by its time limit, 
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   CHECK(waitpid(pid, nullptr, WNOHANG) == 0);  // still running
   CHECK(exit_within(pid, 20) == 2);
+  // a stop the script escapes (a looping xpcall handler runs with Lua's hook off, and each fresh coroutine
+  // looks like progress) is ended after 2 s: it ran until killed
+  const auto escape = t.write("escape.lua",
+                              "xpcall(function() while true do end end, function(e)\n"
+                              "  while true do coroutine.resume(coroutine.create(function() local x = 1 end)) end\n"
+                              "end)\n");
+  log_fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  REQUIRE(log_fd >= 0);
+  pid = spawn_cellform({"run", escape.string(), "--out", out.string(), "--lua-instructions", "1000000"}, log_fd);
+  ::close(log_fd);
+  REQUIRE(pid > 0);
+  CHECK(exit_within(pid, 20) == 2);
+  CHECK_THAT(slurp(log), Contains("did not stop when it was stopped"));
+  // a Ctrl-C during a loop of short library calls (few instructions between them) acts within a second
+  const auto loop = t.write("loop.lua",
+                            "local s = ('a'):rep(150)\n"
+                            "for i = 1, 1000 do local r = s:find('[^Y]-[^Y]-[^Y]-X') end\n");
+  pid = spawn_cellform({"run", loop.string(), "--out", out.string(), "--quiet"});
+  REQUIRE(pid > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  kill(pid, SIGINT);
+  CHECK(exit_within(pid, 5) == 130);
   // many short library calls are not one long one: a loop of 40 ms calls runs its 2 s with a limit of 1 s
   const auto slow = t.write("slow.lua",
                             "local s = string.rep('a', 2e7)\n"
