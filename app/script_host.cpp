@@ -226,7 +226,7 @@ class ScriptHost::Watchdog {
     std::uint64_t last = 0;
     double since = script_seconds();
     std::optional<clock::time_point> interrupted;  // when this thread first saw the Ctrl-C
-    std::optional<double> stop_seen;               // script CPU seconds when a pending stop was first seen
+    double stop_seen = -1;                         // script CPU seconds when a pending stop was first seen
     while (!cv_.wait_for(lock, std::chrono::milliseconds(100), [this] { return quit_; })) {
       if (!interrupted && g_interrupt.load()) interrupted = clock::now();
       if (interrupted && std::chrono::duration<double>(clock::now() - *interrupted).count() >= 0.5)
@@ -235,10 +235,10 @@ class ScriptHost::Watchdog {
       // xpcall message handler and __close handlers with the hook off: one that loops escapes it.
       const bool stop = i_.stop_pending.load(std::memory_order_acquire) && i_.in_script.load(std::memory_order_acquire);
       if (!stop)
-        stop_seen.reset();
-      else if (!stop_seen)
+        stop_seen = -1;
+      else if (stop_seen < 0)
         stop_seen = script_seconds();
-      else if (script_seconds() - *stop_seen >= 2)
+      else if (script_seconds() - stop_seen >= 2)
         die(interrupted ? 130 : 2, "cellform: " + script_ +
                                        ": the script did not stop when it was stopped (an xpcall message handler "
                                        "or a __close handler that loops runs beyond Lua's hook); stopped without "

@@ -183,9 +183,9 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
       std::string word;
       if (!(body >> word)) malformed(path, "PLY data ends early");
       // strtod, unlike >>, reads "nan" and "inf" (said as such below, with the vertex) and says what is no number
-      char* end = nullptr;
-      const double v = std::strtod(word.c_str(), &end);
-      if (end != word.c_str() + word.size())
+      char* stop = nullptr;
+      const double v = std::strtod(word.c_str(), &stop);
+      if (stop != word.c_str() + word.size())
         malformed(path, "PLY data: '" + word.substr(0, 40) + "' is not a number (ASCII PLY holds numbers only)");
       return v;
     }

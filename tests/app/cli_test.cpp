@@ -569,9 +569,9 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
     CHECK_THAT(r.err, Contains("falls apart into 2 parts"));
     CHECK(fs::exists(t.path / "two" / "checkpoint.cfck"));  // nothing else is lost
     CHECK(fs::exists(t.path / "two" / "cells.ply"));
-    const auto run = nlohmann::json::parse(slurp(t.path / "two" / "run.json"));
-    CHECK(run["status"] == "print failed");  // it said "complete"
-    CHECK_THAT(run["print"]["error"].get<std::string>(), Contains("falls apart"));
+    const auto failed = nlohmann::json::parse(slurp(t.path / "two" / "run.json"));
+    CHECK(failed["status"] == "print failed");  // it said "complete"
+    CHECK_THAT(failed["print"]["error"].get<std::string>(), Contains("falls apart"));
     CHECK_THAT(r.err, Contains("stopped with an error at step 40"));
   }
 }

@@ -154,7 +154,7 @@ TEST_CASE("outputs that cannot be moved into place say where the run can continu
   CHECK(fs::exists(vdir / "checkpoint.cfck"));
 }
 
-TEST_CASE("--out through a folder that does not exist and back out creates only the folder meant", "[cli]") {
+TEST_CASE("an output folder given through a missing folder and back out (--out new/../z) creates only z", "[cli]") {
   TempDir t("cli-out-dots");
   fs::create_directories(t.path / "have");
   using cellform::app::out_folder;

@@ -148,7 +148,10 @@ TEST_CASE("runaway scripts are stopped", "[script][limits]") {
   many.load("local t = {} for i = 1, 5000 do t[i] = i end print(table.unpack(t))", "many.lua", {});
   REQUIRE(printed.size() == 1);
   std::string expected;
-  for (int i = 1; i <= 5000; ++i) expected += (i > 1 ? "\t" : "") + std::to_string(i);
+  for (int i = 1; i <= 5000; ++i) {
+    if (i > 1) expected += '\t';
+    expected += std::to_string(i);
+  }
   CHECK(printed[0] == expected);
   CHECK_THAT(load_error("print('a', setmetatable({}, { __tostring = function() error('tostring boom') end }))"),
              Contains("test/leaf.lua:1") && Contains("tostring boom"));
