@@ -194,6 +194,22 @@ const char* domain_name(venation::DomainKind k) {
   return "?";
 }
 
+/// The parts of a colonisation run's run.json that do not depend on how it ended.
+json run_record(const Start& s, std::uint64_t seed, int threads, venation::DomainKind domain, const json& parameters) {
+  return {{"program", "cellform"},
+          {"version", version()},
+          {"command", s.resume ? "resume" : "run"},
+          {"mode", "colonisation"},
+          {"domain", domain_name(domain)},
+          {"script",
+           {{"path", s.script_path.string()},
+            {"hash", "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size()))}}},
+          {"seed", seed},
+          {"threads", threads},
+          {"overrides", s.sets},
+          {"parameters", parameters}};
+}
+
 }  // namespace
 
 /// A space-colonisation run: sources and veins (Runions et al. 2005) in a leaf outline, a volume or on a
@@ -251,29 +267,16 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
         sheet_checkpointed = grown.checkpointed;
         if (!grown.complete) {  // Ctrl-C: the sheet so far, and its checkpoint to finish it from
           std::vector<std::string> outputs = write_outputs(staging, cfg.output, grown.cells, false);
-          json run = {
-              {"program", "cellform"},
-              {"version", version()},
-              {"command", s.resume ? "resume" : "run"},
-              {"mode", "colonisation"},
-              {"domain", domain_name(spec.domain.kind)},
-              {"script",
-               {{"path", s.script_path.string()},
-                {"hash", "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size()))}}},
-              {"seed", seed},
-              {"threads", o.threads},
-              {"status", "interrupted"},
-              {"phase", "cells"},  // the veins have not started
-              {"steps", {{"first", 0}, {"completed", 0}, {"limit", spec.params.max_steps}}},
-              {"cells",
-               {{"initial", grown.initial},
-                {"final", grown.cells.size()},
-                {"steps", grown.step},
-                {"target", grown.target}}},
-              {"overrides", s.sets},
-              {"parameters", cfg.resolved},
-              {"timings", {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}}},
-              {"checkpoint", grown.checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr)}};
+          json run = run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
+          run["status"] = "interrupted";
+          run["phase"] = "cells";  // the veins have not started
+          run["steps"] = {{"first", 0}, {"completed", 0}, {"limit", spec.params.max_steps}};
+          run["cells"] = {{"initial", grown.initial},
+                          {"final", grown.cells.size()},
+                          {"steps", grown.step},
+                          {"target", grown.target}};
+          run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
+          run["checkpoint"] = grown.checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr);
           outputs.push_back("run.json");
           run["outputs"] = outputs;
           core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
@@ -423,34 +426,19 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
       venation::write_svg(staging / "veins.svg", tree, col.outline(), svg);
       outputs.push_back("veins.svg");
     }
-    json run = {{"program", "cellform"},
-                {"version", version()},
-                {"command", s.resume ? "resume" : "run"},
-                {"mode", "colonisation"},
-                {"domain", domain_name(spec.domain.kind)},
-                {"script",
-                 {{"path", s.script_path.string()},
-                  {"hash", "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size()))}}},
-                {"seed", seed},
-                {"threads", o.threads},
-                {"status", code == interrupted ? "interrupted"
-                           : print_failed      ? "print failed"
-                           : rep.finished      ? "complete"
-                           : rep.stalled       ? "stalled"
-                           : rep.hit_max_nodes ? "stopped at max_nodes"
-                                               : "stopped at max_steps"},
-                {"steps", {{"first", first}, {"completed", rep.steps}, {"limit", spec.params.max_steps}}},
-                {"veins",
-                 {{"nodes", rep.nodes},
-                  {"loops", rep.loops},
-                  {"sources_left", rep.sources},
-                  {"sources_born", rep.sources_born}}},
-                {"overrides", s.sets},
-                {"parameters", cfg.resolved},
-                {"timings",
-                 {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
-                  {"simulation_s", seconds}}},
-                {"checkpoint", checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr)}};
+    json run = run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
+    run["status"] = code == interrupted ? "interrupted"
+                    : print_failed      ? "print failed"
+                    : rep.finished      ? "complete"
+                    : rep.stalled       ? "stalled"
+                    : rep.hit_max_nodes ? "stopped at max_nodes"
+                                        : "stopped at max_steps";
+    run["steps"] = {{"first", first}, {"completed", rep.steps}, {"limit", spec.params.max_steps}};
+    run["veins"] = {
+        {"nodes", rep.nodes}, {"loops", rep.loops}, {"sources_left", rep.sources}, {"sources_born", rep.sources_born}};
+    run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
+                      {"simulation_s", seconds}};
+    run["checkpoint"] = checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr);
     if (cfg.print) run["print"] = printed;
     if (planar) run["veins"]["leaf_length"] = leaf_length;
     if (sheet) run["cells"] = {{"initial", sheet_initial}, {"final", sheet->size()}};

@@ -1,17 +1,8 @@
 // The Lua 5.4 sandbox: state, limits, the API functions, loading scripts and calling rule functions.
 #include "app/script_host.h"
 
-#include <pthread.h>
-#include <time.h>
-#include <unistd.h>
-
-#include <chrono>
-#include <condition_variable>
-#include <mutex>
-#include <optional>
-#include <thread>
-
 #include "app/script_impl.h"
+#include "app/script_watchdog.h"
 #include "core/random.h"
 
 namespace cellform::app {
@@ -187,101 +178,6 @@ int api_setmetatable(lua_State* L) {
 }
 
 }  // namespace
-
-/// Stops the process when a script is stuck inside one call of a C library function, which the instruction
-/// budget and Ctrl-C (both checked by the hook, between Lua instructions) cannot reach: no hook call for
-/// ScriptLimits::library_seconds while Lua code runs, or for 2 s after a Ctrl-C. Nothing can unwind the
-/// call, so it writes its message with write(2) and ends the process with _exit (a run's staging folder is
-/// removed by the next run in that folder; its last periodic checkpoint stays).
-class ScriptHost::Watchdog {
- public:
-  /// Constructed on the thread that runs the script: its CPU time is what is measured.
-  explicit Watchdog(Impl& i) : i_(i), script_cpu_(cpu_clock_of_this_thread()), thread_([this] { watch(); }) {}
-  ~Watchdog() {
-    {
-      const std::lock_guard<std::mutex> lock(m_);
-      quit_ = true;
-    }
-    cv_.notify_all();
-    thread_.join();
-  }
-  Watchdog(const Watchdog&) = delete;
-  Watchdog& operator=(const Watchdog&) = delete;
-
- private:
-  static clockid_t cpu_clock_of_this_thread() {
-    clockid_t id = CLOCK_MONOTONIC;  // without a thread clock: wall time
-    if (pthread_getcpuclockid(pthread_self(), &id) != 0) id = CLOCK_MONOTONIC;
-    return id;
-  }
-  /// Seconds of the script thread's CPU time: a process stopped (Ctrl-Z) or blocked on output uses none.
-  double script_seconds() const {
-    timespec t{};
-    clock_gettime(script_cpu_, &t);
-    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-  }
-  void watch() {
-    using clock = std::chrono::steady_clock;
-    std::unique_lock<std::mutex> lock(m_);
-    std::uint64_t last = 0;
-    double since = script_seconds();
-    std::optional<clock::time_point> interrupted;  // when this thread first saw the Ctrl-C
-    double stop_seen = -1;                         // script CPU seconds when a pending stop was first seen
-    while (!cv_.wait_for(lock, std::chrono::milliseconds(100), [this] { return quit_; })) {
-      if (!interrupted && g_interrupt.load()) interrupted = clock::now();
-      if (interrupted && std::chrono::duration<double>(clock::now() - *interrupted).count() >= 0.5)
-        i_.interrupt_at_calls.store(true, std::memory_order_relaxed);
-      // A stop (the budget, a Ctrl-C) raises at every instruction until the call ends, but Lua runs an
-      // xpcall message handler and __close handlers with the hook off: one that loops escapes it.
-      const bool stop = i_.stop_pending.load(std::memory_order_acquire) && i_.in_script.load(std::memory_order_acquire);
-      if (!stop)
-        stop_seen = -1;
-      else if (stop_seen < 0)
-        stop_seen = script_seconds();
-      else if (script_seconds() - stop_seen >= 2)
-        die(interrupted ? 130 : 2, "cellform: " + script_ +
-                                       ": the script did not stop when it was stopped (an xpcall message handler "
-                                       "or a __close handler that loops runs beyond Lua's hook); stopped without "
-                                       "writing outputs\n");
-      const std::uint64_t beats = i_.beats.load(std::memory_order_relaxed);
-      if (!i_.in_script.load(std::memory_order_acquire) || beats != last) {
-        last = beats;
-        since = script_seconds();
-        continue;
-      }
-      // every call the script's code makes begins with a beat (the hook), so no beat while Lua code runs
-      // is one library call
-      const double stuck = script_seconds() - since;
-      if (stuck >= 0.2) i_.ask_caller.store(true, std::memory_order_relaxed);
-      const double since_interrupt =
-          interrupted ? std::chrono::duration<double>(clock::now() - *interrupted).count() : 0.0;
-      if (interrupted && std::min(stuck, since_interrupt) >= 2)
-        die(130,
-            "cellform: interrupted, but the script is inside one call of a Lua library function (a string "
-            "pattern that backtracks?) that cannot stop cleanly: stopped without writing outputs\n");
-      if (stuck >= i_.limits.library_seconds)
-        die(2, "cellform: " + script_ + ": the script spent more than " + core::number_text(i_.limits.library_seconds) +
-                   " s in one call of a Lua library function (a string pattern that backtracks?) and was stopped "
-                   "without writing outputs; raise the limit with --lua-seconds\n");
-    }
-  }
-  [[noreturn]] static void die(int code, const std::string& message) {
-    const ssize_t ignored = ::write(2, message.data(), message.size());
-    (void)ignored;
-    ::_exit(code);
-  }
-
- public:
-  std::string script_;  // set before the script runs (load), read only while it runs
-
- private:
-  Impl& i_;
-  clockid_t script_cpu_;
-  std::mutex m_;
-  std::condition_variable cv_;
-  bool quit_ = false;
-  std::thread thread_;
-};
 
 ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
   Impl& I = *impl_;

@@ -1,14 +1,17 @@
 // Helpers for app tests: temporary directories and files, running the CLI in-process or as a process.
 #pragma once
 
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "app/cli.h"
@@ -81,6 +84,29 @@ inline pid_t spawn_cellform(const std::vector<std::string>& args, int output = -
     _exit(99);
   }
   return pid;
+}
+
+/// spawn_cellform with stdout and stderr into the file `log` (made anew); -1 if it cannot be opened.
+inline pid_t spawn_cellform_logged(const std::vector<std::string>& args, const std::filesystem::path& log) {
+  const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd < 0) return -1;
+  const pid_t pid = spawn_cellform(args, fd);
+  ::close(fd);
+  return pid;
+}
+
+/// Exit code of child `pid` if it ends within `seconds`; otherwise kills it and returns -2 (-1: a signal
+/// ended it).
+inline int exit_within(pid_t pid, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < end) {
+    int status = 0;
+    if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, nullptr, 0);
+  return -2;
 }
 
 /// Waits for child `pid` to end: its exit code, or -1 if a signal ended it.

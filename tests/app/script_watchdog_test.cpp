@@ -1,0 +1,119 @@
+// Tests of the script watchdog (app/script_watchdog.h) through the cellform binary: a script stuck inside
+// one Lua library call is stopped; loops of shorter calls, rule calls, Ctrl-Z and callbacks are told apart.
+#include <signal.h>
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <thread>
+
+#include "tests/app/test_util.h"
+
+using namespace cellform::test;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+TEST_CASE("a script stuck inside one library call is stopped by its time limit, or soon after a Ctrl-C",
+          "[cli][signal][script]") {
+  TempDir t("cli-stuck");
+  // a pattern that backtracks through 2^40 ways: one call of string.find, out of reach of the budget's hook
+  const auto script = t.write("stuck.lua",
+                              "local s = string.rep('a', 40)\n"
+                              "string.find(s, string.rep('a?', 40) .. string.rep('a', 40) .. 'b')\n"
+                              "disc { radius = 2 }\n");
+  const fs::path out = t.path / "o", log = t.path / "err.txt";
+  pid_t pid = spawn_cellform_logged({"run", script.string(), "--out", out.string(), "--lua-seconds", "1"}, log);
+  REQUIRE(pid > 0);
+  CHECK(exit_within(pid, 20) == 2);
+  CHECK_THAT(slurp(log),
+             Contains("stuck.lua") && Contains("one call of a Lua library function") && Contains("--lua-seconds"));
+  CHECK_FALSE(fs::exists(out));
+  // the default limit (60 s) is not waited for after a Ctrl-C
+  pid = spawn_cellform_logged({"run", script.string(), "--out", out.string()}, log);
+  REQUIRE(pid > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  kill(pid, SIGINT);
+  CHECK(exit_within(pid, 20) == 130);
+  CHECK_THAT(slurp(log), Contains("cannot stop cleanly"));
+  // a rule function stuck the same way in a run
+  const auto rule =
+      t.write("rule.lua",
+              "disc { radius = 2 }\n"
+              "division { rule = function(cell) local s = string.rep('a', 40)\n"
+              "  return string.find(s, string.rep('a?', 40) .. string.rep('a', 40) .. 'b') ~= nil end }\n");
+  pid = spawn_cellform_logged({"run", rule.string(), "--out", out.string(), "--lua-seconds", "1"}, log);
+  REQUIRE(pid > 0);
+  CHECK(exit_within(pid, 20) == 2);
+  CHECK_THAT(slurp(log), Contains("rule.lua") && Contains("--lua-seconds"));
+  CHECK_FALSE(fs::exists(out / "cells.ply"));
+  // one call that calls back (gsub's replacement) is one call: its callbacks do not restart the clock, and a
+  // Ctrl-C acts at them
+  const auto callback = t.write("callback.lua",
+                                "local s = string.rep(string.rep('a', 22) .. 'cb', 40)\n"
+                                "string.gsub(s, 'a-a-a-a-a-a-a-a-a-b', string.len)\n"
+                                "disc { radius = 2 }\n");
+  pid = spawn_cellform({"run", callback.string(), "--out", out.string(), "--quiet", "--lua-seconds", "1"});
+  REQUIRE(pid > 0);
+  CHECK(exit_within(pid, 20) == 2);
+  pid = spawn_cellform({"run", callback.string(), "--out", out.string(), "--quiet"});
+  REQUIRE(pid > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  kill(pid, SIGINT);
+  CHECK(exit_within(pid, 20) == 130);
+  // the limit is the script's CPU time: a run stopped (Ctrl-Z) for longer is not killed when it continues
+  pid = spawn_cellform({"run", script.string(), "--out", out.string(), "--quiet", "--lua-seconds", "2"});
+  REQUIRE(pid > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  kill(pid, SIGSTOP);
+  std::this_thread::sleep_for(std::chrono::milliseconds(3000));
+  kill(pid, SIGCONT);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  CHECK(waitpid(pid, nullptr, WNOHANG) == 0);  // still running
+  CHECK(exit_within(pid, 20) == 2);
+  // a stop the script escapes (a looping xpcall handler runs with Lua's hook off, and each fresh coroutine
+  // looks like progress) is ended after 2 s: it ran until killed
+  const auto escape = t.write("escape.lua",
+                              "xpcall(function() while true do end end, function(e)\n"
+                              "  while true do coroutine.resume(coroutine.create(function() local x = 1 end)) end\n"
+                              "end)\n");
+  pid = spawn_cellform_logged({"run", escape.string(), "--out", out.string(), "--lua-instructions", "1000000"}, log);
+  REQUIRE(pid > 0);
+  CHECK(exit_within(pid, 20) == 2);
+  CHECK_THAT(slurp(log), Contains("did not stop when it was stopped"));
+  // a Ctrl-C during a loop of short library calls (few instructions between them) acts within a second
+  const auto loop = t.write("loop.lua",
+                            "local s = ('a'):rep(150)\n"
+                            "for i = 1, 1000 do local r = s:find('[^Y]-[^Y]-[^Y]-X') end\n");
+  pid = spawn_cellform({"run", loop.string(), "--out", out.string(), "--quiet"});
+  REQUIRE(pid > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  kill(pid, SIGINT);
+  CHECK(exit_within(pid, 5) == 130);
+  // many short library calls are not one long one: a loop of 40 ms calls runs its 2 s with a limit of 1 s
+  const auto slow = t.write("slow.lua",
+                            "local s = string.rep('a', 2e7)\n"
+                            "local n = 0\n"
+                            "for i = 1, 50 do n = n + #s:upper() end\n"
+                            "disc { radius = 2 }\nrun { steps = 1 }\n");
+  pid = spawn_cellform({"run", slow.string(), "--out", (t.path / "slow").string(), "--quiet", "--lua-seconds", "1"});
+  REQUIRE(pid > 0);
+  CHECK(exit_within(pid, 60) == 0);
+  // nor do rule calls that fill a step; a Ctrl-C there ends the run after the step, with its outputs
+  const auto busy = t.write("busy.lua",
+                            "local S = string.rep('a', 1e7)\n"
+                            "disc { radius = 3 }\nrun { steps = 100000 }\n"
+                            "division { rule = function(c) return #S:upper() < 0 end }\n");
+  pid = spawn_cellform({"run", busy.string(), "--out", (t.path / "busy").string(), "--quiet", "--lua-seconds", "1"});
+  REQUIRE(pid > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(3000));
+  kill(pid, SIGINT);
+  CHECK(exit_within(pid, 60) == 130);
+  CHECK(fs::exists(t.path / "busy" / "cells.ply"));
+  CHECK(fs::exists(t.path / "busy" / "checkpoint.cfck"));
+  // the folder stays usable: the next run there clears what the stopped one left
+  const auto quick = t.write("quick.lua", "disc { radius = 2 }\nrun { steps = 2 }\n");
+  CHECK(cli({"run", quick.string(), "--out", out.string(), "--quiet"}).code == 0);
+  int hidden = 0;
+  for (const auto& e : fs::directory_iterator(out)) hidden += e.path().filename().string()[0] == '.';
+  CHECK(hidden == 0);
+}
