@@ -47,6 +47,8 @@ const char* const kRunUsage =
     "  --lua-memory MB         memory limit of the script (default 512)\n"
     "  --lua-seconds S         longest one call of a Lua library function may run, such as a string\n"
     "                          pattern that backtracks (default 60)\n"
+    "  --script FILE           resume only: continue with FILE, an edited copy of the run's script (after\n"
+    "                          a rule error, say); the checkpoint's cells, step and seed are kept\n"
     "  --quiet                 no progress output\n"
     "\n"
     "Outputs: cells.ply, cells.obj (space colonisation: veins.ply, veins.obj, veins.svg), run.json\n"
@@ -157,12 +159,21 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
         const auto eq = kv.find('=');
         if (eq == std::string::npos || eq == 0) throw UsageError("--set takes NAME=VALUE, got '" + kv + "'");
         o.sets[kv.substr(0, eq)] = kv.substr(eq + 1);
+      } else if (a == "--script") {
+        o.replace_script = value();
+        if (cmd != "resume")
+          throw UsageError(
+              "--script is for cellform resume (continue a checkpoint with an edited script); "
+              "cellform run takes the script itself: cellform run " +
+              o.replace_script->string());
+        if (o.replace_script->empty()) throw UsageError("--script needs a file name, got an empty one");
       } else if (a == "--quiet" || a == "-q") {
         o.quiet = true;
       } else if (a.size() > 1 && a[0] == '-') {
         const std::string near = core::closest_name(
             a, std::vector<std::string>{"--out", "--seed", "--steps", "--threads", "--set", "--quiet", "--help",
-                                        "--checkpoint-every", "--lua-instructions", "--lua-memory", "--lua-seconds"});
+                                        "--checkpoint-every", "--lua-instructions", "--lua-memory", "--lua-seconds",
+                                        "--script"});
         throw UsageError("unknown option '" + a + "'" + (near.empty() ? "" : "; did you mean '" + near + "'?"));
       } else {
         positional.push_back(a);

@@ -71,6 +71,17 @@ Overrides with_physics(const Overrides& overrides, const json& physics) {
   return out;
 }
 
+std::string script_hash(const std::string& source) {
+  return "fnv1a64:" + core::hex64(core::fnv1a64(source.data(), source.size()));
+}
+
+json script_record(const Start& s) {
+  json r = {{"path", s.script_path.string()}, {"hash", script_hash(s.source)}};
+  if (s.script_replaced)
+    r["replaces"] = {{"path", s.replaced_path}, {"hash", s.checkpoint_script_hash}, {"from_step", s.step}};
+  return r;
+}
+
 std::string absolute_path_text(const fs::path& p) {
   std::error_code ec;
   const fs::path a = fs::absolute(p, ec);
@@ -122,6 +133,21 @@ Start start_from(const RunOptions& o) {
       s.source = f.at("script", what);
       if (s.colonisation_bytes.empty() || f.chunks.count("cells")) s.cells_bytes = f.at("cells", what);
       s.resume = true;
+      s.checkpoint_script_hash = script_hash(s.source);
+      s.checkpoint_sets = s.sets;
+      if (o.replace_script) {  // resume --script: the state goes on under an edited script
+        if (o.replace_script->extension() == ".cfck")
+          throw InputError("--script " + o.replace_script->string() +
+                           " is a checkpoint; give the edited growth script (a .lua file)");
+        try {
+          s.source = core::read_file(*o.replace_script);
+        } catch (const core::FileError& e) {
+          throw InputError(std::string("--script: ") + e.what());
+        }
+        s.replaced_path = s.script_path.string();
+        s.script_path = *o.replace_script;
+        s.script_replaced = true;
+      }
       // refused before anything is written: the checkpoint keeps its run's target and seed
       if (o.steps && *o.steps < s.step)
         throw InputError(what + " is at step " + std::to_string(s.step) + "; --steps " + std::to_string(*o.steps) +
@@ -146,12 +172,12 @@ Start start_from(const RunOptions& o) {
         // change (space colonisation checks its own parameters when its state is read)
         const auto saved_value = s.sets.find(k);
         const std::string section = k.find('.') == std::string::npos ? std::string() : k.substr(0, k.find('.'));
-        if ((s.colonisation_bytes.empty() || s.sheet_partial) && section != "output" && section != "print" &&
-            (saved_value == s.sets.end() || saved_value->second != v))
+        if ((s.colonisation_bytes.empty() || s.sheet_partial) && !s.script_replaced && section != "output" &&
+            section != "print" && (saved_value == s.sets.end() || saved_value->second != v))
           throw InputError("--set " + k + "=" + v + ": " + what +
                            " continues with the parameters it was saved with (only output.* and print.* may change "
-                           "when resuming a cell run, or a run stopped while its cell sheet grew); start a new run "
-                           "to change " +
+                           "when resuming a cell run, or a run stopped while its cell sheet grew); start a new run, "
+                           "or resume with --script and an edited script, to change " +
                            k);
         s.sets[k] = v;
       }
@@ -277,7 +303,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       // a resumed cell run steps with the values it was saved with, whatever the defaults are now: the
       // script is read again with those that changed set
       // (a run stopped while its cell sheet grew too: the rest of the sheet grows with the saved values)
-      if (s.resume && s.physics.is_object() && (!cfg.colonisation || s.sheet_partial)) {
+      // (not with resume --script: the edited script's values are the point)
+      if (s.resume && !s.script_replaced && s.physics.is_object() && (!cfg.colonisation || s.sheet_partial)) {
         const json now = physics_of(cfg.resolved);
         json changed = json::object();
         std::string listed;
@@ -303,6 +330,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       }
     } catch (const core::InvalidInput& e) {
       if (!s.resume || g_interrupt.load()) throw;  // a resumed script is the checkpoint's copy, with its --sets
+      if (s.script_replaced)
+        throw core::InvalidInput(std::string(e.what()) + " (resuming checkpoint '" + o.checkpoint.string() +
+                                 "' with --script, and the --set overrides of its run)");
       throw core::InvalidInput(std::string(e.what()) + " (resuming checkpoint '" + o.checkpoint.string() +
                                "', which keeps the script and the --set overrides of its run)");
     }
@@ -316,7 +346,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     if (s.resume && cfg.colonisation.has_value() != colonisation_checkpoint)
       throw core::InvalidInput("checkpoint '" + o.checkpoint.string() + "' is of a " +
                                (colonisation_checkpoint ? "space-colonisation" : "cell") +
-                               " run, but its script with these --set overrides now describes a " +
+                               (s.script_replaced ? " run, but --script " + s.script_path.string() + " describes a "
+                                                  : std::string(" run, but its script with these --set overrides now "
+                                                                "describes a ")) +
                                (cfg.colonisation ? "space-colonisation" : "cell") + " run");
     if (cfg.colonisation) return run_colonisation(o, s, cfg, host, seed, out, err, t0);
     // the one default changed since checkpoints record their values: say so where it applies
@@ -480,9 +512,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         {"program", "cellform"},
         {"version", version()},
         {"command", s.resume ? "resume" : "run"},
-        {"script",
-         {{"path", s.script_path.string()},
-          {"hash", "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size()))}}},
+        {"script", script_record(s)},
         {"seed", seed},
         {"threads", o.threads},
         {"status", status},
@@ -501,8 +531,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     outputs.push_back("run.json");
     // a resumed run's frames from before its checkpoint are in the folder already: still this run's outputs
     const std::vector<std::string> kept =
-        s.resume ? earlier_frames(dir, first, "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size())),
-                                  seed, s.sets)
+        s.resume ? earlier_frames(dir, first, s.checkpoint_script_hash, seed, s.checkpoint_sets)
                  : std::vector<std::string>{};
     json listed = outputs;
     for (const std::string& n : kept)
@@ -529,10 +558,18 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     err << "cellform: " << e.what() << "\n";
     // only a checkpoint of this run (or the one resumed) is worth naming: a step that failed may have
     // left the state half changed, and a file from an earlier run in the folder is not this run's
-    if (saved)
+    fs::path last;
+    if (saved) {
       err << "  (the last checkpoint is " << checkpoint.string() << ")\n";
-    else if (s.resume && fs::exists(o.checkpoint))
+      last = checkpoint;
+    } else if (s.resume && fs::exists(o.checkpoint)) {
       err << "  (the last checkpoint is " << o.checkpoint.string() << ", the one resumed)\n";
+      last = o.checkpoint;
+    }
+    // the same script would stop there again: an edited one can go on from the checkpoint
+    if (!last.empty() && !g_interrupt.load())
+      err << "  to go on from it with the script corrected: cellform resume " << last.string() << " --script "
+          << s.script_path.string() << "\n";
     code = usage;
   } catch (const std::exception& e) {
     progress.finish();

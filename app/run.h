@@ -24,6 +24,8 @@ struct RunOptions {
   bool quiet = false;
   ScriptLimits limits;
   std::optional<std::uint64_t> checkpoint_every;  ///< overrides output.checkpoint_every
+  /// resume --script: continue the checkpoint's state with this script instead of the one it keeps
+  std::optional<std::filesystem::path> replace_script;
 };
 
 /// Exit codes of the command.

@@ -98,9 +98,14 @@ Sheet grow_sheet(const RunOptions& o, const Start& s, const SceneConfig& cfg, Sc
       if (sim.step_count() < out.target && checkpoints.due(sim.step_count()))
         saved = periodic_checkpoint(save, err, warned) || saved;
     }
-  } catch (const std::exception&) {
+  } catch (const std::exception& e) {
     if (!o.quiet && ::isatty(2)) err << "\n";
-    if (saved) err << "cellform: (the last checkpoint is " << checkpoint.string() << ", taken while the sheet grew)\n";
+    if (saved) {
+      err << "cellform: (the last checkpoint is " << checkpoint.string() << ", taken while the sheet grew)\n";
+      if (dynamic_cast<const core::InvalidInput*>(&e) && !g_interrupt.load())
+        err << "  to go on from it with the script corrected: cellform resume " << checkpoint.string() << " --script "
+            << s.script_path.string() << "\n";
+    }
     throw;
   }
   progress.finish();
@@ -201,9 +206,7 @@ json run_record(const Start& s, std::uint64_t seed, int threads, venation::Domai
           {"command", s.resume ? "resume" : "run"},
           {"mode", "colonisation"},
           {"domain", domain_name(domain)},
-          {"script",
-           {{"path", s.script_path.string()},
-            {"hash", "fnv1a64:" + core::hex64(core::fnv1a64(s.source.data(), s.source.size()))}}},
+          {"script", script_record(s)},
           {"seed", seed},
           {"threads", threads},
           {"overrides", s.sets},
@@ -328,15 +331,20 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
         }
         if (!col.done() && checkpoints.due(r.steps)) saved = periodic_checkpoint(save, err, checkpoint_warned) || saved;
       }
-    } catch (const std::exception&) {
+    } catch (const std::exception& e) {
       // a step that failed may have left the state half changed: the last checkpoint is the one to resume
       if (!o.quiet && ::isatty(2)) err << "\n";
-      if (saved || sheet_checkpointed || (s.resume && fs::exists(checkpoint)))
+      if (saved || sheet_checkpointed || (s.resume && fs::exists(checkpoint))) {
         err << "cellform: (the last checkpoint is " << checkpoint.string()
             << (saved                ? ""
                 : sheet_checkpointed ? ", taken while the sheet grew"
                                      : ", the one resumed")
             << ")\n";
+        // the same script would stop there again: an edited one can go on from the checkpoint
+        if (dynamic_cast<const core::InvalidInput*>(&e) && !g_interrupt.load())
+          err << "  to go on from it with the script corrected: cellform resume " << checkpoint.string() << " --script "
+              << s.script_path.string() << "\n";
+      }
       throw;
     }
     if (!o.quiet && ::isatty(2)) err << "\n";

@@ -48,7 +48,19 @@ struct Start {
   bool resume = false;
   std::optional<std::uint64_t> checkpoint_every;  // --checkpoint-every of the run (kept by its checkpoints)
   nlohmann::json physics;  // the run's cell, division and venation values (physics_of); resume: as saved, or null
+  // resume only: the checkpoint's own script and --set overrides (what made the frames before it)
+  std::string checkpoint_script_hash;
+  Overrides checkpoint_sets;
+  // resume --script: the checkpoint's script was replaced by `source` (its path was replaced_path)
+  bool script_replaced = false;
+  std::string replaced_path;
 };
+
+/// "fnv1a64:<hex>" of a script's text, as run.json and the checkpoints name it.
+std::string script_hash(const std::string& source);
+
+/// run.json's "script": path and hash; after resume --script also what it replaced, and from which step.
+nlohmann::json script_record(const Start& s);
 
 /// The scalar values of `resolved`'s cells, division and venation sections (rule functions left out): what
 /// a cell checkpoint keeps, so that a resume steps with the values the run was saved with even when

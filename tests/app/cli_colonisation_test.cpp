@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "app/run_internal.h"
 #include "core/chunk_file.h"
 #include "tests/app/test_util.h"
 
@@ -373,4 +374,37 @@ TEST_CASE("Ctrl-C while surface{cells = true}'s sheet grows leaves a checkpoint 
   r = cli({"resume", (t.path / "sheet.cfck").string(), "--steps", target, "--set", "cells.separation=0.1"});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("--set cells.separation=0.1") && Contains("continues with the parameters it was saved"));
+}
+
+TEST_CASE("a rule error while surface{cells = true}'s sheet grows can go on with the corrected script",
+          "[cli][checkpoint]") {
+  TempDir t("cli-sheet-script");
+  const std::string head =
+      "cells { time_step = 0.2, separation = 0.05, drag = {0.8, 0.8, 0.3} }\n"
+      "division { max_cells = 400, min_age = 3, rule = function(cell)\n"
+      "  if cell.step >= 15 then return ";
+  const std::string tail =
+      " end\n"
+      "  return cell.age > 5 end }\n"
+      "run { steps = 40 }\n"
+      "disc { radius = 4 }\n"
+      "petiole { at = {0, -4, 0} }\n"
+      "surface { cells = true }\n"
+      "colonisation { kill_distance = 1, birth_distance = 2, darts = 20000 }\n";
+  const auto broken = t.write("broken.lua", head + "'x'" + tail);
+  const auto fixed = t.write("fixed.lua", head + "cell.age > 7" + tail);
+  const fs::path out = t.path / "out", fresh = t.path / "fresh";
+  const std::string checkpoint = (out / "checkpoint.cfck").string();
+  CliResult r = cli({"run", broken.string(), "--out", out.string(), "--checkpoint-every", "5", "--quiet"});
+  REQUIRE(r.code == 2);
+  CHECK_THAT(r.err, Contains("(the last checkpoint is " + checkpoint + ", taken while the sheet grew)"));
+  CHECK_THAT(r.err, Contains("cellform resume " + checkpoint + " --script " + broken.string()));
+  r = cli({"resume", checkpoint, "--script", fixed.string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  REQUIRE(cli({"run", fixed.string(), "--out", fresh.string(), "--quiet"}).code == 0);
+  CHECK(slurp(out / "cells.ply") == slurp(fresh / "cells.ply"));
+  CHECK(slurp(out / "veins.ply") == slurp(fresh / "veins.ply"));
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["script"]["replaces"]["hash"] == cellform::app::script_hash(slurp(broken)));
 }

@@ -373,3 +373,86 @@ TEST_CASE("math.random in a rule gives the same cells for the same seed, after a
   CHECK(slurp(t.path / "c" / "cells.ply") == a);
   CHECK(run_to("d", {"--seed", "6"}) != a);  // and the seed matters
 }
+
+TEST_CASE("a run stopped by a script error goes on from its checkpoint with the corrected script",
+          "[cli][checkpoint]") {
+  TempDir t("cli-resume-script");
+  // the rule breaks from step 25 on; the corrected copy differs only there, so steps 1 to 24 are the same
+  const std::string head =
+      "cells { time_step = 0.2, separation = 0.05 }\n"
+      "division { max_cells = 3000, rule = function(cell)\n"
+      "  if cell.step >= 25 then return ";
+  const std::string tail =
+      " end\n"
+      "  return cell.age > 4 end }\n"
+      "run { steps = 40 }\n"
+      "disc { radius = 3 }\n"
+      "petiole { at = {0, 0, 0} }\n"
+      "venation { threshold = 10 }\n";
+  const auto broken = t.write("broken.lua", head + "'x'" + tail);
+  const auto fixed = t.write("fixed.lua", head + "cell.age > 6" + tail);
+  const fs::path out = t.path / "out", fresh = t.path / "fresh";
+  const fs::path checkpoint = out / "checkpoint.cfck";
+  const CliResult failed = cli({"run", broken.string(), "--out", out.string(), "--checkpoint-every", "10", "--quiet"});
+  REQUIRE(failed.code == 2);
+  CHECK_THAT(failed.err, Contains("at step 25"));
+  CHECK_THAT(failed.err, Contains("cellform resume " + checkpoint.string() + " --script " + broken.string()));
+  CHECK_FALSE(fs::exists(out / "run.json"));
+  // the checkpoint keeps the broken script: a plain resume stops at the same step again
+  CliResult r = cli({"resume", checkpoint.string(), "--out", (t.path / "again").string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("at step 25"));
+  r = cli({"resume", checkpoint.string(), "--script", fixed.string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  // the same cells as a run of the corrected script from the start
+  REQUIRE(cli({"run", fixed.string(), "--out", fresh.string(), "--quiet"}).code == 0);
+  CHECK(slurp(out / "cells.ply") == slurp(fresh / "cells.ply"));
+  CHECK(slurp(out / "veins.ply") == slurp(fresh / "veins.ply"));
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["status"] == "complete");
+  CHECK(run["steps"]["first"] == 20);
+  CHECK(run["steps"]["completed"] == 40);
+  CHECK(run["script"]["hash"] == cellform::app::script_hash(slurp(fixed)));
+  CHECK(run["script"]["replaces"]["hash"] == cellform::app::script_hash(slurp(broken)));
+  CHECK(run["script"]["replaces"]["from_step"] == 20);
+  // the new checkpoint keeps the corrected script, so it resumes without --script
+  const auto saved = cellform::core::read_chunk_file(slurp(checkpoint), "CKPT", 1, "test");
+  CHECK(saved.chunks.at("script") == slurp(fixed));
+  r = cli({"resume", checkpoint.string(), "--steps", "45", "--quiet"});
+  CHECK(r.code == 0);
+  CHECK_FALSE(nlohmann::json::parse(slurp(out / "run.json"))["script"].contains("replaces"));
+}
+
+TEST_CASE("resume --script is refused clearly where it cannot apply", "[cli][checkpoint]") {
+  TempDir t("cli-resume-script-bad");
+  const auto script = t.write("small.lua", kSmall);
+  const fs::path out = t.path / "o";
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "5"}).code == 0);
+  const std::string checkpoint = (out / "checkpoint.cfck").string();
+  const std::string before = slurp(out / "checkpoint.cfck");
+  CliResult r = cli({"run", script.string(), "--script", script.string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--script is for cellform resume"));
+  r = cli({"resume", checkpoint, "--script", (t.path / "missing.lua").string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--script: file '" + (t.path / "missing.lua").string() + "' does not exist"));
+  r = cli({"resume", checkpoint, "--script", checkpoint});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("is a checkpoint; give the edited growth script"));
+  r = cli({"resume", checkpoint, "--script", t.write("broken.lua", "cells {\n").string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("broken.lua:2:") && Contains("with --script"));
+  const auto veins = t.write("veins.lua", "leaf {}\ncolonisation { initial_length = 20, final_length = 24 }\n");
+  r = cli({"resume", checkpoint, "--script", veins.string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err,
+             Contains("is of a cell run, but --script " + veins.string() + " describes a space-colonisation run"));
+  CHECK(slurp(out / "checkpoint.cfck") == before);  // every refusal left it as it was
+  // a physics value may not change on a plain resume, but may with an edited script
+  r = cli({"resume", checkpoint, "--steps", "8", "--set", "cells.spring=2", "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("or resume with --script and an edited script"));
+  r = cli({"resume", checkpoint, "--steps", "8", "--set", "cells.spring=2", "--script", script.string(), "--quiet"});
+  CHECK(r.code == 0);
+}
