@@ -429,6 +429,15 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   bool saved = false;            // this run wrote checkpoint.cfck (an older one may be there from another run)
   std::string checkpoint_error;  // why the final checkpoint could not be written
   bool checkpoint_warned = false;
+  std::uint64_t saved_step = 0;            // the step of the last checkpoint this run wrote
+  std::size_t saved_cells = 0;             // and its cells
+  std::uint64_t stepping = 0;              // the step being computed, while one is (steps count from 1)
+  std::vector<std::uint64_t> frame_steps;  // the step of every frame written (outputs holds their names)
+  auto checkpoint_now = [&] {
+    write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
+    saved_step = sim.step_count();
+    saved_cells = sim.cells().size();
+  };
   try {
     const auto& links = sim.cells().links;
     if (first >= target && std::all_of(links.begin(), links.end(), [](core::Index l) { return l == core::kNoIndex; })) {
@@ -444,6 +453,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       }
       host.set_step(sim.step_count() + 1);
       const auto a = std::chrono::steady_clock::now();
+      stepping = sim.step_count() + 1;
       try {
         scene->step();
       } catch (const core::SimulationDiverged& e) {
@@ -454,6 +464,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         fs::remove_all(staging, ec);
         return failure;
       }
+      stepping = 0;
       sim_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
       const std::uint64_t step = sim.step_count();
       progress.update(step, sim.cells().size());
@@ -462,18 +473,17 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         core::ensure_directory(staging / "frames");
         exporters::write_cells_ply(staging / name, sim.cells(), cells::triangulate(sim.cells()));
         outputs.push_back(name);
+        frame_steps.push_back(step);
       }
       if (step < target && checkpoints.due(step))
-        saved = periodic_checkpoint([&] { write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene)); },
-                                    err, checkpoint_warned) ||
-                saved;
+        saved = periodic_checkpoint(checkpoint_now, err, checkpoint_warned) || saved;
     }
     progress.finish();
     const auto b = std::chrono::steady_clock::now();
     // the checkpoint first: outputs that then fail to write leave it to resume from; and a checkpoint that
     // cannot be written (a full disk) still leaves the outputs
     try {
-      write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
+      checkpoint_now();
       saved = true;
     } catch (const std::exception& e) {
       checkpoint_error = core::error_text(e);
@@ -562,6 +572,46 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     if (saved) {
       err << "  (the last checkpoint is " << checkpoint.string() << ")\n";
       last = checkpoint;
+      // the folder then shows this run up to that checkpoint: its frames and a run.json that says it failed
+      try {
+        std::vector<std::string> names;
+        for (std::size_t k = 0; k < frame_steps.size(); ++k)
+          if (frame_steps[k] <= saved_step) names.push_back(outputs[k]);
+        const std::vector<std::string> kept =
+            s.resume ? earlier_frames(dir, first, s.checkpoint_script_hash, seed, s.checkpoint_sets)
+                     : std::vector<std::string>{};
+        json listed = names;
+        for (const std::string& n : kept)
+          if (std::find(names.begin(), names.end(), n) == names.end()) listed.push_back(n);
+        listed.push_back("run.json");
+        const json run = {{"program", "cellform"},
+                          {"version", version()},
+                          {"command", s.resume ? "resume" : "run"},
+                          {"script", script_record(s)},
+                          {"seed", seed},
+                          {"threads", o.threads},
+                          {"status", "failed"},
+                          {"error", e.what()},
+                          {"steps",
+                           {{"first", first},
+                            {"completed", saved_step},
+                            {"target", target},
+                            {"failed", stepping > 0 ? json(stepping) : json(nullptr)}}},
+                          {"cells", {{"initial", s.initial_cells}, {"final", saved_cells}}},
+                          {"overrides", s.sets},
+                          {"parameters", cfg.resolved},
+                          {"timings",
+                           {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
+                            {"simulation_s", sim_seconds}}},
+                          {"checkpoint", kCheckpointName},
+                          {"outputs", listed}};
+        core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
+        names.push_back("run.json");
+        commit_outputs(staging, dir, names, kept);
+      } catch (const std::exception& f) {
+        err << "cellform: warning: the frames and run.json of the failed run could not be written: "
+            << core::error_text(f) << "\n";
+      }
     } else if (s.resume && fs::exists(o.checkpoint)) {
       err << "  (the last checkpoint is " << o.checkpoint.string() << ", the one resumed)\n";
       last = o.checkpoint;

@@ -388,16 +388,29 @@ TEST_CASE("a run stopped by a script error goes on from its checkpoint with the 
       "run { steps = 40 }\n"
       "disc { radius = 3 }\n"
       "petiole { at = {0, 0, 0} }\n"
-      "venation { threshold = 10 }\n";
+      "venation { threshold = 10 }\n"
+      "output { every = 10 }\n";
   const auto broken = t.write("broken.lua", head + "'x'" + tail);
   const auto fixed = t.write("fixed.lua", head + "cell.age > 6" + tail);
   const fs::path out = t.path / "out", fresh = t.path / "fresh";
   const fs::path checkpoint = out / "checkpoint.cfck";
+  // an earlier run in the folder: the failed run's run.json and checkpoint replace it, not sit beside it
+  REQUIRE(cli({"run", fixed.string(), "--out", out.string(), "--steps", "3", "--quiet"}).code == 0);
+  REQUIRE(fs::exists(out / "cells.ply"));
   const CliResult failed = cli({"run", broken.string(), "--out", out.string(), "--checkpoint-every", "10", "--quiet"});
   REQUIRE(failed.code == 2);
   CHECK_THAT(failed.err, Contains("at step 25"));
   CHECK_THAT(failed.err, Contains("cellform resume " + checkpoint.string() + " --script " + broken.string()));
-  CHECK_FALSE(fs::exists(out / "run.json"));
+  // the folder shows the run up to its checkpoint (step 20): the frames so far and a run.json that says why
+  auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["status"] == "failed");
+  CHECK_THAT(run["error"].get<std::string>(), Contains("broken.lua:2: division.rule must return true or false"));
+  CHECK(run["steps"]["completed"] == 20);
+  CHECK(run["steps"]["failed"] == 25);
+  CHECK(run["outputs"] == nlohmann::json::array({"frames/cells_000010.ply", "frames/cells_000020.ply", "run.json"}));
+  CHECK(fs::exists(out / "frames/cells_000020.ply"));
+  CHECK_FALSE(fs::exists(out / "frames/cells_000030.ply"));
+  CHECK_FALSE(fs::exists(out / "cells.ply"));  // the failed step's cells are not the run's
   // the checkpoint keeps the broken script: a plain resume stops at the same step again
   CliResult r = cli({"resume", checkpoint.string(), "--out", (t.path / "again").string(), "--quiet"});
   CHECK(r.code == 2);
@@ -409,8 +422,13 @@ TEST_CASE("a run stopped by a script error goes on from its checkpoint with the 
   REQUIRE(cli({"run", fixed.string(), "--out", fresh.string(), "--quiet"}).code == 0);
   CHECK(slurp(out / "cells.ply") == slurp(fresh / "cells.ply"));
   CHECK(slurp(out / "veins.ply") == slurp(fresh / "veins.ply"));
-  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  for (const char* f : {"frames/cells_000010.ply", "frames/cells_000020.ply", "frames/cells_000030.ply"}) {
+    INFO(f);  // the failed run's frames stay, as the run's
+    CHECK(slurp(out / f) == slurp(fresh / f));
+  }
+  run = nlohmann::json::parse(slurp(out / "run.json"));
   CHECK(run["status"] == "complete");
+  CHECK(run["outputs"].size() == nlohmann::json::parse(slurp(fresh / "run.json"))["outputs"].size());
   CHECK(run["steps"]["first"] == 20);
   CHECK(run["steps"]["completed"] == 40);
   CHECK(run["script"]["hash"] == cellform::app::script_hash(slurp(fixed)));
