@@ -283,6 +283,34 @@ json vein_summary(const cells::Cells& c, const venation::Report& last, bool from
   return {{"vein_cells", veins}, {"petiole_inflow", inflow}, {"unconnected_cells", nullptr}};
 }
 
+/// The start of a cell run's run.json: what ran, with which seed and threads, and how it ended.
+json run_head(const Start& s, std::uint64_t seed, int threads, const std::string& status) {
+  return {{"program", "cellform"},
+          {"version", version()},
+          {"command", s.resume ? "resume" : "run"},
+          {"script", script_record(s)},
+          {"seed", seed},
+          {"threads", threads},
+          {"status", status}};
+}
+
+/// Writes `run` as run.json, listing `outputs` (files in `staging`) and, for a resumed run, its frames from
+/// before the checkpoint already in `dir`; then moves them all into `dir` (commit_outputs).
+void commit_run(json run, std::vector<std::string> outputs, const Start& s, std::uint64_t first, std::uint64_t seed,
+                const fs::path& staging, const fs::path& dir) {
+  outputs.push_back("run.json");
+  // a resumed run's frames from before its checkpoint are in the folder already: still this run's outputs
+  const std::vector<std::string> kept =
+      s.resume ? earlier_frames(dir, first, s.checkpoint_script_hash, seed, s.checkpoint_sets)
+               : std::vector<std::string>{};
+  json listed = outputs;
+  for (const std::string& n : kept)
+    if (std::find(outputs.begin(), outputs.end(), n) == outputs.end()) listed.push_back(n);
+  run["outputs"] = listed;
+  core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
+  commit_outputs(staging, dir, outputs, kept);
+}
+
 }  // namespace
 
 int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
@@ -518,37 +546,21 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - b).count();
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::uint64_t done = sim.step_count() - first;
-    json run = {
-        {"program", "cellform"},
-        {"version", version()},
-        {"command", s.resume ? "resume" : "run"},
-        {"script", script_record(s)},
-        {"seed", seed},
-        {"threads", o.threads},
-        {"status", status},
-        {"steps", {{"first", first}, {"completed", sim.step_count()}, {"target", target}}},
-        {"cells", {{"initial", s.initial_cells}, {"final", sim.cells().size()}}},
-        {"veins", vein_summary(sim.cells(), scene->venation_report(), cfg.scene.venation.has_value() && done == 0)},
-        {"overrides", s.sets},
-        {"parameters", cfg.resolved},
-        {"timings",
-         {{"total_s", total},
-          {"simulation_s", sim_seconds},
-          {"output_s", output_seconds},
-          {"steps_per_s", sim_seconds > 0 ? static_cast<double>(done) / sim_seconds : 0.0}}},
-        {"checkpoint", checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr)}};
+    json run = run_head(s, seed, o.threads, status);
+    run.update(
+        {{"steps", {{"first", first}, {"completed", sim.step_count()}, {"target", target}}},
+         {"cells", {{"initial", s.initial_cells}, {"final", sim.cells().size()}}},
+         {"veins", vein_summary(sim.cells(), scene->venation_report(), cfg.scene.venation.has_value() && done == 0)},
+         {"overrides", s.sets},
+         {"parameters", cfg.resolved},
+         {"timings",
+          {{"total_s", total},
+           {"simulation_s", sim_seconds},
+           {"output_s", output_seconds},
+           {"steps_per_s", sim_seconds > 0 ? static_cast<double>(done) / sim_seconds : 0.0}}},
+         {"checkpoint", checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr)}});
     if (cfg.print) run["print"] = printed;
-    outputs.push_back("run.json");
-    // a resumed run's frames from before its checkpoint are in the folder already: still this run's outputs
-    const std::vector<std::string> kept =
-        s.resume ? earlier_frames(dir, first, s.checkpoint_script_hash, seed, s.checkpoint_sets)
-                 : std::vector<std::string>{};
-    json listed = outputs;
-    for (const std::string& n : kept)
-      if (std::find(outputs.begin(), outputs.end(), n) == outputs.end()) listed.push_back(n);
-    run["outputs"] = listed;
-    core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
-    commit_outputs(staging, dir, outputs, kept);
+    commit_run(run, outputs, s, first, seed, staging, dir);
     if (!checkpoint_error.empty()) {
       err << "cellform: " << checkpoint_error
           << "\n  (the other outputs are written, but this run cannot be resumed)\n";
@@ -577,37 +589,21 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         std::vector<std::string> names;
         for (std::size_t k = 0; k < frame_steps.size(); ++k)
           if (frame_steps[k] <= saved_step) names.push_back(outputs[k]);
-        const std::vector<std::string> kept =
-            s.resume ? earlier_frames(dir, first, s.checkpoint_script_hash, seed, s.checkpoint_sets)
-                     : std::vector<std::string>{};
-        json listed = names;
-        for (const std::string& n : kept)
-          if (std::find(names.begin(), names.end(), n) == names.end()) listed.push_back(n);
-        listed.push_back("run.json");
-        const json run = {{"program", "cellform"},
-                          {"version", version()},
-                          {"command", s.resume ? "resume" : "run"},
-                          {"script", script_record(s)},
-                          {"seed", seed},
-                          {"threads", o.threads},
-                          {"status", "failed"},
-                          {"error", e.what()},
-                          {"steps",
-                           {{"first", first},
-                            {"completed", saved_step},
-                            {"target", target},
-                            {"failed", stepping > 0 ? json(stepping) : json(nullptr)}}},
-                          {"cells", {{"initial", s.initial_cells}, {"final", saved_cells}}},
-                          {"overrides", s.sets},
-                          {"parameters", cfg.resolved},
-                          {"timings",
-                           {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
-                            {"simulation_s", sim_seconds}}},
-                          {"checkpoint", kCheckpointName},
-                          {"outputs", listed}};
-        core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
-        names.push_back("run.json");
-        commit_outputs(staging, dir, names, kept);
+        json run = run_head(s, seed, o.threads, "failed");
+        run.update({{"error", e.what()},
+                    {"steps",
+                     {{"first", first},
+                      {"completed", saved_step},
+                      {"target", target},
+                      {"failed", stepping > 0 ? json(stepping) : json(nullptr)}}},
+                    {"cells", {{"initial", s.initial_cells}, {"final", saved_cells}}},
+                    {"overrides", s.sets},
+                    {"parameters", cfg.resolved},
+                    {"timings",
+                     {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
+                      {"simulation_s", sim_seconds}}},
+                    {"checkpoint", kCheckpointName}});
+        commit_run(run, names, s, first, seed, staging, dir);
       } catch (const std::exception& f) {
         err << "cellform: warning: the frames and run.json of the failed run could not be written: "
             << core::error_text(f) << "\n";
