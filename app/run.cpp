@@ -5,10 +5,10 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <charconv>
 #include <chrono>
 #include <iostream>
 #include <optional>
+#include <set>
 
 #include "app/progress.h"
 #include "cells/serialize.h"
@@ -37,167 +37,7 @@ std::atomic<bool> g_print_cancel{false};
 
 std::string version() { return CELLFORM_VERSION; }
 
-json physics_of(const json& resolved) {
-  json out = json::object();
-  for (const char* section : {"cells", "division", "venation"}) {
-    if (!resolved.contains(section) || !resolved[section].is_object()) continue;
-    for (const auto& [k, v] : resolved[section].items())
-      if ((v.is_number() || v.is_boolean() || v.is_string()) && v != "<function>") out[section][k] = v;
-  }
-  return out;
-}
-
-Overrides with_physics(const Overrides& overrides, const json& physics) {
-  Overrides out = overrides;
-  if (!physics.is_object()) return out;
-  for (const auto& [section, values] : physics.items())
-    for (const auto& [k, v] : values.items()) {
-      const std::string key = section + "." + k;
-      if (out.count(key)) continue;
-      std::string text;
-      if (v.is_boolean()) {
-        text = v.get<bool>() ? "true" : "false";
-      } else if (v.is_string()) {
-        text = v.get<std::string>();
-      } else if (v.is_number_integer()) {
-        text = v.dump();
-      } else {  // the shortest text that reads back as the same double
-        char buf[32];
-        const auto r = std::to_chars(buf, buf + sizeof buf, v.get<double>());
-        text.assign(buf, r.ptr);
-      }
-      out[key] = text;
-    }
-  return out;
-}
-
-std::string script_hash(const std::string& source) {
-  return "fnv1a64:" + core::hex64(core::fnv1a64(source.data(), source.size()));
-}
-
-json script_record(const Start& s) {
-  json r = {{"path", s.script_path.string()}, {"hash", script_hash(s.source)}};
-  if (s.script_replaced)
-    r["replaces"] = {{"path", s.replaced_path}, {"hash", s.checkpoint_script_hash}, {"from_step", s.step}};
-  return r;
-}
-
-std::string absolute_path_text(const fs::path& p) {
-  std::error_code ec;
-  const fs::path a = fs::absolute(p, ec);
-  return ec ? p.string() : a.lexically_normal().string();
-}
-
 namespace {
-
-Start start_from(const RunOptions& o) {
-  Start s;
-  try {
-    if (!o.checkpoint.empty()) {
-      const std::string what = "checkpoint '" + o.checkpoint.string() + "'";
-      if (o.checkpoint.extension() == ".lua")  // a script given to resume: say how to run it
-        throw core::FileError(what + " is a script, not a checkpoint: run it with cellform run " +
-                              o.checkpoint.string() + ", or resume its run's checkpoint.cfck");
-      const core::ChunkFile f =
-          core::read_chunk_file(core::read_file(o.checkpoint), kCheckpointKind, kCheckpointVersion, what);
-      json meta;
-      try {
-        meta = json::parse(f.at("meta", what));
-        s.script_path = meta.at("script").get<std::string>();
-        s.sets = meta.at("overrides").get<Overrides>();
-        // counts must be whole numbers >= 0 (a negative one would wrap round to a huge step)
-        for (const char* key : {"seed", "target_steps", "step"})
-          if (!meta.at(key).is_number_unsigned())
-            throw core::FileError(what + " is corrupt (metadata '" + key + "' is not a whole number >= 0)");
-        s.seed = meta.at("seed").get<std::uint64_t>();
-        s.target_steps = meta.at("target_steps").get<std::uint64_t>();
-        s.step = meta.at("step").get<std::uint64_t>();
-        s.out_dir = meta.at("out").get<std::string>();
-        if (meta.contains("initial_cells") && !meta["initial_cells"].is_number_unsigned())
-          throw core::FileError(what + " is corrupt (metadata 'initial_cells' is not a whole number >= 0)");
-        s.initial_cells = meta.value("initial_cells", std::size_t{0});  // older checkpoints: unknown
-        s.physics = meta.value("physics", json());                      // older checkpoints: not recorded
-        const std::string mode = meta.value("mode", std::string("cells"));
-        if (mode != "cells" && mode != "colonisation" && mode != "sheet")
-          throw core::FileError(what + " is corrupt (unknown run mode '" + mode.substr(0, 40) + "')");
-        s.sheet_partial = mode == "sheet";  // surface{cells = true} stopped while its cells grew
-        // a sheet checkpoint's target is the step limit its run was given (--steps), if any
-        s.has_target = !s.sheet_partial || meta.value("steps_given", false);
-        if (mode == "colonisation") {
-          s.colonisation_bytes = f.at("colonisation", what);
-          if (s.colonisation_bytes.empty()) throw core::FileError(what + " is corrupt (empty colonisation state)");
-        }
-      } catch (const json::exception&) {
-        throw core::FileError(what + " is corrupt (bad metadata)");
-      }
-      s.source = f.at("script", what);
-      if (s.colonisation_bytes.empty() || f.chunks.count("cells")) s.cells_bytes = f.at("cells", what);
-      s.resume = true;
-      s.checkpoint_script_hash = script_hash(s.source);
-      s.checkpoint_sets = s.sets;
-      if (o.replace_script) {  // resume --script: the state goes on under an edited script
-        if (o.replace_script->extension() == ".cfck")
-          throw InputError("--script " + o.replace_script->string() +
-                           " is a checkpoint; give the edited growth script (a .lua file)");
-        try {
-          s.source = core::read_file(*o.replace_script);
-        } catch (const core::FileError& e) {
-          throw InputError(std::string("--script: ") + e.what());
-        }
-        s.replaced_path = s.script_path.string();
-        s.script_path = *o.replace_script;
-        s.script_replaced = true;
-      }
-      // refused before anything is written: the checkpoint keeps its run's target and seed
-      if (o.steps && *o.steps < s.step)
-        throw InputError(what + " is at step " + std::to_string(s.step) + "; --steps " + std::to_string(*o.steps) +
-                         " would go back (give a total of at least " + std::to_string(s.step) + ")");
-      if (o.seed && *o.seed != *s.seed)
-        throw InputError("--seed " + std::to_string(*o.seed) + ": a resumed run keeps the seed of " + what + " (" +
-                         std::to_string(*s.seed) + "); start a new run to use another seed");
-      if (o.steps) {
-        s.target_steps = *o.steps;
-        s.has_target = true;
-      }
-      // the outputs go beside the checkpoint (its run's folder, wherever that is now), not to the folder
-      // it was written in: that one may since hold another run
-      s.out_dir = o.out                            ? out_folder(*o.out)
-                  : o.checkpoint.has_parent_path() ? o.checkpoint.parent_path()
-                                                   : fs::path(".");
-      if (meta.contains("checkpoint_every") && meta["checkpoint_every"].is_number_unsigned())
-        s.checkpoint_every = meta["checkpoint_every"].get<std::uint64_t>();
-      if (o.checkpoint_every) s.checkpoint_every = o.checkpoint_every;
-      for (const auto& [k, v] : o.sets) {
-        // a cell run continues bit-identically only with the physics it was saved with; what it writes may
-        // change (space colonisation checks its own parameters when its state is read)
-        const auto saved_value = s.sets.find(k);
-        const std::string section = k.find('.') == std::string::npos ? std::string() : k.substr(0, k.find('.'));
-        if ((s.colonisation_bytes.empty() || s.sheet_partial) && !s.script_replaced && section != "output" &&
-            section != "print" && (saved_value == s.sets.end() || saved_value->second != v))
-          throw InputError("--set " + k + "=" + v + ": " + what +
-                           " continues with the parameters it was saved with (only output.* and print.* may change "
-                           "when resuming a cell run, or a run stopped while its cell sheet grew); start a new run, "
-                           "or resume with --script and an edited script, to change " +
-                           k);
-        s.sets[k] = v;
-      }
-      return s;
-    }
-    s.script_path = o.script;
-    s.source = core::read_file(o.script);
-  } catch (const core::FileError& e) {
-    throw InputError(e.what());
-  }
-  s.sets = o.sets;
-  s.seed = o.seed;
-  s.checkpoint_every = o.checkpoint_every;
-  if (o.steps) {
-    s.target_steps = *o.steps;
-    s.has_target = true;
-  }
-  s.out_dir = o.out ? out_folder(*o.out) : fs::path("out") / o.script.stem();
-  return s;
-}
 
 std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t target, const forms::Scene& scene) {
   json meta = {{"program", "cellform"},
@@ -307,7 +147,7 @@ void commit_run(json run, std::vector<std::string> outputs, const Start& s, std:
   for (const std::string& n : kept)
     if (std::find(outputs.begin(), outputs.end(), n) == outputs.end()) listed.push_back(n);
   run["outputs"] = listed;
-  core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
+  write_run_json(staging / "run.json", run);
   commit_outputs(staging, dir, outputs, kept);
 }
 
@@ -327,7 +167,24 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   try {
     s = start_from(o);
     try {
-      cfg = host.load(s.source, s.script_path, s.sets);
+      // resume --script: the run's own --sets that the edited script has no parameter for are dropped
+      std::set<std::string> may_go_unused;
+      if (s.script_replaced)
+        for (const auto& [k, v] : s.checkpoint_sets)
+          if (!o.sets.count(k)) may_go_unused.insert(k);
+      cfg = host.load(s.source, s.script_path, s.sets, may_go_unused);
+      for (const std::string& k : host.unused_overrides()) {
+        err << "cellform: note: the run's --set " << k << "=" << s.sets[k] << " is dropped: " << s.script_path.string()
+            << " has no parameter for it\n";
+        s.sets.erase(k);
+      }
+      if (s.script_replaced) {
+        const std::string unplaced = unplaced_changes(s, cfg, o.limits);
+        if (!unplaced.empty())
+          err << "cellform: warning: " << s.script_path.string() << " changes the " << unplaced
+              << "; they are not placed (a resume keeps the checkpoint's cells, at step " << s.step
+              << "): start a new run for them\n";
+      }
       // a resumed cell run steps with the values it was saved with, whatever the defaults are now: the
       // script is read again with those that changed set
       // (a run stopped while its cell sheet grew too: the rest of the sheet grows with the saved values)
@@ -613,9 +470,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       last = o.checkpoint;
     }
     // the same script would stop there again: an edited one can go on from the checkpoint
-    if (!last.empty() && !g_interrupt.load())
-      err << "  to go on from it with the script corrected: cellform resume " << last.string() << " --script "
-          << s.script_path.string() << "\n";
+    if (!last.empty() && !g_interrupt.load()) err << resume_hint(o, last, s.script_path) << "\n";
     code = usage;
   } catch (const std::exception& e) {
     progress.finish();

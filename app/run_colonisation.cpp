@@ -56,11 +56,19 @@ struct Sheet {
   std::string checkpoint_error;  // why the checkpoint on Ctrl-C could not be written
 };
 
+/// What a colonisation run that a step's error stopped has left: for its run.json and its message.
+struct FailedRun {
+  bool checkpointed = false;    // this run wrote the checkpoint in its folder
+  std::string checkpoint_note;  // said of that checkpoint (", taken while the sheet grew")
+  std::string phase;            // "cells" while the sheet grew
+  json steps;                   // run.json's steps; null unless a step failed
+};
+
 /// surface{cells = true}: grows the script's cells (cells{}, division{}, run{}, shapes) for --steps or
 /// run.steps steps (from a sheet checkpoint's step when `s` resumes one). Writes a sheet checkpoint to
 /// `checkpoint` as output.checkpoint_every asks and when a Ctrl-C ends the growth early.
 Sheet grow_sheet(const RunOptions& o, const Start& s, const SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
-                 const fs::path& checkpoint, std::ostream& err) {
+                 const fs::path& checkpoint, std::ostream& err, FailedRun& failed) {
   forms::Scene scene(cfg.scene, seed);
   cells::Simulation& sim = scene.simulation();
   sim.set_threads(o.threads);
@@ -98,14 +106,12 @@ Sheet grow_sheet(const RunOptions& o, const Start& s, const SceneConfig& cfg, Sc
       if (sim.step_count() < out.target && checkpoints.due(sim.step_count()))
         saved = periodic_checkpoint(save, err, warned) || saved;
     }
-  } catch (const std::exception& e) {
+  } catch (const std::exception&) {
     if (!o.quiet && ::isatty(2)) err << "\n";
-    if (saved) {
-      err << "cellform: (the last checkpoint is " << checkpoint.string() << ", taken while the sheet grew)\n";
-      if (dynamic_cast<const core::InvalidInput*>(&e) && !g_interrupt.load())
-        err << "  to go on from it with the script corrected: cellform resume " << checkpoint.string() << " --script "
-            << s.script_path.string() << "\n";
-    }
+    failed.phase = "cells";
+    failed.steps = {{"first", 0}, {"completed", 0}, {"sheet_failed", sim.step_count() + 1}};
+    failed.checkpointed = saved;
+    failed.checkpoint_note = ", taken while the sheet grew";
     throw;
   }
   progress.finish();
@@ -248,6 +254,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
   const fs::path checkpoint = dir / kCheckpointName;
   int code = ok;
   const bool planar = spec.domain.kind == venation::DomainKind::leaf;
+  FailedRun failed;
   try {
     std::optional<cells::Cells> sheet;
     // cells when the sheet began to grow, for run.json (a checkpoint that does not say: the script's shapes)
@@ -265,7 +272,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
       if (s.resume && !s.sheet_partial) {
         sheet = cells::load(s.cells_bytes, "checkpoint '" + o.checkpoint.string() + "'");
       } else {
-        Sheet grown = grow_sheet(o, s, cfg, host, seed, checkpoint, err);
+        Sheet grown = grow_sheet(o, s, cfg, host, seed, checkpoint, err, failed);
         sheet_initial = grown.initial;
         sheet_checkpointed = grown.checkpointed;
         if (!grown.complete) {  // Ctrl-C: the sheet so far, and its checkpoint to finish it from
@@ -282,7 +289,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
           run["checkpoint"] = grown.checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr);
           outputs.push_back("run.json");
           run["outputs"] = outputs;
-          core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
+          write_run_json(staging / "run.json", run);
           commit_outputs(staging, dir, outputs);
           err << "interrupted while the cell sheet grew (step " << grown.step << " of " << grown.target
               << "; no veins yet): the sheet so far is in " << dir.string() << "/\n";
@@ -331,20 +338,12 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
         }
         if (!col.done() && checkpoints.due(r.steps)) saved = periodic_checkpoint(save, err, checkpoint_warned) || saved;
       }
-    } catch (const std::exception& e) {
+    } catch (const std::exception&) {
       // a step that failed may have left the state half changed: the last checkpoint is the one to resume
       if (!o.quiet && ::isatty(2)) err << "\n";
-      if (saved || sheet_checkpointed || (s.resume && fs::exists(checkpoint))) {
-        err << "cellform: (the last checkpoint is " << checkpoint.string()
-            << (saved                ? ""
-                : sheet_checkpointed ? ", taken while the sheet grew"
-                                     : ", the one resumed")
-            << ")\n";
-        // the same script would stop there again: an edited one can go on from the checkpoint
-        if (dynamic_cast<const core::InvalidInput*>(&e) && !g_interrupt.load())
-          err << "  to go on from it with the script corrected: cellform resume " << checkpoint.string() << " --script "
-              << s.script_path.string() << "\n";
-      }
+      failed.steps = {{"first", first}, {"completed", 0}, {"failed", col.report().steps + 1}};
+      failed.checkpointed = saved || sheet_checkpointed;
+      failed.checkpoint_note = saved ? "" : ", taken while the sheet grew";
       throw;
     }
     if (!o.quiet && ::isatty(2)) err << "\n";
@@ -452,7 +451,7 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     if (sheet) run["cells"] = {{"initial", sheet_initial}, {"final", sheet->size()}};
     outputs.push_back("run.json");
     run["outputs"] = outputs;
-    core::write_file_atomically(staging / "run.json", [&](std::ostream& os) { os << run.dump(2) << "\n"; });
+    write_run_json(staging / "run.json", run);
     commit_outputs(staging, dir, outputs);
     if (!checkpoint_error.empty()) {
       err << "cellform: " << checkpoint_error
@@ -483,9 +482,37 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
   } catch (const core::InvalidInput& e) {
     const std::string m = e.what();  // a parameter the steps found wrong: where the script sets it
     err << "cellform: " << (m.rfind("colonisation.", 0) == 0 ? spec.where : std::string()) << m << "\n";
+    fs::path last;
+    if (failed.checkpointed) {
+      err << "  (the last checkpoint is " << checkpoint.string() << failed.checkpoint_note << ")\n";
+      last = checkpoint;
+      // the folder then shows this run as far as its checkpoint: a run.json that says it failed
+      try {
+        json run = run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
+        run["status"] = "failed";
+        run["error"] = m;
+        if (!failed.phase.empty()) run["phase"] = failed.phase;
+        run["steps"] = failed.steps;
+        run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
+        run["checkpoint"] = kCheckpointName;
+        run["outputs"] = json::array({"run.json"});
+        write_run_json(staging / "run.json", run);
+        commit_outputs(staging, dir, {"run.json"});
+      } catch (const std::exception& f) {
+        err << "cellform: warning: the run.json of the failed run could not be written: " << core::error_text(f)
+            << "\n";
+      }
+    } else if (s.resume && !failed.steps.is_null() && fs::exists(o.checkpoint)) {
+      err << "  (the last checkpoint is " << o.checkpoint.string() << ", the one resumed)\n";
+      last = o.checkpoint;
+    }
+    // the same script would stop there again: an edited one can go on from the checkpoint
+    if (!last.empty() && !g_interrupt.load()) err << resume_hint(o, last, s.script_path) << "\n";
     code = usage;
   } catch (const std::exception& e) {
     err << "cellform: " << core::error_text(e) << "\n";
+    if (failed.checkpointed)
+      err << "  (the last checkpoint is " << checkpoint.string() << failed.checkpoint_note << ")\n";
     // the outputs failed (a full disk): what is left to continue from
     if (!checkpoint_failure.empty()) err << "cellform: the final checkpoint failed too: " << checkpoint_failure << "\n";
     if (resumable && fs::exists(dir / kCheckpointName))

@@ -49,6 +49,7 @@ struct Start {
   std::optional<std::uint64_t> checkpoint_every;  // --checkpoint-every of the run (kept by its checkpoints)
   nlohmann::json physics;  // the run's cell, division and venation values (physics_of); resume: as saved, or null
   // resume only: the checkpoint's own script and --set overrides (what made the frames before it)
+  std::string checkpoint_source;  // the checkpoint's script
   std::string checkpoint_script_hash;
   Overrides checkpoint_sets;
   // resume --script: the checkpoint's script was replaced by `source` (its path was replaced_path)
@@ -58,6 +59,23 @@ struct Start {
 
 /// "fnv1a64:<hex>" of a script's text, as run.json and the checkpoints name it.
 std::string script_hash(const std::string& source);
+
+/// What `o` starts from: its script, or the checkpoint it resumes (read and checked against the options;
+/// with --script, the edited script instead of the one the checkpoint keeps). Throws InputError.
+Start start_from(const RunOptions& o);
+
+/// resume --script: what the edited script places at or before the checkpoint's step (shapes, petioles)
+/// that the run's own script did not, in words; empty when nothing differs. Those are not placed: the
+/// checkpoint's cells are kept. Empty too when the run's script no longer loads.
+std::string unplaced_changes(const Start& s, const SceneConfig& now, const ScriptLimits& limits);
+
+/// Writes a run.json atomically (text that is not UTF-8, from a script's error say, is replaced).
+void write_run_json(const std::filesystem::path& path, const nlohmann::json& run);
+
+/// The line that tells how to go on from `checkpoint` with the script corrected after an error: cellform
+/// resume with --script, and the --out and --steps of this command that still apply.
+std::string resume_hint(const RunOptions& o, const std::filesystem::path& checkpoint,
+                        const std::filesystem::path& script);
 
 /// run.json's "script": path and hash; after resume --script also what it replaced, and from which step.
 nlohmann::json script_record(const Start& s);

@@ -245,8 +245,9 @@ void ScriptHost::set_step(std::uint64_t step) {
 void ScriptHost::set_print(std::function<void(const std::string&)> print) { impl_->print = std::move(print); }
 
 SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::path& script_path,
-                             const Overrides& overrides) {
+                             const Overrides& overrides, const std::set<std::string>& may_go_unused) {
   Impl& I = *impl_;
+  unused_.clear();
   lua_State* L = I.L;
   SceneConfig cfg;
   I.cfg = &cfg;
@@ -316,6 +317,10 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
 
   for (const auto& [key, value] : overrides) {
     if (I.used_overrides.count(key)) continue;
+    if (may_go_unused.count(key)) {
+      unused_.push_back(key);
+      continue;
+    }
     std::vector<std::string> names(I.param_names.begin(), I.param_names.end());
     for (const Field& f : schema())
       if (f.kind != Kind::function && f.kind != Kind::table && f.kind != Kind::table_or_function)

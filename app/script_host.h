@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -108,8 +109,13 @@ class ScriptHost {
   ScriptHost& operator=(const ScriptHost&) = delete;
 
   /// Runs `source` (named `script_path` in messages; relative file names resolve beside it) and returns
-  /// the scene it describes. Every override must match a parameter, else InvalidInput with a suggestion.
-  SceneConfig load(const std::string& source, const std::filesystem::path& script_path, const Overrides& overrides);
+  /// the scene it describes. Every override must match a parameter, else InvalidInput with a suggestion;
+  /// those named in `may_go_unused` may match none (unused_overrides() lists them then).
+  SceneConfig load(const std::string& source, const std::filesystem::path& script_path, const Overrides& overrides,
+                   const std::set<std::string>& may_go_unused = {});
+
+  /// The overrides of `may_go_unused` that the last load() found no parameter for, in key order.
+  const std::vector<std::string>& unused_overrides() const { return unused_; }
 
   /// Rule functions of the loaded script as cells::Rules (empty members where the script gave none).
   /// A rule that errors throws core::InvalidInput naming the rule, the step and the cell id.
@@ -135,6 +141,7 @@ class ScriptHost {
 
  private:
   class Watchdog;
+  std::vector<std::string> unused_;
   std::unique_ptr<Impl> impl_;
   std::unique_ptr<Watchdog> watchdog_;  // after impl_: stopped first
   std::uint64_t step_ = 0;

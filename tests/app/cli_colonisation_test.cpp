@@ -395,16 +395,34 @@ TEST_CASE("a rule error while surface{cells = true}'s sheet grows can go on with
   const auto fixed = t.write("fixed.lua", head + "cell.age > 7" + tail);
   const fs::path out = t.path / "out", fresh = t.path / "fresh";
   const std::string checkpoint = (out / "checkpoint.cfck").string();
+  // an earlier run in the folder: the failed run's run.json and checkpoint replace it, not sit beside it
+  REQUIRE(cli({"run", fixed.string(), "--out", out.string(), "--quiet"}).code == 0);
+  REQUIRE(fs::exists(out / "veins.ply"));
   CliResult r = cli({"run", broken.string(), "--out", out.string(), "--checkpoint-every", "5", "--quiet"});
   REQUIRE(r.code == 2);
-  CHECK_THAT(r.err, Contains("(the last checkpoint is " + checkpoint + ", taken while the sheet grew)"));
+  // the error first, then where to go on from
+  const std::size_t error = r.err.find("broken.lua:2: division.rule must return true or false");
+  const std::size_t where = r.err.find("(the last checkpoint is " + checkpoint + ", taken while the sheet grew)");
+  REQUIRE(error != std::string::npos);
+  REQUIRE(where != std::string::npos);
+  CHECK(error < where);
   CHECK_THAT(r.err, Contains("cellform resume " + checkpoint + " --script " + broken.string()));
+  auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["status"] == "failed");
+  CHECK(run["phase"] == "cells");
+  CHECK(run["steps"]["sheet_failed"] == 15);
+  CHECK_FALSE(fs::exists(out / "veins.ply"));
+  // a plain resume stops at the same step, and names the checkpoint it resumed
+  r = cli({"resume", checkpoint, "--out", (t.path / "again").string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("(the last checkpoint is " + checkpoint + ", the one resumed)") && Contains("--script"));
   r = cli({"resume", checkpoint, "--script", fixed.string(), "--quiet"});
   INFO(r.err);
   REQUIRE(r.code == 0);
   REQUIRE(cli({"run", fixed.string(), "--out", fresh.string(), "--quiet"}).code == 0);
   CHECK(slurp(out / "cells.ply") == slurp(fresh / "cells.ply"));
   CHECK(slurp(out / "veins.ply") == slurp(fresh / "veins.ply"));
-  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["status"] == "complete");
   CHECK(run["script"]["replaces"]["hash"] == cellform::app::script_hash(slurp(broken)));
 }

@@ -474,3 +474,84 @@ TEST_CASE("resume --script is refused clearly where it cannot apply", "[cli][che
   r = cli({"resume", checkpoint, "--steps", "8", "--set", "cells.spring=2", "--script", script.string(), "--quiet"});
   CHECK(r.code == 0);
 }
+
+TEST_CASE(
+    "resume --script: the run's --sets the edited script lacks are dropped, its run.steps applies, and "
+    "changed shapes are said",
+    "[cli][checkpoint]") {
+  TempDir t("cli-resume-script-carry");
+  const std::string rest =
+      "cells { time_step = 0.2, separation = 0.05 }\n"
+      "disc { radius = 3 }\n"
+      "petiole { at = {0, 0, 0} }\n";
+  const auto first = t.write("first.lua",
+                             "local P = params { age = 4 }\n"
+                             "division { max_cells = 3000, rule = function(cell)\n"
+                             "  if cell.step >= 25 then return 'x' end\n"
+                             "  return cell.age > P.age end }\n"
+                             "run { steps = 40 }\n"
+                             "output { every = 10 }\n" +
+                                 rest);
+  const auto renamed = t.write("renamed.lua",
+                               "local P = params { min_age = 4 }\n"
+                               "division { max_cells = 3000, rule = function(cell) return cell.age > P.min_age end }\n"
+                               "run { steps = 50 }\n" +
+                                   rest);
+  const fs::path out = t.path / "out";
+  const std::string checkpoint = (out / "checkpoint.cfck").string();
+  CliResult r =
+      cli({"run", first.string(), "--out", out.string(), "--set", "age=5", "--checkpoint-every", "10", "--quiet"});
+  REQUIRE(r.code == 2);
+  const std::string at20 = slurp(out / "checkpoint.cfck");
+  r = cli({"resume", checkpoint, "--script", renamed.string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("the run's --set age=5 is dropped: " + renamed.string() + " has no parameter for it"));
+  CHECK_THAT(r.err, !Contains("warning"));  // the same disc and petiole
+  auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["overrides"].empty());
+  CHECK(run["steps"]["completed"] == 50);  // the edited script's run.steps
+  // no frames asked for any more, but those of the run up to its checkpoint stay its outputs
+  CHECK(run["outputs"].size() == 5);  // cells.ply, cells.obj, run.json, frames 10 and 20
+  CHECK(fs::exists(out / "frames/cells_000020.ply"));
+  // a petiole the edited script moves is not placed again, and the resume says so
+  t.write("out/checkpoint.cfck", at20);
+  const auto moved = t.write("moved.lua", slurp(renamed) + "petiole { at = {1, 0, 0} }\n");
+  r = cli({"resume", checkpoint, "--script", moved.string(), "--quiet"});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("warning: " + moved.string() + " changes the petioles due by step 20") &&
+                        Contains("start a new run for them"));
+}
+
+TEST_CASE(
+    "a failed run's run.json is written even when the error has bytes that are not UTF-8, and the hint "
+    "keeps --out and --steps",
+    "[cli][checkpoint]") {
+  TempDir t("cli-failed-utf8");
+  const auto script = t.write("utf.lua",
+                              "cells { time_step = 0.2 }\n"
+                              "division { max_cells = 3000, rule = function(cell)\n"
+                              "  if cell.step >= 15 then error('bad \\255 byte') end\n"
+                              "  return cell.age > 4 end }\n"
+                              "run { steps = 40 }\n"
+                              "disc { radius = 3 }\n");
+  const fs::path out = t.path / "out";
+  // an earlier run's frames: the failed run, which has none, leaves no empty frames/ behind
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--steps", "10", "--set", "output.every=5", "--quiet"})
+              .code == 0);
+  REQUIRE(fs::exists(out / "frames/cells_000005.ply"));
+  CliResult r = cli({"run", script.string(), "--out", out.string(), "--checkpoint-every", "10", "--quiet"});
+  REQUIRE(r.code == 2);
+  CHECK_THAT(r.err, !Contains("could not be written"));
+  CHECK_FALSE(fs::exists(out / "frames"));
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["status"] == "failed");
+  CHECK_THAT(run["error"].get<std::string>(), Contains("utf.lua:3: bad"));
+  // resumed into another folder, it fails before a checkpoint of its own: the hint names the folder
+  const std::string checkpoint = (out / "checkpoint.cfck").string(), other = (t.path / "other").string();
+  r = cli({"resume", checkpoint, "--out", other, "--steps", "30", "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err,
+             Contains("cellform resume " + checkpoint + " --script ") && Contains(" --out " + other + " --steps 30"));
+  CHECK_FALSE(fs::exists(other));
+}
