@@ -323,6 +323,33 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     saved_step = sim.step_count();
     saved_cells = sim.cells().size();
   };
+  // a run that an error stops after it wrote a checkpoint: the folder then shows it as far as that
+  // checkpoint, with its frames up to it and a run.json that says it failed
+  auto keep_failed_run = [&](const std::string& error) {
+    try {
+      std::vector<std::string> names;
+      for (std::size_t k = 0; k < frame_steps.size(); ++k)
+        if (frame_steps[k] <= saved_step) names.push_back(outputs[k]);
+      json run = run_head(s, seed, o.threads, "failed");
+      run.update({{"error", error},
+                  {"steps",
+                   {{"first", first},
+                    {"completed", saved_step},
+                    {"target", target},
+                    {"failed", stepping > 0 ? json(stepping) : json(nullptr)}}},
+                  {"cells", {{"initial", s.initial_cells}, {"final", saved_cells}}},
+                  {"overrides", s.sets},
+                  {"parameters", cfg.resolved},
+                  {"timings",
+                   {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
+                    {"simulation_s", sim_seconds}}},
+                  {"checkpoint", kCheckpointName}});
+      commit_run(run, names, s, first, seed, staging, dir);
+    } catch (const std::exception& f) {
+      err << "cellform: warning: the frames and run.json of the failed run could not be written: "
+          << core::error_text(f) << "\n";
+    }
+  };
   try {
     const auto& links = sim.cells().links;
     if (first >= target && std::all_of(links.begin(), links.end(), [](core::Index l) { return l == core::kNoIndex; })) {
@@ -342,9 +369,12 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       try {
         scene->step();
       } catch (const core::SimulationDiverged& e) {
-        write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
+        checkpoint_now();  // the cells are those of the last good step
+        saved = true;
         err << (o.quiet ? "" : "\n") << "cellform: " << e.what()  // says "diverged" and what to try
             << "\n  (the state of step " << sim.step_count() << " is saved in " << checkpoint.string() << ")\n";
+        keep_failed_run(e.what());
+        if (!g_interrupt.load()) err << resume_hint(o, checkpoint, s.script_path) << "\n";
         std::error_code ec;
         fs::remove_all(staging, ec);
         return failure;
@@ -441,30 +471,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     if (saved) {
       err << "  (the last checkpoint is " << checkpoint.string() << ")\n";
       last = checkpoint;
-      // the folder then shows this run up to that checkpoint: its frames and a run.json that says it failed
-      try {
-        std::vector<std::string> names;
-        for (std::size_t k = 0; k < frame_steps.size(); ++k)
-          if (frame_steps[k] <= saved_step) names.push_back(outputs[k]);
-        json run = run_head(s, seed, o.threads, "failed");
-        run.update({{"error", e.what()},
-                    {"steps",
-                     {{"first", first},
-                      {"completed", saved_step},
-                      {"target", target},
-                      {"failed", stepping > 0 ? json(stepping) : json(nullptr)}}},
-                    {"cells", {{"initial", s.initial_cells}, {"final", saved_cells}}},
-                    {"overrides", s.sets},
-                    {"parameters", cfg.resolved},
-                    {"timings",
-                     {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
-                      {"simulation_s", sim_seconds}}},
-                    {"checkpoint", kCheckpointName}});
-        commit_run(run, names, s, first, seed, staging, dir);
-      } catch (const std::exception& f) {
-        err << "cellform: warning: the frames and run.json of the failed run could not be written: "
-            << core::error_text(f) << "\n";
-      }
+      keep_failed_run(e.what());
     } else if (s.resume && fs::exists(o.checkpoint)) {
       err << "  (the last checkpoint is " << o.checkpoint.string() << ", the one resumed)\n";
       last = o.checkpoint;

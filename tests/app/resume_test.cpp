@@ -555,3 +555,33 @@ TEST_CASE(
              Contains("cellform resume " + checkpoint + " --script ") && Contains(" --out " + other + " --steps 30"));
   CHECK_FALSE(fs::exists(other));
 }
+
+TEST_CASE(
+    "a run that diverges leaves its last good step, a run.json that says so, and goes on with an edited "
+    "script",
+    "[cli][checkpoint]") {
+  TempDir t("cli-diverged");
+  const std::string rest =
+      "division { trigger = 'age', age = 6, max_cells = 300 }\n"
+      "run { steps = 20 }\n"
+      "disc { radius = 3 }\n";
+  const auto tight = t.write("tight.lua", "cells { time_step = 0.2, max_speed = 0.001 }\n" + rest);
+  const auto loose = t.write("loose.lua", "cells { time_step = 0.2 }\n" + rest);
+  const fs::path out = t.path / "out";
+  const std::string checkpoint = (out / "checkpoint.cfck").string();
+  CliResult r = cli({"run", tight.string(), "--out", out.string(), "--quiet"});
+  REQUIRE(r.code == 1);
+  CHECK_THAT(r.err, Contains("the simulation diverged") &&
+                        Contains("cellform resume " + checkpoint + " --script " + tight.string()));
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["status"] == "failed");
+  CHECK_THAT(run["error"].get<std::string>(), Contains("exceeds cells.max_speed = 0.001"));
+  const std::uint64_t good = run["steps"]["completed"];
+  CHECK(run["steps"]["failed"] == good + 1);
+  const auto saved = cellform::core::read_chunk_file(slurp(out / "checkpoint.cfck"), "CKPT", 1, "test");
+  CHECK(nlohmann::json::parse(saved.chunks.at("meta"))["step"] == good);
+  r = cli({"resume", checkpoint, "--script", loose.string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["steps"]["completed"] == 20);
+}
