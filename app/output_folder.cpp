@@ -254,7 +254,7 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
   fs::remove_all(staging, ec);
   // frames/ emptied of the earlier run's frames goes too (fs::remove removes only an empty folder)
   if (std::any_of(stale.begin(), stale.end(), [](const std::string& n) { return n.rfind("frames/", 0) == 0; }) &&
-      !fs::is_symlink(dir / "frames", ec))
+      !fs::is_symlink(dir / "frames", ec) && fs::is_directory(dir / "frames", ec))
     fs::remove(dir / "frames", ec);
 }
 

@@ -179,11 +179,24 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         s.sets.erase(k);
       }
       if (s.script_replaced) {
-        const std::string unplaced = unplaced_changes(s, cfg, o.limits);
-        if (!unplaced.empty())
-          err << "cellform: warning: " << s.script_path.string() << " changes the " << unplaced
-              << "; they are not placed (a resume keeps the checkpoint's cells, at step " << s.step
-              << "): start a new run for them\n";
+        std::string why;
+        const std::optional<SceneConfig> before = load_run_script(s, o.limits, why);
+        if (!before) {
+          err << "cellform: note: the run's own script (" << s.replaced_path << ") no longer loads (" << why
+              << "), so what " << s.script_path.string() << " changes in its shapes and petioles is not checked\n";
+        } else {
+          const std::string unplaced = unplaced_changes(s, *before, cfg);
+          if (!unplaced.empty())
+            err << "cellform: warning: " << s.script_path.string() << " changes the " << unplaced
+                << (!s.colonisation_bytes.empty() && !s.sheet_partial
+                        ? "; they do not apply (the checkpoint's cell sheet is grown already)"
+                        : "; they are not placed (a resume keeps the checkpoint's cells, at step " +
+                              std::to_string(s.step) + ")")
+                << ": start a new run for them\n";
+          // a cell run keeps its target (its --steps too) unless the edited script changes run.steps
+          if (!o.steps && s.colonisation_bytes.empty() && !s.sheet_partial && before->steps == cfg.steps)
+            s.has_target = true;
+        }
       }
       // a resumed cell run steps with the values it was saved with, whatever the defaults are now: the
       // script is read again with those that changed set
@@ -225,6 +238,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     host.set_seed(seed);  // math.random in rules: from the seed and the step
     if (cfg.resolved.contains("run")) cfg.resolved["run"]["seed"] = seed;  // run.json: the seed used (--seed too)
     target = s.has_target ? s.target_steps : cfg.steps;
+    if (s.script_replaced && !cfg.colonisation && target < s.step)  // as --steps below it would be
+      throw InputError((cfg.steps_given_at.empty() ? s.script_path.string() + ": " : cfg.steps_given_at) +
+                       "run.steps = " + std::to_string(target) + " is below the checkpoint's step " +
+                       std::to_string(s.step) + "; raise it, or give --steps " + std::to_string(s.step) + " or more");
     // run.json: the steps this cell run goes to (--steps, or its checkpoint's, too)
     if (!cfg.colonisation && cfg.resolved.contains("run")) cfg.resolved["run"]["steps"] = target;
     const bool colonisation_checkpoint = !s.colonisation_bytes.empty() || s.sheet_partial;
@@ -369,12 +386,20 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       try {
         scene->step();
       } catch (const core::SimulationDiverged& e) {
-        checkpoint_now();  // the cells are those of the last good step
-        saved = true;
-        err << (o.quiet ? "" : "\n") << "cellform: " << e.what()  // says "diverged" and what to try
-            << "\n  (the state of step " << sim.step_count() << " is saved in " << checkpoint.string() << ")\n";
-        keep_failed_run(e.what());
-        if (!g_interrupt.load()) err << resume_hint(o, checkpoint, s.script_path) << "\n";
+        err << (o.quiet ? "" : "\n") << "cellform: " << e.what() << "\n";  // says "diverged" and what to try
+        try {
+          checkpoint_now();  // the cells are those of the last good step
+          saved = true;
+          err << "  (the state of step " << sim.step_count() << " is saved in " << checkpoint.string() << ")\n";
+        } catch (const std::exception& f) {
+          err << "cellform: the checkpoint of step " << sim.step_count()
+              << ", the last good one, could not be written: " << core::error_text(f) << "\n";
+          if (saved) err << "  (the last checkpoint is " << checkpoint.string() << ", of step " << saved_step << ")\n";
+        }
+        if (saved) {
+          keep_failed_run(e.what());
+          err << resume_hint(o, checkpoint, s.script_path) << "\n";
+        }
         std::error_code ec;
         fs::remove_all(staging, ec);
         return failure;
@@ -477,7 +502,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       last = o.checkpoint;
     }
     // the same script would stop there again: an edited one can go on from the checkpoint
-    if (!last.empty() && !g_interrupt.load()) err << resume_hint(o, last, s.script_path) << "\n";
+    if (!last.empty()) err << resume_hint(o, last, s.script_path) << "\n";
     code = usage;
   } catch (const std::exception& e) {
     progress.finish();

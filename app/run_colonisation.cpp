@@ -97,21 +97,35 @@ Sheet grow_sheet(const RunOptions& o, const Start& s, const SceneConfig& cfg, Sc
   CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
   bool& saved = out.checkpointed;
   bool warned = false;
+  const std::uint64_t first = sim.step_count();
+  std::uint64_t saved_step = 0;  // of the last checkpoint written
   Progress progress(err, ::isatty(2) != 0, o.quiet, sim.step_count(), out.target);
   try {
     while (sim.step_count() < out.target && !g_interrupt.load()) {
       host.set_step(sim.step_count() + 1);
       scene.step();
       progress.update(sim.step_count(), sim.cells().size());
-      if (sim.step_count() < out.target && checkpoints.due(sim.step_count()))
-        saved = periodic_checkpoint(save, err, warned) || saved;
+      if (sim.step_count() < out.target && checkpoints.due(sim.step_count()) &&
+          periodic_checkpoint(save, err, warned)) {
+        saved = true;
+        saved_step = sim.step_count();
+      }
     }
-  } catch (const std::exception&) {
+  } catch (const std::exception& e) {
     if (!o.quiet && ::isatty(2)) err << "\n";
+    const std::uint64_t failing = sim.step_count() + 1;
+    // cells that diverged keep the last good step: that one is worth a checkpoint
+    if (dynamic_cast<const core::SimulationDiverged*>(&e)) try {
+        save();
+        saved = true;
+        saved_step = sim.step_count();
+      } catch (const std::exception&) {
+        // the last periodic checkpoint, if any, stays the one to go on from
+      }
     failed.phase = "cells";
-    failed.steps = {{"first", 0}, {"completed", 0}, {"sheet_failed", sim.step_count() + 1}};
+    failed.steps = {{"sheet_first", first}, {"sheet_completed", saved_step}, {"sheet_failed", failing}};
     failed.checkpointed = saved;
-    failed.checkpoint_note = ", taken while the sheet grew";
+    failed.checkpoint_note = ", taken while the sheet grew at step " + std::to_string(saved_step);
     throw;
   }
   progress.finish();
@@ -320,7 +334,8 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     const auto a = std::chrono::steady_clock::now();
     const bool nonuniform = spec.params.growth == venation::GrowthMode::nonuniform;
     std::size_t last_print = 0;
-    bool saved = false;  // this run wrote checkpoint.cfck (an older one may be there from another run)
+    bool saved = false;          // this run wrote checkpoint.cfck (an older one may be there from another run)
+    std::size_t saved_step = 0;  // the step of the last checkpoint it wrote
     CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
     bool checkpoint_warned = false;
     try {
@@ -336,12 +351,15 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
           if (planar) err << (nonuniform ? ", growth step " : ", leaf length ") << r.scale;
           err << (::isatty(2) ? "\r" : "\n") << std::flush;
         }
-        if (!col.done() && checkpoints.due(r.steps)) saved = periodic_checkpoint(save, err, checkpoint_warned) || saved;
+        if (!col.done() && checkpoints.due(r.steps) && periodic_checkpoint(save, err, checkpoint_warned)) {
+          saved = true;
+          saved_step = r.steps;
+        }
       }
     } catch (const std::exception&) {
       // a step that failed may have left the state half changed: the last checkpoint is the one to resume
       if (!o.quiet && ::isatty(2)) err << "\n";
-      failed.steps = {{"first", first}, {"completed", 0}, {"failed", col.report().steps + 1}};
+      failed.steps = {{"first", first}, {"completed", saved_step}, {"failed", col.report().steps + 1}};
       failed.checkpointed = saved || sheet_checkpointed;
       failed.checkpoint_note = saved ? "" : ", taken while the sheet grew";
       throw;
@@ -479,11 +497,14 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     if (code == interrupted && checkpoint_error.empty())
       err << "continue with: cellform resume " << checkpoint.string() << "\n";
     return code;
-  } catch (const core::InvalidInput& e) {
-    const std::string m = e.what();  // a parameter the steps found wrong: where the script sets it
-    err << "cellform: " << (m.rfind("colonisation.", 0) == 0 ? spec.where : std::string()) << m << "\n";
+  } catch (const std::exception& e) {
+    const bool input = dynamic_cast<const core::InvalidInput*>(&e) != nullptr;
+    const std::string m = input ? e.what() : core::error_text(e);
+    // a parameter the steps found wrong: where the script sets it
+    err << "cellform: " << (input && m.rfind("colonisation.", 0) == 0 ? spec.where : std::string()) << m << "\n";
+    code = input ? usage : failure;
     fs::path last;
-    if (failed.checkpointed) {
+    if (failed.checkpointed) {  // a step failed after this run wrote a checkpoint
       err << "  (the last checkpoint is " << checkpoint.string() << failed.checkpoint_note << ")\n";
       last = checkpoint;
       // the folder then shows this run as far as its checkpoint: a run.json that says it failed
@@ -505,20 +526,17 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
     } else if (s.resume && !failed.steps.is_null() && fs::exists(o.checkpoint)) {
       err << "  (the last checkpoint is " << o.checkpoint.string() << ", the one resumed)\n";
       last = o.checkpoint;
+    } else if (!input) {
+      // the outputs failed (a full disk): what is left to continue from
+      if (!checkpoint_failure.empty())
+        err << "cellform: the final checkpoint failed too: " << checkpoint_failure << "\n";
+      if (resumable && fs::exists(dir / kCheckpointName))
+        err << "  (the last checkpoint written is " << (dir / kCheckpointName).string()
+            << "; cellform resume continues from it)\n";
     }
     // the same script would stop there again: an edited one can go on from the checkpoint
-    if (!last.empty() && !g_interrupt.load()) err << resume_hint(o, last, s.script_path) << "\n";
-    code = usage;
-  } catch (const std::exception& e) {
-    err << "cellform: " << core::error_text(e) << "\n";
-    if (failed.checkpointed)
-      err << "  (the last checkpoint is " << checkpoint.string() << failed.checkpoint_note << ")\n";
-    // the outputs failed (a full disk): what is left to continue from
-    if (!checkpoint_failure.empty()) err << "cellform: the final checkpoint failed too: " << checkpoint_failure << "\n";
-    if (resumable && fs::exists(dir / kCheckpointName))
-      err << "  (the last checkpoint written is " << (dir / kCheckpointName).string()
-          << "; cellform resume continues from it)\n";
-    code = failure;
+    if (!last.empty() && (input || dynamic_cast<const core::SimulationDiverged*>(&e)))
+      err << resume_hint(o, last, s.script_path) << "\n";
   }
   std::error_code ec;
   fs::remove_all(staging, ec);

@@ -64,10 +64,15 @@ std::string script_hash(const std::string& source);
 /// with --script, the edited script instead of the one the checkpoint keeps). Throws InputError.
 Start start_from(const RunOptions& o);
 
-/// resume --script: what the edited script places at or before the checkpoint's step (shapes, petioles)
-/// that the run's own script did not, in words; empty when nothing differs. Those are not placed: the
-/// checkpoint's cells are kept. Empty too when the run's script no longer loads.
-std::string unplaced_changes(const Start& s, const SceneConfig& now, const ScriptLimits& limits);
+/// resume --script: the scene the checkpoint's own script describes (read again, with its --sets), or
+/// nothing and the reason in `why` when it no longer loads (a file beside it is gone). Rethrows a Ctrl-C.
+std::optional<SceneConfig> load_run_script(const Start& s, const ScriptLimits& limits, std::string& why);
+
+/// resume --script: what `now` (the edited script) places at or before the checkpoint's step (shapes,
+/// petioles) that `before` (the run's script) did not, in words; empty when nothing differs. Those are not
+/// placed: the checkpoint's cells are kept. For a colonisation checkpoint whose cell sheet is grown, any
+/// change to shapes, petioles, cells{} or division{}.
+std::string unplaced_changes(const Start& s, const SceneConfig& before, const SceneConfig& now);
 
 /// Writes a run.json atomically (text that is not UTF-8, from a script's error say, is replaced).
 void write_run_json(const std::filesystem::path& path, const nlohmann::json& run);

@@ -1,6 +1,7 @@
 // Where a run starts from: its script, or a checkpoint to resume (with the script it keeps, or an edited
 // one given by --script); and the run.json and checkpoint pieces that depend on it.
 #include <charconv>
+#include <optional>
 #include <set>
 #include <tuple>
 
@@ -57,11 +58,25 @@ void write_run_json(const fs::path& path, const json& run) {
       path, [&](std::ostream& os) { os << run.dump(2, ' ', false, json::error_handler_t::replace) << "\n"; });
 }
 
+namespace {
+
+/// `p` as a shell word: quoted when it holds anything but letters, digits and -_./+,:@%=
+std::string shell_word(const std::string& p) {
+  if (!p.empty() && p.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_./+,:@%=") ==
+                        std::string::npos)
+    return p;
+  std::string q = "'";
+  for (const char c : p) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+}  // namespace
+
 std::string resume_hint(const RunOptions& o, const fs::path& checkpoint, const fs::path& script) {
-  std::string hint = "  to go on from it with the script corrected: cellform resume " + checkpoint.string() +
-                     " --script " + script.string();
+  std::string hint = "  to go on from it with the script corrected: cellform resume " +
+                     shell_word(checkpoint.string()) + " --script " + shell_word(script.string());
   // a new checkpoint is in this command's folder, where a resume writes anyway; the one resumed may not be
-  if (o.out && checkpoint == o.checkpoint) hint += " --out " + o.out->string();
+  if (o.out && checkpoint == o.checkpoint) hint += " --out " + shell_word(o.out->string());
   if (o.steps) hint += " --steps " + std::to_string(*o.steps);
   return hint;
 }
@@ -145,7 +160,8 @@ Start start_from(const RunOptions& o) {
       if (o.seed && *o.seed != *s.seed)
         throw InputError("--seed " + std::to_string(*o.seed) + ": a resumed run keeps the seed of " + what + " (" +
                          std::to_string(*s.seed) + "); start a new run to use another seed");
-      if (o.replace_script) s.has_target = false;  // the edited script's run.steps, unless --steps says
+      // a cell run resumed with --script: the edited script's run.steps if it changed it (see run_command)
+      if (o.replace_script && s.colonisation_bytes.empty() && !s.sheet_partial) s.has_target = false;
       if (o.steps) {
         s.target_steps = *o.steps;
         s.has_target = true;
@@ -190,18 +206,26 @@ Start start_from(const RunOptions& o) {
   return s;
 }
 
-std::string unplaced_changes(const Start& s, const SceneConfig& now, const ScriptLimits& limits) {
-  SceneConfig before;
+std::optional<SceneConfig> load_run_script(const Start& s, const ScriptLimits& limits, std::string& why) {
   try {
     ScriptHost old(limits);
-    before = old.load(s.checkpoint_source, s.replaced_path, s.checkpoint_sets);
-  } catch (const std::exception&) {
-    return {};
+    return old.load(s.checkpoint_source, s.replaced_path, s.checkpoint_sets);
+  } catch (const core::InvalidInput& e) {
+    if (g_interrupt.load()) throw;  // a Ctrl-C while it was read stops the resume, as in the first reading
+    why = e.what();
+  } catch (const std::exception& e) {
+    why = core::error_text(e);
   }
+  return std::nullopt;
+}
+
+std::string unplaced_changes(const Start& s, const SceneConfig& before, const SceneConfig& now) {
+  // a space-colonisation checkpoint on cells has its sheet grown: nothing of it applies any more
+  const bool grown = !s.colonisation_bytes.empty() && !s.sheet_partial;
   auto due = [&](const std::vector<forms::PetioleSpec>& all) {
     std::vector<std::tuple<double, double, double, bool, std::uint64_t>> out;
     for (const forms::PetioleSpec& p : all)
-      if (p.step <= s.step) out.emplace_back(p.at.x(), p.at.y(), p.at.z(), p.fixed, p.step);
+      if (grown || p.step <= s.step) out.emplace_back(p.at.x(), p.at.y(), p.at.z(), p.fixed, p.step);
     return out;
   };
   auto cells = [](const std::vector<InitialCell>& all) {
@@ -209,22 +233,29 @@ std::string unplaced_changes(const Start& s, const SceneConfig& now, const Scrip
     for (const InitialCell& c : all) out.emplace_back(c.position.x(), c.position.y(), c.position.z(), c.fixed);
     return out;
   };
-  std::string what;
+  std::vector<std::string> what;
   if (cells(before.initial_cells) != cells(now.initial_cells))
-    what = "shapes (" + std::to_string(now.initial_cells.size()) + " cells, the run's " +
-           std::to_string(before.initial_cells.size()) + ")";
+    what.push_back("shapes (" + std::to_string(now.initial_cells.size()) + " cells, the run's " +
+                   std::to_string(before.initial_cells.size()) + ")");
   if (due(before.scene.petioles) != due(now.scene.petioles)) {
     std::string list;
     for (const forms::PetioleSpec& p : now.scene.petioles)
-      if (p.step <= s.step) {
+      if (grown || p.step <= s.step) {
         std::string origin = p.origin;
         while (!origin.empty() && (origin.back() == ' ' || origin.back() == ':')) origin.pop_back();
         list += std::string(list.empty() ? "" : ", ") + (origin.empty() ? "petiole{}" : origin);
       }
-    what += std::string(what.empty() ? "" : " and ") + "petioles due by step " + std::to_string(s.step) + " (" +
-            (list.empty() ? std::string("none now") : list) + ")";
+    what.push_back((grown ? std::string("petioles") : "petioles due by step " + std::to_string(s.step)) + " (" +
+                   (list.empty() ? std::string("none now") : list) + ")");
   }
-  return what;
+  if (grown) {
+    const json a = physics_of(before.resolved), b = physics_of(now.resolved);
+    for (const char* section : {"cells", "division"})
+      if (a.value(section, json()) != b.value(section, json())) what.push_back(std::string(section) + "{...}");
+  }
+  std::string text;
+  for (std::size_t k = 0; k < what.size(); ++k) text += (k == 0 ? "" : k + 1 == what.size() ? " and " : ", ") + what[k];
+  return text;
 }
 
 }  // namespace cellform::app

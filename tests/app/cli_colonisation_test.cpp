@@ -402,7 +402,8 @@ TEST_CASE("a rule error while surface{cells = true}'s sheet grows can go on with
   REQUIRE(r.code == 2);
   // the error first, then where to go on from
   const std::size_t error = r.err.find("broken.lua:2: division.rule must return true or false");
-  const std::size_t where = r.err.find("(the last checkpoint is " + checkpoint + ", taken while the sheet grew)");
+  const std::size_t where =
+      r.err.find("(the last checkpoint is " + checkpoint + ", taken while the sheet grew at step 10)");
   REQUIRE(error != std::string::npos);
   REQUIRE(where != std::string::npos);
   CHECK(error < where);
@@ -411,6 +412,7 @@ TEST_CASE("a rule error while surface{cells = true}'s sheet grows can go on with
   CHECK(run["status"] == "failed");
   CHECK(run["phase"] == "cells");
   CHECK(run["steps"]["sheet_failed"] == 15);
+  CHECK(run["steps"]["sheet_completed"] == 10);
   CHECK_FALSE(fs::exists(out / "veins.ply"));
   // a plain resume stops at the same step, and names the checkpoint it resumed
   r = cli({"resume", checkpoint, "--out", (t.path / "again").string(), "--quiet"});
@@ -425,4 +427,32 @@ TEST_CASE("a rule error while surface{cells = true}'s sheet grows can go on with
   run = nlohmann::json::parse(slurp(out / "run.json"));
   CHECK(run["status"] == "complete");
   CHECK(run["script"]["replaces"]["hash"] == cellform::app::script_hash(slurp(broken)));
+}
+
+TEST_CASE("a cell sheet that diverges under surface{cells = true} leaves its last good step and a failed run.json",
+          "[cli][checkpoint]") {
+  TempDir t("cli-sheet-diverged");
+  const auto script = t.write("sd.lua",
+                              "cells { time_step = 0.2, separation = 0.05, drag = {0.8, 0.8, 0.3}, max_speed = 0.1 }\n"
+                              "division { trigger = 'age', age = 6, max_cells = 400 }\n"
+                              "run { steps = 40 }\n"
+                              "disc { radius = 4 }\n"
+                              "petiole { at = {0, -4, 0} }\n"
+                              "surface { cells = true }\n"
+                              "colonisation { kill_distance = 1, birth_distance = 2, darts = 20000 }\n");
+  const fs::path out = t.path / "out";
+  const std::string checkpoint = (out / "checkpoint.cfck").string();
+  const CliResult r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
+  REQUIRE(r.code == 1);
+  CHECK_THAT(r.err, Contains("the simulation diverged") &&
+                        Contains("cellform resume " + checkpoint + " --script " + script.string()));
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["status"] == "failed");
+  CHECK(run["phase"] == "cells");
+  const std::uint64_t good = run["steps"]["sheet_completed"];
+  CHECK(run["steps"]["sheet_failed"] == good + 1);
+  const auto saved = cellform::core::read_chunk_file(slurp(out / "checkpoint.cfck"), "CKPT", 1, "test");
+  const auto meta = nlohmann::json::parse(saved.chunks.at("meta"));
+  CHECK(meta["mode"] == "sheet");
+  CHECK(meta["step"] == good);
 }

@@ -1,0 +1,294 @@
+// Tests of runs that an error stops (a rule that fails, a petiole far from the cells, cells that diverge):
+// what they leave (checkpoint, frames, a run.json that says failed) and `cellform resume --script`, which
+// goes on from that checkpoint with the corrected script.
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "app/run_internal.h"
+#include "core/chunk_file.h"
+#include "tests/app/test_util.h"
+
+using namespace cellform::test;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+TEST_CASE("a rule error names the checkpoint of this run, never one left by an earlier run", "[cli][checkpoint]") {
+  TempDir t("cli-late-rule");
+  // the division rule breaks from step 9 on: the run stops there with the script's line
+  const auto script = t.write("late.lua",
+                              "cells { time_step = 0.2, separation = 0.05 }\n"
+                              "division { max_cells = 300, rule = function(cell)\n"
+                              "  if cell.step >= 9 then return 'x' end\n"
+                              "  return cell.age > 4 end }\n"
+                              "run { steps = 30 }\n"
+                              "disc { radius = 3 }\n"
+                              "petiole { at = {0, 0, 0} }\n");
+  const fs::path out = t.path / "out";
+  fs::create_directories(out);
+  t.write("out/checkpoint.cfck", "left by an earlier run");
+  const CliResult first = cli({"run", script.string(), "--out", out.string(), "--quiet"});
+  CHECK(first.code == 2);
+  CHECK_THAT(first.err, Contains("late.lua:2: division.rule must return true or false"));
+  CHECK_THAT(first.err, !Contains("checkpoint"));  // the stale file is not this run's
+  const CliResult second = cli({"run", script.string(), "--out", out.string(), "--checkpoint-every", "4", "--quiet"});
+  CHECK(second.code == 2);
+  CHECK_THAT(second.err, Contains("(the last checkpoint is " + (out / "checkpoint.cfck").string() + ")"));
+  // that checkpoint (step 8) resumes into the same error, and says it is the one resumed
+  const fs::path kept = t.path / "step8.cfck";
+  fs::copy_file(out / "checkpoint.cfck", kept);
+  const CliResult resumed = cli({"resume", kept.string(), "--out", (t.path / "again").string(), "--quiet"});
+  CHECK(resumed.code == 2);
+  CHECK_THAT(resumed.err, Contains("(the last checkpoint is " + kept.string() + ", the one resumed)"));
+}
+
+TEST_CASE("a run stopped by a script error goes on from its checkpoint with the corrected script",
+          "[cli][checkpoint]") {
+  TempDir t("cli-resume-script");
+  // the rule breaks from step 25 on; the corrected copy differs only there, so steps 1 to 24 are the same
+  const std::string head =
+      "cells { time_step = 0.2, separation = 0.05 }\n"
+      "division { max_cells = 3000, rule = function(cell)\n"
+      "  if cell.step >= 25 then return ";
+  const std::string tail =
+      " end\n"
+      "  return cell.age > 4 end }\n"
+      "run { steps = 40 }\n"
+      "disc { radius = 3 }\n"
+      "petiole { at = {0, 0, 0} }\n"
+      "venation { threshold = 10 }\n"
+      "output { every = 10 }\n";
+  const auto broken = t.write("broken.lua", head + "'x'" + tail);
+  const auto fixed = t.write("fixed.lua", head + "cell.age > 6" + tail);
+  const fs::path out = t.path / "out", fresh = t.path / "fresh";
+  const fs::path checkpoint = out / "checkpoint.cfck";
+  // an earlier run in the folder: the failed run's run.json and checkpoint replace it, not sit beside it
+  REQUIRE(cli({"run", fixed.string(), "--out", out.string(), "--steps", "3", "--quiet"}).code == 0);
+  REQUIRE(fs::exists(out / "cells.ply"));
+  const CliResult failed = cli({"run", broken.string(), "--out", out.string(), "--checkpoint-every", "10", "--quiet"});
+  REQUIRE(failed.code == 2);
+  CHECK_THAT(failed.err, Contains("at step 25"));
+  CHECK_THAT(failed.err, Contains("cellform resume " + checkpoint.string() + " --script " + broken.string()));
+  // the folder shows the run up to its checkpoint (step 20): the frames so far and a run.json that says why
+  auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["status"] == "failed");
+  CHECK_THAT(run["error"].get<std::string>(), Contains("broken.lua:2: division.rule must return true or false"));
+  CHECK(run["steps"]["completed"] == 20);
+  CHECK(run["steps"]["failed"] == 25);
+  CHECK(run["outputs"] == nlohmann::json::array({"frames/cells_000010.ply", "frames/cells_000020.ply", "run.json"}));
+  CHECK(fs::exists(out / "frames/cells_000020.ply"));
+  CHECK_FALSE(fs::exists(out / "frames/cells_000030.ply"));
+  CHECK_FALSE(fs::exists(out / "cells.ply"));  // the failed step's cells are not the run's
+  // the checkpoint keeps the broken script: a plain resume stops at the same step again
+  CliResult r = cli({"resume", checkpoint.string(), "--out", (t.path / "again").string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("at step 25"));
+  r = cli({"resume", checkpoint.string(), "--script", fixed.string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  // the same cells as a run of the corrected script from the start
+  REQUIRE(cli({"run", fixed.string(), "--out", fresh.string(), "--quiet"}).code == 0);
+  CHECK(slurp(out / "cells.ply") == slurp(fresh / "cells.ply"));
+  CHECK(slurp(out / "veins.ply") == slurp(fresh / "veins.ply"));
+  for (const char* f : {"frames/cells_000010.ply", "frames/cells_000020.ply", "frames/cells_000030.ply"}) {
+    INFO(f);  // the failed run's frames stay, as the run's
+    CHECK(slurp(out / f) == slurp(fresh / f));
+  }
+  run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["status"] == "complete");
+  CHECK(run["outputs"].size() == nlohmann::json::parse(slurp(fresh / "run.json"))["outputs"].size());
+  CHECK(run["steps"]["first"] == 20);
+  CHECK(run["steps"]["completed"] == 40);
+  CHECK(run["script"]["hash"] == cellform::app::script_hash(slurp(fixed)));
+  CHECK(run["script"]["replaces"]["hash"] == cellform::app::script_hash(slurp(broken)));
+  CHECK(run["script"]["replaces"]["from_step"] == 20);
+  // the new checkpoint keeps the corrected script, so it resumes without --script
+  const auto saved = cellform::core::read_chunk_file(slurp(checkpoint), "CKPT", 1, "test");
+  CHECK(saved.chunks.at("script") == slurp(fixed));
+  r = cli({"resume", checkpoint.string(), "--steps", "45", "--quiet"});
+  CHECK(r.code == 0);
+  CHECK_FALSE(nlohmann::json::parse(slurp(out / "run.json"))["script"].contains("replaces"));
+}
+
+TEST_CASE("resume --script is refused clearly where it cannot apply", "[cli][checkpoint]") {
+  TempDir t("cli-resume-script-bad");
+  const auto script = t.write("small.lua", kSmall);
+  const fs::path out = t.path / "o";
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "5"}).code == 0);
+  const std::string checkpoint = (out / "checkpoint.cfck").string();
+  const std::string before = slurp(out / "checkpoint.cfck");
+  CliResult r = cli({"run", script.string(), "--script", script.string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--script is for cellform resume"));
+  r = cli({"resume", checkpoint, "--script", (t.path / "missing.lua").string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--script: file '" + (t.path / "missing.lua").string() + "' does not exist"));
+  r = cli({"resume", checkpoint, "--script", checkpoint});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("is a checkpoint; give the edited growth script"));
+  r = cli({"resume", checkpoint, "--script", t.write("broken.lua", "cells {\n").string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("broken.lua:2:") && Contains("with --script"));
+  const auto veins = t.write("veins.lua", "leaf {}\ncolonisation { initial_length = 20, final_length = 24 }\n");
+  r = cli({"resume", checkpoint, "--script", veins.string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err,
+             Contains("is of a cell run, but --script " + veins.string() + " describes a space-colonisation run"));
+  CHECK(slurp(out / "checkpoint.cfck") == before);  // every refusal left it as it was
+  // a physics value may not change on a plain resume, but may with an edited script
+  r = cli({"resume", checkpoint, "--steps", "8", "--set", "cells.spring=2", "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("or resume with --script and an edited script"));
+  r = cli({"resume", checkpoint, "--steps", "8", "--set", "cells.spring=2", "--script", script.string(), "--quiet"});
+  CHECK(r.code == 0);
+}
+
+TEST_CASE(
+    "resume --script: the run's --sets the edited script lacks are dropped, its run.steps applies, and "
+    "changed shapes are said",
+    "[cli][checkpoint]") {
+  TempDir t("cli-resume-script-carry");
+  const std::string rest =
+      "cells { time_step = 0.2, separation = 0.05 }\n"
+      "disc { radius = 3 }\n"
+      "petiole { at = {0, 0, 0} }\n";
+  const auto first = t.write("first.lua",
+                             "local P = params { age = 4 }\n"
+                             "division { max_cells = 3000, rule = function(cell)\n"
+                             "  if cell.step >= 25 then return 'x' end\n"
+                             "  return cell.age > P.age end }\n"
+                             "run { steps = 40 }\n"
+                             "output { every = 10 }\n" +
+                                 rest);
+  const auto renamed = t.write("renamed.lua",
+                               "local P = params { min_age = 4 }\n"
+                               "division { max_cells = 3000, rule = function(cell) return cell.age > P.min_age end }\n"
+                               "run { steps = 50 }\n" +
+                                   rest);
+  const fs::path out = t.path / "out";
+  const std::string checkpoint = (out / "checkpoint.cfck").string();
+  CliResult r =
+      cli({"run", first.string(), "--out", out.string(), "--set", "age=5", "--checkpoint-every", "10", "--quiet"});
+  REQUIRE(r.code == 2);
+  const std::string at20 = slurp(out / "checkpoint.cfck");
+  r = cli({"resume", checkpoint, "--script", renamed.string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("the run's --set age=5 is dropped: " + renamed.string() + " has no parameter for it"));
+  CHECK_THAT(r.err, !Contains("warning"));  // the same disc and petiole
+  auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["overrides"].empty());
+  CHECK(run["steps"]["completed"] == 50);  // the edited script changes run.steps: that applies
+  // one that leaves run.steps as it was keeps the run's own target, --steps included
+  const fs::path steps = t.path / "steps";
+  const std::string stepped = (steps / "checkpoint.cfck").string();
+  REQUIRE(cli({"run", first.string(), "--out", steps.string(), "--steps", "45", "--checkpoint-every", "10", "--quiet"})
+              .code == 2);
+  const std::string same_steps = slurp(renamed);
+  const auto kept =
+      t.write("kept.lua", same_steps.substr(0, same_steps.find("run { steps = 50 }")) + "run { steps = 40 }\n" + rest);
+  r = cli({"resume", stepped, "--script", kept.string(), "--quiet"});
+  CHECK(r.code == 0);
+  CHECK(nlohmann::json::parse(slurp(steps / "run.json"))["steps"]["completed"] == 45);
+  // a run.steps below the checkpoint's step is refused, as --steps would be
+  const auto short_run =
+      t.write("short.lua", same_steps.substr(0, same_steps.find("run { steps = 50 }")) + "run { steps = 15 }\n" + rest);
+  r = cli({"resume", stepped, "--script", short_run.string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("short.lua:3: run.steps = 15 is below the checkpoint's step 45"));
+  // no frames asked for any more, but those of the run up to its checkpoint stay its outputs
+  CHECK(run["outputs"].size() == 5);  // cells.ply, cells.obj, run.json, frames 10 and 20
+  CHECK(fs::exists(out / "frames/cells_000020.ply"));
+  // a petiole the edited script moves is not placed again, and the resume says so
+  t.write("out/checkpoint.cfck", at20);
+  const auto moved = t.write("moved.lua", slurp(renamed) + "petiole { at = {1, 0, 0} }\n");
+  r = cli({"resume", checkpoint, "--script", moved.string(), "--quiet"});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("warning: " + moved.string() + " changes the petioles due by step 20") &&
+                        Contains("start a new run for them"));
+}
+
+TEST_CASE(
+    "a failed run's run.json is written even when the error has bytes that are not UTF-8, and the hint "
+    "keeps --out and --steps",
+    "[cli][checkpoint]") {
+  TempDir t("cli-failed-utf8");
+  const auto script = t.write("utf.lua",
+                              "cells { time_step = 0.2 }\n"
+                              "division { max_cells = 3000, rule = function(cell)\n"
+                              "  if cell.step >= 15 then error('bad \\255 byte') end\n"
+                              "  return cell.age > 4 end }\n"
+                              "run { steps = 40 }\n"
+                              "disc { radius = 3 }\n");
+  const fs::path out = t.path / "out dir";  // a space: the hint quotes the path
+  // an earlier run's frames: the failed run, which has none, leaves no empty frames/ behind
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--steps", "10", "--set", "output.every=5", "--quiet"})
+              .code == 0);
+  REQUIRE(fs::exists(out / "frames/cells_000005.ply"));
+  CliResult r = cli({"run", script.string(), "--out", out.string(), "--checkpoint-every", "10", "--quiet"});
+  REQUIRE(r.code == 2);
+  CHECK_THAT(r.err, !Contains("could not be written"));
+  CHECK_THAT(r.err, Contains("cellform resume '" + (out / "checkpoint.cfck").string() + "' --script "));
+  CHECK_FALSE(fs::exists(out / "frames"));
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["status"] == "failed");
+  CHECK_THAT(run["error"].get<std::string>(), Contains("utf.lua:3: bad"));
+  // resumed into another folder, it fails before a checkpoint of its own: the hint names the folder
+  const std::string checkpoint = (out / "checkpoint.cfck").string(), other = (t.path / "other").string();
+  r = cli({"resume", checkpoint, "--out", other, "--steps", "30", "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err,
+             Contains("cellform resume '" + checkpoint + "' --script ") && Contains(" --out " + other + " --steps 30"));
+  CHECK_FALSE(fs::exists(other));
+}
+
+TEST_CASE(
+    "a run that diverges leaves its last good step, a run.json that says so, and goes on with an edited "
+    "script",
+    "[cli][checkpoint]") {
+  TempDir t("cli-diverged");
+  const std::string rest =
+      "division { trigger = 'age', age = 6, max_cells = 300 }\n"
+      "run { steps = 20 }\n"
+      "disc { radius = 3 }\n";
+  const auto tight = t.write("tight.lua", "cells { time_step = 0.2, max_speed = 0.001 }\n" + rest);
+  const auto loose = t.write("loose.lua", "cells { time_step = 0.2 }\n" + rest);
+  const fs::path out = t.path / "out";
+  const std::string checkpoint = (out / "checkpoint.cfck").string();
+  CliResult r = cli({"run", tight.string(), "--out", out.string(), "--quiet"});
+  REQUIRE(r.code == 1);
+  CHECK_THAT(r.err, Contains("the simulation diverged") &&
+                        Contains("cellform resume " + checkpoint + " --script " + tight.string()));
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["status"] == "failed");
+  CHECK_THAT(run["error"].get<std::string>(), Contains("exceeds cells.max_speed = 0.001"));
+  const std::uint64_t good = run["steps"]["completed"];
+  CHECK(run["steps"]["failed"] == good + 1);
+  const auto saved = cellform::core::read_chunk_file(slurp(out / "checkpoint.cfck"), "CKPT", 1, "test");
+  CHECK(nlohmann::json::parse(saved.chunks.at("meta"))["step"] == good);
+  r = cli({"resume", checkpoint, "--script", loose.string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["steps"]["completed"] == 20);
+}
+
+TEST_CASE(
+    "the clean-up of an emptied frames/ leaves a file of that name alone, and a divergence whose "
+    "checkpoint cannot be written still says it diverged",
+    "[cli][checkpoint]") {
+  TempDir t("cli-frames-file");
+  const auto script = t.write("small.lua", kSmall);
+  const fs::path out = t.path / "out";
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--steps", "10", "--set", "output.every=5", "--quiet"})
+              .code == 0);
+  fs::remove_all(out / "frames");
+  t.write("out/frames", "the user's notes");
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--steps", "3", "--quiet"}).code == 0);
+  CHECK(slurp(out / "frames") == "the user's notes");
+  const auto tight = t.write("tight.lua", "cells { time_step = 0.2, max_speed = 0.001 }\ndisc { radius = 3 }\n");
+  const fs::path blocked = t.path / "blocked";
+  fs::create_directories(blocked / "checkpoint.cfck" / "x");  // no checkpoint can be written there
+  const CliResult r = cli({"run", tight.string(), "--out", blocked.string(), "--quiet"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("the simulation diverged") && Contains("the last good one, could not be written"));
+  CHECK_FALSE(fs::exists(blocked / "run.json"));
+}
