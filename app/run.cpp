@@ -40,17 +40,9 @@ std::string version() { return CELLFORM_VERSION; }
 namespace {
 
 std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t target, const forms::Scene& scene) {
-  json meta = {{"program", "cellform"},
-               {"version", version()},
-               {"script", absolute_path_text(s.script_path)},
-               {"overrides", s.sets},
-               {"seed", seed},
-               {"checkpoint_every", s.checkpoint_every ? json(*s.checkpoint_every) : json(nullptr)},
-               {"target_steps", target},
-               {"step", scene.simulation().step_count()},
-               {"out", absolute_path_text(s.out_dir)},
-               {"initial_cells", s.initial_cells},
-               {"physics", s.physics}};
+  json meta = checkpoint_meta(s, seed, target, scene.simulation().step_count());
+  meta["initial_cells"] = s.initial_cells;
+  meta["physics"] = s.physics;
   return core::write_chunk_file(
       kCheckpointKind, kCheckpointVersion,
       {{"meta", meta.dump()}, {"script", s.source}, {"cells", cells::save(scene.simulation().cells())}});

@@ -29,19 +29,11 @@ namespace {
 /// resume needs to finish the growth bit-identically and then grow the veins.
 std::string sheet_checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t target,
                                    const cells::Simulation& sim, std::size_t initial_cells, const json& physics) {
-  json meta = {{"program", "cellform"},
-               {"version", version()},
-               {"mode", "sheet"},
-               {"script", absolute_path_text(s.script_path)},
-               {"overrides", s.sets},
-               {"seed", seed},
-               {"checkpoint_every", s.checkpoint_every ? json(*s.checkpoint_every) : json(nullptr)},
-               {"target_steps", target},
-               {"steps_given", s.has_target},
-               {"step", sim.step_count()},
-               {"out", absolute_path_text(s.out_dir)},
-               {"initial_cells", initial_cells},
-               {"physics", physics}};  // a resume grows the rest with these values, whatever the defaults then
+  json meta = checkpoint_meta(s, seed, target, sim.step_count());
+  meta["mode"] = "sheet";
+  meta["steps_given"] = s.has_target;
+  meta["initial_cells"] = initial_cells;
+  meta["physics"] = physics;  // a resume grows the rest with these values, whatever the defaults then
   return core::write_chunk_file(kCheckpointKind, kCheckpointVersion,
                                 {{"meta", meta.dump()}, {"script", s.source}, {"cells", cells::save(sim.cells())}});
 }
@@ -187,16 +179,8 @@ venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cel
 std::string colonisation_checkpoint_bytes(const Start& s, std::uint64_t seed, const venation::ColonisationParams& p,
                                           const venation::Colonisation& col, const cells::Cells* sheet,
                                           std::size_t sheet_initial) {
-  json meta = {{"program", "cellform"},
-               {"version", version()},
-               {"mode", "colonisation"},
-               {"script", absolute_path_text(s.script_path)},
-               {"overrides", s.sets},
-               {"seed", seed},
-               {"checkpoint_every", s.checkpoint_every ? json(*s.checkpoint_every) : json(nullptr)},
-               {"target_steps", p.max_steps},
-               {"step", col.report().steps},
-               {"out", absolute_path_text(s.out_dir)}};
+  json meta = checkpoint_meta(s, seed, p.max_steps, col.report().steps);
+  meta["mode"] = "colonisation";
   if (sheet) meta["initial_cells"] = sheet_initial;
   std::map<std::string, std::string> chunks{{"meta", meta.dump()}, {"script", s.source}, {"colonisation", col.save()}};
   if (sheet) chunks["cells"] = cells::save(*sheet);

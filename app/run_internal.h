@@ -94,6 +94,11 @@ nlohmann::json physics_of(const nlohmann::json& resolved);
 /// value as an override text that reads back the same.
 Overrides with_physics(const Overrides& overrides, const nlohmann::json& physics);
 
+/// The metadata every checkpoint keeps (start_from reads it back): program, version, script path (absolute),
+/// --set overrides, seed, --checkpoint-every, the step limit, the step, and the output folder. Each kind
+/// of checkpoint adds its own (mode, initial cells, physics).
+nlohmann::json checkpoint_meta(const Start& s, std::uint64_t seed, std::uint64_t target, std::uint64_t step);
+
 /// `p` made absolute (against the current directory) for a checkpoint, so that resume works from
 /// anywhere; `p` itself if the current directory cannot be read.
 std::string absolute_path_text(const std::filesystem::path& p);

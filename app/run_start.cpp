@@ -88,6 +88,18 @@ json script_record(const Start& s) {
   return r;
 }
 
+json checkpoint_meta(const Start& s, std::uint64_t seed, std::uint64_t target, std::uint64_t step) {
+  return {{"program", "cellform"},
+          {"version", version()},
+          {"script", absolute_path_text(s.script_path)},
+          {"overrides", s.sets},
+          {"seed", seed},
+          {"checkpoint_every", s.checkpoint_every ? json(*s.checkpoint_every) : json(nullptr)},
+          {"target_steps", target},
+          {"step", step},
+          {"out", absolute_path_text(s.out_dir)}};
+}
+
 std::string absolute_path_text(const fs::path& p) {
   std::error_code ec;
   const fs::path a = fs::absolute(p, ec);
