@@ -1,6 +1,7 @@
 // Space-colonisation venation (Runions et al. 2005): dart throwing, Eq. 1 growth, open and closed removal.
 // The state is in colonisation_impl.h; new sources (darts, marginal reveal) in colonisation_sources.cpp;
-// checkpoints in colonisation_state.cpp.
+// checkpoints in colonisation_state.cpp; parameter checks in colonisation_checks.cpp; widths and whole runs
+// in colonisation_tree.cpp.
 #include "venation/colonisation.h"
 
 #include <cmath>
@@ -14,93 +15,12 @@ namespace cellform::venation {
 using core::InvalidInput;
 using core::number_text;
 
-namespace {
-
-void require_distance(double v, const char* name) {
-  if (!(v > 0 && std::isfinite(v)))
-    throw InvalidInput(std::string("colonisation.") + name +
-                       " must be a positive, finite distance in model units, got " + std::to_string(v));
-}
-
-}  // namespace
-
-void validate(const ColonisationParams& p) {
-  require_distance(p.source_birth_distance, "source_birth_distance");
-  require_distance(p.vein_birth_distance, "vein_birth_distance");
-  require_distance(p.kill_distance, "kill_distance");
-  require_distance(p.node_distance, "node_distance");
-  if (!(p.darts_per_area >= 0 && std::isfinite(p.darts_per_area)))
-    throw InvalidInput("colonisation.darts_per_area must be a finite number >= 0 of darts per unit area per step");
-  if (p.kill_distance < 0.5 * p.node_distance)
-    throw InvalidInput("colonisation.kill_distance (" + number_text(p.kill_distance) +
-                       ") must be at least half of colonisation.node_distance (" + number_text(p.node_distance) +
-                       "): otherwise a vein tip can step over a source and circle around it forever");
-  if (!(p.initial_scale > 0 && std::isfinite(p.initial_scale)))
-    throw InvalidInput("colonisation.initial_scale must be a positive, finite scale factor");
-  if (p.growth == GrowthMode::nonuniform) {
-    if (p.growth_steps == 0) throw InvalidInput("colonisation.growth_steps must be at least 1 for nonuniform growth");
-    for (const auto& [f, name] : {std::pair{&p.growth_x, "growth_x"}, std::pair{&p.growth_y, "growth_y"}}) {
-      const std::string n = std::string("colonisation.") + name;
-      if (f->y.empty() || f->y.size() != f->rate.size())
-        throw InvalidInput(n + " needs as many rates as heights, at least one (a lookup table y -> REG)");
-      for (std::size_t i = 0; i < f->y.size(); ++i) {
-        if (!std::isfinite(f->y[i]) || !(f->rate[i] > 0 && std::isfinite(f->rate[i])))
-          throw InvalidInput(n + ": entry " + std::to_string(i + 1) + " needs a finite height and a finite rate > 0");
-        if (i > 0 && !(f->y[i] > f->y[i - 1]))
-          throw InvalidInput(n + ".y must increase strictly (entry " + std::to_string(i + 1) +
-                             " is not above the one before): the lookup table must be monotone in y");
-      }
-      const double top = *std::max_element(f->rate.begin(), f->rate.end());
-      if (std::log(top) * static_cast<double>(p.growth_steps) > std::log(detail::kMaxNonuniformGrowth))
-        throw InvalidInput(n + ": a rate of " + number_text(top) +
-                           " per step over colonisation.growth_steps = " + std::to_string(p.growth_steps) +
-                           " would grow the leaf more than a millionfold along that axis; use rates nearer 1 or "
-                           "fewer steps");
-    }
-  } else if (p.growth != GrowthMode::none) {
-    if (!(p.final_scale >= p.initial_scale && std::isfinite(p.final_scale)))
-      throw InvalidInput("colonisation.final_scale must be finite and at least colonisation.initial_scale");
-    if (!(p.scale_step > 0 && std::isfinite(p.scale_step)))
-      throw InvalidInput(
-          "colonisation.scale_step must be a positive increase of the leaf size per step when the leaf grows");
-  }
-  if (p.max_steps == 0) throw InvalidInput("colonisation.max_steps must be at least 1");
-  if (p.threads < 0) throw InvalidInput("colonisation.threads must be >= 0 (0 = all cores)");
-  if (p.settle_steps == 0) throw InvalidInput("colonisation.settle_steps must be at least 1");
-}
-
 double GrowthFunction::operator()(double y0) const {
   if (y0 <= y.front()) return rate.front();
   if (y0 >= y.back()) return rate.back();
   const auto i = static_cast<std::size_t>(std::upper_bound(y.begin(), y.end(), y0) - y.begin());
   const double t = (y0 - y[i - 1]) / (y[i] - y[i - 1]);
   return rate[i - 1] + t * (rate[i] - rate[i - 1]);
-}
-
-void validate(const Leaf& leaf) {
-  validate_outline(leaf.outline, "leaf.outline");
-  const OutlineIndex index(leaf.outline);
-  const double size = (index.hi() - index.lo()).norm();
-  auto inside = [&](const Vec2& q) {
-    return index.contains(q) || distance_to_boundary(leaf.outline, q) <= 1e-6 * size;
-  };
-  if (!leaf.petiole.allFinite() || !inside(leaf.petiole))
-    throw InvalidInput("leaf.petiole at (" + number_text(leaf.petiole.x()) + ", " + number_text(leaf.petiole.y()) +
-                       ") lies outside the blade outline; it must be inside or on it");
-  for (std::size_t i = 0; i < leaf.initial_nodes.size(); ++i)
-    if (!leaf.initial_nodes[i].allFinite() || !inside(leaf.initial_nodes[i]))
-      throw InvalidInput("leaf.initial_nodes[" + std::to_string(i + 1) + "] lies outside the blade outline");
-  for (std::size_t i = 0; i < leaf.initial_sources.size(); ++i)
-    if (!leaf.initial_sources[i].allFinite() || !inside(leaf.initial_sources[i]))
-      throw InvalidInput("leaf.initial_sources[" + std::to_string(i + 1) + "] lies outside the blade outline");
-}
-
-std::vector<std::pair<Index, Index>> VeinTree::edges() const {
-  std::vector<std::pair<Index, Index>> e;
-  for (Index i = 0; i < parent.size(); ++i)
-    if (parent[i] != kNoIndex) e.emplace_back(parent[i], i);
-  e.insert(e.end(), anastomoses.begin(), anastomoses.end());
-  return e;
 }
 
 // ---- The steps of the state (declared in colonisation_impl.h) ----
@@ -635,53 +555,6 @@ std::size_t Colonisation::lazy_sources() const {
   std::size_t n = 0;
   for (Index s : impl_->active) n += impl_->sectors[s].lazy ? 1 : 0;
   return n;
-}
-
-std::pair<VeinTree, ColonisationReport> colonise(const Leaf& leaf, const ColonisationParams& params,
-                                                 const ColonisationProgress& progress) {
-  Colonisation c(leaf, params);
-  c.run(progress);
-  return {c.tree(), c.report()};
-}
-
-std::pair<VeinTree, ColonisationReport> colonise(const Domain& domain, const ColonisationParams& params,
-                                                 const ColonisationProgress& progress) {
-  Colonisation c(domain, params);
-  c.run(progress);
-  return {c.tree(), c.report()};
-}
-
-void compute_widths(VeinTree& tree, const WidthParams& w) {
-  if (!(w.exponent > 0 && std::isfinite(w.exponent)))
-    throw InvalidInput("widths.exponent (Murray's n) must be positive");
-  if (!(w.tip_radius > 0 && std::isfinite(w.tip_radius)))
-    throw InvalidInput("widths.tip_radius must be a positive radius in model units");
-  if (!(w.per_node_flow >= 0 && std::isfinite(w.per_node_flow)))
-    throw InvalidInput("widths.per_node_flow must be >= 0");
-  const std::size_t n = tree.size();
-  std::vector<std::uint32_t> children(n, 0);
-  for (Index i = 0; i < n; ++i)
-    if (tree.parent[i] != kNoIndex) ++children[tree.parent[i]];
-  // flow in units of tip_radius^n; children always follow their parent, so one reverse pass suffices
-  tree.flow.assign(n, 0.0);
-  for (Index i = static_cast<Index>(n); i-- > 0;) {
-    tree.flow[i] += children[i] == 0 ? 1.0 : w.per_node_flow;
-    if (tree.parent[i] != kNoIndex) tree.flow[tree.parent[i]] += tree.flow[i];
-  }
-  tree.radius.resize(n);
-  for (std::size_t i = 0; i < n; ++i) tree.radius[i] = w.tip_radius * std::pow(tree.flow[i], 1.0 / w.exponent);
-  // order: the child with the largest flow continues the parent's order
-  std::vector<Index> main_child(n, kNoIndex);
-  for (Index i = 0; i < n; ++i) {
-    const Index pa = tree.parent[i];
-    if (pa == kNoIndex) continue;
-    const Index m = main_child[pa];
-    if (m == kNoIndex || tree.flow[i] > tree.flow[m]) main_child[pa] = i;
-  }
-  tree.order.assign(n, 1);
-  for (Index i = 0; i < n; ++i)
-    if (tree.parent[i] != kNoIndex)
-      tree.order[i] = tree.order[tree.parent[i]] + (main_child[tree.parent[i]] == i ? 0 : 1);
 }
 
 }  // namespace cellform::venation

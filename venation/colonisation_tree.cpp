@@ -1,0 +1,67 @@
+// Space colonisation: whole runs in one call, and the vein tree's edges and Murray widths (computed once,
+// at the end, from the veinlets towards the base).
+#include <cmath>
+
+#include "core/errors.h"
+#include "venation/colonisation_impl.h"
+
+namespace cellform::venation {
+
+using core::InvalidInput;
+
+std::vector<std::pair<Index, Index>> VeinTree::edges() const {
+  std::vector<std::pair<Index, Index>> e;
+  for (Index i = 0; i < parent.size(); ++i)
+    if (parent[i] != kNoIndex) e.emplace_back(parent[i], i);
+  e.insert(e.end(), anastomoses.begin(), anastomoses.end());
+  return e;
+}
+
+std::pair<VeinTree, ColonisationReport> colonise(const Leaf& leaf, const ColonisationParams& params,
+                                                 const ColonisationProgress& progress) {
+  Colonisation c(leaf, params);
+  c.run(progress);
+  return {c.tree(), c.report()};
+}
+
+std::pair<VeinTree, ColonisationReport> colonise(const Domain& domain, const ColonisationParams& params,
+                                                 const ColonisationProgress& progress) {
+  Colonisation c(domain, params);
+  c.run(progress);
+  return {c.tree(), c.report()};
+}
+
+void compute_widths(VeinTree& tree, const WidthParams& w) {
+  if (!(w.exponent > 0 && std::isfinite(w.exponent)))
+    throw InvalidInput("widths.exponent (Murray's n) must be positive");
+  if (!(w.tip_radius > 0 && std::isfinite(w.tip_radius)))
+    throw InvalidInput("widths.tip_radius must be a positive radius in model units");
+  if (!(w.per_node_flow >= 0 && std::isfinite(w.per_node_flow)))
+    throw InvalidInput("widths.per_node_flow must be >= 0");
+  const std::size_t n = tree.size();
+  std::vector<std::uint32_t> children(n, 0);
+  for (Index i = 0; i < n; ++i)
+    if (tree.parent[i] != kNoIndex) ++children[tree.parent[i]];
+  // flow in units of tip_radius^n; children always follow their parent, so one reverse pass suffices
+  tree.flow.assign(n, 0.0);
+  for (Index i = static_cast<Index>(n); i-- > 0;) {
+    tree.flow[i] += children[i] == 0 ? 1.0 : w.per_node_flow;
+    if (tree.parent[i] != kNoIndex) tree.flow[tree.parent[i]] += tree.flow[i];
+  }
+  tree.radius.resize(n);
+  for (std::size_t i = 0; i < n; ++i) tree.radius[i] = w.tip_radius * std::pow(tree.flow[i], 1.0 / w.exponent);
+  // order: the child with the largest flow continues the parent's order
+  std::vector<Index> main_child(n, kNoIndex);
+  for (Index i = 0; i < n; ++i) {
+    const Index pa = tree.parent[i];
+    if (pa == kNoIndex) continue;
+    const Index m = main_child[pa];
+    if (m == kNoIndex || tree.flow[i] > tree.flow[m]) main_child[pa] = i;
+  }
+  tree.order.assign(n, 1);
+  for (Index i = 0; i < n; ++i)
+    if (tree.parent[i] != kNoIndex)
+      tree.order[i] = tree.order[tree.parent[i]] + (main_child[tree.parent[i]] == i ? 0 : 1);
+}
+
+}  // namespace cellform::venation
