@@ -1,0 +1,209 @@
+// Tests of the script host's space-colonisation sections: leaf{}, colonisation{}, volume{}, surface{},
+// growth tables and functions, and the outputs only such runs have.
+#include "app/script_host.h"
+
+#include <catch2/catch.hpp>
+
+#include "app/schema.h"
+#include "core/errors.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using Catch::Matchers::Contains;
+using cellform::app::Overrides;
+using cellform::app::ScriptHost;
+using cellform::app::ScriptLimits;
+
+namespace {
+
+cellform::app::SceneConfig load(const std::string& src, const Overrides& o = {}, ScriptLimits limits = {}) {
+  ScriptHost host(limits);
+  return host.load(src, "test/leaf.lua", o);
+}
+
+std::string load_error(const std::string& src, const Overrides& o = {}, ScriptLimits limits = {}) {
+  try {
+    load(src, o, limits);
+  } catch (const cellform::core::InvalidInput& e) {
+    return e.what();
+  }
+  FAIL("no error for: " << src);
+  return {};
+}
+
+}  // namespace
+
+TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[script][colonisation]") {
+  const auto cfg = load(
+      "leaf { shape = 'ellipse', teeth = 8 }\n"
+      "colonisation { type = 'closed', neighbourhood = 'urquhart', darts = 500, growth = 'none',\n"
+      "               initial_length = 40 }\n");
+  REQUIRE(cfg.colonisation);
+  CHECK(cfg.colonisation->params.type == cellform::venation::VenationType::closed);
+  CHECK(cfg.colonisation->params.neighbourhood == cellform::venation::Neighbourhood::urquhart);
+  CHECK(cfg.colonisation->params.darts_per_area == Approx(500e-6));
+  CHECK(cfg.colonisation->params.initial_scale == 40);
+  CHECK(cfg.colonisation->params.final_scale == 40);  // no growth
+  CHECK(cfg.colonisation->leaf.outline.points.size() > 16);
+  CHECK_THAT(load_error("leaf {}\ndisc { radius = 2 }\n"), Contains("needs colonisation{...}"));
+  CHECK_THAT(load_error("colonisation {}\ndisc { radius = 2 }\n"), Contains("cannot be combined"));
+  CHECK_THAT(load_error("leaf { file = 'nothere.txt' }\ncolonisation {}\n"), Contains("nothere.txt"));
+  CHECK_THAT(load_error("colonisation { kill_distance = 0.2 }\n"), Contains("kill_distance"));
+  CHECK_THAT(load_error("leaf { shape = 'ovat' }\ncolonisation {}\n"), Contains("did you mean \"ovate\""));
+  // a petiole cell would be ignored by a leaf or volume run: said, with its line, instead
+  CHECK_THAT(load_error("leaf {}\npetiole { at = {5, 5, 0} }\ncolonisation {}\n"),
+             Contains(":2: petiole{...} places a petiole cell") && Contains("leaf{seeds = N}"));
+  CHECK_THAT(
+      load_error(
+          "volume { box = { min = {0, 0, 0}, max = {10, 10, 10} } }\ncolonisation {}\npetiole { at = {1, 1, 1} }\n"),
+      Contains(":3: petiole{...}"));
+  CHECK_THAT(load_error("leaf {}\ncolonisation {}\ndivision { age = 3 }\n"),
+             Contains(":3: division{...} sets up the cell system"));
+  CHECK_THAT(load_error("cells { spring = 2 }\nleaf {}\ncolonisation {}\n"), Contains(":1: cells{...}"));
+  // messages name the script's parameters, not the library's fields
+  CHECK_THAT(load_error("leaf {}\ncolonisation { length_step = 0 }\n"),
+             Contains(":2: colonisation.length_step") && !Contains("scale_step"));
+  CHECK_THAT(load_error("leaf {}\ncolonisation { initial_length = 50, final_length = 20 }\n"),
+             Contains("colonisation.final_length") && Contains("colonisation.initial_length"));
+  CHECK_THAT(load_error("leaf { shape = 'ellipse', seeds = 3, seed_spread = 5 }\ncolonisation {}\n"),
+             Contains("leaf.seeds: seed 1 of 3 lies outside the blade") && Contains("seed_spread = 5"));
+  // settings the run would ignore
+  CHECK_THAT(load_error("leaf {}\ncolonisation { type = 'open', neighbourhood = 'urquhart' }\n"),
+             Contains(":2: colonisation.neighbourhood"));
+  CHECK_THAT(load_error("leaf {}\ncolonisation {}\noutput { every = 5 }\n"), Contains(":3: output.every"));
+  CHECK_THAT(load_error("leaf {}\ncolonisation {}\nground {}\nattractor { position = {0, 0, 1} }\n"),
+             Contains(":3: ground{...} acts on cells"));
+}
+
+TEST_CASE("volume{} and surface{} give space colonisation a 3-D domain", "[script][colonisation]") {
+  namespace v = cellform::venation;
+  auto cfg = load(
+      "volume { box = { min = {-4, -4, 0}, max = {4, 4, 10} } }\n"
+      "colonisation { type = 'closed', darts = 300 }\n");
+  REQUIRE(cfg.colonisation);
+  const v::Domain& d = cfg.colonisation->domain;
+  CHECK(d.kind == v::DomainKind::box);
+  CHECK(d.box_max == cellform::core::Vec3(4, 4, 10));
+  REQUIRE(d.initial_nodes.size() == 1);
+  CHECK(d.initial_nodes[0] == cellform::core::Vec3(0, 0, 0));     // the centre of the floor
+  CHECK(cfg.colonisation->params.growth == v::GrowthMode::none);  // the 3-D default
+  CHECK(cfg.colonisation->params.initial_scale == 1);
+  CHECK(cfg.resolved["colonisation"]["growth"] == "none");
+  CHECK(cfg.resolved["volume"]["seeds"].size() == 1);
+
+  cfg = load("volume { ball = { centre = {0, 0, 5}, radius = 5 }, seeds = {0, 0, 2} }\ncolonisation {}\n");
+  CHECK(cfg.colonisation->domain.kind == v::DomainKind::ball);
+  CHECK(cfg.colonisation->domain.initial_nodes.at(0) == cellform::core::Vec3(0, 0, 2));
+  cfg = load(
+      "disc { radius = 3 }\npetiole { at = {0, -3, 0} }\nsurface { cells = true }\n"
+      "colonisation { growth = 'none' }\nprint { shell = true }\n");
+  CHECK(cfg.colonisation->on_cells);
+  CHECK(cfg.colonisation->domain.kind == v::DomainKind::surface);
+  CHECK(!cfg.initial_cells.empty());
+
+  // a closed octahedron as a volume file, and with one face missing
+  const auto dir = std::filesystem::temp_directory_path() / ("cellform-domain-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string verts = "v 2 0 0\nv -2 0 0\nv 0 2 0\nv 0 -2 0\nv 0 0 2\nv 0 0 -2\n";
+  const std::string faces = "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\n";
+  std::ofstream(dir / "closed.obj") << verts << faces << "f 1 4 6\n";
+  std::ofstream(dir / "open.obj") << verts << faces;
+  const std::string closed = (dir / "closed.obj").string(), open = (dir / "open.obj").string();
+  cfg = load("volume { file = '" + closed + "', scale = 2, seeds = {{0, 0, -3}} }\ncolonisation {}\n");
+  CHECK(cfg.colonisation->domain.kind == v::DomainKind::volume);
+  CHECK(cfg.colonisation->domain.mesh.vertices[0].x() == 4);  // scaled
+  CHECK_THAT(load_error("volume { file = '" + open + "', seeds = {{0, 0, 0}} }\ncolonisation {}\n"),
+             Contains("test/leaf.lua:1:") && Contains("volume.file") && Contains("not closed"));
+  CHECK_NOTHROW(load("surface { file = '" + open + "', seeds = {{2, 0, 0}} }\ncolonisation {}\n"));
+  CHECK_THAT(load_error("surface { file = '" + open + "', seeds = {{0, 0, 0}} }\ncolonisation {}\n"),
+             Contains("surface.seeds[1]") && Contains("not on the surface"));
+  CHECK_THAT(load_error("volume { file = '" + closed + "' }\ncolonisation {}\n"), Contains("needs seeds"));
+  // domains are bounded like every script position (1e9 model units)
+  CHECK_THAT(load_error("surface { file = '" + open + "', scale = 1e300, seeds = {{2, 0, 0}} }\ncolonisation {}\n"),
+             Contains("test/leaf.lua:1: surface.file: with scale = 1e+300") && Contains("lies beyond 1e+09"));
+  CHECK_THAT(load_error("volume { ball = { radius = 1e300 } }\ncolonisation {}\n"),
+             Contains("volume.ball.radius must be a number from 0 (exclusive) to 1e+09"));
+  std::filesystem::remove_all(dir);
+
+  CHECK_THAT(load_error("volume { box = { min = {0, 0, 0}, max = {1, 1, 1} }, seeds = {{0, 0, 2}} }\n"
+                        "colonisation {}\n"),
+             Contains("volume.seeds[1]") && Contains("not inside"));
+  CHECK_THAT(load_error("volume { box = { min = {0, 0, 0}, max = {1, 1, 1} } }\n"
+                        "colonisation { type = 'closed', neighbourhood = 'urquhart' }\n"),
+             Contains("test/leaf.lua:2:") && Contains("colonisation.neighbourhood") && Contains("exact"));
+  CHECK_THAT(load_error("volume { box = { min = {0, 0, 0}, max = {1, 1, 1} } }\n"
+                        "colonisation { growth = 'marginal' }\n"),
+             Contains("colonisation.growth") && Contains("does not grow"));
+  CHECK_THAT(load_error("volume {}\ncolonisation {}\n"), Contains("exactly one of box"));
+  CHECK_THAT(load_error("volume { box = { min = {0, 0, 0} } }\ncolonisation {}\n"), Contains("needs 'max'"));
+  CHECK_THAT(load_error("volume { box = { min = {0, 0, 0}, max = {1, 1, 1} }, seeds = {{0, 0}} }\n"),
+             Contains("volume.seeds") && Contains("entry 1"));
+  CHECK_THAT(load_error("volume { ball = { radius = 2 } }\nleaf {}\ncolonisation {}\n"),
+             Contains("test/leaf.lua:2:") && Contains("already grow in volume"));
+  CHECK_THAT(load_error("volume { ball = { radius = 2 } }\n"), Contains("needs colonisation{...}"));
+  CHECK_THAT(load_error("surface {}\ncolonisation {}\n"), Contains("either file"));
+  CHECK_THAT(load_error("surface { cells = true }\ncolonisation {}\n"), Contains("place them with a shape"));
+  CHECK_THAT(load_error("volume { ball = { radius = 2 } }\ncolonisation {}\ndisc { radius = 2 }\n"),
+             Contains("cannot be combined"));
+  CHECK_THAT(load_error("volume { ball = { radius = 2 } }\ncolonisation {}\nprint { shell = true }\n"),
+             Contains("print{shell = true}"));
+}
+
+TEST_CASE("colonisation{growth = 'nonuniform'} takes growth tables or functions of y0 (Appendix A)",
+          "[script][colonisation]") {
+  const std::string head = "leaf { shape = 'ellipse' }\ncolonisation { growth = 'nonuniform', initial_length = 20,\n";
+  auto cfg = load(head +
+                  "  growth_x = {{0, 1.05}, {0.5, 1.1}, {1, 1.0}},\n"
+                  "  growth_y = function(y0) return 1 + 0.02 * y0 end, growth_steps = 30 }\n");
+  REQUIRE(cfg.colonisation);
+  const auto& p = cfg.colonisation->params;
+  CHECK(p.growth == cellform::venation::GrowthMode::nonuniform);
+  CHECK(p.growth_steps == 30);
+  CHECK(p.final_scale == 20);  // the size follows from the rates, not from final_length
+  // heights in leaf lengths become model units of the initial leaf (x 20)
+  REQUIRE(p.growth_x.y == std::vector<double>{0, 10, 20});
+  CHECK(p.growth_x(5) == Approx(1.075));
+  CHECK(p.growth_x(-3) == Approx(1.05));  // constant beyond the ends
+  // the function is sampled at 257 heights from -0.5 to 1.5 leaf lengths, linear in between
+  REQUIRE(p.growth_y.y.size() == 257);
+  CHECK(p.growth_y.y.front() == Approx(-10));
+  CHECK(p.growth_y.y.back() == Approx(30));
+  CHECK(p.growth_y(7.3) == Approx(1 + 0.02 * 7.3 / 20));
+  CHECK(cfg.resolved["colonisation"]["growth_x"].size() == 3);
+
+  const std::string y_ok = "  growth_y = {{0, 1.01}}, growth_steps = 5 }\n";
+  CHECK_THAT(load_error(head + "  growth_x = {{0, 1.1}, {0, 1.2}},\n" + y_ok),
+             Contains("test/leaf.lua:2: colonisation.growth_x[2]") && Contains("increase strictly"));
+  CHECK_THAT(load_error(head + "  growth_x = {{0, 1.1}, {1, 0}},\n" + y_ok),
+             Contains("colonisation.growth_x[2]") && Contains("> 0"));
+  CHECK_THAT(load_error(head + "  growth_x = {{0, 1.1}, {1, 0/0}},\n" + y_ok), Contains("colonisation.growth_x[2]"));
+  CHECK_THAT(load_error(head + "  growth_x = {{0, 1.1}, {1}},\n" + y_ok), Contains("pair {y0, rate}"));
+  CHECK_THAT(load_error(head + "  growth_x = {},\n" + y_ok), Contains("at least one {y0, rate}"));
+  CHECK_THAT(load_error(head + "  growth_x = 3,\n" + y_ok), Contains("a table or a function"));
+  CHECK_THAT(load_error(head + "  growth_x = function(y) return y - 0.5 end,\n" + y_ok),
+             Contains("colonisation.growth_x(") && Contains("> 0"));
+  CHECK_THAT(load_error(head + "  growth_x = function(y) return 'fast' end,\n" + y_ok),
+             Contains("must return a number"));
+  CHECK_THAT(load_error(head + "  growth_x = function(y) error('no rate here') end,\n" + y_ok),
+             Contains("no rate here") && Contains("colonisation.growth_x failed at y0 = -0.5"));
+  CHECK_THAT(load_error(head + "  growth_y = {{0, 1.01}}, growth_steps = 5 }\n"), Contains("needs growth_x"));
+  CHECK_THAT(load_error(head + "  growth_x = {{0, 1.01}}, growth_y = {{0, 1.01}} }\n"), Contains("growth_steps >= 1"));
+  CHECK_THAT(load_error("colonisation { growth = 'marginal', growth_x = {{0, 1.1}} }\n"),
+             Contains("growth_x applies only to growth = \"nonuniform\""));
+  CHECK_THAT(load_error("colonisation { growth = 'none', growth_steps = 4 }\n"), Contains("growth_steps applies only"));
+  CHECK_THAT(load_error(head + "  growth_x = {{0, 1.01}}, growth_y = {{0, 1.01}}, growth_steps = 5 }\n",
+                        {{"colonisation.growth_x", "2"}}),
+             Contains("cannot be set from the command line"));
+}
+
+TEST_CASE("output{png = true} needs a space-colonisation run", "[script][png]") {
+  auto cfg = load("colonisation {}\noutput { png = true, png_size = 300 }\n");
+  CHECK(cfg.output.png);
+  CHECK(cfg.output.png_size == 300);
+  CHECK_THAT(load_error("disc { radius = 2 }\noutput { png = true }\n"), Contains("it needs colonisation{...}"));
+  CHECK_THAT(load_error("colonisation {}\noutput { png_size = 4 }\n"), Contains("output.png_size"));
+}
