@@ -6,6 +6,7 @@
 
 #include "core/chunk_file.h"
 #include "core/errors.h"
+#include "tests/venation/leaf_fixtures.h"
 #include "venation/colonisation.h"
 #include "venation/domain.h"
 
@@ -14,28 +15,16 @@ using Catch::Matchers::Contains;
 using core::Index;
 using core::Vec3;
 namespace v = cellform::venation;
+using namespace cellform::test;
 
 namespace {
 
-v::Leaf ellipse_leaf(double length, double width) {
-  v::ShapeParams sp;
-  sp.kind = v::ShapeKind::ovate;
-  sp.length = length;
-  sp.width = width;
-  v::Leaf leaf;
-  leaf.outline = v::make_outline(sp);
-  return leaf;
-}
+/// An ovate blade `length` by `width` model units.
+v::Leaf ovate_leaf(double length, double width) { return ellipse_leaf(length, width, v::ShapeKind::ovate); }
 
 v::ColonisationParams leaf_params(v::VenationType type, double kill, double birth) {
-  v::ColonisationParams p;
-  p.type = type;
-  p.kill_distance = kill;
-  p.source_birth_distance = p.vein_birth_distance = birth;
-  p.node_distance = 1;
+  v::ColonisationParams p = params(type, kill, birth);
   p.darts_per_area = 0.02;
-  p.seed = 42;
-  p.max_steps = 5000;
   return p;
 }
 
@@ -146,7 +135,7 @@ void check_domain(const v::Domain& d, const v::ColonisationParams& p) {
 }  // namespace
 
 TEST_CASE("a saved leaf run continues bit-identically: open, closed exact and Urquhart", "[checkpoint]") {
-  const v::Leaf leaf = ellipse_leaf(30, 20);
+  const v::Leaf leaf = ovate_leaf(30, 20);
   SECTION("open") { check_leaf(leaf, leaf_params(v::VenationType::open, 1, 2)); }
   SECTION("closed, exact") { check_leaf(leaf, leaf_params(v::VenationType::closed, 1, 2)); }
   SECTION("closed, Urquhart") {
@@ -169,7 +158,7 @@ v::ColonisationParams far_sources_params() {
 
 TEST_CASE("a run saved while sources are lazy (far from the veins) continues bit-identically", "[checkpoint]") {
   const v::ColonisationParams p = far_sources_params();
-  const v::Leaf leaf = ellipse_leaf(200, 120);
+  const v::Leaf leaf = ovate_leaf(200, 120);
   v::Colonisation probe(leaf, p);
   std::vector<std::size_t> lazy{0};  // lazy sources after each step
   while (!probe.done()) {
@@ -184,7 +173,7 @@ TEST_CASE("a run saved while sources are lazy (far from the veins) continues bit
 
 TEST_CASE("a format-3 state (no lazy modes) continues as the run that was never saved", "[checkpoint]") {
   const v::ColonisationParams p = far_sources_params();
-  const v::Leaf leaf = ellipse_leaf(200, 120);
+  const v::Leaf leaf = ovate_leaf(200, 120);
   v::Colonisation whole(leaf, p);
   whole.run();
   v::Colonisation first(leaf, p);
@@ -218,7 +207,7 @@ TEST_CASE("a saved growing leaf continues bit-identically: marginal, isogonic, n
     p.initial_scale = 0.2;
     p.final_scale = 1;
     p.scale_step = 0.02;
-    check_leaf(ellipse_leaf(30, 20), p);
+    check_leaf(ovate_leaf(30, 20), p);
   }
   v::ColonisationParams p = leaf_params(v::VenationType::closed, 0.5, 1);
   p.node_distance = 0.5;
@@ -227,7 +216,7 @@ TEST_CASE("a saved growing leaf continues bit-identically: marginal, isogonic, n
   p.growth_x = {{0, 10}, {1.03, 1.0}};
   p.growth_y = {{0, 10}, {1.01, 1.04}};
   p.growth_steps = 30;
-  check_leaf(ellipse_leaf(10, 6), p);
+  check_leaf(ovate_leaf(10, 6), p);
 }
 
 TEST_CASE("a saved 3-D run continues bit-identically: mesh volume open and closed, surface", "[checkpoint]") {
@@ -248,7 +237,7 @@ TEST_CASE("a saved 3-D run continues bit-identically: mesh volume open and close
 }
 
 TEST_CASE("a run stopped by max_steps goes on under a larger limit as if never stopped", "[checkpoint]") {
-  const v::Leaf leaf = ellipse_leaf(30, 20);
+  const v::Leaf leaf = ovate_leaf(30, 20);
   const v::ColonisationParams p = leaf_params(v::VenationType::closed, 1, 2);
   v::Colonisation whole(leaf, p);
   whole.run();
@@ -266,7 +255,7 @@ TEST_CASE("a run stopped by max_steps goes on under a larger limit as if never s
 }
 
 TEST_CASE("states refuse other parameters or domains, and corrupt bytes", "[checkpoint]") {
-  const v::Leaf leaf = ellipse_leaf(30, 20);
+  const v::Leaf leaf = ovate_leaf(30, 20);
   const v::ColonisationParams p = leaf_params(v::VenationType::closed, 1, 2);
   v::Colonisation c(leaf, p);
   for (int i = 0; i < 10; ++i) c.step();
@@ -279,7 +268,7 @@ TEST_CASE("states refuse other parameters or domains, and corrupt bytes", "[chec
   other = p;
   other.seed = 43;
   CHECK_THROWS_AS(v::Colonisation::load(leaf, other, bytes), core::InvalidInput);
-  CHECK_THROWS_WITH(v::Colonisation::load(ellipse_leaf(31, 20), p, bytes), Contains("domain"));
+  CHECK_THROWS_WITH(v::Colonisation::load(ovate_leaf(31, 20), p, bytes), Contains("domain"));
   v::Domain d;
   d.kind = v::DomainKind::ball;
   d.centre = Vec3(0, 0, 0);
@@ -306,7 +295,7 @@ TEST_CASE(
     "[checkpoint]") {
   // format 3 changed what marginal growth does, not the bytes: relabel a state as version 2
   auto as_version_2 = [](const v::Colonisation& c) { return as_version(c, 2); };
-  const v::Leaf leaf = ellipse_leaf(30, 20);
+  const v::Leaf leaf = ovate_leaf(30, 20);
   v::ColonisationParams p = leaf_params(v::VenationType::open, 1, 2);
   p.growth = v::GrowthMode::marginal;
   p.initial_scale = 0.5;

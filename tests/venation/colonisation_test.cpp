@@ -14,6 +14,7 @@
 #include "core/errors.h"
 #include "core/random.h"
 #include "tests/venation/eq1_oracle.h"
+#include "tests/venation/leaf_fixtures.h"
 #include "venation/point_tree.h"
 #include "venation/vein_io.h"
 
@@ -23,30 +24,9 @@ using core::Index;
 using core::kNoIndex;
 using core::Vec3;
 namespace v = cellform::venation;
+using namespace cellform::test;
 
 namespace {
-
-v::Leaf ellipse_leaf(double length, double width, v::ShapeKind kind = v::ShapeKind::ellipse) {
-  v::ShapeParams sp;
-  sp.kind = kind;
-  sp.length = length;
-  sp.width = width;
-  v::Leaf leaf;
-  leaf.outline = v::make_outline(sp);
-  return leaf;
-}
-
-v::ColonisationParams params(v::VenationType type, double kill, double birth = 3) {
-  v::ColonisationParams p;
-  p.type = type;
-  p.kill_distance = kill;
-  p.source_birth_distance = p.vein_birth_distance = birth;
-  p.node_distance = 1;
-  p.darts_per_area = 0.01;
-  p.seed = 42;
-  p.max_steps = 5000;
-  return p;
-}
 
 struct UnionFind {
   std::vector<Index> up;
@@ -398,79 +378,6 @@ TEST_CASE("bad input names the parameter", "[colonisation]") {
   bow.outline.points = {{0, 0}, {2, 2}, {2, 0}, {0, 1}};
   CHECK_THROWS_WITH(v::Colonisation(bow, params(v::VenationType::open, 1)),
                     Contains("leaf.outline") && Contains("intersects"));
-}
-
-TEST_CASE("SVG, PLY and OBJ output", "[colonisation]") {
-  auto [t, rep] = v::colonise(ellipse_leaf(30, 20), params(v::VenationType::closed, 1));
-  v::compute_widths(t, {});
-  const auto dir = std::filesystem::temp_directory_path() / "cellform_colonisation_test";
-  std::filesystem::create_directories(dir);
-  v::write_svg(dir / "leaf.svg", t, ellipse_leaf(30, 20).outline);
-  v::write_vein_ply(dir / "veins.ply", t);
-  v::write_vein_obj(dir / "veins.obj", t);
-  std::ifstream svg(dir / "leaf.svg");
-  std::stringstream s;
-  s << svg.rdbuf();
-  const std::string text = s.str();
-  CHECK_THAT(text, Contains("<svg") && Contains("</svg>"));
-  const auto edges = t.edges();
-  // every edge is drawn once: one "L" per segment in the veins' group (paths join segments into polylines)
-  const std::size_t group = text.find("<g "), group_end = text.find("</g>");
-  REQUIRE(group != std::string::npos);
-  std::size_t ls = 0;
-  for (std::size_t at = text.find(" L", group); at < group_end; at = text.find(" L", at + 2)) ++ls;
-  CHECK(ls == edges.size());
-  std::stringstream all;
-  all << std::ifstream(dir / "veins.ply", std::ios::binary).rdbuf();
-  const std::string ply = all.str();
-  CHECK(ply.rfind("ply\nformat binary_little_endian 1.0\n", 0) == 0);  // as the cell runs' veins.ply
-  CHECK_THAT(ply, Contains("element vertex " + std::to_string(t.size())) &&
-                      Contains("property float flow\nproperty float radius\nproperty int order\n") &&
-                      Contains("element edge " + std::to_string(edges.size())));
-  // the body: 24 bytes per node (x y z flow radius order), then 8 per edge, child -> parent first
-  const std::size_t body = ply.find("end_header\n") + 11;
-  REQUIRE(ply.size() == body + 24 * t.size() + 8 * edges.size());
-  auto f32 = [&](std::size_t at) {
-    float v;
-    std::memcpy(&v, ply.data() + at, 4);
-    return v;
-  };
-  auto i32 = [&](std::size_t at) {
-    std::int32_t v;
-    std::memcpy(&v, ply.data() + at, 4);
-    return v;
-  };
-  const Index last = static_cast<Index>(t.size() - 1);
-  CHECK(f32(body + 24 * last) == static_cast<float>(t.positions[last].x()));
-  CHECK(f32(body + 24 * last + 12) == static_cast<float>(t.flow[last]));
-  CHECK(f32(body + 24 * last + 16) == static_cast<float>(t.radius[last]));
-  CHECK(i32(body + 24 * last + 20) == static_cast<std::int32_t>(t.order[last]));
-  const std::size_t first_edge = body + 24 * t.size();
-  REQUIRE(t.parent[1] != kNoIndex);
-  CHECK(i32(first_edge) == 1);  // node 0 is the seed: the first edge is node 1's, to its parent
-  CHECK(i32(first_edge + 4) == static_cast<std::int32_t>(t.parent[1]));
-  std::ifstream obj(dir / "veins.obj");
-  std::string line;
-  std::size_t v_lines = 0, l_lines = 0, a_lines = 0;
-  std::multiset<std::pair<Index, Index>> segments;  // of the polylines, undirected, 0-based
-  while (std::getline(obj, line)) {
-    v_lines += line.rfind("v ", 0) == 0;
-    a_lines += line.rfind("#a ", 0) == 0;
-    if (line.rfind("l ", 0) != 0) continue;
-    ++l_lines;
-    std::istringstream in(line.substr(2));
-    std::vector<Index> vs;
-    for (Index v; in >> v;) vs.push_back(v - 1);
-    for (std::size_t i = 0; i + 1 < vs.size(); ++i)
-      segments.insert({std::min(vs[i], vs[i + 1]), std::max(vs[i], vs[i + 1])});
-  }
-  CHECK(v_lines == t.size());
-  CHECK(a_lines == t.size());
-  CHECK(l_lines < edges.size());  // a polyline per branch, not per segment
-  std::multiset<std::pair<Index, Index>> want;
-  for (const auto& [a, b] : edges) want.insert({std::min<Index>(a, b), std::max<Index>(a, b)});
-  CHECK(segments == want);
-  std::filesystem::remove_all(dir);
 }
 
 namespace {
