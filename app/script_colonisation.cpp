@@ -332,7 +332,9 @@ venation::GrowthFunction read_growth_function(Impl& I, const Value& given, const
     for (int i = 1; i <= n; ++i) {
       lua_rawgeti(L, t, i);
       const int e = lua_gettop(L);
-      const std::string which = "[" + std::to_string(i) + "]";
+      std::string which = "[";  // (not "[" + ...: GCC 12 warns falsely of overlapping copies there, -Wrestrict)
+      which += std::to_string(i);
+      which += "]";
       bool ok = lua_type(L, e) == LUA_TTABLE && lua_rawlen(L, e) == 2;
       double pair[2] = {0, 0};
       for (int k = 0; k < 2 && ok; ++k) {

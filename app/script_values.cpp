@@ -1,0 +1,284 @@
+// The script host's parameter values: a Lua value or a --set text converted for a field of the schema, its
+// range checked, and a whole section read (ScriptHost::Impl, declared in app/script_impl.h).
+#include "app/script_impl.h"
+
+namespace cellform::app {
+
+namespace {
+
+bool parse_vec(std::string text, Vec3& out) {
+  text = trim(text);
+  if (text.size() >= 2 && text.front() == '{' && text.back() == '}') text = text.substr(1, text.size() - 2);
+  std::stringstream ss(text);
+  std::string part;
+  int n = 0;
+  while (std::getline(ss, part, ',')) {
+    if (n == 3 || !parse_double(part, out[n])) return false;
+    ++n;
+  }
+  return n == 3;
+}
+
+/// "a|b|c" as "a, b or c", each quoted as a script writes it.
+std::string choices_list(const std::string& choices) {
+  std::vector<std::string> parts;
+  std::stringstream ss(choices);
+  for (std::string part; std::getline(ss, part, '|');) parts.push_back("\"" + part + "\"");
+  std::string s;
+  for (std::size_t i = 0; i < parts.size(); ++i) s += (i == 0 ? "" : i + 1 == parts.size() ? " or " : ", ") + parts[i];
+  return s;
+}
+
+bool is_choice(const std::string& choices, const std::string& v) {
+  std::stringstream ss(choices);
+  std::string part;
+  while (std::getline(ss, part, '|'))
+    if (part == v) return true;
+  return false;
+}
+
+nlohmann::json to_json(const Field& f, const Value& v) {
+  switch (f.kind) {
+    case Kind::number:
+      return v.num;
+    case Kind::integer:
+      return static_cast<long long>(v.num);
+    case Kind::boolean:
+      return v.flag;
+    case Kind::vec3:
+      return nlohmann::json::array({v.vec.x(), v.vec.y(), v.vec.z()});
+    case Kind::text:
+    case Kind::choice:
+      return v.str;
+    case Kind::choice_or_function:
+      return v.ref != LUA_NOREF ? std::string("<function>") : v.str;
+    case Kind::function:
+      return v.ref != LUA_NOREF ? nlohmann::json("<function>") : nlohmann::json();
+    case Kind::number_or_function:
+      return v.ref != LUA_NOREF ? nlohmann::json("<function>") : nlohmann::json(v.num);
+    case Kind::table:
+      return nlohmann::json::object();
+    case Kind::table_or_function:
+      return v.ref != LUA_NOREF ? nlohmann::json("<function>") : nlohmann::json::object();
+  }
+  return {};
+}
+
+}  // namespace
+
+Value ScriptHost::Impl::from_lua(const Field& f, int idx, const std::string& at) {
+  Value v;
+  v.present = true;
+  const std::string name = f.section + "." + f.name;
+  auto fail = [&](const std::string& got) -> InvalidInput {
+    return InvalidInput(at + name + " must be " + allowed_text(f) + ", got " + got);
+  };
+  const int t = lua_type(L, idx);
+  const std::string got = t == LUA_TSTRING ? std::string("\"") + lua_tostring(L, idx) + "\"" : luaL_typename(L, idx);
+  switch (f.kind) {
+    case Kind::number:
+    case Kind::integer:
+      if (t != LUA_TNUMBER) throw fail(got);
+      v.num = lua_tonumber(L, idx);
+      break;
+    case Kind::boolean:
+      if (t != LUA_TBOOLEAN) throw fail(got);
+      v.flag = lua_toboolean(L, idx) != 0;
+      break;
+    case Kind::vec3: {
+      if (t != LUA_TTABLE || lua_rawlen(L, idx) != 3) throw fail(t == LUA_TTABLE ? "a table without 3 numbers" : got);
+      for (int i = 0; i < 3; ++i) {
+        lua_rawgeti(L, idx, i + 1);
+        if (lua_type(L, -1) != LUA_TNUMBER) {
+          lua_pop(L, 1);
+          throw fail("a non-number component");
+        }
+        v.vec[i] = lua_tonumber(L, -1);
+        lua_pop(L, 1);
+      }
+      break;
+    }
+    case Kind::text:
+      if (t != LUA_TSTRING) throw fail(got);
+      v.str = lua_tostring(L, idx);
+      break;
+    case Kind::choice:
+    case Kind::choice_or_function:
+      if (f.kind == Kind::choice_or_function && t == LUA_TFUNCTION) {
+        lua_pushvalue(L, idx);
+        v.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+        break;
+      }
+      if (t != LUA_TSTRING) throw fail(got);
+      v.str = lua_tostring(L, idx);
+      break;
+    case Kind::number_or_function:
+      if (t == LUA_TFUNCTION) {
+        lua_pushvalue(L, idx);
+        v.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+      } else if (t == LUA_TNUMBER) {
+        v.num = lua_tonumber(L, idx);
+      } else {
+        throw fail(got);
+      }
+      break;
+    case Kind::function:
+      if (t != LUA_TFUNCTION) throw fail(got);
+      lua_pushvalue(L, idx);
+      v.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+      break;
+    case Kind::table:
+      if (t != LUA_TTABLE) throw fail(got);
+      break;
+    case Kind::table_or_function:  // a table is read by the section itself
+      if (t == LUA_TFUNCTION) {
+        lua_pushvalue(L, idx);
+        v.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+      } else if (t != LUA_TTABLE) {
+        throw fail(got);
+      }
+      break;
+  }
+  return v;
+}
+
+Value ScriptHost::Impl::from_text(const Field& f, const std::string& text, const std::string& at) {
+  Value v;
+  v.present = true;
+  const std::string name = f.section + "." + f.name;
+  auto fail = [&]() { return InvalidInput(at + name + " must be " + allowed_text(f) + ", got \"" + text + "\""); };
+  switch (f.kind) {
+    case Kind::number:
+    case Kind::integer:
+    case Kind::number_or_function:
+      if (!parse_double(text, v.num)) throw fail();
+      break;
+    case Kind::boolean:
+      if (text == "true" || text == "1")
+        v.flag = true;
+      else if (text == "false" || text == "0")
+        v.flag = false;
+      else
+        throw fail();
+      break;
+    case Kind::vec3:
+      if (!parse_vec(text, v.vec)) throw fail();
+      break;
+    case Kind::text:
+      v.str = text == "(none)" ? std::string() : text;
+      break;  // an optional text
+    case Kind::choice:
+    case Kind::choice_or_function:
+      v.str = text;
+      break;
+    case Kind::function:
+    case Kind::table:
+    case Kind::table_or_function:
+      throw InvalidInput(at + name + " cannot be set from the command line");
+  }
+  return v;
+}
+
+void ScriptHost::Impl::check_range(const Field& f, Value& v, const std::string& at) {
+  if (!v.present) return;
+  const std::string name = f.section + "." + f.name;
+  auto bad = [&](double x) { return !std::isfinite(x) || x < f.min || x > f.max || (f.min_exclusive && x <= f.min); };
+  auto fail = [&](const std::string& got) {
+    // allowed_text leaves out the far limit that every number has (1e300): say it when it is the one passed
+    const bool far = f.max >= 1e299 && (v.num > f.max || v.vec.cwiseAbs().maxCoeff() > f.max);
+    std::ostringstream limit;
+    limit << f.max;
+    return InvalidInput(at + name + " must be " + allowed_text(f) + (far ? " and at most " + limit.str() : "") +
+                        ", got " + got);
+  };
+  if (f.kind == Kind::number || f.kind == Kind::integer || (f.kind == Kind::number_or_function && v.ref == LUA_NOREF)) {
+    std::ostringstream g;
+    g << std::setprecision(15) << v.num;  // enough to show why 3.0000000001 is not whole
+    if (bad(v.num)) throw fail(g.str());
+    if (f.kind == Kind::integer && v.num != std::floor(v.num)) throw fail(g.str());
+  } else if (f.kind == Kind::vec3) {
+    for (int i = 0; i < 3; ++i) {
+      std::ostringstream g;
+      g << "{" << v.vec.x() << ", " << v.vec.y() << ", " << v.vec.z() << "}";
+      if (bad(v.vec[i])) throw fail(g.str());
+    }
+  } else if ((f.kind == Kind::choice || f.kind == Kind::choice_or_function) && v.ref == LUA_NOREF) {
+    if (!is_choice(f.choices, v.str)) {
+      std::vector<std::string> options;
+      std::stringstream ss(f.choices);
+      std::string part;
+      while (std::getline(ss, part, '|')) options.push_back(part);
+      const std::string near = core::closest_name(v.str, options);
+      throw InvalidInput(at + name + " must be one of " + choices_list(f.choices) + ", got \"" + v.str + "\"" +
+                         (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
+    }
+  }
+}
+
+Values ScriptHost::Impl::read_section(const std::string& section, int idx, const std::string& at,
+                                      nlohmann::json* record) {
+  const auto fields = section_fields(section);
+  const int t = lua_type(L, idx);
+  if (t != LUA_TTABLE && t != LUA_TNONE && t != LUA_TNIL)
+    throw InvalidInput(at + section + "{...} takes a table of named parameters, got " + luaL_typename(L, idx));
+  Values values;
+  if (t == LUA_TTABLE) {
+    lua_pushnil(L);
+    while (lua_next(L, idx) != 0) {
+      if (lua_type(L, -2) != LUA_TSTRING) {
+        lua_pop(L, 2);
+        throw InvalidInput(at + section + "{...}: parameters are named (name = value); got a value without a name");
+      }
+      const std::string key = lua_tostring(L, -2);
+      const Field* f = find_field(section, key);
+      if (!f) {
+        lua_pop(L, 2);
+        std::vector<std::string> names;
+        for (const Field* g : fields) names.push_back(g->name);
+        const std::string near = core::closest_name(key, names);
+        std::string all;
+        for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
+        throw InvalidInput(at + section + "{...} has no parameter '" + key + "'" +
+                           (near.empty() ? "" : "; did you mean '" + near + "'?") + " (valid: " + all + ")");
+      }
+      try {
+        values[key] = from_lua(*f, lua_gettop(L), at);
+      } catch (...) {
+        lua_pop(L, 2);
+        throw;
+      }
+      lua_pop(L, 1);
+    }
+  }
+  for (const Field* f : fields) {
+    const std::string key = f->section + "." + f->name;
+    std::string value_at = at;  // where a bad value is reported: the script line, or the --set option
+    if (overrides) {
+      auto it = overrides->find(key);
+      if (it != overrides->end()) {
+        value_at = "--set " + key + "=" + it->second + ": ";
+        values[f->name] = from_text(*f, it->second, value_at);
+        values[f->name].set_by = "--set " + key + "=" + it->second;
+        used_overrides.insert(key);
+      }
+    }
+    Value& v = values[f->name];
+    const bool structured = f->kind == Kind::function || f->kind == Kind::table || f->kind == Kind::table_or_function;
+    if (!v.present && !structured) {
+      if (f->default_text.empty())
+        throw InvalidInput(at + section + "{...} needs '" + f->name + "' (" + allowed_text(*f) + ")");
+      if (f->default_text.find("cells.") == std::string::npos) {
+        Value d = from_text(*f, f->default_text, "schema default: ");
+        d.present = false;
+        v.num = d.num, v.vec = d.vec, v.flag = d.flag, v.str = d.str;
+      }
+    }
+    check_range(*f, v, value_at);
+    if (record && f->kind != Kind::table && f->kind != Kind::table_or_function &&
+        (v.present || f->default_text.find("cells.") == std::string::npos))
+      (*record)[f->name] = to_json(*f, v);
+  }
+  return values;
+}
+
+}  // namespace cellform::app
