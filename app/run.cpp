@@ -257,6 +257,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     if (s.checkpoint_every) {  // exactly as asked (now or by the run resumed): no seconds between them
       cfg.output.checkpoint_every = *s.checkpoint_every;
       cfg.output.checkpoint_seconds = 0;
+      if (cfg.resolved.contains("output")) {  // run.json: what applied
+        cfg.resolved["output"]["checkpoint_every"] = *s.checkpoint_every;
+        cfg.resolved["output"]["checkpoint_seconds"] = 0;
+      }
     }
     scene = std::make_unique<forms::Scene>(cfg.scene, seed);
     cells::Simulation& sim = scene->simulation();
@@ -492,6 +496,11 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     } else if (s.resume && fs::exists(o.checkpoint)) {
       err << "  (the last checkpoint is " << o.checkpoint.string() << ", the one resumed)\n";
       last = o.checkpoint;
+    } else if (stepping > 0) {
+      err << "  (no checkpoint of this run was written before step " << stepping
+          << ", so there is nothing to go on from; output.checkpoint_every, or --checkpoint-every N, sets how "
+             "often one is"
+          << (fs::exists(dir / "run.json") ? "; the files in " + dir.string() + "/ are an earlier run's" : "") << ")\n";
     }
     // the same script would stop there again: an edited one can go on from the checkpoint
     if (!last.empty()) err << resume_hint(o, last, s.script_path) << "\n";

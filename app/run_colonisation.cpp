@@ -248,6 +248,10 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
   if (s.checkpoint_every) {  // exactly as asked (now or by the run resumed): no seconds between them
     cfg.output.checkpoint_every = *s.checkpoint_every;
     cfg.output.checkpoint_seconds = 0;
+    if (cfg.resolved.contains("output")) {  // run.json: what applied
+      cfg.resolved["output"]["checkpoint_every"] = *s.checkpoint_every;
+      cfg.resolved["output"]["checkpoint_seconds"] = 0;
+    }
   }
   const fs::path checkpoint = dir / kCheckpointName;
   int code = ok;

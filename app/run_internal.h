@@ -107,8 +107,9 @@ std::string absolute_path_text(const std::filesystem::path& p);
 void write_checkpoint(const std::filesystem::path& path, const std::string& bytes);
 
 /// When the periodic checkpoints of a run are due: every `every` steps (0: never), but not within
-/// `seconds` of the last one written (or of the run's start). A large state written every 1000 steps of a
-/// fast run would otherwise cost more than the steps (a full-size poplar: 29 checkpoints of 250 MB).
+/// `seconds` of the last one written. A large state written every 1000 steps of a fast run would otherwise
+/// cost more than the steps (a full-size poplar: 29 checkpoints of 250 MB). The first one due is always
+/// written: a run that fails in its first minute keeps it to go on from.
 class CheckpointClock {
  public:
   CheckpointClock(std::uint64_t every, double seconds) : every_(every), seconds_(seconds) {}
@@ -116,15 +117,17 @@ class CheckpointClock {
   bool due(std::uint64_t step) {
     if (every_ == 0 || step % every_ != 0) return false;
     const auto now = std::chrono::steady_clock::now();
-    if (std::chrono::duration<double>(now - last_).count() < seconds_) return false;
+    if (written_ && std::chrono::duration<double>(now - last_).count() < seconds_) return false;
     last_ = now;
+    written_ = true;
     return true;
   }
 
  private:
   std::uint64_t every_;
   double seconds_;
-  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+  bool written_ = false;  // one was due (and counted as written) already
+  std::chrono::steady_clock::time_point last_;
 };
 
 /// Writes the cell outputs (cells.ply/obj, and the vein graph if `veins`) of `c` into `dir`; returns their names.

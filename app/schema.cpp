@@ -279,8 +279,8 @@ std::vector<Field> build() {
   f.push_back(integer("output", "checkpoint_every", "1000", 0, 1e9, "steps",
                       "write checkpoint.cfck every this many steps (0 = only at the end)"));
   f.push_back(num("output", "checkpoint_seconds", "60", 0, 1e9, false, "s",
-                  "skip a periodic checkpoint due this soon after the last one (0 = never skip); the end of a "
-                  "run and Ctrl-C always write one, a failing step leaves the last"));
+                  "skip a periodic checkpoint due this soon after the last one (0 = never skip; the first is "
+                  "always written); the end of a run and Ctrl-C always write one, a failing step leaves the last"));
   f.push_back(boolean("output", "png", "false",
                       "space colonisation: also write veins.png, a raster preview of veins and outline"));
   f.push_back(integer("output", "png_size", "1024", 16, 20000, "pixels", "longer side of veins.png"));

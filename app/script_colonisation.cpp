@@ -312,7 +312,7 @@ venation::GrowthFunction read_growth_function(Impl& I, const Value& given, const
       if (lua_type(L, -1) != LUA_TNUMBER) {
         const std::string got = luaL_typename(L, -1);
         lua_pop(L, 1);
-        throw InvalidInput(at + field + " must return a number (REG per step), got " + got +
+        throw InvalidInput(I.function_at(given.ref, at) + field + " must return a number (REG per step), got " + got +
                            " at y0 = " + number_text(y0));
       }
       const double rate = lua_tonumber(L, -1);

@@ -264,6 +264,17 @@ struct ScriptHost::Impl {
     return 1;
   }
 
+  /// "file:line: " of the Lua function in the registry at `ref` (where its definition starts), or `fallback`
+  /// for a C function. Errors about what a rule returns point there rather than at its section's call.
+  std::string function_at(int ref, const std::string& fallback) {
+    lua_rawgeti(L, LUA_REGISTRYINDEX, ref);
+    lua_Debug ar;
+    std::string out = fallback;
+    if (lua_getinfo(L, ">S", &ar) && ar.linedefined > 0)
+      out = script_name + ":" + std::to_string(ar.linedefined) + ": ";
+    return out;
+  }
+
   std::string where(int level = 1) {
     luaL_where(L, level);
     std::string w = lua_tostring(L, -1);

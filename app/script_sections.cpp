@@ -85,7 +85,7 @@ void section_division(Impl& I, const std::string& at) {
   if (dir.ref != LUA_NOREF) {
     d.direction = cells::SplitDirection::rule;
     I.direction_ref = dir.ref;
-    I.direction_at = at;
+    I.direction_at = I.function_at(dir.ref, at);
   } else {
     d.direction = dir.str == "axis"              ? cells::SplitDirection::axis
                   : dir.str == "tangent"         ? cells::SplitDirection::tangent
@@ -106,7 +106,9 @@ void section_division(Impl& I, const std::string& at) {
                            " has no effect with division.rule, which decides alone when a cell " +
                            "divides; remove one of them");
     I.divides_ref = v["rule"].ref;
-    I.divides_at = at;
+    I.divides_at = I.function_at(v["rule"].ref, at);
+    // run.json: the trigger settings did not apply
+    for (const char* f : {"trigger", "age", "radius", "min_neighbours"}) I.cfg->resolved["division"].erase(f);
   } else {
     // a setting of the other trigger would be dropped unseen
     const std::string trigger = v["trigger"].str;
@@ -139,7 +141,7 @@ void section_venation(Impl& I, const std::string& at) {
   p.threshold = v["threshold"].num;
   if (v["source"].ref != LUA_NOREF) {
     I.source_ref = v["source"].ref;
-    I.source_at = at;
+    I.source_at = I.function_at(v["source"].ref, at);
   } else {
     p.source = v["source"].num;
   }

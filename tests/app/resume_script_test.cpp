@@ -29,7 +29,9 @@ TEST_CASE("a rule error names the checkpoint of this run, never one left by an e
   const CliResult first = cli({"run", script.string(), "--out", out.string(), "--quiet"});
   CHECK(first.code == 2);
   CHECK_THAT(first.err, Contains("late.lua:2: division.rule must return true or false"));
-  CHECK_THAT(first.err, !Contains("checkpoint"));  // the stale file is not this run's
+  CHECK_THAT(first.err, !Contains("the last checkpoint is"));  // the stale file is not this run's
+  CHECK_THAT(first.err, Contains("no checkpoint of this run was written before step 10, so there is nothing to go on "
+                                 "from; output.checkpoint_every, or --checkpoint-every N, sets how often one is"));
   const CliResult second = cli({"run", script.string(), "--out", out.string(), "--checkpoint-every", "4", "--quiet"});
   CHECK(second.code == 2);
   CHECK_THAT(second.err, Contains("(the last checkpoint is " + (out / "checkpoint.cfck").string() + ")"));
@@ -291,4 +293,26 @@ TEST_CASE(
   CHECK(r.code == 1);
   CHECK_THAT(r.err, Contains("the simulation diverged") && Contains("the last good one, could not be written"));
   CHECK_FALSE(fs::exists(blocked / "run.json"));
+}
+
+TEST_CASE(
+    "the first periodic checkpoint is written however soon it comes, so a run failing in its first minute "
+    "can go on",
+    "[cli][checkpoint]") {
+  TempDir t("cli-first-checkpoint");
+  const auto script = t.write("early.lua",
+                              "cells { time_step = 0.2, separation = 0.05 }\n"
+                              "division { max_cells = 3000, rule = function(cell)\n"
+                              "  if cell.step >= 25 then return 'x' end\n"
+                              "  return cell.age > 4 end }\n"
+                              "run { steps = 40 }\n"
+                              "output { checkpoint_every = 10 }\n"  // 60 s between checkpoints by default
+                              "disc { radius = 3 }\n");
+  const fs::path out = t.path / "out";
+  const CliResult r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
+  REQUIRE(r.code == 2);
+  CHECK_THAT(r.err, Contains("(the last checkpoint is " + (out / "checkpoint.cfck").string() + ")"));
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["steps"]["completed"] == 10);  // the first; the one due at 20 came within 60 s of it
+  CHECK(run["parameters"]["output"]["checkpoint_every"] == 10);
 }

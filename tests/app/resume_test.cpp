@@ -223,6 +223,10 @@ TEST_CASE("a run's --checkpoint-every is kept by its checkpoints, so a resumed r
       cli({"resume", (a / "checkpoint.cfck").string(), "--steps", "12", "--checkpoint-every", "5", "--quiet"}).code ==
       0);
   CHECK(every(a / "checkpoint.cfck") == 5);
+  // run.json says what applied: every 5 steps, with no seconds between them
+  const auto output = nlohmann::json::parse(slurp(a / "run.json"))["parameters"]["output"];
+  CHECK(output["checkpoint_every"] == 5);
+  CHECK(output["checkpoint_seconds"] == 0);
   REQUIRE(cli({"run", script.string(), "--out", b.string(), "--steps", "3", "--quiet"}).code == 0);
   CHECK(every(b / "checkpoint.cfck").is_null());  // the script's output.checkpoint_every applies
 }
@@ -303,15 +307,17 @@ TEST_CASE("a resume steps with the values its run was saved with, though a defau
   r = cli({"resume", oldest.string(), "--quiet"});
   CHECK(r.code == 0);
   CHECK_THAT(r.err, Contains("does not record its run's parameter values"));
-  // a changed value the script refuses now (division.radius beside a division.rule) is said, not fatal;
-  // a value this cellform does not know is left alone
+  // a changed value the script refuses now (out of today's range) is said, not fatal; a value this
+  // cellform does not know is left alone, as is a trigger setting a rule replaced (not recorded any more)
   const auto ruled = t.write("r.lua",
                              "division { rule = function(c) return c.age > 4 end, max_cells = 200 }\n"
                              "disc { radius = 3 }\nrun { steps = 10 }\n");
   REQUIRE(cli({"run", ruled.string(), "--out", (t.path / "r").string(), "--quiet", "--steps", "4"}).code == 0);
   saved = cellform::core::read_chunk_file(slurp(t.path / "r" / "checkpoint.cfck"), "CKPT", 1, "test");
   meta = nlohmann::json::parse(saved.chunks.at("meta"));
+  CHECK_FALSE(meta["physics"]["division"].contains("radius"));
   meta["physics"]["division"]["radius"] = 1.5;
+  meta["physics"]["division"]["min_age"] = -3;
   meta["physics"]["cells"]["no_such_weight"] = 2;
   forged = saved.chunks;
   forged["meta"] = meta.dump();
@@ -320,8 +326,8 @@ TEST_CASE("a resume steps with the values its run was saved with, though a defau
   r = cli({"resume", ruled_ck.string(), "--quiet"});
   INFO(r.err);
   CHECK(r.code == 0);
-  CHECK_THAT(r.err, Contains("warning: the run was saved with division.radius = 1.5 (now 1.25)") &&
-                        !Contains("no_such_weight"));
+  CHECK_THAT(r.err, Contains("warning: the run was saved with division.min_age = -3 (now 5)") &&
+                        !Contains("no_such_weight") && !Contains("radius"));
 }
 
 TEST_CASE("math.random in a rule gives the same cells for the same seed, after a resume too", "[cli][checkpoint]") {

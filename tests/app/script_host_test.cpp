@@ -244,6 +244,19 @@ TEST_CASE("rule functions run per cell and report errors with step and cell", "[
   }
   CHECK_THROWS_WITH(r2.divides(c, 0), Contains("bad.lua:1: division.rule must return true or false, got number"));
 
+  // a rule defined away from its section's call: what it returns is blamed on the function's line
+  ScriptHost apart;
+  apart.load("local function grow(cell)\n  return 'yes'\nend\ndisc { radius = 2 }\ndivision { rule = grow }\n",
+             "apart.lua", {});
+  CHECK_THROWS_WITH(apart.rules().divides(c, 0), Contains("apart.lua:1: division.rule must return true or false"));
+  // and the resolved division no longer lists the trigger settings the rule replaced
+  ScriptHost listed;
+  const auto ruled =
+      listed.load("disc { radius = 2 }\ndivision { rule = function(cell) return true end }\n", "listed.lua", {});
+  CHECK_FALSE(ruled.resolved["division"].contains("trigger"));
+  CHECK_FALSE(ruled.resolved["division"].contains("age"));
+  CHECK(ruled.resolved["division"].contains("min_age"));
+
   // a direction the split cannot normalise names the section's line, not only the script
   ScriptHost dir;
   dir.load(
