@@ -171,12 +171,16 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         s.sets.erase(k);
       }
       if (s.script_replaced) {
+        if (script_hash(s.source) == s.checkpoint_script_hash)
+          err << "cellform: note: " << s.script_path.string()
+              << " is the script the checkpoint keeps, unchanged: it goes on as a plain resume would\n";
         std::string why;
         const std::optional<SceneConfig> before = load_run_script(s, o.limits, why);
         if (!before) {
           err << "cellform: note: the run's own script (" << s.replaced_path << ") no longer loads (" << why
               << "), so what " << s.script_path.string() << " changes in its shapes and petioles is not checked\n";
         } else {
+          s.replaced_parameters = before->resolved;
           const std::string unplaced = unplaced_changes(s, *before, cfg);
           if (!unplaced.empty())
             err << "cellform: warning: " << s.script_path.string() << " changes the " << unplaced
@@ -299,6 +303,12 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   const fs::path created = first_missing(dir);  // made by this run: removed again if it stays empty
   try {
     staging = make_staging(dir, lock);
+    if (s.script_replaced) {  // the checkpoint resumed is replaced by this run's: keep a copy of it
+      record_replaced_script(s, o, dir);
+      if (!s.kept_checkpoint.empty())
+        err << "cellform: note: the checkpoint resumed is kept as " << (dir / s.kept_checkpoint).string()
+            << " (this run's checkpoints replace " << kCheckpointName << ")\n";
+    }
   } catch (const FolderBusy& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
     return failure;  // the folder is the other run's now
@@ -444,6 +454,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         code = interrupted;
       } catch (const std::exception& e) {
         err << "cellform: " << core::error_text(e) << "\n  (the other outputs and the checkpoint are written)\n";
+        if (saved)  // the cells need not grow again for another try
+          err << "  to print again with other print.* values: cellform resume " << checkpoint.string()
+              << " --set print.NAME=VALUE\n";
         printed = {{"error", core::error_text(e)}};
         if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
           code = failure;

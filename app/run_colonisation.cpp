@@ -223,7 +223,7 @@ json run_record(const Start& s, std::uint64_t seed, int threads, venation::Domai
 /// surface (a mesh, or the sheet of cells grown first). Writes checkpoint.cfck every
 /// output.checkpoint_every steps, at the end and on Ctrl-C (which stops it with the pattern so far written
 /// out); `cellform resume` continues it bit-identically (s.colonisation_bytes).
-int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
+int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
                      std::ostream& out, std::ostream& err, std::chrono::steady_clock::time_point t0) {
   const fs::path dir = s.out_dir;
   const fs::path created = first_missing(dir);  // made by this run: removed again if it stays empty
@@ -233,6 +233,12 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
   std::string checkpoint_failure;  // why the final checkpoint could not be written
   try {
     staging = make_staging(dir, lock);
+    if (s.script_replaced) {  // the checkpoint resumed is replaced by this run's: keep a copy of it
+      record_replaced_script(s, o, dir);
+      if (!s.kept_checkpoint.empty())
+        err << "cellform: note: the checkpoint resumed is kept as " << (dir / s.kept_checkpoint).string()
+            << " (this run's checkpoints replace " << kCheckpointName << ")\n";
+    }
   } catch (const FolderBusy& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
     return failure;  // the folder is the other run's now
@@ -423,6 +429,9 @@ int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, Scri
         code = interrupted;
       } catch (const std::exception& e) {
         err << "cellform: " << core::error_text(e) << "\n";
+        if (saved)  // the veins need not grow again for another try
+          err << "  to print again with other print.* values: cellform resume " << checkpoint.string()
+              << " --set print.NAME=VALUE\n";
         printed = {{"error", core::error_text(e)}};
         if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
           code = failure;

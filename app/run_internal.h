@@ -55,6 +55,11 @@ struct Start {
   // resume --script: the checkpoint's script was replaced by `source` (its path was replaced_path)
   bool script_replaced = false;
   std::string replaced_path;
+  // the scripts this run has had before `source`, oldest first: {path, hash, until_step, parameters};
+  // kept by its checkpoints (run.json's script.replaces)
+  nlohmann::json replaced = nlohmann::json::array();
+  std::string kept_checkpoint;         // resume --script: the file the resumed checkpoint was copied to, if any
+  nlohmann::json replaced_parameters;  // resume --script: the run's own script's resolved values, if it loads
 };
 
 /// "fnv1a64:<hex>" of a script's text, as run.json and the checkpoints name it.
@@ -63,6 +68,11 @@ std::string script_hash(const std::string& source);
 /// What `o` starts from: its script, or the checkpoint it resumes (read and checked against the options;
 /// with --script, the edited script instead of the one the checkpoint keeps). Throws InputError.
 Start start_from(const RunOptions& o);
+
+/// resume --script: adds the checkpoint's own script (and s.replaced_parameters, its resolved values, when
+/// known) to s.replaced; and when the checkpoint resumed is `dir`'s checkpoint.cfck, which the run will replace,
+/// copies it beside it (checkpoint-stepN.cfck) and notes its name in s.kept_checkpoint.
+void record_replaced_script(Start& s, const RunOptions& o, const std::filesystem::path& dir);
 
 /// resume --script: the scene the checkpoint's own script describes (read again, with its --sets), or
 /// nothing and the reason in `why` when it no longer loads (a file beside it is gone). Rethrows a Ctrl-C.
@@ -208,7 +218,7 @@ std::vector<std::string> earlier_frames(const std::filesystem::path& dir, std::u
                                         const std::string& script_hash, std::uint64_t seed, const Overrides& overrides);
 
 /// A space-colonisation run (run_colonisation.cpp); returns the exit code. Never throws.
-int run_colonisation(const RunOptions& o, const Start& s, SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
+int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
                      std::ostream& out, std::ostream& err, std::chrono::steady_clock::time_point t0);
 
 }  // namespace cellform::app

@@ -83,8 +83,7 @@ std::string resume_hint(const RunOptions& o, const fs::path& checkpoint, const f
 
 json script_record(const Start& s) {
   json r = {{"path", s.script_path.string()}, {"hash", script_hash(s.source)}};
-  if (s.script_replaced)
-    r["replaces"] = {{"path", s.replaced_path}, {"hash", s.checkpoint_script_hash}, {"from_step", s.step}};
+  if (!s.replaced.empty()) r["replaces"] = s.replaced;
   return r;
 }
 
@@ -97,7 +96,8 @@ json checkpoint_meta(const Start& s, std::uint64_t seed, std::uint64_t target, s
           {"checkpoint_every", s.checkpoint_every ? json(*s.checkpoint_every) : json(nullptr)},
           {"target_steps", target},
           {"step", step},
-          {"out", absolute_path_text(s.out_dir)}};
+          {"out", absolute_path_text(s.out_dir)},
+          {"replaced_scripts", s.replaced}};
 }
 
 std::string absolute_path_text(const fs::path& p) {
@@ -128,6 +128,8 @@ Start start_from(const RunOptions& o) {
         s.seed = meta.at("seed").get<std::uint64_t>();
         s.target_steps = meta.at("target_steps").get<std::uint64_t>();
         s.step = meta.at("step").get<std::uint64_t>();
+        s.replaced = meta.value("replaced_scripts", json::array());  // older checkpoints: none
+        if (!s.replaced.is_array()) throw core::FileError(what + " is corrupt (metadata 'replaced_scripts')");
         s.out_dir = meta.at("out").get<std::string>();
         if (meta.contains("initial_cells") && !meta["initial_cells"].is_number_unsigned())
           throw core::FileError(what + " is corrupt (metadata 'initial_cells' is not a whole number >= 0)");
@@ -216,6 +218,27 @@ Start start_from(const RunOptions& o) {
   }
   s.out_dir = o.out ? out_folder(*o.out) : fs::path("out") / o.script.stem();
   return s;
+}
+
+void record_replaced_script(Start& s, const RunOptions& o, const fs::path& dir) {
+  json entry = {{"path", s.replaced_path}, {"hash", s.checkpoint_script_hash}, {"until_step", s.step}};
+  if (!s.replaced_parameters.is_null()) entry["parameters"] = s.replaced_parameters;
+  s.replaced.push_back(entry);
+  std::error_code ec;
+  const fs::path resumed = dir / kCheckpointName;
+  if (!fs::equivalent(o.checkpoint, resumed, ec)) return;  // elsewhere: this run does not replace it
+  const std::string stem = "checkpoint-step" + std::to_string(s.step);
+  for (int k = 1; k < 100; ++k) {
+    const std::string name = stem + (k == 1 ? std::string() : "-" + std::to_string(k)) + ".cfck";
+    if (fs::exists(dir / name, ec)) {
+      if (core::read_file(dir / name) != core::read_file(resumed)) continue;  // else kept already
+    } else {
+      write_checkpoint(dir / name, core::read_file(resumed));
+    }
+    s.kept_checkpoint = name;
+    s.replaced.back()["checkpoint"] = name;
+    return;
+  }
 }
 
 std::optional<SceneConfig> load_run_script(const Start& s, const ScriptLimits& limits, std::string& why) {

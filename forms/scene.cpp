@@ -34,8 +34,10 @@ core::Index make_petiole(cells::Cells& cells, const Vec3& at, bool fixed, double
   }
   if (best != core::kNoIndex && best_d2 > 9 * rest_length * rest_length) {
     std::ostringstream s;
+    const Vec3& near = cells.position[best];
     s << "petiole at {" << at.x() << ", " << at.y() << ", " << at.z() << "} is " << std::sqrt(best_d2)
-      << " model units from the nearest cell; a petiole must be a cell of the form (within 3 rest lengths of one)";
+      << " model units from the nearest cell, at {" << near.x() << ", " << near.y() << ", " << near.z()
+      << "}; a petiole must be a cell of the form (within 3 rest lengths of one)";
     throw core::InvalidInput(s.str());
   }
   if (best == core::kNoIndex || best_d2 > 0.25 * rest_length * rest_length)

@@ -94,7 +94,7 @@ TEST_CASE("input errors exit with 2 and one clear line", "[cli]") {
   r = cli({"run", far.string(), "--out", (t.path / "far").string(), "--quiet"});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("far.lua:5:"));
-  CHECK_THAT(r.err, Contains("from the nearest cell"));
+  CHECK_THAT(r.err, Contains("from the nearest cell, at {"));  // where a petiole could go instead
   // veins with no petiole before the first step: named at the venation line, and no output is left
   const auto none = t.write("none.lua", "disc { radius = 3 }\nvenation {}\nrun { steps = 5 }\n");
   r = cli({"run", none.string(), "--out", (t.path / "none").string(), "--quiet"});
@@ -430,6 +430,9 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
     CHECK(r.code == 1);
     CHECK_THAT(r.err, Contains("falls apart into 2 parts"));
     CHECK(fs::exists(t.path / "two" / "checkpoint.cfck"));  // nothing else is lost
+    // and another try of the print needs no growth again: said how
+    CHECK_THAT(r.err, Contains("to print again with other print.* values: cellform resume " +
+                               (t.path / "two" / "checkpoint.cfck").string() + " --set print.NAME=VALUE"));
     CHECK(fs::exists(t.path / "two" / "cells.ply"));
     const auto failed = nlohmann::json::parse(slurp(t.path / "two" / "run.json"));
     CHECK(failed["status"] == "print failed");  // it said "complete"

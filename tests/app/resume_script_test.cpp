@@ -101,14 +101,26 @@ TEST_CASE("a run stopped by a script error goes on from its checkpoint with the 
   CHECK(run["steps"]["first"] == 20);
   CHECK(run["steps"]["completed"] == 40);
   CHECK(run["script"]["hash"] == cellform::app::script_hash(slurp(fixed)));
-  CHECK(run["script"]["replaces"]["hash"] == cellform::app::script_hash(slurp(broken)));
-  CHECK(run["script"]["replaces"]["from_step"] == 20);
-  // the new checkpoint keeps the corrected script, so it resumes without --script
+  // what it replaced: the broken script up to step 20, with its values, and a copy of that checkpoint
+  REQUIRE(run["script"]["replaces"].size() == 1);
+  const auto replaced = run["script"]["replaces"][0];
+  CHECK(replaced["hash"] == cellform::app::script_hash(slurp(broken)));
+  CHECK(replaced["until_step"] == 20);
+  CHECK(replaced["parameters"]["division"]["max_cells"] == 3000);
+  CHECK(replaced["checkpoint"] == "checkpoint-step20.cfck");
+  CHECK_THAT(r.err, Contains("the checkpoint resumed is kept as " + (out / "checkpoint-step20.cfck").string()));
+  const auto at20 = cellform::core::read_chunk_file(slurp(out / "checkpoint-step20.cfck"), "CKPT", 1, "test");
+  CHECK(at20.chunks.at("script") == slurp(broken));
+  // the new checkpoint keeps the corrected script, so it resumes without --script, and remembers the old one
   const auto saved = cellform::core::read_chunk_file(slurp(checkpoint), "CKPT", 1, "test");
   CHECK(saved.chunks.at("script") == slurp(fixed));
   r = cli({"resume", checkpoint.string(), "--steps", "45", "--quiet"});
   CHECK(r.code == 0);
-  CHECK_FALSE(nlohmann::json::parse(slurp(out / "run.json"))["script"].contains("replaces"));
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["script"]["replaces"] == run["script"]["replaces"]);
+  // the same script again is said to change nothing
+  r = cli({"resume", checkpoint.string(), "--steps", "46", "--script", fixed.string(), "--quiet"});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("is the script the checkpoint keeps, unchanged"));
 }
 
 TEST_CASE("resume --script is refused clearly where it cannot apply", "[cli][checkpoint]") {
