@@ -170,17 +170,29 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
             << " has no parameter for it\n";
         s.sets.erase(k);
       }
+      if (s.script_unchanged)
+        err << "cellform: note: " << o.replace_script->string()
+            << " is the script the checkpoint keeps, unchanged: this is a plain resume\n";
       if (s.script_replaced) {
-        if (script_hash(s.source) == s.checkpoint_script_hash)
-          err << "cellform: note: " << s.script_path.string()
-              << " is the script the checkpoint keeps, unchanged: it goes on as a plain resume would\n";
         std::string why;
         const std::optional<SceneConfig> before = load_run_script(s, o.limits, why);
         if (!before) {
           err << "cellform: note: the run's own script (" << s.replaced_path << ") no longer loads (" << why
               << "), so what " << s.script_path.string() << " changes in its shapes and petioles is not checked\n";
         } else {
+          // its values as the run used them: with the run's seed, target and --checkpoint-every
           s.replaced_parameters = before->resolved;
+          json& was = s.replaced_parameters;
+          if (was.contains("run")) {
+            was["run"]["seed"] = *s.seed;
+            if (s.colonisation_bytes.empty() && !s.sheet_partial) was["run"]["steps"] = s.checkpoint_target;
+          }
+          if (!s.colonisation_bytes.empty() && !s.sheet_partial && was.contains("colonisation"))
+            was["colonisation"]["max_steps"] = s.checkpoint_target;
+          if (s.checkpoint_every_of_run && was.contains("output")) {
+            was["output"]["checkpoint_every"] = *s.checkpoint_every_of_run;
+            was["output"]["checkpoint_seconds"] = 0;
+          }
           const std::string unplaced = unplaced_changes(s, *before, cfg);
           if (!unplaced.empty())
             err << "cellform: warning: " << s.script_path.string() << " changes the " << unplaced
@@ -303,12 +315,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   const fs::path created = first_missing(dir);  // made by this run: removed again if it stays empty
   try {
     staging = make_staging(dir, lock);
-    if (s.script_replaced) {  // the checkpoint resumed is replaced by this run's: keep a copy of it
-      record_replaced_script(s, o, dir);
-      if (!s.kept_checkpoint.empty())
-        err << "cellform: note: the checkpoint resumed is kept as " << (dir / s.kept_checkpoint).string()
-            << " (this run's checkpoints replace " << kCheckpointName << ")\n";
-    }
+    if (s.script_replaced) record_replaced_script(s, o, dir);
   } catch (const FolderBusy& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
     return failure;  // the folder is the other run's now
@@ -342,6 +349,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   std::uint64_t stepping = 0;              // the step being computed, while one is (steps count from 1)
   std::vector<std::uint64_t> frame_steps;  // the step of every frame written (outputs holds their names)
   auto checkpoint_now = [&] {
+    keep_resumed_checkpoint(s, dir, err);  // resume --script: the checkpoint resumed is replaced now
     write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
     saved_step = sim.step_count();
     saved_cells = sim.cells().size();

@@ -59,7 +59,7 @@ struct FailedRun {
 /// surface{cells = true}: grows the script's cells (cells{}, division{}, run{}, shapes) for --steps or
 /// run.steps steps (from a sheet checkpoint's step when `s` resumes one). Writes a sheet checkpoint to
 /// `checkpoint` as output.checkpoint_every asks and when a Ctrl-C ends the growth early.
-Sheet grow_sheet(const RunOptions& o, const Start& s, const SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
+Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
                  const fs::path& checkpoint, std::ostream& err, FailedRun& failed) {
   forms::Scene scene(cfg.scene, seed);
   cells::Simulation& sim = scene.simulation();
@@ -84,6 +84,7 @@ Sheet grow_sheet(const RunOptions& o, const Start& s, const SceneConfig& cfg, Sc
         << out.target << (s.resume ? "" : " steps") << " (" << sim.cells().size() << " cells)\n";
   const json physics = physics_of(cfg.resolved);
   auto save = [&] {
+    keep_resumed_checkpoint(s, checkpoint.parent_path(), err);  // resume --script: replaced now
     write_checkpoint(checkpoint, sheet_checkpoint_bytes(s, seed, out.target, sim, out.initial, physics));
   };
   CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
@@ -233,12 +234,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
   std::string checkpoint_failure;  // why the final checkpoint could not be written
   try {
     staging = make_staging(dir, lock);
-    if (s.script_replaced) {  // the checkpoint resumed is replaced by this run's: keep a copy of it
-      record_replaced_script(s, o, dir);
-      if (!s.kept_checkpoint.empty())
-        err << "cellform: note: the checkpoint resumed is kept as " << (dir / s.kept_checkpoint).string()
-            << " (this run's checkpoints replace " << kCheckpointName << ")\n";
-    }
+    if (s.script_replaced) record_replaced_script(s, o, dir);
   } catch (const FolderBusy& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
     return failure;  // the folder is the other run's now
@@ -319,6 +315,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                                                            "checkpoint '" + o.checkpoint.string() + "'");
     const std::size_t first = col.report().steps;
     auto save = [&] {
+      keep_resumed_checkpoint(s, dir, err);  // resume --script: the checkpoint resumed is replaced now
       write_checkpoint(checkpoint, colonisation_checkpoint_bytes(s, seed, spec.params, col, sheet ? &*sheet : nullptr,
                                                                  sheet_initial));
     };

@@ -59,7 +59,12 @@ struct Start {
   // kept by its checkpoints (run.json's script.replaces)
   nlohmann::json replaced = nlohmann::json::array();
   std::string kept_checkpoint;         // resume --script: the file the resumed checkpoint was copied to, if any
+  bool copy_before_replacing = false;  // resume --script: copy the resumed checkpoint before the first write
   nlohmann::json replaced_parameters;  // resume --script: the run's own script's resolved values, if it loads
+  bool script_unchanged = false;       // resume --script with the script the checkpoint keeps: a plain resume
+  // resume only: the checkpoint's own target and --checkpoint-every (before this command's options)
+  std::uint64_t checkpoint_target = 0;
+  std::optional<std::uint64_t> checkpoint_every_of_run;
 };
 
 /// "fnv1a64:<hex>" of a script's text, as run.json and the checkpoints name it.
@@ -70,9 +75,14 @@ std::string script_hash(const std::string& source);
 Start start_from(const RunOptions& o);
 
 /// resume --script: adds the checkpoint's own script (and s.replaced_parameters, its resolved values, when
-/// known) to s.replaced; and when the checkpoint resumed is `dir`'s checkpoint.cfck, which the run will replace,
-/// copies it beside it (checkpoint-stepN.cfck) and notes its name in s.kept_checkpoint.
+/// known) to s.replaced; notes whether the checkpoint resumed is `dir`'s checkpoint.cfck, which this run's
+/// checkpoints will replace (keep_resumed_checkpoint copies it first).
 void record_replaced_script(Start& s, const RunOptions& o, const std::filesystem::path& dir);
+
+/// Before a run resumed with --script first replaces the checkpoint it resumed: copies that one beside it
+/// as checkpoint-stepN.cfck (the first free name), notes the copy in s.replaced and says so on `err`.
+/// Throws core::FileError if the copy cannot be made (then the checkpoint must not be replaced either).
+void keep_resumed_checkpoint(Start& s, const std::filesystem::path& dir, std::ostream& err);
 
 /// resume --script: the scene the checkpoint's own script describes (read again, with its --sets), or
 /// nothing and the reason in `why` when it no longer loads (a file beside it is gone). Rethrows a Ctrl-C.

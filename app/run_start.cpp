@@ -129,7 +129,12 @@ Start start_from(const RunOptions& o) {
         s.target_steps = meta.at("target_steps").get<std::uint64_t>();
         s.step = meta.at("step").get<std::uint64_t>();
         s.replaced = meta.value("replaced_scripts", json::array());  // older checkpoints: none
-        if (!s.replaced.is_array()) throw core::FileError(what + " is corrupt (metadata 'replaced_scripts')");
+        if (s.replaced.is_null()) s.replaced = json::array();
+        bool listed = s.replaced.is_array();
+        for (const json& r : listed ? s.replaced : json::array())
+          listed = listed && r.is_object() && r.value("path", json()).is_string() &&
+                   r.value("hash", json()).is_string() && r.value("until_step", json()).is_number_unsigned();
+        if (!listed) throw core::FileError(what + " is corrupt (metadata 'replaced_scripts')");
         s.out_dir = meta.at("out").get<std::string>();
         if (meta.contains("initial_cells") && !meta["initial_cells"].is_number_unsigned())
           throw core::FileError(what + " is corrupt (metadata 'initial_cells' is not a whole number >= 0)");
@@ -158,14 +163,20 @@ Start start_from(const RunOptions& o) {
         if (o.replace_script->extension() == ".cfck")
           throw InputError("--script " + o.replace_script->string() +
                            " is a checkpoint; give the edited growth script (a .lua file)");
+        std::string edited;
         try {
-          s.source = core::read_file(*o.replace_script);
+          edited = core::read_file(*o.replace_script);
         } catch (const core::FileError& e) {
           throw InputError(std::string("--script: ") + e.what());
         }
-        s.replaced_path = s.script_path.string();
-        s.script_path = *o.replace_script;
-        s.script_replaced = true;
+        if (edited == s.source) {
+          s.script_unchanged = true;  // the script the checkpoint keeps: a plain resume
+        } else {
+          s.source = edited;
+          s.replaced_path = s.script_path.string();
+          s.script_path = *o.replace_script;
+          s.script_replaced = true;
+        }
       }
       // refused before anything is written: the checkpoint keeps its run's target and seed
       if (o.steps && *o.steps < s.step)
@@ -187,6 +198,8 @@ Start start_from(const RunOptions& o) {
                                                    : fs::path(".");
       if (meta.contains("checkpoint_every") && meta["checkpoint_every"].is_number_unsigned())
         s.checkpoint_every = meta["checkpoint_every"].get<std::uint64_t>();
+      s.checkpoint_every_of_run = s.checkpoint_every;
+      s.checkpoint_target = s.target_steps;
       if (o.checkpoint_every) s.checkpoint_every = o.checkpoint_every;
       for (const auto& [k, v] : o.sets) {
         // a cell run continues bit-identically only with the physics it was saved with; what it writes may
@@ -199,7 +212,11 @@ Start start_from(const RunOptions& o) {
                            " continues with the parameters it was saved with (only output.* and print.* may change "
                            "when resuming a cell run, or a run stopped while its cell sheet grew); start a new run, "
                            "or resume with --script and an edited script, to change " +
-                           k);
+                           k +
+                           (s.script_unchanged ? " (--script " + o.replace_script->string() +
+                                                     " is the script the checkpoint keeps, unchanged: this is a "
+                                                     "plain resume)"
+                                               : std::string()));
         s.sets[k] = v;
       }
       return s;
@@ -225,20 +242,30 @@ void record_replaced_script(Start& s, const RunOptions& o, const fs::path& dir) 
   if (!s.replaced_parameters.is_null()) entry["parameters"] = s.replaced_parameters;
   s.replaced.push_back(entry);
   std::error_code ec;
-  const fs::path resumed = dir / kCheckpointName;
-  if (!fs::equivalent(o.checkpoint, resumed, ec)) return;  // elsewhere: this run does not replace it
+  s.copy_before_replacing = fs::equivalent(o.checkpoint, dir / kCheckpointName, ec);  // else elsewhere
+}
+
+void keep_resumed_checkpoint(Start& s, const fs::path& dir, std::ostream& err) {
+  if (!s.copy_before_replacing) return;
   const std::string stem = "checkpoint-step" + std::to_string(s.step);
-  for (int k = 1; k < 100; ++k) {
-    const std::string name = stem + (k == 1 ? std::string() : "-" + std::to_string(k)) + ".cfck";
-    if (fs::exists(dir / name, ec)) {
-      if (core::read_file(dir / name) != core::read_file(resumed)) continue;  // else kept already
-    } else {
-      write_checkpoint(dir / name, core::read_file(resumed));
-    }
-    s.kept_checkpoint = name;
-    s.replaced.back()["checkpoint"] = name;
-    return;
+  std::error_code ec;
+  std::string name;
+  for (int k = 1; name.empty(); ++k) {  // the first free name: an older copy may be another run's
+    const std::string candidate = stem + (k == 1 ? std::string() : "-" + std::to_string(k)) + ".cfck";
+    if (!fs::exists(dir / candidate, ec) && !fs::is_symlink(dir / candidate, ec)) name = candidate;
   }
+  const fs::path part = dir / (name + ".partial");  // then renamed: a kill leaves no half copy under the name
+  if (!fs::copy_file(dir / kCheckpointName, part, fs::copy_options::overwrite_existing, ec) ||
+      (fs::rename(part, dir / name, ec), ec)) {
+    fs::remove(part, ec);
+    throw core::FileError("cannot keep a copy of the checkpoint resumed as '" + (dir / name).string() +
+                          "' before this run replaces it: " + ec.message());
+  }
+  s.copy_before_replacing = false;
+  s.kept_checkpoint = name;
+  s.replaced.back()["checkpoint"] = name;
+  err << "cellform: note: the checkpoint resumed is kept as " << (dir / name).string() << " (this run's "
+      << kCheckpointName << " replaces it)\n";
 }
 
 std::optional<SceneConfig> load_run_script(const Start& s, const ScriptLimits& limits, std::string& why) {

@@ -107,6 +107,8 @@ TEST_CASE("a run stopped by a script error goes on from its checkpoint with the 
   CHECK(replaced["hash"] == cellform::app::script_hash(slurp(broken)));
   CHECK(replaced["until_step"] == 20);
   CHECK(replaced["parameters"]["division"]["max_cells"] == 3000);
+  CHECK(replaced["parameters"]["output"]["checkpoint_every"] == 10);  // as the run had them (--checkpoint-every)
+  CHECK(replaced["parameters"]["run"]["seed"] == 1);
   CHECK(replaced["checkpoint"] == "checkpoint-step20.cfck");
   CHECK_THAT(r.err, Contains("the checkpoint resumed is kept as " + (out / "checkpoint-step20.cfck").string()));
   const auto at20 = cellform::core::read_chunk_file(slurp(out / "checkpoint-step20.cfck"), "CKPT", 1, "test");
@@ -117,10 +119,12 @@ TEST_CASE("a run stopped by a script error goes on from its checkpoint with the 
   r = cli({"resume", checkpoint.string(), "--steps", "45", "--quiet"});
   CHECK(r.code == 0);
   CHECK(nlohmann::json::parse(slurp(out / "run.json"))["script"]["replaces"] == run["script"]["replaces"]);
-  // the same script again is said to change nothing
+  // the same script again is a plain resume: no copy, and nothing more in replaces
   r = cli({"resume", checkpoint.string(), "--steps", "46", "--script", fixed.string(), "--quiet"});
   CHECK(r.code == 0);
-  CHECK_THAT(r.err, Contains("is the script the checkpoint keeps, unchanged"));
+  CHECK_THAT(r.err, Contains("is the script the checkpoint keeps, unchanged: this is a plain resume"));
+  CHECK_FALSE(fs::exists(out / "checkpoint-step45.cfck"));
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["script"]["replaces"] == run["script"]["replaces"]);
 }
 
 TEST_CASE("resume --script is refused clearly where it cannot apply", "[cli][checkpoint]") {
@@ -152,7 +156,12 @@ TEST_CASE("resume --script is refused clearly where it cannot apply", "[cli][che
   r = cli({"resume", checkpoint, "--steps", "8", "--set", "cells.spring=2", "--quiet"});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("or resume with --script and an edited script"));
-  r = cli({"resume", checkpoint, "--steps", "8", "--set", "cells.spring=2", "--script", script.string(), "--quiet"});
+  // the same script given with --script is a plain resume: refused the same way
+  r = cli({"resume", checkpoint, "--steps", "8", "--set", "cells.spring=2", "--script", script.string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("is the script the checkpoint keeps, unchanged: this is a plain resume"));
+  const auto edited = t.write("edited.lua", std::string(kSmall) + "-- springier\n");
+  r = cli({"resume", checkpoint, "--steps", "8", "--set", "cells.spring=2", "--script", edited.string(), "--quiet"});
   CHECK(r.code == 0);
 }
 
@@ -327,4 +336,52 @@ TEST_CASE(
   const auto run = nlohmann::json::parse(slurp(out / "run.json"));
   CHECK(run["steps"]["completed"] == 10);  // the first; the one due at 20 came within 60 s of it
   CHECK(run["parameters"]["output"]["checkpoint_every"] == 10);
+}
+
+TEST_CASE("resume --script copies the checkpoint it resumed only when it first replaces it, under a free name",
+          "[cli][checkpoint]") {
+  TempDir t("cli-resume-script-copy");
+  const std::string head =
+      "cells { time_step = 0.2, separation = 0.05 }\n"
+      "division { max_cells = 3000, rule = function(cell)\n"
+      "  if cell.step >= ";
+  const std::string tail =
+      " then return 'x' end\n"
+      "  return cell.age > 4 end }\n"
+      "run { steps = 40 }\n"
+      "disc { radius = 3 }\n";
+  const auto at25 = t.write("at25.lua", head + "25" + tail), at23 = t.write("at23.lua", head + "23" + tail);
+  const auto fine = t.write("fine.lua", head + "1000" + tail);
+  const fs::path out = t.path / "out";
+  const std::string checkpoint = (out / "checkpoint.cfck").string();
+  REQUIRE(cli({"run", at25.string(), "--out", out.string(), "--checkpoint-every", "10", "--quiet"}).code == 2);
+  const std::string at20 = slurp(out / "checkpoint.cfck");
+  // a resume that fails before its first checkpoint replaces nothing, so it copies nothing
+  CliResult r = cli({"resume", checkpoint, "--script", at23.string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_FALSE(fs::exists(out / "checkpoint-step20.cfck"));
+  CHECK(slurp(out / "checkpoint.cfck") == at20);
+  // a name taken by something else is skipped
+  fs::create_directories(out / "checkpoint-step20.cfck");
+  r = cli({"resume", checkpoint, "--script", fine.string(), "--quiet"});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  CHECK(slurp(out / "checkpoint-step20-2.cfck") == at20);
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["script"]["replaces"][0]["checkpoint"] ==
+        "checkpoint-step20-2.cfck");
+  // checkpoint metadata from before the list, or a damaged list
+  auto saved = cellform::core::read_chunk_file(at20, "CKPT", 1, "test");
+  auto meta = nlohmann::json::parse(saved.chunks.at("meta"));
+  meta["replaced_scripts"] = nullptr;
+  saved.chunks["meta"] = meta.dump();
+  fs::create_directories(t.path / "none");
+  const auto none = t.write("none/checkpoint.cfck", cellform::core::write_chunk_file("CKPT", 1, saved.chunks));
+  CHECK(cli({"resume", none.string(), "--script", fine.string(), "--quiet"}).code == 0);
+  meta["replaced_scripts"] = nlohmann::json::array({nlohmann::json{{"path", 5}}});
+  saved.chunks["meta"] = meta.dump();
+  fs::create_directories(t.path / "bad");
+  const auto bad = t.write("bad/checkpoint.cfck", cellform::core::write_chunk_file("CKPT", 1, saved.chunks));
+  r = cli({"resume", bad.string(), "--script", fine.string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("corrupt (metadata 'replaced_scripts')"));
 }
