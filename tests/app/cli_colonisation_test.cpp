@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <thread>
 
 #include "app/run_internal.h"
@@ -191,7 +192,13 @@ TEST_CASE("space colonisation resumes to the bit-identical veins, in a leaf and 
   CHECK_THAT(r.err, Contains("checksum"));
   r = cli({"resume", (out / "checkpoint.cfck").string(), "--set", "colonisation.kill_distance=2", "--quiet"});
   CHECK(r.code == 2);
-  CHECK_THAT(r.err, Contains("other colonisation parameters"));
+  CHECK_THAT(r.err,
+             Contains("other colonisation parameters") && Contains("changed: --set colonisation.kill_distance=2"));
+  // an edited script that changes one: named with its old and new value
+  const auto edited = t.write("edited.lua", std::regex_replace(volume, std::regex("darts = 3000"), "darts = 2000"));
+  r = cli({"resume", (out / "checkpoint.cfck").string(), "--script", edited.string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("changed: colonisation.darts = 2000.0 (was 3000.0)"));
 }
 
 TEST_CASE("a space-colonisation run writes the vein files output{} asks for", "[cli][colonisation]") {
