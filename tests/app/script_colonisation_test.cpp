@@ -1,41 +1,16 @@
 // Tests of the script host's space-colonisation sections: leaf{}, colonisation{}, volume{}, surface{},
 // growth tables and functions, and the outputs only such runs have.
-#include "app/script_host.h"
-
-#include <catch2/catch.hpp>
-
-#include "app/schema.h"
-#include "core/errors.h"
-
 #include <unistd.h>
 
+#include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
+
+#include "tests/app/script_test_util.h"
 
 using Catch::Matchers::Contains;
-using cellform::app::Overrides;
-using cellform::app::ScriptHost;
-using cellform::app::ScriptLimits;
-
-namespace {
-
-cellform::app::SceneConfig load(const std::string& src, const Overrides& o = {}, ScriptLimits limits = {}) {
-  ScriptHost host(limits);
-  return host.load(src, "test/leaf.lua", o);
-}
-
-std::string load_error(const std::string& src, const Overrides& o = {}, ScriptLimits limits = {}) {
-  try {
-    load(src, o, limits);
-  } catch (const cellform::core::InvalidInput& e) {
-    return e.what();
-  }
-  FAIL("no error for: " << src);
-  return {};
-}
-
-}  // namespace
+using cellform::test::load;
+using cellform::test::load_error;
 
 TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[script][colonisation]") {
   const auto cfg = load(

@@ -5,6 +5,7 @@
 
 #include "app/schema.h"
 #include "core/errors.h"
+#include "tests/app/script_test_util.h"
 
 #include <unistd.h>
 
@@ -17,24 +18,8 @@ using cellform::app::Overrides;
 using cellform::app::ScriptHost;
 using cellform::app::ScriptLimits;
 
-namespace {
-
-cellform::app::SceneConfig load(const std::string& src, const Overrides& o = {}, ScriptLimits limits = {}) {
-  ScriptHost host(limits);
-  return host.load(src, "test/leaf.lua", o);
-}
-
-std::string load_error(const std::string& src, const Overrides& o = {}, ScriptLimits limits = {}) {
-  try {
-    load(src, o, limits);
-  } catch (const cellform::core::InvalidInput& e) {
-    return e.what();
-  }
-  FAIL("no error for: " << src);
-  return {};
-}
-
-}  // namespace
+using cellform::test::load;
+using cellform::test::load_error;
 
 TEST_CASE("a script sets parameters, shapes and defaults", "[script]") {
   const auto cfg = load(
