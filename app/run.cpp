@@ -173,39 +173,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       if (s.script_unchanged)
         err << "cellform: note: " << o.replace_script->string()
             << " is the script the checkpoint keeps, unchanged: this is a plain resume\n";
-      if (s.script_replaced) {
-        std::string why;
-        const std::optional<SceneConfig> before = load_run_script(s, o.limits, why);
-        if (!before) {
-          err << "cellform: note: the run's own script (" << s.replaced_path << ") no longer loads (" << why
-              << "), so what " << s.script_path.string() << " changes in its shapes and petioles is not checked\n";
-        } else {
-          // its values as the run used them: with the run's seed, target and --checkpoint-every
-          s.replaced_parameters = before->resolved;
-          json& was = s.replaced_parameters;
-          if (was.contains("run")) {
-            was["run"]["seed"] = *s.seed;
-            if (s.colonisation_bytes.empty() && !s.sheet_partial) was["run"]["steps"] = s.checkpoint_target;
-          }
-          if (!s.colonisation_bytes.empty() && !s.sheet_partial && was.contains("colonisation"))
-            was["colonisation"]["max_steps"] = s.checkpoint_target;
-          if (s.checkpoint_every_of_run && was.contains("output")) {
-            was["output"]["checkpoint_every"] = *s.checkpoint_every_of_run;
-            was["output"]["checkpoint_seconds"] = 0;
-          }
-          const std::string unplaced = unplaced_changes(s, *before, cfg);
-          if (!unplaced.empty())
-            err << "cellform: warning: " << s.script_path.string() << " changes the " << unplaced
-                << (!s.colonisation_bytes.empty() && !s.sheet_partial
-                        ? "; they do not apply (the checkpoint's cell sheet is grown already)"
-                        : "; they are not placed (a resume keeps the checkpoint's cells, at step " +
-                              std::to_string(s.step) + ")")
-                << ": start a new run for them\n";
-          // a cell run keeps its target (its --steps too) unless the edited script changes run.steps
-          if (!o.steps && s.colonisation_bytes.empty() && !s.sheet_partial && before->steps == cfg.steps)
-            s.has_target = true;
-        }
-      }
+      if (s.script_replaced) adopt_edited_script(s, o, cfg, err);
       // a resumed cell run steps with the values it was saved with, whatever the defaults are now: the
       // script is read again with those that changed set
       // (a run stopped while its cell sheet grew too: the rest of the sheet grows with the saved values)
@@ -270,14 +238,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
           << "' does not record its run's parameter values (an older cellform): if the script leaves "
              "division.radius to its default, the run continues with 1.25 (the default was 1.5)\n";
     s.physics = physics_of(cfg.resolved);
-    if (s.checkpoint_every) {  // exactly as asked (now or by the run resumed): no seconds between them
-      cfg.output.checkpoint_every = *s.checkpoint_every;
-      cfg.output.checkpoint_seconds = 0;
-      if (cfg.resolved.contains("output")) {  // run.json: what applied
-        cfg.resolved["output"]["checkpoint_every"] = *s.checkpoint_every;
-        cfg.resolved["output"]["checkpoint_seconds"] = 0;
-      }
-    }
+    apply_checkpoint_every(s.checkpoint_every, &cfg.output, cfg.resolved);
     scene = std::make_unique<forms::Scene>(cfg.scene, seed);
     cells::Simulation& sim = scene->simulation();
     sim.set_threads(o.threads);

@@ -212,7 +212,7 @@ std::string changed_colonisation_values(const Start& s, const SceneConfig& cfg) 
   auto may_change = [](const std::string& key) { return key == "threads" || key == "max_steps" || key == "max_nodes"; };
   for (const auto& [k, v] : s.sets) {
     const auto was = s.checkpoint_sets.find(k);
-    const std::string name = k.rfind("colonisation.", 0) == 0 ? k.substr(13) : std::string();
+    const std::string name = k.rfind("colonisation.", 0) == 0 ? k.substr(sizeof("colonisation.") - 1) : std::string();
     if ((was == s.checkpoint_sets.end() || was->second != v) && !may_change(name) && k.rfind("output.", 0) != 0 &&
         k.rfind("print.", 0) != 0)
       changed.push_back("--set " + k + "=" + v);
@@ -271,14 +271,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
   spec.params.seed = seed;
   spec.params.threads = o.threads;
   if (s.has_target) spec.params.max_steps = s.target_steps;  // --steps, or the checkpoint's limit
-  if (s.checkpoint_every) {  // exactly as asked (now or by the run resumed): no seconds between them
-    cfg.output.checkpoint_every = *s.checkpoint_every;
-    cfg.output.checkpoint_seconds = 0;
-    if (cfg.resolved.contains("output")) {  // run.json: what applied
-      cfg.resolved["output"]["checkpoint_every"] = *s.checkpoint_every;
-      cfg.resolved["output"]["checkpoint_seconds"] = 0;
-    }
-  }
+  apply_checkpoint_every(s.checkpoint_every, &cfg.output, cfg.resolved);
   const fs::path checkpoint = dir / kCheckpointName;
   int code = ok;
   const bool planar = spec.domain.kind == venation::DomainKind::leaf;

@@ -84,6 +84,16 @@ void record_replaced_script(Start& s, const RunOptions& o, const std::filesystem
 /// Throws core::FileError if the copy cannot be made (then the checkpoint must not be replaced either).
 void keep_resumed_checkpoint(Start& s, const std::filesystem::path& dir, std::ostream& err);
 
+/// --checkpoint-every N, of this command or of the run resumed, applies exactly: every N steps, with no
+/// seconds between them. Sets `output` (when given) and the output section of `resolved` (run.json's
+/// parameters) so; nothing when `every` is empty.
+void apply_checkpoint_every(std::optional<std::uint64_t> every, OutputSpec* output, nlohmann::json& resolved);
+
+/// resume --script, once the edited script is read into `cfg`: reads the run's own script again to record
+/// its values as the run used them (s.replaced_parameters), warns on `err` of shapes and petioles the
+/// edited script changes that will not be placed, and keeps the run's target unless run.steps changed.
+void adopt_edited_script(Start& s, const RunOptions& o, const SceneConfig& cfg, std::ostream& err);
+
 /// resume --script: the scene the checkpoint's own script describes (read again, with its --sets), or
 /// nothing and the reason in `why` when it no longer loads (a file beside it is gone). Rethrows a Ctrl-C.
 std::optional<SceneConfig> load_run_script(const Start& s, const ScriptLimits& limits, std::string& why);

@@ -268,6 +268,48 @@ void keep_resumed_checkpoint(Start& s, const fs::path& dir, std::ostream& err) {
       << kCheckpointName << " replaces it)\n";
 }
 
+void apply_checkpoint_every(std::optional<std::uint64_t> every, OutputSpec* output, json& resolved) {
+  if (!every) return;
+  if (output) {
+    output->checkpoint_every = *every;
+    output->checkpoint_seconds = 0;
+  }
+  if (resolved.contains("output")) {
+    resolved["output"]["checkpoint_every"] = *every;
+    resolved["output"]["checkpoint_seconds"] = 0;
+  }
+}
+
+void adopt_edited_script(Start& s, const RunOptions& o, const SceneConfig& cfg, std::ostream& err) {
+  std::string why;
+  const std::optional<SceneConfig> before = load_run_script(s, o.limits, why);
+  if (!before) {
+    err << "cellform: note: the run's own script (" << s.replaced_path << ") no longer loads (" << why << "), so what "
+        << s.script_path.string() << " changes in its shapes and petioles is not checked\n";
+    return;
+  }
+  const bool cell_run = s.colonisation_bytes.empty() && !s.sheet_partial;
+  const bool colonisation = !s.colonisation_bytes.empty() && !s.sheet_partial;  // its sheet, if any, is grown
+  // its values as the run used them: with the run's seed, target and --checkpoint-every
+  s.replaced_parameters = before->resolved;
+  json& was = s.replaced_parameters;
+  if (was.contains("run")) {
+    was["run"]["seed"] = *s.seed;
+    if (cell_run) was["run"]["steps"] = s.checkpoint_target;
+  }
+  if (colonisation && was.contains("colonisation")) was["colonisation"]["max_steps"] = s.checkpoint_target;
+  apply_checkpoint_every(s.checkpoint_every_of_run, nullptr, was);
+  const std::string unplaced = unplaced_changes(s, *before, cfg);
+  if (!unplaced.empty())
+    err << "cellform: warning: " << s.script_path.string() << " changes the " << unplaced
+        << (colonisation ? "; they do not apply (the checkpoint's cell sheet is grown already)"
+                         : "; they are not placed (a resume keeps the checkpoint's cells, at step " +
+                               std::to_string(s.step) + ")")
+        << ": start a new run for them\n";
+  // a cell run keeps its target (its --steps too) unless the edited script changes run.steps
+  if (!o.steps && cell_run && before->steps == cfg.steps) s.has_target = true;
+}
+
 std::optional<SceneConfig> load_run_script(const Start& s, const ScriptLimits& limits, std::string& why) {
   try {
     ScriptHost old(limits);
