@@ -19,6 +19,8 @@ int guarded(lua_State* L, Body&& body) {
   I.in_host = true;  // no Lua memory error inside the body (the script's next allocation fails instead)
   // and no watchdog: the body is the host's own work (reading a large mesh), not a library call
   const bool was_script = I.in_script.exchange(false, std::memory_order_acq_rel);
+  lua_State* const main = I.L;
+  I.L = L;  // the body reads its arguments from the calling thread: a coroutine has a stack of its own
   try {
     results = body(I);
   } catch (const std::exception& e) {
@@ -27,11 +29,29 @@ int guarded(lua_State* L, Body&& body) {
   }
   I.in_script.store(was_script, std::memory_order_release);
   I.in_host = false;
+  I.L = main;
   if (failed) {
     lua_pushstring(L, I.pending_error.c_str());
     return lua_error(L);
   }
   return results;
+}
+
+/// math.randomseed with a seed only: without one, Lua 5.4 seeds from the clock and an address, and the
+/// same script and seed would not give the same form. Upvalue 1 is the library's own function.
+int api_randomseed(lua_State* L) {
+  if (lua_gettop(L) == 0) {
+    luaL_where(L, 1);
+    lua_pushstring(L,
+                   "math.randomseed() needs a seed (math.randomseed(n)): without one the run would not be "
+                   "reproducible; math.random is already seeded from the run's seed and the step");
+    lua_concat(L, 2);
+    return lua_error(L);
+  }
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+  return lua_gettop(L);
 }
 
 /// Every API function is this one C function with its section name as upvalue 1.
@@ -214,6 +234,9 @@ ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
   I.randomseed_ref = luaL_ref(L, LUA_REGISTRYINDEX);
   lua_pushinteger(L, 0);
   lua_call(L, 1, 0);
+  lua_getfield(L, -1, "randomseed");
+  lua_pushcclosure(L, api_randomseed, 1);
+  lua_setfield(L, -2, "randomseed");
   lua_pop(L, 1);
   for (const char* section : kSections) {
     lua_pushstring(L, section);

@@ -94,6 +94,32 @@ TEST_CASE("the sandbox offers no files, processes, OS or module loading", "[scri
   }
 }
 
+TEST_CASE("math.randomseed needs a seed: without one Lua seeds from the clock", "[script][sandbox]") {
+  CHECK_THAT(load_error("math.randomseed()"),
+             Contains("test/leaf.lua:1: math.randomseed() needs a seed") && Contains("reproducible"));
+  // with a seed it is the library's own: the same numbers every time
+  const std::string src =
+      "math.randomseed(7, 3) local a = math.random(1, 1000000) math.randomseed(7, 3) "
+      "assert(math.random(1, 1000000) == a) run { steps = a }";
+  CHECK(load(src).steps == load(src).steps);
+}
+
+TEST_CASE("sections and shapes called inside a coroutine read their own arguments", "[script]") {
+  const auto cfg = load(
+      "coroutine.wrap(function() cells { spring = 2 } disc { radius = 4 } end)() "
+      "local co = coroutine.create(function() division { max_cells = 77 } coroutine.yield() end) "
+      "coroutine.resume(co)");
+  CHECK(cfg.scene.cells.weights[0].spring == 2);
+  CHECK(cfg.scene.cells.division.max_cells == 77);
+  REQUIRE(cfg.initial_cells.size() > 7);  // the disc of radius 4 at spacing 1, not a refusal
+  double far = 0;
+  for (const auto& c : cfg.initial_cells) far = std::max(far, c.position.norm());
+  CHECK(far > 3);
+  CHECK(far <= 4 + 1e-9);
+  CHECK_THAT(load_error("coroutine.wrap(function() cell(5) end)()"),
+             Contains("test/leaf.lua:1:") && !Contains("needs 'at'"));
+}
+
 TEST_CASE("runaway scripts are stopped", "[script][limits]") {
   ScriptLimits limits;
   limits.instructions = 1'000'000;
