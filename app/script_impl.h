@@ -215,7 +215,16 @@ struct ScriptHost::Impl {
              " MiB; raise it with --lua-memory";
     if (lua_message.find("attempt to load a binary chunk") != std::string::npos)
       return script_name + ": precompiled (binary) Lua chunks are not allowed; give the script as source text";
-    return lua_message;
+    // coroutine.wrap passes an error on with its own "file:line: " in front of the one it has
+    std::string msg = lua_message;
+    const std::size_t colon = msg.find(": ");
+    const std::size_t line = colon == std::string::npos ? colon : msg.rfind(':', colon - 1);
+    if (line != std::string::npos && line + 1 < colon &&
+        msg.find_first_not_of("0123456789", line + 1) == colon) {
+      const std::string where = msg.substr(0, colon + 2);
+      while (msg.compare(where.size(), where.size(), where) == 0) msg.erase(0, where.size());
+    }
+    return msg;
   }
 
   /// pcall with the instruction budget reset to `budget`; returns "" or the error message.
