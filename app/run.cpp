@@ -342,6 +342,36 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
           << core::error_text(f) << "\n";
     }
   };
+  // after a script error: what is left to go on from, and how (the message itself is out already)
+  auto explain_failure = [&](const std::string& error) {
+    // only a checkpoint of this run (or the one resumed) is worth naming: a step that failed may have
+    // left the state half changed, and a file from an earlier run in the folder is not this run's
+    fs::path last;
+    if (saved) {
+      err << "  (the last checkpoint is " << checkpoint.string() << ")\n";
+      last = checkpoint;
+      keep_failed_run(error);
+    } else if (s.resume && fs::exists(o.checkpoint)) {
+      err << "  (the last checkpoint is " << o.checkpoint.string() << ", the one resumed)\n";
+      last = o.checkpoint;
+    } else if (stepping > 0) {
+      err << "  (no checkpoint of this run was written before step " << stepping
+          << ", so there is nothing to go on from; output.checkpoint_every, or --checkpoint-every N, sets how "
+             "often one is"
+          << (fs::exists(dir / "run.json") ? "; the files in " + dir.string() + "/ are an earlier run's" : "") << ")\n";
+    }
+    // the same script would stop there again: an edited one can go on from the checkpoint
+    if (!last.empty()) err << resume_hint(o, last, s.script_path) << "\n";
+  };
+  // a script stuck in one library call ends the process from the watchdog's thread; this thread is
+  // inside that call, in a rule of the step being computed, and touches none of what this reads
+  const StuckHandler on_stuck(host, [&](const std::string& error) {
+    if (stepping > 0) err << "  (in step " << stepping << ")\n";
+    explain_failure(error);
+    std::error_code ec;
+    fs::remove_all(staging, ec);
+    remove_empty_up_to(dir, created);
+  });
   try {
     const auto& links = sim.cells().links;
     if (first >= target && std::all_of(links.begin(), links.end(), [](core::Index l) { return l == core::kNoIndex; })) {
@@ -468,24 +498,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   } catch (const core::InvalidInput& e) {
     progress.finish();
     err << "cellform: " << e.what() << "\n";
-    // only a checkpoint of this run (or the one resumed) is worth naming: a step that failed may have
-    // left the state half changed, and a file from an earlier run in the folder is not this run's
-    fs::path last;
-    if (saved) {
-      err << "  (the last checkpoint is " << checkpoint.string() << ")\n";
-      last = checkpoint;
-      keep_failed_run(e.what());
-    } else if (s.resume && fs::exists(o.checkpoint)) {
-      err << "  (the last checkpoint is " << o.checkpoint.string() << ", the one resumed)\n";
-      last = o.checkpoint;
-    } else if (stepping > 0) {
-      err << "  (no checkpoint of this run was written before step " << stepping
-          << ", so there is nothing to go on from; output.checkpoint_every, or --checkpoint-every N, sets how "
-             "often one is"
-          << (fs::exists(dir / "run.json") ? "; the files in " + dir.string() + "/ are an earlier run's" : "") << ")\n";
-    }
-    // the same script would stop there again: an edited one can go on from the checkpoint
-    if (!last.empty()) err << resume_hint(o, last, s.script_path) << "\n";
+    explain_failure(e.what());
     code = usage;
   } catch (const std::exception& e) {
     progress.finish();

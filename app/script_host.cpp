@@ -267,6 +267,10 @@ void ScriptHost::set_step(std::uint64_t step) {
 
 void ScriptHost::set_print(std::function<void(const std::string&)> print) { impl_->print = std::move(print); }
 
+void ScriptHost::set_on_stuck(std::function<void(const std::string&)> handler) {
+  watchdog_->set_on_stuck(std::move(handler));
+}
+
 SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::path& script_path,
                              const Overrides& overrides, const std::set<std::string>& may_go_unused) {
   Impl& I = *impl_;

@@ -136,6 +136,13 @@ class ScriptHost {
   /// Where print() in a script goes (default: nowhere).
   void set_print(std::function<void(const std::string&)> print);
 
+  /// What to do when the script is stuck in one call of a library function (ScriptLimits::library_seconds)
+  /// and the process must end: called on the watchdog's thread with the message (no "cellform: " in
+  /// front) just before _exit, while the script's thread is still inside that call. It must not touch this
+  /// host or anything the stuck call may be changing. Empty = none (the message then says no outputs were
+  /// written). StuckHandler sets one for a scope.
+  void set_on_stuck(std::function<void(const std::string&)> handler);
+
   // Internal state used by the Lua C functions.
   struct Impl;
 
@@ -146,6 +153,20 @@ class ScriptHost {
   std::unique_ptr<Watchdog> watchdog_;  // after impl_: stopped first
   std::uint64_t step_ = 0;
   std::uint64_t seed_ = 0;
+};
+
+/// A host's stuck handler for one scope (it may capture that scope's locals).
+class StuckHandler {
+ public:
+  StuckHandler(ScriptHost& host, std::function<void(const std::string&)> handler) : host_(host) {
+    host_.set_on_stuck(std::move(handler));
+  }
+  ~StuckHandler() { host_.set_on_stuck({}); }
+  StuckHandler(const StuckHandler&) = delete;
+  StuckHandler& operator=(const StuckHandler&) = delete;
+
+ private:
+  ScriptHost& host_;
 };
 
 /// A message of venation/ in the script's terms (colonisation.scale_step -> colonisation.length_step,

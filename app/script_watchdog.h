@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -20,8 +21,8 @@ namespace cellform::app {
 /// Stops the process when a script is stuck inside one call of a C library function, which the instruction
 /// budget and Ctrl-C (both checked by the hook, between Lua instructions) cannot reach: no hook call for
 /// ScriptLimits::library_seconds while Lua code runs, or for 2 s after a Ctrl-C. Nothing can unwind the
-/// call, so it writes its message with write(2) and ends the process with _exit (a run's staging folder is
-/// removed by the next run in that folder; its last periodic checkpoint stays).
+/// call, so it writes its message with write(2), lets the run's handler (ScriptHost::set_on_stuck) leave its
+/// folder as after a script error, and ends the process with _exit.
 class ScriptHost::Watchdog {
  public:
   /// Constructed on the thread that runs the script: its CPU time is what is measured.
@@ -68,10 +69,11 @@ class ScriptHost::Watchdog {
       else if (stop_seen < 0)
         stop_seen = script_seconds();
       else if (script_seconds() - stop_seen >= 2)
-        die(interrupted ? 130 : 2, "cellform: " + script_ +
-                                       ": the script did not stop when it was stopped (an xpcall message handler "
-                                       "or a __close handler that loops runs beyond Lua's hook); stopped without "
-                                       "writing outputs\n");
+        die(interrupted ? 130 : 2,
+            script_ +
+                ": the script did not stop when it was stopped (an xpcall message handler or a __close handler "
+                "that loops runs beyond Lua's hook); stopped",
+            "");
       const std::uint64_t beats = i_.beats.load(std::memory_order_relaxed);
       if (!i_.in_script.load(std::memory_order_acquire) || beats != last) {
         last = beats;
@@ -86,22 +88,35 @@ class ScriptHost::Watchdog {
           interrupted ? std::chrono::duration<double>(clock::now() - *interrupted).count() : 0.0;
       if (interrupted && std::min(stuck, since_interrupt) >= 2)
         die(130,
-            "cellform: interrupted, but the script is inside one call of a Lua library function (a string "
-            "pattern that backtracks?) that cannot stop cleanly: stopped without writing outputs\n");
+            "interrupted, but the script is inside one call of a Lua library function (a string pattern that "
+            "backtracks?) that cannot stop cleanly: stopped",
+            "");
       if (stuck >= i_.limits.library_seconds)
-        die(2, "cellform: " + script_ + ": the script spent more than " + core::number_text(i_.limits.library_seconds) +
-                   " s in one call of a Lua library function (a string pattern that backtracks?) and was stopped "
-                   "without writing outputs; raise the limit with --lua-seconds\n");
+        die(2,
+            script_ + ": the script spent more than " + core::number_text(i_.limits.library_seconds) +
+                " s in one call of a Lua library function (a string pattern that backtracks?) and was stopped",
+            "; raise the limit with --lua-seconds");
     }
   }
-  [[noreturn]] static void die(int code, const std::string& message) {
+  /// Ends the process (m_ held): the message, then what the run's handler has to say and do.
+  [[noreturn]] void die(int code, const std::string& what, const std::string& advice) {
+    const std::string message = "cellform: " + what + (on_stuck_ ? "" : " without writing outputs") + advice + "\n";
     const ssize_t ignored = ::write(2, message.data(), message.size());
     (void)ignored;
+    if (on_stuck_) try {
+        on_stuck_(what + advice);
+      } catch (...) {  // nothing more can be done: the process ends anyway
+      }
     ::_exit(code);
   }
 
  public:
   std::string script_;  // set before the script runs (load), read only while it runs
+
+  void set_on_stuck(std::function<void(const std::string&)> f) {
+    const std::lock_guard<std::mutex> lock(m_);
+    on_stuck_ = std::move(f);
+  }
 
  private:
   Impl& i_;
@@ -109,6 +124,7 @@ class ScriptHost::Watchdog {
   std::mutex m_;
   std::condition_variable cv_;
   bool quit_ = false;
+  std::function<void(const std::string&)> on_stuck_;  // under m_
   std::thread thread_;
 };
 

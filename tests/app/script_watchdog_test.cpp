@@ -13,6 +13,40 @@ using namespace cellform::test;
 using Catch::Matchers::Contains;
 namespace fs = std::filesystem;
 
+TEST_CASE("a rule stuck in one library call leaves the folder as a rule error does", "[cli][signal][script]") {
+  TempDir t("cli-stuck-folder");
+  const auto script =
+      t.write("grow.lua",
+              "local P = params { hang = false }\n"
+              "run { steps = 30, seed = 1 }\n"
+              "output { checkpoint_every = 5, checkpoint_seconds = 0, every = 5 }\n"
+              "division { min_age = 2, max_cells = 5000, rule = function(cell)\n"
+              "  if P.hang and cell.step > 12 then local s = string.rep('a', 40)\n"
+              "    return string.find(s, string.rep('a?', 40) .. string.rep('a', 40) .. 'b') ~= nil end\n"
+              "  return cell.age > 3 end }\n"
+              "disc { radius = 4 }\n");
+  const fs::path out = t.path / "o", log = t.path / "err.txt";
+  pid_t pid = spawn_cellform({"run", script.string(), "--out", out.string(), "--quiet"});
+  REQUIRE(pid > 0);
+  REQUIRE(exit_within(pid, 60) == 0);
+  REQUIRE(fs::exists(out / "frames" / "cells_000030.ply"));
+  pid = spawn_cellform_logged(
+      {"run", script.string(), "--out", out.string(), "--quiet", "--set", "hang=true", "--lua-seconds", "1"}, log);
+  REQUIRE(pid > 0);
+  CHECK(exit_within(pid, 30) == 2);
+  const std::string said = slurp(log);
+  CHECK_THAT(said, Contains("--lua-seconds") && Contains("(in step 1") &&
+                       Contains("the last checkpoint is " + (out / "checkpoint.cfck").string()) &&
+                       Contains("cellform resume"));
+  // the first run's outputs are gone, the second's frames up to its checkpoint (step 10) and run.json stay
+  const std::string run = slurp(out / "run.json");
+  CHECK_THAT(run, Contains("\"status\": \"failed\"") && Contains("\"completed\": 10") && Contains("--lua-seconds"));
+  CHECK_FALSE(fs::exists(out / "cells.ply"));
+  CHECK(fs::exists(out / "frames" / "cells_000010.ply"));
+  CHECK_FALSE(fs::exists(out / "frames" / "cells_000015.ply"));
+  for (const auto& e : fs::directory_iterator(out)) CHECK(e.path().filename().string().rfind(".partial", 0) != 0);
+}
+
 TEST_CASE("a script stuck inside one library call is stopped by its time limit, or soon after a Ctrl-C",
           "[cli][signal][script]") {
   TempDir t("cli-stuck");
