@@ -4,9 +4,12 @@
 #include <csignal>
 #include <cstddef>
 #include <iostream>
+#include <streambuf>
+#include <string>
 
 #include "app/cli.h"
 #include "app/run.h"
+#include "core/errors.h"
 
 namespace {
 void say(const char* text, std::size_t size) {
@@ -46,6 +49,29 @@ void on_hangup(int) {
 }
 }  // namespace
 
+/// What goes to the terminal with its control bytes escaped (\x1b, ...), but for line feeds, tabs and the
+/// carriage returns of progress lines: a name read from a damaged file cannot clear the screen.
+class EscapingBuf : public std::streambuf {
+ public:
+  explicit EscapingBuf(std::streambuf* to) : to_(to) {}
+
+ protected:
+  int_type overflow(int_type ch) override {
+    if (traits_type::eq_int_type(ch, traits_type::eof())) return traits_type::not_eof(ch);
+    const auto c = static_cast<unsigned char>(ch);
+    if ((c >= 0x20 && c != 0x7f) || c == '\n' || c == '\r' || c == '\t')
+      return to_->sputc(static_cast<char>(c)) == traits_type::eof() ? traits_type::eof() : ch;
+    const std::string e = cellform::core::printable(std::string(1, static_cast<char>(c)));
+    return to_->sputn(e.data(), static_cast<std::streamsize>(e.size())) == static_cast<std::streamsize>(e.size())
+               ? ch
+               : traits_type::eof();
+  }
+  int sync() override { return to_->pubsync(); }
+
+ private:
+  std::streambuf* to_;
+};
+
 int main(int argc, char** argv) {
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
@@ -54,5 +80,10 @@ int main(int argc, char** argv) {
   if (std::signal(SIGHUP, SIG_IGN) != SIG_IGN) std::signal(SIGHUP, on_hangup);
   std::signal(SIGPIPE, SIG_IGN);  // a closed pipe on stdout or stderr: the writes fail, the run goes on
   std::vector<std::string> args(argv + 1, argv + argc);
-  return cellform::app::cli_main(args, std::cout, std::cerr);
+  EscapingBuf out_buf(std::cout.rdbuf()), err_buf(std::cerr.rdbuf());
+  std::ostream out(&out_buf), err(&err_buf);
+  err.setf(std::ios::unitbuf);  // as std::cerr: every message at once
+  const int code = cellform::app::cli_main(args, out, err);
+  out.flush();
+  return code;
 }

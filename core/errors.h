@@ -3,6 +3,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace cellform::core {
 
@@ -37,6 +38,10 @@ std::string number_text(double x);
 /// What went wrong, for a message: e.what(), but an allocation that failed (std::bad_alloc, whose what()
 /// says only "std::bad_alloc") is said in words.
 std::string error_text(const std::exception& e);
+
+/// `text` (a name or word read from a file) safe to show in a one-line message: control bytes, NUL and
+/// DEL become \xNN, so that a damaged file cannot clear a terminal, move its cursor or cut the message.
+std::string printable(std::string_view text);
 
 /// Levenshtein distance; used to suggest the closest valid name for a misspelt one.
 std::size_t edit_distance(const std::string& a, const std::string& b);

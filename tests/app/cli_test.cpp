@@ -516,3 +516,15 @@ TEST_CASE("a run of no steps writes the surface and prints the sheet the shapes 
   const auto check = cli({"check", (t.path / "o" / "printable.stl").string(), "--json"});
   CHECK(nlohmann::json::parse(check.out)["printable"] == true);
 }
+
+TEST_CASE("control bytes from a damaged file reach the terminal escaped", "[cli]") {
+  TempDir t("cli-escape");
+  const auto stl = t.write("bad.stl", "solid x\nfacet \x1b[2J normal 0 0 1\n");
+  const fs::path log = t.path / "err.txt";
+  const pid_t pid = spawn_cellform_logged({"check", stl.string()}, log);
+  REQUIRE(pid > 0);
+  CHECK(exit_within(pid, 20) == 2);
+  const std::string said = slurp(log);
+  CHECK_THAT(said, Contains("bad.stl") && Contains("facet \\x1b[2J normal"));
+  CHECK(said.find('\x1b') == std::string::npos);
+}

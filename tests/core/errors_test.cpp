@@ -18,3 +18,11 @@ TEST_CASE("number_text keeps messages short", "[core]") {
   CHECK(cellform::core::number_text(1e300) == "1e+300");
   CHECK(cellform::core::number_text(0.5) == "0.5");
 }
+
+TEST_CASE("printable escapes the bytes that would act on a terminal or cut a message", "[core]") {
+  using cellform::core::printable;
+  CHECK(printable("leaf.obj: 'v 1 2'") == "leaf.obj: 'v 1 2'");
+  CHECK(printable(std::string("a\x1b[2Jb", 6)) == "a\\x1b[2Jb");
+  CHECK(printable(std::string("x\0y\n\x7f", 5)) == "x\\x00y\\x0a\\x7f");
+  CHECK(printable("caf\xc3\xa9") == "caf\xc3\xa9");  // UTF-8 text stays
+}
