@@ -133,81 +133,177 @@ struct CellRef {
 
 using Pairs = std::vector<std::array<std::uint32_t, 2>>;
 
+constexpr double kMaxCellsPerTriangle = 4096;  // a triangle over more grid cells is tested by a scan ("big")
+constexpr std::size_t kMaxBig = 256;           // more big triangles than this: a coarser grid
+constexpr std::size_t kHubRun = 256;           // a cell's triangles beyond this are checked for a shared vertex
+
+std::uint64_t cell_key(std::int64_t x, std::int64_t y, std::int64_t z) {  // a hash: equal keys may be two cells
+  std::uint64_t k = static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull;
+  k = (k ^ (k >> 29)) + static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4Full;
+  k = (k ^ (k >> 31)) + static_cast<std::uint64_t>(z) * 0x165667B19E3779F9ull;
+  return k ^ (k >> 32);
+}
+
 Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tris, const std::vector<char>& skip,
                          int threads) {
   const std::size_t n = tris.size();
   if (n < 2) return {};
   std::vector<Vec3> lo(n), hi(n);
+  std::vector<double> extent;
   Vec3 glo = Vec3::Constant(std::numeric_limits<double>::infinity()), ghi = -glo;
-  double mean_extent = 0;
   for (std::size_t t = 0; t < n; ++t) {
     const Vec3 &a = v[tris[t][0]], &b = v[tris[t][1]], &c = v[tris[t][2]];
     lo[t] = a.cwiseMin(b).cwiseMin(c);
     hi[t] = a.cwiseMax(b).cwiseMax(c);
+    if (skip[t]) continue;
     glo = glo.cwiseMin(lo[t]);
     ghi = ghi.cwiseMax(hi[t]);
-    mean_extent += (hi[t] - lo[t]).maxCoeff();
+    extent.push_back((hi[t] - lo[t]).maxCoeff());
   }
-  mean_extent /= static_cast<double>(n);
+  if (extent.size() < 2) return {};
   const double span = (ghi - glo).maxCoeff();
-  if (!(span > 0)) return {};
-  const double h = std::max({2 * mean_extent, span / double(1 << 20), span * 1e-12});
-  const auto cell_of = [&](const Vec3& p) -> Eigen::Vector3i {
-    return ((p - glo) / h).array().floor().cast<int>().min((1 << 21) - 1).max(0);
+  if (!(span > 0) || !std::isfinite(span)) return {};
+  // Cells twice the mean triangle extent, extents capped at 8 times the median: a few huge triangles (a
+  // stray far vertex) must not make the whole mesh one cell, where every pair would be tested.
+  std::vector<double> sorted = extent;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+  const double cap = 8 * sorted[sorted.size() / 2];
+  double mean = 0;
+  for (const double e : extent) mean += std::min(e, cap);
+  mean /= static_cast<double>(extent.size());
+  double h = 2 * mean;
+  if (!(h > 0)) h = span;
+  const auto coord = [&](double x, double x0) {  // far cells clamp; only big triangles reach them
+    return static_cast<std::int64_t>(std::clamp(std::floor((x - x0) / h), -0x1p52, 0x1p52));
   };
-  const auto key = [](const Eigen::Vector3i& c) {
-    return (std::uint64_t(c.x()) << 42) | (std::uint64_t(c.y()) << 21) | std::uint64_t(c.z());
+  const auto cells_of = [&](std::size_t t) {
+    double count = 1;
+    for (int k = 0; k < 3; ++k) count *= static_cast<double>(coord(hi[t][k], glo[k]) - coord(lo[t][k], glo[k]) + 1);
+    return count;
   };
-  std::vector<std::size_t> offset(n + 1, 0);
-  for (std::size_t t = 0; t < n; ++t) {
-    const Eigen::Vector3i a = cell_of(lo[t]), b = cell_of(hi[t]);
-    offset[t + 1] = offset[t] + (skip[t] ? 0
-                                         : std::size_t(b.x() - a.x() + 1) * std::size_t(b.y() - a.y() + 1) *
-                                               std::size_t(b.z() - a.z() + 1));
+  // Triangles over too many cells are few, or the grid is made coarser until they are.
+  std::vector<std::uint32_t> big;
+  for (;;) {
+    big.clear();
+    for (std::size_t t = 0; t < n; ++t)
+      if (!skip[t] && cells_of(t) > kMaxCellsPerTriangle) big.push_back(static_cast<std::uint32_t>(t));
+    if (big.size() <= kMaxBig || h >= span) break;
+    h *= 2;
   }
+  std::vector<char> is_big(n, 0);
+  for (const std::uint32_t t : big) is_big[t] = 1;
+  const auto key_of = [&](const Vec3& p) { return cell_key(coord(p.x(), glo.x()), coord(p.y(), glo.y()), coord(p.z(), glo.z())); };
+  std::vector<std::size_t> offset(n + 1, 0);
+  for (std::size_t t = 0; t < n; ++t)
+    offset[t + 1] = offset[t] + (skip[t] || is_big[t] ? 0 : static_cast<std::size_t>(cells_of(t)));
   std::vector<CellRef> refs(offset[n]);
   core::parallel_for(n, threads, [&](std::size_t b0, std::size_t e0) {
     for (std::size_t t = b0; t < e0; ++t) {
-      if (skip[t]) continue;
-      const Eigen::Vector3i a = cell_of(lo[t]), b = cell_of(hi[t]);
+      if (skip[t] || is_big[t]) continue;
+      std::int64_t a[3], b[3];
+      for (int k = 0; k < 3; ++k) {
+        a[k] = coord(lo[t][k], glo[k]);
+        b[k] = coord(hi[t][k], glo[k]);
+      }
       std::size_t k = offset[t];
-      for (int x = a.x(); x <= b.x(); ++x)
-        for (int y = a.y(); y <= b.y(); ++y)
-          for (int z = a.z(); z <= b.z(); ++z) refs[k++] = {key({x, y, z}), static_cast<std::uint32_t>(t)};
+      for (std::int64_t x = a[0]; x <= b[0]; ++x)
+        for (std::int64_t y = a[1]; y <= b[1]; ++y)
+          for (std::int64_t z = a[2]; z <= b[2]; ++z) refs[k++] = {cell_key(x, y, z), static_cast<std::uint32_t>(t)};
     }
   });
   {
     tbb::task_arena arena(threads > 0 ? std::min(threads, core::hardware_threads()) : tbb::task_arena::automatic);
-    arena.execute([&] { tbb::parallel_sort(refs.begin(), refs.end()); });  // unique elements: one order
+    arena.execute([&] { tbb::parallel_sort(refs.begin(), refs.end()); });  // equal elements are equal: one order
   }
+  // two cells whose keys collide: a triangle in both is one entry of their run
+  refs.erase(std::unique(refs.begin(), refs.end(),
+                         [](const CellRef& a, const CellRef& b) { return a.cell == b.cell && a.tri == b.tri; }),
+             refs.end());
   std::vector<std::size_t> runs;
   for (std::size_t k = 0; k < refs.size(); ++k)
     if (k == 0 || refs[k].cell != refs[k - 1].cell) runs.push_back(k);
   const std::size_t nruns = runs.size();
   runs.push_back(refs.size());
-  std::vector<Pairs> found(nruns);
+  const auto overlap = [&](std::uint32_t ti, std::uint32_t tj) {
+    return !((lo[ti].array() > hi[tj].array()) || (lo[tj].array() > hi[ti].array())).any();
+  };
+  const auto test = [&](std::uint32_t ti, std::uint32_t tj, Pairs& out) {  // boxes overlap
+    const Tri &s = tris[ti], &t = tris[tj];
+    for (int p = 0; p < 3; ++p)
+      for (int q = 0; q < 3; ++q)
+        if (s[p] == t[q]) return;
+    const Vec3 A[3] = {v[s[0]], v[s[1]], v[s[2]]}, B[3] = {v[t[0]], v[t[1]], v[t[2]]};
+    if (triangles_intersect(A, B)) out.push_back({std::min(ti, tj), std::max(ti, tj)});
+  };
+  std::vector<Pairs> found(nruns + big.size());
   core::parallel_for(
       nruns, threads,
       [&](std::size_t b0, std::size_t e0) {
-        for (std::size_t r = b0; r < e0; ++r)
-          for (std::size_t i = runs[r]; i < runs[r + 1]; ++i)
-            for (std::size_t j = i + 1; j < runs[r + 1]; ++j) {
-              const Tri &s = tris[refs[i].tri], &t = tris[refs[j].tri];
-              const std::uint32_t ti = refs[i].tri, tj = refs[j].tri;
-              if (((lo[ti].array() > hi[tj].array()) || (lo[tj].array() > hi[ti].array())).any()) continue;
-              // count each pair once: in the cell holding the low corner of the boxes' overlap
-              if (key(cell_of(lo[ti].cwiseMax(lo[tj]))) != refs[runs[r]].cell) continue;
-              bool shared = false;
-              for (int p = 0; p < 3; ++p)
-                for (int q = 0; q < 3; ++q) shared = shared || s[p] == t[q];
-              if (shared) continue;
-              const Vec3 A[3] = {v[s[0]], v[s[1]], v[s[2]]}, B[3] = {v[t[0]], v[t[1]], v[t[2]]};
-              if (triangles_intersect(A, B)) found[r].push_back({std::min(ti, tj), std::max(ti, tj)});
+        std::vector<std::uint32_t> ids, group;
+        std::vector<std::size_t> bounds;
+        for (std::size_t r = b0; r < e0; ++r) {
+          const std::uint64_t cell = refs[runs[r]].cell;
+          // each pair once: in the cell holding the low corner of the boxes' overlap
+          const auto candidate = [&](std::uint32_t ti, std::uint32_t tj) {
+            if (overlap(ti, tj) && key_of(lo[ti].cwiseMax(lo[tj])) == cell) test(ti, tj, found[r]);
+          };
+          const std::size_t first = runs[r], end = runs[r + 1];
+          if (end - first <= kHubRun) {
+            for (std::size_t i = first; i < end; ++i)
+              for (std::size_t j = i + 1; j < end; ++j) candidate(refs[i].tri, refs[j].tri);
+            continue;
+          }
+          // Many triangles of one cell around one vertex (the tip of a cone, a polygon's fan): pairs that
+          // share a vertex are never tested, so those of such a fan are not even enumerated. The fans are
+          // peeled off while one vertex is in a quarter of what is left; the rest stays first.
+          group.assign(end - first, 0);
+          for (std::size_t i = first; i < end; ++i) group[i - first] = refs[i].tri;
+          std::size_t rest = group.size();
+          bounds.assign(1, 0);
+          while (rest > kHubRun) {
+            ids.clear();
+            for (std::size_t i = 0; i < rest; ++i)
+              for (const std::uint32_t w : tris[group[i]]) ids.push_back(w);
+            std::sort(ids.begin(), ids.end());
+            std::uint32_t hub = 0;
+            std::size_t hub_count = 0;
+            for (std::size_t i = 0, j = 0; i < ids.size(); i = j) {
+              for (j = i; j < ids.size() && ids[j] == ids[i]; ++j) {
+              }
+              if (j - i > hub_count) hub = ids[i], hub_count = j - i;
             }
+            if (hub_count * 4 < rest) break;
+            const auto fan = std::stable_partition(group.begin(), group.begin() + static_cast<std::ptrdiff_t>(rest),
+                                                   [&](std::uint32_t t) {
+                                                     const Tri& w = tris[t];
+                                                     return w[0] != hub && w[1] != hub && w[2] != hub;
+                                                   });
+            rest = static_cast<std::size_t>(fan - group.begin());
+            bounds.push_back(rest);  // the fan lies from here to the previous bound
+          }
+          // the rest with everything after it; each fan with what lies after it (its own pairs share the hub)
+          for (std::size_t i = 0; i < rest; ++i)
+            for (std::size_t j = i + 1; j < group.size(); ++j) candidate(group[i], group[j]);
+          for (std::size_t k = 1; k < bounds.size(); ++k) {
+            const std::size_t fan_end = k == 1 ? group.size() : bounds[k - 1];
+            for (std::size_t i = bounds[k]; i < fan_end; ++i)
+              for (std::size_t j = fan_end; j < group.size(); ++j) candidate(group[i], group[j]);
+          }
+        }
       },
       64);
+  // big triangles: against every triangle whose box meets theirs (a pair of two big ones once)
+  core::parallel_for(big.size(), threads, [&](std::size_t b0, std::size_t e0) {
+    for (std::size_t k = b0; k < e0; ++k) {
+      const std::uint32_t b = big[k];
+      for (std::uint32_t t = 0; t < n; ++t)
+        if (!skip[t] && t != b && !(is_big[t] && t < b) && overlap(b, t))
+          test(std::min(b, t), std::max(b, t), found[nruns + k]);  // in index order, as from the grid
+    }
+  });
   Pairs all;
   for (const Pairs& f : found) all.insert(all.end(), f.begin(), f.end());
+  std::sort(all.begin(), all.end());
   return all;
 }
 
