@@ -50,7 +50,8 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
           {"p01", th.p01},
           {"median", th.median},
           {"samples", th.samples},
-          {"missed", th.missed}}}};
+          {"missed", th.missed},
+          {"given_up", th.given_up}}}};
     out << j.dump(2) << "\n";
   } else {
     out << file.string() << ": " << (r.printable() ? "printable" : "NOT printable") << "\n" << r.summary();
@@ -60,6 +61,8 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
           << th.min_at.y() << ", " << th.min_at.z() << ")\n";
     else
       out << "wall thickness: not measurable (no ray from the surface left the solid through another wall)\n";
+    if (th.given_up > 0)
+      out << "  (" << th.given_up << " of the rays were given up where very many triangles meet at one spot)\n";
   }
   return r.printable() ? ok : failure;
 }

@@ -26,6 +26,9 @@ struct Bvh {
 };
 
 constexpr std::uint32_t kLeafSize = 4;
+// A ray that has entered this many nodes is given up (a spot where very many triangles meet, as at the tip
+// of a finely divided cone, where every box holds the ray's start): it keeps one check linear in triangles.
+constexpr std::size_t kMaxVisits = 4096;
 
 Bvh build_bvh(const PrintableMesh& m) {
   Bvh b;
@@ -148,10 +151,12 @@ std::vector<double> triangle_thickness(const PrintableMesh& m, int threads) {
           // depth first, nearer child first, each entry kept with the distance at which the ray enters it
           stack.clear();
           if (std::isfinite(enter_box(o, inv, bvh.nodes[0].lo, bvh.nodes[0].hi, best))) stack.push_back({0, 0.0});
+          std::size_t visits = 0;
           while (!stack.empty()) {
             const auto [id, enter] = stack.back();
             stack.pop_back();
             if (enter > best) continue;
+            if (++visits > kMaxVisits) break;
             const Bvh::Node& nd = bvh.nodes[id];
             if (nd.count == 0) {
               const Bvh::Node &l = bvh.nodes[nd.left], &r = bvh.nodes[nd.right];
@@ -173,6 +178,10 @@ std::vector<double> triangle_thickness(const PrintableMesh& m, int threads) {
               }
             }
           }
+          if (visits > kMaxVisits) {
+            out[t] = kGivenUp;
+            continue;
+          }
           if (!std::isfinite(best)) continue;
           const auto& h = m.triangles[best_tri];
           const Vec3 hn = (m.vertices[h[1]] - m.vertices[h[0]]).cross(m.vertices[h[2]] - m.vertices[h[0]]);
@@ -193,6 +202,10 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
     const double area =
         0.5 * (m.vertices[tri[1]] - m.vertices[tri[0]]).cross(m.vertices[tri[2]] - m.vertices[tri[0]]).norm();
     if (!(area > 0)) continue;
+    if (th[t] == kGivenUp) {
+      ++r.given_up;
+      continue;
+    }
     if (th[t] < 0) {
       ++r.missed;
       continue;

@@ -18,6 +18,7 @@ namespace cellform::exporters {
 struct ThicknessReport {
   std::size_t samples = 0;  ///< triangles whose ray left the solid through another triangle
   std::size_t missed = 0;   ///< rays that met nothing or entered the solid (open, inverted or creased spots)
+  std::size_t given_up = 0;  ///< rays given up among too many overlapping boxes (where very many triangles meet)
   double min = 0;           ///< thinnest sample (0 if there is none); single rays in the crotch of a
                             ///< junction can cut a corner, so p01 is the robust figure
   core::Vec3 min_at = core::Vec3::Zero();  ///< centroid of the triangle of the thinnest sample
@@ -29,7 +30,11 @@ struct ThicknessReport {
 /// O(T log T). Deterministic for any `threads` (0 = all cores).
 ThicknessReport wall_thickness(const PrintableMesh& mesh, int threads = 0);
 
-/// Per-triangle thickness of the same rays (negative where the ray missed), for colouring or tests.
+/// triangle_thickness's value for a ray given up: it entered more bounding boxes than a check can afford
+/// (thousands, where very many triangles meet at one spot), so that a check stays about linear in triangles.
+inline constexpr double kGivenUp = -2;
+
+/// Per-triangle thickness of the same rays (negative where the ray missed; kGivenUp), for colouring or tests.
 std::vector<double> triangle_thickness(const PrintableMesh& mesh, int threads = 0);
 
 }  // namespace cellform::exporters

@@ -185,3 +185,26 @@ TEST_CASE("a thickened vein is as thick as its diameter, and the hierarchy equal
   REQUIRE(thick > 100);
   CHECK(near_two > thick * 9 / 10);
 }
+
+TEST_CASE("rays among very many triangles meeting at one spot are given up, not followed for minutes",
+          "[thickness]") {
+  // a cone of 30,000 slivers round its tip and its base's centre: every box holds the axis, so a ray from
+  // near it would enter most of them (the check of a 100,000-sliver cone did not end)
+  const int n = 30000;
+  PrintableMesh cone;
+  cone.vertices.emplace_back(0, 0, 10);
+  for (int i = 0; i < n; ++i)
+    cone.vertices.emplace_back(5 * std::cos(2 * M_PI * i / n), 5 * std::sin(2 * M_PI * i / n), 0);
+  cone.vertices.emplace_back(0, 0, 0);
+  const auto tip = 0u, centre = static_cast<std::uint32_t>(n + 1);
+  for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(n); ++i) {
+    const std::uint32_t a = i + 1, b = (i + 1) % n + 1;
+    cone.triangles.push_back({tip, a, b});
+    cone.triangles.push_back({centre, b, a});
+  }
+  const auto r = exporters::wall_thickness(cone);
+  CHECK(r.given_up > 0);
+  CHECK(r.samples + r.missed + r.given_up == cone.triangles.size());
+  // an ordinary closed mesh gives up none
+  CHECK(exporters::wall_thickness(icosphere(1.0, 5)).given_up == 0);
+}
