@@ -86,7 +86,7 @@ PrintableMesh read_obj(const std::filesystem::path& path, const std::string& s) 
   std::istringstream in(s);
   std::string line;
   std::size_t line_no = 0;
-  std::vector<std::int64_t> poly;
+  std::vector<std::uint32_t> poly;
   while (std::getline(in, line)) {
     ++line_no;
     std::istringstream ls(line);
@@ -101,20 +101,15 @@ PrintableMesh read_obj(const std::filesystem::path& path, const std::string& s) 
       poly.clear();
       std::string tok;
       while (ls >> tok) {
-        std::int64_t i = 0;
         try {
-          i = std::stoll(tok.substr(0, tok.find('/')));
-        } catch (const std::exception&) {
-          malformed(path, "line " + std::to_string(line_no) + ": bad face index '" + tok + "'");
+          poly.push_back(forms::obj_face_vertex(tok, m.vertices.size()));
+        } catch (const core::InvalidInput& e) {
+          malformed(path, "line " + std::to_string(line_no) + ": " + e.what());
         }
-        if (i < 0) i += static_cast<std::int64_t>(m.vertices.size()) + 1;
-        if (i < 1 || i > static_cast<std::int64_t>(m.vertices.size()))
-          malformed(path, "line " + std::to_string(line_no) + ": face index " + tok + " out of range");
-        poly.push_back(i - 1);
       }
       if (poly.size() < 3) malformed(path, "line " + std::to_string(line_no) + ": a face needs three vertices");
       for (std::size_t k = 1; k + 1 < poly.size(); ++k)
-        m.triangles.push_back({std::uint32_t(poly[0]), std::uint32_t(poly[k]), std::uint32_t(poly[k + 1])});
+        m.triangles.push_back({poly[0], poly[k], poly[k + 1]});
     }
   }
   if (m.triangles.empty()) malformed(path, "no faces in the OBJ file");

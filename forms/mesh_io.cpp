@@ -18,6 +18,7 @@
 #include <iterator>
 #include <map>
 #include <mutex>
+#include <sstream>
 #include <string>
 
 #include "core/errors.h"
@@ -226,14 +227,34 @@ TriangleMesh read_ascii_stl(std::istream& in, const std::string& name) {
 }
 
 // Lines of an OBJ file that define a vertex position ("v x y z"), to notice ones the reader had to skip.
-std::size_t count_obj_vertex_lines(std::istream& in) {
-  std::size_t count = 0;
+/// The number of vertex lines of an OBJ text; refuses face lines OpenMesh would drop without a word (a
+/// bad index, fewer than three corners), naming the line.
+std::size_t check_obj_lines(std::istream& in, const std::string& name) {
+  std::size_t count = 0, line_no = 0;
   std::string line;
   while (std::getline(in, line)) {
-    const auto start = line.find_first_not_of(" \t");
-    if (start != std::string::npos && line.size() > start + 1 && line[start] == 'v' &&
-        (line[start + 1] == ' ' || line[start + 1] == '\t'))
+    ++line_no;
+    std::istringstream words(line);
+    std::string tag;
+    if (!(words >> tag)) continue;
+    if (tag == "v") {
       ++count;
+    } else if (tag == "f") {
+      std::string token;
+      std::size_t corners = 0;
+      while (words >> token) {
+        try {
+          obj_face_vertex(token, count);
+        } catch (const core::InvalidInput& e) {
+          throw core::InvalidInput("mesh " + name + " is malformed: line " + std::to_string(line_no) + ": " +
+                                   e.what());
+        }
+        ++corners;
+      }
+      if (corners < 3)
+        throw core::InvalidInput("mesh " + name + " is malformed: line " + std::to_string(line_no) +
+                                 ": a face needs at least three vertices ('f a b c')");
+    }
   }
   in.clear();
   in.seekg(0);
@@ -251,6 +272,28 @@ TriangleMesh checked(TriangleMesh mesh, const std::string& name) {
 }
 
 }  // namespace
+
+std::uint32_t obj_face_vertex(std::string_view token, std::size_t vertices) {
+  const auto bad = [&](const std::string& why) {
+    return core::InvalidInput("bad face vertex '" + core::printable(token.substr(0, 40)) +
+                              (token.size() > 40 ? "..." : "") + "': " + why);
+  };
+  const std::size_t slash = token.find('/');
+  const std::string_view v = token.substr(0, slash);
+  // the texture and normal indices are not used, but must be whole numbers if given
+  for (const char c : slash == std::string_view::npos ? std::string_view{} : token.substr(slash + 1))
+    if (c != '/' && c != '-' && (c < '0' || c > '9')) throw bad("expected whole numbers, as in 'f 1 2 3' or 'f 1/1/1 ...'");
+  const bool negative = !v.empty() && v[0] == '-';
+  const std::string_view digits = v.substr(negative ? 1 : 0);
+  if (digits.empty() || digits.find_first_not_of("0123456789") != std::string_view::npos)
+    throw bad("a vertex index is a whole number, as in 'f 1 2 3'");
+  const std::uint64_t k = digits.size() > 18 ? ~std::uint64_t{0} : std::stoull(std::string(digits));
+  if (k == 0) throw bad("vertex indices count from 1 (or back from -1)");
+  if (k > vertices)
+    throw bad(std::string(negative ? "counts back past the first of the " : "there are only ") +
+              std::to_string(vertices) + " vertices before it");
+  return static_cast<std::uint32_t>(negative ? vertices - k : k - 1);
+}
 
 bool starts_like_ascii_stl(std::string_view head) {
   if (head.substr(0, 3) == "\xEF\xBB\xBF") head.remove_prefix(3);
@@ -383,7 +426,7 @@ TriangleMesh load_mesh(const fs::path& path) {
   // OpenMesh reads ASCII STL leniently (a bad number keeps the previous one, a cut file is a smaller mesh)
   if (ext == ".stl" && !is_binary_stl(probe, size, name)) return checked(read_ascii_stl(probe, name), name);
   if (ext == ".stl") check_binary_stl_corners(probe, size, name);  // OpenMesh drops such triangles unsaid
-  const std::size_t vertex_lines = ext == ".obj" ? count_obj_vertex_lines(probe) : 0;
+  const std::size_t vertex_lines = ext == ".obj" ? check_obj_lines(probe, name) : 0;
   probe.close();
 
   SoupImporter importer;

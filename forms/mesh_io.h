@@ -1,6 +1,7 @@
 // The strict ASCII STL parser shared by the mesh loader (load_mesh) and the exporters' mesh reader.
 #pragma once
 
+#include <cstdint>
 #include <string_view>
 #include <vector>
 
@@ -17,6 +18,11 @@ namespace cellform::forms {
 /// refused too. A solid without facets gives no corners.
 /// A UTF-8 byte-order mark before the first line is skipped.
 std::vector<core::Vec3> parse_ascii_stl(std::string_view text);
+
+/// One corner of an OBJ face line: "v", "v/vt", "v//vn" or "v/vt/vn" with whole numbers (negative counts
+/// back from the last vertex read). Returns the vertex index from 0, given the `vertices` read before the
+/// face. Throws core::InvalidInput saying what is wrong with the token (the caller adds file and line).
+std::uint32_t obj_face_vertex(std::string_view token, std::size_t vertices);
 
 /// Whether `head` (the first bytes of a file) starts as an ASCII STL does: after an optional UTF-8
 /// byte-order mark and blanks, the word "solid" in any case ("SOLID" from some CAD programs).

@@ -196,6 +196,20 @@ TEST_CASE("load_mesh errors name the file and the problem", "[forms][mesh_io]") 
 
   write_text(dir / "bad_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
   CHECK_THROWS_WITH(forms::load_mesh(dir / "bad_index.obj"), Catch::Contains("bad_index.obj"));
+  // a face line OpenMesh would drop without a word is refused with its line, as `cellform check` does
+  for (const char* face : {"f a b c", "f 1", "f", "f 1 3", "f 1.5 2 3", "f 1 2 99999999999999999999", "f 1 2 0",
+                           "f -9223372036854775808 1 2", "f 1/ /3 //2", "f 1/x 2 3"}) {
+    INFO(face);
+    write_text(dir / "face.obj", std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\n") + face + "\nf 1 2 3\n");
+    CHECK_THROWS_AS(forms::load_mesh(dir / "face.obj"), core::InvalidInput);
+    CHECK_THROWS_WITH(forms::load_mesh(dir / "face.obj"), Catch::Contains("face.obj") && Catch::Contains("line 4"));
+  }
+  // texture and normal indices, and indices counted back from the end, are fine
+  write_text(dir / "slashes.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\nf -3/1/1 -1 -2\n");
+  CHECK(forms::load_mesh(dir / "slashes.obj").triangles.size() == 2);
+  CHECK(forms::obj_face_vertex("-1", 5) == 4);
+  CHECK(forms::obj_face_vertex("2/7/9", 5) == 1);
+  CHECK_THROWS_WITH(forms::obj_face_vertex("-6", 5), Catch::Contains("counts back past the first of the 5"));
 
   const double nan = std::nan("");
   write_text(dir / "nan.stl", binary_stl({{Vec3(0, 0, 0), Vec3(1, nan, 0), Vec3(0, 1, 0)}}));
