@@ -357,6 +357,12 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     // whether called or not, so theirs are always used)
     const std::string section = key.substr(0, key.find('.'));
     const bool uncalled = key.find('.') != std::string::npos && find_field(section, key.substr(key.find('.') + 1));
+    if (near == key && !uncalled) {  // a part of a section the script leaves out (volume.ball of a box volume)
+      const std::size_t last = key.rfind('.');
+      const std::string part = key.substr(0, last);
+      throw InvalidInput("--set " + key + "=" + value + ": the script's " + section + "{...} has no " +
+                         part.substr(section.size() + 1) + " = {...}, so there is nothing for " + key + " to change");
+    }
     throw InvalidInput("--set " + key + "=" + value + ": " +
                        (uncalled ? "the script does not call " + section + "{...}, so there is nothing for " + key +
                                        " to change; add " + section + "{...} to the script"

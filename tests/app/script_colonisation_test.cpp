@@ -36,6 +36,12 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
       load_error(
           "volume { box = { min = {0, 0, 0}, max = {10, 10, 10} } }\ncolonisation {}\npetiole { at = {1, 1, 1} }\n"),
       Contains(":3: petiole{...}"));
+  // --set of a part the script's section does not give: said so, not "did you mean" the same name
+  CHECK_THAT(load_error("volume { box = { min = {0, 0, 0}, max = {10, 10, 10} }, seeds = {{1, 1, 1}} }\n"
+                        "colonisation {}\n",
+                        {{"volume.ball.radius", "3"}}),
+             Contains("--set volume.ball.radius=3: the script's volume{...} has no ball = {...}") &&
+                 !Contains("did you mean"));
   CHECK_THAT(load_error("leaf {}\ncolonisation {}\ndivision { age = 3 }\n"),
              Contains(":3: division{...} sets up the cell system"));
   CHECK_THAT(load_error("cells { spring = 2 }\nleaf {}\ncolonisation {}\n"), Contains(":1: cells{...}"));
