@@ -320,8 +320,6 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   const bool cut = params.flat_base > 0;
 
   // Memory: narrow-band voxels (both sides of the surface) and surface quads both scale as voxel^-2.
-  const double active_estimate = area * 2 * band / (voxel * voxel * voxel);
-  const double quads_estimate = area / (voxel * voxel);
   // a shell's closing holds the dilated shell's grid and its exact distances through the whole dilated
   // thickness at once: about (h + r) / voxel + the band voxels on each side of every slab. The factor 1.6
   // (grids alive at once, less the overlap of the covering triangles counted twice) is measured: peak
@@ -329,12 +327,17 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   // where 3 said 1.95 and 4.0 GB
   double shell_area = 0;
   for (const Slab& w : slabs) shell_area += (w.p1 - w.p0).cross(w.p2 - w.p0).norm() / 2;
-  const double closing_voxels =
-      params.close_holes > 0 && !slabs.empty()
-          ? 1.6 * shell_area * 2 * (half_shell + closing_radius(params, scale) + 2 * band) / (voxel * voxel * voxel)
-          : 0.0;
-  const double estimate = (active_estimate + closing_voxels) * kBytesPerActiveVoxel + quads_estimate * kBytesPerQuad +
-                          static_cast<double>(caps.size() + slabs.size()) * 200;
+  const auto estimate_at = [&](double v) {
+    const double active_estimate = area * 2 * kHalfWidth / (v * v);  // the band is kHalfWidth voxels
+    const double quads_estimate = area / (v * v);
+    const double closing_voxels =
+        params.close_holes > 0 && !slabs.empty()
+            ? 1.6 * shell_area * 2 * (half_shell + closing_radius(params, scale) + 2 * kHalfWidth * v) / (v * v * v)
+            : 0.0;
+    return (active_estimate + closing_voxels) * kBytesPerActiveVoxel + quads_estimate * kBytesPerQuad +
+           static_cast<double>(caps.size() + slabs.size()) * 200;
+  };
+  const double estimate = estimate_at(voxel);
   if (report) {
     report->scale = scale;
     report->voxel_size = voxel;
@@ -346,7 +349,10 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   }
   if (estimate > params.max_memory_bytes) {
     // a coarser voxel helps only up to min_radius (thinner veins would vanish): beyond, only size or memory
-    const double needed = voxel * std::sqrt(estimate / params.max_memory_bytes) * 1.05;
+    // from a voxel whose estimate is finite (1e-300 mm overflows it)
+    double fit = std::max(voxel, 1e-6 * params.min_radius);
+    for (int k = 0; k < 8; ++k) fit *= std::sqrt(estimate_at(fit) / params.max_memory_bytes);  // ~ voxel^-2..-3
+    const double needed = fit * 1.05;
     const std::string advice =
         needed <= params.min_radius
             ? "use a voxel size of at least " + fmt("%.3g", needed) + " mm (at most min_radius, " +
@@ -354,8 +360,10 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
             : "use a smaller scale or size, or raise the memory limit (a voxel coarse enough would be " +
                   fmt("%.3g", needed) + " mm, above min_radius " + fmt("%.3g", params.min_radius) +
                   " mm, so the thinnest veins would vanish)";
-    throw core::InvalidInput("thicken: at a voxel size of " + fmt("%.3g", voxel) + " mm the form needs about " +
-                             bytes_text(estimate) + " of memory, more than the limit of " +
+    throw core::InvalidInput("thicken: at a voxel size of " + fmt("%.3g", voxel) + " mm the form needs " +
+                             (std::isfinite(estimate) && estimate < 1e18
+                                  ? "about " + bytes_text(estimate) + " of memory, more than the limit of "
+                                  : std::string("more memory than the limit of ")) +
                              bytes_text(params.max_memory_bytes) + "; " + advice);
   }
 

@@ -332,6 +332,14 @@ TEST_CASE("the memory estimate refuses and suggests a voxel size that fits", "[p
   const double suggested = std::stod(m[1]);
   CHECK(suggested > p.voxel_size);
   CHECK(suggested <= p.min_radius);
+  // a voxel so small that the estimate overflows gets the same advice, not "inf"
+  const double fits = suggested;
+  p.voxel_size = 1e-300;
+  const std::string tiny = refusal();
+  INFO(tiny);
+  CHECK_THAT(tiny, Catch::Contains("more memory than the limit") && !Catch::Contains("inf"));
+  REQUIRE(std::regex_search(tiny, m, std::regex(R"(voxel size of at least ([0-9.eE+-]+) mm)")));
+  CHECK(std::stod(m[1]) == Approx(fits).epsilon(0.01));
   p.voxel_size = suggested;
   ThickenReport rep;
   CHECK_NOTHROW(exporters::thicken(capsule, {}, p, &rep));
