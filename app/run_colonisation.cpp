@@ -332,6 +332,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       try {
         return make_colonisation(spec, sheet ? &*sheet : nullptr, &s.colonisation_bytes,
                                  "checkpoint '" + o.checkpoint.string() + "'");
+      } catch (const core::FileError& e) {  // a damaged checkpoint is bad input (exit 2), as for a cell run
+        throw core::InvalidInput(e.what());
       } catch (const core::InvalidInput& e) {
         const std::string changed = changed_colonisation_values(s, cfg);
         if (changed.empty() || std::string(e.what()).find("other colonisation parameters") == std::string::npos) throw;

@@ -297,7 +297,11 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
       (m.nonuniform ? m.node_mat.size() == n && m.src_mat.size() == ns : m.node_mat.empty() && m.src_mat.empty()) &&
       cell > 0 && m.sigma > 0;
   for (Index i = 0; ok && i < n; ++i)
-    ok = (m.parent[i] == kNoIndex || m.parent[i] < i) && (i == 0 || m.birth[i] >= m.birth[i - 1]);
+    ok = (m.parent[i] == kNoIndex || m.parent[i] < i) && (i == 0 || m.birth[i] >= m.birth[i - 1]) &&
+         points[i].allFinite();
+  for (std::size_t s = 0; ok && s < ns; ++s) ok = m.src[s].allFinite() && !std::isnan(m.near_d2[s]);
+  for (std::size_t k = 0; ok && k < d2.size(); ++k) ok = !std::isnan(d2[k]);
+  ok = ok && std::isfinite(cell) && std::isfinite(m.sigma);
   for (Index v : ana) ok = ok && v < n;
   for (Index v : best) ok = ok && (v == kNoIndex || v < n);
   const std::size_t nu = m.urquhart() ? ns : 0;
@@ -321,7 +325,7 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
     for (const auto& l : *lists)
       for (Index v : l) ok = ok && v < n;
   if (ok) ok = m.rng.set_state(rng);
-  if (!ok) throw core::FileError(what + " is corrupt (inconsistent colonisation state)");
+  if (!ok) throw core::FileError(what + " is corrupt (inconsistent colonisation state, or a position that is no number)");
 
   // the k-d tree as the run built it (its shape decides which boxes the sector searches skip, and so
   // the per-source sector bests, though not the neighbourhoods): nonuniform growth rebuilt it from all

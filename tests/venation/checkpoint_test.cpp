@@ -1,6 +1,8 @@
 // Tests of Colonisation::save() and load(): a run saved after any step and continued in a fresh object
 // ends exactly as the run that was never interrupted.
 #include <catch2/catch.hpp>
+#include <limits>
+#include <cstring>
 #include <functional>
 #include <string>
 
@@ -287,6 +289,14 @@ TEST_CASE("states refuse other parameters or domains, and corrupt bytes", "[chec
   CHECK_THROWS_WITH(v::Colonisation::load(leaf, p, bad, "state X"), Contains("state X"));
   CHECK_THROWS_AS(v::Colonisation::load(leaf, p, bytes.substr(0, bytes.size() - 9)), core::FileError);
   CHECK_THROWS_AS(v::Colonisation::load(leaf, p, "not a state"), core::FileError);
+  // a node that is no number, in a state whose checksum was made to match, is refused too
+  core::ChunkFile f = core::read_chunk_file(bytes, "COLO", 5, "state");
+  std::string& state = f.chunks.at("state");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  REQUIRE(state.size() > 16);
+  std::memcpy(state.data() + 8, &nan, sizeof nan);  // after the node count: the first node's x
+  CHECK_THROWS_WITH(v::Colonisation::load(leaf, p, core::write_chunk_file("COLO", f.version, f.chunks)),
+                    Contains("no number"));
 }
 
 TEST_CASE(
