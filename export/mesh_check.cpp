@@ -2,6 +2,7 @@
 #include "export/mesh_check.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -137,12 +138,22 @@ constexpr double kMaxCellsPerTriangle = 4096;  // a triangle over more grid cell
 constexpr std::size_t kMaxBig = 256;           // more big triangles than this: a coarser grid
 constexpr std::size_t kHubRun = 256;           // a cell's triangles beyond this are checked for a shared vertex
 
-std::uint64_t cell_key(std::int64_t x, std::int64_t y, std::int64_t z) {  // a hash: equal keys may be two cells
-  std::uint64_t k = static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull;
-  k = (k ^ (k >> 29)) + static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4Full;
-  k = (k ^ (k >> 31)) + static_cast<std::uint64_t>(z) * 0x165667B19E3779F9ull;
-  return k ^ (k >> 32);
-}
+/// Key of a grid cell: its coordinates packed, x first, when every gridded triangle's cells fit in 21 bits
+/// per axis (sorted keys then visit the cells in space order, which the caches like); else a hash, where
+/// equal keys may be two cells (their triangles then share a run: more pairs tried, none missed).
+struct CellKey {
+  bool packed = true;
+  std::int64_t x0 = 0, y0 = 0, z0 = 0;
+  std::uint64_t operator()(std::int64_t x, std::int64_t y, std::int64_t z) const {
+    if (packed)
+      return static_cast<std::uint64_t>(x - x0) << 42 | static_cast<std::uint64_t>(y - y0) << 21 |
+             static_cast<std::uint64_t>(z - z0);
+    std::uint64_t k = static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull;
+    k = (k ^ (k >> 29)) + static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4Full;
+    k = (k ^ (k >> 31)) + static_cast<std::uint64_t>(z) * 0x165667B19E3779F9ull;
+    return k ^ (k >> 32);
+  }
+};
 
 Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tris, const std::vector<char>& skip,
                          int threads) {
@@ -176,14 +187,26 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
   const auto coord = [&](double x, double x0) {  // far cells clamp; only big triangles reach them
     return static_cast<std::int64_t>(std::clamp(std::floor((x - x0) / h), -0x1p52, 0x1p52));
   };
+  // each triangle's range of cells, computed once per cell size
+  std::vector<std::array<std::int64_t, 6>> range(n);
+  const auto find_ranges = [&] {
+    core::parallel_for(n, threads, [&](std::size_t b0, std::size_t e0) {
+      for (std::size_t t = b0; t < e0; ++t)
+        for (int k = 0; k < 3; ++k) {
+          range[t][k] = coord(lo[t][k], glo[k]);
+          range[t][k + 3] = coord(hi[t][k], glo[k]);
+        }
+    });
+  };
   const auto cells_of = [&](std::size_t t) {
     double count = 1;
-    for (int k = 0; k < 3; ++k) count *= static_cast<double>(coord(hi[t][k], glo[k]) - coord(lo[t][k], glo[k]) + 1);
+    for (int k = 0; k < 3; ++k) count *= static_cast<double>(range[t][k + 3] - range[t][k] + 1);
     return count;
   };
   // Triangles over too many cells are few, or the grid is made coarser until they are.
   std::vector<std::uint32_t> big;
   for (;;) {
+    find_ranges();
     big.clear();
     for (std::size_t t = 0; t < n; ++t)
       if (!skip[t] && cells_of(t) > kMaxCellsPerTriangle) big.push_back(static_cast<std::uint32_t>(t));
@@ -192,23 +215,37 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
   }
   std::vector<char> is_big(n, 0);
   for (const std::uint32_t t : big) is_big[t] = 1;
-  const auto key_of = [&](const Vec3& p) { return cell_key(coord(p.x(), glo.x()), coord(p.y(), glo.y()), coord(p.z(), glo.z())); };
+  CellKey cell_key;
   std::vector<std::size_t> offset(n + 1, 0);
-  for (std::size_t t = 0; t < n; ++t)
-    offset[t + 1] = offset[t] + (skip[t] || is_big[t] ? 0 : static_cast<std::size_t>(cells_of(t)));
+  {
+    std::int64_t c0[3] = {INT64_MAX, INT64_MAX, INT64_MAX}, c1[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
+    for (std::size_t t = 0; t < n; ++t) {
+      const bool gridded = !skip[t] && !is_big[t];
+      offset[t + 1] = offset[t] + (gridded ? static_cast<std::size_t>(cells_of(t)) : 0);
+      if (gridded)
+        for (int k = 0; k < 3; ++k) {
+          c0[k] = std::min(c0[k], range[t][k]);
+          c1[k] = std::max(c1[k], range[t][k + 3]);
+        }
+    }
+    for (int k = 0; k < 3; ++k)  // (no gridded triangle: nothing to pack)
+      cell_key.packed = cell_key.packed && (c0[k] > c1[k] || c1[k] - c0[k] < (std::int64_t{1} << 21));
+    cell_key.x0 = c0[0];
+    cell_key.y0 = c0[1];
+    cell_key.z0 = c0[2];
+  }
+  const auto key_of = [&](const Vec3& p) {
+    return cell_key(coord(p.x(), glo.x()), coord(p.y(), glo.y()), coord(p.z(), glo.z()));
+  };
   std::vector<CellRef> refs(offset[n]);
   core::parallel_for(n, threads, [&](std::size_t b0, std::size_t e0) {
     for (std::size_t t = b0; t < e0; ++t) {
       if (skip[t] || is_big[t]) continue;
-      std::int64_t a[3], b[3];
-      for (int k = 0; k < 3; ++k) {
-        a[k] = coord(lo[t][k], glo[k]);
-        b[k] = coord(hi[t][k], glo[k]);
-      }
+      const auto& c = range[t];
       std::size_t k = offset[t];
-      for (std::int64_t x = a[0]; x <= b[0]; ++x)
-        for (std::int64_t y = a[1]; y <= b[1]; ++y)
-          for (std::int64_t z = a[2]; z <= b[2]; ++z) refs[k++] = {cell_key(x, y, z), static_cast<std::uint32_t>(t)};
+      for (std::int64_t x = c[0]; x <= c[3]; ++x)
+        for (std::int64_t y = c[1]; y <= c[4]; ++y)
+          for (std::int64_t z = c[2]; z <= c[5]; ++z) refs[k++] = {cell_key(x, y, z), static_cast<std::uint32_t>(t)};
     }
   });
   {
