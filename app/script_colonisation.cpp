@@ -304,7 +304,9 @@ venation::GrowthFunction read_growth_function(Impl& I, const Value& given, const
       lua_rawgeti(L, LUA_REGISTRYINDEX, given.ref);
       lua_pushnumber(L, y0);
       const LuaRunsHere lua_runs(I);          // the function's allocations count against the memory limit
-      if (lua_pcall(L, 1, 1, 0) != LUA_OK) {  // counts against the script's own instruction budget
+      const int rc = lua_pcall(L, 1, 1, 0);  // counts against the script's own instruction budget
+      I.wait_if_dying();
+      if (rc != LUA_OK) {
         const std::string msg = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "error object is not a string";
         lua_pop(L, 1);
         throw InvalidInput(at + field + " failed at y0 = " + number_text(y0) + ": " + I.describe(msg));

@@ -14,6 +14,7 @@ namespace {
 template <class Body>
 int guarded(lua_State* L, Body&& body) {
   Impl& I = *self_of(L);
+  I.wait_if_dying();
   int results = 0;
   bool failed = false;
   I.in_host = true;  // no Lua memory error inside the body (the script's next allocation fails instead)
@@ -159,6 +160,7 @@ int api_params(lua_State* L) {
 int api_print(lua_State* L) {
   if (lua_gettop(L) == 1 && lua_type(L, 1) == LUA_TTABLE) return api_section(L);
   Impl& I = *self_of(L);
+  I.wait_if_dying();
   const int n = lua_gettop(L);
   // __tostring may raise: convert every argument (in place: the stack has room for a few more values
   // only) before any C++ object lives in this frame

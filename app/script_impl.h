@@ -1,6 +1,8 @@
 // Private to app/: the script host's state, parameter values, and the sections of the script API.
 #pragma once
 
+#include <unistd.h>
+
 #include <atomic>
 
 #include <lua.hpp>
@@ -79,6 +81,12 @@ struct ScriptHost::Impl {
   // run few instructions of its own)
   std::atomic<bool> interrupt_at_calls{false};
   std::atomic<bool> in_script{false};
+  // set by the watchdog before it ends the process: the script's thread, should the stuck call end after
+  // all, waits here for the end instead of going on beside the watchdog's handler
+  std::atomic<bool> dying{false};
+  void wait_if_dying() const {
+    while (dying.load(std::memory_order_acquire)) ::pause();
+  }
   std::uint64_t executed = 0;
   std::uint64_t budget = 0;
   bool rule_call = false;  // the budget is a rule function's per-call one, which no option raises
@@ -130,6 +138,7 @@ struct ScriptHost::Impl {
 
   static void hook(lua_State* L, lua_Debug* ar) {
     Impl* self = *static_cast<Impl**>(lua_getextraspace(L));
+    self->wait_if_dying();
     if (ar->event != LUA_HOOKCOUNT) {
       // A call made by Lua code beats: the watchdog then times one library call. A function a library call
       // calls back (gsub's replacement, sort's comparator) does not: it runs inside that call.
@@ -243,6 +252,7 @@ struct ScriptHost::Impl {
     lua_insert(L, base);
     in_script.store(true, std::memory_order_release);
     const int rc = lua_pcall(L, nargs, nresults, base);
+    wait_if_dying();
     in_script.store(false, std::memory_order_release);
     lua_remove(L, base);
     if (rc == LUA_OK && !stopping) return {};

@@ -101,6 +101,7 @@ class ScriptHost::Watchdog {
   /// Ends the process (m_ held): the message, then what the run's handler has to say and do.
   [[noreturn]] void die(int code, const std::string& what, const std::string& advice) {
     const std::string message = "cellform: " + what + (on_stuck_ ? "" : " without writing outputs") + advice + "\n";
+    i_.dying.store(true, std::memory_order_release);  // a call that ends now goes no further
     const ssize_t ignored = ::write(2, message.data(), message.size());
     (void)ignored;
     if (on_stuck_) try {
