@@ -136,6 +136,7 @@ using Pairs = std::vector<std::array<std::uint32_t, 2>>;
 
 constexpr double kMaxCellsPerTriangle = 4096;  // a triangle over more grid cells is tested by a scan ("big")
 constexpr std::size_t kMaxBig = 256;           // more big triangles than this: a coarser grid
+constexpr double kMaxRefsPerTriangle = 64;     // more grid entries than this per triangle: a coarser grid
 constexpr std::size_t kHubRun = 256;           // a cell's triangles beyond this are checked for a shared vertex
 
 /// Key of a grid cell: its coordinates packed, x first, when every gridded triangle's cells fit in 21 bits
@@ -173,7 +174,9 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
   }
   if (extent.size() < 2) return {};
   const double span = (ghi - glo).maxCoeff();
-  if (!(span > 0) || !std::isfinite(span)) return {};
+  if (!std::isfinite(span))  // not testable in doubles; read_mesh refuses such files
+    throw core::InvalidInput("self-intersection test: coordinates too far apart (beyond about 1e300)");
+  if (!(span > 0)) return {};
   // Cells twice the mean triangle extent, extents capped at 8 times the median: a few huge triangles (a
   // stray far vertex) must not make the whole mesh one cell, where every pair would be tested.
   std::vector<double> sorted = extent;
@@ -184,7 +187,7 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
   mean /= static_cast<double>(extent.size());
   double h = 2 * mean;
   if (!(h > 0)) h = span;
-  const auto coord = [&](double x, double x0) {  // far cells clamp; only big triangles reach them
+  const auto coord = [&](double x, double x0) {  // far cells clamp (order kept: at worst more pairs tried)
     return static_cast<std::int64_t>(std::clamp(std::floor((x - x0) / h), -0x1p52, 0x1p52));
   };
   // each triangle's range of cells, computed once per cell size
@@ -203,14 +206,23 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
     for (int k = 0; k < 3; ++k) count *= static_cast<double>(range[t][k + 3] - range[t][k] + 1);
     return count;
   };
-  // Triangles over too many cells are few, or the grid is made coarser until they are.
+  // Triangles over too many cells are few, and all triangles together over at most kMaxRefsPerTriangle
+  // cells each on average (sizes of two kinds: the large ones would cover thousands of the small ones'
+  // cells), or the grid is made coarser until they are.
   std::vector<std::uint32_t> big;
   for (;;) {
     find_ranges();
     big.clear();
-    for (std::size_t t = 0; t < n; ++t)
-      if (!skip[t] && cells_of(t) > kMaxCellsPerTriangle) big.push_back(static_cast<std::uint32_t>(t));
-    if (big.size() <= kMaxBig || h >= span) break;
+    double refs_total = 0;
+    for (std::size_t t = 0; t < n; ++t) {
+      if (skip[t]) continue;
+      const double cells = cells_of(t);
+      if (cells > kMaxCellsPerTriangle)
+        big.push_back(static_cast<std::uint32_t>(t));
+      else
+        refs_total += cells;
+    }
+    if ((big.size() <= kMaxBig && refs_total <= kMaxRefsPerTriangle * static_cast<double>(n)) || h >= span) break;
     h *= 2;
   }
   std::vector<char> is_big(n, 0);
@@ -282,7 +294,8 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
           const std::uint64_t cell = refs[runs[r]].cell;
           // each pair once: in the cell holding the low corner of the boxes' overlap
           const auto candidate = [&](std::uint32_t ti, std::uint32_t tj) {
-            if (overlap(ti, tj) && key_of(lo[ti].cwiseMax(lo[tj])) == cell) test(ti, tj, found[r]);
+            if (overlap(ti, tj) && key_of(lo[ti].cwiseMax(lo[tj])) == cell)
+              test(std::min(ti, tj), std::max(ti, tj), found[r]);  // in index order, whatever the path
           };
           const std::size_t first = runs[r], end = runs[r + 1];
           if (end - first <= kHubRun) {

@@ -100,7 +100,7 @@ PrintableMesh read_obj(const std::filesystem::path& path, const std::string& s) 
     } else if (tag == "f") {
       poly.clear();
       std::string tok;
-      while (ls >> tok) {
+      while (ls >> tok && tok[0] != '#') {  // a comment may end the line
         try {
           poly.push_back(forms::obj_face_vertex(tok, m.vertices.size()));
         } catch (const core::InvalidInput& e) {
@@ -251,6 +251,9 @@ PrintableMesh read_mesh(const std::filesystem::path& path) {
   for (std::size_t i = 0; i < m.vertices.size(); ++i)  // unreadable input, not an unprintable shape
     if (!m.vertices[i].allFinite())
       malformed(path, "vertex " + std::to_string(i + 1) + " has a coordinate that is NaN or infinite");
+    else if (m.vertices[i].cwiseAbs().maxCoeff() > 1e15)  // (their differences and products would overflow)
+      malformed(path, "vertex " + std::to_string(i + 1) + " has a coordinate beyond 1e15 (the file's units; " +
+                          "a printer's are millimetres): a damaged file?");
   return m;
 }
 

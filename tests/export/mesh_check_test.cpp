@@ -314,6 +314,8 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
   CHECK_THROWS_AS(exporters::read_mesh(dir / "x.step"), core::FileError);
   { std::ofstream(dir / "bad.obj") << "v 0 0 0\nf 1 2 3\n"; }
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "bad.obj"), Catch::Contains("bad.obj") && Catch::Contains("line 2"));
+  { std::ofstream(dir / "far.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1e30\nf 1 2 3\nf 1 2 4\n"; }
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "far.obj"), Catch::Contains("vertex 4") && Catch::Contains("1e15"));
   { std::ofstream(dir / "half.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1.5 2 3\n"; }  // not read as f 1 2 3
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "half.obj"), Catch::Contains("line 4") && Catch::Contains("'1.5'"));
   { std::ofstream(dir / "bad.ply") << "ply\nformat binary_big_endian 1.0\nend_header\n"; }
