@@ -59,6 +59,8 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
       out << "wall thickness (in the file's units; cellform prints are in mm): 1% of the surface is thinner than "
           << th.p01 << ", median " << th.median << "; shortest ray " << th.min << " near (" << th.min_at.x() << ", "
           << th.min_at.y() << ", " << th.min_at.z() << ")\n";
+    else if (th.given_up > 0)
+      out << "wall thickness: not measured (no ray that was followed left the solid through another wall)\n";
     else
       out << "wall thickness: not measurable (no ray from the surface left the solid through another wall)\n";
     if (th.given_up > 0)

@@ -82,7 +82,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   EscapingBuf out_buf(std::cout.rdbuf()), err_buf(std::cerr.rdbuf());
   std::ostream out(&out_buf), err(&err_buf);
-  err.setf(std::ios::unitbuf);  // as std::cerr: every message at once
+  err.setf(std::ios::unitbuf);  // as std::cerr: every message at once, after what stdout holds
+  err.tie(&out);
   const int code = cellform::app::cli_main(args, out, err);
   out.flush();
   return code;

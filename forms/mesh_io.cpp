@@ -242,7 +242,7 @@ std::size_t check_obj_lines(std::istream& in, const std::string& name) {
     } else if (tag == "f") {
       std::string token;
       std::size_t corners = 0;
-      while (words >> token) {
+      while (words >> token && token[0] != '#') {  // a comment may end the line
         try {
           obj_face_vertex(token, count);
         } catch (const core::InvalidInput& e) {
@@ -287,7 +287,12 @@ std::uint32_t obj_face_vertex(std::string_view token, std::size_t vertices) {
   const std::string_view digits = v.substr(negative ? 1 : 0);
   if (digits.empty() || digits.find_first_not_of("0123456789") != std::string_view::npos)
     throw bad("a vertex index is a whole number, as in 'f 1 2 3'");
-  const std::uint64_t k = digits.size() > 18 ? ~std::uint64_t{0} : std::stoull(std::string(digits));
+  const std::string_view significant = digits.substr(std::min(digits.find_first_not_of('0'), digits.size()));
+  std::uint64_t k = ~std::uint64_t{0};
+  if (significant.size() <= 18) {
+    k = 0;
+    for (const char c : significant) k = 10 * k + static_cast<std::uint64_t>(c - '0');
+  }
   if (k == 0) throw bad("vertex indices count from 1 (or back from -1)");
   if (k > vertices)
     throw bad(std::string(negative ? "counts back past the first of the " : "there are only ") +

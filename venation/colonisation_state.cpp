@@ -302,6 +302,9 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
   for (std::size_t s = 0; ok && s < ns; ++s) ok = m.src[s].allFinite() && !std::isnan(m.near_d2[s]);
   for (std::size_t k = 0; ok && k < d2.size(); ++k) ok = !std::isnan(d2[k]);
   ok = ok && std::isfinite(cell) && std::isfinite(m.sigma);
+  for (const auto* mats : {&m.node_mat, &m.src_mat})  // nonuniform growth: positions come from these
+    for (std::size_t k = 0; ok && k < mats->size(); ++k) ok = (*mats)[k].allFinite();
+  for (std::size_t k = 0; ok && k < u_num.size(); ++k) ok = std::isfinite(u_num[k]);
   for (Index v : ana) ok = ok && v < n;
   for (Index v : best) ok = ok && (v == kNoIndex || v < n);
   const std::size_t nu = m.urquhart() ? ns : 0;

@@ -207,7 +207,10 @@ TEST_CASE("load_mesh errors name the file and the problem", "[forms][mesh_io]") 
   // texture and normal indices, and indices counted back from the end, are fine
   write_text(dir / "slashes.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\nf -3/1/1 -1 -2\n");
   CHECK(forms::load_mesh(dir / "slashes.obj").triangles.size() == 2);
+  write_text(dir / "comment.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 # the only face\n");
+  CHECK(forms::load_mesh(dir / "comment.obj").triangles.size() == 1);
   CHECK(forms::obj_face_vertex("-1", 5) == 4);
+  CHECK(forms::obj_face_vertex("000000000000000000000002", 5) == 1);  // leading zeros are no digits
   CHECK(forms::obj_face_vertex("2/7/9", 5) == 1);
   CHECK_THROWS_WITH(forms::obj_face_vertex("-6", 5), Catch::Contains("counts back past the first of the 5"));
 
