@@ -59,7 +59,9 @@ void write_file_atomically(const fs::path& path, const std::function<void(std::o
 
 std::string read_file(const fs::path& path) {
   std::error_code ec;
-  if (!fs::exists(path, ec)) throw FileError("file '" + path.string() + "' does not exist");
+  if (!fs::exists(path, ec))  // a name too long or a loop of links is not "missing"
+    throw FileError(ec ? "cannot read '" + path.string() + "': " + ec.message()
+                       : "file '" + path.string() + "' does not exist");
   if (fs::is_directory(path, ec)) throw FileError("'" + path.string() + "' is a directory, not a file");
   // a pipe would block, a device such as /dev/zero never ends: only regular files are read
   if (!fs::is_regular_file(path, ec))

@@ -422,7 +422,8 @@ TriangleMesh load_mesh(const fs::path& path) {
     throw core::InvalidInput("mesh " + name + ": unsupported format '" + path.extension().string() +
                              "'; allowed: .stl (ASCII or binary), .obj");
   std::error_code ec;
-  if (!fs::exists(path, ec)) throw core::FileError("mesh " + name + " does not exist");
+  if (!fs::exists(path, ec))  // a name too long or a loop of links is not "missing"
+    throw core::FileError("mesh " + name + (ec ? " cannot be read: " + ec.message() : std::string(" does not exist")));
   if (fs::is_directory(path, ec)) throw core::FileError("mesh " + name + " is a directory, not a file");
   const auto size = fs::file_size(path, ec);
   std::ifstream probe(path, std::ios::binary);

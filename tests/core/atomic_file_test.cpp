@@ -68,6 +68,8 @@ TEST_CASE("unwritable places are reported with the path", "[core][files]") {
   std::ofstream(d.path / "file") << "x";
   CHECK_THROWS_AS(cellform::core::ensure_directory(d.path / "file"), cellform::core::FileError);
   CHECK_THROWS_WITH(cellform::core::read_file(d.path / "missing"), Contains("does not exist"));
+  fs::create_symlink(d.path / "loop", d.path / "loop");  // a loop of links is there, but cannot be read
+  CHECK_THROWS_WITH(cellform::core::read_file(d.path / "loop"), Contains("loop") && !Contains("does not exist"));
   // a pipe would block the reader forever and /dev/zero never ends: refused before opening
   REQUIRE(::mkfifo((d.path / "pipe").c_str(), 0600) == 0);
   CHECK_THROWS_WITH(cellform::core::read_file(d.path / "pipe"), Contains("pipe") && Contains("not a regular file"));
