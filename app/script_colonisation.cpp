@@ -303,7 +303,7 @@ venation::GrowthFunction read_growth_function(Impl& I, const Value& given, const
       const double y0 = -0.5 + 2.0 * k / (kSamples - 1);
       lua_rawgeti(L, LUA_REGISTRYINDEX, given.ref);
       lua_pushnumber(L, y0);
-      const LuaRunsHere lua_runs(I);          // the function's allocations count against the memory limit
+      const LuaRunsHere lua_runs(I);         // the function's allocations count against the memory limit
       const int rc = lua_pcall(L, 1, 1, 0);  // counts against the script's own instruction budget
       I.wait_if_dying();
       if (rc != LUA_OK) {

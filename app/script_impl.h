@@ -228,8 +228,7 @@ struct ScriptHost::Impl {
     std::string msg = lua_message;
     const std::size_t colon = msg.find(": ");
     const std::size_t line = colon == std::string::npos ? colon : msg.rfind(':', colon - 1);
-    if (line != std::string::npos && line + 1 < colon &&
-        msg.find_first_not_of("0123456789", line + 1) == colon) {
+    if (line != std::string::npos && line + 1 < colon && msg.find_first_not_of("0123456789", line + 1) == colon) {
       const std::string where = msg.substr(0, colon + 2);
       while (msg.compare(where.size(), where.size(), where) == 0) msg.erase(0, where.size());
     }

@@ -86,8 +86,9 @@ Cells load(const std::string& bytes, const std::string& what) {
   for (std::uint64_t a = 0; a < attributes; ++a) {
     std::string name = r.get_string();
     auto values = r.get_vector<double>();
-    if (values.size() != n) throw bad("attribute '" + core::printable(name.substr(0, 64)) + (name.size() > 64 ? "..." : "") +
-                                       "' has the wrong length");
+    if (values.size() != n)
+      throw bad("attribute '" + core::printable(name.substr(0, 64)) + (name.size() > 64 ? "..." : "") +
+                "' has the wrong length");
     c.attributes[std::move(name)] = std::move(values);
   }
   if (!r.done()) throw bad("trailing data");

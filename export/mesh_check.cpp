@@ -1,4 +1,5 @@
-// Mesh checks for printing: topology, orientation, self-intersections.
+// Mesh checks for printing: topology, orientation, and the counts of check_mesh (self-intersections are
+// found in export/self_intersection.cpp).
 #include "export/mesh_check.h"
 
 #include <algorithm>
@@ -11,9 +12,6 @@
 
 #include "core/errors.h"
 #include "core/parallel.h"
-
-#include <tbb/parallel_sort.h>
-#include <tbb/task_arena.h>
 
 namespace cellform::exporters {
 
@@ -36,327 +34,6 @@ struct UnionFind {
   }
 };
 
-double orient(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) { return (b - a).cross(c - a).dot(d - a); }
-
-int sign(double x) { return (x > 0) - (x < 0); }
-
-using P2 = Eigen::Vector2d;
-double cross2(const P2& a, const P2& b, const P2& c) { return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x(); }
-
-bool segments_cross_2d(const P2& p, const P2& q, const P2& a, const P2& b) {
-  const int o1 = sign(cross2(p, q, a)), o2 = sign(cross2(p, q, b)), o3 = sign(cross2(a, b, p)),
-            o4 = sign(cross2(a, b, q));
-  return o1 * o2 < 0 && o3 * o4 < 0;
-}
-
-bool inside_2d(const P2& p, const P2& a, const P2& b, const P2& c) {
-  const int s1 = sign(cross2(a, b, p)), s2 = sign(cross2(b, c, p)), s3 = sign(cross2(c, a, p));
-  return (s1 > 0 && s2 > 0 && s3 > 0) || (s1 < 0 && s2 < 0 && s3 < 0);
-}
-
-// Projection dropping the dominant axis of the normal of triangle T.
-struct Projection {
-  int drop = 2;
-  explicit Projection(const Vec3* T) {
-    const Vec3 n = (T[1] - T[0]).cross(T[2] - T[0]).cwiseAbs();
-    drop = n.x() >= n.y() && n.x() >= n.z() ? 0 : (n.y() >= n.z() ? 1 : 2);
-  }
-  P2 operator()(const Vec3& v) const {
-    return drop == 0 ? P2(v.y(), v.z()) : drop == 1 ? P2(v.x(), v.z()) : P2(v.x(), v.y());
-  }
-};
-
-// Does segment pq meet triangle T? dp, dq: sides of p and q relative to T's plane, 0 when within the
-// tolerance; a point on the plane meets T if it lies inside T (projected), so nearly parallel segments
-// are never extended to a far-away crossing. Not for a segment lying in the plane (handled in 2D).
-bool segment_meets_triangle(const Vec3& p, const Vec3& q, int dp, int dq, const Vec3* T) {
-  if (dp * dq > 0 || (dp == 0 && dq == 0)) return false;
-  if (dp == 0 || dq == 0) {
-    const Projection pr(T);
-    return inside_2d(pr(dp == 0 ? p : q), pr(T[0]), pr(T[1]), pr(T[2]));
-  }
-  const int s1 = sign(orient(p, q, T[0], T[1])), s2 = sign(orient(p, q, T[1], T[2])),
-            s3 = sign(orient(p, q, T[2], T[0]));
-  if (s1 == 0 && s2 == 0 && s3 == 0) return false;
-  return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
-}
-
-// Sides of the points P[0..2] relative to the plane of T, 0 within `tol` (a length).
-void sides(const Vec3* T, const Vec3* P, double tol, int* out) {
-  const Vec3 n = (T[1] - T[0]).cross(T[2] - T[0]);
-  const double len = n.norm();
-  for (int i = 0; i < 3; ++i) {
-    const double d = n.dot(P[i] - T[0]);
-    out[i] = std::abs(d) <= tol * len ? 0 : sign(d);
-  }
-}
-
-// Triangle-triangle intersection (Moller's separating-plane rejection first): two triangles in general
-// position meet iff an edge of one meets the other; coplanar pairs are tested in 2D. Points within a
-// rounding tolerance of the other plane count as on it, so that coplanar neighbours written through
-// float or decimal files are not reported.
-bool triangles_intersect(const Vec3* A, const Vec3* B) {
-  double scale = 0, edge = 0;
-  for (int i = 0; i < 3; ++i) {
-    scale = std::max({scale, A[i].cwiseAbs().maxCoeff(), B[i].cwiseAbs().maxCoeff()});
-    edge = std::max({edge, (A[i] - A[(i + 1) % 3]).norm(), (B[i] - B[(i + 1) % 3]).norm()});
-  }
-  const double tol = 8 * std::numeric_limits<float>::epsilon() * scale + 1e-9 * edge;
-  int da[3], db[3];
-  sides(B, A, tol, da);
-  if (da[0] == da[1] && da[1] == da[2] && da[0] != 0) return false;
-  sides(A, B, tol, db);
-  if (db[0] == db[1] && db[1] == db[2] && db[0] != 0) return false;
-  if ((da[0] == 0 && da[1] == 0 && da[2] == 0) || (db[0] == 0 && db[1] == 0 && db[2] == 0)) {
-    const Projection pr(A);
-    P2 a[3], b[3];
-    for (int i = 0; i < 3; ++i) a[i] = pr(A[i]), b[i] = pr(B[i]);
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        if (segments_cross_2d(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3])) return true;
-    for (int i = 0; i < 3; ++i)
-      if (inside_2d(a[i], b[0], b[1], b[2]) || inside_2d(b[i], a[0], a[1], a[2])) return true;
-    return false;
-  }
-  for (int i = 0; i < 3; ++i) {
-    const int j = (i + 1) % 3;
-    if (segment_meets_triangle(A[i], A[j], da[i], da[j], B) || segment_meets_triangle(B[i], B[j], db[i], db[j], A))
-      return true;
-  }
-  return false;
-}
-
-struct CellRef {
-  std::uint64_t cell;
-  std::uint32_t tri;
-  bool operator<(const CellRef& o) const { return cell != o.cell ? cell < o.cell : tri < o.tri; }
-};
-
-using Pairs = std::vector<std::array<std::uint32_t, 2>>;
-
-constexpr double kMaxCellsPerTriangle = 4096;  // a triangle over more grid cells is tested by a scan ("big")
-constexpr std::size_t kMaxBig = 256;           // more big triangles than this: a coarser grid
-constexpr double kMaxRefsPerTriangle = 64;     // more grid entries than this per triangle: a coarser grid
-constexpr std::size_t kHubRun = 256;           // a cell's triangles beyond this are checked for a shared vertex
-
-/// Key of a grid cell: its coordinates packed, x first, when every gridded triangle's cells fit in 21 bits
-/// per axis (sorted keys then visit the cells in space order, which the caches like); else a hash, where
-/// equal keys may be two cells (their triangles then share a run: more pairs tried, none missed).
-struct CellKey {
-  bool packed = true;
-  std::int64_t x0 = 0, y0 = 0, z0 = 0;
-  std::uint64_t operator()(std::int64_t x, std::int64_t y, std::int64_t z) const {
-    if (packed)
-      return static_cast<std::uint64_t>(x - x0) << 42 | static_cast<std::uint64_t>(y - y0) << 21 |
-             static_cast<std::uint64_t>(z - z0);
-    std::uint64_t k = static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull;
-    k = (k ^ (k >> 29)) + static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4Full;
-    k = (k ^ (k >> 31)) + static_cast<std::uint64_t>(z) * 0x165667B19E3779F9ull;
-    return k ^ (k >> 32);
-  }
-};
-
-Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tris, const std::vector<char>& skip,
-                         int threads) {
-  const std::size_t n = tris.size();
-  if (n < 2) return {};
-  std::vector<Vec3> lo(n), hi(n);
-  std::vector<double> extent;
-  Vec3 glo = Vec3::Constant(std::numeric_limits<double>::infinity()), ghi = -glo;
-  for (std::size_t t = 0; t < n; ++t) {
-    const Vec3 &a = v[tris[t][0]], &b = v[tris[t][1]], &c = v[tris[t][2]];
-    lo[t] = a.cwiseMin(b).cwiseMin(c);
-    hi[t] = a.cwiseMax(b).cwiseMax(c);
-    if (skip[t]) continue;
-    glo = glo.cwiseMin(lo[t]);
-    ghi = ghi.cwiseMax(hi[t]);
-    extent.push_back((hi[t] - lo[t]).maxCoeff());
-  }
-  if (extent.size() < 2) return {};
-  const double span = (ghi - glo).maxCoeff();
-  if (!std::isfinite(span))  // not testable in doubles; read_mesh refuses such files
-    throw core::InvalidInput("self-intersection test: coordinates too far apart (beyond about 1e300)");
-  if (!(span > 0)) return {};
-  // Cells twice the mean triangle extent, extents capped at 8 times the median: a few huge triangles (a
-  // stray far vertex) must not make the whole mesh one cell, where every pair would be tested.
-  std::vector<double> sorted = extent;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-  const double cap = 8 * sorted[sorted.size() / 2];
-  double mean = 0;
-  for (const double e : extent) mean += std::min(e, cap);
-  mean /= static_cast<double>(extent.size());
-  double h = 2 * mean;
-  if (!(h > 0)) h = span;
-  const auto coord = [&](double x, double x0) {  // far cells clamp (order kept: at worst more pairs tried)
-    return static_cast<std::int64_t>(std::clamp(std::floor((x - x0) / h), -0x1p52, 0x1p52));
-  };
-  // each triangle's range of cells, computed once per cell size
-  std::vector<std::array<std::int64_t, 6>> range(n);
-  const auto find_ranges = [&] {
-    core::parallel_for(n, threads, [&](std::size_t b0, std::size_t e0) {
-      for (std::size_t t = b0; t < e0; ++t)
-        for (int k = 0; k < 3; ++k) {
-          range[t][k] = coord(lo[t][k], glo[k]);
-          range[t][k + 3] = coord(hi[t][k], glo[k]);
-        }
-    });
-  };
-  const auto cells_of = [&](std::size_t t) {
-    double count = 1;
-    for (int k = 0; k < 3; ++k) count *= static_cast<double>(range[t][k + 3] - range[t][k] + 1);
-    return count;
-  };
-  // Triangles over too many cells are few, and all triangles together over at most kMaxRefsPerTriangle
-  // cells each on average (sizes of two kinds: the large ones would cover thousands of the small ones'
-  // cells), or the grid is made coarser until they are.
-  std::vector<std::uint32_t> big;
-  for (;;) {
-    find_ranges();
-    big.clear();
-    double refs_total = 0;
-    for (std::size_t t = 0; t < n; ++t) {
-      if (skip[t]) continue;
-      const double cells = cells_of(t);
-      if (cells > kMaxCellsPerTriangle)
-        big.push_back(static_cast<std::uint32_t>(t));
-      else
-        refs_total += cells;
-    }
-    if ((big.size() <= kMaxBig && refs_total <= kMaxRefsPerTriangle * static_cast<double>(n)) || h >= span) break;
-    h *= 2;
-  }
-  std::vector<char> is_big(n, 0);
-  for (const std::uint32_t t : big) is_big[t] = 1;
-  CellKey cell_key;
-  std::vector<std::size_t> offset(n + 1, 0);
-  {
-    std::int64_t c0[3] = {INT64_MAX, INT64_MAX, INT64_MAX}, c1[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
-    for (std::size_t t = 0; t < n; ++t) {
-      const bool gridded = !skip[t] && !is_big[t];
-      offset[t + 1] = offset[t] + (gridded ? static_cast<std::size_t>(cells_of(t)) : 0);
-      if (gridded)
-        for (int k = 0; k < 3; ++k) {
-          c0[k] = std::min(c0[k], range[t][k]);
-          c1[k] = std::max(c1[k], range[t][k + 3]);
-        }
-    }
-    for (int k = 0; k < 3; ++k)  // (no gridded triangle: nothing to pack)
-      cell_key.packed = cell_key.packed && (c0[k] > c1[k] || c1[k] - c0[k] < (std::int64_t{1} << 21));
-    cell_key.x0 = c0[0];
-    cell_key.y0 = c0[1];
-    cell_key.z0 = c0[2];
-  }
-  const auto key_of = [&](const Vec3& p) {
-    return cell_key(coord(p.x(), glo.x()), coord(p.y(), glo.y()), coord(p.z(), glo.z()));
-  };
-  std::vector<CellRef> refs(offset[n]);
-  core::parallel_for(n, threads, [&](std::size_t b0, std::size_t e0) {
-    for (std::size_t t = b0; t < e0; ++t) {
-      if (skip[t] || is_big[t]) continue;
-      const auto& c = range[t];
-      std::size_t k = offset[t];
-      for (std::int64_t x = c[0]; x <= c[3]; ++x)
-        for (std::int64_t y = c[1]; y <= c[4]; ++y)
-          for (std::int64_t z = c[2]; z <= c[5]; ++z) refs[k++] = {cell_key(x, y, z), static_cast<std::uint32_t>(t)};
-    }
-  });
-  {
-    tbb::task_arena arena(threads > 0 ? std::min(threads, core::hardware_threads()) : tbb::task_arena::automatic);
-    arena.execute([&] { tbb::parallel_sort(refs.begin(), refs.end()); });  // equal elements are equal: one order
-  }
-  // two cells whose keys collide: a triangle in both is one entry of their run
-  refs.erase(std::unique(refs.begin(), refs.end(),
-                         [](const CellRef& a, const CellRef& b) { return a.cell == b.cell && a.tri == b.tri; }),
-             refs.end());
-  std::vector<std::size_t> runs;
-  for (std::size_t k = 0; k < refs.size(); ++k)
-    if (k == 0 || refs[k].cell != refs[k - 1].cell) runs.push_back(k);
-  const std::size_t nruns = runs.size();
-  runs.push_back(refs.size());
-  const auto overlap = [&](std::uint32_t ti, std::uint32_t tj) {
-    return !((lo[ti].array() > hi[tj].array()) || (lo[tj].array() > hi[ti].array())).any();
-  };
-  const auto test = [&](std::uint32_t ti, std::uint32_t tj, Pairs& out) {  // boxes overlap
-    const Tri &s = tris[ti], &t = tris[tj];
-    for (int p = 0; p < 3; ++p)
-      for (int q = 0; q < 3; ++q)
-        if (s[p] == t[q]) return;
-    const Vec3 A[3] = {v[s[0]], v[s[1]], v[s[2]]}, B[3] = {v[t[0]], v[t[1]], v[t[2]]};
-    if (triangles_intersect(A, B)) out.push_back({std::min(ti, tj), std::max(ti, tj)});
-  };
-  std::vector<Pairs> found(nruns + big.size());
-  core::parallel_for(
-      nruns, threads,
-      [&](std::size_t b0, std::size_t e0) {
-        std::vector<std::uint32_t> ids, group;
-        std::vector<std::size_t> bounds;
-        for (std::size_t r = b0; r < e0; ++r) {
-          const std::uint64_t cell = refs[runs[r]].cell;
-          // each pair once: in the cell holding the low corner of the boxes' overlap
-          const auto candidate = [&](std::uint32_t ti, std::uint32_t tj) {
-            if (overlap(ti, tj) && key_of(lo[ti].cwiseMax(lo[tj])) == cell)
-              test(std::min(ti, tj), std::max(ti, tj), found[r]);  // in index order, whatever the path
-          };
-          const std::size_t first = runs[r], end = runs[r + 1];
-          if (end - first <= kHubRun) {
-            for (std::size_t i = first; i < end; ++i)
-              for (std::size_t j = i + 1; j < end; ++j) candidate(refs[i].tri, refs[j].tri);
-            continue;
-          }
-          // Many triangles of one cell around one vertex (the tip of a cone, a polygon's fan): pairs that
-          // share a vertex are never tested, so those of such a fan are not even enumerated. The fans are
-          // peeled off while one vertex is in a quarter of what is left; the rest stays first.
-          group.assign(end - first, 0);
-          for (std::size_t i = first; i < end; ++i) group[i - first] = refs[i].tri;
-          std::size_t rest = group.size();
-          bounds.assign(1, 0);
-          while (rest > kHubRun) {
-            ids.clear();
-            for (std::size_t i = 0; i < rest; ++i)
-              for (const std::uint32_t w : tris[group[i]]) ids.push_back(w);
-            std::sort(ids.begin(), ids.end());
-            std::uint32_t hub = 0;
-            std::size_t hub_count = 0;
-            for (std::size_t i = 0, j = 0; i < ids.size(); i = j) {
-              for (j = i; j < ids.size() && ids[j] == ids[i]; ++j) {
-              }
-              if (j - i > hub_count) hub = ids[i], hub_count = j - i;
-            }
-            if (hub_count * 4 < rest) break;
-            const auto fan = std::stable_partition(group.begin(), group.begin() + static_cast<std::ptrdiff_t>(rest),
-                                                   [&](std::uint32_t t) {
-                                                     const Tri& w = tris[t];
-                                                     return w[0] != hub && w[1] != hub && w[2] != hub;
-                                                   });
-            rest = static_cast<std::size_t>(fan - group.begin());
-            bounds.push_back(rest);  // the fan lies from here to the previous bound
-          }
-          // the rest with everything after it; each fan with what lies after it (its own pairs share the hub)
-          for (std::size_t i = 0; i < rest; ++i)
-            for (std::size_t j = i + 1; j < group.size(); ++j) candidate(group[i], group[j]);
-          for (std::size_t k = 1; k < bounds.size(); ++k) {
-            const std::size_t fan_end = k == 1 ? group.size() : bounds[k - 1];
-            for (std::size_t i = bounds[k]; i < fan_end; ++i)
-              for (std::size_t j = fan_end; j < group.size(); ++j) candidate(group[i], group[j]);
-          }
-        }
-      },
-      64);
-  // big triangles: against every triangle whose box meets theirs (a pair of two big ones once)
-  core::parallel_for(big.size(), threads, [&](std::size_t b0, std::size_t e0) {
-    for (std::size_t k = b0; k < e0; ++k) {
-      const std::uint32_t b = big[k];
-      for (std::uint32_t t = 0; t < n; ++t)
-        if (!skip[t] && t != b && !(is_big[t] && t < b) && overlap(b, t))
-          test(std::min(b, t), std::max(b, t), found[nruns + k]);  // in index order, as from the grid
-    }
-  });
-  Pairs all;
-  for (const Pairs& f : found) all.insert(all.end(), f.begin(), f.end());
-  std::sort(all.begin(), all.end());
-  return all;
-}
-
 }  // namespace
 
 std::vector<std::uint32_t> weld_positions(const std::vector<Vec3>& v) {
@@ -373,21 +50,6 @@ std::vector<std::uint32_t> weld_positions(const std::vector<Vec3>& v) {
   for (std::size_t k = 0; k < order.size(); ++k)
     canon[order[k]] = (k > 0 && v[order[k]] == v[order[k - 1]]) ? canon[order[k - 1]] : order[k];
   return canon;
-}
-
-std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(const std::vector<Vec3>& vertices,
-                                                                  const std::vector<Tri>& triangles, int threads) {
-  std::vector<char> skip(triangles.size(), 0);
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    const Tri& w = triangles[t];
-    const Vec3 &a = vertices[w[0]], &b = vertices[w[1]], &c = vertices[w[2]];
-    skip[t] = w[0] == w[1] || w[1] == w[2] || w[0] == w[2] || (b - a).cross(c - a).squaredNorm() == 0;
-  }
-  return intersecting_pairs(vertices, triangles, skip, threads);
-}
-
-std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(const PrintableMesh& mesh, int threads) {
-  return self_intersecting_pairs(mesh.vertices, mesh.triangles, threads);
 }
 
 double signed_volume(const PrintableMesh& m) {
@@ -429,14 +91,12 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
 
   const std::vector<std::uint32_t> canon = weld_positions(mesh.vertices);
   std::vector<Tri> tris(nt);
-  std::vector<char> degenerate(nt, 0);
   std::vector<char> used(nv, 0);
   for (std::size_t t = 0; t < nt; ++t) {
     for (int k = 0; k < 3; ++k) used[tris[t][k] = canon[mesh.triangles[t][k]]] = 1;
     const Tri& w = tris[t];
     const Vec3 &a = mesh.vertices[w[0]], &b = mesh.vertices[w[1]], &c = mesh.vertices[w[2]];
-    degenerate[t] = w[0] == w[1] || w[1] == w[2] || w[0] == w[2] || (b - a).cross(c - a).squaredNorm() == 0;
-    r.degenerate_triangles += degenerate[t];
+    r.degenerate_triangles += w[0] == w[1] || w[1] == w[2] || w[0] == w[2] || (b - a).cross(c - a).squaredNorm() == 0;
   }
   r.welded_vertices = 0;
   for (std::size_t i = 0; i < nv; ++i) {
@@ -573,7 +233,7 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
     r.genus[p] = closed[p] && chi % 2 == 0 ? static_cast<int>((2 - chi) / 2) : -1;
   }
 
-  const Pairs pairs = intersecting_pairs(mesh.vertices, tris, degenerate, threads);
+  const auto pairs = self_intersecting_pairs(mesh.vertices, tris, threads);  // skips the degenerate ones too
   r.self_intersections = pairs.size();
   r.intersecting_pairs.assign(pairs.begin(),
                               pairs.begin() + static_cast<std::ptrdiff_t>(std::min<std::size_t>(pairs.size(), 16)));

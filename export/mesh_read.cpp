@@ -108,8 +108,7 @@ PrintableMesh read_obj(const std::filesystem::path& path, const std::string& s) 
         }
       }
       if (poly.size() < 3) malformed(path, "line " + std::to_string(line_no) + ": a face needs three vertices");
-      for (std::size_t k = 1; k + 1 < poly.size(); ++k)
-        m.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+      for (std::size_t k = 1; k + 1 < poly.size(); ++k) m.triangles.push_back({poly[0], poly[k], poly[k + 1]});
     }
   }
   if (m.triangles.empty()) malformed(path, "no faces in the OBJ file");

@@ -16,11 +16,11 @@ namespace cellform::exporters {
 /// triangle. For a tapered capsule this is its local diameter, for a shell its wall. Lengths are in the
 /// mesh's units (mm for cellform output). The mesh must be wound outward (positive volume).
 struct ThicknessReport {
-  std::size_t samples = 0;  ///< triangles whose ray left the solid through another triangle
-  std::size_t missed = 0;   ///< rays that met nothing or entered the solid (open, inverted or creased spots)
+  std::size_t samples = 0;   ///< triangles whose ray left the solid through another triangle
+  std::size_t missed = 0;    ///< rays that met nothing or entered the solid (open, inverted or creased spots)
   std::size_t given_up = 0;  ///< rays given up among too many overlapping boxes (where very many triangles meet)
-  double min = 0;           ///< thinnest sample (0 if there is none); single rays in the crotch of a
-                            ///< junction can cut a corner, so p01 is the robust figure
+  double min = 0;            ///< thinnest sample (0 if there is none); single rays in the crotch of a
+                             ///< junction can cut a corner, so p01 is the robust figure
   core::Vec3 min_at = core::Vec3::Zero();  ///< centroid of the triangle of the thinnest sample
   double p01 = 0;                          ///< 1st percentile of the samples, by area: 1% of the surface is thinner
   double median = 0;                       ///< median of the samples, by area

@@ -246,8 +246,7 @@ std::size_t check_obj_lines(std::istream& in, const std::string& name) {
         try {
           obj_face_vertex(token, count);
         } catch (const core::InvalidInput& e) {
-          throw core::InvalidInput("mesh " + name + " is malformed: line " + std::to_string(line_no) + ": " +
-                                   e.what());
+          throw core::InvalidInput("mesh " + name + " is malformed: line " + std::to_string(line_no) + ": " + e.what());
         }
         ++corners;
       }
@@ -282,7 +281,8 @@ std::uint32_t obj_face_vertex(std::string_view token, std::size_t vertices) {
   const std::string_view v = token.substr(0, slash);
   // the texture and normal indices are not used, but must be whole numbers if given
   for (const char c : slash == std::string_view::npos ? std::string_view{} : token.substr(slash + 1))
-    if (c != '/' && c != '-' && (c < '0' || c > '9')) throw bad("expected whole numbers, as in 'f 1 2 3' or 'f 1/1/1 ...'");
+    if (c != '/' && c != '-' && (c < '0' || c > '9'))
+      throw bad("expected whole numbers, as in 'f 1 2 3' or 'f 1/1/1 ...'");
   const bool negative = !v.empty() && v[0] == '-';
   const std::string_view digits = v.substr(negative ? 1 : 0);
   if (digits.empty() || digits.find_first_not_of("0123456789") != std::string_view::npos)

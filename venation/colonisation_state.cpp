@@ -328,7 +328,8 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
     for (const auto& l : *lists)
       for (Index v : l) ok = ok && v < n;
   if (ok) ok = m.rng.set_state(rng);
-  if (!ok) throw core::FileError(what + " is corrupt (inconsistent colonisation state, or a position that is no number)");
+  if (!ok)
+    throw core::FileError(what + " is corrupt (inconsistent colonisation state, or a position that is no number)");
 
   // the k-d tree as the run built it (its shape decides which boxes the sector searches skip, and so
   // the per-source sector bests, though not the neighbourhoods): nonuniform growth rebuilt it from all

@@ -102,7 +102,7 @@ TEST_CASE("math.randomseed needs a seed: without one Lua seeds from the clock", 
   const std::string src =
       "math.randomseed(7, 3) local a = math.random(1, 1000000) math.randomseed(7, 3) "
       "assert(math.random(1, 1000000) == a) run { steps = a }";
-  CHECK(load(src).steps == load(src).steps);
+  CHECK_NOTHROW(load(src));  // the script's assert: reseeding with (7, 3) repeats the number
 }
 
 TEST_CASE("sections and shapes called inside a coroutine read their own arguments", "[script]") {

@@ -236,7 +236,8 @@ TEST_CASE("self_intersecting_pairs equals testing every pair, with fans around o
     m.triangles.push_back({hub, vertex(rim), vertex(rim + Vec3(0.01, 0.0, 0.02))});
   }
   for (int t = 0; t < 3; ++t)
-    m.triangles.push_back({vertex(Vec3(u(rng), u(rng), 0.5)), vertex(Vec3(u(rng), u(rng), 0.6)), vertex(Vec3(0, 0, 1e3))});
+    m.triangles.push_back(
+        {vertex(Vec3(u(rng), u(rng), 0.5)), vertex(Vec3(u(rng), u(rng), 0.6)), vertex(Vec3(0, 0, 1e3))});
   const auto found = exporters::self_intersecting_pairs(m, 2);
   std::vector<std::array<std::uint32_t, 2>> all;  // every pair on its own: no grid to miss one
   for (std::uint32_t i = 0; i < m.triangles.size(); ++i)

@@ -186,8 +186,7 @@ TEST_CASE("a thickened vein is as thick as its diameter, and the hierarchy equal
   CHECK(near_two > thick * 9 / 10);
 }
 
-TEST_CASE("rays among very many triangles meeting at one spot are given up, not followed for minutes",
-          "[thickness]") {
+TEST_CASE("rays among very many triangles meeting at one spot are given up, not followed for minutes", "[thickness]") {
   // a cone of 30,000 slivers round its tip and its base's centre: every box holds the axis, so a ray from
   // near it would enter most of them (the check of a 100,000-sliver cone did not end)
   const int n = 30000;

@@ -1,9 +1,9 @@
 // Tests of Colonisation::save() and load(): a run saved after any step and continued in a fresh object
 // ends exactly as the run that was never interrupted.
 #include <catch2/catch.hpp>
-#include <limits>
 #include <cstring>
 #include <functional>
+#include <limits>
 #include <string>
 
 #include "core/chunk_file.h"
