@@ -451,7 +451,7 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
           const bool weight = k.rfind("cells.vein.", 0) == 0 || k.rfind("cells.petiole.", 0) == 0 ||
                               k == "cells.spring" || k == "cells.planar" || k == "cells.cohesion" ||
                               k == "cells.separation" || k == "cells.rest_length" || k == "cells.integrator" ||
-                              k == "cells.vein_cohesion_factor" || k == "cells.vein_separation_factor";
+                              k == "cells.vein_cohesion" || k == "cells.vein_separation";
           if (weight) sets += (sets.empty() ? "" : ", ") + ("--set " + k + "=" + v);
         }
       throw InvalidInput(where + m + (sets.empty() ? "" : " (with " + sets + ")"));

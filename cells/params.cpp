@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <string>
+#include <utility>
 
 #include "core/errors.h"
 
@@ -36,27 +38,67 @@ void check_weight(const std::string& name, double v) {
 
 const char* const kTypeNames[3] = {"general", "petiole", "vein"};
 
-}  // namespace
-
-double stable_time_step(const Params& params) {
-  // Largest eigenvalue of the linearised force field, bounded row-wise (Gershgorin): a spring or
-  // planar weight w contributes at most 2w (the cell and its neighbours moving in opposition);
-  // the 1/r kernels (cohesion, separation) have stiffness w / r^2, bounded at r = rest length.
-  const double d2 = params.rest_length * params.rest_length;
+// The Gershgorin bound of one cell type's linearised force field (1/time^2), and the script's name of its
+// largest term. A spring or planar weight w contributes at most 2w (the cell and its neighbours moving in
+// opposition); the 1/r kernels (cohesion, separation) have stiffness w / r^2, bounded at r = rest length.
+// Cells in a vein tree add the straightening terms (counted for every type: scripts may set types).
+struct Stiffness {
   double lambda = 0;
-  for (std::size_t t = 0; t < params.weights.size(); ++t) {
-    const ForceWeights& w = params.weights[t];
-    double l = 2 * (w.spring + w.planar) + 2 * (w.cohesion + w.separation) / d2;
-    // vein cells (and the roots of vein trees) add the straightening terms
-    l += 2 * (w.cohesion * params.vein_cohesion_factor + w.separation * params.vein_separation_factor) / d2;
-    lambda = std::max(lambda, l);
+  double largest = -1;
+  std::string term;
+};
+
+Stiffness stiffness(const Params& p, std::size_t t) {
+  const ForceWeights& w = p.weights[t];
+  const double d2 = p.rest_length * p.rest_length;
+  const std::string base = t == 0 ? std::string("cells.") : std::string("cells.") + kTypeNames[t] + ".";
+  const std::pair<double, std::string> terms[] = {
+      {2 * w.spring, base + "spring " + str(w.spring)},
+      {2 * w.planar, base + "planar " + str(w.planar)},
+      {2 * w.cohesion / d2, base + "cohesion " + str(w.cohesion)},
+      {2 * w.separation / d2, base + "separation " + str(w.separation)},
+      {2 * w.cohesion * p.vein_cohesion_factor / d2,
+       base + "cohesion " + str(w.cohesion) + " times cells.vein_cohesion " + str(p.vein_cohesion_factor)},
+      {2 * w.separation * p.vein_separation_factor / d2,
+       base + "separation " + str(w.separation) + " times cells.vein_separation " + str(p.vein_separation_factor)}};
+  Stiffness s;
+  for (const auto& [l, name] : terms) {
+    s.lambda += l;
+    if (l > s.largest) {
+      s.largest = l;
+      s.term = name;
+    }
   }
+  return s;
+}
+
+// The largest stable step for a stiffness bound lambda (1/time^2).
+double stable_step(double lambda, Integrator integrator) {
   if (!(lambda > 0)) return std::numeric_limits<double>::infinity();
   // semi-implicit Euler on x'' = -lambda x is stable for dt^2 lambda < 4 (drag <= 1 only helps);
   // velocity-only (x' = -lambda x, explicit Euler) needs dt lambda < 2
-  if (params.integrator == Integrator::velocity_acceleration) return 2.0 / std::sqrt(lambda);
+  if (integrator == Integrator::velocity_acceleration) return 2.0 / std::sqrt(lambda);
   return 2.0 / lambda;
 }
+
+// The largest bound over the cell types, with the largest single term of any type (the general weights
+// first: per-type weights default to them, and a tie names the one the script most likely set).
+Stiffness stiffest(const Params& p) {
+  Stiffness best;
+  for (std::size_t t = 0; t < p.weights.size(); ++t) {
+    Stiffness s = stiffness(p, t);
+    best.lambda = std::max(best.lambda, s.lambda);
+    if (s.largest > best.largest) {
+      best.largest = s.largest;
+      best.term = std::move(s.term);
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+double stable_time_step(const Params& params) { return stable_step(stiffest(params).lambda, params.integrator); }
 
 void validate(const Params& params) {
   const Params& p = params;
@@ -84,12 +126,14 @@ void validate(const Params& params) {
   check_weight("cells.vein_separation_factor", p.vein_separation_factor);
   if (!(p.max_speed > 0)) fail("cells.max_speed", "positive (model units per time unit)", str(p.max_speed));
 
-  const double stable = stable_time_step(p);
+  const Stiffness stiff = stiffest(p);
+  const double stable = stable_step(stiff.lambda, p.integrator);
   if (p.time_step > stable)
     throw core::InvalidInput("cells.time_step " + str(p.time_step) + " is above the stable limit " + str(stable) +
                              " for these force weights (" +
                              (p.integrator == Integrator::velocity ? "velocity" : "velocity_acceleration") +
-                             " integrator); use at most " + str(stable) + " or lower the weights");
+                             " integrator; the largest term is " + stiff.term + "); use at most " + str(stable) +
+                             " or lower the weights");
 
   const DivisionParams& d = p.division;
   if (d.trigger != DivisionTrigger::none && d.trigger != DivisionTrigger::age &&
