@@ -54,6 +54,18 @@ struct FailedRun {
   std::string checkpoint_note;  // said of that checkpoint (", taken while the sheet grew")
   std::string phase;            // "cells" while the sheet grew
   json steps;                   // run.json's steps; null unless a step failed
+  // while the sheet grows, for a script stuck in one library call (ScriptHost::set_on_stuck), whose
+  // handler cannot wait for an exception: the step being computed and the checkpoints so far
+  bool sheet_growing = false;
+  std::uint64_t sheet_first = 0, sheet_saved = 0, sheet_stepping = 0;
+  bool sheet_checkpointed = false;
+  /// The state of the sheet's growth as the catch below would record it, with `failing` the step.
+  void sheet_failed(std::uint64_t failing) {
+    phase = "cells";
+    steps = {{"sheet_first", sheet_first}, {"sheet_completed", sheet_saved}, {"sheet_failed", failing}};
+    checkpointed = sheet_checkpointed;
+    checkpoint_note = ", taken while the sheet grew at step " + std::to_string(sheet_saved);
+  }
 };
 
 /// surface{cells = true}: grows the script's cells (cells{}, division{}, run{}, shapes) for --steps or
@@ -91,34 +103,37 @@ Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHo
   bool& saved = out.checkpointed;
   bool warned = false;
   const std::uint64_t first = sim.step_count();
-  std::uint64_t saved_step = 0;  // of the last checkpoint written
   Progress progress(err, ::isatty(2) != 0, o.quiet, sim.step_count(), out.target);
+  failed.sheet_first = first;
+  failed.sheet_growing = true;
   try {
     while (sim.step_count() < out.target && !g_interrupt.load()) {
       host.set_step(sim.step_count() + 1);
+      failed.sheet_stepping = sim.step_count() + 1;
       scene.step();
       progress.update(sim.step_count(), sim.cells().size());
       if (sim.step_count() < out.target && checkpoints.due(sim.step_count()) &&
           periodic_checkpoint(save, err, warned)) {
         saved = true;
-        saved_step = sim.step_count();
+        failed.sheet_checkpointed = true;
+        failed.sheet_saved = sim.step_count();
       }
     }
+    failed.sheet_growing = false;
   } catch (const std::exception& e) {
+    failed.sheet_growing = false;
     if (!o.quiet && ::isatty(2)) err << "\n";
     const std::uint64_t failing = sim.step_count() + 1;
     // cells that diverged keep the last good step: that one is worth a checkpoint
     if (dynamic_cast<const core::SimulationDiverged*>(&e)) try {
         save();
         saved = true;
-        saved_step = sim.step_count();
+        failed.sheet_checkpointed = true;
+        failed.sheet_saved = sim.step_count();
       } catch (const std::exception&) {
         // the last periodic checkpoint, if any, stays the one to go on from
       }
-    failed.phase = "cells";
-    failed.steps = {{"sheet_first", first}, {"sheet_completed", saved_step}, {"sheet_failed", failing}};
-    failed.checkpointed = saved;
-    failed.checkpoint_note = ", taken while the sheet grew at step " + std::to_string(saved_step);
+    failed.sheet_failed(failing);
     throw;
   }
   progress.finish();
@@ -276,6 +291,47 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
   int code = ok;
   const bool planar = spec.domain.kind == venation::DomainKind::leaf;
   FailedRun failed;
+  // after a step's error: the last checkpoint this run wrote, and the folder showing the run as far as it
+  // (a run.json that says it failed)
+  auto keep_failed_run = [&](const std::string& m) {
+    err << "  (the last checkpoint is " << checkpoint.string() << failed.checkpoint_note << ")\n";
+    try {
+      json run = run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
+      run["status"] = "failed";
+      run["error"] = m;
+      if (!failed.phase.empty()) run["phase"] = failed.phase;
+      run["steps"] = failed.steps;
+      run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
+      run["checkpoint"] = kCheckpointName;
+      run["outputs"] = json::array({"run.json"});
+      write_run_json(staging / "run.json", run);
+      commit_outputs(staging, dir, {"run.json"});
+    } catch (const std::exception& f) {
+      err << "cellform: warning: the run.json of the failed run could not be written: " << core::error_text(f)
+          << "\n";
+    }
+  };
+  // a rule of the sheet's growth stuck in one library call ends the process from the watchdog's thread
+  // (the message is out already); this thread is inside that call and changes none of what this reads.
+  // The veins' steps call no script: their growth functions were sampled when the script was read.
+  const StuckHandler on_stuck(host, [&](const std::string& error) {
+    if (failed.sheet_growing) {
+      err << "  (in step " << failed.sheet_stepping << " of the cell sheet)\n";
+      failed.sheet_failed(failed.sheet_stepping);
+      fs::path last;
+      if (failed.checkpointed) {
+        last = checkpoint;
+        keep_failed_run(error);
+      } else if (s.resume && fs::exists(o.checkpoint)) {
+        err << "  (the last checkpoint is " << o.checkpoint.string() << ", the one resumed)\n";
+        last = o.checkpoint;
+      }
+      if (!last.empty()) err << resume_hint(o, last, s.script_path) << "\n";
+    }
+    std::error_code ec;
+    fs::remove_all(staging, ec);
+    remove_empty_up_to(dir, created);
+  });
   try {
     std::optional<cells::Cells> sheet;
     // cells when the sheet began to grow, for run.json (a checkpoint that does not say: the script's shapes)
@@ -526,24 +582,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     code = input ? usage : failure;
     fs::path last;
     if (failed.checkpointed) {  // a step failed after this run wrote a checkpoint
-      err << "  (the last checkpoint is " << checkpoint.string() << failed.checkpoint_note << ")\n";
       last = checkpoint;
-      // the folder then shows this run as far as its checkpoint: a run.json that says it failed
-      try {
-        json run = run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
-        run["status"] = "failed";
-        run["error"] = m;
-        if (!failed.phase.empty()) run["phase"] = failed.phase;
-        run["steps"] = failed.steps;
-        run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
-        run["checkpoint"] = kCheckpointName;
-        run["outputs"] = json::array({"run.json"});
-        write_run_json(staging / "run.json", run);
-        commit_outputs(staging, dir, {"run.json"});
-      } catch (const std::exception& f) {
-        err << "cellform: warning: the run.json of the failed run could not be written: " << core::error_text(f)
-            << "\n";
-      }
+      keep_failed_run(m);
     } else if (s.resume && !failed.steps.is_null() && fs::exists(o.checkpoint)) {
       err << "  (the last checkpoint is " << o.checkpoint.string() << ", the one resumed)\n";
       last = o.checkpoint;

@@ -47,6 +47,51 @@ TEST_CASE("a rule stuck in one library call leaves the folder as a rule error do
   for (const auto& e : fs::directory_iterator(out)) CHECK(e.path().filename().string().rfind(".partial", 0) != 0);
 }
 
+TEST_CASE("a sheet rule stuck in one library call leaves a colonisation run's folder as a rule error does",
+          "[cli][signal][script][colonisation]") {
+  TempDir t("cli-stuck-sheet");
+  const auto script =
+      t.write("sheet.lua",
+              "local P = params { hang = false }\n"
+              "run { steps = 30, seed = 1 }\n"
+              "output { checkpoint_every = 3, checkpoint_seconds = 0 }\n"
+              "division { min_age = 2, max_cells = 400, rule = function(cell)\n"
+              "  if P.hang and cell.step > 7 then local s = string.rep('a', 40)\n"
+              "    return string.find(s, string.rep('a?', 40) .. string.rep('a', 40) .. 'b') ~= nil end\n"
+              "  return cell.age > 3 end }\n"
+              "disc { radius = 4 }\n"
+              "petiole { at = {0, -4, 0} }\n"
+              "surface { cells = true }\n"
+              "colonisation { kill_distance = 1, birth_distance = 2, darts = 20000 }\n");
+  const fs::path out = t.path / "o", log = t.path / "err.txt";
+  pid_t pid = spawn_cellform({"run", script.string(), "--out", out.string(), "--quiet"});
+  REQUIRE(pid > 0);
+  REQUIRE(exit_within(pid, 60) == 0);
+  REQUIRE(fs::exists(out / "veins.ply"));
+  pid = spawn_cellform_logged(
+      {"run", script.string(), "--out", out.string(), "--quiet", "--set", "hang=true", "--lua-seconds", "1"}, log);
+  REQUIRE(pid > 0);
+  CHECK(exit_within(pid, 30) == 2);
+  const std::string said = slurp(log);
+  CHECK_THAT(said, Contains("--lua-seconds") && Contains("(in step 8 of the cell sheet)") &&
+                       Contains("the last checkpoint is " + (out / "checkpoint.cfck").string()) &&
+                       Contains("taken while the sheet grew at step 6") && Contains("cellform resume"));
+  // the first run's outputs are gone; run.json says this one failed while the sheet grew
+  const std::string run = slurp(out / "run.json");
+  CHECK_THAT(run, Contains("\"status\": \"failed\"") && Contains("\"sheet_completed\": 6") &&
+                      Contains("\"sheet_failed\": 8") && Contains("--lua-seconds"));
+  CHECK_FALSE(fs::exists(out / "veins.ply"));
+  for (const auto& e : fs::directory_iterator(out)) CHECK(e.path().filename().string().rfind(".partial", 0) != 0);
+  // and the corrected script goes on from that checkpoint (the run's --set hang=true goes on too)
+  std::string fixed = slurp(script);
+  fixed.replace(fixed.find("P.hang and"), 10, "false and");
+  const auto r = cli({"resume", (out / "checkpoint.cfck").string(), "--script", t.write("fixed.lua", fixed).string(),
+                      "--quiet"});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  CHECK(fs::exists(out / "veins.ply"));
+}
+
 TEST_CASE("a script stuck inside one library call is stopped by its time limit, or soon after a Ctrl-C",
           "[cli][signal][script]") {
   TempDir t("cli-stuck");
