@@ -3,7 +3,9 @@
 
 #include "core/errors.h"
 
+#include <cstdint>
 #include <cstring>
+#include <string>
 
 #include "core/chunk_file.h"
 
@@ -72,6 +74,8 @@ Cells load(const std::string& bytes, const std::string& what) {
   c.next_id = r.get<std::uint64_t>();
   if (c.link_stride < 1 || c.link_stride > 1024) throw bad("link stride " + std::to_string(c.link_stride));
   if (n >= kNoIndex) throw bad("too many cells");
+  // ids count the cells ever made; far below 2^64, so those made after a resume cannot wrap round
+  if (c.next_id > std::uint64_t{1} << 62) throw bad("next cell id " + std::to_string(c.next_id) + " out of range");
   c.position = unflatten(r.get_vector<double>());
   c.velocity = unflatten(r.get_vector<double>());
   c.acceleration = unflatten(r.get_vector<double>());

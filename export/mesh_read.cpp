@@ -165,6 +165,10 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
   if (at == std::string::npos) malformed(path, "PLY header not terminated");
   ++at;
   std::istringstream body(ascii ? s.substr(at) : std::string());
+  // the element being read, for the errors in the data: "(in face 12)", counting from 1 as the other messages do
+  const std::string* elem = nullptr;
+  std::size_t elem_index = 0;
+  const auto in = [&] { return elem ? " (in " + *elem + " " + std::to_string(elem_index + 1) + ")" : std::string(); };
   const auto size_of = [&](const std::string& t) -> std::size_t {
     if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
     if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
@@ -175,16 +179,16 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
   const auto read = [&](const std::string& t) -> double {
     if (ascii) {
       std::string word;
-      if (!(body >> word)) malformed(path, "PLY data ends early");
+      if (!(body >> word)) malformed(path, "PLY data ends early" + in());
       // strtod, unlike >>, reads "nan" and "inf" (said as such below, with the vertex) and says what is no number
       char* stop = nullptr;
       const double v = std::strtod(word.c_str(), &stop);
       if (stop != word.c_str() + word.size())
-        malformed(path, "PLY data: '" + word.substr(0, 40) + "' is not a number (ASCII PLY holds numbers only)");
+        malformed(path, "PLY data: '" + word.substr(0, 40) + "' is not a number (ASCII PLY holds numbers only)" + in());
       return v;
     }
     const std::size_t n = size_of(t);
-    if (at + n > s.size()) malformed(path, "PLY data ends early");
+    if (at + n > s.size()) malformed(path, "PLY data ends early" + in());
     double v = 0;
     if (t == "char" || t == "int8")
       v = get<std::int8_t>(s, at);
@@ -205,10 +209,15 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
     at += n;
     return v;
   };
+  std::size_t vertex_total = 0;  // from the header: faces may come before the vertices
+  for (const Element& e : elements)
+    if (e.name == "vertex") vertex_total += e.count;
   PrintableMesh m;
   std::vector<double> list;
   for (const Element& e : elements)
     for (std::size_t i = 0; i < e.count; ++i) {
+      elem = &e.name;
+      elem_index = i;
       Vec3 p = Vec3::Zero();
       for (const Property& pr : e.props) {
         if (pr.count_type.empty()) {
@@ -218,13 +227,17 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
           continue;
         }
         const double n = read(pr.count_type);
-        if (!(n >= 0 && n < 1e6)) malformed(path, "bad PLY list length");
+        if (!(n >= 0 && n < 1e6)) malformed(path, "bad PLY list length" + in());
         list.resize(static_cast<std::size_t>(n));
         for (double& x : list) x = read(pr.type);
         if (e.name == "face" && (pr.name == "vertex_indices" || pr.name == "vertex_index")) {
-          if (list.size() < 3) malformed(path, "PLY face with fewer than three vertices");
-          for (double x : list)
-            if (!(x >= 0 && x < 4294967295.0)) malformed(path, "PLY face index out of range");
+          if (list.size() < 3) malformed(path, "PLY face with fewer than three vertices" + in());
+          for (double x : list) {
+            if (!(x >= 0 && x < 4294967295.0)) malformed(path, "PLY face index out of range" + in());
+            if (x >= static_cast<double>(vertex_total))
+              malformed(path, "PLY face index " + std::to_string(static_cast<std::uint32_t>(x)) + " out of range (" +
+                                  std::to_string(vertex_total) + " vertices)" + in());
+          }
           for (std::size_t k = 1; k + 1 < list.size(); ++k)
             m.triangles.push_back({std::uint32_t(list[0]), std::uint32_t(list[k]), std::uint32_t(list[k + 1])});
         }

@@ -72,4 +72,10 @@ TEST_CASE("damaged bytes throw FileError naming the source", "[serialize]") {
   Cells nan = c;
   nan.position[4].y() = std::nan("");
   CHECK_THROWS_WITH(load(save(nan), "nan.bin"), Catch::Matchers::Contains("non-finite cell position"));
+  // a next id no run reaches would wrap the ids of the cells born after it (and repeat the first ones)
+  Cells wrap = c;
+  wrap.next_id = ~std::uint64_t{0};
+  CHECK_THROWS_WITH(load(save(wrap), "wrap.bin"), Catch::Matchers::Contains("wrap.bin is corrupt (next cell id"));
+  wrap.next_id = std::uint64_t{1} << 62;  // the largest accepted
+  CHECK(load(save(wrap), "wrap.bin").next_id == wrap.next_id);
 }

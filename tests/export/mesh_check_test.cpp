@@ -342,7 +342,21 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
   std::ofstream(dir / "word.ply") << head << "0 0 0\n1 abc 0\n0 1 0\n3 0 1 2\n";
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "word.ply"), Catch::Contains("'abc' is not a number"));
   std::ofstream(dir / "short.ply") << head << "0 0 0\n1 0 0\n0 1\n";
-  CHECK_THROWS_WITH(exporters::read_mesh(dir / "short.ply"), Catch::Contains("ends early"));
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "short.ply"), Catch::Contains("ends early (in vertex 3)"));
+  std::ofstream(dir / "index.ply") << head << "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n";
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "index.ply"),
+                    Catch::Contains("PLY face index 3 out of range (3 vertices) (in face 1)"));
+  {  // binary: the element that is cut short is named too
+    std::string bin = head;
+    bin.replace(bin.find("ascii"), 5, "binary_little_endian");
+    const float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    bin.append(reinterpret_cast<const char*>(v), sizeof v);
+    bin += '\x03';
+    const std::int32_t f[2] = {0, 1};  // the third index is missing
+    bin.append(reinterpret_cast<const char*>(f), sizeof f);
+    std::ofstream(dir / "cut.ply", std::ios::binary) << bin;
+  }
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "cut.ply"), Catch::Contains("ends early (in face 1)"));
   std::string negative = head;
   negative.replace(negative.find("vertex 3"), 8, "vertex -1");
   std::ofstream(dir / "negative.ply") << negative << "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
