@@ -109,9 +109,28 @@ bool triangles_intersect(const Vec3* A, const Vec3* B) {
   return false;
 }
 
+// Does the triangle T meet the axis-aligned box of centre c and half sides e (separating axes,
+// Akenine-Moller: the box's axes, the triangle's normal, and the nine edge-axis cross products)?
+bool triangle_meets_box(const Vec3* T, const Vec3& c, const Vec3& e) {
+  const Vec3 v[3] = {T[0] - c, T[1] - c, T[2] - c};
+  for (int k = 0; k < 3; ++k)
+    if (std::min({v[0][k], v[1][k], v[2][k]}) > e[k] || std::max({v[0][k], v[1][k], v[2][k]}) < -e[k]) return false;
+  const Vec3 edges[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
+  for (const Vec3& d : edges)
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 axis = Vec3::Unit(k).cross(d);
+      const double p0 = axis.dot(v[0]), p1 = axis.dot(v[1]), p2 = axis.dot(v[2]);
+      const double r = e.dot(axis.cwiseAbs());
+      if (std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r) return false;
+    }
+  const Vec3 n = edges[0].cross(edges[1]);
+  return std::abs(n.dot(v[0])) <= e.dot(n.cwiseAbs());
+}
+
 struct CellRef {
   std::uint64_t cell;
   std::uint32_t tri;
+  std::uint32_t whole;  // the triangle is held in every cell of its box (in the padding: costs nothing)
   bool operator<(const CellRef& o) const { return cell != o.cell ? cell < o.cell : tri < o.tri; }
 };
 
@@ -121,6 +140,7 @@ constexpr double kMaxCellsPerTriangle = 4096;  // a triangle over more grid cell
 constexpr std::size_t kMaxBig = 256;           // more big triangles than this: a coarser grid
 constexpr double kMaxRefsPerTriangle = 64;     // more grid entries than this per triangle: a coarser grid
 constexpr std::size_t kHubRun = 256;           // a cell's triangles beyond this are checked for a shared vertex
+constexpr std::size_t kWholeBox = 8;           // a triangle over at most this many cells is held in all of them
 
 /// Key of a grid cell: its coordinates packed, x first, when every gridded triangle's cells fit in 21 bits
 /// per axis (sorted keys then visit the cells in space order, which the caches like); else a hash, where
@@ -144,62 +164,92 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
   const std::size_t n = tris.size();
   if (n < 2) return {};
   std::vector<Vec3> lo(n), hi(n);
-  std::vector<double> extent;
+  // the size a cell is made from: the extent, but a sliver's width rather than its length (held in the
+  // cells it crosses, a long thin triangle takes a line of them, not its whole box)
+  std::vector<double> size_at(n, 0);
+  core::parallel_for(n, threads, [&](std::size_t b0, std::size_t e0) {
+    for (std::size_t t = b0; t < e0; ++t) {
+      const Vec3 &a = v[tris[t][0]], &b = v[tris[t][1]], &c = v[tris[t][2]];
+      lo[t] = a.cwiseMin(b).cwiseMin(c);
+      hi[t] = a.cwiseMax(b).cwiseMax(c);
+      const double extent = (hi[t] - lo[t]).maxCoeff();
+      const double cross2 = (b - a).cross(c - a).squaredNorm();  // (2 area)^2; 2 sqrt(area) < extent iff:
+      size_at[t] = 4 * cross2 < extent * extent * extent * extent ? std::sqrt(2 * std::sqrt(cross2)) : extent;
+    }
+  });
   Vec3 glo = Vec3::Constant(std::numeric_limits<double>::infinity()), ghi = -glo;
+  double longest = 0;  // the largest extent
+  std::vector<double> size;
   for (std::size_t t = 0; t < n; ++t) {
-    const Vec3 &a = v[tris[t][0]], &b = v[tris[t][1]], &c = v[tris[t][2]];
-    lo[t] = a.cwiseMin(b).cwiseMin(c);
-    hi[t] = a.cwiseMax(b).cwiseMax(c);
     if (skip[t]) continue;
     glo = glo.cwiseMin(lo[t]);
     ghi = ghi.cwiseMax(hi[t]);
-    extent.push_back((hi[t] - lo[t]).maxCoeff());
+    longest = std::max(longest, (hi[t] - lo[t]).maxCoeff());
+    size.push_back(size_at[t]);
   }
-  if (extent.size() < 2) return {};
+  if (size.size() < 2) return {};
   const double span = (ghi - glo).maxCoeff();
   if (!std::isfinite(span))  // not testable in doubles; read_mesh refuses such files
     throw core::InvalidInput("self-intersection test: coordinates too far apart (beyond about 1e300)");
   if (!(span > 0)) return {};
-  // Cells twice the mean triangle extent, extents capped at 8 times the median: a few huge triangles (a
+  // Cells twice the mean triangle size, sizes capped at 8 times the median: a few huge triangles (a
   // stray far vertex) must not make the whole mesh one cell, where every pair would be tested.
-  std::vector<double> sorted = extent;
+  std::vector<double> sorted = size;
   std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
   const double cap = 8 * sorted[sorted.size() / 2];
   double mean = 0;
-  for (const double e : extent) mean += std::min(e, cap);
-  mean /= static_cast<double>(extent.size());
+  for (const double e : size) mean += std::min(e, cap);
+  mean /= static_cast<double>(size.size());
   double h = 2 * mean;
   if (!(h > 0)) h = span;
+  // Triangles are registered in the cells they meet within `pad`: more than the rounding of the box test
+  // and than the narrow phase's tolerance (points that near the other plane count as on it), so two
+  // triangles it finds meeting always share a cell.
+  const double scale = std::max(glo.cwiseAbs().maxCoeff(), ghi.cwiseAbs().maxCoeff());
+  const double pad = 16 * std::numeric_limits<float>::epsilon() * scale + 2e-8 * longest;  // (edges < 1.8 extents)
   const auto coord = [&](double x, double x0) {  // far cells clamp (order kept: at worst more pairs tried)
     return static_cast<std::int64_t>(std::clamp(std::floor((x - x0) / h), -0x1p52, 0x1p52));
   };
-  // each triangle's range of cells, computed once per cell size
+  // each triangle's range of cells (its box and the pad), computed once per cell size
   std::vector<std::array<std::int64_t, 6>> range(n);
   const auto find_ranges = [&] {
     core::parallel_for(n, threads, [&](std::size_t b0, std::size_t e0) {
       for (std::size_t t = b0; t < e0; ++t)
         for (int k = 0; k < 3; ++k) {
-          range[t][k] = coord(lo[t][k], glo[k]);
-          range[t][k + 3] = coord(hi[t][k], glo[k]);
+          range[t][k] = coord(lo[t][k] - pad, glo[k]);
+          range[t][k + 3] = coord(hi[t][k] + pad, glo[k]);
         }
     });
   };
-  const auto cells_of = [&](std::size_t t) {
+  const auto box_cells = [&](std::size_t t) {
     double count = 1;
     for (int k = 0; k < 3; ++k) count *= static_cast<double>(range[t][k + 3] - range[t][k] + 1);
     return count;
+  };
+  // cells a triangle meets: at most those of its box; about its area and perimeter in cells otherwise
+  const auto cells_of = [&](std::size_t t) {
+    const double box = box_cells(t);
+    if (box <= static_cast<double>(kWholeBox)) return box;
+    const Vec3 &a = v[tris[t][0]], &b = v[tris[t][1]], &c = v[tris[t][2]];
+    const double area = 0.5 * (b - a).cross(c - a).norm(), perimeter = (b - a).norm() + (c - b).norm() + (a - c).norm();
+    const double g = 1 + 2 * pad / h;
+    return std::min(box, (3 * area / (h * h) + 2 * perimeter / h + 8) * g * g * g);
   };
   // Triangles over too many cells are few, and all triangles together over at most kMaxRefsPerTriangle
   // cells each on average (sizes of two kinds: the large ones would cover thousands of the small ones'
   // cells), or the grid is made coarser until they are.
   std::vector<std::uint32_t> big;
+  std::vector<double> cells_at = std::move(size_at);  // (its room reused)
   for (;;) {
     find_ranges();
+    core::parallel_for(n, threads, [&](std::size_t b0, std::size_t e0) {
+      for (std::size_t t = b0; t < e0; ++t) cells_at[t] = skip[t] ? 0 : cells_of(t);
+    });
     big.clear();
-    double refs_total = 0;
+    double refs_total = 0;  // summed in order: the same grid for any thread count
     for (std::size_t t = 0; t < n; ++t) {
       if (skip[t]) continue;
-      const double cells = cells_of(t);
+      const double cells = cells_at[t];
       if (cells > kMaxCellsPerTriangle)
         big.push_back(static_cast<std::uint32_t>(t));
       else
@@ -211,36 +261,106 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
   std::vector<char> is_big(n, 0);
   for (const std::uint32_t t : big) is_big[t] = 1;
   CellKey cell_key;
-  std::vector<std::size_t> offset(n + 1, 0);
   {
     std::int64_t c0[3] = {INT64_MAX, INT64_MAX, INT64_MAX}, c1[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
-    for (std::size_t t = 0; t < n; ++t) {
-      const bool gridded = !skip[t] && !is_big[t];
-      offset[t + 1] = offset[t] + (gridded ? static_cast<std::size_t>(cells_of(t)) : 0);
-      if (gridded)
+    for (std::size_t t = 0; t < n; ++t)
+      if (!skip[t] && !is_big[t])
         for (int k = 0; k < 3; ++k) {
           c0[k] = std::min(c0[k], range[t][k]);
           c1[k] = std::max(c1[k], range[t][k + 3]);
         }
-    }
     for (int k = 0; k < 3; ++k)  // (no gridded triangle: nothing to pack)
       cell_key.packed = cell_key.packed && (c0[k] > c1[k] || c1[k] - c0[k] < (std::int64_t{1} << 21));
     cell_key.x0 = c0[0];
     cell_key.y0 = c0[1];
     cell_key.z0 = c0[2];
   }
-  const auto key_of = [&](const Vec3& p) {
-    return cell_key(coord(p.x(), glo.x()), coord(p.y(), glo.y()), coord(p.z(), glo.z()));
+  // A triangle whose box spans at most kWholeBox cells is registered in all of them ("whole"); a larger
+  // one (a sliver across many cells) only in those it meets, found by halving its range while the half
+  // meets it, and its cells are kept, ascending (a CSR by triangle), to find the first two triangles share.
+  std::vector<char> whole(n, 0);
+  std::vector<std::size_t> offset(n + 1, 0), key_begin(n + 1, 0);
+  std::vector<std::uint64_t> keys;
+  {
+    constexpr std::size_t kBlock = 4096;
+    const std::size_t blocks = (n + kBlock - 1) / kBlock;
+    std::vector<std::vector<std::uint64_t>> block_keys(blocks);
+    core::parallel_for(blocks, threads, [&](std::size_t b0, std::size_t e0) {
+      std::vector<std::array<std::int64_t, 6>> stack;
+      for (std::size_t b = b0; b < e0; ++b) {
+        std::vector<std::uint64_t>& out = block_keys[b];
+        for (std::size_t t = b * kBlock; t < std::min(n, (b + 1) * kBlock); ++t) {
+          if (skip[t] || is_big[t]) continue;
+          if (box_cells(t) <= static_cast<double>(kWholeBox)) {
+            whole[t] = 1;
+            offset[t + 1] = static_cast<std::size_t>(box_cells(t));
+            continue;
+          }
+          const std::size_t before = out.size();
+          const Vec3 T[3] = {v[tris[t][0]], v[tris[t][1]], v[tris[t][2]]};
+          stack.assign(1, range[t]);
+          while (!stack.empty()) {
+            const std::array<std::int64_t, 6> c = stack.back();
+            stack.pop_back();
+            Vec3 clo, chi;
+            for (int k = 0; k < 3; ++k) {
+              clo[k] = glo[k] + static_cast<double>(c[k]) * h;
+              chi[k] = glo[k] + static_cast<double>(c[k + 3] + 1) * h;
+            }
+            if (!triangle_meets_box(T, 0.5 * (clo + chi), 0.5 * (chi - clo) + Vec3::Constant(pad))) continue;
+            int axis = 0;
+            for (int k = 1; k < 3; ++k)
+              if (c[k + 3] - c[k] > c[axis + 3] - c[axis]) axis = k;
+            if (c[axis + 3] == c[axis]) {  // one cell
+              out.push_back(cell_key(c[0], c[1], c[2]));
+              continue;
+            }
+            const std::int64_t mid = c[axis] + (c[axis + 3] - c[axis]) / 2;
+            std::array<std::int64_t, 6> lower = c, upper = c;
+            lower[axis + 3] = mid;
+            upper[axis] = mid + 1;
+            stack.push_back(upper);
+            stack.push_back(lower);
+          }
+          if (out.size() == before)  // rounding: never lose a triangle; its box's first cell holds it
+            out.push_back(cell_key(range[t][0], range[t][1], range[t][2]));
+          std::sort(out.begin() + static_cast<std::ptrdiff_t>(before), out.end());
+          out.erase(std::unique(out.begin() + static_cast<std::ptrdiff_t>(before), out.end()), out.end());
+          offset[t + 1] = key_begin[t + 1] = out.size() - before;
+        }
+      }
+    });
+    for (std::size_t t = 0; t < n; ++t) {
+      offset[t + 1] += offset[t];
+      key_begin[t + 1] += key_begin[t];
+    }
+    keys.reserve(key_begin[n]);
+    for (const auto& k : block_keys) keys.insert(keys.end(), k.begin(), k.end());
+  }
+  // a whole triangle's cells, ascending
+  const auto box_keys = [&](std::size_t t, std::array<std::uint64_t, kWholeBox>& out) {
+    const auto& c = range[t];
+    std::size_t m = 0;
+    for (std::int64_t x = c[0]; x <= c[3]; ++x)
+      for (std::int64_t y = c[1]; y <= c[4]; ++y)
+        for (std::int64_t z = c[2]; z <= c[5]; ++z) out[m++] = cell_key(x, y, z);
+    if (!cell_key.packed)  // (insertion: at most kWholeBox keys)
+      for (std::size_t i = 1; i < m; ++i)
+        for (std::size_t j = i; j > 0 && out[j] < out[j - 1]; --j) std::swap(out[j], out[j - 1]);
+    return m;
   };
   std::vector<CellRef> refs(offset[n]);
   core::parallel_for(n, threads, [&](std::size_t b0, std::size_t e0) {
+    std::array<std::uint64_t, kWholeBox> box{};
     for (std::size_t t = b0; t < e0; ++t) {
-      if (skip[t] || is_big[t]) continue;
-      const auto& c = range[t];
-      std::size_t k = offset[t];
-      for (std::int64_t x = c[0]; x <= c[3]; ++x)
-        for (std::int64_t y = c[1]; y <= c[4]; ++y)
-          for (std::int64_t z = c[2]; z <= c[5]; ++z) refs[k++] = {cell_key(x, y, z), static_cast<std::uint32_t>(t)};
+      const auto tri = static_cast<std::uint32_t>(t);
+      if (whole[t]) {
+        const std::size_t m = box_keys(t, box);
+        for (std::size_t k = 0; k < m; ++k) refs[offset[t] + k] = {box[k], tri, 1};
+      } else {
+        for (std::size_t k = key_begin[t]; k < key_begin[t + 1]; ++k)
+          refs[offset[t] + k - key_begin[t]] = {keys[k], tri, 0};
+      }
     }
   });
   {
@@ -259,6 +379,25 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
   const auto overlap = [&](std::uint32_t ti, std::uint32_t tj) {
     return !((lo[ti].array() > hi[tj].array()) || (lo[tj].array() > hi[ti].array())).any();
   };
+  const auto key_of = [&](const Vec3& p) {
+    return cell_key(coord(p.x(), glo.x()), coord(p.y(), glo.y()), coord(p.z(), glo.z()));
+  };
+  // the smallest cell key two triangles share (their lists are ascending)
+  const auto first_shared = [&](std::uint32_t ti, std::uint32_t tj) {
+    std::array<std::uint64_t, kWholeBox> box_i{}, box_j{};
+    const std::uint64_t *a = keys.data() + key_begin[ti], *a_end = keys.data() + key_begin[ti + 1];
+    const std::uint64_t *b = keys.data() + key_begin[tj], *b_end = keys.data() + key_begin[tj + 1];
+    if (whole[ti]) a = box_i.data(), a_end = a + box_keys(ti, box_i);
+    if (whole[tj]) b = box_j.data(), b_end = b + box_keys(tj, box_j);
+    while (a < a_end && b < b_end) {
+      if (*a == *b) return *a;
+      if (*a < *b)
+        ++a;
+      else
+        ++b;
+    }
+    return ~std::uint64_t{0};  // not reached: both are in the cell that found them
+  };
   const auto test = [&](std::uint32_t ti, std::uint32_t tj, Pairs& out) {  // boxes overlap
     const Tri &s = tris[ti], &t = tris[tj];
     for (int p = 0; p < 3; ++p)
@@ -275,15 +414,18 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
         std::vector<std::size_t> bounds;
         for (std::size_t r = b0; r < e0; ++r) {
           const std::uint64_t cell = refs[runs[r]].cell;
-          // each pair once: in the cell holding the low corner of the boxes' overlap
-          const auto candidate = [&](std::uint32_t ti, std::uint32_t tj) {
-            if (overlap(ti, tj) && key_of(lo[ti].cwiseMax(lo[tj])) == cell)
+          // each pair once: in the cell of the low corner of the boxes' overlap when both are whole (both
+          // hold it), else in the first cell (by key) that both hold
+          const auto candidate = [&](std::uint32_t ti, std::uint32_t tj, bool both_whole) {
+            if (overlap(ti, tj) &&
+                (both_whole ? key_of(lo[ti].cwiseMax(lo[tj])) == cell : first_shared(ti, tj) == cell))
               test(std::min(ti, tj), std::max(ti, tj), found[r]);  // in index order, whatever the path
           };
           const std::size_t first = runs[r], end = runs[r + 1];
           if (end - first <= kHubRun) {
             for (std::size_t i = first; i < end; ++i)
-              for (std::size_t j = i + 1; j < end; ++j) candidate(refs[i].tri, refs[j].tri);
+              for (std::size_t j = i + 1; j < end; ++j)
+                candidate(refs[i].tri, refs[j].tri, refs[i].whole & refs[j].whole);
             continue;
           }
           // Many triangles of one cell around one vertex (the tip of a cone, a polygon's fan): pairs that
@@ -316,11 +458,13 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
           }
           // the rest with everything after it; each fan with what lies after it (its own pairs share the hub)
           for (std::size_t i = 0; i < rest; ++i)
-            for (std::size_t j = i + 1; j < group.size(); ++j) candidate(group[i], group[j]);
+            for (std::size_t j = i + 1; j < group.size(); ++j)
+              candidate(group[i], group[j], whole[group[i]] && whole[group[j]]);
           for (std::size_t k = 1; k < bounds.size(); ++k) {
             const std::size_t fan_end = k == 1 ? group.size() : bounds[k - 1];
             for (std::size_t i = bounds[k]; i < fan_end; ++i)
-              for (std::size_t j = fan_end; j < group.size(); ++j) candidate(group[i], group[j]);
+              for (std::size_t j = fan_end; j < group.size(); ++j)
+                candidate(group[i], group[j], whole[group[i]] && whole[group[j]]);
           }
         }
       },

@@ -212,10 +212,11 @@ TEST_CASE("check_mesh finds no false intersections on a 500k-triangle sphere, on
   CHECK(r2.nonmanifold_vertices == r1.nonmanifold_vertices);
 }
 
-TEST_CASE("self_intersecting_pairs equals testing every pair, with fans around one vertex and far outliers",
+TEST_CASE("self_intersecting_pairs equals testing every pair, with fans round one vertex, slivers, far outliers",
           "[mesh_check]") {
   // a soup the grid finds hard: small random triangles, a fan of 400 slivers round one vertex (all in the
-  // cells around it), and a few long triangles reaching a vertex 1000 away (their extent made the grid one cell)
+  // cells around it), a few long triangles reaching a vertex 1000 away (their extent made the grid one
+  // cell), and loose slivers
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(0, 1);
   PrintableMesh m;
@@ -238,6 +239,13 @@ TEST_CASE("self_intersecting_pairs equals testing every pair, with fans around o
   for (int t = 0; t < 3; ++t)
     m.triangles.push_back(
         {vertex(Vec3(u(rng), u(rng), 0.5)), vertex(Vec3(u(rng), u(rng), 0.6)), vertex(Vec3(0, 0, 1e3))});
+  // loose slivers 0.8 long and 0.004 wide in every direction: held only in the cells they cross, they meet
+  // each other and the small triangles held in their whole boxes
+  for (int t = 0; t < 150; ++t) {
+    const Vec3 a(u(rng), u(rng), u(rng)), d = Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized();
+    const Vec3 side = d.cross(Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5)).normalized();
+    m.triangles.push_back({vertex(a), vertex(a + 0.8 * d), vertex(a + 0.8 * d + 0.004 * side)});
+  }
   const auto found = exporters::self_intersecting_pairs(m, 2);
   std::vector<std::array<std::uint32_t, 2>> all;  // every pair on its own: no grid to miss one
   for (std::uint32_t i = 0; i < m.triangles.size(); ++i)
