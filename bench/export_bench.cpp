@@ -10,6 +10,7 @@
 #include "core/random.h"
 #include "export/mesh_check.h"
 #include "export/printable.h"
+#include "export/thickness.h"
 #include "forms/shapes.h"
 #include "venation/canalisation.h"
 
@@ -102,6 +103,33 @@ const Register r5{{"export.check.tree44k", "s",
                      if (mesh.triangles.empty()) thicken_once(0, &mesh);
                      return seconds([] { exporters::check_mesh(mesh); });
                    }}};
+
+/// A cone of 20,000 slivers round its tip and 20,000 round its base's centre, as CAD programs write a
+/// finely divided cone or a cylinder's caps: every sliver's box holds the axis.
+const exporters::PrintableMesh& cone40k() {
+  static const exporters::PrintableMesh cone = [] {
+    constexpr std::uint32_t n = 20000;
+    exporters::PrintableMesh m;
+    m.vertices.emplace_back(0, 0, 10);
+    for (std::uint32_t i = 0; i < n; ++i)
+      m.vertices.emplace_back(5 * std::cos(2 * M_PI * i / n), 5 * std::sin(2 * M_PI * i / n), 0);
+    m.vertices.emplace_back(0, 0, 0);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      m.triangles.push_back({0, i + 1, (i + 1) % n + 1});
+      m.triangles.push_back({n + 1, (i + 1) % n + 1, i + 1});
+    }
+    return m;
+  }();
+  return cone;
+}
+const Register r5b{{"export.check.cone40k", "s",
+                    "what cellform check does (check_mesh and wall_thickness) to a cone of 2 x 20,000 slivers", 3, [] {
+                      const auto& m = cone40k();
+                      return seconds([&] {
+                        exporters::check_mesh(m);
+                        exporters::wall_thickness(m);
+                      });
+                    }}};
 
 /// A grown form: a disc of cells divided by age up to 50,000 cells with auxin canalisation every step
 /// (threshold 30), as a script would grow it. Returns its veins as segments (Murray radii) and its sheet.

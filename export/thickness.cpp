@@ -18,28 +18,76 @@ namespace {
 struct Bvh {
   struct Node {
     Vec3 lo, hi;
-    std::uint32_t first = 0, count = 0;  // leaf: triangles order[first, first + count)
+    std::uint32_t first = 0, count = 0;  // leaf: items order[first, first + count)
     std::uint32_t left = 0, right = 0;   // inner (count == 0)
   };
   std::vector<Node> nodes;
-  std::vector<std::uint32_t> order;
+  std::vector<std::uint32_t> order;  // items
+  std::vector<std::uint32_t> tri;    // per item: its triangle
 };
 
 constexpr std::uint32_t kLeafSize = 4;
-// A ray that has entered this many nodes is given up (a spot where very many triangles meet, as at the tip
-// of a finely divided cone, where every box holds the ray's start): it keeps one check linear in triangles.
+// A ray that has entered this many nodes is given up (a spot where very many triangles meet, where every
+// box holds the ray's start): it keeps one check linear in triangles.
 constexpr std::size_t kMaxVisits = 4096;
+// A long thin triangle (a sliver of a finely divided cone or disc, meeting thousands of others at its tip)
+// has a box far larger than itself: every ray through the cone's axis would enter all of them. Such a
+// triangle gets, for the tree only, the boxes of its parts in slabs across its box's longest side, each
+// slab no thicker than kPieceLength times the side of a square of its area, at most kMaxPieces of them.
+constexpr double kPieceLength = 8;
+constexpr int kMaxPieces = 64;
+
+/// The boxes of triangle t: its own, or those of its parts in consecutive slabs (a ray that enters one
+/// tests the whole triangle, so a hit is the same as with one box).
+void triangle_boxes(const Vec3* T, std::uint32_t t, std::vector<Vec3>& lo, std::vector<Vec3>& hi,
+                    std::vector<std::uint32_t>& tri) {
+  const Vec3 blo = T[0].cwiseMin(T[1]).cwiseMin(T[2]), bhi = T[0].cwiseMax(T[1]).cwiseMax(T[2]);
+  const double piece = kPieceLength * std::sqrt((T[1] - T[0]).cross(T[2] - T[0]).norm());
+  int axis = 0;
+  const double extent = (bhi - blo).maxCoeff(&axis);
+  const double want = piece > 0 ? std::ceil(extent / piece) : 1;
+  const int pieces = want > 1 ? static_cast<int>(std::min<double>(want, kMaxPieces)) : 1;
+  if (pieces == 1) {
+    lo.push_back(blo);
+    hi.push_back(bhi);
+    tri.push_back(t);
+    return;
+  }
+  const Vec3 grow = Vec3::Constant(1e-9 * extent);  // the rounding of the cut points
+  for (int i = 0; i < pieces; ++i) {
+    const double s0 = blo[axis] + extent * i / pieces,
+                 s1 = i + 1 == pieces ? bhi[axis] : blo[axis] + extent * (i + 1) / pieces;
+    Vec3 plo = Vec3::Constant(std::numeric_limits<double>::infinity()), phi = -plo;
+    const auto add = [&](const Vec3& q) {
+      plo = plo.cwiseMin(q);
+      phi = phi.cwiseMax(q);
+    };
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 &p = T[k], &q = T[(k + 1) % 3];
+      if (p[axis] >= s0 && p[axis] <= s1) add(p);
+      for (const double cut : {s0, s1})
+        if ((p[axis] - cut) * (q[axis] - cut) < 0) add(p + (cut - p[axis]) / (q[axis] - p[axis]) * (q - p));
+    }
+    if (!(plo[axis] <= phi[axis])) continue;  // (a slab the triangle misses: none, but rounding)
+    plo[axis] = std::min(plo[axis], s0);
+    phi[axis] = std::max(phi[axis], s1);
+    lo.push_back(plo - grow);
+    hi.push_back(phi + grow);
+    tri.push_back(t);
+  }
+}
 
 Bvh build_bvh(const PrintableMesh& m) {
   Bvh b;
-  const std::size_t n = m.triangles.size();
-  std::vector<Vec3> lo(n), hi(n), centre(n);
-  for (std::size_t t = 0; t < n; ++t) {
-    const auto& tri = m.triangles[t];
-    lo[t] = m.vertices[tri[0]].cwiseMin(m.vertices[tri[1]]).cwiseMin(m.vertices[tri[2]]);
-    hi[t] = m.vertices[tri[0]].cwiseMax(m.vertices[tri[1]]).cwiseMax(m.vertices[tri[2]]);
-    centre[t] = (lo[t] + hi[t]) / 2;
+  std::vector<Vec3> lo, hi;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    const auto& w = m.triangles[t];
+    const Vec3 T[3] = {m.vertices[w[0]], m.vertices[w[1]], m.vertices[w[2]]};
+    triangle_boxes(T, static_cast<std::uint32_t>(t), lo, hi, b.tri);
   }
+  const std::size_t n = lo.size();
+  std::vector<Vec3> centre(n);
+  for (std::size_t i = 0; i < n; ++i) centre[i] = (lo[i] + hi[i]) / 2;
   b.order.resize(n);
   std::iota(b.order.begin(), b.order.end(), 0u);
   b.nodes.reserve(2 * n / kLeafSize + 2);
@@ -168,7 +216,7 @@ std::vector<double> triangle_thickness(const PrintableMesh& m, int threads) {
               continue;
             }
             for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) {
-              const std::uint32_t u = bvh.order[k];
+              const std::uint32_t u = bvh.tri[bvh.order[k]];  // a piece's triangle: tested whole
               const auto& h = m.triangles[u];
               if (shares_vertex(tri, h)) continue;  // itself, or a fold at a crease: not the opposite wall
               const double s = ray_triangle(o, d, m.vertices[h[0]], m.vertices[h[1]], m.vertices[h[2]]);
