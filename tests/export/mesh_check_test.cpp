@@ -263,6 +263,42 @@ TEST_CASE("self_intersecting_pairs equals testing every pair, with fans round on
   CHECK(exporters::self_intersecting_pairs(m, 1) == found);
 }
 
+TEST_CASE("self_intersecting_pairs equals testing every pair on soups of small triangles and loose slivers",
+          "[mesh_check]") {
+  // slivers are held only in the cells they cross, small triangles in every cell of their boxes: pairs of
+  // each kind and of both are found once
+  const auto seed = GENERATE(7, 8, 9);
+  std::mt19937_64 rng(static_cast<std::uint64_t>(seed));
+  std::uniform_real_distribution<double> u(0, 1);
+  PrintableMesh m;
+  auto vertex = [&](const Vec3& p) {
+    m.vertices.push_back(p);
+    return static_cast<std::uint32_t>(m.vertices.size() - 1);
+  };
+  for (const double x0 : {0.0, 0.3}) {
+    for (int t = 0; t < 250; ++t) {
+      const Vec3 c(x0 + u(rng), u(rng), u(rng));
+      std::array<std::uint32_t, 3> tri{};
+      for (auto& k : tri) k = vertex(c + 0.1 * Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5));
+      m.triangles.push_back(tri);
+    }
+    for (int t = 0; t < 120; ++t) {
+      const Vec3 a(x0 + u(rng), u(rng), u(rng)), d = Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized();
+      const Vec3 side = d.cross(Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5)).normalized();
+      m.triangles.push_back({vertex(a), vertex(a + (0.3 + 0.6 * u(rng)) * d), vertex(a + 0.5 * d + 0.003 * side)});
+    }
+  }
+  std::vector<std::array<std::uint32_t, 2>> all;
+  for (std::uint32_t i = 0; i < m.triangles.size(); ++i)
+    for (std::uint32_t j = i + 1; j < m.triangles.size(); ++j)
+      if (!exporters::self_intersecting_pairs(m.vertices, {m.triangles[i], m.triangles[j]}, 1).empty())
+        all.push_back({i, j});
+  REQUIRE(all.size() > 40);
+  const auto found = exporters::self_intersecting_pairs(m, 2);
+  CHECK(found == all);
+  CHECK(exporters::self_intersecting_pairs(m, 1) == found);
+}
+
 TEST_CASE("read_mesh reads what the writers wrote, and welds STL soups", "[mesh_check][files]") {
   const fs::path dir = temp_dir("roundtrip");
   const auto m = torus(24, 10);
