@@ -20,7 +20,8 @@ const char* const kUsage =
     "\n"
     "commands:\n"
     "  run SCRIPT        run a growth script (examples/*.lua)\n"
-    "  resume CHECKPOINT continue an interrupted, failed or finished run (--script: with an edited script)\n"
+    "  resume CHECKPOINT continue an interrupted, failed or finished run (--script: with an edited script);\n"
+    "                    CHECKPOINT is a run's checkpoint.cfck or the output folder holding it\n"
     "  check FILE        is an STL, OBJ or PLY mesh printable? (exit 0 yes, 1 no, 2 unreadable)\n"
     "  params            print every script parameter with its default, range and unit (Markdown)\n"
     "\n"
@@ -56,7 +57,7 @@ const char* const kRunUsage =
     "Outputs: cells.ply, cells.obj (space colonisation: veins.ply, veins.obj, veins.svg), run.json\n"
     "(everything needed to reproduce the run) and checkpoint.cfck in the output directory. Ctrl-C stops\n"
     "after the current step, writes the outputs and a checkpoint; `cellform resume DIR/checkpoint.cfck`\n"
-    "continues to the identical result.\n";
+    "(or `cellform resume DIR`) continues to the identical result.\n";
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -188,6 +189,11 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       o.script = positional[0];
     else
       o.checkpoint = positional[0];
+    // a run's folder: the checkpoint in it (a folder without one is refused when the checkpoint is read)
+    std::error_code ec;
+    if (cmd == "resume" && std::filesystem::is_directory(o.checkpoint, ec) &&
+        std::filesystem::is_regular_file(o.checkpoint / "checkpoint.cfck", ec))
+      o.checkpoint /= "checkpoint.cfck";
     return run_command(o, out, err);
   } catch (const UsageError& e) {
     err << "cellform: " << e.what() << "\n";

@@ -111,6 +111,11 @@ Start start_from(const RunOptions& o) {
   try {
     if (!o.checkpoint.empty()) {
       const std::string what = "checkpoint '" + o.checkpoint.string() + "'";
+      std::error_code ec;
+      if (fs::is_directory(o.checkpoint, ec))
+        throw core::FileError(what +
+                              " is a folder with no checkpoint.cfck in it (a run writes one into its output "
+                              "folder when it ends, is stopped or fails)");
       if (o.checkpoint.extension() == ".lua")  // a script given to resume: say how to run it
         throw core::FileError(what + " is a script, not a checkpoint: run it with cellform run " +
                               o.checkpoint.string() + ", or resume its run's checkpoint.cfck");

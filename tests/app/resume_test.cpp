@@ -33,6 +33,13 @@ TEST_CASE("resume continues to the bit-identical result", "[cli][checkpoint]") {
   r = cli({"resume", (part / "checkpoint.cfck").string()});
   CHECK(r.code == 0);
   CHECK_THAT(r.err, Contains("at its run's last step (40); give --steps N"));
+  // the run's folder names its checkpoint
+  const fs::path folder = t.path / "folder";
+  REQUIRE(cli({"run", script.string(), "--out", folder.string(), "--quiet", "--steps", "17"}).code == 0);
+  r = cli({"resume", folder.string(), "--steps", "40", "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(slurp(whole / "cells.ply") == slurp(folder / "cells.ply"));
 }
 
 TEST_CASE("resume writes beside its checkpoint and keeps the frames written before it", "[cli][checkpoint]") {
@@ -124,6 +131,9 @@ TEST_CASE("corrupt, foreign and truncated checkpoints are refused clearly", "[cl
   r = cli({"resume", (t.path / "nothing.cfck").string()});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("does not exist"));
+  r = cli({"resume", t.path.string()});  // a folder with no checkpoint
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("is a folder with no checkpoint.cfck in it"));
   // well-formed files whose content is not a run: an unknown mode, an empty colonisation state
   cellform::core::ChunkFile good = cellform::core::read_chunk_file(slurp(out / "checkpoint.cfck"), "CKPT", 1, "test");
   auto meta = nlohmann::json::parse(good.chunks.at("meta"));
