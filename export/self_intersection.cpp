@@ -78,7 +78,7 @@ void sides(const Vec3* T, const Vec3* P, double tol, int* out) {
 // position meet iff an edge of one meets the other; coplanar pairs are tested in 2D. Points within a
 // rounding tolerance of the other plane count as on it, so that coplanar neighbours written through
 // float or decimal files are not reported.
-bool triangles_intersect(const Vec3* A, const Vec3* B) {
+bool meet(const Vec3* A, const Vec3* B) {
   double scale = 0, edge = 0;
   for (int i = 0; i < 3; ++i) {
     scale = std::max({scale, A[i].cwiseAbs().maxCoeff(), B[i].cwiseAbs().maxCoeff()});
@@ -90,8 +90,12 @@ bool triangles_intersect(const Vec3* A, const Vec3* B) {
   if (da[0] == da[1] && da[1] == da[2] && da[0] != 0) return false;
   sides(A, B, tol, db);
   if (db[0] == db[1] && db[1] == db[2] && db[0] != 0) return false;
-  if ((da[0] == 0 && da[1] == 0 && da[2] == 0) || (db[0] == 0 && db[1] == 0 && db[2] == 0)) {
-    const Projection pr(A);
+  const bool a_flat = da[0] == 0 && da[1] == 0 && da[2] == 0, b_flat = db[0] == 0 && db[1] == 0 && db[2] == 0;
+  if (a_flat || b_flat) {
+    // onto the plane the other lies in (of the larger when both do): a sliver thinner than the tolerance
+    // may have a normal lying in the other's plane, and projected along it far triangles would overlap
+    const auto area2 = [](const Vec3* T) { return (T[1] - T[0]).cross(T[2] - T[0]).squaredNorm(); };
+    const Projection pr(a_flat && b_flat ? (area2(A) >= area2(B) ? A : B) : a_flat ? B : A);
     P2 a[3], b[3];
     for (int i = 0; i < 3; ++i) a[i] = pr(A[i]), b[i] = pr(B[i]);
     for (int i = 0; i < 3; ++i)
@@ -382,29 +386,35 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
   const auto key_of = [&](const Vec3& p) {
     return cell_key(coord(p.x(), glo.x()), coord(p.y(), glo.y()), coord(p.z(), glo.z()));
   };
-  // the smallest cell key two triangles share (their lists are ascending)
-  const auto first_shared = [&](std::uint32_t ti, std::uint32_t tj) {
+  // is `cell` the smallest cell key two triangles share (their lists are ascending)?
+  const auto first_shared_is = [&](std::uint32_t ti, std::uint32_t tj, std::uint64_t cell) {
     std::array<std::uint64_t, kWholeBox> box_i{}, box_j{};
     const std::uint64_t *a = keys.data() + key_begin[ti], *a_end = keys.data() + key_begin[ti + 1];
     const std::uint64_t *b = keys.data() + key_begin[tj], *b_end = keys.data() + key_begin[tj + 1];
     if (whole[ti]) a = box_i.data(), a_end = a + box_keys(ti, box_i);
     if (whole[tj]) b = box_j.data(), b_end = b + box_keys(tj, box_j);
     while (a < a_end && b < b_end) {
-      if (*a == *b) return *a;
+      if (*a == *b) return *a == cell;
+      if (*a > cell || *b > cell) return false;  // any key both hold from here on is past `cell`
       if (*a < *b)
         ++a;
       else
         ++b;
     }
-    return ~std::uint64_t{0};  // not reached: both are in the cell that found them
+    return false;  // not reached: both are in the cell that found them
   };
-  const auto test = [&](std::uint32_t ti, std::uint32_t tj, Pairs& out) {  // boxes overlap
+  const auto share_vertex = [&](std::uint32_t ti, std::uint32_t tj) {
     const Tri &s = tris[ti], &t = tris[tj];
     for (int p = 0; p < 3; ++p)
       for (int q = 0; q < 3; ++q)
-        if (s[p] == t[q]) return;
+        if (s[p] == t[q]) return true;
+    return false;
+  };
+  const auto test = [&](std::uint32_t ti, std::uint32_t tj, Pairs& out) {  // boxes overlap
+    if (share_vertex(ti, tj)) return;
+    const Tri &s = tris[ti], &t = tris[tj];
     const Vec3 A[3] = {v[s[0]], v[s[1]], v[s[2]]}, B[3] = {v[t[0]], v[t[1]], v[t[2]]};
-    if (triangles_intersect(A, B)) out.push_back({std::min(ti, tj), std::max(ti, tj)});
+    if (meet(A, B)) out.push_back({std::min(ti, tj), std::max(ti, tj)});
   };
   std::vector<Pairs> found(nruns + big.size());
   core::parallel_for(
@@ -417,8 +427,8 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
           // each pair once: in the cell of the low corner of the boxes' overlap when both are whole (both
           // hold it), else in the first cell (by key) that both hold
           const auto candidate = [&](std::uint32_t ti, std::uint32_t tj, bool both_whole) {
-            if (overlap(ti, tj) &&
-                (both_whole ? key_of(lo[ti].cwiseMax(lo[tj])) == cell : first_shared(ti, tj) == cell))
+            if (overlap(ti, tj) && (both_whole ? key_of(lo[ti].cwiseMax(lo[tj])) == cell
+                                               : !share_vertex(ti, tj) && first_shared_is(ti, tj, cell)))
               test(std::min(ti, tj), std::max(ti, tj), found[r]);  // in index order, whatever the path
           };
           const std::size_t first = runs[r], end = runs[r + 1];
@@ -495,6 +505,10 @@ std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(const std::vec
     skip[t] = w[0] == w[1] || w[1] == w[2] || w[0] == w[2] || (b - a).cross(c - a).squaredNorm() == 0;
   }
   return intersecting_pairs(vertices, triangles, skip, threads);
+}
+
+bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
+  return meet(a.data(), b.data());
 }
 
 std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(const PrintableMesh& mesh, int threads) {

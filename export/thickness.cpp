@@ -36,24 +36,31 @@ constexpr std::size_t kMaxVisits = 4096;
 // slab no thicker than kPieceLength times the side of a square of its area, at most kMaxPieces of them.
 constexpr double kPieceLength = 8;
 constexpr int kMaxPieces = 64;
+constexpr std::size_t kMaxBoxesPerTriangle = 8;  // boxes in the tree per triangle of the mesh, at most
 
-/// The boxes of triangle t: its own, or those of its parts in consecutive slabs (a ray that enters one
-/// tests the whole triangle, so a hit is the same as with one box).
-void triangle_boxes(const Vec3* T, std::uint32_t t, std::vector<Vec3>& lo, std::vector<Vec3>& hi,
-                    std::vector<std::uint32_t>& tri) {
+/// How many pieces triangle T would be cut into (1: its own box).
+int pieces_wanted(const Vec3* T) {
   const Vec3 blo = T[0].cwiseMin(T[1]).cwiseMin(T[2]), bhi = T[0].cwiseMax(T[1]).cwiseMax(T[2]);
   const double piece = kPieceLength * std::sqrt((T[1] - T[0]).cross(T[2] - T[0]).norm());
+  const double want = piece > 0 ? std::ceil((bhi - blo).maxCoeff() / piece) : 1;
+  return want > 1 ? static_cast<int>(std::min<double>(want, kMaxPieces)) : 1;
+}
+
+/// The boxes of triangle t cut into `pieces`: its own box, or those of its parts in consecutive slabs (a
+/// ray that enters one tests the whole triangle, so a hit is the same as with one box).
+void triangle_boxes(const Vec3* T, std::uint32_t t, int pieces, std::vector<Vec3>& lo, std::vector<Vec3>& hi,
+                    std::vector<std::uint32_t>& tri) {
+  const Vec3 blo = T[0].cwiseMin(T[1]).cwiseMin(T[2]), bhi = T[0].cwiseMax(T[1]).cwiseMax(T[2]);
   int axis = 0;
   const double extent = (bhi - blo).maxCoeff(&axis);
-  const double want = piece > 0 ? std::ceil(extent / piece) : 1;
-  const int pieces = want > 1 ? static_cast<int>(std::min<double>(want, kMaxPieces)) : 1;
   if (pieces == 1) {
     lo.push_back(blo);
     hi.push_back(bhi);
     tri.push_back(t);
     return;
   }
-  const Vec3 grow = Vec3::Constant(1e-9 * extent);  // the rounding of the cut points
+  const double size = std::max({T[0].cwiseAbs().maxCoeff(), T[1].cwiseAbs().maxCoeff(), T[2].cwiseAbs().maxCoeff()});
+  const Vec3 grow = Vec3::Constant(1e-9 * extent + 4 * std::numeric_limits<double>::epsilon() * size);  // cut rounding
   for (int i = 0; i < pieces; ++i) {
     const double s0 = blo[axis] + extent * i / pieces,
                  s1 = i + 1 == pieces ? bhi[axis] : blo[axis] + extent * (i + 1) / pieces;
@@ -80,10 +87,26 @@ void triangle_boxes(const Vec3* T, std::uint32_t t, std::vector<Vec3>& lo, std::
 Bvh build_bvh(const PrintableMesh& m) {
   Bvh b;
   std::vector<Vec3> lo, hi;
-  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+  // at most kMaxPieces each, and kMaxBoxesPerTriangle per triangle of the mesh in all (a file of needles):
+  // when more are wanted, each sliver gets its share
+  const std::size_t nt = m.triangles.size();
+  std::vector<int> want(nt);
+  std::size_t wanted = 0, extra = 0;
+  for (std::size_t t = 0; t < nt; ++t) {
     const auto& w = m.triangles[t];
     const Vec3 T[3] = {m.vertices[w[0]], m.vertices[w[1]], m.vertices[w[2]]};
-    triangle_boxes(T, static_cast<std::uint32_t>(t), lo, hi, b.tri);
+    want[t] = pieces_wanted(T);
+    wanted += static_cast<std::size_t>(want[t]);
+    extra += static_cast<std::size_t>(want[t] - 1);
+  }
+  const double share = wanted <= kMaxBoxesPerTriangle * nt
+                           ? 1.0
+                           : static_cast<double>((kMaxBoxesPerTriangle - 1) * nt) / static_cast<double>(extra);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto& w = m.triangles[t];
+    const Vec3 T[3] = {m.vertices[w[0]], m.vertices[w[1]], m.vertices[w[2]]};
+    const int pieces = 1 + static_cast<int>(std::floor(share * (want[t] - 1)));
+    triangle_boxes(T, static_cast<std::uint32_t>(t), pieces, lo, hi, b.tri);
   }
   const std::size_t n = lo.size();
   std::vector<Vec3> centre(n);

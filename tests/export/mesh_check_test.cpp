@@ -33,6 +33,23 @@ fs::path temp_dir(const std::string& name) {
   return dir;
 }
 
+/// Every pair of triangles sharing no vertex that triangles_intersect() says meet (no grid): the oracle.
+std::vector<std::array<std::uint32_t, 2>> every_pair(const PrintableMesh& m) {
+  std::vector<std::array<std::uint32_t, 2>> all;
+  const auto corners = [&](std::uint32_t t) {
+    return std::array<Vec3, 3>{m.vertices[m.triangles[t][0]], m.vertices[m.triangles[t][1]],
+                               m.vertices[m.triangles[t][2]]};
+  };
+  for (std::uint32_t i = 0; i < m.triangles.size(); ++i)
+    for (std::uint32_t j = i + 1; j < m.triangles.size(); ++j) {
+      bool shared = false;
+      for (const auto a : m.triangles[i])
+        for (const auto b : m.triangles[j]) shared = shared || a == b;
+      if (!shared && exporters::triangles_intersect(corners(i), corners(j))) all.push_back({i, j});
+    }
+  return all;
+}
+
 PrintableMesh tetrahedron(const Vec3& shift = Vec3::Zero(), double size = 1) {
   PrintableMesh m;
   m.vertices = {shift, shift + size * Vec3::UnitX(), shift + size * Vec3::UnitY(), shift + size * Vec3::UnitZ()};
@@ -247,12 +264,8 @@ TEST_CASE("self_intersecting_pairs equals testing every pair, with fans round on
     m.triangles.push_back({vertex(a), vertex(a + 0.8 * d), vertex(a + 0.8 * d + 0.004 * side)});
   }
   const auto found = exporters::self_intersecting_pairs(m, 2);
-  std::vector<std::array<std::uint32_t, 2>> all;  // every pair on its own: no grid to miss one
-  for (std::uint32_t i = 0; i < m.triangles.size(); ++i)
-    for (std::uint32_t j = i + 1; j < m.triangles.size(); ++j)
-      if (!exporters::self_intersecting_pairs(m.vertices, {m.triangles[i], m.triangles[j]}, 1).empty())
-        all.push_back({i, j});
-  REQUIRE(all.size() > 100);  // the fan and the outliers cross many others
+  const auto all = every_pair(m);  // no grid to miss one
+  REQUIRE(all.size() > 100);       // the fan and the outliers cross many others
   std::vector<std::array<std::uint32_t, 2>> missed, extra;
   std::set_difference(all.begin(), all.end(), found.begin(), found.end(), std::back_inserter(missed));
   std::set_difference(found.begin(), found.end(), all.begin(), all.end(), std::back_inserter(extra));
@@ -261,6 +274,20 @@ TEST_CASE("self_intersecting_pairs equals testing every pair, with fans round on
   if (!missed.empty()) WARN("missed " << missed.size() << ", first " << missed[0][0] << " " << missed[0][1]);
   if (!extra.empty()) WARN("extra " << extra.size() << ", first " << extra[0][0] << " " << extra[0][1]);
   CHECK(exporters::self_intersecting_pairs(m, 1) == found);
+}
+
+TEST_CASE("a sliver within rounding of another triangle's plane is tested in that plane", "[mesh_check]") {
+  // A stands across B's plane by 1e-6 (within the tolerance), and A's normal lies in B's plane: projected
+  // along it, B is a segment that A's edge crosses; in B's plane they are 0.047 apart
+  const std::array<Vec3, 3> b{Vec3(0, -1, 0), Vec3(2, -1, 0), Vec3(2, -0.9, 0)};
+  const std::array<Vec3, 3> a{Vec3(0.05, -0.95, -1e-6), Vec3(0.05, -0.9, 0), Vec3(0.05, -0.95, 1e-6)};
+  CHECK_FALSE(exporters::triangles_intersect(a, b));
+  CHECK_FALSE(exporters::triangles_intersect(b, a));
+  // moved onto B (x = 1.9, where B spans y from -1 to -0.905), it meets it
+  std::array<Vec3, 3> on = a;
+  for (Vec3& p : on) p.x() = 1.9;
+  CHECK(exporters::triangles_intersect(on, b));
+  CHECK(exporters::triangles_intersect(b, on));
 }
 
 TEST_CASE("self_intersecting_pairs equals testing every pair on soups of small triangles and loose slivers",
@@ -288,11 +315,7 @@ TEST_CASE("self_intersecting_pairs equals testing every pair on soups of small t
       m.triangles.push_back({vertex(a), vertex(a + (0.3 + 0.6 * u(rng)) * d), vertex(a + 0.5 * d + 0.003 * side)});
     }
   }
-  std::vector<std::array<std::uint32_t, 2>> all;
-  for (std::uint32_t i = 0; i < m.triangles.size(); ++i)
-    for (std::uint32_t j = i + 1; j < m.triangles.size(); ++j)
-      if (!exporters::self_intersecting_pairs(m.vertices, {m.triangles[i], m.triangles[j]}, 1).empty())
-        all.push_back({i, j});
+  const auto all = every_pair(m);
   REQUIRE(all.size() > 40);
   const auto found = exporters::self_intersecting_pairs(m, 2);
   CHECK(found == all);
