@@ -89,6 +89,25 @@ int api_section(lua_State* L) {
   });
 }
 
+/// __index of the table params{} returns: a knob it does not declare is a script error (a misspelled
+/// P.vein_spacin would be nil, and the section given it would fall back to its default unannounced).
+int params_missing(lua_State* L) {
+  return guarded(L, [L](Impl& I) {
+    const std::string at = I.where(1);
+    const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : luaL_typename(L, 2);
+    std::vector<std::string> names;
+    lua_pushnil(L);
+    while (lua_next(L, 1) != 0) {
+      if (lua_type(L, -2) == LUA_TSTRING) names.push_back(lua_tostring(L, -2));
+      lua_pop(L, 1);
+    }
+    const std::string near = core::closest_name(key, names);
+    throw InvalidInput(at + "params has no knob '" + core::printable(key) + "'" +
+                       (near.empty() ? "" : "; did you mean '" + near + "'?") + " (params{...} declares the knobs)");
+    return 0;
+  });
+}
+
 /// params{name = default, ...}: script-level knobs; returns the table with --set overrides applied.
 int api_params(lua_State* L) {
   return guarded(L, [L](Impl& I) {
@@ -152,6 +171,10 @@ int api_params(lua_State* L) {
       lua_insert(L, -2);     // key value
       lua_rawset(L, 2);      // result table at index 2
     }
+    lua_newtable(L);  // its metatable
+    lua_pushcfunction(L, params_missing);
+    lua_setfield(L, -2, "__index");
+    lua_setmetatable(L, 2);
     return 1;
   });
 }

@@ -208,6 +208,17 @@ TEST_CASE("command-line overrides (--set) replace script parameters", "[script][
     for (const char* bad : {"nan", "inf", "-inf"})
       CHECK_THAT(load_error(q, {{"n", bad}}), Contains("--set n: expected a finite number"));
   }
+  SECTION("a knob params{} does not declare is an error where it is read, not nil") {
+    const std::string typo =
+        "local P = params { vein_spacing = 30 }\n"
+        "\n"
+        "venation { threshold = P.vein_spacin }\n";
+    const std::string e = load_error(typo, {{"vein_spacing", "10"}});
+    CHECK_THAT(e, Contains("test/leaf.lua:3:"));
+    CHECK_THAT(e, Contains("params has no knob 'vein_spacin'; did you mean 'vein_spacing'?"));
+    // declared knobs read as before, and the table still takes the script's own fields
+    CHECK_NOTHROW(load("local P = params { n = 3 }\nP.extra = P.n + 1\nassert(P.extra == 4)\n", {}));
+  }
   SECTION("an unknown name suggests the closest") {
     CHECK_THAT(load_error(src, {{"flat", "false"}, {"sise", "3"}}), Contains("did you mean 'size'"));
     CHECK_THAT(load_error(src, {{"flat", "false"}, {"cells.sprin", "3"}}), Contains("did you mean 'cells.spring'"));
