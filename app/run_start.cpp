@@ -82,7 +82,7 @@ std::string resume_hint(const RunOptions& o, const fs::path& checkpoint, const f
 }
 
 json script_record(const Start& s) {
-  json r = {{"path", s.script_path.string()}, {"hash", script_hash(s.source)}};
+  json r = {{"path", absolute_path_text(s.script_path)}, {"hash", script_hash(s.source)}};  // wherever run from
   if (!s.replaced.empty()) r["replaces"] = s.replaced;
   return r;
 }

@@ -150,6 +150,20 @@ TEST_CASE("bad shapes, obstacle meshes and obstacles around the cells exit with 
   CHECK(r.code == 0);
 }
 
+TEST_CASE("run.json names the script by its full path when it was given relative to the folder run from", "[cli]") {
+  TempDir t("cli-relative");
+  t.write("small.lua", kSmall);
+  const fs::path before = fs::current_path();
+  fs::current_path(t.path);
+  const auto r = cli({"run", "small.lua", "--out", "o", "--quiet", "--steps", "3"});
+  fs::current_path(before);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const auto run = nlohmann::json::parse(slurp(t.path / "o" / "run.json"));
+  CHECK(fs::equivalent(run["script"]["path"].get<std::string>(), t.path / "small.lua"));
+  CHECK(fs::path(run["script"]["path"].get<std::string>()).is_absolute());
+}
+
 TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {
   TempDir t("cli-run");
   const auto script = t.write("small.lua", kSmall);
