@@ -219,30 +219,6 @@ const char* domain_name(venation::DomainKind k) {
   return "?";
 }
 
-/// What a resume changes of a colonisation run's own values, in words ("colonisation.darts = 2 (was 1)"):
-/// the --set overrides that differ from the run's, and with --script the edited script's colonisation
-/// values that differ from the run's script's. Leaves out threads, max_steps and max_nodes, which may change.
-std::string changed_colonisation_values(const Start& s, const SceneConfig& cfg) {
-  std::vector<std::string> changed;
-  auto may_change = [](const std::string& key) { return key == "threads" || key == "max_steps" || key == "max_nodes"; };
-  for (const auto& [k, v] : s.sets) {
-    const auto was = s.checkpoint_sets.find(k);
-    const std::string name = k.rfind("colonisation.", 0) == 0 ? k.substr(sizeof("colonisation.") - 1) : std::string();
-    if ((was == s.checkpoint_sets.end() || was->second != v) && !may_change(name) && k.rfind("output.", 0) != 0 &&
-        k.rfind("print.", 0) != 0)
-      changed.push_back("--set " + k + "=" + v);
-  }
-  const json before = s.replaced_parameters.is_object() ? s.replaced_parameters.value("colonisation", json()) : json();
-  const json now = cfg.resolved.value("colonisation", json());
-  if (before.is_object() && now.is_object())
-    for (const auto& [k, v] : now.items())
-      if (!may_change(k) && before.contains(k) && before[k] != v)
-        changed.push_back("colonisation." + k + " = " + v.dump() + " (was " + before[k].dump() + ")");
-  std::string text;
-  for (std::size_t i = 0; i < changed.size(); ++i) text += (i ? ", " : "") + changed[i];
-  return text;
-}
-
 /// The parts of a colonisation run's run.json that do not depend on how it ended.
 json run_record(const Start& s, std::uint64_t seed, int threads, venation::DomainKind domain, const json& parameters) {
   return {{"program", "cellform"},
@@ -307,8 +283,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       write_run_json(staging / "run.json", run);
       commit_outputs(staging, dir, {"run.json"});
     } catch (const std::exception& f) {
-      err << "cellform: warning: the run.json of the failed run could not be written: " << core::error_text(f)
-          << "\n";
+      err << "cellform: warning: the run.json of the failed run could not be written: " << core::error_text(f) << "\n";
     }
   };
   // a rule of the sheet's growth stuck in one library call ends the process from the watchdog's thread

@@ -114,6 +114,8 @@ std::string resume_hint(const RunOptions& o, const std::filesystem::path& checkp
 
 /// run.json's "script": path and hash; after resume --script also what it replaced, and from which step.
 nlohmann::json script_record(const Start& s);
+/// What a resume changes of a colonisation run's own values, in words (see run_start.cpp).
+std::string changed_colonisation_values(const Start& s, const SceneConfig& cfg);
 
 /// The scalar values of `resolved`'s cells, division and venation sections (rule functions left out): what
 /// a cell checkpoint keeps, so that a resume steps with the values the run was saved with even when

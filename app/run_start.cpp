@@ -367,4 +367,28 @@ std::string unplaced_changes(const Start& s, const SceneConfig& before, const Sc
   return text;
 }
 
+/// What a resume changes of a colonisation run's own values, in words ("colonisation.darts = 2 (was 1)"):
+/// the --set overrides that differ from the run's, and with --script the edited script's colonisation
+/// values that differ from the run's script's. Leaves out threads, max_steps and max_nodes, which may change.
+std::string changed_colonisation_values(const Start& s, const SceneConfig& cfg) {
+  std::vector<std::string> changed;
+  auto may_change = [](const std::string& key) { return key == "threads" || key == "max_steps" || key == "max_nodes"; };
+  for (const auto& [k, v] : s.sets) {
+    const auto was = s.checkpoint_sets.find(k);
+    const std::string name = k.rfind("colonisation.", 0) == 0 ? k.substr(sizeof("colonisation.") - 1) : std::string();
+    if ((was == s.checkpoint_sets.end() || was->second != v) && !may_change(name) && k.rfind("output.", 0) != 0 &&
+        k.rfind("print.", 0) != 0)
+      changed.push_back("--set " + k + "=" + v);
+  }
+  const json before = s.replaced_parameters.is_object() ? s.replaced_parameters.value("colonisation", json()) : json();
+  const json now = cfg.resolved.value("colonisation", json());
+  if (before.is_object() && now.is_object())
+    for (const auto& [k, v] : now.items())
+      if (!may_change(k) && before.contains(k) && before[k] != v)
+        changed.push_back("colonisation." + k + " = " + v.dump() + " (was " + before[k].dump() + ")");
+  std::string text;
+  for (std::size_t i = 0; i < changed.size(); ++i) text += (i ? ", " : "") + changed[i];
+  return text;
+}
+
 }  // namespace cellform::app

@@ -397,4 +397,36 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
 /// Turns the recorded shape calls into initial cells and petioles (after the script ran).
 void build_shapes(Impl& I);
 
+/// Runs `body` (which returns the number of Lua results) and turns a C++ exception into a Lua error.
+/// lua_error longjmps, so it is raised only after every C++ object of the body is destroyed.
+template <class Body>
+inline int guarded(lua_State* L, Body&& body) {
+  Impl& I = *self_of(L);
+  I.wait_if_dying();
+  int results = 0;
+  bool failed = false;
+  I.in_host = true;  // no Lua memory error inside the body (the script's next allocation fails instead)
+  // and no watchdog: the body is the host's own work (reading a large mesh), not a library call
+  const bool was_script = I.in_script.exchange(false, std::memory_order_acq_rel);
+  lua_State* const main = I.L;
+  I.L = L;  // the body reads its arguments from the calling thread: a coroutine has a stack of its own
+  try {
+    results = body(I);
+  } catch (const std::exception& e) {
+    I.pending_error = core::error_text(e);
+    failed = true;
+  }
+  I.in_script.store(was_script, std::memory_order_release);
+  I.in_host = false;
+  I.L = main;
+  if (failed) {
+    lua_pushstring(L, I.pending_error.c_str());
+    return lua_error(L);
+  }
+  return results;
+}
+
+/// params{name = default, ...}: the script's knobs, with --set overrides (script_values.cpp).
+int api_params(lua_State* L);
+
 }  // namespace cellform::app

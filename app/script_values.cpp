@@ -1,5 +1,5 @@
 // The script host's parameter values: a Lua value or a --set text converted for a field of the schema, its
-// range checked, and a whole section read (ScriptHost::Impl, declared in app/script_impl.h).
+// range checked, a whole section read, and params{} (ScriptHost::Impl, declared in app/script_impl.h).
 #include "app/script_impl.h"
 
 namespace cellform::app {
@@ -279,6 +279,100 @@ Values ScriptHost::Impl::read_section(const std::string& section, int idx, const
       (*record)[f->name] = to_json(*f, v);
   }
   return values;
+}
+
+namespace {
+
+/// __index of the table params{} returns: a knob it does not declare is a script error (a misspelled
+/// P.vein_spacin would be nil, and the section given it would fall back to its default unannounced).
+int params_missing(lua_State* L) {
+  return guarded(L, [L](Impl& I) {
+    const std::string at = I.where(1);
+    const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : luaL_typename(L, 2);
+    std::vector<std::string> names;
+    lua_pushnil(L);
+    while (lua_next(L, 1) != 0) {
+      if (lua_type(L, -2) == LUA_TSTRING) names.push_back(lua_tostring(L, -2));
+      lua_pop(L, 1);
+    }
+    const std::string near = core::closest_name(key, names);
+    throw InvalidInput(at + "params has no knob '" + core::printable(key) + "'" +
+                       (near.empty() ? "" : "; did you mean '" + near + "'?") + " (params{...} declares the knobs)");
+    return 0;
+  });
+}
+
+}  // namespace
+
+/// params{name = default, ...}: script-level knobs; returns the table with --set overrides applied.
+int api_params(lua_State* L) {
+  return guarded(L, [L](Impl& I) {
+    const std::string at = I.where(1);
+    I.require_loading("params", at);
+    I.once("params", at);
+    if (lua_type(L, 1) != LUA_TTABLE || lua_gettop(L) != 1)
+      throw InvalidInput(at + "params{...} takes one table of name = default");
+    nlohmann::json& rec = I.cfg->resolved["params"];
+    rec = nlohmann::json::object();
+    lua_newtable(L);
+    lua_pushnil(L);
+    while (lua_next(L, 1) != 0) {
+      if (lua_type(L, -2) != LUA_TSTRING) {
+        lua_pop(L, 2);
+        throw InvalidInput(at + "params{...}: every parameter needs a name (name = default)");
+      }
+      const std::string key = lua_tostring(L, -2);
+      I.param_names.insert(key);
+      auto it = I.overrides->find(key);
+      const int t = lua_type(L, -1);
+      const bool integer = t == LUA_TNUMBER && lua_isinteger(L, -1);
+      if (it != I.overrides->end()) {
+        I.used_overrides.insert(key);
+        const std::string& text = it->second;
+        double x;
+        lua_pop(L, 1);
+        if (t == LUA_TNUMBER) {
+          if (!parse_double(text, x) || !std::isfinite(x))
+            throw InvalidInput("--set " + key + ": expected a finite number, got \"" + text + "\"");
+          // a whole default stays whole (a count such as 3 given as --set n=5 is 5, not 5.0)
+          if (integer && x == std::floor(x) && std::abs(x) < 0x1p63) {
+            lua_pushinteger(L, static_cast<lua_Integer>(x));
+            rec[key] = static_cast<std::int64_t>(x);
+          } else {
+            lua_pushnumber(L, x);
+            rec[key] = x;
+          }
+        } else if (t == LUA_TBOOLEAN) {
+          if (text != "true" && text != "false")
+            throw InvalidInput("--set " + key + ": expected true or false, got \"" + text + "\"");
+          lua_pushboolean(L, text == "true");
+          rec[key] = text == "true";
+        } else if (t == LUA_TSTRING) {
+          lua_pushstring(L, text.c_str());
+          rec[key] = text;
+        } else {
+          throw InvalidInput("--set " + key + ": only number, boolean and string params can be set");
+        }
+      } else {
+        if (t == LUA_TNUMBER)
+          rec[key] = integer ? nlohmann::json(lua_tointeger(L, -1)) : nlohmann::json(lua_tonumber(L, -1));
+        else if (t == LUA_TBOOLEAN)
+          rec[key] = lua_toboolean(L, -1) != 0;
+        else if (t == LUA_TSTRING)
+          rec[key] = lua_tostring(L, -1);
+        else
+          rec[key] = luaL_typename(L, -1);
+      }
+      lua_pushvalue(L, -2);  // key
+      lua_insert(L, -2);     // key value
+      lua_rawset(L, 2);      // result table at index 2
+    }
+    lua_newtable(L);  // its metatable
+    lua_pushcfunction(L, params_missing);
+    lua_setfield(L, -2, "__index");
+    lua_setmetatable(L, 2);
+    return 1;
+  });
 }
 
 }  // namespace cellform::app

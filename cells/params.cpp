@@ -129,11 +129,10 @@ void validate(const Params& params) {
   const Stiffness stiff = stiffest(p);
   const double stable = stable_step(stiff.lambda, p.integrator);
   if (p.time_step > stable)
-    throw core::InvalidInput("cells.time_step " + str(p.time_step) + " is above the stable limit " + str(stable) +
-                             " for these force weights (" +
-                             (p.integrator == Integrator::velocity ? "velocity" : "velocity_acceleration") +
-                             " integrator; the largest term is " + stiff.term + "); use at most " + str(stable) +
-                             " or lower the weights");
+    throw core::InvalidInput(
+        "cells.time_step " + str(p.time_step) + " is above the stable limit " + str(stable) +
+        " for these force weights (" + (p.integrator == Integrator::velocity ? "velocity" : "velocity_acceleration") +
+        " integrator; the largest term is " + stiff.term + "); use at most " + str(stable) + " or lower the weights");
 
   const DivisionParams& d = p.division;
   if (d.trigger != DivisionTrigger::none && d.trigger != DivisionTrigger::age &&

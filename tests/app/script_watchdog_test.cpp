@@ -85,8 +85,8 @@ TEST_CASE("a sheet rule stuck in one library call leaves a colonisation run's fo
   // and the corrected script goes on from that checkpoint (the run's --set hang=true goes on too)
   std::string fixed = slurp(script);
   fixed.replace(fixed.find("P.hang and"), 10, "false and");
-  const auto r = cli({"resume", (out / "checkpoint.cfck").string(), "--script", t.write("fixed.lua", fixed).string(),
-                      "--quiet"});
+  const auto r =
+      cli({"resume", (out / "checkpoint.cfck").string(), "--script", t.write("fixed.lua", fixed).string(), "--quiet"});
   INFO(r.err);
   CHECK(r.code == 0);
   CHECK(fs::exists(out / "veins.ply"));
