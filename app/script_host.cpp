@@ -151,7 +151,21 @@ ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
   }
   lua_pushcfunction(L, api_params);
   lua_setglobal(L, "params");
+  // the cell table, one for every call: read-only, or a field a rule wrote would reach the next cell
   lua_newtable(L);
+  lua_newtable(L);
+  lua_pushcfunction(L, [](lua_State* S) -> int {
+    const std::string key = lua_type(S, 2) == LUA_TSTRING ? lua_tostring(S, 2) : luaL_typename(S, 2);
+    return luaL_error(S,
+                      "cell.%s = ...: the cell table a rule function is given is read-only (one table is "
+                      "filled anew for each cell, so a value written would reach the next cell; rule "
+                      "functions should depend only on the cell)",
+                      core::printable(key).c_str());
+  });
+  lua_setfield(L, -2, "__newindex");
+  lua_pushliteral(L, "the cell table is read-only");
+  lua_setfield(L, -2, "__metatable");  // setmetatable on it is refused
+  lua_setmetatable(L, -2);
   I.cell_table_ref = luaL_ref(L, LUA_REGISTRYINDEX);
   lua_sethook(L, &Impl::hook, kHookMask, kHookEvery);
   watchdog_ = std::make_unique<Watchdog>(I);
