@@ -200,6 +200,9 @@ void finish_colonisation(Impl& I) {
     throw InvalidInput(at + "colonisation.growth = \"" + rec.value("growth", std::string()) +
                        "\" grows a leaf blade; a volume{...} or surface{...} does not grow (leave growth out or "
                        "set it to \"none\")");
+  if (!spec.length_given.empty())
+    throw InvalidInput(at + "colonisation." + spec.length_given +
+                       " sizes a growing leaf blade; a volume{...} or surface{...} keeps its own size (leave it out)");
   p.growth = venation::GrowthMode::none;
   p.initial_scale = p.final_scale = 1;
   p.scale_step = 0;
@@ -364,13 +367,14 @@ venation::GrowthFunction read_growth_function(Impl& I, const Value& given, const
 void read_nonuniform_growth(Impl& I, Values& v, const std::string& at, venation::ColonisationParams& p) {
   nlohmann::json& rec = I.cfg->resolved["colonisation"];
   if (p.growth != venation::GrowthMode::nonuniform) {
+    const std::string now = v["growth"].present ? "growth is \"" + v["growth"].str + "\""
+                                                : "growth is not given; a leaf{...} grows \"marginal\" by default, "
+                                                  "and a volume{...} or surface{...} does not grow";
     for (const char* name : {"growth_x", "growth_y"})
       if (v[name].present)
-        throw InvalidInput(at + "colonisation." + name + " applies only to growth = \"nonuniform\" (growth is \"" +
-                           v["growth"].str + "\")");
+        throw InvalidInput(at + "colonisation." + name + " applies only to growth = \"nonuniform\" (" + now + ")");
     if (v["growth_steps"].present && v["growth_steps"].num > 0)
-      throw InvalidInput(at + "colonisation.growth_steps applies only to growth = \"nonuniform\" (growth is \"" +
-                         v["growth"].str + "\")");
+      throw InvalidInput(at + "colonisation.growth_steps applies only to growth = \"nonuniform\" (" + now + ")");
     rec.erase("growth_x");
     rec.erase("growth_y");
     return;
@@ -420,6 +424,8 @@ void section_colonisation(Impl& I, const std::string& at) {
   p.max_steps = static_cast<std::size_t>(v["max_steps"].num);
   p.max_nodes = static_cast<std::size_t>(v["max_nodes"].num);
   I.cfg->colonisation->growth_given = v["growth"].present;
+  for (const char* name : {"initial_length", "final_length", "length_step"})
+    if (v[name].present && I.cfg->colonisation->length_given.empty()) I.cfg->colonisation->length_given = name;
   I.cfg->colonisation->widths.exponent = v["murray_exponent"].num;
   I.cfg->colonisation->widths.tip_radius = v["tip_radius"].num;
   try {

@@ -60,6 +60,7 @@ struct ColonisationSpec {
   venation::Domain domain;    ///< kind leaf: grows in `leaf`; else in this volume or surface
   bool on_cells = false;      ///< surface{cells = true}: grow the cells first, the domain is their sheet
   bool growth_given = false;  ///< colonisation.growth was set (a 3-D domain then needs "none")
+  std::string length_given;   ///< a leaf-size field set (initial_length, ...): none of a 3-D domain's
   std::string where;          ///< "file:line: " of colonisation{...}, for its errors found while it runs
 };
 

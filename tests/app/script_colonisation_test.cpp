@@ -176,6 +176,13 @@ TEST_CASE("colonisation{growth = 'nonuniform'} takes growth tables or functions 
   CHECK_THAT(load_error("colonisation { growth = 'marginal', growth_x = {{0, 1.1}} }\n"),
              Contains("growth_x applies only to growth = \"nonuniform\""));
   CHECK_THAT(load_error("colonisation { growth = 'none', growth_steps = 4 }\n"), Contains("growth_steps applies only"));
+  // growth not given: the message says what that means, for a leaf and for a volume
+  CHECK_THAT(
+      load_error("volume { ball = { radius = 5 } }\ncolonisation { growth_steps = 5 }\n"),
+      Contains("growth_steps applies only") && Contains("growth is not given") && !Contains("growth is \"marginal\""));
+  // the leaf's size in a volume: refused, as growth is
+  CHECK_THAT(load_error("volume { ball = { radius = 5 } }\ncolonisation { final_length = 400 }\n"),
+             Contains("colonisation.final_length sizes a growing leaf blade; a volume{...} or surface{...} keeps"));
   CHECK_THAT(load_error(head + "  growth_x = {{0, 1.01}}, growth_y = {{0, 1.01}}, growth_steps = 5 }\n",
                         {{"colonisation.growth_x", "2"}}),
              Contains("cannot be set from the command line"));
