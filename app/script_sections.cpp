@@ -95,6 +95,16 @@ void section_division(Impl& I, const std::string& at) {
                                                  : cells::SplitDirection::random;
     I.cfg->scene.split_along_auxin = dir.str == "auxin";
   }
+  // the field of the other directions would be dropped unseen
+  const std::string named = dir.ref != LUA_NOREF ? std::string("a function") : "\"" + dir.str + "\"";
+  if (v["axis"].present && d.direction != cells::SplitDirection::axis &&
+      d.direction != cells::SplitDirection::circumferential)
+    throw InvalidInput(at + "division.axis has no effect with direction = " + named +
+                       " (it belongs to \"axis\" and \"circumferential\"); remove it, or choose one of those");
+  if (v["centre"].present && d.direction != cells::SplitDirection::radial &&
+      d.direction != cells::SplitDirection::circumferential)
+    throw InvalidInput(at + "division.centre has no effect with direction = " + named +
+                       " (it belongs to \"radial\" and \"circumferential\"); remove it, or choose one of those");
   if ((d.direction == cells::SplitDirection::axis || d.direction == cells::SplitDirection::circumferential) &&
       d.axis.norm() == 0)
     throw InvalidInput(at + "division.axis must be a non-zero vector for direction = \"" + dir.str + "\"");

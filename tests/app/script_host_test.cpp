@@ -440,6 +440,22 @@ TEST_CASE("a setting of the other division trigger is refused, not dropped unsee
   CHECK(load("disc { radius = 2 }\ndivision { trigger = 'age', age = 7 }\n").scene.cells.division.division_age == 7);
 }
 
+TEST_CASE("a field of another split direction is refused, not dropped unseen", "[script]") {
+  CHECK_THAT(load_error("disc { radius = 2 }\ndivision { direction = 'random', axis = {0, 1, 0} }\n"),
+             Contains(":2: division.axis has no effect with direction = \"random\""));
+  CHECK_THAT(load_error("disc { radius = 2 }\ndivision { direction = 'axis', centre = {5, 5, 5} }\n"),
+             Contains(":2: division.centre has no effect with direction = \"axis\""));
+  CHECK_THAT(
+      load_error("disc { radius = 2 }\ndivision { direction = function(c) return {1, 0, 0} end, axis = {0, 1, 0} }\n"),
+      Contains("division.axis has no effect with direction = a function"));
+  const auto d =
+      load("disc { radius = 2 }\ndivision { direction = 'circumferential', axis = {0, 0, 1}, centre = {1, 2, 0} }\n")
+          .scene.cells.division;
+  CHECK(d.centre == cellform::core::Vec3(1, 2, 0));
+  CHECK(load("disc { radius = 2 }\ndivision { direction = 'radial', centre = {1, 2, 0} }\n")
+            .scene.cells.division.centre == cellform::core::Vec3(1, 2, 0));
+}
+
 TEST_CASE("a division rule with trigger settings is refused, not half applied", "[script]") {
   CHECK_THAT(load_error("disc { radius = 2 }\ndivision { rule = function(cell) return true end, trigger = 'age' }\n"),
              Contains(":2: division.trigger has no effect with division.rule"));
