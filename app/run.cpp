@@ -165,6 +165,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         for (const auto& [k, v] : s.checkpoint_sets)
           if (!o.sets.count(k)) may_go_unused.insert(k);
       cfg = host.load(s.source, s.script_path, s.sets, may_go_unused);
+      for (const std::string& n : cfg.notes) err << "cellform: note: " << n << "\n";
       for (const std::string& k : host.unused_overrides()) {
         err << "cellform: note: the run's --set " << k << "=" << s.sets[k] << " is dropped: " << s.script_path.string()
             << " has no parameter for it\n";

@@ -94,6 +94,8 @@ struct SceneConfig {
   std::optional<PrintSpec> print;
   std::optional<ColonisationSpec> colonisation;        ///< set: the run grows veins by space colonisation, not cells
   nlohmann::json resolved = nlohmann::json::object();  ///< every resolved parameter, by section
+  /// what the script sets that has no effect in this run, said before it starts ("file:line: print.x ...")
+  std::vector<std::string> notes;
 };
 
 /// --set overrides: "name" for params{} knobs, "section.name" for script functions' parameters.

@@ -188,6 +188,11 @@ void section_print(Impl& I, const std::string& at) {
   p.flat_base = v["flat_base"].num;
   p.close_holes = v["close_holes"].num;
   p.close_holes_max = v["close_holes_max"].num;
+  if (!p.shell)  // noted, not refused: --set print.shell=false may turn off a shell the script sets up
+    for (const char* f : {"shell_thickness", "close_holes", "close_holes_max"})
+      if (v[f].present)
+        I.cfg->notes.push_back(I.value_at(std::string("print.") + f, at) + "print." + f +
+                               " has no effect: print.shell is false (the printed shell's setting)");
   p.formats.clear();
   std::stringstream ss(v["formats"].str);
   std::string f;

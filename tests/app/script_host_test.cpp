@@ -440,6 +440,20 @@ TEST_CASE("a setting of the other division trigger is refused, not dropped unsee
   CHECK(load("disc { radius = 2 }\ndivision { trigger = 'age', age = 7 }\n").scene.cells.division.division_age == 7);
 }
 
+TEST_CASE("a shell's settings without a shell are noted before the run", "[script]") {
+  const auto cfg =
+      load("disc { radius = 2 }\nvenation {}\nprint { shell = false, shell_thickness = 2, close_holes = 3 }\n");
+  REQUIRE(cfg.notes.size() == 2);
+  CHECK_THAT(cfg.notes[0], Contains(":3: print.shell_thickness has no effect: print.shell is false"));
+  CHECK_THAT(cfg.notes[1], Contains(":3: print.close_holes has no effect"));
+  // turned off from the command line: the note names the option, and the run still loads
+  const auto set = load("disc { radius = 2 }\nvenation {}\nprint { shell = true, shell_thickness = 2 }\n",
+                        {{"print.shell", "false"}});
+  REQUIRE(set.notes.size() == 1);
+  CHECK_THAT(set.notes[0], Contains("print.shell_thickness has no effect"));
+  CHECK(load("disc { radius = 2 }\nprint { shell = true, shell_thickness = 2 }\n").notes.empty());
+}
+
 TEST_CASE("a field of another split direction is refused, not dropped unseen", "[script]") {
   CHECK_THAT(load_error("disc { radius = 2 }\ndivision { direction = 'random', axis = {0, 1, 0} }\n"),
              Contains(":2: division.axis has no effect with direction = \"random\""));
