@@ -50,6 +50,7 @@ struct OutputSpec {
   bool png = false;                ///< space colonisation: also write veins.png
   int png_size = 1024;             ///< pixels: longer side of veins.png
   double svg_size = 0;             ///< mm: longer side of the leaf drawn in veins.svg (0: the print's scale, or 200)
+  std::string svg_size_at;         ///< where svg_size was given ("file:line: " or "--set ...: "), or empty
 };
 
 /// Space colonisation requested by colonisation{...} in a leaf{...}, volume{...} or surface{...}.

@@ -228,6 +228,7 @@ void section_output(Impl& I, const std::string& at) {
   I.cfg->output.png = v["png"].flag;
   I.cfg->output.png_size = static_cast<int>(v["png_size"].num);
   I.cfg->output.svg_size = v["svg_size"].num;
+  if (v["svg_size"].present) I.cfg->output.svg_size_at = I.value_at("output.svg_size", at);
 }
 
 namespace {

@@ -440,7 +440,8 @@ TEST_CASE("a setting of the other division trigger is refused, not dropped unsee
   CHECK(load("disc { radius = 2 }\ndivision { trigger = 'age', age = 7 }\n").scene.cells.division.division_age == 7);
 }
 
-TEST_CASE("a shell's settings without a shell are noted before the run", "[script]") {
+TEST_CASE("settings without effect in this run (a shell's without a shell, svg_size without an SVG) are noted",
+          "[script]") {
   const auto cfg =
       load("disc { radius = 2 }\nvenation {}\nprint { shell = false, shell_thickness = 2, close_holes = 3 }\n");
   REQUIRE(cfg.notes.size() == 2);
@@ -452,6 +453,12 @@ TEST_CASE("a shell's settings without a shell are noted before the run", "[scrip
   REQUIRE(set.notes.size() == 1);
   CHECK_THAT(set.notes[0], Contains("print.shell_thickness has no effect"));
   CHECK(load("disc { radius = 2 }\nprint { shell = true, shell_thickness = 2 }\n").notes.empty());
+  // veins.svg comes only from space colonisation in a leaf
+  const auto cells_run = load("disc { radius = 2 }\noutput { svg_size = 50 }\n");
+  REQUIRE(cells_run.notes.size() == 1);
+  CHECK_THAT(cells_run.notes[0], Contains(":2: output.svg_size has no effect"));
+  CHECK(load("volume { ball = { radius = 5 } }\ncolonisation {}\noutput { svg_size = 50 }\n").notes.size() == 1);
+  CHECK(load("output { svg_size = 50 }\ncolonisation {}\n").notes.empty());  // a leaf, the default blade
 }
 
 TEST_CASE("a field of another split direction is refused, not dropped unseen", "[script]") {
