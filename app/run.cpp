@@ -209,7 +209,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         throw core::InvalidInput(std::string(e.what()) + " (resuming checkpoint '" + o.checkpoint.string() +
                                  "' with --script, and the --set overrides of its run)");
       throw core::InvalidInput(std::string(e.what()) + " (resuming checkpoint '" + o.checkpoint.string() +
-                               "', which keeps the script and the --set overrides of its run)");
+                               "', which keeps the script and the --set overrides of its run; to go on with a "
+                               "corrected copy: cellform resume " +
+                               o.checkpoint.string() + " --script EDITED.lua)");
     }
     seed = s.seed ? *s.seed : cfg.seed;
     host.set_seed(seed);  // math.random in rules: from the seed and the step

@@ -154,13 +154,13 @@ ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
   // the cell table, one for every call: read-only, or a field a rule wrote would reach the next cell
   lua_newtable(L);
   lua_newtable(L);
-  lua_pushcfunction(L, [](lua_State* S) -> int {
-    const std::string key = lua_type(S, 2) == LUA_TSTRING ? lua_tostring(S, 2) : luaL_typename(S, 2);
+  lua_pushcfunction(L, [](lua_State* S) -> int {  // (no C++ object lives here: lua_error longjmps)
+    const char* key = lua_type(S, 2) == LUA_TSTRING ? lua_tostring(S, 2) : luaL_typename(S, 2);
     return luaL_error(S,
-                      "cell.%s = ...: the cell table a rule function is given is read-only (one table is "
-                      "filled anew for each cell, so a value written would reach the next cell; rule "
-                      "functions should depend only on the cell)",
-                      core::printable(key).c_str());
+                      "cell.%s = ...: a rule function cannot add fields to its cell table (one table is filled "
+                      "anew for each cell, so a value kept there would reach the next cell; rule functions "
+                      "should depend only on the cell)",
+                      key);
   });
   lua_setfield(L, -2, "__newindex");
   lua_pushliteral(L, "the cell table is read-only");

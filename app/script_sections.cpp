@@ -95,16 +95,22 @@ void section_division(Impl& I, const std::string& at) {
                                                  : cells::SplitDirection::random;
     I.cfg->scene.split_along_auxin = dir.str == "auxin";
   }
-  // the field of the other directions would be dropped unseen
+  // the field of the other directions would be dropped unseen: refused when the script gives both; noted
+  // when a --set chose the direction or the field (a --set cannot remove the script's field)
   const std::string named = dir.ref != LUA_NOREF ? std::string("a function") : "\"" + dir.str + "\"";
+  const auto unused_field = [&](const char* field, const char* belongs) {
+    const std::string text = "division." + std::string(field) + " has no effect with direction = " + named +
+                             " (it belongs to " + belongs + ")";
+    if (dir.set_by.empty() && v[field].set_by.empty())
+      throw InvalidInput(at + text + "; remove it, or choose one of those");
+    I.cfg->notes.push_back((dir.set_by.empty() ? v[field].set_by : dir.set_by) + ": " + text);
+  };
   if (v["axis"].present && d.direction != cells::SplitDirection::axis &&
       d.direction != cells::SplitDirection::circumferential)
-    throw InvalidInput(at + "division.axis has no effect with direction = " + named +
-                       " (it belongs to \"axis\" and \"circumferential\"); remove it, or choose one of those");
+    unused_field("axis", "\"axis\" and \"circumferential\"");
   if (v["centre"].present && d.direction != cells::SplitDirection::radial &&
       d.direction != cells::SplitDirection::circumferential)
-    throw InvalidInput(at + "division.centre has no effect with direction = " + named +
-                       " (it belongs to \"radial\" and \"circumferential\"); remove it, or choose one of those");
+    unused_field("centre", "\"radial\" and \"circumferential\"");
   if ((d.direction == cells::SplitDirection::axis || d.direction == cells::SplitDirection::circumferential) &&
       d.axis.norm() == 0)
     throw InvalidInput(at + "division.axis must be a non-zero vector for direction = \"" + dir.str + "\"");

@@ -288,7 +288,9 @@ namespace {
 int params_missing(lua_State* L) {
   return guarded(L, [L](Impl& I) {
     const std::string at = I.where(1);
-    const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : luaL_typename(L, 2);
+    if (lua_type(L, 2) != LUA_TSTRING)
+      throw InvalidInput(at + "params has no knob at a " + luaL_typename(L, 2) + " key (knobs are named: P.name)");
+    const std::string key = lua_tostring(L, 2);
     std::vector<std::string> names;
     lua_pushnil(L);
     while (lua_next(L, 1) != 0) {

@@ -216,6 +216,8 @@ TEST_CASE("command-line overrides (--set) replace script parameters", "[script][
     const std::string e = load_error(typo, {{"vein_spacing", "10"}});
     CHECK_THAT(e, Contains("test/leaf.lua:3:"));
     CHECK_THAT(e, Contains("params has no knob 'vein_spacin'; did you mean 'vein_spacing'?"));
+    CHECK_THAT(load_error("local P = params { n = 3 }\nlocal x = P[1]\n"),
+               Contains(":2: params has no knob at a number key (knobs are named: P.name)"));
     // declared knobs read as before, and the table still takes the script's own fields
     CHECK_NOTHROW(load("local P = params { n = 3 }\nP.extra = P.n + 1\nassert(P.extra == 4)\n", {}));
   }
@@ -311,13 +313,14 @@ TEST_CASE("rule functions run per cell and report errors with step and cell", "[
   swallowed.load("division { rule = function(cell) pcall(function() while true do end end) return true end }",
                  "swallowed.lua", {});
   CHECK_THROWS_WITH(swallowed.rules().divides(c, 0), Contains("rule function ran more than 10000 instructions"));
-  // the cell table is read-only: a field written, or a metatable set, is an error naming the field; one
+  // a rule cannot add a field to its cell table, nor set a metatable on it: an error naming the field; one
   // removed with rawset is there again in the next call (the table is filled raw)
   ScriptHost meta(tight);
-  meta.load("division { rule = function(cell) cell.mark = cell.id return true end }", "meta.lua", {});
-  CHECK_THROWS_WITH(meta.rules().divides(c, 0), Contains("meta.lua:1:") && Contains("cell.mark = ...: the cell "
-                                                                                    "table a rule function is "
-                                                                                    "given is read-only"));
+  meta.load("division { rule = function(cell) cell.a_rather_long_field_name = cell.id return true end }", "meta.lua",
+            {});
+  CHECK_THROWS_WITH(meta.rules().divides(c, 0),
+                    Contains("meta.lua:1:") &&
+                        Contains("cell.a_rather_long_field_name = ...: a rule function cannot add fields to its cell"));
   ScriptHost protect(tight);
   protect.load("division { rule = function(cell) setmetatable(cell, {}) return true end }", "protect.lua", {});
   CHECK_THROWS_WITH(protect.rules().divides(c, 0), Contains("protected metatable"));
@@ -466,6 +469,14 @@ TEST_CASE("a field of another split direction is refused, not dropped unseen", "
              Contains(":2: division.axis has no effect with direction = \"random\""));
   CHECK_THAT(load_error("disc { radius = 2 }\ndivision { direction = 'axis', centre = {5, 5, 5} }\n"),
              Contains(":2: division.centre has no effect with direction = \"axis\""));
+  // a --set that chose the direction (it cannot remove the script's fields): noted, and the run goes on
+  const auto set =
+      load("disc { radius = 2 }\ndivision { direction = 'circumferential', axis = {0, 0, 1}, centre = {0, 0, 0} }\n",
+           {{"division.direction", "radial"}});
+  CHECK(set.scene.cells.division.direction == cellform::cells::SplitDirection::radial);
+  REQUIRE(set.notes.size() == 1);
+  CHECK_THAT(set.notes[0], Contains("--set division.direction=radial: division.axis has no effect with direction = "
+                                    "\"radial\""));
   CHECK_THAT(
       load_error("disc { radius = 2 }\ndivision { direction = function(c) return {1, 0, 0} end, axis = {0, 1, 0} }\n"),
       Contains("division.axis has no effect with direction = a function"));
