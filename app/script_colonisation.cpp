@@ -201,7 +201,7 @@ void finish_colonisation(Impl& I) {
                        "\" grows a leaf blade; a volume{...} or surface{...} does not grow (leave growth out or "
                        "set it to \"none\")");
   if (!spec.length_given.empty())
-    throw InvalidInput(at + "colonisation." + spec.length_given +
+    throw InvalidInput(I.value_at("colonisation." + spec.length_given, at) + "colonisation." + spec.length_given +
                        " sizes a growing leaf blade; a volume{...} or surface{...} keeps its own size (leave it out)");
   p.growth = venation::GrowthMode::none;
   p.initial_scale = p.final_scale = 1;
