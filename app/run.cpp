@@ -375,7 +375,22 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     fs::remove_all(staging, ec);
     remove_empty_up_to(dir, created);
   });
+  const auto write_frame = [&](const cells::Cells& c, std::uint64_t step) {
+    const std::string name = "frames/" + exporters::frame_name("cells", step, "ply");
+    core::ensure_directory(staging / "frames");
+    exporters::write_cells_ply(staging / name, c, cells::triangulate(c));
+    outputs.push_back(name);
+    frame_steps.push_back(step);
+  };
   try {
+    if (cfg.output.every > 0 && sim.step_count() == 0 && first < target) {
+      // the first frame, of the cells as placed: linked on a copy (the first step links them itself; linking
+      // them here would change the run)
+      cells::Cells placed = sim.cells();
+      core::PointGrid grid;
+      cells::update_links(placed, sim.params(), grid, sim.threads());
+      write_frame(placed, 0);
+    }
     const auto& links = sim.cells().links;
     if (first >= target && std::all_of(links.begin(), links.end(), [](core::Index l) { return l == core::kNoIndex; })) {
       // no step will run (run{steps = 0}): the links the first step would make, for the surface and the print
@@ -416,13 +431,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       sim_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
       const std::uint64_t step = sim.step_count();
       progress.update(step, sim.cells().size());
-      if (cfg.output.every > 0 && step % cfg.output.every == 0) {  // asked for, whatever output.ply says of the end
-        const std::string name = "frames/" + exporters::frame_name("cells", step, "ply");
-        core::ensure_directory(staging / "frames");
-        exporters::write_cells_ply(staging / name, sim.cells(), cells::triangulate(sim.cells()));
-        outputs.push_back(name);
-        frame_steps.push_back(step);
-      }
+      if (cfg.output.every > 0 && step % cfg.output.every == 0)  // asked for, whatever output.ply says of the end
+        write_frame(sim.cells(), step);
       if (step < target && checkpoints.due(step))
         saved = periodic_checkpoint(checkpoint_now, err, checkpoint_warned) || saved;
     }

@@ -277,7 +277,8 @@ std::vector<Field> build() {
       boolean("output", "ply", "true", "write cells.ply (cells, triangles, links, per-cell attributes) and veins.ply"));
   f.push_back(boolean("output", "obj", "true", "write cells.obj (the cell surface) and veins.obj"));
   f.push_back(integer("output", "every", "0", 0, 1e9, "steps",
-                      "cell runs: also write frames/cells_NNNNNN.ply every this many steps (0 = none)"));
+                      "cell runs: also write frames/cells_NNNNNN.ply of the cells as placed (step 0) and every this "
+                      "many steps (0 = none)"));
   f.push_back(integer("output", "checkpoint_every", "1000", 0, 1e9, "steps",
                       "write checkpoint.cfck every this many steps (0 = only at the end)"));
   f.push_back(num("output", "checkpoint_seconds", "60", 0, 1e9, false, "s",

@@ -202,6 +202,18 @@ TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {
     REQUIRE(cli({"run", script.string(), "--out", out3.string(), "--quiet", "--set", "output.every=10"}).code == 0);
     for (const char* f : {"frames/cells_000010.ply", "frames/cells_000020.ply", "frames/cells_000030.ply"})
       CHECK(fs::exists(out3 / f));
+    // the first frame is of the cells as placed, with their surface; writing frames changes nothing else
+    const fs::path out4 = t.path / "out4";
+    REQUIRE(cli({"run", script.string(), "--out", out4.string(), "--quiet", "--seed", "4", "--set", "size=300", "--set",
+                 "output.every=10"})
+                .code == 0);
+    CHECK(slurp(out4 / "cells.ply") == slurp(out / "cells.ply"));
+    const std::string first = slurp(out4 / "frames/cells_000000.ply");
+    const std::size_t faces = first.find("element face ");
+    REQUIRE(faces != std::string::npos);
+    CHECK(std::stoul(first.substr(faces + 13)) > 0);
+    CHECK(first.find("element vertex " + std::to_string(run["cells"]["initial"].get<int>()) + "\n") !=
+          std::string::npos);
     // a re-run without frames removes the old frames
     REQUIRE(cli({"run", script.string(), "--out", out3.string(), "--quiet"}).code == 0);
     CHECK_FALSE(fs::exists(out3 / "frames/cells_000010.ply"));

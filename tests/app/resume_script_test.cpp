@@ -76,7 +76,8 @@ TEST_CASE("a run stopped by a script error goes on from its checkpoint with the 
   CHECK_THAT(run["error"].get<std::string>(), Contains("broken.lua:2: division.rule must return true or false"));
   CHECK(run["steps"]["completed"] == 20);
   CHECK(run["steps"]["failed"] == 25);
-  CHECK(run["outputs"] == nlohmann::json::array({"frames/cells_000010.ply", "frames/cells_000020.ply", "run.json"}));
+  CHECK(run["outputs"] == nlohmann::json::array({"frames/cells_000000.ply", "frames/cells_000010.ply",
+                                                 "frames/cells_000020.ply", "run.json"}));
   CHECK(fs::exists(out / "frames/cells_000020.ply"));
   CHECK_FALSE(fs::exists(out / "frames/cells_000030.ply"));
   CHECK_FALSE(fs::exists(out / "cells.ply"));  // the failed step's cells are not the run's
@@ -219,7 +220,7 @@ TEST_CASE(
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("short.lua:3: run.steps = 15 is below the checkpoint's step 45"));
   // no frames asked for any more, but those of the run up to its checkpoint stay its outputs
-  CHECK(run["outputs"].size() == 5);  // cells.ply, cells.obj, run.json, frames 10 and 20
+  CHECK(run["outputs"].size() == 6);  // cells.ply, cells.obj, run.json, frames 0, 10 and 20
   CHECK(fs::exists(out / "frames/cells_000020.ply"));
   // a petiole the edited script moves is not placed again, and the resume says so
   t.write("out/checkpoint.cfck", at20);
