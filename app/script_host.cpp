@@ -151,7 +151,7 @@ ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
   }
   lua_pushcfunction(L, api_params);
   lua_setglobal(L, "params");
-  // the cell table, one for every call: read-only, or a field a rule wrote would reach the next cell
+  // the cell table, one for every call: no field may be added (it would reach the next cell)
   lua_newtable(L);
   lua_newtable(L);
   lua_pushcfunction(L, [](lua_State* S) -> int {  // (no C++ object lives here: lua_error longjmps)
