@@ -54,10 +54,11 @@ const char* const kRunUsage =
     "                          the checkpoint it replaces is kept as checkpoint-stepN.cfck\n"
     "  --quiet                 no progress output\n"
     "\n"
-    "Outputs: cells.ply, cells.obj (space colonisation: veins.ply, veins.obj, veins.svg), run.json\n"
-    "(everything needed to reproduce the run) and checkpoint.cfck in the output directory. Ctrl-C stops\n"
-    "after the current step, writes the outputs and a checkpoint; `cellform resume DIR/checkpoint.cfck`\n"
-    "(or `cellform resume DIR`) continues to the identical result.\n";
+    "Outputs: cells.ply, cells.obj (with venation{} also veins.ply, veins.obj; space colonisation instead\n"
+    "veins.ply, veins.obj and, in a leaf, veins.svg), printable.stl and the other formats print{} asks\n"
+    "for, run.json (everything needed to reproduce the run) and checkpoint.cfck in the output directory.\n"
+    "Ctrl-C stops after the current step, writes the outputs and a checkpoint; `cellform resume\n"
+    "DIR/checkpoint.cfck` (or `cellform resume DIR`) continues to the identical result.\n";
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;

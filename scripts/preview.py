@@ -65,13 +65,15 @@ def read_ply(path):
     return out
 
 
-def top_view(fig, cells, v, out_dir, png):  # noqa: C901
+def top_view(fig, cells, v, bounds, out_dir, png):  # noqa: C901
     """Orthographic view from +z: the sheet in green, veins in brown with widths by radius."""
     from matplotlib.collections import LineCollection, PolyCollection
     ax = fig.add_subplot()
     polys = [[v[i][:2] for i in f["vertex_indices"]] for f in cells.get("face", [])]
     ax.add_collection(PolyCollection(polys, facecolor=(0.6, 0.8, 0.5, 0.5), edgecolor=(0.3, 0.5, 0.3, 0.3),
                                      linewidths=0.2))
+    xs, ys, _ = zip(*bounds)
+    points_per_unit = 0.9 * 72 * fig.get_figwidth() / max(max(xs) - min(xs) + 2, max(ys) - min(ys) + 2)
     veins = out_dir / "veins.ply"
     if veins.exists():
         g = read_ply(veins)
@@ -80,9 +82,8 @@ def top_view(fig, cells, v, out_dir, png):  # noqa: C901
         for e in g.get("edge", []):
             a, b = vv[e["vertex1"]], vv[e["vertex2"]]
             segs.append([(a["x"], a["y"]), (b["x"], b["y"])])
-            widths.append(0.5 + 8 * min(a["radius"], b["radius"]))
+            widths.append(max(0.3, 2 * min(a["radius"], b["radius"]) * points_per_unit))
         ax.add_collection(LineCollection(segs, colors=[(0.45, 0.1, 0.05)], linewidths=widths, capstyle="round"))
-    xs, ys, _ = zip(*v)
     ax.set_xlim(min(xs) - 1, max(xs) + 1)
     ax.set_ylim(min(ys) - 1, max(ys) + 1)
     ax.set_aspect("equal")
@@ -104,15 +105,28 @@ def main():
             args.append(a)
     out_dir = Path(args[0])
     png = Path(args[1]) if len(args) > 1 else out_dir / "preview.png"
-    cells = read_ply(out_dir / "cells.ply")
+    # a cell run has cells.ply (and veins.ply with venation{}); space colonisation in a leaf or a volume
+    # has only veins.ply
+    if not (out_dir / "cells.ply").exists() and not (out_dir / "veins.ply").exists():
+        sys.exit(f"preview.py: '{out_dir}' holds neither cells.ply nor veins.ply: give a cellform output folder")
+    cells = read_ply(out_dir / "cells.ply") if (out_dir / "cells.ply").exists() else {"vertex": []}
     v = [(r["x"], r["y"], r["z"]) for r in cells["vertex"]]
     faces = [[v[i] for i in f["vertex_indices"]] for f in cells.get("face", [])]
+    if (out_dir / "veins.ply").exists():  # the view's bounds hold the veins too
+        vein_points = [(r["x"], r["y"], r["z"]) for r in read_ply(out_dir / "veins.ply")["vertex"]]
+    else:
+        vein_points = []
+    bounds = v + vein_points or [(0.0, 0.0, 0.0)]
     fig = plt.figure(figsize=(8, 8), dpi=int(opts.get("--dpi", 100)))
     if "--top" in opts:
-        return top_view(fig, cells, v, out_dir, png)
+        return top_view(fig, cells, v, bounds, out_dir, png)
     ax = fig.add_subplot(projection="3d")
     ax.add_collection3d(Poly3DCollection(faces, facecolor=(0.55, 0.75, 0.45, 0.55), edgecolor=(0.2, 0.35, 0.2, 0.25),
                                          linewidths=0.2))
+    xs, ys, zs = zip(*bounds)
+    c = [(max(t) + min(t)) / 2 for t in (xs, ys, zs)]
+    r = max(max(t) - min(t) for t in (xs, ys, zs)) / 2 or 1
+    points_per_unit = 0.9 * 72 * fig.get_figwidth() / (2 * r)  # about: the view is a cube of side 2 r
     veins = out_dir / "veins.ply"
     if veins.exists():
         g = read_ply(veins)
@@ -120,10 +134,7 @@ def main():
         for e in g.get("edge", []):
             a, b = vv[e["vertex1"]], vv[e["vertex2"]]
             ax.plot([a["x"], b["x"]], [a["y"], b["y"]], [a["z"], b["z"]], color=(0.45, 0.1, 0.05),
-                    linewidth=0.4 + 6 * min(a["radius"], b["radius"]))
-    xs, ys, zs = zip(*v)
-    c = [(max(t) + min(t)) / 2 for t in (xs, ys, zs)]
-    r = max(max(t) - min(t) for t in (xs, ys, zs)) / 2 or 1
+                    linewidth=max(0.3, 2 * min(a["radius"], b["radius"]) * points_per_unit))
     ax.set_xlim(c[0] - r, c[0] + r)
     ax.set_ylim(c[1] - r, c[1] + r)
     ax.set_zlim(c[2] - r, c[2] + r)

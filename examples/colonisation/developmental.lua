@@ -6,7 +6,7 @@
 -- vertical rate REG_y = 1 + g_y falls from the base to the tip (basipetal growth) and the horizontal rate
 -- REG_x = 1 + g_x peaks below the middle, scaled so that the leaf grows from L_i to exactly L_f in
 -- `steps` steps and its width to `roundness` times its length (Appendix A: x_t = x_0 REG_x(y0)^t,
--- y_t = integral_0^y0 REG_y(y)^t dy, Eq. 4). This is the paper's full size (about 1.4 s).
+-- y_t = integral_0^y0 REG_y(y)^t dy, Eq. 4). This is the paper's full size (under 1 s).
 -- `scale` multiplies L_i and L_f (the shape of growth stays).
 
 local P = params {

@@ -4,7 +4,7 @@
 -- by Delta L = 11 per step, rho = 40 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
 -- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
--- 1 / scale^2): the default, scale = 0.2, grows the leaf from 220 to 1100 (about 1.5 s here);
+-- 1 / scale^2): the default, scale = 0.2, grows the leaf from 220 to 1100 (under 1 s here);
 -- `--set scale=1` gives the paper's size.
 -- Larger scales are much slower: the margin outruns the veins and sources pile up (scale = 1 had not
 -- finished after 200 s).

@@ -4,9 +4,9 @@
 -- by Delta L = 9 per step, rho = 200 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
 -- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
--- 1 / scale^2): the default, scale = 0.2, grows the leaf from 23 to 700 (about 5 s here);
--- `--set scale=1` gives the paper's size: 3.9 million nodes, the veins in about 3.5 minutes on 2 cores and
--- the whole run with its print in about 4.5 (see docs/benchmarks.md).
+-- 1 / scale^2): the default, scale = 0.2, grows the leaf from 23 to 700 (about 2 s here);
+-- `--set scale=1` gives the paper's size: 3.9 million nodes, the veins in 2.5 to 3.5 minutes on 2 cores
+-- (the machine's load varies) and the whole run with its print about a minute more (see docs/benchmarks.md).
 
 local P = params {
   neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (here not faster: exact reuses sector bests)
@@ -31,8 +31,8 @@ colonisation {
   max_nodes = 5000000,  -- the full size grows 3.9 million nodes; the default limit stops at 2 million
 }
 
--- The reticulum is finer than a print can be at 120 mm: veins b_s = 2 segments apart are 0.34 mm apart
--- at the default scale (0.03 mm at full size), under the 0.4 mm printable radius, so the leaf prints as a
+-- The reticulum is finer than a print can be at 120 mm: veins b_s = 2 segments apart are 0.33 mm apart
+-- at the default scale (about 0.07 mm at full size), under the 0.4 mm printable radius, so the leaf prints as a
 -- closed plate with pinholes (a lattice needs a print several times larger). At full size
 -- 4.45 million segments thicken in about 47 s with 3 GB at the peak; the estimate before thickening says
 -- 4.5 GB, above the default limit of 2000 MB, hence max_memory.
