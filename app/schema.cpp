@@ -1,6 +1,7 @@
 // The parameter table of the script API.
 #include "app/schema.h"
 
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -146,7 +147,8 @@ std::vector<Field> build() {
                   "that joins between forks"));
   f.push_back(num("venation", "radius_scale", "0.05", 0, kInf, true, "model units",
                   "radius of a vein carrying unit flow: r = radius_scale * flow^(1/n)"));
-  f.push_back(num("venation", "min_radius", "0.05", 0, kInf, false, "model units", "no vein is thinner"));
+  f.push_back(num("venation", "min_radius", "0.05", 0, std::numeric_limits<float>::max(), false, "model units",
+                  "no vein is thinner (the files keep radii as 32-bit numbers)"));
   f.push_back(integer("venation", "every", "1", 1, 1e6, "steps",
                       "run canalisation every this many steps (auxin is slower than mechanics)"));
 

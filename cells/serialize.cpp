@@ -3,6 +3,7 @@
 
 #include "core/errors.h"
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -90,9 +91,12 @@ Cells load(const std::string& bytes, const std::string& what) {
   for (std::uint64_t a = 0; a < attributes; ++a) {
     std::string name = r.get_string();
     auto values = r.get_vector<double>();
-    if (values.size() != n)
-      throw bad("attribute '" + core::printable(name.substr(0, 64)) + (name.size() > 64 ? "..." : "") +
-                "' has the wrong length");
+    const std::string shown = core::printable(name.substr(0, 64)) + (name.size() > 64 ? "..." : "");
+    if (values.size() != n) throw bad("attribute '" + shown + "' has the wrong length");
+    // every attribute (auxin flow, its direction, vein radius and order) is finite in a state a run
+    // wrote; a NaN flow would leave a cell next to a vein without a downstream choice
+    for (const double v : values)
+      if (!std::isfinite(v)) throw bad("non-finite value of attribute '" + shown + "'");
     c.attributes[std::move(name)] = std::move(values);
   }
   if (!r.done()) throw bad("trailing data");

@@ -28,7 +28,8 @@ void validate(const Params& p) {
        "a number from 1 to 4", p.murray_exponent);
   need(std::isfinite(p.radius_scale) && p.radius_scale > 0, "radius_scale", "a number > 0 (model units)",
        p.radius_scale);
-  need(std::isfinite(p.min_radius) && p.min_radius >= 0, "min_radius", "a number >= 0 (model units)", p.min_radius);
+  need(std::isfinite(p.min_radius) && p.min_radius >= 0 && p.min_radius <= std::numeric_limits<float>::max(),
+       "min_radius", "a number from 0 to 3.4e38 (model units; the files keep radii as 32-bit numbers)", p.min_radius);
   need(p.every >= 1, "every", "a whole number >= 1 (steps)", p.every);
 }
 
@@ -191,7 +192,7 @@ void search(const Cells& c, const Source& src, Workspace& w) {
     }
     const Index x = queue[head++];
     Index best = kNoIndex;
-    double best_key = -1;
+    double best_key = -std::numeric_limits<double>::infinity();  // any flow a state holds beats it
     auto consider = [&](Index m) {
       if (key[m] > best_key || (key[m] == best_key && m < best)) {
         best = m;
@@ -428,6 +429,18 @@ Report run(Cells& c, const Params& p, const Source& src, bool uniform, Workspace
   return report;
 }
 
+/// Refuses a radius_scale that makes the Murray radius of `max_flow` (no cell's flow exceeds the total
+/// source) overflow the files' 32-bit radii.
+void check_radius_range(double max_flow, const Params& p) {
+  const double r = murray_radius(max_flow, p);
+  if (!(r <= kMaxFlow))
+    throw core::InvalidInput("venation.radius_scale (" + core::number_text(p.radius_scale) +
+                             ") gives vein radii up to " + core::number_text(r) + " for the flow of " +
+                             core::number_text(max_flow) +
+                             " this step can carry (the files keep radii as 32-bit numbers, at most 3.4e38); "
+                             "use a smaller radius_scale");
+}
+
 }  // namespace
 
 Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Workspace& w, int threads) {
@@ -444,6 +457,7 @@ Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Worksp
       throw core::InvalidInput("venation.source (" + core::number_text(s) + ") times " + std::to_string(n) +
                                " cells overflows the flow (the files keep flows as 32-bit numbers, at most 3.4e38); "
                                "use a smaller source strength");
+    check_radius_range(s * static_cast<double>(n), p);
     return run(
         c, p, [s](std::size_t) { return s; }, true, w, threads);
   }
@@ -464,6 +478,7 @@ Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Worksp
           std::to_string(c.id[i]) + ", which gave " + core::number_text(s) + "; use smaller source strengths");
     src[i] = s;
   }
+  check_radius_range(total, p);
   const double* s = src.data();
   return run(
       c, p, [s](std::size_t i) { return s[i]; }, false, w, threads);

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "cells/simulation.h"
 #include "core/errors.h"
@@ -72,6 +73,13 @@ TEST_CASE("damaged bytes throw FileError naming the source", "[serialize]") {
   Cells nan = c;
   nan.position[4].y() = std::nan("");
   CHECK_THROWS_WITH(load(save(nan), "nan.bin"), Catch::Matchers::Contains("non-finite cell position"));
+  // so is a non-finite attribute (a run writes finite flows, radii and orders only)
+  for (const double v : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+    Cells flow = c;
+    attribute(flow, "flow", 1.0)[5] = v;
+    CHECK_THROWS_WITH(load(save(flow), "flow.bin"),
+                      Catch::Matchers::Contains("flow.bin is corrupt (non-finite value of attribute 'flow')"));
+  }
   // a next id no run reaches would wrap the ids of the cells born after it (and repeat the first ones)
   Cells wrap = c;
   wrap.next_id = ~std::uint64_t{0};

@@ -150,6 +150,27 @@ TEST_CASE("flow is conserved into several petioles and the veins form a forest",
   CHECK(roots.size() == 2);
 }
 
+TEST_CASE("negative vein flows in a state still give every cell its downstream choice", "[venation]") {
+  // a run writes flows >= 0, but a forged checkpoint may hold any finite value; the first layer's choice
+  // reads the vein nodes' last flows and must still pick one of them (it once picked none: a wild index)
+  cells::Cells c = leaf(12, 12);
+  venation::Params p;
+  p.threshold = 8;
+  grow(c, p, 10);
+  auto& flow = c.attributes.at(venation::kFlow);
+  std::size_t veins = 0;
+  for (std::size_t i = 0; i < c.size(); ++i)
+    if (c.type[i] != CellType::general) {
+      flow[i] = -5.0 - static_cast<double>(i);
+      ++veins;
+    }
+  REQUIRE(veins > 3);
+  venation::Workspace ws;
+  const auto r = venation::canalise(c, p, {}, ws);
+  CHECK(r.total_source == static_cast<double>(c.size()));
+  CHECK(r.petiole_inflow == r.total_source);
+}
+
 TEST_CASE("Murray radii satisfy r_parent^n = sum of r_child^n over every inflow", "[venation]") {
   for (double n : {2.0, 3.0}) {
     cells::Cells c = leaf(20, 20);
@@ -241,6 +262,18 @@ TEST_CASE("bad input is refused with a clear message", "[venation]") {
   CHECK_THROWS_WITH(venation::canalise(c, big, {}, ws), Contains("venation.source") && Contains("32-bit"));
   big.source = 1e30;  // five cells: 5e30, well inside
   CHECK_NOTHROW(venation::canalise(c, big, {}, ws));
+  // radii beyond the files' 32-bit numbers: a minimum radius refused at once, a scale when a flow needs it
+  p = {};
+  p.min_radius = 1e39;
+  CHECK_THROWS_WITH(venation::validate(p), Contains("venation.min_radius") && Contains("3.4e38"));
+  p.min_radius = 3e38;
+  CHECK_NOTHROW(venation::validate(p));
+  venation::Params wide;
+  wide.radius_scale = 1e300;
+  CHECK_THROWS_WITH(venation::canalise(c, wide, {}, ws), Contains("venation.radius_scale") && Contains("32-bit"));
+  wide.radius_scale = 1e30;  // five cells: 5^(1/3) 1e30
+  CHECK_NOTHROW(venation::canalise(c, wide, {}, ws));
+  CHECK(attr(c, venation::kRadius)[0] <= std::numeric_limits<float>::max());
 }
 
 // ---------------------------------------------------------------------------------------------------
