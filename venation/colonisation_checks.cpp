@@ -52,6 +52,12 @@ void validate(const ColonisationParams& p) {
                            " per step over colonisation.growth_steps = " + std::to_string(p.growth_steps) +
                            " would grow the leaf more than a millionfold along that axis; use rates nearer 1 or "
                            "fewer steps");
+      const double bottom = *std::min_element(f->rate.begin(), f->rate.end());
+      if (-std::log(bottom) * static_cast<double>(p.growth_steps) > std::log(detail::kMaxNonuniformGrowth))
+        throw InvalidInput(n + ": a rate of " + number_text(bottom) +
+                           " per step over colonisation.growth_steps = " + std::to_string(p.growth_steps) +
+                           " would shrink the leaf more than a millionfold along that axis; use rates nearer 1 or "
+                           "fewer steps");
     }
   } else if (p.growth != GrowthMode::none) {
     if (!(p.final_scale >= p.initial_scale && std::isfinite(p.final_scale)))

@@ -294,6 +294,12 @@ TEST_CASE("nonuniform anisotropic growth (Appendix A) moves veins with the blade
                     Contains("colonisation.growth_y") && Contains("millionfold"));
   bad.growth_y = {{0, 1}, {1.2, 1.2}};  // 1.2^60 = 5.6e4: allowed
   CHECK_NOTHROW(v::Colonisation(ellipse_leaf(10, 6), bad));
+  // and rates that would shrink it a millionfold (to a point, as far as the outline can tell)
+  bad.growth_x = {{0, 1}, {1e-300, 1e-300}};
+  CHECK_THROWS_WITH(v::Colonisation(ellipse_leaf(10, 6), bad),
+                    Contains("colonisation.growth_x") && Contains("shrink the leaf more than a millionfold"));
+  bad.growth_x = {{0, 1}, {0.85, 0.85}};  // 0.85^60 = 5.9e-5: allowed
+  CHECK_NOTHROW(v::Colonisation(ellipse_leaf(10, 6), bad));
 }
 
 TEST_CASE("several seed nodes give a forest (grass-like parallel veins)", "[colonisation]") {
