@@ -174,7 +174,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       if (s.script_unchanged)
         err << "cellform: note: " << o.replace_script->string()
             << " is the script the checkpoint keeps, unchanged: this is a plain resume\n";
-      if (s.script_replaced) adopt_edited_script(s, o, cfg, err);
+      // (a script of the other kind is refused below: nothing to compare it with)
+      const bool same_kind = cfg.colonisation.has_value() == (!s.colonisation_bytes.empty() || s.sheet_partial);
+      if (s.script_replaced && same_kind) adopt_edited_script(s, o, cfg, err);
       // a resumed cell run steps with the values it was saved with, whatever the defaults are now: the
       // script is read again with those that changed set
       // (a run stopped while its cell sheet grew too: the rest of the sheet grows with the saved values)

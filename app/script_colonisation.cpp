@@ -10,8 +10,8 @@ namespace {
 void one_domain(Impl& I, const std::string& section, const std::string& at) {
   for (const std::string other : {"leaf", "volume", "surface"})
     if (other != section && I.sections_seen.count(other))
-      throw InvalidInput(at + section + "{...}: the veins already grow in " + other + "{...} (at " +
-                         I.sections_seen[other] + "); a script has one of leaf{}, volume{} and surface{}");
+      throw InvalidInput(at + section + "{...}: the veins already grow in " + other + "{...} (at " + I.seen_at(other) +
+                         "); a script has one of leaf{}, volume{} and surface{}");
 }
 
 /// The seeds = {{x, y, z}, ...} field of the section table at stack index 1 (also one point {x, y, z}).

@@ -21,7 +21,14 @@ using Tri = std::array<std::uint32_t, 3>;
 namespace {
 
 [[noreturn]] void malformed(const std::filesystem::path& path, const std::string& what) {
-  throw core::FileError(path.string() + ": " + what);
+  throw core::FileError(path.string() + ": " + core::printable(what));  // `what` may quote the file's bytes
+}
+
+bool known_ply_type(const std::string& t) {
+  for (const char* k : {"char", "uchar", "int8", "uint8", "short", "ushort", "int16", "uint16", "int", "uint", "float",
+                        "int32", "uint32", "float32", "double", "float64"})
+    if (t == k) return true;
+  return false;
 }
 
 PrintableMesh weld_soup(std::vector<Vec3> corners) {  // 3 corners per triangle -> indexed, exact welding
@@ -127,14 +134,14 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
   std::size_t end = s.find("end_header");
   if (s.rfind("ply", 0) != 0 || end == std::string::npos) malformed(path, "not a PLY file");
   std::istringstream head(s.substr(0, end));
-  std::string line, format;
+  std::string line, format, format_version;
   std::vector<Element> elements;
   while (std::getline(head, line)) {
     std::istringstream ls(line);
     std::string w;
     ls >> w;
     if (w == "format")
-      ls >> format;
+      ls >> format >> format_version;
     else if (w == "element") {
       elements.push_back({});
       std::string count;
@@ -153,6 +160,10 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
       elements.back().props.push_back(p);
     }
   }
+  for (const Element& e : elements)  // ASCII data would read under any type name: checked for both forms
+    for (const Property& p : e.props)
+      for (const std::string& t : {p.type, p.count_type})
+        if (!t.empty() && !known_ply_type(t)) malformed(path, "unknown PLY property type '" + t + "'");
   for (const Element& e : elements)  // a vertex without one of x, y, z would silently sit at 0 there
     if (e.name == "vertex")
       for (const char* axis : {"x", "y", "z"})
@@ -161,6 +172,8 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
   const bool ascii = format == "ascii";
   if (!ascii && format != "binary_little_endian")
     malformed(path, "PLY format '" + format + "' is not supported (ascii or binary_little_endian)");
+  if (format_version != "1.0")  // the only PLY version there is; another may lay out its data otherwise
+    malformed(path, "PLY version '" + format_version + "' is not supported (1.0)");
   std::size_t at = s.find('\n', end);
   if (at == std::string::npos) malformed(path, "PLY header not terminated");
   ++at;

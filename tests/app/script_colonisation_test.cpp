@@ -124,7 +124,7 @@ TEST_CASE("volume{} and surface{} give space colonisation a 3-D domain", "[scrip
   CHECK_THAT(load_error("volume { box = { min = {0, 0, 0}, max = {1, 1, 1} }, seeds = {{0, 0}} }\n"),
              Contains("volume.seeds") && Contains("entry 1"));
   CHECK_THAT(load_error("volume { ball = { radius = 2 } }\nleaf {}\ncolonisation {}\n"),
-             Contains("test/leaf.lua:2:") && Contains("already grow in volume"));
+             Contains("test/leaf.lua:2:") && Contains("already grow in volume{...} (at test/leaf.lua:1);"));
   CHECK_THAT(load_error("volume { ball = { radius = 2 } }\n"), Contains("needs colonisation{...}"));
   CHECK_THAT(load_error("surface {}\ncolonisation {}\n"), Contains("either file"));
   CHECK_THAT(load_error("surface { cells = true }\ncolonisation {}\n"), Contains("place them with a shape"));

@@ -50,6 +50,13 @@ TEST_CASE("a script sets parameters, shapes and defaults", "[script]") {
 TEST_CASE("script errors name the file and line", "[script]") {
   SECTION("syntax error") { CHECK_THAT(load_error("cells {\n  spring = = 1 }\n"), Contains("test/leaf.lua:2:")); }
   SECTION("runtime error") { CHECK_THAT(load_error("\n\nlocal x = nil + 1\n"), Contains("test/leaf.lua:3:")); }
+  SECTION("an error a library function raises without a line") {
+    // a recursion through string.gsub overflows the C stack: Lua says so with no line of the script
+    CHECK_THAT(
+        load_error("local function f(n)\n  return string.gsub('x', 'x', function() return f(n + 1) end)\nend\nf(1)\n"),
+        StartsWith("test/leaf.lua:2: C stack overflow (a recursion too deep)"));
+    CHECK_THAT(load_error("error('bare', 0)\n"), StartsWith("test/leaf.lua:1: bare"));
+  }
   SECTION("misspelt parameter suggests the closest") {
     const std::string e = load_error("\ncells { sprng = 1 }\n");
     CHECK_THAT(e, Contains("test/leaf.lua:2:"));

@@ -24,5 +24,14 @@ TEST_CASE("printable escapes the bytes that would act on a terminal or cut a mes
   CHECK(printable("leaf.obj: 'v 1 2'") == "leaf.obj: 'v 1 2'");
   CHECK(printable(std::string("a\x1b[2Jb", 6)) == "a\\x1b[2Jb");
   CHECK(printable(std::string("x\0y\n\x7f", 5)) == "x\\x00y\\x0a\\x7f");
-  CHECK(printable("caf\xc3\xa9") == "caf\xc3\xa9");  // UTF-8 text stays
+  CHECK(printable("caf\xc3\xa9") == "caf\xc3\xa9");                                      // UTF-8 text stays
+  CHECK(printable("\xe2\x82\xac \xf0\x9f\x8c\xbf") == "\xe2\x82\xac \xf0\x9f\x8c\xbf");  // 3 and 4 bytes
+  // bytes outside well-formed UTF-8 are escaped: stray, cut short, overlong, a surrogate, beyond U+10FFFF
+  CHECK(printable("uch\xe1r") == "uch\\xe1r");
+  CHECK(printable("a\x80"
+                  "b") == "a\\x80b");
+  CHECK(printable("\xc3") == "\\xc3");
+  CHECK(printable("\xc0\xaf") == "\\xc0\\xaf");
+  CHECK(printable("\xed\xa0\x80") == "\\xed\\xa0\\x80");
+  CHECK(printable("\xf4\x90\x80\x80") == "\\xf4\\x90\\x80\\x80");
 }

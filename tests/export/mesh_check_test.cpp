@@ -429,6 +429,15 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
   std::ofstream(dir / "negative.ply") << negative << "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "negative.ply"),
                     Catch::Contains("count '-1'") && Catch::Contains("whole number"));
+  // a version other than 1.0, and a header's bytes that are no text (escaped, as in the OBJ messages)
+  std::string v2 = head;
+  v2.replace(v2.find("ascii 1.0"), 9, "ascii 2.0");
+  std::ofstream(dir / "v2.ply") << v2 << "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "v2.ply"), Catch::Contains("PLY version '2.0' is not supported (1.0)"));
+  std::string garbled = head;
+  garbled.replace(garbled.find("property float y"), 16, "property fl\xe1t y");
+  std::ofstream(dir / "garbled.ply") << garbled << "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "garbled.ply"), Catch::Contains("unknown PLY property type 'fl\\xe1t'"));
   {  // a binary STL announcing 2 triangles with room for 4, and one with none
     std::string stl(80, ' ');
     std::uint32_t n = 2;
