@@ -3,7 +3,6 @@
 #include "cells/surface.h"
 
 #include <algorithm>
-#include <deque>
 #include <limits>
 #include <set>
 #include <span>
@@ -498,32 +497,70 @@ Surface triangulate(const Cells& cells, bool one_layer) {
     return false;
   };
 
-  // Breadth-first walk over manifold edges (exactly two triangles): the neighbour must run the shared
-  // edge the other way. Seeds in index order keep their sorted orientation, so the result is deterministic.
+  // Orientation: a walk over manifold sides (exactly two triangles), each new triangle made to run the
+  // shared side the other way from the one it is reached from. Where a sheet cannot be oriented (its
+  // triangles overlap where it crowds or buckles, so that some cycle of them comes back flipped), the walk
+  // leaves a seam: two neighbours facing opposite ways. Flattest first (by the cosine between the two
+  // normals once the newcomer is made consistent, in kFlatLevels steps from -1 to 1; nearly a maximum
+  // spanning tree of the triangles' dual graph) puts every seam on about the sharpest fold of its cycle
+  // instead of in the middle of a flat sheet, where a breadth-first walk could meet itself. Seeds in index
+  // order keep their sorted orientation, and each level is first in, first out, so the result is
+  // deterministic.
+  std::vector<Vec3> unit_normal(tris.size());  // as each triangle runs now (negated when it is turned)
+  for (std::size_t t = 0; t < tris.size(); ++t) {
+    const auto& c = tris[t];
+    const Vec3 nv = (cells.position[c[1]] - cells.position[c[0]]).cross(cells.position[c[2]] - cells.position[c[0]]);
+    const double len = nv.norm();
+    unit_normal[t] = len > 0 ? Vec3(nv / len) : Vec3::Zero();
+  }
+  struct Reach {
+    std::size_t tri;  // the newcomer
+    Index u, v;       // the side as the reaching triangle runs it
+  };
+  constexpr int kFlatLevels = 64;
+  std::vector<std::vector<Reach>> level(kFlatLevels + 1);  // by flatness, each read from `head` on
+  std::vector<std::size_t> head(kFlatLevels + 1, 0);
+  int top = -1;  // no level above holds a Reach not yet read
   std::vector<std::uint8_t> seen(tris.size(), 0);
-  std::deque<std::size_t> queue;
   std::vector<std::size_t> component;  // the triangles the walk from one seed reached
+  auto reach_from = [&](std::size_t t) {
+    const Vec3 nt = unit_normal[t];
+    for (int k = 0; k < 3; ++k) {
+      const Index u = tris[t][k], v = tris[t][(k + 1) % 3];
+      const std::size_t e = edge_index(u, v);
+      if (inc_start[e + 1] - inc_start[e] != 2) continue;  // boundary or non-manifold side
+      for (std::size_t x = inc_start[e]; x < inc_start[e + 1]; ++x) {
+        const std::size_t o = incidence[x].second;
+        if (o == t || seen[o]) continue;
+        const double c = has_directed(o, u, v) ? -nt.dot(unit_normal[o]) : nt.dot(unit_normal[o]);
+        const int l = std::clamp(static_cast<int>((c + 1) * (kFlatLevels / 2)), 0, kFlatLevels);
+        level[static_cast<std::size_t>(l)].push_back({o, u, v});
+        top = std::max(top, l);
+      }
+    }
+  };
   for (std::size_t seed = 0; seed < tris.size(); ++seed) {
     if (seen[seed]) continue;
     seen[seed] = 1;
-    queue.push_back(seed);
-    component.clear();
-    while (!queue.empty()) {
-      const std::size_t t = queue.front();
-      queue.pop_front();
-      component.push_back(t);
-      for (int k = 0; k < 3; ++k) {
-        const Index u = tris[t][k], v = tris[t][(k + 1) % 3];
-        const std::size_t e = edge_index(u, v);
-        if (inc_start[e + 1] - inc_start[e] != 2) continue;  // boundary or non-manifold edge
-        for (std::size_t x = inc_start[e]; x < inc_start[e + 1]; ++x) {
-          const std::size_t o = incidence[x].second;
-          if (o == t || seen[o]) continue;
-          if (has_directed(o, u, v)) std::swap(tris[o][1], tris[o][2]);
-          seen[o] = 1;
-          queue.push_back(o);
-        }
+    component.assign(1, seed);
+    reach_from(seed);
+    while (top >= 0) {
+      const auto lt = static_cast<std::size_t>(top);
+      if (head[lt] == level[lt].size()) {  // drained: go down a level
+        level[lt].clear();
+        head[lt] = 0;
+        --top;
+        continue;
       }
+      const Reach r = level[lt][head[lt]++];
+      if (seen[r.tri]) continue;
+      if (has_directed(r.tri, r.u, r.v)) {
+        std::swap(tris[r.tri][1], tris[r.tri][2]);
+        unit_normal[r.tri] = -unit_normal[r.tri];
+      }
+      seen[r.tri] = 1;
+      component.push_back(r.tri);
+      reach_from(r.tri);
     }
     // Which side faces out: a piece that encloses a volume (closed, or nearly: small holes, filled below)
     // outward, by its signed volume about its centroid; an open sheet up (+z, then +y, then +x), by its

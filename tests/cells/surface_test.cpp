@@ -152,6 +152,26 @@ TEST_CASE("a crowded, crumpled grown sheet in one layer: at most two triangles o
     CHECK(across(third[0]).dot(across(third[1])) < 1e-9);  // at least 90 degrees apart
   }
   CHECK(two > c.size());  // still a sheet: most sides inside it
+  // where the crowded sheet cannot be oriented, the seams (two neighbours running their side the same way,
+  // so facing opposite ways) lie on creases: none where the two triangles meet nearly flat (150 degrees or
+  // more; a modeller would shade such a seam as a dark patch in a smooth sheet)
+  std::map<std::pair<Index, Index>, std::vector<Index>> directed;  // directed side -> third corners
+  for (const auto& t : one.triangles)
+    for (int k = 0; k < 3; ++k) directed[{t[k], t[(k + 1) % 3]}].push_back(t[(k + 2) % 3]);
+  std::size_t seams = 0, flat_seams = 0;
+  for (const auto& [side, third] : directed) {
+    if (third.size() != 2) continue;
+    ++seams;
+    const Vec3 &u = c.position[side.first], &v = c.position[side.second];
+    const Vec3 axis = (v - u).normalized();
+    auto across = [&](Index w) {
+      const Vec3 d = c.position[w] - u;
+      return Vec3(d - d.dot(axis) * axis).normalized();
+    };
+    flat_seams += across(third[0]).dot(across(third[1])) < -0.866;
+  }
+  INFO(seams << " seams");
+  CHECK(flat_seams == 0);
 }
 
 TEST_CASE("triangulate a relaxed simulated sheet: every edge has at most one triangle per direction", "[surface]") {
