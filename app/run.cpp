@@ -215,6 +215,14 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                                "corrected copy: cellform resume " +
                                o.checkpoint.string() + " --script EDITED.lua)");
     }
+    const bool colonisation_checkpoint = !s.colonisation_bytes.empty() || s.sheet_partial;
+    if (s.resume && cfg.colonisation.has_value() != colonisation_checkpoint)
+      throw core::InvalidInput("checkpoint '" + o.checkpoint.string() + "' is of a " +
+                               (colonisation_checkpoint ? "space-colonisation" : "cell") +
+                               (s.script_replaced ? " run, but --script " + s.script_path.string() + " describes a "
+                                                  : std::string(" run, but its script with these --set overrides now "
+                                                                "describes a ")) +
+                               (cfg.colonisation ? "space-colonisation" : "cell") + " run");
     seed = s.seed ? *s.seed : cfg.seed;
     host.set_seed(seed);  // math.random in rules: from the seed and the step
     if (cfg.resolved.contains("run")) cfg.resolved["run"]["seed"] = seed;  // run.json: the seed used (--seed too)
@@ -225,14 +233,6 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                        std::to_string(s.step) + "; raise it, or give --steps " + std::to_string(s.step) + " or more");
     // run.json: the steps this cell run goes to (--steps, or its checkpoint's, too)
     if (!cfg.colonisation && cfg.resolved.contains("run")) cfg.resolved["run"]["steps"] = target;
-    const bool colonisation_checkpoint = !s.colonisation_bytes.empty() || s.sheet_partial;
-    if (s.resume && cfg.colonisation.has_value() != colonisation_checkpoint)
-      throw core::InvalidInput("checkpoint '" + o.checkpoint.string() + "' is of a " +
-                               (colonisation_checkpoint ? "space-colonisation" : "cell") +
-                               (s.script_replaced ? " run, but --script " + s.script_path.string() + " describes a "
-                                                  : std::string(" run, but its script with these --set overrides now "
-                                                                "describes a ")) +
-                               (cfg.colonisation ? "space-colonisation" : "cell") + " run");
     if (cfg.colonisation) return run_colonisation(o, s, cfg, host, seed, out, err, t0);
     // the one default changed since checkpoints record their values: say so where it applies
     const json division = cfg.resolved.value("division", json::object());

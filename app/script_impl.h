@@ -226,20 +226,13 @@ struct ScriptHost::Impl {
       return script_name + ": precompiled (binary) Lua chunks are not allowed; give the script as source text";
     // coroutine.wrap passes an error on with its own "file:line: " in front of the one it has
     std::string msg = lua_message;
-    const std::size_t colon = located(msg);
-    if (colon == std::string::npos) return script_name + ": " + msg;  // raised where no line is known
-    const std::string where = msg.substr(0, colon + 2);
-    while (msg.compare(where.size(), where.size(), where) == 0) msg.erase(0, where.size());
-    return msg;
-  }
-
-  /// The position of ": " after a leading "file:line" in `msg`, or npos if it has none.
-  static std::size_t located(const std::string& msg) {
     const std::size_t colon = msg.find(": ");
-    const std::size_t line = colon == std::string::npos || colon == 0 ? std::string::npos : msg.rfind(':', colon - 1);
-    if (line != std::string::npos && line + 1 < colon && msg.find_first_not_of("0123456789", line + 1) == colon)
-      return colon;
-    return std::string::npos;
+    const std::size_t line = colon == std::string::npos ? colon : msg.rfind(':', colon - 1);
+    if (line != std::string::npos && line + 1 < colon && msg.find_first_not_of("0123456789", line + 1) == colon) {
+      const std::string where = msg.substr(0, colon + 2);
+      while (msg.compare(where.size(), where.size(), where) == 0) msg.erase(0, where.size());
+    }
+    return msg;
   }
 
   /// pcall with the instruction budget reset to `budget`; returns "" or the error message.
@@ -274,18 +267,14 @@ struct ScriptHost::Impl {
   /// number and a note of its type otherwise (Lua adds the line only to string messages).
   static int error_object_text(lua_State* L) {
     if (lua_type(L, 1) == LUA_TSTRING) {
-      // an error a library function raised with no line (a C stack overflow in a recursion through
-      // string.gsub, say) gets the line of the innermost script function running
-      if (located(lua_tostring(L, 1)) != std::string::npos) return 1;
+      // Lua says a C stack overflow (a recursion through string.gsub, say) without a line: the line of the
+      // innermost script function running is added
+      if (std::strcmp(lua_tostring(L, 1), "C stack overflow") != 0) return 1;
       for (int level = 1; level <= 32; ++level) {
         luaL_where(L, level);
         if (lua_rawlen(L, -1) > 0) {
-          lua_pushvalue(L, 1);
-          if (std::string(lua_tostring(L, -1)) == "C stack overflow")
-            lua_pushliteral(L, " (a recursion too deep)");
-          else
-            lua_pushliteral(L, "");
-          lua_concat(L, 3);
+          lua_pushliteral(L, "C stack overflow (a recursion too deep)");
+          lua_concat(L, 2);
           return 1;
         }
         lua_pop(L, 1);

@@ -533,7 +533,8 @@ Surface triangulate(const Cells& cells, bool one_layer) {
         const std::size_t o = incidence[x].second;
         if (o == t || seen[o]) continue;
         const double c = has_directed(o, u, v) ? -nt.dot(unit_normal[o]) : nt.dot(unit_normal[o]);
-        const int l = std::clamp(static_cast<int>((c + 1) * (kFlatLevels / 2)), 0, kFlatLevels);
+        // (a NaN, from coordinates so large the cross product overflows, goes to the lowest level)
+        const int l = c > -1 ? std::min(static_cast<int>((std::min(c, 1.0) + 1) * (kFlatLevels / 2)), kFlatLevels) : 0;
         level[static_cast<std::size_t>(l)].push_back({o, u, v});
         top = std::max(top, l);
       }

@@ -42,7 +42,8 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 
 namespace {
 /// Length of the well-formed UTF-8 sequence starting at text[i] (2 to 4 bytes), or 0 if there is none
-/// (a stray continuation byte, an overlong form, a surrogate, beyond U+10FFFF, or cut short).
+/// (a stray continuation byte, an overlong form, a surrogate, beyond U+10FFFF, or cut short) or it is a
+/// C1 control character.
 std::size_t utf8_sequence(std::string_view text, std::size_t i) {
   const auto byte = [&](std::size_t k) { return k < text.size() ? static_cast<unsigned char>(text[k]) : 0u; };
   const unsigned c = byte(i);
@@ -50,6 +51,7 @@ std::size_t utf8_sequence(std::string_view text, std::size_t i) {
   unsigned lo = 0x80, hi = 0xbf;  // the range of the second byte (tighter after E0, ED, F0, F4)
   if (c >= 0xc2 && c <= 0xdf) {
     len = 2;
+    if (c == 0xc2) lo = 0xa0;  // U+0080 to U+009F: the C1 controls (U+009B starts a terminal command)
   } else if (c >= 0xe0 && c <= 0xef) {
     len = 3;
     if (c == 0xe0) lo = 0xa0;

@@ -41,7 +41,8 @@ std::string error_text(const std::exception& e);
 
 /// `text` (a name or word read from a file) safe to show in a one-line message: control bytes, NUL and
 /// DEL become \xNN, so that a damaged file cannot clear a terminal, move its cursor or cut the message;
-/// so do bytes that are not part of well-formed UTF-8 (a binary file's header), which UTF-8 text keeps.
+/// so do bytes that are not part of well-formed UTF-8 (a binary file's header) and the C1 controls
+/// U+0080 to U+009F; other UTF-8 text stays.
 std::string printable(std::string_view text);
 
 /// Levenshtein distance; used to suggest the closest valid name for a misspelt one.

@@ -34,4 +34,7 @@ TEST_CASE("printable escapes the bytes that would act on a terminal or cut a mes
   CHECK(printable("\xc0\xaf") == "\\xc0\\xaf");
   CHECK(printable("\xed\xa0\x80") == "\\xed\\xa0\\x80");
   CHECK(printable("\xf4\x90\x80\x80") == "\\xf4\\x90\\x80\\x80");
+  CHECK(printable("\xc2\x9b"
+                  "2J") == "\\xc2\\x9b2J");    // U+009B, a terminal's CSI
+  CHECK(printable("\xc2\xa0") == "\xc2\xa0");  // U+00A0, text
 }
