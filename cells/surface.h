@@ -11,8 +11,11 @@ namespace cellform::cells {
 
 /// Triangles and edges of the cell sheet, indices into Cells.
 struct Surface {
-  std::vector<std::array<Index, 3>> triangles;  ///< oriented consistently across manifold edges where possible
-  std::vector<std::array<Index, 2>> edges;      ///< every link (i < j), including vein parent links
+  /// Oriented consistently across manifold edges where possible: each connected piece up (+z) if open, out
+  /// if closed; where overlapping triangles make a piece non-orientable, neighbours along a seam on its
+  /// sharpest creases face opposite ways.
+  std::vector<std::array<Index, 3>> triangles;
+  std::vector<std::array<Index, 2>> edges;  ///< every link (i < j), including vein parent links
 };
 
 /// Edges are pairs linked either way (or vein parent and child). Triangles are 3-cliques of that graph;
