@@ -55,7 +55,8 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
     num(h);
     out += "\">\n";
     if (!outline.points.empty()) {
-      out += "<path fill=\"#d8ecc0\" stroke=\"#4a7a2a\" stroke-width=\"";
+      // a line, not a filled shape: plotters draw it, laser cutters cut it (a fill they would engrave)
+      out += "<path fill=\"none\" stroke=\"#4a7a2a\" stroke-width=\"";
       num(sp.outline_stroke);
       out += "\" d=\"";
       for (std::size_t i = 0; i < outline.points.size(); ++i) {

@@ -75,8 +75,10 @@ TEST_CASE("the SVG is drawn in millimetres at svg size", "[vein_io]") {
   const std::vector<double> strokes = captured(svg, "stroke-width=\"([0-9.]+)\"");
   REQUIRE(strokes.size() == 3);
   CHECK(strokes[0] == Approx(sp.outline_stroke));
-  CHECK(strokes[1] == Approx(2 * 0.5 * 3));    // the midvein: 3 mm wide
-  CHECK(strokes[2] == Approx(sp.min_stroke));  // 0.06 mm drawn at the minimum
+  CHECK(svg.find("<path fill=\"none\" stroke=\"#4a7a2a\"") != std::string::npos);  // the outline: a line to cut
+  CHECK(svg.find("fill=\"#") == std::string::npos);  // nothing filled but the marked sources, of which none here
+  CHECK(strokes[1] == Approx(2 * 0.5 * 3));          // the midvein: 3 mm wide
+  CHECK(strokes[2] == Approx(sp.min_stroke));        // 0.06 mm drawn at the minimum
 
   // a given scale (a print's, mm per model unit) replaces the size
   sp.scale = 2;
