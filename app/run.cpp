@@ -158,6 +158,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   std::optional<FolderLock> lock;  // held until the run has written its last file
   try {
     s = start_from(o);
+    const bool colonisation_checkpoint = !s.colonisation_bytes.empty() || s.sheet_partial;
     try {
       // resume --script: the run's own --sets that the edited script has no parameter for are dropped
       std::set<std::string> may_go_unused;
@@ -175,8 +176,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         err << "cellform: note: " << o.replace_script->string()
             << " is the script the checkpoint keeps, unchanged: this is a plain resume\n";
       // (a script of the other kind is refused below: nothing to compare it with)
-      const bool same_kind = cfg.colonisation.has_value() == (!s.colonisation_bytes.empty() || s.sheet_partial);
-      if (s.script_replaced && same_kind) adopt_edited_script(s, o, cfg, err);
+      if (s.script_replaced && cfg.colonisation.has_value() == colonisation_checkpoint)
+        adopt_edited_script(s, o, cfg, err);
       // a resumed cell run steps with the values it was saved with, whatever the defaults are now: the
       // script is read again with those that changed set
       // (a run stopped while its cell sheet grew too: the rest of the sheet grows with the saved values)
@@ -215,7 +216,6 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                                "corrected copy: cellform resume " +
                                o.checkpoint.string() + " --script EDITED.lua)");
     }
-    const bool colonisation_checkpoint = !s.colonisation_bytes.empty() || s.sheet_partial;
     if (s.resume && cfg.colonisation.has_value() != colonisation_checkpoint)
       throw core::InvalidInput("checkpoint '" + o.checkpoint.string() + "' is of a " +
                                (colonisation_checkpoint ? "space-colonisation" : "cell") +

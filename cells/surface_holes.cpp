@@ -1,5 +1,7 @@
 // Small holes of the one-layer cell surface, closed by their shortest-diagonal triangulation.
 #include <algorithm>
+#include <cstdint>
+#include <limits>
 #include <set>
 
 #include "cells/surface_detail.h"
