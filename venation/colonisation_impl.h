@@ -73,7 +73,16 @@ class SourceGrid {
   }
 
  private:
-  long cx(double v) const { return static_cast<long>(std::floor(v / cell_)); }
+  // clamped, so that no coordinate and cell size (a birth distance of 1e-300, say) overflows a long; far
+  // points then share a cell, which costs time but not exactness (any_within compares distances)
+  long cx(double v) const {
+    constexpr double kMax = 0x1p40;
+    const double f = std::floor(v / cell_);
+    return f >= kMax    ? static_cast<long>(kMax)
+           : f <= -kMax ? -static_cast<long>(kMax)
+           : f == f     ? static_cast<long>(f)
+                        : 0;
+  }
   static std::uint64_t key(long x, long y, long z) {
     return core::mix64(static_cast<std::uint64_t>(x) * 0x9e3779b1ull ^ static_cast<std::uint64_t>(y) * 0x85ebca77ull ^
                        static_cast<std::uint64_t>(z) * 0xc2b2ae3dull);

@@ -72,3 +72,27 @@ TEST_CASE("the lazy-mode margin bound holds after any step the model allows, and
   // anchor's move left out) fails them
   CHECK(closest < 0.9 * D);
 }
+
+TEST_CASE("the source grid answers exactly for any cell size, 1e-300 and 1e300 included", "[colonisation]") {
+  // cells so small that floor(x / cell) leaves the range of a long (it overflowed: undefined behaviour)
+  // or so large that every source shares one cell: any_within must still equal brute force
+  core::Rng rng(5);
+  for (const double cell : {1e-300, 1e-12, 0.7, 1e300}) {
+    v::detail::SourceGrid grid;
+    grid.reset(cell);
+    std::vector<Vec3> pos;
+    for (int i = 0; i < 200; ++i) {
+      pos.emplace_back(rng.uniform(-20, 20), rng.uniform(-20, 20), i % 2 ? 0.0 : rng.uniform(-1e6, 1e6));
+      grid.insert(static_cast<core::Index>(i), pos.back());
+    }
+    for (int i = 0; i < 100; i += 3) grid.erase(static_cast<core::Index>(i), pos[static_cast<std::size_t>(i)]);
+    for (int q = 0; q < 500; ++q) {
+      const Vec3 p(rng.uniform(-20, 20), rng.uniform(-20, 20), q % 2 ? 0.0 : rng.uniform(-1e6, 1e6));
+      const double r = std::min(cell, rng.uniform(0, 3));
+      bool brute = false;
+      for (std::size_t i = 0; i < pos.size(); ++i)
+        brute |= (i >= 100 || i % 3 != 0) && (pos[i] - p).squaredNorm() <= r * r;
+      CHECK(grid.any_within(p, r * r, pos) == brute);
+    }
+  }
+}
