@@ -376,6 +376,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     // Index boxes of the primitives widened by the band; voxel (i, j, k) sits at (i, j, k) * voxel mm.
     const std::size_t nprim = cs.size() + ss.size();
     std::vector<Box> boxes(nprim);
+    double overlaps = 0;  // (leaf, primitive) pairs the gather will list
     const double max_index = static_cast<double>(kKeyOffset - 2) * (1 << kLeafLog2);
     for (std::size_t i = 0; i < nprim; ++i) {
       const Vec3& plo = i < cs.size() ? cs[i].lo : ss[i - cs.size()].lo;
@@ -386,7 +387,18 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
                                  " voxels from the origin; use a larger voxel size or a smaller scale");
       boxes[i].lo = openvdb::Coord(static_cast<int>(ilo.x()), static_cast<int>(ilo.y()), static_cast<int>(ilo.z()));
       boxes[i].hi = openvdb::Coord(static_cast<int>(ihi.x()), static_cast<int>(ihi.y()), static_cast<int>(ihi.z()));
+      const Vec3 leaves = (ihi - ilo).array() / (1 << kLeafLog2) + 2;  // at most, per axis
+      overlaps += leaves.prod();
     }
+    // the gather below lists every (leaf, primitive) overlap at once; the estimate above counts surface
+    // voxels only, and a shell or vein many voxels thick (1000 mm at 0.2 mm) overlaps far more leaves
+    if (estimate + overlaps * sizeof(LeafRef) > params.max_memory_bytes)
+      throw core::InvalidInput(
+          "thicken: at a voxel size of " + fmt("%.3g", voxel) + " mm the form's " + std::to_string(nprim) +
+          " pieces overlap about " + fmt("%.3g", overlaps) + " blocks of 8 x 8 x 8 voxels, which need " +
+          bytes_text(overlaps * sizeof(LeafRef)) + " of memory to list, more than the limit of " +
+          bytes_text(params.max_memory_bytes) +
+          " with the rest; a shell or veins this thick need a larger voxel size, or raise the memory limit");
 
     auto grid = openvdb::FloatGrid::create(bg);
     grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel));

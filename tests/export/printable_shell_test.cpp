@@ -219,3 +219,16 @@ TEST_CASE("a shell around a closed surface has a cavity, counted apart from the 
   // the pocket (the tetrahedron, 1000/6 mm^3, less the inner half of the walls) is now solid
   CHECK(solid_report.volume > hollow_report.volume + 50);
 }
+
+TEST_CASE("a shell far thicker than the voxel is refused by the memory limit before it is listed", "[printable]") {
+  // 1000 mm thick at 0.1 mm voxels: every slab overlaps about 1250^3 blocks of 8^3 voxels (31 GB to list;
+  // the surface estimate alone said a few MB, and the allocation failed after minutes)
+  const Shell shell{{Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(5, 8, 0)}};
+  ThickenParams p = exact(0.1);
+  p.shell_thickness = 1000;
+  p.close_holes = 0;
+  CHECK_THROWS_WITH(exporters::thicken({}, shell, p),
+                    Catch::Contains("blocks of 8 x 8 x 8 voxels") && Catch::Contains("more than the limit of 2.0 GB"));
+  p.shell_thickness = 20;  // 20 mm: about 40,000 blocks (under 1 MB to list)
+  CHECK_NOTHROW(exporters::voxelise({}, shell, p));
+}
