@@ -11,6 +11,24 @@ namespace {
 
 /// math.randomseed with a seed only: without one, Lua 5.4 seeds from the clock and an address, and the
 /// same script and seed would not give the same form. Upvalue 1 is the library's own function.
+/// Calls the library function `name` kept as upvalue 1 with the arguments on the stack. Its argument
+/// errors come back as "bad argument #1 to '?'" with no place (it was not called from the script):
+/// they get the function's name and the script's file:line.
+int call_library(lua_State* L, const char* name, int nresults) {
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  if (lua_pcall(L, lua_gettop(L) - 1, nresults, 0) == LUA_OK) return lua_gettop(L);
+  if (lua_type(L, -1) != LUA_TSTRING) return lua_error(L);  // not a message (a stop, say): passed on as it is
+  std::string message = lua_tostring(L, -1);
+  const std::string unnamed = "to '?'";
+  if (const auto at = message.find(unnamed); at != std::string::npos)
+    message.replace(at, unnamed.size(), "to '" + std::string(name) + "'");
+  luaL_where(L, 1);
+  lua_pushstring(L, message.c_str());
+  lua_concat(L, 2);
+  return lua_error(L);
+}
+
 int api_randomseed(lua_State* L) {
   if (lua_gettop(L) == 0) {
     luaL_where(L, 1);
@@ -20,10 +38,7 @@ int api_randomseed(lua_State* L) {
     lua_concat(L, 2);
     return lua_error(L);
   }
-  lua_pushvalue(L, lua_upvalueindex(1));
-  lua_insert(L, 1);
-  lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
-  return lua_gettop(L);
+  return call_library(L, "math.randomseed", LUA_MULTRET);
 }
 
 /// Every API function is this one C function with its section name as upvalue 1.
@@ -97,10 +112,7 @@ int api_setmetatable(lua_State* L) {
                       "setmetatable: a metatable with __gc (a finalizer) is not allowed in a script: Lua runs "
                       "finalizers beyond the instruction budget and Ctrl-C");
   lua_settop(L, 2);
-  lua_pushvalue(L, lua_upvalueindex(1));
-  lua_insert(L, 1);
-  lua_call(L, 2, 1);
-  return 1;
+  return call_library(L, "setmetatable", 1);
 }
 
 }  // namespace

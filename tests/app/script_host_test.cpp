@@ -109,6 +109,12 @@ TEST_CASE("math.randomseed needs a seed: without one Lua seeds from the clock", 
       "math.randomseed(7, 3) local a = math.random(1, 1000000) math.randomseed(7, 3) "
       "assert(math.random(1, 1000000) == a) run { steps = a }";
   CHECK_NOTHROW(load(src));  // the script's assert: reseeding with (7, 3) repeats the number
+  // the wrapped library functions' argument errors name the function and the script's line (they said
+  // "bad argument #1 to '?'" with no place)
+  CHECK_THAT(load_error("\nmath.randomseed(0/0)"),
+             Contains("test/leaf.lua:2: bad argument #1 to 'math.randomseed' (number has no integer representation)"));
+  CHECK_THAT(load_error("local t =\n  setmetatable({}, 5)"),
+             Contains("test/leaf.lua:2: bad argument #2 to 'setmetatable'"));
 }
 
 TEST_CASE("sections and shapes called inside a coroutine read their own arguments", "[script]") {
