@@ -47,6 +47,16 @@ int api_section(lua_State* L) {
     const std::string section = lua_tostring(L, lua_upvalueindex(1));
     const std::string at = I.where(1);
     I.require_loading(section, at);
+    // a section refused (and caught by pcall) is not given: one given later is its first
+    const bool seen = I.sections_seen.count(section) > 0;
+    struct Forget {
+      Impl& I;
+      const std::string& section;
+      bool keep = false;
+      ~Forget() {
+        if (!keep) I.sections_seen.erase(section);
+      }
+    } forget{I, section, seen};
     if (lua_gettop(L) > 1) throw InvalidInput(at + section + "{...} takes one table of named parameters");
     if (section == "cells")
       section_cells(I, at);
@@ -71,6 +81,7 @@ int api_section(lua_State* L) {
       section_shape(I, section, at);
     else
       section_constraint(I, section, at);
+    forget.keep = true;
     return 0;
   });
 }

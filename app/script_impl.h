@@ -307,10 +307,16 @@ struct ScriptHost::Impl {
     return out;
   }
 
+  /// "file:line: " of the script line calling at `level`; through a C function (pcall(run, {...}), say)
+  /// the nearest script line further out.
   std::string where(int level = 1) {
-    luaL_where(L, level);
-    std::string w = lua_tostring(L, -1);
-    lua_pop(L, 1);
+    std::string w;
+    lua_Debug ar;
+    for (int l = level; w.empty() && l < level + 8 && lua_getstack(L, l, &ar); ++l) {
+      luaL_where(L, l);
+      w = lua_tostring(L, -1);
+      lua_pop(L, 1);
+    }
     if (w.empty()) w = script_name + ": ";
     return w;
   }

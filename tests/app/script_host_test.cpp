@@ -386,6 +386,10 @@ TEST_CASE("print writes a line, print{} is the print section, and no section run
   }
   CHECK(load_error("run { steps = 2 }\nrun { steps = 3 }\n") ==
         "test/leaf.lua:2: run{...} is given twice (first at test/leaf.lua:1)");
+  // a section refused and caught by pcall was not given; through pcall, messages name the calling line
+  CHECK(load("assert(not pcall(run, { steps = 'x' }))\nrun { steps = 5 }\ndisc { radius = 2 }\n").steps == 5);
+  CHECK(load_error("run { steps = 2 }\nlocal ok, e = pcall(run, { steps = 3 })\nerror(e, 0)\n") ==
+        "test/leaf.lua:2: run{...} is given twice (first at test/leaf.lua:1)");
 }
 
 TEST_CASE("errors without a message, runaway loops and file headers name the line", "[script]") {
