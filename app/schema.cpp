@@ -1,6 +1,7 @@
 // The parameter table of the script API.
 #include "app/schema.h"
 
+#include <cmath>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -317,9 +318,12 @@ const Field* find_field(const std::string& section, const std::string& name) {
 
 std::string allowed_text(const Field& f) {
   std::ostringstream s;
-  auto number = [](double v) {
+  auto number = [&f](double v) {
     std::ostringstream t;
     t << v;
+    // a whole-number limit the short form rounds (2^53 said 9.0072e+15, which is above it) is written out
+    if (f.kind == Kind::integer && std::abs(v) <= 0x1p62 && std::stod(t.str()) != v)
+      return std::to_string(static_cast<long long>(v));
     return t.str();
   };
   switch (f.kind) {

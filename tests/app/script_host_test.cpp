@@ -386,6 +386,9 @@ TEST_CASE("print writes a line, print{} is the print section, and no section run
   }
   CHECK(load_error("run { steps = 2 }\nrun { steps = 3 }\n") ==
         "test/leaf.lua:2: run{...} is given twice (first at test/leaf.lua:1)");
+  // a whole-number limit is written out when the short form would round it (9.0072e+15 is above 2^53)
+  CHECK_THAT(load_error("run { seed = 9.0072e+15 }"),
+             Contains("run.seed must be a whole number from 0 to 9007199254740992"));
   // a section refused and caught by pcall was not given; through pcall, messages name the calling line
   CHECK(load("assert(not pcall(run, { steps = 'x' }))\nrun { steps = 5 }\ndisc { radius = 2 }\n").steps == 5);
   CHECK(load_error("run { steps = 2 }\nlocal ok, e = pcall(run, { steps = 3 })\nerror(e, 0)\n") ==
