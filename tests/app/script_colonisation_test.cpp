@@ -29,6 +29,12 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
   CHECK_THAT(load_error("leaf { file = 'nothere.txt' }\ncolonisation {}\n"), Contains("nothere.txt"));
   CHECK_THAT(load_error("colonisation { kill_distance = 0.2 }\n"), Contains("kill_distance"));
   CHECK_THAT(load_error("leaf { shape = 'ovat' }\ncolonisation {}\n"), Contains("did you mean \"ovate\""));
+  // a blade narrower than a hundredth of its length said only that its outline crossed itself; 10,000
+  // teeth took 9 s to check
+  CHECK_THAT(load_error("leaf { width = 5e-324 }\ncolonisation {}\n"),
+             Contains("leaf.width must be a number from 0.01 to 10"));
+  CHECK_THAT(load_error("leaf { teeth = 10000 }\ncolonisation {}\n"),
+             Contains("leaf.teeth must be a whole number from 0 to 2000"));
   // a petiole cell would be ignored by a leaf or volume run: said, with its line, instead
   CHECK_THAT(load_error("leaf {}\npetiole { at = {5, 5, 0} }\ncolonisation {}\n"),
              Contains(":2: petiole{...} places a petiole cell") && Contains("leaf{seeds = N}"));
