@@ -126,6 +126,27 @@ int api_setmetatable(lua_State* L) {
   return call_library(L, "setmetatable", 1);
 }
 
+/// rawset(t, k, v), except a new field of the cell table (an existing one is overwritten for each cell).
+int api_rawset(lua_State* L) {
+  lua_settop(L, 3);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, self_of(L)->cell_table_ref);
+  const bool cell = lua_rawequal(L, 1, -1);
+  lua_pop(L, 1);
+  if (cell && !lua_isnil(L, 2)) {
+    lua_pushvalue(L, 2);
+    const bool absent = lua_rawget(L, 1) == LUA_TNIL;
+    lua_pop(L, 1);
+    if (absent) {
+      const char* key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : luaL_typename(L, 2);
+      return luaL_error(L,
+                        "rawset(cell, %s, ...): a rule function cannot add fields to its cell table (one table "
+                        "is filled anew for each cell, so a value kept there would reach the next cell)",
+                        key);
+    }
+  }
+  return call_library(L, "rawset", 1);
+}
+
 }  // namespace
 
 ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
@@ -155,6 +176,10 @@ ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
   lua_getglobal(L, "setmetatable");
   lua_pushcclosure(L, api_setmetatable, 1);
   lua_setglobal(L, "setmetatable");
+  // rawset passes the cell table's __newindex: a field added so would reach the next cell's table
+  lua_getglobal(L, "rawset");
+  lua_pushcclosure(L, api_rawset, 1);
+  lua_setglobal(L, "rawset");
   // math.random is reproducible: Lua 5.4 seeds it randomly; here 0 while a script is read, then the run's
   // seed and the step (set_step). The library's own randomseed is kept for that, whatever a script does.
   lua_getglobal(L, LUA_MATHLIBNAME);

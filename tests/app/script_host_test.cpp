@@ -342,6 +342,15 @@ TEST_CASE("rule functions run per cell and report errors with step and cell", "[
   const auto r6 = raw.rules();
   CHECK(r6.divides(c, 0));
   CHECK(r6.divides(c, 1));
+  // nor can rawset add one (it passes __newindex; the field reached the next cell), though it may overwrite
+  ScriptHost raw_add(tight);
+  raw_add.load(
+      "division { rule = function(cell) rawset(cell, 'age', 3) assert(not cell.kept) rawset(cell, 'kept', 1) "
+      "return true end }",
+      "raw_add.lua", {});
+  CHECK_THROWS_WITH(raw_add.rules().divides(c, 0),
+                    Contains("raw_add.lua:1: rawset(cell, kept, ...): a rule function cannot add fields"));
+  CHECK_NOTHROW(load("local t = {} rawset(t, 'x', 1) assert(t.x == 1)"));
   // a coroutine kept across calls: stopped in one call, counting normally in the next
   ScriptHost kept(tight);
   kept.load(
