@@ -75,6 +75,15 @@ Value ScriptHost::Impl::from_lua(const Field& f, int idx, const std::string& at)
   };
   const int t = lua_type(L, idx);
   const std::string got = t == LUA_TSTRING ? std::string("\"") + lua_tostring(L, idx) + "\"" : luaL_typename(L, idx);
+  if (t == LUA_TSTRING) {  // C strings end at a NUL: file = "a.stl\0x" would read a.stl
+    std::size_t len = 0;
+    const char* text = lua_tolstring(L, idx, &len);
+    if (std::string_view(text, len).find('\0') != std::string_view::npos) {
+      std::string shown;
+      for (std::size_t k = 0; k < len && k < 200; ++k) shown += text[k] ? std::string(1, text[k]) : "\\0";
+      throw InvalidInput(at + name + " must not contain a NUL byte, got \"" + shown + "\"");
+    }
+  }
   switch (f.kind) {
     case Kind::number:
     case Kind::integer:
@@ -360,9 +369,11 @@ int api_params(lua_State* L) {
           rec[key] = integer ? nlohmann::json(lua_tointeger(L, -1)) : nlohmann::json(lua_tonumber(L, -1));
         else if (t == LUA_TBOOLEAN)
           rec[key] = lua_toboolean(L, -1) != 0;
-        else if (t == LUA_TSTRING)
-          rec[key] = lua_tostring(L, -1);
-        else
+        else if (t == LUA_TSTRING) {
+          std::size_t len = 0;
+          const char* text = lua_tolstring(L, -1, &len);
+          rec[key] = std::string(text, len);  // whole, NULs included (JSON writes them \u0000)
+        } else
           rec[key] = luaL_typename(L, -1);
       }
       lua_pushvalue(L, -2);  // key

@@ -395,6 +395,9 @@ TEST_CASE("print writes a line, print{} is the print section, and no section run
   }
   CHECK(load_error("run { steps = 2 }\nrun { steps = 3 }\n") ==
         "test/leaf.lua:2: run{...} is given twice (first at test/leaf.lua:1)");
+  // a string with a NUL byte is refused (the file name was cut there: "x.stl\0abc" read x.stl)
+  CHECK_THAT(load_error("mesh { file = 'x.stl\\0abc' }\ndisc { radius = 2 }\n"),
+             Contains("test/leaf.lua:1: mesh.file must not contain a NUL byte, got \"x.stl\\0abc\""));
   // a whole-number limit is written out when the short form would round it (9.0072e+15 is above 2^53)
   CHECK_THAT(load_error("run { seed = 9.0072e+15 }"),
              Contains("run.seed must be a whole number from 0 to 9007199254740992"));
