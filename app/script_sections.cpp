@@ -300,6 +300,12 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
       throw InvalidInput(at + "mesh: " + core::error_text(e));
     }
     I.scale_mesh(mesh.vertices, v["scale"].num, v["file"].str, at + "mesh: ");
+    double area = 0;  // as volume{file} and surface{file}: a wall of no area stops nothing
+    for (const auto& t : mesh.triangles)
+      area += (mesh.vertices[t[1]] - mesh.vertices[t[0]]).cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]).norm();
+    if (!(area > 0))
+      throw InvalidInput(at + "mesh: every triangle of " + v["file"].str +
+                         " is degenerate (zero area), so cells would cross it as if it were not there");
     o.meshes.push_back(std::move(mesh));
     names.meshes.push_back(name);
   } else if (kind == "attractor") {

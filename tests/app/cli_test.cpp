@@ -143,6 +143,11 @@ TEST_CASE("bad shapes, obstacle meshes and obstacles around the cells exit with 
   r = run("scaled.lua", "disc { radius = 2 }\nmesh { file = 'tri.obj', scale = 1e12 }\n");
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("scaled.lua:2: mesh") && Contains("1e+09"));
+  // a mesh of degenerate triangles only is no wall: refused, as volume{file} and surface{file} refuse it
+  t.write("flat.obj", "v 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3\n");
+  r = run("flat.lua", "disc { radius = 2 }\nmesh { file = 'flat.obj' }\n");
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("flat.lua:2: mesh: every triangle of flat.obj is degenerate"));
   // touching obstacles and a ground below the cells are fine
   r = run("fine.lua",
           "disc { radius = 2, centre = {0, 0, 0.5} }\nground {}\nball { centre = {0, 0, 1.5}, radius = 1 }\n"
