@@ -227,8 +227,8 @@ TEST_CASE("a shell far thicker than the voxel is refused by the memory limit bef
   ThickenParams p = exact(0.1);
   p.shell_thickness = 1000;
   p.close_holes = 0;
-  CHECK_THROWS_WITH(exporters::thicken({}, shell, p),
-                    Catch::Contains("blocks of 8 x 8 x 8 voxels") && Catch::Contains("more than the limit of 2.0 GB"));
+  CHECK_THROWS_WITH(exporters::thicken({}, shell, p), Catch::Contains("blocks of 8 x 8 x 8 voxels") &&
+                                                          Catch::Contains("to list, more than the limit of 2.0 GB;"));
   p.shell_thickness = 20;  // 20 mm: about 40,000 blocks (under 1 MB to list)
   CHECK_NOTHROW(exporters::voxelise({}, shell, p));
 }
