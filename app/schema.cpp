@@ -141,12 +141,12 @@ std::vector<Field> build() {
   f.push_back(num(
       "venation", "threshold", "40", 0, kInf, true, "auxin units",
       "flow a cell next to a vein must exceed to become a vein cell (about its upstream cells); sets vein spacing"));
-  f.push_back(Field{"venation", "source", Kind::number_or_function, "1", 0, kInf, false, "", "auxin per step",
+  f.push_back(Field{"venation", "source", Kind::number_or_function, "1", 0, 1e30, false, "", "auxin per step",
                     "auxin every cell produces; or function(cell) returning it"});
   f.push_back(num("venation", "murray_exponent", "3", 1, 4, false, "",
                   "n of Murray's law: radius = radius_scale flow^(1/n), so r_parent^n = sum r_child^n plus the auxin "
                   "that joins between forks"));
-  f.push_back(num("venation", "radius_scale", "0.05", 0, kInf, true, "model units",
+  f.push_back(num("venation", "radius_scale", "0.05", 0, 1e30, true, "model units",
                   "radius of a vein carrying unit flow: r = radius_scale * flow^(1/n)"));
   f.push_back(num("venation", "min_radius", "0.05", 0, std::numeric_limits<float>::max(), false, "model units",
                   "no vein is thinner (the files keep radii as 32-bit numbers)"));
@@ -362,7 +362,10 @@ std::string allowed_text(const Field& f) {
       break;
     case Kind::number_or_function:
       s << "a number";
-      if (f.min > -1e299) s << " >= " << number(f.min);
+      if (f.min > -1e299 && f.max < 1e299)
+        s << " from " << number(f.min) << " to " << number(f.max);
+      else if (f.min > -1e299)
+        s << " >= " << number(f.min);
       s << ", or a function";
       break;
     case Kind::table:

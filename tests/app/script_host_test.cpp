@@ -398,6 +398,11 @@ TEST_CASE("print writes a line, print{} is the print section, and no section run
   // a string with a NUL byte is refused (the file name was cut there: "x.stl\0abc" read x.stl)
   CHECK_THAT(load_error("mesh { file = 'x.stl\\0abc' }\ndisc { radius = 2 }\n"),
              Contains("test/leaf.lua:1: mesh.file must not contain a NUL byte, got \"x.stl\\0abc\""));
+  // sources and radius scales beyond any flow the files can keep are refused at their line, not at step 1
+  CHECK_THAT(load_error("venation { source = 1e300 }\ndisc { radius = 2 }\n"),
+             Contains("test/leaf.lua:1: venation.source must be a number from 0 to 1e+30, or a function"));
+  CHECK_THAT(load_error("venation { radius_scale = 1e300 }\ndisc { radius = 2 }\n"),
+             Contains("test/leaf.lua:1: venation.radius_scale must be a number from 0 (exclusive) to 1e+30"));
   // a whole-number limit is written out when the short form would round it (9.0072e+15 is above 2^53)
   CHECK_THAT(load_error("run { seed = 9.0072e+15 }"),
              Contains("run.seed must be a whole number from 0 to 9007199254740992"));
