@@ -56,7 +56,7 @@ ChunkFile read_chunk_file(const std::string& bytes, const std::string& kind, std
   std::string k = kind;
   k.resize(4, ' ');
   if (bytes.compare(8, 4, k) != 0)
-    throw FileError(what + " is a cellform '" + bytes.substr(8, 4) + "' file, not a '" + kind + "' file");
+    throw FileError(what + " is a cellform '" + printable(bytes.substr(8, 4)) + "' file, not a '" + kind + "' file");
   std::uint64_t stored;
   std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
   if (fnv1a64(bytes.data(), bytes.size() - 8) != stored)

@@ -5,6 +5,7 @@
 
 using namespace cellform::core;
 using Catch::Matchers::Contains;
+using Catch::Matchers::Equals;
 
 TEST_CASE("chunk files round-trip and carry their version", "[core][checkpoint]") {
   ByteWriter w;
@@ -35,6 +36,11 @@ TEST_CASE("corrupt, truncated, foreign and newer files are refused", "[core][che
   CHECK_THROWS_WITH(read_chunk_file("hello world, not a checkpoint at all", "CKPT", 1, "f"),
                     Contains("not a cellform file"));
   CHECK_THROWS_WITH(read_chunk_file(write_chunk_file("MESH", 1, {}), "CKPT", 1, "f"), Contains("not a 'CKPT' file"));
+  // a kind of NUL or binary bytes is escaped: it cut the message ("is a cellform '") or wrote raw bytes
+  std::string odd = write_chunk_file("CKPT", 1, {});
+  odd.replace(8, 4, std::string("A\0\xff\x1b", 4));
+  CHECK_THROWS_WITH(read_chunk_file(odd, "CKPT", 1, "f"),
+                    Equals("f is a cellform 'A\\x00\\xff\\x1b' file, not a 'CKPT' file"));
   CHECK_THROWS_WITH(read_chunk_file(write_chunk_file("CKPT", 2, {}), "CKPT", 1, "f"), Contains("version 2"));
   const std::string short_string("\x05\x00\x00\x00\x00\x00\x00\x00", 8);  // says 5 bytes follow; none do
   ByteReader r(short_string, "f");
