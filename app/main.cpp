@@ -43,6 +43,11 @@ void on_interrupt(int) {
 void on_hangup(int) {
   using namespace cellform::app;
   if (g_interrupt.exchange(true)) return;  // never escalates: a hang-up may come more than once
+  if (g_reading_script.load()) {           // stopped at the script's next instruction, which says so
+    static const char kReading[] = "\ncellform: hang-up: stopping the script being read\n";
+    say(kReading, sizeof kReading - 1);
+    return;
+  }
   static const char kMessage[] =
       "\ncellform: hang-up: the steps stop after the current one and the outputs and a checkpoint are written\n";
   say(kMessage, sizeof kMessage - 1);

@@ -303,6 +303,16 @@ TEST_CASE("Ctrl-C while a script is read stops it there", "[cli][signal]") {
   CHECK_FALSE(fs::exists(out));
   // said as what happens: no steps, no outputs to wait for
   CHECK_THAT(slurp(log), Contains("stopping the script being read") && !Contains("the steps stop"));
+  // a hang-up too (it said "the steps stop ... a checkpoint is written", then that nothing was written)
+  const fs::path log2 = t.path / "err2.txt";
+  const pid_t hup = spawn_cellform_logged(
+      {"run", script.string(), "--out", out.string(), "--quiet", "--lua-instructions", "18446744073709551615"}, log2);
+  REQUIRE(hup > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  kill(hup, SIGHUP);
+  CHECK(wait_exit(hup) == 130);
+  CHECK_FALSE(fs::exists(out));
+  CHECK_THAT(slurp(log2), Contains("hang-up: stopping the script being read") && !Contains("the steps stop"));
 }
 
 TEST_CASE("after a first Ctrl-C, a second during the print skips only the print", "[cli][signal]") {
