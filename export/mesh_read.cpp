@@ -269,9 +269,12 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
 PrintableMesh read_mesh(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext != ".stl" && ext != ".obj" && ext != ".ply")
-    throw core::FileError(path.string() + ": unknown mesh format '" + ext + "' (use .stl, .obj or .ply)");
+  // read first: a missing file, a folder or a device is said as such (read_file reads regular files only)
   const std::string s = core::read_file(path);
+  if (ext != ".stl" && ext != ".obj" && ext != ".ply")
+    throw core::FileError(path.string() +
+                          (ext.empty() ? ": no file extension" : ": unknown mesh format '" + ext + "'") +
+                          " (use .stl, .obj or .ply)");
   PrintableMesh m = ext == ".stl" ? read_stl(path, s) : ext == ".obj" ? read_obj(path, s) : read_ply(path, s);
   for (std::size_t i = 0; i < m.vertices.size(); ++i)  // unreadable input, not an unprintable shape
     if (!m.vertices[i].allFinite())

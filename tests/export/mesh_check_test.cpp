@@ -376,6 +376,12 @@ TEST_CASE("read_mesh reads what the writers wrote, and welds STL soups", "[mesh_
 TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
   const fs::path dir = temp_dir("bad");
   CHECK_THROWS_AS(exporters::read_mesh(dir / "missing.stl"), core::FileError);
+  // a folder, a device or a file without extension is said as such (all said "unknown mesh format ''")
+  CHECK_THROWS_WITH(exporters::read_mesh(dir), Catch::Contains("is a directory"));
+  CHECK_THROWS_WITH(exporters::read_mesh("/dev/null"), Catch::Contains("not a regular file"));
+  { std::ofstream(dir / "noext") << "solid x\nendsolid x\n"; }
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "noext"),
+                    Catch::Contains("noext: no file extension (use .stl, .obj or .ply)"));
   { std::ofstream(dir / "text.stl") << "hello, not a mesh\n"; }
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "text.stl"), Catch::Contains("text.stl"));
   { std::ofstream(dir / "x.step") << "ISO-10303-21;\n"; }
