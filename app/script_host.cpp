@@ -19,12 +19,11 @@ int call_library(lua_State* L, const char* name, int nresults) {
   lua_insert(L, 1);
   if (lua_pcall(L, lua_gettop(L) - 1, nresults, 0) == LUA_OK) return lua_gettop(L);
   if (lua_type(L, -1) != LUA_TSTRING) return lua_error(L);  // not a message (a stop, say): passed on as it is
-  std::string message = lua_tostring(L, -1);
-  const std::string unnamed = "to '?'";
-  if (const auto at = message.find(unnamed); at != std::string::npos)
-    message.replace(at, unnamed.size(), "to '" + std::string(name) + "'");
+  // built on the Lua stack: lua_error longjmps, so no C++ object may live in this frame
+  lua_pushfstring(L, "to '%s'", name);
+  luaL_gsub(L, lua_tostring(L, -2), "to '?'", lua_tostring(L, -1));
   luaL_where(L, 1);
-  lua_pushstring(L, message.c_str());
+  lua_insert(L, -2);
   lua_concat(L, 2);
   return lua_error(L);
 }
