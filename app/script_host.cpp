@@ -9,8 +9,6 @@ namespace cellform::app {
 
 namespace {
 
-/// math.randomseed with a seed only: without one, Lua 5.4 seeds from the clock and an address, and the
-/// same script and seed would not give the same form. Upvalue 1 is the library's own function.
 /// Calls the library function `name` kept as upvalue 1 with the arguments on the stack. Its argument
 /// errors come back as "bad argument #1 to '?'" with no place (it was not called from the script):
 /// they get the function's name and the script's file:line.
@@ -28,6 +26,8 @@ int call_library(lua_State* L, const char* name, int nresults) {
   return lua_error(L);
 }
 
+/// math.randomseed with a seed only: without one, Lua 5.4 seeds from the clock and an address, and the
+/// same script and seed would not give the same form. Upvalue 1 is the library's own function.
 int api_randomseed(lua_State* L) {
   if (lua_gettop(L) == 0) {
     luaL_where(L, 1);
