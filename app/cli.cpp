@@ -140,6 +140,9 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       } else if (a == "--out") {
         o.out = value();
         if (o.out->empty()) throw UsageError("--out needs a folder name, got an empty one");
+        std::error_code ec;
+        if (std::filesystem::exists(*o.out, ec) && !std::filesystem::is_directory(*o.out, ec))
+          throw UsageError("--out " + o.out->string() + " is a file, not a folder; name a folder for the outputs");
         if (o.out->has_root_path() && o.out->lexically_normal() == o.out->root_path())
           throw UsageError("--out " + o.out->string() +
                            " is the root of the file system; name a folder for the outputs");

@@ -80,6 +80,10 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock) {
     std::error_code ec;
     if (fs::exists(dir / "run.json", ec)) {
       const fs::path file = dir / "run.json";
+      if (!fs::is_regular_file(file, ec))
+        throw core::FileError("'" + file.string() +
+                              "' is not a file (a folder?); a run there writes its run.json in its place: choose "
+                              "another --out folder, or move that away");
       std::ifstream in(file);
       if (!in)
         throw core::FileError("cannot read '" + file.string() + "' (" + std::strerror(errno) +

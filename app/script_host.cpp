@@ -559,7 +559,7 @@ venation::SourceRule ScriptHost::source_rule() {
     const double v = lua_tonumber(L, -1);
     lua_pop(L, 1);
     if (!std::isfinite(v) || v < 0)
-      throw InvalidInput(I->source_at + "venation.source must return a finite number >= 0, got " + std::to_string(v) +
+      throw InvalidInput(I->source_at + "venation.source must return a finite number >= 0, got " + core::number_text(v) +
                          where());
     return v;
   };

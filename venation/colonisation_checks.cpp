@@ -15,7 +15,7 @@ namespace {
 void require_distance(double v, const char* name) {
   if (!(v > 0 && std::isfinite(v)))
     throw InvalidInput(std::string("colonisation.") + name +
-                       " must be a positive, finite distance in model units, got " + std::to_string(v));
+                       " must be a positive, finite distance in model units, got " + core::number_text(v));
 }
 
 }  // namespace

@@ -36,9 +36,21 @@ TEST_CASE("an unwritable output location fails clearly", "[cli]") {
   const auto script = t.write("small.lua", kSmall);
   const auto file = t.write("a-file", "x");
   auto r = cli({"run", script.string(), "--out", file.string(), "--quiet", "--steps", "2"});
-  CHECK(r.code == 1);
-  CHECK_THAT(r.err, Contains("is not a directory"));
+  CHECK(r.code == 2);  // a usage error, said before the script is read
+  CHECK_THAT(r.err, Contains("--out " + file.string() + " is a file, not a folder"));
   CHECK(slurp(file) == "x");
+  // a file inside the path is the system's refusal, a run-time failure
+  r = cli({"run", script.string(), "--out", (file / "sub").string(), "--quiet", "--steps", "2"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("cannot write outputs"));
+  CHECK(slurp(file) == "x");
+  // a folder named run.json in the output folder is said as such (it was "not valid JSON") and kept
+  fs::create_directories(t.path / "o" / "run.json");
+  r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet", "--steps", "2"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("run.json' is not a file (a folder?)"));
+  CHECK(fs::is_directory(t.path / "o" / "run.json"));
+  CHECK_FALSE(fs::exists(t.path / "o" / "cells.ply"));
 }
 
 TEST_CASE("a run removes the staging folders and checkpoint drafts of killed runs, and only those", "[cli]") {
@@ -71,6 +83,14 @@ TEST_CASE("a rule that fails in a step before any checkpoint leaves no empty out
   const auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("bad.lua:4:") && Contains("step 5"));
+  // a number out of range is written as the script would write it
+  const auto negative =
+      t.write("negative.lua",
+              "run { steps = 20 }\ndisc { radius = 3 }\npetiole { at = {0, -3, 0} }\n"
+              "venation { source = function(c) if c.step >= 3 then return -0.25 end return 1 end }\n");
+  const auto n = cli({"run", negative.string(), "--out", (t.path / "n").string(), "--quiet"});
+  CHECK(n.code == 2);
+  CHECK_THAT(n.err, Contains("must return a finite number >= 0, got -0.25 (") && Contains("step 3"));
   CHECK_FALSE(fs::exists(out));
   // nor the folders it made to hold it
   CHECK(cli({"run", script.string(), "--out", (t.path / "nest" / "a" / "b").string(), "--quiet"}).code == 2);
