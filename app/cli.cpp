@@ -1,8 +1,11 @@
 // Argument parsing for cellform run, resume, params, --help, --version.
 #include "app/cli.h"
 
+#include <algorithm>
+#include <array>
 #include <charconv>
 #include <filesystem>
+#include <string_view>
 
 #include "app/check.h"
 #include "app/run.h"
@@ -59,6 +62,20 @@ const char* const kRunUsage =
     "for, run.json (everything needed to reproduce the run) and checkpoint.cfck in the output directory.\n"
     "Ctrl-C stops after the current step, writes the outputs and a checkpoint; `cellform resume\n"
     "DIR/checkpoint.cfck` (or `cellform resume DIR`) continues to the identical result.\n";
+
+/// The options of run and resume.
+constexpr std::array<std::string_view, 12> kRunOptions = {"--out",
+                                                          "--seed",
+                                                          "--steps",
+                                                          "--threads",
+                                                          "--set",
+                                                          "--quiet",
+                                                          "--help",
+                                                          "--checkpoint-every",
+                                                          "--lua-instructions",
+                                                          "--lua-memory",
+                                                          "--lua-seconds",
+                                                          "--script"};
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -132,6 +149,10 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       const std::string& a = args[i];
       auto value = [&]() -> const std::string& {
         if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
+        const std::string& next = args[i + 1];
+        if (next == "-q" || next == "-h" ||
+            std::find(kRunOptions.begin(), kRunOptions.end(), next) != kRunOptions.end())
+          throw UsageError(a + " needs a value, got the option " + next + " (a file or folder so named is ./" + next + ")");
         return args[++i];
       };
       if (a == "-h" || a == "--help") {
@@ -177,10 +198,8 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       } else if (a == "--quiet" || a == "-q") {
         o.quiet = true;
       } else if (a.size() > 1 && a[0] == '-') {
-        const std::string near = core::closest_name(
-            a, std::vector<std::string>{"--out", "--seed", "--steps", "--threads", "--set", "--quiet", "--help",
-                                        "--checkpoint-every", "--lua-instructions", "--lua-memory", "--lua-seconds",
-                                        "--script"});
+        const std::string near =
+            core::closest_name(a, std::vector<std::string>(kRunOptions.begin(), kRunOptions.end()));
         throw UsageError("unknown option '" + a + "'" + (near.empty() ? "" : "; did you mean '" + near + "'?"));
       } else {
         positional.push_back(a);

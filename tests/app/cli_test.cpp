@@ -40,6 +40,15 @@ TEST_CASE("help, version and usage errors", "[cli]") {
   r = cli({"run", "x.lua", "--lua-memory", "0"});  // the range given is the range checked
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("--lua-memory takes a whole number from 1 to 65536, got '0'"));
+  // an option where a value belongs: the value was forgotten (it took "--quiet" as the script before)
+  r = cli({"resume", "o/checkpoint.cfck", "--script", "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--script needs a value, got the option --quiet (a file or folder so named is ./--quiet)"));
+  for (const char* option : {"--out", "--set", "--seed"}) {
+    r = cli({"run", "x.lua", option, "-q"});
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains(std::string(option) + " needs a value, got the option -q"));
+  }
   r = cli({"run"});
   CHECK(r.code == 2);
   r = cli({"params"});
