@@ -255,7 +255,8 @@ std::vector<Field> build() {
   f.push_back(num("print", "scale", "0", 0, 1e9, false, "mm per model unit", "0 = automatic from size"));
   f.push_back(
       num("print", "min_radius", "0.4", 0, 1e3, true, "mm", "thinner veins are raised to this printable minimum"));
-  f.push_back(num("print", "shell_thickness", "0.6", 0, 1e3, true, "mm", "wall thickness of the shell"));
+  f.push_back(num("print", "shell_thickness", "0.6", 0, 1e3, true, "mm",
+                  "wall thickness of the shell (less than size when scale is automatic)"));
   f.push_back(num("print", "voxel_size", "0", 0, 1e3, false, "mm", "level-set resolution; 0 = min_radius / 2"));
   f.push_back(num("print", "adaptivity", "0.2", 0, 1, false, "0..1", "mesh simplification of flat areas (OpenVDB)"));
   f.push_back(

@@ -194,6 +194,13 @@ void section_print(Impl& I, const std::string& at) {
   p.flat_base = v["flat_base"].num;
   p.close_holes = v["close_holes"].num;
   p.close_holes_max = v["close_holes_max"].num;
+  if (p.shell && p.scale == 0 && p.shell_thickness >= p.size)  // the auto scale fits the form, not its walls
+    throw InvalidInput(
+        I.value_at(I.overrides && I.overrides->count("print.size") ? "print.size" : "print.shell_thickness", at) +
+        "print.shell_thickness (" + core::number_text(p.shell_thickness) + " mm) is not less than print.size (" +
+        core::number_text(p.size) +
+        " mm, the whole print across): the walls would be thicker than the form; use a thinner shell "
+        "or a larger size");
   if (!p.shell)  // noted, not refused: --set print.shell=false may turn off a shell the script sets up
     for (const char* f : {"shell_thickness", "close_holes", "close_holes_max"})
       if (v[f].present)

@@ -456,6 +456,13 @@ TEST_CASE("a print voxel coarser than the thinnest vein is refused before the ru
   CHECK_THAT(load_error("disc { radius = 3 }\nfrobnicate()\n"), Contains(":2:") && Contains("; no such function"));
   CHECK_THAT(load_error("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { voxel_size = 1, min_radius = 0.4 }\n"),
              Contains(":4: print.voxel_size (1 mm) exceeds print.min_radius (0.4 mm)"));
+  // a shell thicker than the whole print (the auto scale fits the form to size, its walls come on top)
+  CHECK_THAT(load_error("disc { radius = 3 }\nprint { shell = true, size = 20, shell_thickness = 30 }\n"),
+             Contains(":2: print.shell_thickness (30 mm) is not less than print.size (20 mm"));
+  CHECK_NOTHROW(load("disc { radius = 3 }\nprint { shell = true, size = 20, shell_thickness = 19 }\n"));
+  CHECK_NOTHROW(load("disc { radius = 3 }\nprint { shell = true, scale = 1, shell_thickness = 30 }\n"));
+  CHECK_NOTHROW(
+      load("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { size = 20, shell_thickness = 30 }\n"));  // no shell
 }
 
 TEST_CASE("directions that mean nothing are refused, not replaced", "[script]") {
