@@ -300,6 +300,11 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   if (!o.quiet && s.resume && first >= target && !o.steps)
     err << "cellform: note: the checkpoint is at its run's last step (" << target
         << "); give --steps N to continue to step N\n";
+  for (const forms::PetioleSpec& p : cfg.scene.petioles)  // said now, not found missing at the end
+    if (p.step > target && p.step > first)
+      err << "cellform: note: " << p.origin << "the petiole due at step " << p.step
+          << " comes after the run's last step (" << target
+          << "), so it never appears; run{steps = N} or --steps N reaches it\n";
   Progress progress(err, ::isatty(2) != 0, o.quiet, first, target);
   CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
   std::vector<std::string> outputs;
@@ -439,6 +444,11 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         saved = periodic_checkpoint(checkpoint_now, err, checkpoint_warned) || saved;
     }
     progress.finish();
+    if (const std::size_t lost = scene->venation_report().unconnected; lost > 0 && sim.step_count() > first)
+      err << "cellform: warning: " << lost << " of " << sim.cells().size()
+          << " cells have no path through the links to a petiole: their auxin reaches no petiole and no vein grows "
+             "there (a part of the form apart from every petiole, or a petiole off the sheet: place a petiole{at = "
+             "...} on that part, on a cell)\n";
     const auto b = std::chrono::steady_clock::now();
     // the checkpoint first: outputs that then fail to write leave it to resume from; and a checkpoint that
     // cannot be written (a full disk) still leaves the outputs

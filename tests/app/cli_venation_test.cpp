@@ -1,0 +1,56 @@
+// Tests of what a cell run with canalisation says about its petioles: cells no petiole drains, and
+// petioles due after the run's last step.
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "tests/app/test_util.h"
+
+using namespace cellform::test;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+const char* const kTwoDiscs =
+    "run { steps = 30, seed = 1 }\n"
+    "division { trigger = 'neighbours', radius = 1.25, min_neighbours = 6, max_cells = 200 }\n"
+    "venation { threshold = 10 }\n"
+    "disc { radius = 4 }\n";
+}  // namespace
+
+TEST_CASE("cells that drain to no petiole are warned about, with run.json's count", "[cli][venation]") {
+  TempDir t("cli-unconnected");
+  // a second disc far from the first: no link joins them, and only the first has a petiole
+  const auto apart = t.write(
+      "apart.lua", std::string(kTwoDiscs) + "disc { radius = 4, centre = {30, 0, 0} }\npetiole { at = {0, -4, 0} }\n");
+  auto r = cli({"run", apart.string(), "--out", (t.path / "a").string(), "--quiet"});
+  REQUIRE(r.code == 0);
+  const auto j = nlohmann::json::parse(slurp(t.path / "a" / "run.json"));
+  const std::size_t lost = j["veins"]["unconnected_cells"];
+  const std::size_t cells = j["cells"]["final"];
+  CHECK(lost > 0);
+  CHECK(lost < cells);
+  CHECK_THAT(r.err, Contains("warning: " + std::to_string(lost) + " of " + std::to_string(cells) +
+                             " cells have no path through the links to a petiole"));
+  // a petiole on each part: every cell drains, and nothing is said
+  const auto both = t.write("both.lua", std::string(kTwoDiscs) +
+                                            "disc { radius = 4, centre = {30, 0, 0} }\npetiole { at = {0, -4, 0} }\n"
+                                            "petiole { at = {30, -4, 0} }\n");
+  r = cli({"run", both.string(), "--out", (t.path / "b").string(), "--quiet"});
+  REQUIRE(r.code == 0);
+  CHECK(nlohmann::json::parse(slurp(t.path / "b" / "run.json"))["veins"]["unconnected_cells"] == 0);
+  CHECK(r.err.empty());
+}
+
+TEST_CASE("a petiole due after the run's last step is noted before the steps", "[cli][venation]") {
+  TempDir t("cli-late-petiole");
+  const auto late = t.write(
+      "late.lua", std::string(kTwoDiscs) + "petiole { at = {0, -4, 0} }\npetiole { at = {0, 4, 0}, step = 500 }\n");
+  auto r = cli({"run", late.string(), "--out", (t.path / "a").string(), "--quiet"});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("late.lua:6: the petiole due at step 500 comes after the run's last step (30)"));
+  // reached: no note
+  r = cli({"run", late.string(), "--out", (t.path / "b").string(), "--quiet", "--steps", "500", "--set",
+           "division.max_cells=70"});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, !Contains("never appears"));
+}
