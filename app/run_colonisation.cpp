@@ -318,6 +318,20 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     if (spec.on_cells) {  // resume: the sheet grown by the first run, not grown again
       if (spec.domain.initial_nodes.empty() && cfg.scene.petioles.empty())  // said now, not after the growth
         throw core::InvalidInput(kNoSheetSeeds);
+      const std::uint64_t sheet_end = s.has_target ? s.target_steps : cfg.steps;
+      if (spec.domain.initial_nodes.empty() && (!s.resume || s.sheet_partial) &&
+          std::all_of(cfg.scene.petioles.begin(), cfg.scene.petioles.end(),
+                      [&](const forms::PetioleSpec& p) { return p.step > sheet_end; })) {
+        const forms::PetioleSpec& first =
+            *std::min_element(cfg.scene.petioles.begin(), cfg.scene.petioles.end(),
+                              [](const forms::PetioleSpec& a, const forms::PetioleSpec& b) { return a.step < b.step; });
+        throw core::InvalidInput(first.origin +
+                                 "surface{cells = true} starts its veins at the petiole cells, but the first petiole "
+                                 "is due at step " +
+                                 std::to_string(first.step) + ", after the sheet's last step (" +
+                                 std::to_string(sheet_end) +
+                                 "): give seeds = {{x, y, z}, ...}, or a petiole due by then");
+      }
       if (s.resume && s.cells_bytes.empty())
         throw core::InvalidInput("checkpoint '" + o.checkpoint.string() +
                                  "' holds no grown cells, but the script grows veins on cells (surface{cells = true})");

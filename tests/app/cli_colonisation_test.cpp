@@ -138,6 +138,19 @@ TEST_CASE("3-D space colonisation: veins in a volume and on a grown cell sheet",
     const auto r = cli({"run", bare.string(), "--out", (t.path / "bare").string()});
     CHECK(r.code == 2);
     CHECK_THAT(r.err, Contains("surface{cells = true} needs seeds") && !Contains("growing the cell sheet"));
+    // its only petiole due after the sheet's last step: the same, at the petiole's line
+    const auto late = t.write("late.lua",
+                              "run { steps = 1000000 }\n"
+                              "disc { radius = 4 }\n"
+                              "petiole { at = {0, -4, 0}, step = 2000000 }\n"
+                              "surface { cells = true }\n"
+                              "colonisation {}\n");
+    const auto l = cli({"run", late.string(), "--out", (t.path / "late").string()});
+    CHECK(l.code == 2);
+    CHECK_THAT(l.err, Contains("late.lua:3: surface{cells = true} starts its veins at the petiole cells, but the first "
+                               "petiole is due at step 2000000, after the sheet's last step (1000000)") &&
+                          !Contains("growing the cell sheet"));
+    CHECK_FALSE(fs::exists(t.path / "late"));
   }
 }
 
