@@ -354,6 +354,21 @@ Outline parse_outline(const std::string& text, const std::string& source) {
     throw InvalidInput(source + ":" + std::to_string(last_line) +
                        ": the outline is open: its last vertex must repeat the first one to close it");
   o.points.pop_back();
+  // a vertex repeated on the next line (an export that closes a polyline twice) is one vertex
+  std::vector<Vec2> kept;
+  for (const Vec2& p : o.points)
+    if (kept.empty() || p != kept.back()) kept.push_back(p);
+  while (kept.size() > 1 && kept.back() == kept.front()) kept.pop_back();
+  o.points = std::move(kept);
+  // any unit: coordinates near the ends of the double range are brought near 1 by a power of two (exact),
+  // so that areas and crossings (products of two coordinates) neither overflow nor underflow
+  double extent = 0;
+  for (const Vec2& p : o.points) extent = std::max(extent, p.cwiseAbs().maxCoeff());
+  if (extent > 0 && (extent > 1e100 || extent < 1e-100)) {
+    int e = 0;
+    std::frexp(extent, &e);
+    for (Vec2& p : o.points) p = Vec2(std::ldexp(p.x(), -e), std::ldexp(p.y(), -e));
+  }
   validate_outline(o, source);
   if (signed_area(o) < 0) std::reverse(o.points.begin(), o.points.end());
   return o;

@@ -100,6 +100,26 @@ TEST_CASE("outline files: closed polygons parse, open, malformed and self-inters
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 0\n2 0\n0 0\n", "line.txt"),
                     Contains("no area") || Contains("folds back"));
   CHECK_THROWS_AS(venation::read_outline("/nonexistent/outline.txt"), core::FileError);
+  // a vertex repeated on the next line, or the closing vertex written twice, is one vertex
+  CHECK(venation::parse_outline("0 0\n0 1\n0 1\n1 1\n1 0\n0 0\n", "dup.txt").points == sq.points);
+  CHECK(venation::parse_outline("0 0\n0 1\n1 1\n1 0\n0 0\n0 0\n", "twice.txt").points == sq.points);
+  CHECK_THROWS_WITH(venation::parse_outline("0 0\n0 0\n1 1\n1 1\n0 0\n", "two.txt"), Contains("at least 3 vertices"));
+  // any unit: a square of side 1e300 or 1e-300 is a square, brought near 1 by a power of two
+  for (const double side : {1e300, 1e-300, 1e-310}) {
+    INFO(side);
+    std::string text;
+    for (const auto& [x, y] : {std::pair{0, 0}, {0, 1}, {1, 1}, {1, 0}, {0, 0}})
+      text += core::number_text(x * side) + " " + core::number_text(y * side) + "\n";
+    const Outline big = venation::parse_outline(text, "unit.txt");
+    REQUIRE(big.points.size() == 4);
+    double s = 0;  // the square's side after scaling
+    for (const auto& p : big.points) s = std::max(s, p.maxCoeff());
+    CHECK(s > 0.5);
+    CHECK(s <= 1);
+    CHECK(venation::signed_area(big) == Approx(s * s));
+  }
+  CHECK(venation::parse_outline("0 0\n0 1e300\n1e300 1e300\n1e300 0\n0 0\n", "big.txt").points[1].y() ==
+        std::ldexp(1e300, -997));  // an exact power of two: 2^997 <= 1e300 < 2^998
 }
 
 TEST_CASE("OutlineIndex agrees with a plain crossing test", "[leaf_shape]") {
