@@ -210,6 +210,8 @@ ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
                       key);
   });
   lua_setfield(L, -2, "__newindex");
+  lua_pushcfunction(L, api_cell_index);  // a misspelt field is an error, not a silent nil
+  lua_setfield(L, -2, "__index");
   lua_pushliteral(L, "the cell table is read-only");
   lua_setfield(L, -2, "__metatable");  // setmetatable on it is refused
   lua_setmetatable(L, -2);
@@ -559,8 +561,8 @@ venation::SourceRule ScriptHost::source_rule() {
     const double v = lua_tonumber(L, -1);
     lua_pop(L, 1);
     if (!std::isfinite(v) || v < 0)
-      throw InvalidInput(I->source_at + "venation.source must return a finite number >= 0, got " + core::number_text(v) +
-                         where());
+      throw InvalidInput(I->source_at + "venation.source must return a finite number >= 0, got " +
+                         core::number_text(v) + where());
     return v;
   };
 }

@@ -453,4 +453,7 @@ inline int guarded(lua_State* L, Body&& body) {
 /// params{name = default, ...}: the script's knobs, with --set overrides (script_values.cpp).
 int api_params(lua_State* L);
 
+/// __index of the cell table: a misspelt field is an error naming the closest one (script_values.cpp).
+int api_cell_index(lua_State* L);
+
 }  // namespace cellform::app

@@ -2,6 +2,11 @@
 // range checked, a whole section read, and params{} (ScriptHost::Impl, declared in app/script_impl.h).
 #include "app/script_impl.h"
 
+#include <iterator>
+#include <string_view>
+
+#include "venation/canalisation.h"
+
 namespace cellform::app {
 
 namespace {
@@ -386,6 +391,49 @@ int api_params(lua_State* L) {
     lua_setmetatable(L, 2);
     return 1;
   });
+}
+
+/// The fields of the cell table (fill_cell_table), then the attributes canalisation adds to it.
+constexpr std::size_t kFixedCellFields = 14;
+constexpr const char* kCellFields[] = {"id",
+                                       "index",
+                                       "age",
+                                       "generation",
+                                       "step",
+                                       "type",
+                                       "fixed",
+                                       "x",
+                                       "y",
+                                       "z",
+                                       "vx",
+                                       "vy",
+                                       "vz",
+                                       "neighbours",
+                                       venation::kFlow,
+                                       venation::kRadius,
+                                       venation::kOrder,
+                                       venation::kFlowX,
+                                       venation::kFlowY,
+                                       venation::kFlowZ};
+
+/// cell.k for a k the table does not hold: nil for an attribute not computed yet (flow before the first
+/// canalisation), else an error naming the field and the closest one.
+int api_cell_index(lua_State* L) {
+  if (lua_type(L, 2) != LUA_TSTRING) return 0;
+  const char* key = lua_tostring(L, 2);
+  for (std::size_t k = kFixedCellFields; k < std::size(kCellFields); ++k)
+    if (std::string_view(key) == kCellFields[k]) return 0;
+  {  // the message is built and pushed before lua_error, which longjmps past C++ destructors
+    const std::string near = core::closest_name(std::string(key), kCellFields);
+    const std::string text = std::string("cell.") + core::printable(key) + ": the cell table has no such field" +
+                             (near.empty() ? "" : "; did you mean '" + near + "'?") +
+                             " (its fields: id, index, x, y, z, vx, vy, vz, age, generation, type, fixed, "
+                             "neighbours, step, and flow, vein_radius, vein_order, flow_dx/dy/dz once venation runs)";
+    luaL_where(L, 1);
+    lua_pushlstring(L, text.data(), text.size());
+  }
+  lua_concat(L, 2);
+  return lua_error(L);
 }
 
 }  // namespace cellform::app

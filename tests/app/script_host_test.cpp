@@ -345,7 +345,8 @@ TEST_CASE("rule functions run per cell and report errors with step and cell", "[
   // nor can rawset add one (it passes __newindex; the field reached the next cell), though it may overwrite
   ScriptHost raw_add(tight);
   raw_add.load(
-      "division { rule = function(cell) rawset(cell, 'age', 3) assert(not cell.kept) rawset(cell, 'kept', 1) "
+      "division { rule = function(cell) rawset(cell, 'age', 3) assert(not rawget(cell, 'kept')) rawset(cell, 'kept', "
+      "1) "
       "return true end }",
       "raw_add.lua", {});
   CHECK_THROWS_WITH(raw_add.rules().divides(c, 0),
