@@ -87,7 +87,37 @@ int api_section(lua_State* L) {
 
 /// print("text", ...) writes a line; print{...} (one table) is the print section, named in upvalue 1.
 int api_print(lua_State* L) {
-  if (lua_gettop(L) == 1 && lua_type(L, 1) == LUA_TTABLE) return api_section(L);
+  if (lua_gettop(L) == 1 && lua_type(L, 1) == LUA_TTABLE) {
+    // print(P), the knobs of params{}: their values, not a print section
+    bool knobs = false;
+    if (lua_getmetatable(L, 1)) {
+      knobs = raw_field(L, -1, "__name") == LUA_TSTRING && std::string_view(lua_tostring(L, -1)) == "cellform.params";
+      lua_pop(L, 1);
+      if (knobs) raw_field(L, -1, "values");
+      lua_remove(L, knobs ? -2 : -1);
+    }
+    if (!knobs) return api_section(L);
+    return guarded(L, [L](Impl& I) {
+      std::vector<std::pair<std::string, std::string>> items;
+      lua_pushnil(L);
+      while (lua_next(L, -2) != 0) {
+        const int t = lua_type(L, -1);
+        std::string value = t == LUA_TSTRING                        ? "\"" + std::string(lua_tostring(L, -1)) + "\""
+                            : t == LUA_TNUMBER || t == LUA_TBOOLEAN ? std::string(luaL_tolstring(L, -1, nullptr))
+                                                                    : std::string(luaL_typename(L, -1));
+        if (t == LUA_TNUMBER || t == LUA_TBOOLEAN) lua_pop(L, 1);  // the string luaL_tolstring pushed
+        items.emplace_back(lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : "?", std::move(value));
+        lua_pop(L, 1);
+      }
+      std::sort(items.begin(), items.end());
+      std::string line = "params {";
+      for (std::size_t k = 0; k < items.size(); ++k)
+        line += (k ? ", " : " ") + items[k].first + " = " + items[k].second + (k + 1 == items.size() ? " " : "");
+      line += "}";
+      if (I.print) I.print(line);
+      return 0;
+    });
+  }
   Impl& I = *self_of(L);
   I.wait_if_dying();
   const int n = lua_gettop(L);

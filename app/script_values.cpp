@@ -299,7 +299,11 @@ namespace {
 
 /// __index of the table params{} returns: a knob it does not declare is a script error (a misspelled
 /// P.vein_spacin would be nil, and the section given it would fall back to its default unannounced).
-int params_missing(lua_State* L) {
+/// P.name (upvalue 1: the knobs' values): the value, or an error naming the closest knob.
+int params_index(lua_State* L) {
+  lua_pushvalue(L, 2);
+  if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNIL) return 1;
+  lua_pop(L, 1);
   return guarded(L, [L](Impl& I) {
     const std::string at = I.where(1);
     if (lua_type(L, 2) != LUA_TSTRING)
@@ -307,7 +311,7 @@ int params_missing(lua_State* L) {
     const std::string key = lua_tostring(L, 2);
     std::vector<std::string> names;
     lua_pushnil(L);
-    while (lua_next(L, 1) != 0) {
+    while (lua_next(L, lua_upvalueindex(1)) != 0) {
       if (lua_type(L, -2) == LUA_TSTRING) names.push_back(lua_tostring(L, -2));
       lua_pop(L, 1);
     }
@@ -316,6 +320,35 @@ int params_missing(lua_State* L) {
                        (near.empty() ? "" : "; did you mean '" + near + "'?") + " (params{...} declares the knobs)");
     return 0;
   });
+}
+
+/// P.name = value (upvalue 1: the knobs' values): refused for a knob, since run.json records the knobs as
+/// params{} made them and --set is the way to change one for a run; another name is the script's own field.
+int params_assign(lua_State* L) {
+  lua_pushvalue(L, 2);
+  if (lua_rawget(L, lua_upvalueindex(1)) == LUA_TNIL) {  // not a knob: the script's own field, kept as before
+    lua_pop(L, 1);
+    lua_settop(L, 3);
+    lua_rawset(L, 1);
+    return 0;
+  }
+  return guarded(L, [L](Impl& I) {
+    const std::string at = I.where(1);
+    const std::string key = lua_type(L, 2) == LUA_TSTRING ? core::printable(lua_tostring(L, 2)) : "?";
+    throw InvalidInput(at + "params are read-only: P." + key +
+                       " = ... would change a knob behind run.json's record of it; give the value in params{...}, or "
+                       "--set " +
+                       key + "=VALUE for one run (a value computed from the knobs goes in a local variable)");
+    return 0;
+  });
+}
+
+/// pairs(P) (upvalue 1: the knobs' values): next over them.
+int params_pairs(lua_State* L) {
+  lua_getglobal(L, "next");
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_pushnil(L);
+  return 3;
 }
 
 }  // namespace
@@ -385,10 +418,25 @@ int api_params(lua_State* L) {
       lua_insert(L, -2);     // key value
       lua_rawset(L, 2);      // result table at index 2
     }
+    // the script gets an empty proxy: reads go to the values (table 2), writes are refused
+    lua_newtable(L);
     lua_newtable(L);  // its metatable
-    lua_pushcfunction(L, params_missing);
+    lua_pushvalue(L, 2);
+    lua_pushcclosure(L, params_index, 1);
     lua_setfield(L, -2, "__index");
-    lua_setmetatable(L, 2);
+    lua_pushvalue(L, 2);
+    lua_pushcclosure(L, params_assign, 1);
+    lua_setfield(L, -2, "__newindex");
+    lua_pushvalue(L, 2);
+    lua_pushcclosure(L, params_pairs, 1);
+    lua_setfield(L, -2, "__pairs");
+    lua_pushvalue(L, 2);
+    lua_setfield(L, -2, "values");  // for print(P)
+    lua_pushliteral(L, "cellform.params");
+    lua_setfield(L, -2, "__name");
+    lua_pushliteral(L, "params are read-only");
+    lua_setfield(L, -2, "__metatable");
+    lua_setmetatable(L, -2);
     return 1;
   });
 }
