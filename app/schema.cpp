@@ -253,8 +253,8 @@ std::vector<Field> build() {
                   "largest extent of the printed form when scale = 0 (of its ideal round members; the mesh lies on "
                   "chords of them, up to about a voxel less)"));
   f.push_back(num("print", "scale", "0", 0, 1e9, false, "mm per model unit", "0 = automatic from size"));
-  f.push_back(
-      num("print", "min_radius", "0.4", 0, 1e3, true, "mm", "thinner veins are raised to this printable minimum"));
+  f.push_back(num("print", "min_radius", "0.4", 0, 1e3, true, "mm",
+                  "thinner veins are raised to this printable minimum (less than size / 2 when scale is automatic)"));
   f.push_back(num("print", "shell_thickness", "0.6", 0, 1e3, true, "mm",
                   "wall thickness of the shell (less than size when scale is automatic)"));
   f.push_back(num("print", "voxel_size", "0", 0, 1e3, false, "mm", "level-set resolution; 0 = min_radius / 2"));

@@ -201,6 +201,13 @@ void section_print(Impl& I, const std::string& at) {
         core::number_text(p.size) +
         " mm, the whole print across): the walls would be thicker than the form; use a thinner shell "
         "or a larger size");
+  if (p.veins && p.scale == 0 && 2 * p.min_radius >= p.size)
+    throw InvalidInput(
+        I.value_at(I.overrides && I.overrides->count("print.size") ? "print.size" : "print.min_radius", at) +
+        "print.min_radius (" + core::number_text(p.min_radius) + " mm) makes every vein at least " +
+        core::number_text(2 * p.min_radius) + " mm thick, not less than print.size (" + core::number_text(p.size) +
+        " mm, the whole print across): the veins would be larger than the form; use a smaller "
+        "min_radius or a larger size");
   if (!p.shell)  // noted, not refused: --set print.shell=false may turn off a shell the script sets up
     for (const char* f : {"shell_thickness", "close_holes", "close_holes_max"})
       if (v[f].present)

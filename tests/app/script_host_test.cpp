@@ -461,6 +461,8 @@ TEST_CASE("a print voxel coarser than the thinnest vein is refused before the ru
   CHECK_THAT(load_error("disc { radius = 3 }\nprint { shell = true, size = 20, shell_thickness = 30 }\n"),
              Contains(":2: print.shell_thickness (30 mm) is not less than print.size (20 mm"));
   CHECK_NOTHROW(load("disc { radius = 3 }\nprint { shell = true, size = 20, shell_thickness = 19 }\n"));
+  CHECK_THAT(load_error("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { size = 20, min_radius = 10 }\n"),
+             Contains(":4: print.min_radius (10 mm) makes every vein at least 20 mm thick, not less than print.size"));
   CHECK_NOTHROW(load("disc { radius = 3 }\nprint { shell = true, scale = 1, shell_thickness = 30 }\n"));
   CHECK_NOTHROW(
       load("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { size = 20, shell_thickness = 30 }\n"));  // no shell
