@@ -176,7 +176,9 @@ Value ScriptHost::Impl::from_text(const Field& f, const std::string& text, const
         throw fail();
       break;
     case Kind::vec3:
-      if (!parse_vec(text, v.vec)) throw fail();
+      if (!parse_vec(text, v.vec))
+        throw InvalidInput(at + name + " must be " + allowed_text(f) + ", got \"" + text +
+                           "\"; on the command line three numbers: --set " + name + "=X,Y,Z");
       break;
     case Kind::text:
       v.str = text == "(none)" ? std::string() : text;

@@ -231,8 +231,8 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
     const auto ph = r.get<std::uint64_t>(), dh = r.get<std::uint64_t>();
     if (ph != params_hash(m.p))
       throw InvalidInput(what +
-                         " was saved with other colonisation parameters (or another seed): only colonisation.threads, "
-                         "max_steps and max_nodes may differ when continuing it");
+                         " was saved with other colonisation parameters (or another seed): only the thread count, "
+                         "colonisation.max_steps and colonisation.max_nodes may differ when continuing it");
     core::ByteWriter scratch;
     if (dh != (m.region ? domain_hash(m.region->domain()) : leaf_hash(m.leaf, scratch)))
       throw InvalidInput(what +

@@ -54,3 +54,16 @@ TEST_CASE("a petiole due after the run's last step is noted before the steps", "
   REQUIRE(r.code == 0);
   CHECK_THAT(r.err, !Contains("never appears"));
 }
+
+TEST_CASE("a print with no vein grown yet says what to change, not to print again", "[cli][venation]") {
+  TempDir t("cli-nothing-to-print");
+  const auto early =
+      t.write("early.lua", std::string(kTwoDiscs) + "petiole { at = {0, -4, 0} }\nprint { veins = true, size = 40 }\n");
+  const auto r = cli({"run", early.string(), "--out", (t.path / "a").string(), "--quiet", "--steps", "1", "--set",
+                      "venation.threshold=1000"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("nothing to print yet (no vein has grown; run longer"));
+  // other print.* values cannot help: the hint that they can is not given
+  CHECK_THAT(r.err, !Contains("to print again with other print.* values"));
+  CHECK(fs::exists(t.path / "a" / "checkpoint.cfck"));
+}
