@@ -81,9 +81,9 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock) {
     if (fs::exists(dir / "run.json", ec)) {
       const fs::path file = dir / "run.json";
       if (!fs::is_regular_file(file, ec))
-        throw core::FileError("'" + file.string() +
-                              "' is not a file (a folder?); a run there writes its run.json in its place: choose "
-                              "another --out folder, or move that away");
+        throw FolderRefused("'" + file.string() +
+                            "' is not a file (a folder?); a run there writes its run.json in its place: choose "
+                            "another --out folder, or move that away");
       std::ifstream in(file);
       if (!in)
         throw core::FileError("cannot read '" + file.string() + "' (" + std::strerror(errno) +
@@ -92,15 +92,15 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock) {
       try {
         j = json::parse(in);
       } catch (const std::exception&) {
-        throw core::FileError("'" + file.string() +
-                              "' is not valid JSON: cellform writes it whole, so another program "
-                              "wrote it, or a disk failed; a run there would replace it: choose another --out "
-                              "folder, or move that file away");
+        throw FolderRefused("'" + file.string() +
+                            "' is not valid JSON: cellform writes it whole, so another program "
+                            "wrote it, or a disk failed; a run there would replace it: choose another --out "
+                            "folder, or move that file away");
       }
       if (!is_cellform_run(j))
-        throw core::FileError("'" + file.string() +
-                              "' was not written by cellform; a run there would replace it and delete the files it "
-                              "lists: choose another --out folder, or move that file away");
+        throw FolderRefused("'" + file.string() +
+                            "' was not written by cellform; a run there would replace it and delete the files it "
+                            "lists: choose another --out folder, or move that file away");
     }
   }
   // staging folders and half-written checkpoints ("checkpoint.cfck.tmp-PID") of runs that were killed (a

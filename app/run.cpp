@@ -285,6 +285,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   } catch (const FolderBusy& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
     return failure;  // the folder is the other run's now
+  } catch (const FolderRefused& e) {
+    err << "cellform: cannot write outputs: " << e.what() << "\n";
+    return usage;  // the folder is as it was
   } catch (const std::exception& e) {
     err << "cellform: cannot write outputs: " << core::error_text(e) << "\n";
     remove_empty_up_to(dir, created);

@@ -156,9 +156,8 @@ Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHo
 constexpr const char* kNoSheetSeeds =
     "surface{cells = true} needs seeds = {{x, y, z}, ...} or a petiole{...} cell where the veins start";
 
-/// The colonisation of the spec's domain; for surface{cells = true} the domain is the sheet of `sheet`,
-/// with the seeds (default: the petiole cells) moved to their nearest points of it.
-/// With `state` (resume), the run continues from that Colonisation::save() state instead of step 0.
+/// The colonisation of the spec's domain; for surface{cells = true} the sheet of `sheet`, with the seeds
+/// (default: the petiole cells) moved onto it. With `state` (resume), from that Colonisation::save() state.
 venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cells::Cells* sheet,
                                          const std::string* state = nullptr, const std::string& what = "") {
   auto make = [&](const auto& domain) {
@@ -253,6 +252,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
   } catch (const FolderBusy& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
     return failure;  // the folder is the other run's now
+  } catch (const FolderRefused& e) {
+    err << "cellform: cannot write outputs: " << e.what() << "\n";
+    return usage;  // the folder is as it was
   } catch (const std::exception& e) {
     err << "cellform: cannot write outputs: " << core::error_text(e) << "\n";
     remove_empty_up_to(dir, created);

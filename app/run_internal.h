@@ -173,6 +173,13 @@ class FolderBusy : public core::FileError {
   using core::FileError::FileError;
 };
 
+/// The output folder holds a run.json a run there would wrongly replace (another program's, or not a file):
+/// an input error, the user's to resolve by choosing another folder.
+class FolderRefused : public core::FileError {
+ public:
+  using core::FileError::FileError;
+};
+
 /// An exclusive lock on an output folder (flock on the folder itself: nothing is left in it), held while
 /// a run writes there, so that two runs never mix their files in one folder.
 class FolderLock {

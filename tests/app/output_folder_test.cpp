@@ -47,7 +47,7 @@ TEST_CASE("an unwritable output location fails clearly", "[cli]") {
   // a folder named run.json in the output folder is said as such (it was "not valid JSON") and kept
   fs::create_directories(t.path / "o" / "run.json");
   r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet", "--steps", "2"});
-  CHECK(r.code == 1);
+  CHECK(r.code == 2);  // an input error: another folder, or that one moved away
   CHECK_THAT(r.err, Contains("run.json' is not a file (a folder?)"));
   CHECK(fs::is_directory(t.path / "o" / "run.json"));
   CHECK_FALSE(fs::exists(t.path / "o" / "cells.ply"));
@@ -116,7 +116,7 @@ TEST_CASE("a folder whose run.json another program wrote is refused, and nothing
   const std::string foreign = R"({"tool": "other", "outputs": ["notes.txt", "lnk/data.txt"]})";
   t.write("out/run.json", foreign);
   auto r = cli({"run", script.string(), "--out", dir.string(), "--quiet", "--steps", "2"});
-  CHECK(r.code == 1);
+  CHECK(r.code == 2);  // an input error, as the README's exit codes say
   CHECK_THAT(r.err, Contains("run.json' was not written by cellform"));
   CHECK(slurp(dir / "run.json") == foreign);
   CHECK(fs::exists(dir / "notes.txt"));
@@ -124,7 +124,7 @@ TEST_CASE("a folder whose run.json another program wrote is refused, and nothing
   CHECK_FALSE(fs::exists(dir / "cells.ply"));
   t.write("out/run.json", "{\"program\": \"cellform\", \"outp");  // cut short: no program's whole file
   r = cli({"run", script.string(), "--out", dir.string(), "--quiet", "--steps", "2"});
-  CHECK(r.code == 1);
+  CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("run.json' is not valid JSON"));
   // cellform's own run.json that lists a file through a link (or outside frames/) deletes nothing there
   t.write("out/run.json", R"({"program": "cellform", "outputs": ["lnk/data.txt", "frames/../notes.txt", "x/y.ply"]})");
