@@ -97,26 +97,7 @@ int api_print(lua_State* L) {
       lua_remove(L, knobs ? -2 : -1);
     }
     if (!knobs) return api_section(L);
-    return guarded(L, [L](Impl& I) {
-      std::vector<std::pair<std::string, std::string>> items;
-      lua_pushnil(L);
-      while (lua_next(L, -2) != 0) {
-        const int t = lua_type(L, -1);
-        std::string value = t == LUA_TSTRING                        ? "\"" + std::string(lua_tostring(L, -1)) + "\""
-                            : t == LUA_TNUMBER || t == LUA_TBOOLEAN ? std::string(luaL_tolstring(L, -1, nullptr))
-                                                                    : std::string(luaL_typename(L, -1));
-        if (t == LUA_TNUMBER || t == LUA_TBOOLEAN) lua_pop(L, 1);  // the string luaL_tolstring pushed
-        items.emplace_back(lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : "?", std::move(value));
-        lua_pop(L, 1);
-      }
-      std::sort(items.begin(), items.end());
-      std::string line = "params {";
-      for (std::size_t k = 0; k < items.size(); ++k)
-        line += (k ? ", " : " ") + items[k].first + " = " + items[k].second + (k + 1 == items.size() ? " " : "");
-      line += "}";
-      if (I.print) I.print(line);
-      return 0;
-    });
+    return api_print_knobs(L);
   }
   Impl& I = *self_of(L);
   I.wait_if_dying();
@@ -374,6 +355,9 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
       throw InvalidInput(I.sections_seen[domain] + domain + "{...} needs colonisation{...} to grow veins in it");
   const bool in_3d = I.sections_seen.count("volume") || I.sections_seen.count("surface");
   if (cfg.colonisation && !I.sections_seen.count("leaf") && !in_3d) {  // the default blade
+    cfg.notes.push_back(I.sections_seen["colonisation"] +
+                        "no leaf{...}, volume{...} or surface{...}: the veins grow in leaf{}'s default blade (an "
+                        "ovate outline)");
     lua_settop(L, 0);
     section_leaf(I, I.script_name + ": ");
   }

@@ -453,6 +453,9 @@ inline int guarded(lua_State* L, Body&& body) {
 /// params{name = default, ...}: the script's knobs, with --set overrides (script_values.cpp).
 int api_params(lua_State* L);
 
+/// print(P) of params{}' knobs, their values table on top of the stack (script_values.cpp).
+int api_print_knobs(lua_State* L);
+
 /// __index of the cell table: a misspelt field is an error naming the closest one (script_values.cpp).
 int api_cell_index(lua_State* L);
 

@@ -486,4 +486,28 @@ int api_cell_index(lua_State* L) {
   return lua_error(L);
 }
 
+/// print(P) with the knobs' values table on top of the stack: one line "params { name = value, ... }".
+int api_print_knobs(lua_State* L) {
+  return guarded(L, [L](Impl& I) {
+    std::vector<std::pair<std::string, std::string>> items;
+    lua_pushnil(L);
+    while (lua_next(L, -2) != 0) {
+      const int t = lua_type(L, -1);
+      std::string value = t == LUA_TSTRING                        ? "\"" + std::string(lua_tostring(L, -1)) + "\""
+                          : t == LUA_TNUMBER || t == LUA_TBOOLEAN ? std::string(luaL_tolstring(L, -1, nullptr))
+                                                                  : std::string(luaL_typename(L, -1));
+      if (t == LUA_TNUMBER || t == LUA_TBOOLEAN) lua_pop(L, 1);  // the string luaL_tolstring pushed
+      items.emplace_back(lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : "?", std::move(value));
+      lua_pop(L, 1);
+    }
+    std::sort(items.begin(), items.end());
+    std::string line = "params {";
+    for (std::size_t k = 0; k < items.size(); ++k)
+      line += (k ? ", " : " ") + items[k].first + " = " + items[k].second + (k + 1 == items.size() ? " " : "");
+    line += "}";
+    if (I.print) I.print(line);
+    return 0;
+  });
+}
+
 }  // namespace cellform::app

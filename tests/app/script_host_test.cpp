@@ -509,7 +509,10 @@ TEST_CASE("settings without effect in this run (a shell's without a shell, svg_s
   REQUIRE(cells_run.notes.size() == 1);
   CHECK_THAT(cells_run.notes[0], Contains(":2: output.svg_size has no effect"));
   CHECK(load("volume { ball = { radius = 5 } }\ncolonisation {}\noutput { svg_size = 50 }\n").notes.size() == 1);
-  CHECK(load("output { svg_size = 50 }\ncolonisation {}\n").notes.empty());  // a leaf, the default blade
+  CHECK(load("output { svg_size = 50 }\nleaf {}\ncolonisation {}\n").notes.empty());
+  const auto blade = load("output { svg_size = 50 }\ncolonisation {}\n");  // a leaf, the default blade: said
+  REQUIRE(blade.notes.size() == 1);
+  CHECK_THAT(blade.notes[0], Contains(":2: no leaf{...}, volume{...} or surface{...}: the veins grow in leaf{}'s"));
 }
 
 TEST_CASE("a field of another split direction is refused, not dropped unseen", "[script]") {
