@@ -248,7 +248,13 @@ std::string MeshReport::summary() const {
   if (cavities > 0 && closed_manifold() && consistently_oriented)
     s << " (" << pieces << (pieces == 1 ? " solid piece, " : " solid pieces, ") << cavities
       << (cavities == 1 ? " closed cavity inside" : " closed cavities inside") << ")";
-  s << "; volume " << volume << ", area " << area << "; bounding box " << (bbox_max - bbox_min).transpose() << "\n";
+  // a volume means something only inside a closed, consistently oriented surface
+  s << "; volume ";
+  if (closed_manifold() && consistently_oriented)
+    s << volume;
+  else
+    s << "none (" << (closed_manifold() ? "misoriented" : "not closed") << ")";
+  s << ", area " << area << "; bounding box " << (bbox_max - bbox_min).transpose() << "\n";
   s << "boundary edges " << boundary_edges << ", non-manifold edges " << nonmanifold_edges << ", non-manifold vertices "
     << nonmanifold_vertices << ", misoriented edges " << misoriented_edges << ", self-intersecting pairs "
     << self_intersections << ", degenerate triangles " << degenerate_triangles << "\n";

@@ -260,7 +260,13 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
   for (const Tri& t : m.triangles)
     for (std::uint32_t i : t)
       if (i >= m.vertices.size()) malformed(path, "PLY face index " + std::to_string(i) + " out of range");
-  if (m.triangles.empty()) malformed(path, "no faces in the PLY file");
+  if (m.triangles.empty()) {
+    const bool edges =
+        std::any_of(elements.begin(), elements.end(), [](const Element& e) { return e.name == "edge" && e.count > 0; });
+    malformed(path, edges ? "no faces in the PLY file, only edges: a polyline graph such as veins.ply, not a "
+                            "surface (check the printable.stl made from it)"
+                          : "no faces in the PLY file");
+  }
   return m;
 }
 

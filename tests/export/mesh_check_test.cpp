@@ -148,6 +148,8 @@ TEST_CASE("check_mesh finds each kind of defect", "[mesh_check]") {
     auto m = tetrahedron();
     m.triangles.pop_back();
     const auto r = exporters::check_mesh(m);
+    // an open surface encloses nothing: no volume is given (the signed sum depended on where it lay)
+    CHECK_THAT(r.summary(), Catch::Contains("; volume none (not closed)"));
     CHECK(r.boundary_edges == 3);
     CHECK(r.genus == std::vector<int>{-1});
     CHECK_FALSE(r.printable());
@@ -392,6 +394,14 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "far.obj"), Catch::Contains("vertex 4") && Catch::Contains("1e15"));
   { std::ofstream(dir / "half.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1.5 2 3\n"; }  // not read as f 1 2 3
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "half.obj"), Catch::Contains("line 4") && Catch::Contains("'1.5'"));
+  // a vein graph (edges, no faces) is said to be one, and where its printable solid is
+  {
+    std::ofstream(dir / "veins.ply") << "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float "
+                                        "y\nproperty float z\nelement edge 1\nproperty int vertex1\nproperty int "
+                                        "vertex2\nend_header\n0 0 0\n1 0 0\n0 1\n";
+  }
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "veins.ply"),
+                    Catch::Contains("only edges: a polyline graph such as veins.ply, not a surface"));
   { std::ofstream(dir / "bad.ply") << "ply\nformat binary_big_endian 1.0\nend_header\n"; }
   CHECK_THROWS_AS(exporters::read_mesh(dir / "bad.ply"), core::FileError);
   // NaN in a binary STL is unreadable input (exit 2 in check), not an unprintable shape
