@@ -419,6 +419,7 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     throw InvalidInput(I.sections_seen["surface"] +
                        "surface{cells = true} needs seeds = {{x, y, z}, ...} or a petiole{...} cell where the veins "
                        "start");
+  cfg.scene.cells.vein_trees = cfg.scene.venation.has_value();  // no canalisation, no straightening to bound
   if (!cfg.colonisation || on_cells) {
     // the checks that need several parameters at once (the stable time step) name the section, or the --set
     try {

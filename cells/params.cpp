@@ -41,7 +41,8 @@ const char* const kTypeNames[3] = {"general", "petiole", "vein"};
 // The Gershgorin bound of one cell type's linearised force field (1/time^2), and the script's name of its
 // largest term. A spring or planar weight w contributes at most 2w (the cell and its neighbours moving in
 // opposition); the 1/r kernels (cohesion, separation) have stiffness w / r^2, bounded at r = rest length.
-// Cells in a vein tree add the straightening terms (counted for every type: scripts may set types).
+// Cells in a vein tree add the straightening terms (counted for every type: scripts may set types), when
+// vein trees can form.
 struct Stiffness {
   double lambda = 0;
   double largest = -1;
@@ -52,14 +53,15 @@ Stiffness stiffness(const Params& p, std::size_t t) {
   const ForceWeights& w = p.weights[t];
   const double d2 = p.rest_length * p.rest_length;
   const std::string base = t == 0 ? std::string("cells.") : std::string("cells.") + kTypeNames[t] + ".";
+  const double vein = p.vein_trees ? 1.0 : 0.0;
   const std::pair<double, std::string> terms[] = {
       {2 * w.spring, base + "spring " + str(w.spring)},
       {2 * w.planar, base + "planar " + str(w.planar)},
       {2 * w.cohesion / d2, base + "cohesion " + str(w.cohesion)},
       {2 * w.separation / d2, base + "separation " + str(w.separation)},
-      {2 * w.cohesion * p.vein_cohesion_factor / d2,
+      {vein * 2 * w.cohesion * p.vein_cohesion_factor / d2,
        base + "cohesion " + str(w.cohesion) + " times cells.vein_cohesion " + str(p.vein_cohesion_factor)},
-      {2 * w.separation * p.vein_separation_factor / d2,
+      {vein * 2 * w.separation * p.vein_separation_factor / d2,
        base + "separation " + str(w.separation) + " times cells.vein_separation " + str(p.vein_separation_factor)}};
   Stiffness s;
   for (const auto& [l, name] : terms) {

@@ -564,9 +564,15 @@ TEST_CASE("a value that fails a check of several parameters is reported where it
   CHECK_THAT(load_error("cells { }\ndisc { radius = 3 }\n", {{"cells.time_step", "3"}, {"cells.spring", "3"}}),
              Contains("--set cells.time_step=3: ") && Contains("(with --set cells.spring=3)"));
   // the straightening factor is named by the script's name, and the message names the term that binds
-  CHECK_THAT(load_error("cells { }\ndisc { radius = 3 }\n", {{"cells.vein_cohesion", "1e6"}}),
+  const std::string veined = "cells { }\ndisc { radius = 3 }\npetiole { at = {0, -3, 0} }\nvenation { }\n";
+  CHECK_THAT(load_error(veined, {{"cells.vein_cohesion", "1e6"}}),
              Contains("test/leaf.lua:1: cells.time_step") && Contains("(with --set cells.vein_cohesion=1e6)") &&
                  Contains("the largest term is cells.vein.cohesion 0.05 times cells.vein_cohesion 1e+06"));
+  // without canalisation no cell joins a vein tree: the straightening terms bound nothing
+  CHECK_NOTHROW(load("cells { }\ndisc { radius = 3 }\n", {{"cells.vein_cohesion", "1e6"}}));
+  CHECK_NOTHROW(load("cells { cohesion = 40, time_step = 0.1 }\ndisc { radius = 3 }\n"));  // was refused
+  CHECK_THAT(load_error("cells { cohesion = 4000, time_step = 0.1 }\ndisc { radius = 3 }\n"),
+             Contains("the largest term is cells.cohesion 4000)"));  // the plain term still binds
   CHECK_THAT(load_error("cells { spring = 1000 }\ndisc { radius = 3 }\n"),
              Contains("the largest term is cells.spring 1000)"));
   // a --set value is named as the --set, not as the script line that set another value
