@@ -152,7 +152,8 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
         const std::string& next = args[i + 1];
         if (next == "-q" || next == "-h" ||
             std::find(kRunOptions.begin(), kRunOptions.end(), next) != kRunOptions.end())
-          throw UsageError(a + " needs a value, got the option " + next + " (a file or folder so named is ./" + next + ")");
+          throw UsageError(a + " needs a value, got the option " + next +
+                           (a == "--out" || a == "--script" ? " (a file or folder so named is ./" + next + ")" : ""));
         return args[++i];
       };
       if (a == "-h" || a == "--help") {

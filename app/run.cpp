@@ -448,7 +448,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     }
     progress.finish();
     if (const std::size_t lost = scene->venation_report().unconnected; lost > 0 && sim.step_count() > first)
-      err << "cellform: warning: " << lost << " of " << sim.cells().size()
+      err << "cellform: warning: " << lost << " of " << scene->venation_report().cells  // at its last canalisation
           << " cells have no path through the links to a petiole: their auxin reaches no petiole and no vein grows "
              "there (a part of the form apart from every petiole, or a petiole off the sheet: place a petiole{at = "
              "...} on that part, on a cell)\n";

@@ -88,13 +88,13 @@ int api_section(lua_State* L) {
 /// print("text", ...) writes a line; print{...} (one table) is the print section, named in upvalue 1.
 int api_print(lua_State* L) {
   if (lua_gettop(L) == 1 && lua_type(L, 1) == LUA_TTABLE) {
-    // print(P), the knobs of params{}: their values, not a print section
+    // print(P), the knobs of params{}: their values, not a print section (P is known by its metatable,
+    // which the script cannot reach)
     bool knobs = false;
     if (lua_getmetatable(L, 1)) {
-      knobs = raw_field(L, -1, "__name") == LUA_TSTRING && std::string_view(lua_tostring(L, -1)) == "cellform.params";
-      lua_pop(L, 1);
-      if (knobs) raw_field(L, -1, "values");
-      lua_remove(L, knobs ? -2 : -1);
+      lua_rawgeti(L, LUA_REGISTRYINDEX, self_of(L)->params_meta_ref);
+      knobs = lua_rawequal(L, -1, -2);
+      lua_pop(L, 2);
     }
     if (!knobs) return api_section(L);
     return api_print_knobs(L);
@@ -265,6 +265,9 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
   I.placements = 0;
   I.first_constraint.clear();
   I.param_names.clear();
+  luaL_unref(L, LUA_REGISTRYINDEX, I.params_ref);
+  luaL_unref(L, LUA_REGISTRYINDEX, I.params_meta_ref);
+  I.params_ref = I.params_meta_ref = LUA_NOREF;
   I.script_name = script_path.string();
   watchdog_->script_ = I.script_name;  // no script runs now: the watchdog reads it only while one does
   I.script_dir = script_path.has_parent_path() ? script_path.parent_path() : std::filesystem::path(".");
@@ -290,6 +293,7 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     throw InvalidInput(I.describe(msg));
   }
   std::string err = I.protected_call(0, 0, I.limits.instructions);
+  if (err.empty()) check_knobs_unchanged(I);
   if (!err.empty()) {
     // a misspelt function ("dsic{...}") is a call of nil: name the function meant
     const std::string nil_call = "attempt to call a nil value (global '";

@@ -116,6 +116,9 @@ struct ScriptHost::Impl {
   std::string divides_at, direction_at, source_at;
   int cell_table_ref = LUA_NOREF;
   int randomseed_ref = LUA_NOREF;  // math.randomseed as the library made it (ScriptHost::set_step)
+  int params_ref = LUA_NOREF;      // the table params{} returned (P), and its metatable
+  int params_meta_ref = LUA_NOREF;
+  std::string params_at;  // "file:line: " of the params{} call
 
   static void* alloc(void* ud, void* ptr, std::size_t osize, std::size_t nsize) {
     auto* self = static_cast<Impl*>(ud);
@@ -453,8 +456,11 @@ inline int guarded(lua_State* L, Body&& body) {
 /// params{name = default, ...}: the script's knobs, with --set overrides (script_values.cpp).
 int api_params(lua_State* L);
 
-/// print(P) of params{}' knobs, their values table on top of the stack (script_values.cpp).
+/// print(P) of params{}' knobs, P on top of the stack (script_values.cpp).
 int api_print_knobs(lua_State* L);
+
+/// Throws if the script changed a knob of params{} after it was made (run.json records the knobs as made).
+void check_knobs_unchanged(Impl& I);
 
 /// __index of the cell table: a misspelt field is an error naming the closest one (script_values.cpp).
 int api_cell_index(lua_State* L);

@@ -301,11 +301,7 @@ namespace {
 
 /// __index of the table params{} returns: a knob it does not declare is a script error (a misspelled
 /// P.vein_spacin would be nil, and the section given it would fall back to its default unannounced).
-/// P.name (upvalue 1: the knobs' values): the value, or an error naming the closest knob.
-int params_index(lua_State* L) {
-  lua_pushvalue(L, 2);
-  if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNIL) return 1;
-  lua_pop(L, 1);
+int params_missing(lua_State* L) {
   return guarded(L, [L](Impl& I) {
     const std::string at = I.where(1);
     if (lua_type(L, 2) != LUA_TSTRING)
@@ -313,7 +309,7 @@ int params_index(lua_State* L) {
     const std::string key = lua_tostring(L, 2);
     std::vector<std::string> names;
     lua_pushnil(L);
-    while (lua_next(L, lua_upvalueindex(1)) != 0) {
+    while (lua_next(L, 1) != 0) {
       if (lua_type(L, -2) == LUA_TSTRING) names.push_back(lua_tostring(L, -2));
       lua_pop(L, 1);
     }
@@ -324,33 +320,18 @@ int params_index(lua_State* L) {
   });
 }
 
-/// P.name = value (upvalue 1: the knobs' values): refused for a knob, since run.json records the knobs as
-/// params{} made them and --set is the way to change one for a run; another name is the script's own field.
-int params_assign(lua_State* L) {
-  lua_pushvalue(L, 2);
-  if (lua_rawget(L, lua_upvalueindex(1)) == LUA_TNIL) {  // not a knob: the script's own field, kept as before
-    lua_pop(L, 1);
-    lua_settop(L, 3);
-    lua_rawset(L, 1);
-    return 0;
+/// run.json's record of the value on top of the stack (a knob's default, or its --set).
+nlohmann::json knob_record(lua_State* L) {
+  const int t = lua_type(L, -1);
+  if (t == LUA_TNUMBER)
+    return lua_isinteger(L, -1) ? nlohmann::json(lua_tointeger(L, -1)) : nlohmann::json(lua_tonumber(L, -1));
+  if (t == LUA_TBOOLEAN) return lua_toboolean(L, -1) != 0;
+  if (t == LUA_TSTRING) {
+    std::size_t len = 0;
+    const char* text = lua_tolstring(L, -1, &len);
+    return std::string(text, len);  // whole, NULs included (JSON writes them \u0000)
   }
-  return guarded(L, [L](Impl& I) {
-    const std::string at = I.where(1);
-    const std::string key = lua_type(L, 2) == LUA_TSTRING ? core::printable(lua_tostring(L, 2)) : "?";
-    throw InvalidInput(at + "params are read-only: P." + key +
-                       " = ... would change a knob behind run.json's record of it; give the value in params{...}, or "
-                       "--set " +
-                       key + "=VALUE for one run (a value computed from the knobs goes in a local variable)");
-    return 0;
-  });
-}
-
-/// pairs(P) (upvalue 1: the knobs' values): next over them.
-int params_pairs(lua_State* L) {
-  lua_getglobal(L, "next");
-  lua_pushvalue(L, lua_upvalueindex(1));
-  lua_pushnil(L);
-  return 3;
+  return luaL_typename(L, -1);
 }
 
 }  // namespace
@@ -405,40 +386,24 @@ int api_params(lua_State* L) {
           throw InvalidInput("--set " + key + ": only number, boolean and string params can be set");
         }
       } else {
-        if (t == LUA_TNUMBER)
-          rec[key] = integer ? nlohmann::json(lua_tointeger(L, -1)) : nlohmann::json(lua_tonumber(L, -1));
-        else if (t == LUA_TBOOLEAN)
-          rec[key] = lua_toboolean(L, -1) != 0;
-        else if (t == LUA_TSTRING) {
-          std::size_t len = 0;
-          const char* text = lua_tolstring(L, -1, &len);
-          rec[key] = std::string(text, len);  // whole, NULs included (JSON writes them \u0000)
-        } else
-          rec[key] = luaL_typename(L, -1);
+        rec[key] = knob_record(L);
       }
       lua_pushvalue(L, -2);  // key
       lua_insert(L, -2);     // key value
       lua_rawset(L, 2);      // result table at index 2
     }
-    // the script gets an empty proxy: reads go to the values (table 2), writes are refused
-    lua_newtable(L);
     lua_newtable(L);  // its metatable
-    lua_pushvalue(L, 2);
-    lua_pushcclosure(L, params_index, 1);
+    lua_pushcfunction(L, params_missing);
     lua_setfield(L, -2, "__index");
-    lua_pushvalue(L, 2);
-    lua_pushcclosure(L, params_assign, 1);
-    lua_setfield(L, -2, "__newindex");
-    lua_pushvalue(L, 2);
-    lua_pushcclosure(L, params_pairs, 1);
-    lua_setfield(L, -2, "__pairs");
-    lua_pushvalue(L, 2);
-    lua_setfield(L, -2, "values");  // for print(P)
-    lua_pushliteral(L, "cellform.params");
-    lua_setfield(L, -2, "__name");
     lua_pushliteral(L, "params are read-only");
-    lua_setfield(L, -2, "__metatable");
-    lua_setmetatable(L, -2);
+    lua_setfield(L, -2, "__metatable");  // setmetatable(P, ...) is refused
+    lua_pushvalue(L, -1);
+    I.params_meta_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+    lua_setmetatable(L, 2);
+    lua_pushvalue(L, 2);
+    I.params_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+    I.params_at = at;
+    lua_settop(L, 2);
     return 1;
   });
 }
@@ -473,41 +438,56 @@ int api_cell_index(lua_State* L) {
   const char* key = lua_tostring(L, 2);
   for (std::size_t k = kFixedCellFields; k < std::size(kCellFields); ++k)
     if (std::string_view(key) == kCellFields[k]) return 0;
-  {  // the message is built and pushed before lua_error, which longjmps past C++ destructors
+  return guarded(L, [key](Impl& I) {  // (guarded: no Lua error while the message's strings live)
     const std::string near = core::closest_name(std::string(key), kCellFields);
-    const std::string text = std::string("cell.") + core::printable(key) + ": the cell table has no such field" +
-                             (near.empty() ? "" : "; did you mean '" + near + "'?") +
-                             " (its fields: id, index, x, y, z, vx, vy, vz, age, generation, type, fixed, "
-                             "neighbours, step, and flow, vein_radius, vein_order, flow_dx/dy/dz once venation runs)";
-    luaL_where(L, 1);
-    lua_pushlstring(L, text.data(), text.size());
-  }
-  lua_concat(L, 2);
-  return lua_error(L);
+    throw InvalidInput(I.where(1) + "cell." + core::printable(key) + ": the cell table has no such field" +
+                       (near.empty() ? "" : "; did you mean '" + near + "'?") +
+                       " (its fields: id, index, x, y, z, vx, vy, vz, age, generation, type, fixed, neighbours, step, "
+                       "and flow, vein_radius, vein_order, flow_dx/dy/dz once venation runs)");
+    return 0;
+  });
 }
 
-/// print(P) with the knobs' values table on top of the stack: one line "params { name = value, ... }".
+/// print(P), P on top of the stack: one line "params { name = value, ... }" of its knobs.
 int api_print_knobs(lua_State* L) {
   return guarded(L, [L](Impl& I) {
-    std::vector<std::pair<std::string, std::string>> items;
-    lua_pushnil(L);
-    while (lua_next(L, -2) != 0) {
-      const int t = lua_type(L, -1);
-      std::string value = t == LUA_TSTRING                        ? "\"" + std::string(lua_tostring(L, -1)) + "\""
-                          : t == LUA_TNUMBER || t == LUA_TBOOLEAN ? std::string(luaL_tolstring(L, -1, nullptr))
-                                                                  : std::string(luaL_typename(L, -1));
-      if (t == LUA_TNUMBER || t == LUA_TBOOLEAN) lua_pop(L, 1);  // the string luaL_tolstring pushed
-      items.emplace_back(lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : "?", std::move(value));
-      lua_pop(L, 1);
-    }
-    std::sort(items.begin(), items.end());
     std::string line = "params {";
-    for (std::size_t k = 0; k < items.size(); ++k)
-      line += (k ? ", " : " ") + items[k].first + " = " + items[k].second + (k + 1 == items.size() ? " " : "");
-    line += "}";
+    std::size_t k = 0;
+    for (const std::string& name : I.param_names) {  // sorted
+      lua_pushlstring(L, name.data(), name.size());
+      lua_rawget(L, -2);  // raw: no metamethod may raise here, past this frame's strings
+      const nlohmann::json value = knob_record(L);
+      lua_pop(L, 1);
+      line += (k++ ? ", " : " ") + name + " = " + value.dump();
+    }
+    line += k ? " }" : "}";
     if (I.print) I.print(line);
     return 0;
   });
+}
+
+void check_knobs_unchanged(Impl& I) {
+  if (I.params_ref == LUA_NOREF || !I.cfg) return;
+  lua_State* L = I.L;
+  const nlohmann::json& rec = I.cfg->resolved["params"];
+  lua_rawgeti(L, LUA_REGISTRYINDEX, I.params_ref);
+  for (const auto& [name, was] : rec.items()) {
+    lua_pushlstring(L, name.data(), name.size());
+    lua_rawget(L, -2);
+    const nlohmann::json now = knob_record(L);
+    lua_pop(L, 1);
+    if (now.dump() != was.dump()) {  // (as text: a NaN knob equals itself)
+      lua_pop(L, 1);
+      throw InvalidInput(I.params_at + "params: the script changed the knob " + core::printable(name) + " from " +
+                         was.dump() + " to " + now.dump() +
+                         " after params{...} made it, but run.json records it as made: the knobs are read-only; give "
+                         "its value in params{...}, or --set " +
+                         core::printable(name) +
+                         "=VALUE for one run (a value computed from the knobs goes in a local "
+                         "variable)");
+    }
+  }
+  lua_pop(L, 1);
 }
 
 }  // namespace cellform::app

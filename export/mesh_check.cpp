@@ -253,7 +253,7 @@ std::string MeshReport::summary() const {
   if (closed_manifold() && consistently_oriented)
     s << volume;
   else
-    s << "none (" << (closed_manifold() ? "misoriented" : "not closed") << ")";
+    s << "none (" << (closed_manifold() ? "misoriented" : boundary_edges > 0 ? "not closed" : "not 2-manifold") << ")";
   s << ", area " << area << "; bounding box " << (bbox_max - bbox_min).transpose() << "\n";
   s << "boundary edges " << boundary_edges << ", non-manifold edges " << nonmanifold_edges << ", non-manifold vertices "
     << nonmanifold_vertices << ", misoriented edges " << misoriented_edges << ", self-intersecting pairs "

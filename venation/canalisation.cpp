@@ -265,6 +265,7 @@ Report run(Cells& c, const Params& p, const Source& src, bool uniform, Workspace
   const std::size_t n = c.size();
   const std::size_t width = static_cast<std::size_t>(c.link_stride) + 1;
   Report report;
+  report.cells = n;
   std::vector<double>& flow = cells::attribute(c, kFlow);
   std::vector<double>& radius = cells::attribute(c, kRadius);
   std::vector<double>& order = cells::attribute(c, kOrder);

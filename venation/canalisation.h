@@ -39,6 +39,7 @@ struct Report {
   double total_source = 0;      ///< auxin produced by the cells connected to a petiole
   double petiole_inflow = 0;    ///< auxin arriving at all petioles (equals total_source)
   std::size_t unconnected = 0;  ///< cells with no path to any petiole (their auxin goes nowhere)
+  std::size_t cells = 0;        ///< cells at that step
 };
 
 /// Scratch kept between steps so a step allocates nothing once warm.
