@@ -1,6 +1,7 @@
 // A versioned container of named binary chunks (checkpoints), with a checksum and bounds-checked reads.
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <map>
@@ -11,6 +12,9 @@
 #include "core/errors.h"
 
 namespace cellform::core {
+
+// checkpoints and the binary files written through ByteWriter copy values in host order, as little-endian
+static_assert(std::endian::native == std::endian::little, "cellform's binary files need a little-endian host");
 
 /// Appends plain values and arrays to a byte string (little-endian machine layout).
 class ByteWriter {

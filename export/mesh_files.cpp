@@ -1,6 +1,7 @@
 // Writers for printable meshes.
 #include "export/mesh_files.h"
 
+#include <bit>
 #include <cctype>
 #include <cstdio>
 #include <cstring>
@@ -13,6 +14,9 @@
 namespace cellform::exporters {
 
 using core::Vec3;
+
+// binary PLY and STL are little-endian; the writers and readers copy values in host order
+static_assert(std::endian::native == std::endian::little, "cellform's binary files need a little-endian host");
 
 namespace {
 

@@ -2,6 +2,7 @@
 #include "export/mesh_read.h"
 
 #include <algorithm>
+#include <bit>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -17,6 +18,9 @@ namespace cellform::exporters {
 
 using core::Vec3;
 using Tri = std::array<std::uint32_t, 3>;
+
+// binary PLY and STL are little-endian; the writers and readers copy values in host order
+static_assert(std::endian::native == std::endian::little, "cellform's binary files need a little-endian host");
 
 namespace {
 

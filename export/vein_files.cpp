@@ -1,6 +1,7 @@
 // Writers for the vein graph.
 #include "export/vein_files.h"
 
+#include <bit>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -10,6 +11,9 @@
 #include "core/text.h"
 
 namespace cellform::exporters {
+
+// binary PLY and STL are little-endian; the writers and readers copy values in host order
+static_assert(std::endian::native == std::endian::little, "cellform's binary files need a little-endian host");
 
 namespace {
 template <class T>
