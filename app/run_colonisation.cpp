@@ -500,8 +500,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         code = interrupted;
       } catch (const std::exception& e) {
         err << "cellform: " << core::error_text(e) << "\n";
-        if (saved && core::error_text(e).rfind("print: nothing to print", 0) !=
-                         0)  // the veins need not grow again for another try
+        if (saved && core::error_text(e).rfind("print: nothing to print", 0) != 0)  // a retry need not grow them again
           err << "  to print again with other print.* values: cellform resume " << checkpoint.string()
               << " --set print.NAME=VALUE\n";
         printed = {{"error", core::error_text(e)}};

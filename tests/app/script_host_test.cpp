@@ -453,23 +453,6 @@ TEST_CASE("positions beyond 1e9 model units are refused (their squares would ove
   CHECK_THAT(load_error("disc { radius = 1e9 }\n"), !Contains("given by"));
 }
 
-TEST_CASE("a print voxel coarser than the thinnest vein is refused before the run", "[script][print]") {
-  CHECK_THAT(load_error("dsic { radius = 3 }\n"),
-             Contains(":1: attempt to call a nil value (global 'dsic'); did you mean 'disc'?"));
-  CHECK_THAT(load_error("disc { radius = 3 }\nfrobnicate()\n"), Contains(":2:") && Contains("; no such function"));
-  CHECK_THAT(load_error("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { voxel_size = 1, min_radius = 0.4 }\n"),
-             Contains(":4: print.voxel_size (1 mm) exceeds print.min_radius (0.4 mm)"));
-  // a shell thicker than the whole print (the auto scale fits the form to size, its walls come on top)
-  CHECK_THAT(load_error("disc { radius = 3 }\nprint { shell = true, size = 20, shell_thickness = 30 }\n"),
-             Contains(":2: print.shell_thickness (30 mm) is not less than print.size (20 mm"));
-  CHECK_NOTHROW(load("disc { radius = 3 }\nprint { shell = true, size = 20, shell_thickness = 19 }\n"));
-  CHECK_THAT(load_error("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { size = 20, min_radius = 10 }\n"),
-             Contains(":4: print.min_radius (10 mm) makes every vein at least 20 mm thick, not less than print.size"));
-  CHECK_NOTHROW(load("disc { radius = 3 }\nprint { shell = true, scale = 1, shell_thickness = 30 }\n"));
-  CHECK_NOTHROW(
-      load("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { size = 20, shell_thickness = 30 }\n"));  // no shell
-}
-
 TEST_CASE("directions that mean nothing are refused, not replaced", "[script]") {
   CHECK_THAT(load_error("disc { radius = 2, normal = {0, 0, 0} }\n"), Contains(":1: disc: normal must be a non-zero"));
   CHECK_THAT(load_error("rectangle { width = 2, height = 2, normal = {0, 0, 0} }\n"), Contains("rectangle: normal"));

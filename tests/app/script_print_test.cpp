@@ -1,0 +1,26 @@
+// Tests of the print{} section's checks that need several of its values at once, made before the run.
+#include <catch2/catch.hpp>
+
+#include "tests/app/script_test_util.h"
+
+using Catch::Matchers::Contains;
+using cellform::test::load;
+using cellform::test::load_error;
+
+TEST_CASE("print values that contradict each other are refused before the run: voxel, vein radius, shell",
+          "[script][print]") {
+  CHECK_THAT(load_error("dsic { radius = 3 }\n"),
+             Contains(":1: attempt to call a nil value (global 'dsic'); did you mean 'disc'?"));
+  CHECK_THAT(load_error("disc { radius = 3 }\nfrobnicate()\n"), Contains(":2:") && Contains("; no such function"));
+  CHECK_THAT(load_error("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { voxel_size = 1, min_radius = 0.4 }\n"),
+             Contains(":4: print.voxel_size (1 mm) exceeds print.min_radius (0.4 mm)"));
+  // a shell thicker than the whole print (the auto scale fits the form to size, its walls come on top)
+  CHECK_THAT(load_error("disc { radius = 3 }\nprint { shell = true, size = 20, shell_thickness = 30 }\n"),
+             Contains(":2: print.shell_thickness (30 mm) is not less than print.size (20 mm"));
+  CHECK_NOTHROW(load("disc { radius = 3 }\nprint { shell = true, size = 20, shell_thickness = 19 }\n"));
+  CHECK_THAT(load_error("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { size = 20, min_radius = 10 }\n"),
+             Contains(":4: print.min_radius (10 mm) makes every vein at least 20 mm thick, not less than print.size"));
+  CHECK_NOTHROW(load("disc { radius = 3 }\nprint { shell = true, scale = 1, shell_thickness = 30 }\n"));
+  CHECK_NOTHROW(
+      load("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { size = 20, shell_thickness = 30 }\n"));  // no shell
+}
