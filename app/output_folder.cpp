@@ -73,6 +73,26 @@ FolderLock::~FolderLock() {
   if (fd_ >= 0) ::close(fd_);  // releases the lock
 }
 
+void mark_superseded(const fs::path& dir) {
+  const fs::path file = dir / "run.json";
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return;
+  json j;
+  try {
+    std::ifstream in(file);
+    j = json::parse(in);
+  } catch (const std::exception&) {
+    return;  // not cellform's (make_staging refused such a folder); left as it is
+  }
+  if (!is_cellform_run(j) || j.value("status", std::string()) == "superseded") return;
+  j["status"] = "superseded";
+  j["superseded"] =
+      "checkpoint.cfck in this folder is a later run's, which stopped before it wrote its outputs (a kill, or "
+      "a second Ctrl-C): cellform resume this folder continues that run; the outputs listed here are this "
+      "earlier run's";
+  write_run_json(file, j);
+}
+
 fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock) {
   core::ensure_directory(dir);
   lock.emplace(dir);

@@ -51,6 +51,7 @@ std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t t
 }  // namespace
 
 void write_checkpoint(const fs::path& path, const std::string& bytes) {
+  mark_superseded(path.has_parent_path() ? path.parent_path() : fs::path("."));
   core::write_file_atomically(
       path, [&](std::ostream& os) { os.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); });
 }

@@ -135,8 +135,15 @@ nlohmann::json checkpoint_meta(const Start& s, std::uint64_t seed, std::uint64_t
 /// anywhere; `p` itself if the current directory cannot be read.
 std::string absolute_path_text(const std::filesystem::path& p);
 
-/// Writes checkpoint bytes atomically (a temporary file, then a rename).
+/// Writes checkpoint bytes atomically (a temporary file, then a rename), after mark_superseded() of its
+/// folder.
 void write_checkpoint(const std::filesystem::path& path, const std::string& bytes);
+
+/// A checkpoint is about to replace the one an earlier run left in `dir`: that run's run.json, which a kill
+/// of this run would leave beside the new checkpoint, gets status "superseded" and a note saying so (its
+/// outputs list stays, for the cleanup when this run commits). Nothing if there is no cellform run.json
+/// or it says so already.
+void mark_superseded(const std::filesystem::path& dir);
 
 /// When the periodic checkpoints of a run are due: every `every` steps (0: never), but not within
 /// `seconds` of the last one written. A large state written every 1000 steps of a fast run would otherwise

@@ -1,8 +1,12 @@
 // Tests of app/output_folder.cpp through the command line: the staging folder, the commit of the
 // outputs, what a killed or failed run leaves in its folder.
 
+#include <signal.h>
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <thread>
 
 #include "app/run_internal.h"
 #include "core/errors.h"
@@ -191,4 +195,59 @@ TEST_CASE("an output folder given through a missing folder and back out (--out n
   REQUIRE(cli({"run", script.string(), "--out", (t.path / "new" / ".." / "z").string(), "--quiet"}).code == 0);
   CHECK(fs::exists(t.path / "z" / "run.json"));
   CHECK_FALSE(fs::exists(t.path / "new"));
+}
+
+TEST_CASE("a checkpoint over an earlier run's marks that run's run.json superseded, and only cellform's", "[cli]") {
+  TempDir t("cli-superseded-unit");
+  const fs::path dir = t.path / "out";
+  fs::create_directories(dir);
+  const std::string earlier = R"({"program": "cellform", "status": "complete", "outputs": ["cells.ply"]})";
+  t.write("out/run.json", earlier);
+  cellform::app::write_checkpoint(dir / "checkpoint.cfck", "bytes");
+  const auto marked = nlohmann::json::parse(slurp(dir / "run.json"));
+  CHECK(marked["status"] == "superseded");
+  CHECK_THAT(marked["superseded"].get<std::string>(), Contains("cellform resume this folder continues"));
+  CHECK(marked["outputs"] == nlohmann::json::array({"cells.ply"}));  // kept for the cleanup at the commit
+  const std::string once = slurp(dir / "run.json");
+  cellform::app::write_checkpoint(dir / "checkpoint.cfck", "more bytes");
+  CHECK(slurp(dir / "run.json") == once);  // marked once
+  // another program's file, or none, is left alone
+  const std::string foreign = R"({"tool": "other", "status": "complete"})";
+  t.write("out/run.json", foreign);
+  cellform::app::write_checkpoint(dir / "checkpoint.cfck", "bytes");
+  CHECK(slurp(dir / "run.json") == foreign);
+  fs::remove(dir / "run.json");
+  cellform::app::write_checkpoint(dir / "checkpoint.cfck", "bytes");
+  CHECK_FALSE(fs::exists(dir / "run.json"));
+}
+
+TEST_CASE("a run killed after its first checkpoint leaves the earlier run.json marked superseded", "[cli][signal]") {
+  TempDir t("cli-superseded");
+  const auto script =
+      t.write("long.lua", "division { trigger = 'none' }\nrun { steps = 1000000 }\ndisc { radius = 20 }\n");
+  const fs::path out = t.path / "o";
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "2"}).code == 0);
+  const auto before = nlohmann::json::parse(slurp(out / "run.json"));
+  REQUIRE(before["status"] == "complete");
+  // a second run into the folder, killed (as a third Ctrl-C or SIGKILL does) once it wrote a checkpoint
+  const pid_t pid =
+      spawn_cellform({"run", script.string(), "--out", out.string(), "--quiet", "--checkpoint-every", "1"});
+  REQUIRE(pid > 0);
+  bool marked = false;
+  for (int i = 0; i < 600 && !marked; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    try {
+      marked = nlohmann::json::parse(slurp(out / "run.json"))["status"] == "superseded";
+    } catch (const std::exception&) {
+    }
+  }
+  kill(pid, SIGKILL);
+  wait_exit(pid);
+  REQUIRE(marked);  // it said "complete" beside the later run's checkpoint
+  const auto after = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(after["outputs"] == before["outputs"]);
+  CHECK(after["steps"] == before["steps"]);
+  // a run into the folder then commits as usual
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "3"}).code == 0);
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "complete");
 }
