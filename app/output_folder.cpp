@@ -88,7 +88,7 @@ void mark_superseded(const fs::path& dir) {
   j["status"] = "superseded";
   j["superseded"] =
       "checkpoint.cfck in this folder is a later run's, which stopped before it wrote its outputs (a kill, or "
-      "a second Ctrl-C): cellform resume this folder continues that run; the outputs listed here are this "
+      "Ctrl-C pressed again): cellform resume this folder continues that run; the outputs listed here are this "
       "earlier run's";
   write_run_json(file, j);
 }

@@ -72,7 +72,7 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
     };
   };
   if (segments.empty() && shell.empty())
-    throw core::InvalidInput(
+    throw NothingToPrint(
         g_interrupt.load() ? "print: nothing to print: the run was interrupted before anything printable grew"
         : !spec.shell ? "print: nothing to print yet (no vein has grown; run longer, lower venation.threshold, or use "
                         "shell = true)"

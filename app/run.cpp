@@ -482,8 +482,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         code = interrupted;
       } catch (const std::exception& e) {
         err << "cellform: " << core::error_text(e) << "\n  (the other outputs and the checkpoint are written)\n";
-        // the cells need not grow again for another try (unless nothing grew to print)
-        if (saved && core::error_text(e).rfind("print: nothing to print", 0) != 0)
+        if (saved && !dynamic_cast<const NothingToPrint*>(&e))  // a retry need not grow the cells again
           err << "  to print again with other print.* values: cellform resume " << checkpoint.string()
               << " --set print.NAME=VALUE\n";
         printed = {{"error", core::error_text(e)}};

@@ -486,7 +486,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         if (cfg.print->shell && sheet)
           shell = exporters::shell_triangles(*sheet, cells::Surface{cells::covering_triangles(*sheet), {}});
         if (segments.empty() && shell.empty())
-          throw core::InvalidInput(
+          throw NothingToPrint(
               code == interrupted
                   ? "print: nothing to print: the run was interrupted before anything printable grew"
                   : "print: nothing to print: no vein grew (run longer, raise colonisation.darts, or lower "
@@ -500,7 +500,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         code = interrupted;
       } catch (const std::exception& e) {
         err << "cellform: " << core::error_text(e) << "\n";
-        if (saved && core::error_text(e).rfind("print: nothing to print", 0) != 0)  // a retry need not grow them again
+        if (saved && !dynamic_cast<const NothingToPrint*>(&e))  // a retry need not grow the veins again
           err << "  to print again with other print.* values: cellform resume " << checkpoint.string()
               << " --set print.NAME=VALUE\n";
         printed = {{"error", core::error_text(e)}};

@@ -180,6 +180,12 @@ class FolderBusy : public core::FileError {
   using core::FileError::FileError;
 };
 
+/// print{} found nothing grown to print (no vein, no sheet): other print.* values cannot help, growth can.
+class NothingToPrint : public core::InvalidInput {
+ public:
+  using core::InvalidInput::InvalidInput;
+};
+
 /// The output folder holds a run.json a run there would wrongly replace (another program's, or not a file):
 /// an input error, the user's to resolve by choosing another folder.
 class FolderRefused : public core::FileError {

@@ -452,6 +452,7 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
 
 namespace {
 
+/// (api_cell_index's kCellFields in script_values.cpp lists these fields for the error on a misspelt one.)
 void fill_cell_table(Impl& I, const cells::Cells& c, core::Index i, std::uint64_t step) {
   lua_State* L = I.L;
   // outside any protected call a Lua memory error would abort: the limit waits for the rule's allocations

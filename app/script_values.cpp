@@ -469,6 +469,13 @@ int api_print_knobs(lua_State* L) {
 void check_knobs_unchanged(Impl& I) {
   if (I.params_ref == LUA_NOREF || !I.cfg) return;
   lua_State* L = I.L;
+  // outside any protected call a Lua memory error would abort: the limit waits (as in fill_cell_table)
+  struct Host {
+    Impl& I;
+    bool was;
+    ~Host() { I.in_host = was; }
+  } host{I, I.in_host};
+  I.in_host = true;
   const nlohmann::json& rec = I.cfg->resolved["params"];
   lua_rawgeti(L, LUA_REGISTRYINDEX, I.params_ref);
   for (const auto& [name, was] : rec.items()) {

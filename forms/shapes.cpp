@@ -13,7 +13,8 @@ namespace cellform::forms {
 namespace {
 void check_positive(double v, const char* what) {
   if (!(v > 0) || !std::isfinite(v))
-    throw core::InvalidInput(std::string(what) + " must be a positive number (model units), got " + core::number_text(v));
+    throw core::InvalidInput(std::string(what) + " must be a positive number (model units), got " +
+                             core::number_text(v));
 }
 
 // A shape places at most this many cells (the limit division.max_cells has too).

@@ -43,7 +43,8 @@ TEST_CASE("help, version and usage errors", "[cli]") {
   // an option where a value belongs: the value was forgotten (it took "--quiet" as the script before)
   r = cli({"resume", "o/checkpoint.cfck", "--script", "--quiet"});
   CHECK(r.code == 2);
-  CHECK_THAT(r.err, Contains("--script needs a value, got the option --quiet (a file or folder so named is ./--quiet)"));
+  CHECK_THAT(r.err,
+             Contains("--script needs a value, got the option --quiet (a file or folder so named is ./--quiet)"));
   for (const char* option : {"--out", "--set", "--seed"}) {
     r = cli({"run", "x.lua", option, "-q"});
     CHECK(r.code == 2);

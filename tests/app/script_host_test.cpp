@@ -571,12 +571,6 @@ TEST_CASE("a value that fails a check of several parameters is reported where it
              Contains("test/leaf.lua:2: surface{cells = true} needs seeds"));
 }
 
-TEST_CASE("print formats are case-blind", "[script]") {
-  const auto cfg = load("disc { radius = 3 }\nprint { shell = true, veins = false, formats = \"STL, Obj\" }\n");
-  REQUIRE(cfg.print);
-  CHECK(cfg.print->formats == std::vector<std::string>{"stl", "obj"});
-}
-
 TEST_CASE("run.json's shapes say how many cells each placed, in whole numbers", "[script]") {
   const auto cfg = load("disc { radius = 1 }\ncell { at = {5, 0, 0} }\npetiole { at = {0, 0, 0}, step = 100 }\n");
   const auto& shapes = cfg.resolved.at("shapes");

@@ -1,4 +1,5 @@
-// Tests of the print{} section's checks that need several of its values at once, made before the run.
+// Tests of the print{} section as a script gives it: its formats, and the checks that need several of its
+// values at once, made before the run.
 #include <catch2/catch.hpp>
 
 #include "tests/app/script_test_util.h"
@@ -23,4 +24,10 @@ TEST_CASE("print values that contradict each other are refused before the run: v
   CHECK_NOTHROW(load("disc { radius = 3 }\nprint { shell = true, scale = 1, shell_thickness = 30 }\n"));
   CHECK_NOTHROW(
       load("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { size = 20, shell_thickness = 30 }\n"));  // no shell
+}
+
+TEST_CASE("print formats are case-blind", "[script]") {
+  const auto cfg = load("disc { radius = 3 }\nprint { shell = true, veins = false, formats = \"STL, Obj\" }\n");
+  REQUIRE(cfg.print);
+  CHECK(cfg.print->formats == std::vector<std::string>{"stl", "obj"});
 }
