@@ -103,6 +103,10 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
         m.replace(at, from.size(), to);
     throw core::InvalidInput(m);
   }
+  if (rep.voxel_raised_from > 0)  // said even when quiet: the print is coarser than the default promises
+    err << "cellform: note: print: the automatic voxel size " << rep.voxel_raised_from << " mm (print.min_radius / 2) "
+        << "would need more memory than print.max_memory (" << spec.max_memory_mb << " MB); using " << rep.voxel_size
+        << " mm (set print.voxel_size, or raise print.max_memory, for a finer surface)\n";
   tp.progress = stage_progress("meshing");
   const exporters::PrintableMesh mesh = exporters::mesh_level_set(level_set, tp, &rep);
   if (rep.pieces > 1 && spec.pieces == "one")
@@ -121,6 +125,7 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   }
   json printed = {{"scale_mm_per_unit", rep.scale},
                   {"voxel_size_mm", rep.voxel_size},
+                  {"voxel_raised_from_mm", rep.voxel_raised_from > 0 ? json(rep.voxel_raised_from) : json(nullptr)},
                   {"segments", rep.segments},
                   {"shell_triangles", rep.shell_triangles},
                   {"raised_radii", rep.raised_radii},

@@ -265,8 +265,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
                        : extent > 0     ? auto_scale(segments, shell, params.min_radius, half_shell, params.auto_extent,
                                                      params.auto_extent / extent)
                                         : 1.0;
-  const double voxel = params.voxel_size > 0 ? params.voxel_size : params.min_radius / 2;
-  const double band = kHalfWidth * voxel;  // mm, also the grid's background value
+  double voxel = params.voxel_size > 0 ? params.voxel_size : params.min_radius / 2;  // auto: may be raised below
 
   // Primitives in mm, with radii raised to the printable minimum.
   std::vector<Capsule> caps;
@@ -337,16 +336,8 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     return (active_estimate + closing_voxels) * kBytesPerActiveVoxel + quads_estimate * kBytesPerQuad +
            static_cast<double>(caps.size() + slabs.size()) * 200;
   };
-  const double estimate = estimate_at(voxel);
-  if (report) {
-    report->scale = scale;
-    report->voxel_size = voxel;
-    report->segments = caps.size();
-    report->shell_triangles = slabs.size();
-    report->raised_radii = raised;
-    report->base_z = base_z;
-    report->estimated_bytes = estimate;
-  }
+  double estimate = estimate_at(voxel);
+  double voxel_raised_from = 0;
   if (estimate > params.max_memory_bytes) {
     // a coarser voxel helps only up to min_radius (thinner veins would vanish): beyond, only size or memory
     // from a voxel whose estimate is finite (1e-300 mm overflows it)
@@ -354,19 +345,40 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     // ~ voxel^-2 to ^-3: each step at least halves the error (of alternating sign under ^-3)
     for (int k = 0; k < 64; ++k) fit *= std::sqrt(estimate_at(fit) / params.max_memory_bytes);
     const double needed = fit * 1.05;
-    const std::string advice =
-        needed <= params.min_radius
-            ? "use a voxel size of at least " + fmt("%.3g", needed) + " mm (at most min_radius, " +
-                  fmt("%.3g", params.min_radius) + " mm), a smaller scale, or raise the memory limit"
-            : "use a smaller scale or size, or raise the memory limit (a voxel coarse enough would be " +
-                  fmt("%.3g", needed) + " mm, above min_radius " + fmt("%.3g", params.min_radius) +
-                  " mm, so the thinnest veins would vanish)";
-    throw core::InvalidInput("thicken: at a voxel size of " + fmt("%.3g", voxel) + " mm the form needs " +
-                             (std::isfinite(estimate) && estimate < 1e18
-                                  ? "about " + bytes_text(estimate) + " of memory, more than the limit of "
-                                  : std::string("more memory than the limit of ")) +
-                             bytes_text(params.max_memory_bytes) + "; " + advice);
+    if (params.voxel_size == 0 && needed <= params.min_radius) {
+      // the automatic voxel gives way to the memory limit, up to min_radius (a minimum-radius vein stays
+      // two voxels across); rounded up to two significant digits, a value a user can read and pass on
+      const double unit = std::pow(10.0, std::floor(std::log10(needed)) - 1);
+      const double rounded = std::ceil(needed / unit) * unit;
+      voxel_raised_from = voxel;
+      voxel = rounded <= params.min_radius && estimate_at(rounded) <= params.max_memory_bytes ? rounded : needed;
+      estimate = estimate_at(voxel);
+    } else {
+      const std::string advice =
+          needed <= params.min_radius
+              ? "use a voxel size of at least " + fmt("%.3g", needed) + " mm (at most min_radius, " +
+                    fmt("%.3g", params.min_radius) + " mm), a smaller scale, or raise the memory limit"
+              : "use a smaller scale or size, or raise the memory limit (a voxel coarse enough would be " +
+                    fmt("%.3g", needed) + " mm, above min_radius " + fmt("%.3g", params.min_radius) +
+                    " mm, so the thinnest veins would vanish)";
+      throw core::InvalidInput("thicken: at a voxel size of " + fmt("%.3g", voxel) + " mm the form needs " +
+                               (std::isfinite(estimate) && estimate < 1e18
+                                    ? "about " + bytes_text(estimate) + " of memory, more than the limit of "
+                                    : std::string("more memory than the limit of ")) +
+                               bytes_text(params.max_memory_bytes) + "; " + advice);
+    }
   }
+  if (report) {
+    report->scale = scale;
+    report->voxel_size = voxel;
+    report->voxel_raised_from = voxel_raised_from;
+    report->segments = caps.size();
+    report->shell_triangles = slabs.size();
+    report->raised_radii = raised;
+    report->base_z = base_z;
+    report->estimated_bytes = estimate;
+  }
+  const double band = kHalfWidth * voxel;  // mm, also the grid's background value
 
   // One narrow-band grid of the union of capsules `cs` and slabs `ss`, cut below z = cut_z when `cut`;
   // progress goes from p0 to p1 of the stage.

@@ -30,8 +30,10 @@ struct Segment {
 struct ThickenParams {
   double scale = 0;  ///< mm per model unit; 0 = auto: the printed form's largest extent (radii raised to min_radius,
                      ///< shell thickness included) becomes `auto_extent`
-  double auto_extent = 120;      ///< mm: size of the largest side of the bounding box when scale = 0
-  double voxel_size = 0;         ///< mm; 0 = auto: min_radius / 2 (a minimum-radius vein is 4 voxels across)
+  double auto_extent = 120;  ///< mm: size of the largest side of the bounding box when scale = 0
+  /// mm; 0 = auto: min_radius / 2 (a minimum-radius vein is 4 voxels across), or coarser, up to min_radius, where
+  /// that would need more than max_memory_bytes (ThickenReport::voxel_raised_from says so)
+  double voxel_size = 0;
   double min_radius = 0.4;       ///< mm: thinner veins are raised to this printable minimum
   double shell_thickness = 0.6;  ///< mm: total wall thickness of the shell around shell triangles (half on each side)
   double adaptivity = 0.2;       ///< 0..1: OpenVDB volumeToMesh adaptivity; 0 = uniform quads, higher = fewer triangles
@@ -59,6 +61,7 @@ struct ThickenParams {
 struct ThickenReport {
   double scale = 0;                 ///< mm per model unit actually used
   double voxel_size = 0;            ///< mm actually used
+  double voxel_raised_from = 0;     ///< mm: the automatic voxel size raised to fit max_memory_bytes, else 0
   std::size_t segments = 0;         ///< capsules voxelised
   std::size_t shell_triangles = 0;  ///< shell triangles voxelised
   std::size_t raised_radii = 0;     ///< segment end radii raised to min_radius

@@ -346,6 +346,38 @@ TEST_CASE("the memory estimate refuses and suggests a voxel size that fits", "[p
   CHECK(rep.estimated_bytes <= p.max_memory_bytes);
 }
 
+TEST_CASE("the automatic voxel size gives way to the memory limit, up to min_radius", "[printable]") {
+  ThickenParams p = exact(0.05);
+  p.voxel_size = 0;  // auto: min_radius / 2
+  p.min_radius = 1;
+  const std::vector<Segment> capsule{{{0, 0, 0}, {10, 0, 0}, 1, 1}};
+  ThickenReport free_rep;
+  exporters::thicken(capsule, {}, p, &free_rep);  // the default limit holds it at 0.5 mm
+  CHECK(free_rep.voxel_size == 0.5);
+  CHECK(free_rep.voxel_raised_from == 0);
+  // a limit between the estimates at 0.5 mm and at min_radius: the voxel is raised just enough
+  p.max_memory_bytes = free_rep.estimated_bytes / 2;
+  ThickenReport rep;
+  const auto m = exporters::thicken(capsule, {}, p, &rep);
+  CHECK(rep.voxel_raised_from == 0.5);
+  CHECK(rep.voxel_size > 0.5);
+  CHECK(rep.voxel_size <= p.min_radius);
+  CHECK(rep.estimated_bytes <= p.max_memory_bytes);
+  CHECK(rep.voxel_size == Approx(0.5 * std::sqrt(2.0)).epsilon(0.15));  // the estimate goes as voxel^-2 here
+  CHECK(rep.voxel_size * 100 == Approx(std::round(rep.voxel_size * 100)).margin(1e-9));  // two digits: 0.xy mm
+  CHECK(m.triangles.size() > 0);
+  // the same voxel given explicitly gives the same solid
+  ThickenParams given = p;
+  given.voxel_size = rep.voxel_size;
+  CHECK(exporters::thicken(capsule, {}, given).triangles == m.triangles);
+  // where even min_radius does not fit, the refusal stays, and an explicit voxel is never changed
+  p.max_memory_bytes = 1e3;
+  CHECK_THROWS_WITH(exporters::thicken(capsule, {}, p), Catch::Contains("raise the memory limit"));
+  given.voxel_size = 0.5;
+  given.max_memory_bytes = free_rep.estimated_bytes / 2;
+  CHECK_THROWS_WITH(exporters::thicken(capsule, {}, given), Catch::Contains("use a voxel size of at least"));
+}
+
 TEST_CASE("thickening is bitwise identical with 1 and 2 threads", "[printable]") {
   const auto tree = random_tree(800, 11);
   const Shell shell{{Vec3(-30, -30, 0), Vec3(30, -30, 0), Vec3(0, 30, 0)}};
