@@ -26,6 +26,7 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
     nlohmann::json j = {
         {"file", file.string()},
         {"printable", r.printable()},
+        {"problems", r.problems()},
         {"triangles", r.triangles},
         {"vertices", r.vertices},
         {"parts", r.parts},

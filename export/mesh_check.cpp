@@ -240,14 +240,41 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
   return r;
 }
 
+std::vector<std::string> MeshReport::problems() const {
+  std::vector<std::string> p;
+  const auto count = [](std::size_t n, const char* one, const char* many) {
+    return std::to_string(n) + " " + (n == 1 ? one : many);
+  };
+  if (triangles == 0) p.push_back("no triangles");
+  if (boundary_edges > 0) p.push_back("not closed: " + count(boundary_edges, "boundary edge", "boundary edges"));
+  if (nonmanifold_edges > 0 || nonmanifold_vertices > 0)
+    p.push_back("not 2-manifold: " + count(nonmanifold_edges, "edge", "edges") + " of three or more triangles, " +
+                count(nonmanifold_vertices, "vertex", "vertices") + " where separate fans touch");
+  if (!consistently_oriented)
+    p.push_back("misoriented: " + count(misoriented_edges, "edge whose", "edges whose") +
+                " two triangles run it the same way");
+  if (self_intersections > 0)
+    p.push_back("self-intersecting: " + count(self_intersections, "pair", "pairs") + " of triangles cross");
+  if (degenerate_triangles > 0)
+    p.push_back(count(degenerate_triangles, "degenerate triangle", "degenerate triangles") +
+                " (repeated corners or zero area)");
+  if (triangles > 0 && closed_manifold() && consistently_oriented && !(volume > 0))
+    p.push_back(volume < 0 ? "inside out: every triangle faces inward (the enclosed volume is negative); reverse "
+                             "the triangles' winding"
+                           : "encloses no volume");
+  return p;
+}
+
 std::string MeshReport::summary() const {
   std::ostringstream s;
-  s << triangles << " triangles, " << vertices << " vertices, " << parts << (parts == 1 ? " part" : " parts");
+  s << triangles << " triangles, " << vertices << " vertices, ";
   // the inner walls of closed pockets are parts too, but not pieces that come apart (a volume's sign means
-  // that only on a closed, consistently oriented mesh)
-  if (cavities > 0 && closed_manifold() && consistently_oriented)
-    s << " (" << pieces << (pieces == 1 ? " solid piece, " : " solid pieces, ") << cavities
-      << (cavities == 1 ? " closed cavity inside" : " closed cavities inside") << ")";
+  // that only on a closed, consistently oriented mesh, and only if it is not inside out)
+  if (cavities > 0 && pieces > 0 && closed_manifold() && consistently_oriented)
+    s << pieces << (pieces == 1 ? " solid piece with " : " solid pieces with ") << cavities
+      << (cavities == 1 ? " closed cavity" : " closed cavities") << " inside (" << parts << " surfaces)";
+  else
+    s << parts << (parts == 1 ? " part" : " parts");
   // a volume means something only inside a closed, consistently oriented surface
   s << "; volume ";
   if (closed_manifold() && consistently_oriented)
@@ -262,7 +289,10 @@ std::string MeshReport::summary() const {
   for (std::size_t p = 0; p < genus.size() && p < 20; ++p)
     s << " " << (genus[p] < 0 ? std::string("open") : std::to_string(genus[p]));
   if (genus.size() > 20) s << " ...";
-  s << "\n" << (printable() ? "printable" : "NOT printable") << "\n";
+  s << "\n" << (printable() ? "printable" : "NOT printable");
+  const auto why = problems();
+  for (std::size_t k = 0; k < why.size(); ++k) s << (k ? "; " : ": ") << why[k];
+  s << "\n";
   return s.str();
 }
 

@@ -42,6 +42,9 @@ struct MeshReport {
     return triangles > 0 && closed_manifold() && consistently_oriented && self_intersections == 0 &&
            degenerate_triangles == 0 && volume > 0;
   }
+  /// Why the mesh is not printable, one phrase each ("not closed: 12 boundary edges", "inside out: ..."); empty
+  /// when printable().
+  std::vector<std::string> problems() const;
   /// A few lines a user can read (the caller prints them; nothing here prints).
   std::string summary() const;
 };

@@ -218,7 +218,26 @@ TEST_CASE("the walls of a closed pocket inside a solid count as a cavity, not a 
   CHECK(r.cavities == 1);
   CHECK(r.volume ==
         Approx(exporters::signed_volume(uv_sphere(24, 48, 2.0)) - exporters::signed_volume(uv_sphere(16, 32, 1.0))));
-  CHECK_THAT(r.summary(), Catch::Contains("2 parts (1 solid piece, 1 closed cavity inside)"));
+  CHECK_THAT(r.summary(), Catch::Contains("1 solid piece with 1 closed cavity inside (2 surfaces)"));
+  CHECK(r.problems().empty());
+}
+
+TEST_CASE("an inside-out mesh is named so, not counted as a cavity", "[mesh_check]") {
+  auto m = uv_sphere(24, 48, 2.0);
+  for (auto& t : m.triangles) std::swap(t[1], t[2]);
+  const auto r = exporters::check_mesh(m);
+  CHECK_FALSE(r.printable());
+  CHECK(r.closed_manifold());
+  CHECK(r.consistently_oriented);
+  CHECK(r.volume < 0);
+  REQUIRE(r.problems().size() == 1);
+  CHECK_THAT(r.problems()[0], Catch::StartsWith("inside out"));
+  CHECK_THAT(r.summary(), Catch::Contains("NOT printable: inside out") && !Catch::Contains("cavity"));
+  // an open one is not called inside out: its problem is the hole
+  m.triangles.pop_back();
+  const auto open = exporters::check_mesh(m);
+  REQUIRE(open.problems().size() == 1);
+  CHECK_THAT(open.problems()[0], Catch::Equals("not closed: 3 boundary edges"));
 }
 
 TEST_CASE("check_mesh finds no false intersections on a 500k-triangle sphere, on any thread count", "[mesh_check]") {
