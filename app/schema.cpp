@@ -257,10 +257,13 @@ std::vector<Field> build() {
                   "thinner veins are raised to this printable minimum (less than size / 2 when scale is automatic)"));
   f.push_back(num("print", "shell_thickness", "0.6", 0, 1e3, true, "mm",
                   "wall thickness of the shell (less than size when scale is automatic)"));
-  f.push_back(num("print", "voxel_size", "0", 0, 1e3, false, "mm", "level-set resolution; 0 = min_radius / 2"));
+  f.push_back(num("print", "voxel_size", "0", 0, 1e3, false, "mm",
+                  "level-set resolution, at most min_radius; 0 = min_radius / 2, raised (up to min_radius) if that "
+                  "would need more than max_memory"));
   f.push_back(num("print", "adaptivity", "0.2", 0, 1, false, "0..1", "mesh simplification of flat areas (OpenVDB)"));
-  f.push_back(
-      num("print", "max_memory", "2000", 1, 1e6, false, "MB", "refuse a voxel size whose grid would need more"));
+  f.push_back(num("print", "max_memory", "2000", 1, 1e6, false, "MB",
+                  "memory limit of the printable grid: an explicit voxel_size that needs more is refused; the "
+                  "automatic one is coarsened to fit, up to min_radius"));
   f.push_back(text("print", "formats", "stl", "comma-separated: stl, obj, ply, scad, vdb"));
   f.push_back(boolean("print", "fill_cavities", "false",
                       "fill closed pockets inside the solid (a shell around a closed sheet becomes solid)"));

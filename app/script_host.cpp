@@ -1,4 +1,4 @@
-// The Lua 5.4 sandbox: state, limits, the API functions, loading scripts and calling rule functions.
+// The Lua 5.4 sandbox: state, limits, the API functions and loading scripts (rule calls: script_rules.cpp).
 #include "app/script_host.h"
 
 #include "app/script_impl.h"
@@ -295,15 +295,26 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
   std::string err = I.protected_call(0, 0, I.limits.instructions);
   if (err.empty()) check_knobs_unchanged(I);
   if (!err.empty()) {
-    // a misspelt function ("dsic{...}") is a call of nil: name the function meant
-    const std::string nil_call = "attempt to call a nil value (global '";
-    const std::size_t at = err.find(nil_call);
-    if (at != std::string::npos) {
-      const std::size_t from = at + nil_call.size(), to = err.find('\'', from);
+    // a misspelt function ("dsic{...}") is a call of nil: name the function meant; one the sandbox leaves
+    // out (dofile, io.open) is said to be left out
+    const std::string nil_call = "attempt to call a nil value (global '",
+                      nil_index = "attempt to index a nil value (global '";
+    const std::size_t at = err.find(nil_call), at_index = err.find(nil_index);
+    const std::size_t from = at != std::string::npos         ? at + nil_call.size()
+                             : at_index != std::string::npos ? at_index + nil_index.size()
+                                                             : std::string::npos;
+    const std::size_t to = from == std::string::npos ? std::string::npos : err.find('\'', from);
+    const std::string global = to == std::string::npos ? std::string() : err.substr(from, to - from);
+    constexpr const char* kLeftOut[] = {"dofile",   "loadfile", "load", "require", "collectgarbage",
+                                        "rawequal", "io",       "os",   "package", "debug"};
+    if (!global.empty() && std::find(std::begin(kLeftOut), std::end(kLeftOut), global) != std::end(kLeftOut)) {
+      err += "; '" + global +
+             "' is left out of cellform scripts, which reach no files, programs or other scripts (the sandbox "
+             "keeps Lua's base functions, string, table, math, utf8 and coroutine)";
+    } else if (at != std::string::npos) {
       std::vector<std::string> names(std::begin(kSections), std::end(kSections));
       names.push_back("params");
-      const std::string near =
-          to == std::string::npos ? std::string() : core::closest_name(err.substr(from, to - from), names);
+      const std::string near = global.empty() ? std::string() : core::closest_name(global, names);
       err += near.empty() ? "; no such function" : "; did you mean '" + near + "'?";
     }
     throw InvalidInput(err);
@@ -448,143 +459,6 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     }
   }
   return cfg;
-}
-
-namespace {
-
-/// (api_cell_index's kCellFields in script_values.cpp lists these fields for the error on a misspelt one.)
-void fill_cell_table(Impl& I, const cells::Cells& c, core::Index i, std::uint64_t step) {
-  lua_State* L = I.L;
-  // outside any protected call a Lua memory error would abort: the limit waits for the rule's allocations
-  const bool was_host = I.in_host;
-  I.in_host = true;
-  lua_rawgeti(L, LUA_REGISTRYINDEX, I.cell_table_ref);
-  // raw sets: a metatable the script gave the table (__newindex raising an error) must not run here,
-  // outside any protected call
-  auto set_top = [&](const char* k) {  // table[k] = the value on top
-    lua_pushstring(L, k);
-    lua_insert(L, -2);
-    lua_rawset(L, -3);
-  };
-  auto set_num = [&](const char* k, double v) {
-    lua_pushnumber(L, v);
-    set_top(k);
-  };
-  auto set_int = [&](const char* k, long long v) {
-    lua_pushinteger(L, v);
-    set_top(k);
-  };
-  set_int("id", static_cast<long long>(c.id[i]));
-  set_int("index", static_cast<long long>(i) + 1);
-  set_int("age", c.age[i]);
-  set_int("generation", c.generation[i]);
-  set_int("step", static_cast<long long>(step));
-  static const char* const type_names[] = {"general", "petiole", "vein"};
-  lua_pushstring(L, type_names[static_cast<int>(c.type[i])]);
-  set_top("type");
-  lua_pushboolean(L, c.fixed[i]);
-  set_top("fixed");
-  set_num("x", c.position[i].x());
-  set_num("y", c.position[i].y());
-  set_num("z", c.position[i].z());
-  set_num("vx", c.velocity[i].x());
-  set_num("vy", c.velocity[i].y());
-  set_num("vz", c.velocity[i].z());
-  int links = 0;
-  for (int k = 0; k < c.link_stride; ++k)
-    if (c.links[static_cast<std::size_t>(i) * c.link_stride + k] != core::kNoIndex) ++links;
-  set_int("neighbours", links);
-  for (const auto& [name, values] : c.attributes) set_num(name.c_str(), values[i]);
-  I.in_host = was_host;
-}
-
-}  // namespace
-
-cells::Rules ScriptHost::rules() {
-  cells::Rules r;
-  Impl* I = impl_.get();
-  auto fail = [this, I](const char* rule, const std::string& msg, const cells::Cells& c, core::Index i) {
-    return InvalidInput(msg + " (in " + rule + " at step " + std::to_string(step_) + " for cell " +
-                        std::to_string(c.id[i]) + ")");
-  };
-  if (I->divides_ref != LUA_NOREF) {
-    r.divides = [this, I, fail](const cells::Cells& c, core::Index i) {
-      lua_State* L = I->L;
-      lua_rawgeti(L, LUA_REGISTRYINDEX, I->divides_ref);
-      fill_cell_table(*I, c, i, step_);
-      const std::string err = I->protected_call(1, 1, I->limits.rule_instructions, true);
-      if (!err.empty()) throw fail("division.rule", err, c, i);
-      if (lua_type(L, -1) != LUA_TBOOLEAN) {
-        const std::string got = luaL_typename(L, -1);
-        lua_pop(L, 1);
-        throw fail("division.rule", I->divides_at + "division.rule must return true or false, got " + got, c, i);
-      }
-      const bool yes = lua_toboolean(L, -1) != 0;
-      lua_pop(L, 1);
-      return yes;
-    };
-  }
-  if (I->direction_ref != LUA_NOREF) {
-    r.split_direction = [this, I, fail](const cells::Cells& c, core::Index i) {
-      lua_State* L = I->L;
-      lua_rawgeti(L, LUA_REGISTRYINDEX, I->direction_ref);
-      fill_cell_table(*I, c, i, step_);
-      const std::string err = I->protected_call(1, 3, I->limits.rule_instructions, true);
-      if (!err.empty()) throw fail("division.direction", err, c, i);
-      Vec3 d;
-      bool ok = true;
-      if (lua_type(L, -3) == LUA_TTABLE && lua_rawlen(L, -3) == 3) {
-        for (int k = 0; k < 3; ++k) {
-          lua_rawgeti(L, -3, k + 1);
-          ok = ok && lua_type(L, -1) == LUA_TNUMBER;
-          d[k] = lua_tonumber(L, -1);
-          lua_pop(L, 1);
-        }
-      } else {
-        for (int k = 0; k < 3; ++k) {
-          ok = ok && lua_type(L, -3 + k) == LUA_TNUMBER;
-          d[k] = lua_tonumber(L, -3 + k);
-        }
-      }
-      lua_pop(L, 3);
-      if (!ok || !d.allFinite())
-        throw fail("division.direction",
-                   I->direction_at + "division.direction must return {x, y, z} (or x, y, z) of finite numbers", c, i);
-      // the split plane needs a length to normalise: not zero, and not so large that its square overflows
-      const double n = d.norm();
-      if (!(n > 0) || !std::isfinite(n))
-        throw fail("division.direction",
-                   I->direction_at + "division.direction returned a zero vector or one too long to normalise", c, i);
-      return d;
-    };
-  }
-  return r;
-}
-
-venation::SourceRule ScriptHost::source_rule() {
-  Impl* I = impl_.get();
-  if (I->source_ref == LUA_NOREF) return {};
-  return [this, I](const cells::Cells& c, core::Index i) {
-    lua_State* L = I->L;
-    lua_rawgeti(L, LUA_REGISTRYINDEX, I->source_ref);
-    fill_cell_table(*I, c, i, step_);
-    const std::string err = I->protected_call(1, 1, I->limits.rule_instructions, true);
-    auto where = [&] {
-      return " (in venation.source at step " + std::to_string(step_) + " for cell " + std::to_string(c.id[i]) + ")";
-    };
-    if (!err.empty()) throw InvalidInput(err + where());
-    if (lua_type(L, -1) != LUA_TNUMBER) {
-      const std::string got = luaL_typename(L, -1);
-      lua_pop(L, 1);
-      throw InvalidInput(I->source_at + "venation.source must return a number >= 0, got " + got + where());
-    }
-    const double v = lua_tonumber(L, -1);
-    lua_pop(L, 1);
-    if (!std::isfinite(v) || v < 0)
-      throw InvalidInput(I->source_at + "venation.source must return a finite number >= 0, got " +
-                         core::number_text(v) + where());
-    return v;
-  };
 }
 
 }  // namespace cellform::app

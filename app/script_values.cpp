@@ -334,6 +334,30 @@ nlohmann::json knob_record(lua_State* L) {
   return luaL_typename(L, -1);
 }
 
+/// "params { name = value, ... }" of the knobs of the table at `index`.
+std::string knob_line(lua_State* L, const Impl& I, int index) {
+  index = lua_absindex(L, index);
+  std::string line = "params {";
+  std::size_t k = 0;
+  for (const std::string& name : I.param_names) {  // sorted
+    lua_pushlstring(L, name.data(), name.size());
+    lua_rawget(L, index);  // raw: no metamethod may raise here, past this frame's strings
+    const nlohmann::json value = knob_record(L);
+    lua_pop(L, 1);
+    line += (k++ ? ", " : " ") + name + " = " + value.dump();
+  }
+  return line + (k ? " }" : "}");
+}
+
+/// __tostring of the table params{} returns: tostring(P), print("knobs:", P).
+int params_tostring(lua_State* L) {
+  return guarded(L, [L](Impl& I) {
+    const std::string line = knob_line(L, I, 1);
+    lua_pushlstring(L, line.data(), line.size());
+    return 1;
+  });
+}
+
 }  // namespace
 
 /// params{name = default, ...}: script-level knobs; returns the table with --set overrides applied.
@@ -357,6 +381,14 @@ int api_params(lua_State* L) {
       I.param_names.insert(key);
       auto it = I.overrides->find(key);
       const int t = lua_type(L, -1);
+      if (t != LUA_TNUMBER && t != LUA_TBOOLEAN && t != LUA_TSTRING) {
+        const std::string type = luaL_typename(L, -1);
+        lua_pop(L, 2);
+        throw InvalidInput(at + "params{...}: the knob " + core::printable(key) + " is a " + type +
+                           "; a knob is a number, a boolean or a string (what --set can give and run.json "
+                           "records); keep a " +
+                           type + " in a local variable, or give its parts as knobs of their own");
+      }
       const bool integer = t == LUA_TNUMBER && lua_isinteger(L, -1);
       if (it != I.overrides->end()) {
         I.used_overrides.insert(key);
@@ -395,6 +427,8 @@ int api_params(lua_State* L) {
     lua_newtable(L);  // its metatable
     lua_pushcfunction(L, params_missing);
     lua_setfield(L, -2, "__index");
+    lua_pushcfunction(L, params_tostring);
+    lua_setfield(L, -2, "__tostring");
     lua_pushliteral(L, "params are read-only");
     lua_setfield(L, -2, "__metatable");  // setmetatable(P, ...) is refused
     lua_pushvalue(L, -1);
@@ -451,17 +485,7 @@ int api_cell_index(lua_State* L) {
 /// print(P), P on top of the stack: one line "params { name = value, ... }" of its knobs.
 int api_print_knobs(lua_State* L) {
   return guarded(L, [L](Impl& I) {
-    std::string line = "params {";
-    std::size_t k = 0;
-    for (const std::string& name : I.param_names) {  // sorted
-      lua_pushlstring(L, name.data(), name.size());
-      lua_rawget(L, -2);  // raw: no metamethod may raise here, past this frame's strings
-      const nlohmann::json value = knob_record(L);
-      lua_pop(L, 1);
-      line += (k++ ? ", " : " ") + name + " = " + value.dump();
-    }
-    line += k ? " }" : "}";
-    if (I.print) I.print(line);
+    if (I.print) I.print(knob_line(L, I, -1));
     return 0;
   });
 }

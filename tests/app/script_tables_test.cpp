@@ -84,7 +84,64 @@ TEST_CASE("params{} knobs are read-only, iterate with pairs, next and rawget, an
   CHECK(lines[0] == "params { flat = true, name = \"leaf\", size = 300, vein_spacing = 20 }");
   CHECK(host.load("local P = params { size = 300 }\nprint(P)\ndisc { radius = 2 }\n", "q.lua", {}).print ==
         std::nullopt);
+  // tostring(P) and print with other values say the knobs too (it was "table: 0x...")
+  lines.clear();
+  ScriptHost other;
+  other.set_print([&](const std::string& line) { lines.push_back(line); });
+  other.load(
+      "local P = params { n = 3 }\nprint('knobs:', P)\nassert(tostring(P) == 'params { n = 3 }')\n"
+      "disc { radius = 2 }\n",
+      "r.lua", {});
+  REQUIRE(lines.size() == 1);
+  CHECK(lines[0] == "knobs:\tparams { n = 3 }");
+  // a knob is what --set can give and run.json records: a table or a function is refused at params{}
+  CHECK_THAT(load_error("local P = params { n = 3, centre = {1, 2, 3} }\ndisc { radius = 2 }\n"),
+             Contains("test/leaf.lua:1: params{...}: the knob centre is a table; a knob is a number, a boolean or a "
+                      "string") &&
+                 Contains("local variable"));
+  CHECK_THAT(load_error("local P = params { f = function() end }\n"), Contains("the knob f is a function"));
   // no imitation passes for P (it crashed the process): a table like it is a print section
   CHECK_THAT(load_error("print(setmetatable({}, {__name = 'cellform.params', values = 5}))\ndisc { radius = 2 }\n"),
              Contains("print{veins = true} needs veins"));
+}
+
+TEST_CASE("functions the sandbox leaves out are said to be left out, not taken for misspelt ones", "[script]") {
+  using cellform::test::load_error;
+  for (const char* line : {"dofile('x.lua')", "require('x')", "local f = io.open('x')", "os.exit(1)", "load('x')()"}) {
+    INFO(line);
+    const std::string e = load_error(std::string("disc { radius = 2 }\n") + line + "\n");
+    CHECK_THAT(
+        e, Contains("test/leaf.lua:2:") && Contains("is left out of cellform scripts") && !Contains("did you mean"));
+  }
+  // a misspelt function of cellform's is still named
+  CHECK_THAT(load_error("dsic { radius = 2 }\n"), Contains("did you mean 'disc'?") && !Contains("left out"));
+}
+
+TEST_CASE("rule results out of range are stopped at the rule's line, naming the cell", "[script]") {
+  cellform::cells::Cells c;
+  cellform::cells::add_cell(c, {1, 0, 0});
+  cellform::cells::add_cell(c, {-1, 0, 0});
+  c.type[1] = cellform::cells::CellType::petiole;
+  // a source beyond a constant's range (1e30) summed past the files' 32-bit flows with no script line
+  {
+    ScriptHost host;
+    host.load(
+        "disc { radius = 2 }\npetiole { at = {0, 0, 0} }\nvenation { source = function(cell)\n  return 1e31 end }\n",
+        "s.lua", {});
+    host.set_step(4);
+    CHECK_THROWS_WITH(host.source_rule()(c, 0),
+                      Contains("s.lua:3: venation.source must return a number from 0 to 1e30") &&
+                          Contains("got 1e+31") && Contains("at step 4 for cell 0"));
+  }
+  // a direction rule following the flow returns 0, 0, 0 where there is none (a petiole): the error says why
+  ScriptHost host;
+  host.load(
+      "disc { radius = 2 }\ndivision { direction = function(cell)\n  return {cell.flow_dx, cell.flow_dy, cell.flow_dz} "
+      "end }\n",
+      "d.lua", {});
+  for (const char* a : {"flow_dx", "flow_dy", "flow_dz"}) cellform::cells::attribute(c, a) = {1, 0};
+  CHECK(host.rules().split_direction(c, 0).x() == 1);
+  CHECK_THROWS_WITH(host.rules().split_direction(c, 1),
+                    Contains("d.lua:2: division.direction returned a zero vector") &&
+                        Contains("flow_dx, flow_dy, flow_dz are all 0: a petiole, or a cell no flow reaches"));
 }
