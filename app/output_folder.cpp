@@ -22,6 +22,16 @@ using nlohmann::json;
 
 namespace {
 
+/// Whether process `pid` is running: a zombie (killed, not yet reaped by its parent) is not.
+bool process_alive(pid_t pid) {
+  if (::kill(pid, 0) != 0 && errno == ESRCH) return false;
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  if (!std::getline(stat, line)) return true;  // no /proc: what kill said
+  const std::size_t close = line.rfind(')');   // "pid (name) S ...": the name may hold spaces and ')'
+  return !(close != std::string::npos && close + 2 < line.size() && line[close + 2] == 'Z');
+}
+
 /// The process ids of the live staging folders (".partial-PID") in `dir` other than this process's.
 std::vector<long> live_stagings(const fs::path& dir) {
   std::vector<long> out;
@@ -32,7 +42,7 @@ std::vector<long> live_stagings(const fs::path& dir) {
     const std::string digits = name.substr(9);
     if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
     const auto pid = static_cast<pid_t>(std::stol(digits));
-    if (pid != ::getpid() && ::kill(pid, 0) == 0) out.push_back(pid);
+    if (pid != ::getpid() && process_alive(pid)) out.push_back(pid);
   }
   return out;
 }
@@ -93,7 +103,7 @@ void mark_superseded(const fs::path& dir) {
   write_run_json(file, j);
 }
 
-fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock) {
+fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, std::uint64_t spare_pid) {
   core::ensure_directory(dir);
   lock.emplace(dir);
   {
@@ -135,11 +145,51 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock) {
     const std::string digits = name.substr(staging_dir ? 9 : tmp_checkpoint.size());
     if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
     const auto pid = static_cast<pid_t>(std::stol(digits));
-    if (pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) fs::remove_all(e.path(), ec);
+    if (staging_dir && spare_pid != 0 && static_cast<std::uint64_t>(pid) == spare_pid) continue;  // salvage_frames
+    if (pid != ::getpid() && !process_alive(pid)) fs::remove_all(e.path(), ec);
   }
   const fs::path staging = dir / (".partial-" + std::to_string(::getpid()));
   core::ensure_directory(staging);
   return staging;
+}
+
+void remove_dead_staging(const fs::path& dir, std::uint64_t pid) {
+  if (pid == 0 || pid > 999999999 || static_cast<pid_t>(pid) == ::getpid() || process_alive(static_cast<pid_t>(pid)))
+    return;
+  std::error_code ec;
+  const fs::path dead = dir / (".partial-" + std::to_string(pid));
+  if (!fs::is_symlink(dead, ec) && fs::is_directory(dead, ec)) fs::remove_all(dead, ec);
+}
+
+std::vector<std::pair<std::uint64_t, std::string>> salvage_frames(const fs::path& dir, const fs::path& staging,
+                                                                  std::uint64_t pid, std::uint64_t up_to) {
+  std::vector<std::pair<std::uint64_t, std::string>> found;
+  if (pid == 0 || pid > 999999999 || static_cast<pid_t>(pid) == ::getpid() || process_alive(static_cast<pid_t>(pid)))
+    return found;
+  const fs::path dead = dir / (".partial-" + std::to_string(pid));
+  std::error_code ec;
+  if (fs::is_symlink(dead, ec) || !fs::is_directory(dead, ec)) return found;
+  if (!fs::is_symlink(dead / "frames", ec) && fs::is_directory(dead / "frames", ec))
+    for (const fs::directory_entry& e : fs::directory_iterator(dead / "frames", ec)) {
+      const std::string name = e.path().filename().string();  // cells_NNNNNN.ply
+      if (name.rfind("cells_", 0) != 0 || name.size() <= 10 || name.substr(name.size() - 4) != ".ply") continue;
+      const std::string digits = name.substr(6, name.size() - 10);
+      if (digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 18) continue;
+      const std::uint64_t step = std::stoull(digits);
+      if (step <= up_to && !e.is_symlink(ec) && e.is_regular_file(ec)) found.emplace_back(step, "frames/" + name);
+    }
+  std::sort(found.begin(), found.end());
+  // linked, not moved: should this run be killed too before its own checkpoint, the next resume finds them
+  // where the checkpoint says (the caller removes the folder once its own checkpoint is written)
+  std::vector<std::pair<std::uint64_t, std::string>> taken;
+  for (const auto& [step, name] : found) {
+    core::ensure_directory(staging / "frames");
+    std::error_code link;
+    fs::create_hard_link(dead / name, staging / name, link);
+    if (link) fs::copy_file(dead / name, staging / name, fs::copy_options::overwrite_existing, link);
+    if (!link) taken.emplace_back(step, name);
+  }
+  return taken;
 }
 
 namespace {

@@ -39,10 +39,12 @@ std::string version() { return CELLFORM_VERSION; }
 
 namespace {
 
-std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t target, const forms::Scene& scene) {
+std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t target, const forms::Scene& scene,
+                             const json& veins) {
   json meta = checkpoint_meta(s, seed, target, scene.simulation().step_count());
   meta["initial_cells"] = s.initial_cells;
   meta["physics"] = s.physics;
+  if (veins.is_object()) meta["veins"] = veins;  // run.json's of a resume that runs no step
   return core::write_chunk_file(
       kCheckpointKind, kCheckpointVersion,
       {{"meta", meta.dump()}, {"script", s.source}, {"cells", cells::save(scene.simulation().cells())}});
@@ -100,7 +102,8 @@ namespace {
 /// run.json's "veins": the last canalisation step's report; when this command ran no step (a resume of a
 /// finished run), what the cells' saved attributes tell (the count of cells with no path to a petiole is
 /// not kept, so it is null).
-json vein_summary(const cells::Cells& c, const venation::Report& last, bool from_cells) {
+json vein_summary(const cells::Cells& c, const venation::Report& last, bool from_cells, const json& saved) {
+  if (from_cells && saved.is_object()) return saved;  // the last canalisation's, as the checkpoint kept it
   if (!from_cells)
     return {{"vein_cells", last.vein_cells},
             {"petiole_inflow", last.petiole_inflow},
@@ -281,7 +284,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   const fs::path dir = s.out_dir;
   const fs::path created = first_missing(dir);  // made by this run: removed again if it stays empty
   try {
-    staging = make_staging(dir, lock);
+    staging = make_staging(dir, lock, s.resume ? s.writer_pid : 0);
     if (s.script_replaced) record_replaced_script(s, o, dir);
   } catch (const FolderBusy& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
@@ -323,11 +326,26 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   std::size_t saved_cells = 0;             // and its cells
   std::uint64_t stepping = 0;              // the step being computed, while one is (steps count from 1)
   std::vector<std::uint64_t> frame_steps;  // the step of every frame written (outputs holds their names)
+  bool spared = s.resume;  // make_staging spared the staging folder of the run that wrote the checkpoint
+  if (s.resume)            // the frames a killed run wrote up to its checkpoint are this run's too
+    for (const auto& [step, name] : salvage_frames(dir, staging, s.writer_pid, sim.step_count())) {
+      outputs.push_back(name);
+      frame_steps.push_back(step);
+    }
   auto checkpoint_now = [&] {
     keep_resumed_checkpoint(s, dir, err);  // resume --script: the checkpoint resumed is replaced now
-    write_checkpoint(checkpoint, checkpoint_bytes(s, seed, target, *scene));
+    const bool stepped = sim.step_count() > first;
+    write_checkpoint(checkpoint,
+                     checkpoint_bytes(s, seed, target, *scene,
+                                      !cfg.scene.venation ? json()
+                                      : stepped ? vein_summary(sim.cells(), scene->venation_report(), false, json())
+                                                : s.vein_summary));
     saved_step = sim.step_count();
     saved_cells = sim.cells().size();
+    if (spared) {  // no checkpoint names that run any more: its staging folder goes, if it was killed
+      remove_dead_staging(dir, s.writer_pid);
+      spared = false;
+    }
   };
   // a run that an error stops after it wrote a checkpoint: the folder then shows it as far as that
   // checkpoint, with its frames up to it and a run.json that says it failed
@@ -496,18 +514,18 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::uint64_t done = sim.step_count() - first;
     json run = run_head(s, seed, o.threads, status);
-    run.update(
-        {{"steps", {{"first", first}, {"completed", sim.step_count()}, {"target", target}}},
-         {"cells", {{"initial", s.initial_cells}, {"final", sim.cells().size()}}},
-         {"veins", vein_summary(sim.cells(), scene->venation_report(), cfg.scene.venation.has_value() && done == 0)},
-         {"overrides", s.sets},
-         {"parameters", cfg.resolved},
-         {"timings",
-          {{"total_s", total},
-           {"simulation_s", sim_seconds},
-           {"output_s", output_seconds},
-           {"steps_per_s", sim_seconds > 0 ? static_cast<double>(done) / sim_seconds : 0.0}}},
-         {"checkpoint", checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr)}});
+    run.update({{"steps", {{"first", first}, {"completed", sim.step_count()}, {"target", target}}},
+                {"cells", {{"initial", s.initial_cells}, {"final", sim.cells().size()}}},
+                {"veins", vein_summary(sim.cells(), scene->venation_report(),
+                                       cfg.scene.venation.has_value() && done == 0, s.vein_summary)},
+                {"overrides", s.sets},
+                {"parameters", cfg.resolved},
+                {"timings",
+                 {{"total_s", total},
+                  {"simulation_s", sim_seconds},
+                  {"output_s", output_seconds},
+                  {"steps_per_s", sim_seconds > 0 ? static_cast<double>(done) / sim_seconds : 0.0}}},
+                {"checkpoint", checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr)}});
     if (cfg.print) run["print"] = printed;
     commit_run(run, outputs, s, first, seed, staging, dir);
     if (!checkpoint_error.empty()) {

@@ -1,5 +1,8 @@
 // Where a run starts from: its script, or a checkpoint to resume (with the script it keeps, or an edited
 // one given by --script); and the run.json and checkpoint pieces that depend on it.
+#include <unistd.h>
+
+#include <algorithm>
 #include <charconv>
 #include <optional>
 #include <set>
@@ -97,6 +100,9 @@ json checkpoint_meta(const Start& s, std::uint64_t seed, std::uint64_t target, s
           {"target_steps", target},
           {"step", step},
           {"out", absolute_path_text(s.out_dir)},
+          // the writer's staging folder (".partial-PID") holds its frames until it commits them: a resume
+          // after a kill takes those up to the checkpoint from there (salvage_frames)
+          {"writer_pid", static_cast<std::int64_t>(::getpid())},
           {"replaced_scripts", s.replaced}};
 }
 
@@ -174,8 +180,15 @@ Start start_from(const RunOptions& o) {
         } catch (const core::FileError& e) {
           throw InputError(std::string("--script: ") + e.what());
         }
-        if (edited == s.source) {
-          s.script_unchanged = true;  // the script the checkpoint keeps: a plain resume
+        // the script the checkpoint keeps is a plain resume, unless a --set changes what a plain resume keeps:
+        // then the same text is the "edited" script (the way to change a value the run's own --set gave)
+        const bool changes_kept = std::any_of(o.sets.begin(), o.sets.end(), [&](const auto& kv) {
+          const std::string section = kv.first.substr(0, kv.first.find('.'));
+          const auto saved = s.sets.find(kv.first);
+          return section != "output" && section != "print" && (saved == s.sets.end() || saved->second != kv.second);
+        });
+        if (edited == s.source && !changes_kept) {
+          s.script_unchanged = true;
         } else {
           s.source = edited;
           s.replaced_path = s.script_path.string();
@@ -201,6 +214,9 @@ Start start_from(const RunOptions& o) {
       s.out_dir = o.out                            ? out_folder(*o.out)
                   : o.checkpoint.has_parent_path() ? o.checkpoint.parent_path()
                                                    : fs::path(".");
+      if (meta.contains("veins") && meta["veins"].is_object()) s.vein_summary = meta["veins"];
+      if (meta.contains("writer_pid") && meta["writer_pid"].is_number_unsigned())
+        s.writer_pid = meta["writer_pid"].get<std::uint64_t>();
       if (meta.contains("checkpoint_every") && meta["checkpoint_every"].is_number_unsigned())
         s.checkpoint_every = meta["checkpoint_every"].get<std::uint64_t>();
       s.checkpoint_every_of_run = s.checkpoint_every;

@@ -31,6 +31,10 @@ TEST_CASE("cells that drain to no petiole are warned about, with run.json's coun
   CHECK(lost < cells);
   CHECK_THAT(r.err, Contains("warning: " + std::to_string(lost) + " of " + std::to_string(cells) +
                              " cells have no path through the links to a petiole"));
+  // resuming the finished run runs no step: run.json keeps the last canalisation's figures (it said null)
+  r = cli({"resume", (t.path / "a").string(), "--quiet"});
+  REQUIRE(r.code == 0);
+  CHECK(nlohmann::json::parse(slurp(t.path / "a" / "run.json"))["veins"] == j["veins"]);
   // a petiole on each part: every cell drains, and nothing is said
   const auto both = t.write("both.lua", std::string(kTwoDiscs) +
                                             "disc { radius = 4, centre = {30, 0, 0} }\npetiole { at = {0, -4, 0} }\n"

@@ -2,13 +2,17 @@
 // outputs, what a killed or failed run leaves in its folder.
 
 #include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <set>
 #include <thread>
 
 #include "app/run_internal.h"
+#include "core/chunk_file.h"
 #include "core/errors.h"
 #include "tests/app/test_util.h"
 
@@ -69,7 +73,18 @@ TEST_CASE("a run removes the staging folders and checkpoint drafts of killed run
   std::ofstream(out / "checkpoint.cfck.tmp-999999999") << "half a checkpoint";  // a killed run's
   const fs::path live_tmp = out / ("checkpoint.cfck.tmp-" + std::to_string(::getppid()));
   std::ofstream(live_tmp) << "being written";
+  // a run killed but not yet reaped by its parent (a zombie: kill(pid, 0) still succeeds) is gone too
+  const pid_t zombie = ::fork();
+  if (zombie == 0) ::_exit(0);
+  REQUIRE(zombie > 0);
+  siginfo_t info{};
+  REQUIRE(::waitid(P_PID, static_cast<id_t>(zombie), &info, WEXITED | WNOWAIT) == 0);  // exited, not reaped
+  REQUIRE(::kill(zombie, 0) == 0);
+  const fs::path killed = out / (".partial-" + std::to_string(zombie));
+  fs::create_directories(killed);
   REQUIRE(cli({"run", script.string(), "--out", out.string(), "--steps", "3", "--quiet"}).code == 0);
+  ::waitpid(zombie, nullptr, 0);
+  CHECK_FALSE(fs::exists(killed));
   CHECK_FALSE(fs::exists(out / ".partial-999999999"));
   CHECK_FALSE(fs::exists(out / "checkpoint.cfck.tmp-999999999"));
   CHECK(fs::exists(live));
@@ -94,7 +109,8 @@ TEST_CASE("a rule that fails in a step before any checkpoint leaves no empty out
               "venation { source = function(c) if c.step >= 3 then return -0.25 end return 1 end }\n");
   const auto n = cli({"run", negative.string(), "--out", (t.path / "n").string(), "--quiet"});
   CHECK(n.code == 2);
-  CHECK_THAT(n.err, Contains("must return a finite number >= 0, got -0.25 (") && Contains("step 3"));
+  CHECK_THAT(n.err,
+             Contains("must return a number from 0 to 1e30 (as a constant source), got -0.25 (") && Contains("step 3"));
   CHECK_FALSE(fs::exists(out));
   // nor the folders it made to hold it
   CHECK(cli({"run", script.string(), "--out", (t.path / "nest" / "a" / "b").string(), "--quiet"}).code == 2);
@@ -250,4 +266,48 @@ TEST_CASE("a run killed after its first checkpoint leaves the earlier run.json m
   // a run into the folder then commits as usual
   REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "3"}).code == 0);
   CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "complete");
+}
+
+TEST_CASE("a run killed after a checkpoint keeps its frames up to it: the resume takes them up", "[cli][signal]") {
+  TempDir t("cli-killed-frames");
+  const auto script = t.write("frames.lua",
+                              "division { trigger = 'none' }\nrun { steps = 1000000 }\ndisc { radius = 12 }\n"
+                              "output { every = 2 }\n");
+  const fs::path out = t.path / "o";
+  const pid_t pid =
+      spawn_cellform({"run", script.string(), "--out", out.string(), "--quiet", "--checkpoint-every", "3"});
+  REQUIRE(pid > 0);
+  const fs::path staging = out / (".partial-" + std::to_string(pid));
+  // killed once it has written a checkpoint after three frames (steps 0, 2, 4: the checkpoint of step 6 or later)
+  bool ready = false;
+  for (int i = 0; i < 1200 && !ready; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(25));
+    std::error_code ec;
+    ready = fs::exists(staging / "frames" / "cells_000006.ply", ec) && fs::exists(out / "checkpoint.cfck", ec);
+  }
+  kill(pid, SIGKILL);
+  wait_exit(pid);
+  REQUIRE(ready);
+  const auto meta = nlohmann::json::parse(
+      cellform::core::read_chunk_file(slurp(out / "checkpoint.cfck"), "CKPT", 1, "test").chunks.at("meta"));
+  const std::uint64_t at = meta["step"].get<std::uint64_t>();
+  REQUIRE(at >= 3);
+  CHECK(meta["writer_pid"] == pid);
+  // the resume lists and keeps every frame, as a run that was never killed
+  const std::string target = std::to_string(at + 4);
+  CliResult r = cli({"resume", out.string(), "--steps", target, "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK_FALSE(fs::exists(staging));
+  const fs::path fresh = t.path / "fresh";
+  REQUIRE(cli({"run", script.string(), "--out", fresh.string(), "--quiet", "--steps", target}).code == 0);
+  const auto listed = nlohmann::json::parse(slurp(out / "run.json"))["outputs"];
+  const auto expected = nlohmann::json::parse(slurp(fresh / "run.json"))["outputs"];
+  std::set<std::string> a(listed.begin(), listed.end()), b(expected.begin(), expected.end());
+  CHECK(a == b);
+  for (const std::string& n : b)
+    if (n.rfind("frames/", 0) == 0) {
+      INFO(n);
+      CHECK(slurp(out / n) == slurp(fresh / n));
+    }
 }
