@@ -182,10 +182,18 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
   if (at == std::string::npos) malformed(path, "PLY header not terminated");
   ++at;
   std::istringstream body(ascii ? s.substr(at) : std::string());
-  // the element being read, for the errors in the data: "(in face 12)", counting from 1 as the other messages do
+  std::istringstream row;   // ASCII: the line of the element being read (one line each)
+  std::size_t line_no = 0;  // ASCII: its line in the file, counting from 1
+  for (std::size_t k = 0; k < at; ++k) line_no += s[k] == '\n';
+  // the element being read, for the errors in the data: "(in face 12 of 100, line 40)", counting from 1 as
+  // the other messages do
   const std::string* elem = nullptr;
-  std::size_t elem_index = 0;
-  const auto in = [&] { return elem ? " (in " + *elem + " " + std::to_string(elem_index + 1) + ")" : std::string(); };
+  std::size_t elem_index = 0, elem_count = 0;
+  const auto in = [&] {
+    return elem ? " (in " + *elem + " " + std::to_string(elem_index + 1) + " of " + std::to_string(elem_count) +
+                      (ascii ? ", line " + std::to_string(line_no) : std::string()) + ")"
+                : std::string();
+  };
   const auto size_of = [&](const std::string& t) -> std::size_t {
     if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
     if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
@@ -196,7 +204,9 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
   const auto read = [&](const std::string& t) -> double {
     if (ascii) {
       std::string word;
-      if (!(body >> word)) malformed(path, "PLY data ends early" + in());
+      if (!(row >> word))
+        malformed(path, "PLY data: a line holds fewer values than its element's properties" + in() +
+                            "; are the header's counts wrong?");
       // strtod, unlike >>, reads "nan" and "inf" (said as such below, with the vertex) and says what is no number
       char* stop = nullptr;
       const double v = std::strtod(word.c_str(), &stop);
@@ -205,7 +215,8 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
       return v;
     }
     const std::size_t n = size_of(t);
-    if (at + n > s.size()) malformed(path, "PLY data ends early" + in());
+    if (at + n > s.size())
+      malformed(path, "PLY data ends early" + in() + "; is the file truncated, or are the header's counts wrong?");
     double v = 0;
     if (t == "char" || t == "int8")
       v = get<std::int8_t>(s, at);
@@ -235,6 +246,19 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
     for (std::size_t i = 0; i < e.count; ++i) {
       elem = &e.name;
       elem_index = i;
+      elem_count = e.count;
+      if (ascii) {  // the next line that holds anything
+        std::string text;
+        bool got = false;
+        while (!got && std::getline(body, text)) {
+          ++line_no;
+          got = text.find_first_not_of(" \t\r") != std::string::npos;
+        }
+        if (!got)
+          malformed(path, "PLY data ends early" + in() + "; is the file truncated, or are the header's counts wrong?");
+        row.clear();
+        row.str(text);
+      }
       Vec3 p = Vec3::Zero();
       for (const Property& pr : e.props) {
         if (pr.count_type.empty()) {
@@ -260,7 +284,20 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
         }
       }
       if (e.name == "vertex") m.vertices.push_back(p);
+      std::string extra;
+      if (ascii && row >> extra)
+        malformed(path, "PLY data: a line holds more values than its element's properties" + in() +
+                            "; are the header's counts wrong?");
     }
+  // what follows the declared elements: the header's counts are too small (blank space at the end is fine)
+  std::size_t rest_from = at;  // binary: where the data ended
+  if (ascii) {
+    const std::streamoff read_to = body.tellg();  // -1 once the last line was read to the end
+    rest_from = read_to < 0 ? s.size() : std::min(s.size(), at + static_cast<std::size_t>(read_to));
+  }
+  if (s.find_first_not_of(" \t\r\n", rest_from) != std::string::npos)
+    malformed(path, "PLY data goes on after the elements the header declares (" + std::to_string(s.size() - rest_from) +
+                        " bytes more); are the header's counts wrong?");
   for (const Tri& t : m.triangles)
     for (std::uint32_t i : t)
       if (i >= m.vertices.size()) malformed(path, "PLY face index " + std::to_string(i) + " out of range");

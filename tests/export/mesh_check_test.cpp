@@ -444,10 +444,12 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
   std::ofstream(dir / "word.ply") << head << "0 0 0\n1 abc 0\n0 1 0\n3 0 1 2\n";
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "word.ply"), Catch::Contains("'abc' is not a number"));
   std::ofstream(dir / "short.ply") << head << "0 0 0\n1 0 0\n0 1\n";
-  CHECK_THROWS_WITH(exporters::read_mesh(dir / "short.ply"), Catch::Contains("ends early (in vertex 3)"));
+  CHECK_THROWS_WITH(
+      exporters::read_mesh(dir / "short.ply"),
+      Catch::Contains("a line holds fewer values than its element's properties (in vertex 3 of 3, line 12)"));
   std::ofstream(dir / "index.ply") << head << "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n";
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "index.ply"),
-                    Catch::Contains("PLY face index 3 out of range (3 vertices) (in face 1)"));
+                    Catch::Contains("PLY face index 3 out of range (3 vertices) (in face 1 of 1, line 13)"));
   {  // binary: the element that is cut short is named too
     std::string bin = head;
     bin.replace(bin.find("ascii"), 5, "binary_little_endian");
@@ -458,7 +460,33 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
     bin.append(reinterpret_cast<const char*>(f), sizeof f);
     std::ofstream(dir / "cut.ply", std::ios::binary) << bin;
   }
-  CHECK_THROWS_WITH(exporters::read_mesh(dir / "cut.ply"), Catch::Contains("ends early (in face 1)"));
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "cut.ply"),
+                    Catch::Contains("ends early (in face 1 of 1)") && Catch::Contains("counts wrong?"));
+  // counts that do not match the data: said so, not read as holes or as a short face
+  std::ofstream(dir / "more.ply") << head << "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 2 1\n";  // a face more than declared
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "more.ply"),
+                    Catch::Contains("goes on after the elements the header declares (8 bytes more)"));
+  std::ofstream(dir / "blank.ply") << head << "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n\n  \n";  // blank lines at the end: fine
+  CHECK(exporters::read_mesh(dir / "blank.ply").triangles.size() == 1);
+  std::string four = head;
+  four.replace(four.find("vertex 3"), 8, "vertex 4");  // the face line is read as a vertex
+  std::ofstream(dir / "four.ply") << four << "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  CHECK_THROWS_WITH(
+      exporters::read_mesh(dir / "four.ply"),
+      Catch::Contains("a line holds more values than its element's properties (in vertex 4 of 4, line 13)"));
+  {  // binary: bytes after the declared elements
+    std::string bin = head;
+    bin.replace(bin.find("ascii"), 5, "binary_little_endian");
+    const float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    bin.append(reinterpret_cast<const char*>(v), sizeof v);
+    bin += '\x03';
+    const std::int32_t f[3] = {0, 1, 2};
+    bin.append(reinterpret_cast<const char*>(f), sizeof f);
+    std::ofstream(dir / "whole.ply", std::ios::binary) << bin;
+    std::ofstream(dir / "junk.ply", std::ios::binary) << bin + std::string(40, 'x');
+  }
+  CHECK(exporters::read_mesh(dir / "whole.ply").triangles.size() == 1);
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "junk.ply"), Catch::Contains("(40 bytes more)"));
   std::string negative = head;
   negative.replace(negative.find("vertex 3"), 8, "vertex -1");
   std::ofstream(dir / "negative.ply") << negative << "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
