@@ -21,9 +21,10 @@ struct Surface {
 /// Edges are pairs linked either way (or vein parent and child). Triangles are 3-cliques of that graph;
 /// with `one_layer` (for files a modeller opens), of that graph less each edge crossing a shorter one as
 /// the diagonals of a quad do (the k-nearest links often hold both diagonals, whose cliques lay four
-/// triangles over the quad in two layers), then at most two on any side and no two folded onto each other
-/// (third corners less than 90 degrees apart round their side; greedy, shortest longest side first: a
-/// crowded or buckled sheet's cliques overlap), with the 4-cycles then left open closed on their shorter
+/// triangles over the quad in two layers), then at most two on any side, no two folded onto each other
+/// (third corners less than 90 degrees apart round their side) and no two lying over each other round a
+/// common corner (nearly in one plane, their angles there overlapping; greedy, shortest longest side first:
+/// a crowded or buckled sheet's cliques overlap), with the 4-cycles then left open closed on their shorter
 /// diagonal, and the small holes left after orienting (a loop of 3 to 6 boundary sides without a chord,
 /// where the fill faces as the triangles around it) closed by their shortest-diagonal triangulation.
 /// So every side of the one-layer surface borders one or two triangles; sheets that meet keep a seam.

@@ -1,8 +1,9 @@
-// Private to cells/: the filling of small holes in the one-layer cell surface (surface_holes.cpp), used by
-// triangulate() in surface.cpp. Not installed, not for users.
+// Private to cells/: the filling of small holes in the one-layer cell surface (surface_holes.cpp) and the
+// test for triangles stacked round a corner, used by triangulate() in surface.cpp. Not installed, not for users.
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -10,10 +11,36 @@
 
 namespace cellform::cells::detail {
 
+/// Whether triangles t1 and t2, which share corner v and no side, lie over each other round v: nearly in
+/// one plane (normals within 35 degrees, either way round) and, seen in t1's plane, their angles at v
+/// overlapping by more than a fifth of the smaller. A sheet of one layer never does; the cliques of a
+/// crowded sheet do where they are not folded along a common side.
+bool stacked_at(const std::vector<Vec3>& pos, const std::array<Index, 3>& t1, const std::array<Index, 3>& t2, Index v);
+
+/// The triangles of a growing list at each of their corners, to find a new one stacked on one of them.
+/// Each corner's triangles lie together (room for those of `room` that may come, then a spill list).
+class CornerIndex {
+ public:
+  /// `room`: triangles that may be added later; `tris`: added now.
+  CornerIndex(std::size_t cells, const std::vector<std::array<Index, 3>>& room,
+              const std::vector<std::array<Index, 3>>& tris);
+  void add(const std::array<Index, 3>& t);
+  /// Whether `t` lies over a triangle added before that it shares a corner but no side with (stacked_at).
+  bool stacks(const std::vector<Vec3>& pos, const std::array<Index, 3>& t) const;
+
+ private:
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+  std::vector<std::size_t> start_, fill_;  // per cell: its slots, and the first free one
+  std::vector<std::array<Index, 3>> slot_;
+  std::vector<std::uint32_t> head_;                                    // per cell: its latest spilled entry, or kNone
+  std::vector<std::pair<std::uint32_t, std::array<Index, 3>>> spill_;  // (previous entry, triangle)
+};
+
 /// Fills the small holes the one-layer surface leaves where pruning took a crossing edge out of a pentagon
 /// or hexagon of cells (see surface_holes.cpp): `sides` are every triangle side, sorted; `incidence` the
 /// (side, triangle) pairs sorted by side, `inc_start` where each side's pairs begin. New triangles are
-/// appended to `tris`, which is then sorted by smallest index (stable).
+/// appended to `tris`, which is then sorted by smallest index (stable); a hole whose fill would lie over a
+/// triangle round a corner (stacked_at) stays open.
 void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array<Index, 2>>& sides,
                       const std::vector<std::size_t>& inc_start,
                       const std::vector<std::pair<std::size_t, std::size_t>>& incidence,

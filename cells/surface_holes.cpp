@@ -83,7 +83,8 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
   };
   auto normal = [&](Index a, Index b, Index c) -> Vec3 { return (pos[b] - pos[a]).cross(pos[c] - pos[a]); };
   std::vector<std::uint8_t> done(half.size(), 0);
-  std::set<std::array<Index, 2>> diagonals;  // new sides, each used by one fill
+  std::set<std::array<Index, 2>> diagonals;   // new sides, each used by one fill
+  CornerIndex corners(pos.size(), {}, tris);  // a fill must not lie over a triangle round a corner
   for (std::size_t h = 0; h < half.size(); ++h) {
     if (done[h]) continue;
     std::vector<std::size_t> loop{h};  // half-edges around the loop
@@ -129,10 +130,12 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
         if ((a + 1) % n == b || (b + 1) % n == a) continue;  // a side of the loop
         ok = !diagonals.count({std::min(corner[a], corner[b]), std::max(corner[a], corner[b])});
       }
+    for (const auto& f : fill) ok = ok && !corners.stacks(pos, {corner[f[0]], corner[f[1]], corner[f[2]]});
     if (!ok) continue;
     for (const auto& f : fill) {
       std::array<Index, 3> t{corner[f[0]], corner[f[1]], corner[f[2]]};  // the loop's turn: facing as around it
       std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+      corners.add(t);
       tris.push_back(t);
       for (int k = 0; k < 3; ++k) {
         const std::size_t a = f[k], b = f[(k + 1) % 3];
