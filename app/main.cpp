@@ -1,4 +1,5 @@
 // The cellform command.
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -91,5 +92,16 @@ int main(int argc, char** argv) {
   err.tie(&out);
   const int code = cellform::app::cli_main(args, out, err);
   out.flush();
+  std::cout.flush();
+  // a run's product is its files (its lines on stdout only say so); the other commands' is what they print:
+  // lost (a full disk, a closed pipe), it is no success
+  const bool prints_product = args.empty() || (args[0] != "run" && args[0] != "resume");
+  if (prints_product && (!out || !std::cout)) {
+    // a pipe fails only when its reader stopped early (cellform params | head), which knows why: not said
+    struct stat st {};
+    const bool pipe = ::fstat(1, &st) == 0 && (S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode));
+    if (!pipe) err << "cellform: cannot write to standard output (a full disk?)\n";
+    return code == 0 ? 1 : code;
+  }
   return code;
 }

@@ -16,6 +16,7 @@
 #include "core/atomic_file.h"
 #include "core/chunk_file.h"
 #include "core/errors.h"
+#include "core/parallel.h"
 #include "export/cell_files.h"
 #include "export/mesh_files.h"
 #include "export/printable.h"
@@ -126,7 +127,8 @@ json run_head(const Start& s, std::uint64_t seed, int threads, const std::string
           {"command", s.resume ? "resume" : "run"},
           {"script", script_record(s)},
           {"seed", seed},
-          {"threads", threads},
+          {"threads", threads},  // as asked (0 = all cores); threads_used: what that came to here
+          {"threads_used", threads <= 0 ? core::hardware_threads() : std::min(threads, core::hardware_threads())},
           {"status", status}};
 }
 
@@ -483,6 +485,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     for (const std::string& n : write_outputs(staging, cfg.output, sim.cells(), cfg.scene.venation.has_value()))
       outputs.push_back(n);
     json printed;
+    bool print_cancelled = false;
     if (cfg.print) {
       try {
         printed = write_printable(staging, *cfg.print, sim.cells(), cfg.scene.venation.has_value(), o.threads, outputs,
@@ -491,10 +494,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
           err << "printable solid: " << printed["triangles"] << " triangles, " << printed["parts"] << " part(s), "
               << printed["cavities"] << " closed cavities, scale " << printed["scale_mm_per_unit"]
               << " mm per model unit\n";
-      } catch (const core::Cancelled&) {
-        err << (o.quiet ? "" : "\n")
-            << "cellform: printing interrupted: no printable files (the other outputs and the checkpoint are "
-               "written)\n";
+      } catch (const core::Cancelled&) {  // said once the other files are in (another Ctrl-C quits before)
+        print_cancelled = true;
         printed = {{"error", "interrupted"}};
         status = "interrupted";
         code = interrupted;
@@ -528,6 +529,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                 {"checkpoint", checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr)}});
     if (cfg.print) run["print"] = printed;
     commit_run(run, outputs, s, first, seed, staging, dir);
+    if (print_cancelled)
+      err << (o.quiet ? "" : "\n")
+          << "cellform: printing interrupted: no printable files (the other outputs and the checkpoint are written)\n";
     if (!checkpoint_error.empty()) {
       err << "cellform: " << checkpoint_error
           << "\n  (the other outputs are written, but this run cannot be resumed)\n";

@@ -13,6 +13,7 @@
 #include "core/atomic_file.h"
 #include "core/chunk_file.h"
 #include "core/errors.h"
+#include "core/parallel.h"
 #include "export/vein_png.h"
 #include "venation/colonisation.h"
 #include "venation/domain.h"
@@ -227,7 +228,8 @@ json run_record(const Start& s, std::uint64_t seed, int threads, venation::Domai
           {"domain", domain_name(domain)},
           {"script", script_record(s)},
           {"seed", seed},
-          {"threads", threads},
+          {"threads", threads},  // as asked (0 = all cores); threads_used: what that came to here
+          {"threads_used", threads <= 0 ? core::hardware_threads() : std::min(threads, core::hardware_threads())},
           {"overrides", s.sets},
           {"parameters", parameters}};
 }
@@ -476,7 +478,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     if (sheet)
       for (const std::string& n : write_outputs(staging, cfg.output, *sheet, false)) outputs.push_back(n);
     json printed;
-    bool print_failed = false;
+    bool print_failed = false, print_cancelled = false;
     if (cfg.print) {
       try {
         std::vector<exporters::Segment> segments;
@@ -493,9 +495,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                     "colonisation.birth_distance)");
         printed = thicken_and_write(staging, *cfg.print, segments, shell, o.threads, outputs, err, o.quiet,
                                     cfg.print->shell && sheet ? shell_closing(*sheet, cfg.print->close_holes) : 0.0);
-      } catch (const core::Cancelled&) {
-        err << (o.quiet ? "" : "\n")
-            << "cellform: printing interrupted: no printable files (the vein files are written)\n";
+      } catch (const core::Cancelled&) {  // said once the other files are in (another Ctrl-C quits before)
+        print_cancelled = true;
         printed = {{"error", "interrupted"}};
         code = interrupted;
       } catch (const std::exception& e) {
@@ -539,6 +540,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     run["outputs"] = outputs;
     write_run_json(staging / "run.json", run);
     commit_outputs(staging, dir, outputs);
+    if (print_cancelled)
+      err << (o.quiet ? "" : "\n")
+          << "cellform: printing interrupted: no printable files (the vein files are written)\n";
     if (!checkpoint_error.empty()) {
       err << "cellform: " << checkpoint_error
           << "\n  (the other outputs are written, but this run cannot be resumed)\n";

@@ -190,6 +190,8 @@ TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {
   const auto run = nlohmann::json::parse(slurp(out / "run.json"));
   CHECK(run["seed"] == 4);
   CHECK(run["parameters"]["run"]["seed"] == 4);  // the seed used, not the script's
+  CHECK(run["threads"] == 0);                    // as asked: all cores, which were
+  CHECK(run["threads_used"] == std::max(1u, std::thread::hardware_concurrency()));
   CHECK(run["steps"]["completed"] == 30);
   CHECK(run["cells"]["final"].get<int>() <= 300);
   CHECK(run["cells"]["final"].get<int>() > run["cells"]["initial"].get<int>());

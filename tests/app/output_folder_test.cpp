@@ -311,3 +311,21 @@ TEST_CASE("a run killed after a checkpoint keeps its frames up to it: the resume
       CHECK(slurp(out / n) == slurp(fresh / n));
     }
 }
+
+TEST_CASE("a command whose standard output cannot be written fails instead of saying success", "[cli]") {
+  // what params, check --json and --version print is their product: lost on a full disk, it is no success
+  for (const std::vector<std::string>& args : {std::vector<std::string>{"params"}, {"--version"}}) {
+    const int full = ::open("/dev/full", O_WRONLY);
+    REQUIRE(full >= 0);
+    const pid_t pid = spawn_cellform(args, full);
+    ::close(full);
+    REQUIRE(pid > 0);
+    CHECK(exit_within(pid, 60) == 1);
+  }
+  // written somewhere that takes it, the same commands succeed
+  const int null = ::open("/dev/null", O_WRONLY);
+  REQUIRE(null >= 0);
+  const pid_t pid = spawn_cellform({"params"}, null);
+  ::close(null);
+  CHECK(exit_within(pid, 60) == 0);
+}
