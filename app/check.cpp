@@ -26,6 +26,9 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
     nlohmann::json j = {
         {"file", file.string()},
         {"printable", r.printable()},
+        // the keys say mm, as cellform's printable files are; a mesh in other units (cells.ply is in model
+        // units) keeps them
+        {"units", "the file's own: the *_mm fields are millimetres for cellform's printable.* files"},
         {"problems", r.problems()},
         {"triangles", r.triangles},
         {"vertices", r.vertices},

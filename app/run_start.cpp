@@ -151,6 +151,20 @@ Start start_from(const RunOptions& o) {
           throw core::FileError(what + " is corrupt (metadata 'initial_cells' is not a whole number >= 0)");
         s.initial_cells = meta.value("initial_cells", std::size_t{0});  // older checkpoints: unknown
         s.physics = meta.value("physics", json());                      // older checkpoints: not recorded
+        // sections of values as physics_of makes them (they are read back as --set texts)
+        bool physics_ok = s.physics.is_null() || s.physics.is_object();
+        if (s.physics.is_object())
+          for (const auto& [section, values] : s.physics.items()) {
+            physics_ok = physics_ok && values.is_object();
+            if (values.is_object())
+              for (const auto& [k, v] : values.items())
+                physics_ok = physics_ok && (v.is_number() || v.is_boolean() || v.is_string());
+          }
+        if (!physics_ok)
+          throw core::FileError(what +
+                                " is corrupt (metadata 'physics' holds a value that is no number, boolean or text)");
+        if (meta.contains("veins") && !meta["veins"].is_object())
+          throw core::FileError(what + " is corrupt (metadata 'veins')");
         const std::string mode = meta.value("mode", std::string("cells"));
         if (mode != "cells" && mode != "colonisation" && mode != "sheet")
           throw core::FileError(what + " is corrupt (unknown run mode '" + mode.substr(0, 40) + "')");
@@ -214,7 +228,7 @@ Start start_from(const RunOptions& o) {
       s.out_dir = o.out                            ? out_folder(*o.out)
                   : o.checkpoint.has_parent_path() ? o.checkpoint.parent_path()
                                                    : fs::path(".");
-      if (meta.contains("veins") && meta["veins"].is_object()) s.vein_summary = meta["veins"];
+      if (meta.contains("veins")) s.vein_summary = meta["veins"];
       if (meta.contains("writer_pid") && meta["writer_pid"].is_number_unsigned())
         s.writer_pid = meta["writer_pid"].get<std::uint64_t>();
       if (meta.contains("checkpoint_every") && meta["checkpoint_every"].is_number_unsigned())

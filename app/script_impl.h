@@ -225,6 +225,10 @@ struct ScriptHost::Impl {
     if (memory_exceeded || lua_message == "not enough memory")
       return script_name + ": the script exceeded its memory limit of " + std::to_string(limits.memory_bytes >> 20) +
              " MiB; raise it with --lua-memory";
+    if (lua_message == "C stack overflow")  // Lua's parser says it with no place
+      return script_name +
+             ": C stack overflow: the script nests deeper than Lua allows (about 200 levels of brackets, table "
+             "constructors, blocks or calls within calls); split the deepest expression";
     if (lua_message.find("attempt to load a binary chunk") != std::string::npos)
       return script_name + ": precompiled (binary) Lua chunks are not allowed; give the script as source text";
     // coroutine.wrap passes an error on with its own "file:line: " in front of the one it has

@@ -163,6 +163,13 @@ TEST_CASE("corrupt, foreign and truncated checkpoints are refused clearly", "[cl
   r = cli({"resume", t.write("negative2.cfck", cellform::core::write_chunk_file("CKPT", 1, forged)).string()});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("'initial_cells' is not a whole number >= 0"));
+  // a physics value that is no number, boolean or text ended in a raw JSON type error, exit 1
+  meta["initial_cells"] = 5;
+  meta["physics"] = {{"division", {{"min_age", nlohmann::json::object()}}}};
+  forged["meta"] = meta.dump();
+  r = cli({"resume", t.write("physics.cfck", cellform::core::write_chunk_file("CKPT", 1, forged)).string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("physics.cfck") && Contains("is corrupt (metadata 'physics'") && !Contains("json"));
 }
 
 TEST_CASE("a checkpoint that cannot be written still leaves the outputs, and says so", "[cli][checkpoint]") {

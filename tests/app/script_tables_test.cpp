@@ -113,6 +113,9 @@ TEST_CASE("functions the sandbox leaves out are said to be left out, not taken f
     CHECK_THAT(
         e, Contains("test/leaf.lua:2:") && Contains("is left out of cellform scripts") && !Contains("did you mean"));
   }
+  // nesting beyond Lua's parser limit names the script (it said "C stack overflow" alone)
+  CHECK_THAT(load_error("local t = " + std::string(300, '{') + std::string(300, '}') + "\n"),
+             Contains("test/leaf.lua: C stack overflow: the script nests deeper than Lua allows"));
   // a misspelt function of cellform's is still named
   CHECK_THAT(load_error("dsic { radius = 2 }\n"), Contains("did you mean 'disc'?") && !Contains("left out"));
 }
