@@ -416,7 +416,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     auto grid = openvdb::FloatGrid::create(bg);
     grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
     grid->setGridClass(openvdb::GRID_LEVEL_SET);
-    grid->setName("cellform");
+    grid->setName("surface");  // the name Houdini and Blender give a level set
 
     tbb::task_arena arena(arena_threads(params.threads));
     arena.execute([&] {
@@ -565,7 +565,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
       if (std::abs(*v) < nudge) v.setValue(*v < 0 ? -nudge : nudge);
     grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
     grid->setGridClass(openvdb::GRID_LEVEL_SET);
-    grid->setName("cellform");
+    grid->setName("surface");  // the name Houdini and Blender give a level set
   } else {
     grid = rasterise(caps, slabs, cut, base_z, 0.0, 1.0);
   }

@@ -283,6 +283,9 @@ TEST_CASE("write_vdb writes the level set", "[printable][files]") {
   file.close();
   REQUIRE(grids->size() == 1);
   CHECK((*grids)[0]->activeVoxelCount() == ls.active_voxels());
+  // a level set named as Houdini's VDB from Polygons and Blender's Mesh to Volume name theirs
+  CHECK((*grids)[0]->getName() == "surface");
+  CHECK((*grids)[0]->getGridClass() == openvdb::GRID_LEVEL_SET);
   // the same level set gives the same bytes (OpenVDB's random file UUID is replaced by one from the content)
   exporters::write_vdb(dir / "again.vdb", ls);
   std::ifstream a(dir / "tree.vdb", std::ios::binary), b(dir / "again.vdb", std::ios::binary);
