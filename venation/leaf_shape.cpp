@@ -166,11 +166,21 @@ double signed_area(const Outline& o) {
   return 0.5 * a;
 }
 
-void validate_outline(const Outline& o, const std::string& what) {
+void validate_outline(const Outline& o, const std::string& what, const OutlineLines* from) {
   const std::size_t n = o.points.size();
+  // vertex i (from 0) and edge i (from vertex i to the next) as a user finds them
+  auto vertex_name = [&](std::size_t i) {
+    return from ? "the vertex of line " + std::to_string(from->line[i]) : "vertex " + std::to_string(i);
+  };
+  auto edges_name = [&](std::size_t i, std::size_t j) {
+    return from ? "the edges from lines " + std::to_string(from->line[std::min(i, j)]) + " and " +
+                      std::to_string(from->line[std::max(i, j)])
+                : "edges " + std::to_string(std::min(i, j) + 1) + " and " + std::to_string(std::max(i, j) + 1);
+  };
+  auto coordinate = [&](double x) { return core::number_text(from ? std::ldexp(x, from->exponent) : x); };
   if (n < 3) throw InvalidInput(what + ": an outline needs at least 3 vertices, got " + std::to_string(n));
   for (std::size_t i = 0; i < n; ++i)
-    if (!o.points[i].allFinite()) throw InvalidInput(what + ": vertex " + std::to_string(i) + " is not finite");
+    if (!o.points[i].allFinite()) throw InvalidInput(what + ": " + vertex_name(i) + " is not finite");
   // sweep over edges sorted by their lower x: only edges overlapping in x are compared
   std::vector<std::size_t> order(n);
   std::iota(order.begin(), order.end(), 0);
@@ -191,13 +201,12 @@ void validate_outline(const Outline& o, const std::string& what) {
         const Vec2& before = i_first ? p : r;
         const Vec2& after = i_first ? s : q;
         if (n > 3 && orient(before, shared, after) == 0 && (after - shared).dot(before - shared) > 0)
-          throw InvalidInput(what + ": the outline folds back on itself at vertex " + std::to_string(i_first ? j : i));
+          throw InvalidInput(what + ": the outline folds back on itself at " + vertex_name(i_first ? j : i));
         continue;
       }
       if (segments_touch(p, q, r, s))
-        throw InvalidInput(what + ": the outline intersects itself near (" + core::number_text(p.x()) + ", " +
-                           core::number_text(p.y()) + ") (edges " + std::to_string(std::min(i, j) + 1) + " and " +
-                           std::to_string(std::max(i, j) + 1) + ")");
+        throw InvalidInput(what + ": the outline intersects itself near (" + coordinate(p.x()) + ", " +
+                           coordinate(p.y()) + ") (" + edges_name(i, j) + ")");
     }
   }
   double extent = 0;
@@ -317,6 +326,7 @@ Outline parse_outline(const std::string& text, const std::string& source) {
   std::istringstream in(text.rfind("\xEF\xBB\xBF", 0) == 0 ? text.substr(3) : text);
   std::string line;
   int line_no = 0, last_line = 0;
+  OutlineLines lines;  // each vertex's line, for the messages of validate_outline
   while (std::getline(in, line)) {
     ++line_no;
     if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
@@ -345,6 +355,7 @@ Outline parse_outline(const std::string& text, const std::string& source) {
     if (!std::isfinite(x) || !std::isfinite(y))
       throw InvalidInput(source + ":" + std::to_string(line_no) + ": coordinates must be finite");
     o.points.emplace_back(x, y);
+    lines.line.push_back(static_cast<std::size_t>(line_no));
     last_line = line_no;
   }
   if (o.points.size() < 4)
@@ -354,12 +365,21 @@ Outline parse_outline(const std::string& text, const std::string& source) {
     throw InvalidInput(source + ":" + std::to_string(last_line) +
                        ": the outline is open: its last vertex must repeat the first one to close it");
   o.points.pop_back();
+  lines.line.pop_back();
   // a vertex repeated on the next line (an export that closes a polyline twice) is one vertex
   std::vector<Vec2> kept;
-  for (const Vec2& p : o.points)
-    if (kept.empty() || p != kept.back()) kept.push_back(p);
-  while (kept.size() > 1 && kept.back() == kept.front()) kept.pop_back();
+  std::vector<std::size_t> kept_lines;
+  for (std::size_t i = 0; i < o.points.size(); ++i)
+    if (kept.empty() || o.points[i] != kept.back()) {
+      kept.push_back(o.points[i]);
+      kept_lines.push_back(lines.line[i]);
+    }
+  while (kept.size() > 1 && kept.back() == kept.front()) {
+    kept.pop_back();
+    kept_lines.pop_back();
+  }
   o.points = std::move(kept);
+  lines.line = std::move(kept_lines);
   // any unit: coordinates near the ends of the double range are brought near 1 by a power of two (exact),
   // so that areas and crossings (products of two coordinates) neither overflow nor underflow
   double extent = 0;
@@ -368,8 +388,9 @@ Outline parse_outline(const std::string& text, const std::string& source) {
     int e = 0;
     std::frexp(extent, &e);
     for (Vec2& p : o.points) p = Vec2(std::ldexp(p.x(), -e), std::ldexp(p.y(), -e));
+    lines.exponent = e;
   }
-  validate_outline(o, source);
+  validate_outline(o, source, &lines);
   if (signed_area(o) < 0) std::reverse(o.points.begin(), o.points.end());
   return o;
 }

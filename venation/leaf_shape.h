@@ -63,9 +63,17 @@ Outline read_outline(const std::filesystem::path& path);
 /// Twice-signed area / 2 (shoelace): positive for counter-clockwise outlines, model units squared.
 double signed_area(const Outline& outline);
 
+/// Where an outline's vertices came from in a file, for messages: the line of each vertex, and the power of
+/// two the file's coordinates were divided by.
+struct OutlineLines {
+  std::vector<std::size_t> line;
+  int exponent = 0;
+};
+
 /// Throws core::InvalidInput naming `what` unless the outline has >= 3 finite vertices, non-zero area
-/// and no two non-adjacent edges touching or crossing.
-void validate_outline(const Outline& outline, const std::string& what);
+/// and no two non-adjacent edges touching or crossing. With `from`, vertices are named by their file lines
+/// and coordinates given as the file has them.
+void validate_outline(const Outline& outline, const std::string& what, const OutlineLines* from = nullptr);
 
 /// Distance from `p` to the nearest point of the outline's boundary, model units.
 double distance_to_boundary(const Outline& outline, const Vec2& p);

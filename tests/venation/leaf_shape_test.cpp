@@ -97,6 +97,12 @@ TEST_CASE("outline files: closed polygons parse, open, malformed and self-inters
                     Contains("a.out:1") && Contains("not text") && !Contains("ELF"));
   CHECK_THROWS_WITH(venation::parse_outline(std::string(300, 'z'), "long.txt"), Contains("...'"));
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 1\n1 0\n0 1\n0 0\n", "bow.txt"), Contains("intersects itself"));
+  // the edges are named by the file's lines, past comments and a repeated vertex, and the coordinates as
+  // the file has them, not as scaled to be read (1e300 is brought near 1)
+  CHECK_THROWS_WITH(
+      venation::parse_outline(
+          "# a bow tie\n1e300 1e300\n3e300 3e300\n3e300 3e300\n3e300 1e300\n1e300 3e300\n1e300 1e300\n", "bow.txt"),
+      Contains("intersects itself near (1e+300, 1e+300) (the edges from lines 2 and 5)"));
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 0\n2 0\n0 0\n", "line.txt"),
                     Contains("no area") || Contains("folds back"));
   CHECK_THROWS_AS(venation::read_outline("/nonexistent/outline.txt"), core::FileError);
