@@ -99,8 +99,11 @@ int main(int argc, char** argv) {
   if (prints_product && (!out || !std::cout)) {
     // a pipe fails only when its reader stopped early (cellform params | head), which knows why: not said
     struct stat st {};
-    const bool pipe = ::fstat(1, &st) == 0 && (S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode));
-    if (!pipe) err << "cellform: cannot write to standard output (a full disk?)\n";
+    const bool open = ::fstat(1, &st) == 0;
+    if (!open)
+      err << "cellform: cannot write to standard output: it is closed\n";
+    else if (!S_ISFIFO(st.st_mode) && !S_ISSOCK(st.st_mode))
+      err << "cellform: cannot write to standard output (a full disk?)\n";
     return code == 0 ? 1 : code;
   }
   return code;

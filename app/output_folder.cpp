@@ -39,7 +39,7 @@ std::vector<long> live_stagings(const fs::path& dir) {
   for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
     if (name.rfind(".partial-", 0) != 0) continue;
-    const std::string digits = name.substr(9);
+    const std::string digits = name.substr(9, name.find('-', 9) - 9);  // ".partial-PID" or ".partial-PID-K"
     if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
     const auto pid = static_cast<pid_t>(std::stol(digits));
     if (pid != ::getpid() && process_alive(pid)) out.push_back(pid);
@@ -103,7 +103,8 @@ void mark_superseded(const fs::path& dir) {
   write_run_json(file, j);
 }
 
-fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, std::uint64_t spare_pid) {
+fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, const std::string& keep_mark,
+                      fs::path* kept) {
   core::ensure_directory(dir);
   lock.emplace(dir);
   {
@@ -133,60 +134,71 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, std:
                             "lists: choose another --out folder, or move that file away");
     }
   }
-  // staging folders and half-written checkpoints ("checkpoint.cfck.tmp-PID") of runs that were killed (a
-  // second Ctrl-C, SIGKILL) are removed: their process is gone
+  // staging folders (".partial-PID" or ".partial-PID-K") and half-written checkpoints
+  // ("checkpoint.cfck.tmp-PID") of runs that were killed (a second Ctrl-C, SIGKILL): with the folder locked,
+  // no other run is writing there, so all of them, whatever runs under those process ids now
   std::error_code ec;
   const std::string tmp_checkpoint = std::string(kCheckpointName) + ".tmp-";
+  auto run_suffix = [](const std::string& t) {  // "PID" or "PID-K"
+    const std::size_t dash = t.find('-');
+    auto digits = [](const std::string& d) {
+      return !d.empty() && d.size() <= 9 && d.find_first_not_of("0123456789") == std::string::npos;
+    };
+    return dash == std::string::npos ? digits(t) : digits(t.substr(0, dash)) && digits(t.substr(dash + 1));
+  };
+  std::vector<fs::path> stale;
   for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
-    const bool staging_dir = name.rfind(".partial-", 0) == 0 && e.is_directory(ec);
+    const bool staging_dir = name.rfind(".partial-", 0) == 0 && !e.is_symlink(ec) && e.is_directory(ec);
     const bool checkpoint_tmp = name.rfind(tmp_checkpoint, 0) == 0 && e.is_regular_file(ec);
-    if (!staging_dir && !checkpoint_tmp) continue;
-    const std::string digits = name.substr(staging_dir ? 9 : tmp_checkpoint.size());
-    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
-    const auto pid = static_cast<pid_t>(std::stol(digits));
-    if (staging_dir && spare_pid != 0 && static_cast<std::uint64_t>(pid) == spare_pid) continue;  // salvage_frames
-    if (pid != ::getpid() && !process_alive(pid)) fs::remove_all(e.path(), ec);
+    if ((!staging_dir && !checkpoint_tmp) || !run_suffix(name.substr(staging_dir ? 9 : tmp_checkpoint.size())))
+      continue;
+    if (staging_dir && !keep_mark.empty() && kept && kept->empty()) {  // the run that wrote the checkpoint resumed
+      std::ifstream in(e.path() / kStagingMark);
+      std::string mark;
+      if (std::getline(in, mark) && mark == keep_mark) {
+        *kept = e.path();
+        continue;
+      }
+    }
+    stale.push_back(e.path());
   }
-  const fs::path staging = dir / (".partial-" + std::to_string(::getpid()));
+  std::sort(stale.begin(), stale.end());
+  for (const fs::path& p : stale) fs::remove_all(p, ec);
+  fs::path staging = dir / (".partial-" + std::to_string(::getpid()));
+  for (int k = 1; fs::exists(staging, ec) || fs::is_symlink(staging, ec); ++k)  // the kept one, of an earlier
+    staging = dir / (".partial-" + std::to_string(::getpid()) + "-" + std::to_string(k));  // run with our pid
   core::ensure_directory(staging);
   return staging;
 }
 
-void remove_dead_staging(const fs::path& dir, std::uint64_t pid) {
-  if (pid == 0 || pid > 999999999 || static_cast<pid_t>(pid) == ::getpid() || process_alive(static_cast<pid_t>(pid)))
-    return;
-  std::error_code ec;
-  const fs::path dead = dir / (".partial-" + std::to_string(pid));
-  if (!fs::is_symlink(dead, ec) && fs::is_directory(dead, ec)) fs::remove_all(dead, ec);
+void mark_staging(const fs::path& staging, const std::string& mark) {
+  try {  // best effort: without it only the frames of a killed run are lost, as before there was a mark
+    core::write_file_atomically(staging / kStagingMark, [&](std::ostream& os) { os << mark << "\n"; });
+  } catch (const std::exception&) {
+  }
 }
 
-std::vector<std::pair<std::uint64_t, std::string>> salvage_frames(const fs::path& dir, const fs::path& staging,
-                                                                  std::uint64_t pid, std::uint64_t up_to) {
+std::vector<std::pair<std::uint64_t, std::string>> salvage_frames(const fs::path& from, const fs::path& staging,
+                                                                  std::uint64_t up_to) {
   std::vector<std::pair<std::uint64_t, std::string>> found;
-  if (pid == 0 || pid > 999999999 || static_cast<pid_t>(pid) == ::getpid() || process_alive(static_cast<pid_t>(pid)))
-    return found;
-  const fs::path dead = dir / (".partial-" + std::to_string(pid));
   std::error_code ec;
-  if (fs::is_symlink(dead, ec) || !fs::is_directory(dead, ec)) return found;
-  if (!fs::is_symlink(dead / "frames", ec) && fs::is_directory(dead / "frames", ec))
-    for (const fs::directory_entry& e : fs::directory_iterator(dead / "frames", ec)) {
-      const std::string name = e.path().filename().string();  // cells_NNNNNN.ply
-      if (name.rfind("cells_", 0) != 0 || name.size() <= 10 || name.substr(name.size() - 4) != ".ply") continue;
-      const std::string digits = name.substr(6, name.size() - 10);
-      if (digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 18) continue;
-      const std::uint64_t step = std::stoull(digits);
-      if (step <= up_to && !e.is_symlink(ec) && e.is_regular_file(ec)) found.emplace_back(step, "frames/" + name);
-    }
+  if (from.empty() || fs::is_symlink(from / "frames", ec) || !fs::is_directory(from / "frames", ec)) return found;
+  for (const fs::directory_entry& e : fs::directory_iterator(from / "frames", ec)) {
+    const std::string name = e.path().filename().string();  // cells_NNNNNN.ply
+    if (name.rfind("cells_", 0) != 0 || name.size() <= 10 || name.substr(name.size() - 4) != ".ply") continue;
+    const std::string digits = name.substr(6, name.size() - 10);
+    if (digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 18) continue;
+    const std::uint64_t step = std::stoull(digits);
+    if (step <= up_to && !e.is_symlink(ec) && e.is_regular_file(ec)) found.emplace_back(step, "frames/" + name);
+  }
   std::sort(found.begin(), found.end());
-  // linked, not moved: should this run be killed too before its own checkpoint, the next resume finds them
-  // where the checkpoint says (the caller removes the folder once its own checkpoint is written)
   std::vector<std::pair<std::uint64_t, std::string>> taken;
   for (const auto& [step, name] : found) {
     core::ensure_directory(staging / "frames");
     std::error_code link;
-    fs::create_hard_link(dead / name, staging / name, link);
-    if (link) fs::copy_file(dead / name, staging / name, fs::copy_options::overwrite_existing, link);
+    fs::create_hard_link(from / name, staging / name, link);
+    if (link) fs::copy_file(from / name, staging / name, fs::copy_options::overwrite_existing, link);
     if (!link) taken.emplace_back(step, name);
   }
   return taken;

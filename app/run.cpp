@@ -161,6 +161,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   std::unique_ptr<forms::Scene> scene;
   std::uint64_t seed = 0, target = 0;
   fs::path staging;
+  fs::path killed_staging;         // resume: the staging folder of the killed run that wrote the checkpoint, if any
   std::optional<FolderLock> lock;  // held until the run has written its last file
   try {
     s = start_from(o);
@@ -286,7 +287,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   const fs::path dir = s.out_dir;
   const fs::path created = first_missing(dir);  // made by this run: removed again if it stays empty
   try {
-    staging = make_staging(dir, lock, s.resume ? s.writer_pid : 0);
+    staging = make_staging(dir, lock, s.resume ? s.checkpoint_mark : std::string(), &killed_staging);
     if (s.script_replaced) record_replaced_script(s, o, dir);
   } catch (const FolderBusy& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
@@ -328,25 +329,29 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   std::size_t saved_cells = 0;             // and its cells
   std::uint64_t stepping = 0;              // the step being computed, while one is (steps count from 1)
   std::vector<std::uint64_t> frame_steps;  // the step of every frame written (outputs holds their names)
-  bool spared = s.resume;  // make_staging spared the staging folder of the run that wrote the checkpoint
-  if (s.resume)            // the frames a killed run wrote up to its checkpoint are this run's too
-    for (const auto& [step, name] : salvage_frames(dir, staging, s.writer_pid, sim.step_count())) {
-      outputs.push_back(name);
-      frame_steps.push_back(step);
-    }
+  // the frames a killed run wrote up to the checkpoint this one resumes are this run's too
+  for (const auto& [step, name] : salvage_frames(killed_staging, staging, sim.step_count())) {
+    outputs.push_back(name);
+    frame_steps.push_back(step);
+  }
+  // run.json's "veins": the last canalisation's figures; one run in this process (Report::cells counts the
+  // cells it saw), or the checkpoint's (a resume that reached no canalisation yet), or what the cells say
+  auto vein_record = [&]() -> json {
+    if (!cfg.scene.venation) return json();
+    if (scene->venation_report().cells > 0) return vein_summary(sim.cells(), scene->venation_report(), false, json());
+    return vein_summary(sim.cells(), scene->venation_report(), true, s.vein_summary);
+  };
   auto checkpoint_now = [&] {
     keep_resumed_checkpoint(s, dir, err);  // resume --script: the checkpoint resumed is replaced now
-    const bool stepped = sim.step_count() > first;
-    write_checkpoint(checkpoint,
-                     checkpoint_bytes(s, seed, target, *scene,
-                                      !cfg.scene.venation ? json()
-                                      : stepped ? vein_summary(sim.cells(), scene->venation_report(), false, json())
-                                                : s.vein_summary));
+    const std::string bytes = checkpoint_bytes(s, seed, target, *scene, vein_record());
+    write_checkpoint(checkpoint, bytes);
     saved_step = sim.step_count();
     saved_cells = sim.cells().size();
-    if (spared) {  // no checkpoint names that run any more: its staging folder goes, if it was killed
-      remove_dead_staging(dir, s.writer_pid);
-      spared = false;
+    mark_staging(staging, checkpoint_mark(bytes));  // a resume of it after a kill takes the frames from there
+    if (!killed_staging.empty()) {                  // the checkpoint resumed is replaced: its run's staging folder goes
+      std::error_code ec;
+      fs::remove_all(killed_staging, ec);
+      killed_staging.clear();
     }
   };
   // a run that an error stops after it wrote a checkpoint: the folder then shows it as far as that
@@ -517,8 +522,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     json run = run_head(s, seed, o.threads, status);
     run.update({{"steps", {{"first", first}, {"completed", sim.step_count()}, {"target", target}}},
                 {"cells", {{"initial", s.initial_cells}, {"final", sim.cells().size()}}},
-                {"veins", vein_summary(sim.cells(), scene->venation_report(),
-                                       cfg.scene.venation.has_value() && done == 0, s.vein_summary)},
+                {"veins", vein_record()},
                 {"overrides", s.sets},
                 {"parameters", cfg.resolved},
                 {"timings",

@@ -65,8 +65,8 @@ struct Start {
   // resume only: the checkpoint's own target and --checkpoint-every (before this command's options)
   std::uint64_t checkpoint_target = 0;
   std::optional<std::uint64_t> checkpoint_every_of_run;
-  std::uint64_t writer_pid = 0;  // resume only: the process that wrote the checkpoint (0 = not known)
-  nlohmann::json vein_summary;   // resume only: run.json's "veins" at the checkpoint (null = not kept)
+  std::string checkpoint_mark;  // resume only: checkpoint_mark of the checkpoint resumed
+  nlohmann::json vein_summary;  // resume only: run.json's "veins" at the checkpoint (null = not kept)
 };
 
 /// "fnv1a64:<hex>" of a script's text, as run.json and the checkpoints name it.
@@ -209,23 +209,31 @@ class FolderLock {
   int fd_ = -1;
 };
 
+/// A short fingerprint of a checkpoint file's bytes ("fnv1a64:<hex>").
+std::string checkpoint_mark(const std::string& bytes);
+
+/// The name of the file in a staging folder that holds the checkpoint_mark of the last checkpoint its run
+/// wrote (mark_staging): a resume of that checkpoint after a kill knows the folder by it.
+inline constexpr const char* kStagingMark = "checkpoint.mark";
+
 /// Creates `dir`, locks it into `lock` and makes a private staging folder inside it, where a run's outputs
 /// wait until all are complete. Refuses (core::FileError) a folder whose run.json cellform did not write:
-/// a run replaces run.json and deletes the earlier outputs it lists. Removes the staging folders of killed
-/// runs, except that of `spare_pid` (a resume's checkpoint writer: salvage_frames takes its frames).
+/// a run replaces run.json and deletes the earlier outputs it lists. The staging folders of killed runs
+/// (with the lock held, every other one there) are removed, except one marked with `keep_mark` (the
+/// checkpoint a resume continues), whose path goes to `kept`.
 std::filesystem::path make_staging(const std::filesystem::path& dir, std::optional<FolderLock>& lock,
-                                   std::uint64_t spare_pid = 0);
+                                   const std::string& keep_mark = {}, std::filesystem::path* kept = nullptr);
 
-/// Removes the staging folder of process `pid` in `dir` if that process is gone (make_staging's cleanup).
-void remove_dead_staging(const std::filesystem::path& dir, std::uint64_t pid);
+/// Writes `mark` (checkpoint_mark of the checkpoint just written) into `staging`, replacing the last.
+void mark_staging(const std::filesystem::path& staging, const std::string& mark);
 
-/// A resume after a kill: the frames (frames/cells_NNNNNN.ply, step <= up_to) the killed process `pid` left
-/// in its staging folder in `dir` (make_staging spared it) are linked (or copied) into `staging`. Returns
-/// their steps and names, ascending; nothing when the folder is missing or `pid` runs. That folder stays
-/// until the caller's own checkpoint replaces the one naming `pid`.
-std::vector<std::pair<std::uint64_t, std::string>> salvage_frames(const std::filesystem::path& dir,
+/// A resume after a kill: the frames (frames/cells_NNNNNN.ply, step <= up_to) the killed run left in its
+/// staging folder `from` (make_staging kept it) are linked (or copied) into `staging`. Returns their steps
+/// and names, ascending. `from` is left as it is: should this run be killed too before its own checkpoint,
+/// the next resume finds them there; the caller removes it once that checkpoint is written.
+std::vector<std::pair<std::uint64_t, std::string>> salvage_frames(const std::filesystem::path& from,
                                                                   const std::filesystem::path& staging,
-                                                                  std::uint64_t pid, std::uint64_t up_to);
+                                                                  std::uint64_t up_to);
 
 /// Thickens vein segments (model units, Murray radii) and shell triangles into a printable solid and
 /// writes the requested formats into `dir`. Appends the file names to `names`; returns what run.json

@@ -1,7 +1,5 @@
 // Where a run starts from: its script, or a checkpoint to resume (with the script it keeps, or an edited
 // one given by --script); and the run.json and checkpoint pieces that depend on it.
-#include <unistd.h>
-
 #include <algorithm>
 #include <charconv>
 #include <optional>
@@ -52,6 +50,10 @@ Overrides with_physics(const Overrides& overrides, const json& physics) {
   return out;
 }
 
+std::string checkpoint_mark(const std::string& bytes) {
+  return "fnv1a64:" + core::hex64(core::fnv1a64(bytes.data(), bytes.size()));
+}
+
 std::string script_hash(const std::string& source) {
   return "fnv1a64:" + core::hex64(core::fnv1a64(source.data(), source.size()));
 }
@@ -100,9 +102,6 @@ json checkpoint_meta(const Start& s, std::uint64_t seed, std::uint64_t target, s
           {"target_steps", target},
           {"step", step},
           {"out", absolute_path_text(s.out_dir)},
-          // the writer's staging folder (".partial-PID") holds its frames until it commits them: a resume
-          // after a kill takes those up to the checkpoint from there (salvage_frames)
-          {"writer_pid", static_cast<std::int64_t>(::getpid())},
           {"replaced_scripts", s.replaced}};
 }
 
@@ -125,8 +124,9 @@ Start start_from(const RunOptions& o) {
       if (o.checkpoint.extension() == ".lua")  // a script given to resume: say how to run it
         throw core::FileError(what + " is a script, not a checkpoint: run it with cellform run " +
                               o.checkpoint.string() + ", or resume its run's checkpoint.cfck");
-      const core::ChunkFile f =
-          core::read_chunk_file(core::read_file(o.checkpoint), kCheckpointKind, kCheckpointVersion, what);
+      const std::string bytes = core::read_file(o.checkpoint);
+      s.checkpoint_mark = checkpoint_mark(bytes);
+      const core::ChunkFile f = core::read_chunk_file(bytes, kCheckpointKind, kCheckpointVersion, what);
       json meta;
       try {
         meta = json::parse(f.at("meta", what));
@@ -196,11 +196,14 @@ Start start_from(const RunOptions& o) {
         }
         // the script the checkpoint keeps is a plain resume, unless a --set changes what a plain resume keeps:
         // then the same text is the "edited" script (the way to change a value the run's own --set gave)
-        const bool changes_kept = std::any_of(o.sets.begin(), o.sets.end(), [&](const auto& kv) {
-          const std::string section = kv.first.substr(0, kv.first.find('.'));
-          const auto saved = s.sets.find(kv.first);
-          return section != "output" && section != "print" && (saved == s.sets.end() || saved->second != kv.second);
-        });
+        // (a space-colonisation checkpoint keeps no cell values: its --set goes as in a plain resume)
+        const bool cell_values_kept = s.colonisation_bytes.empty() || s.sheet_partial;
+        const bool changes_kept =
+            cell_values_kept && std::any_of(o.sets.begin(), o.sets.end(), [&](const auto& kv) {
+              const std::string section = kv.first.substr(0, kv.first.find('.'));
+              const auto saved = s.sets.find(kv.first);
+              return section != "output" && section != "print" && (saved == s.sets.end() || saved->second != kv.second);
+            });
         if (edited == s.source && !changes_kept) {
           s.script_unchanged = true;
         } else {
@@ -229,8 +232,6 @@ Start start_from(const RunOptions& o) {
                   : o.checkpoint.has_parent_path() ? o.checkpoint.parent_path()
                                                    : fs::path(".");
       if (meta.contains("veins")) s.vein_summary = meta["veins"];
-      if (meta.contains("writer_pid") && meta["writer_pid"].is_number_unsigned())
-        s.writer_pid = meta["writer_pid"].get<std::uint64_t>();
       if (meta.contains("checkpoint_every") && meta["checkpoint_every"].is_number_unsigned())
         s.checkpoint_every = meta["checkpoint_every"].get<std::uint64_t>();
       s.checkpoint_every_of_run = s.checkpoint_every;

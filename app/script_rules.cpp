@@ -141,7 +141,7 @@ venation::SourceRule ScriptHost::source_rule() {
     if (lua_type(L, -1) != LUA_TNUMBER) {
       const std::string got = luaL_typename(L, -1);
       lua_pop(L, 1);
-      throw InvalidInput(I->source_at + "venation.source must return a number >= 0, got " + got + where());
+      throw InvalidInput(I->source_at + "venation.source must return a number from 0 to 1e30, got " + got + where());
     }
     const double v = lua_tonumber(L, -1);
     lua_pop(L, 1);

@@ -130,7 +130,21 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
         if ((a + 1) % n == b || (b + 1) % n == a) continue;  // a side of the loop
         ok = !diagonals.count({std::min(corner[a], corner[b]), std::max(corner[a], corner[b])});
       }
-    for (const auto& f : fill) ok = ok && !corners.stacks(pos, {corner[f[0]], corner[f[1]], corner[f[2]]});
+    for (std::size_t a = 0; a < fill.size() && ok; ++a) {
+      const std::array<Index, 3> t{corner[fill[a][0]], corner[fill[a][1]], corner[fill[a][2]]};
+      ok = !corners.stacks(pos, t);
+      for (std::size_t b = a + 1; b < fill.size() && ok; ++b) {  // nor on each other (a twisted loop)
+        const std::array<Index, 3> u{corner[fill[b][0]], corner[fill[b][1]], corner[fill[b][2]]};
+        int common = 0;
+        Index shared = kNoIndex;
+        for (const Index x : t)
+          if (x == u[0] || x == u[1] || x == u[2]) {
+            ++common;
+            shared = x;
+          }
+        ok = common != 1 || !stacked_at(pos, t, u, shared);
+      }
+    }
     if (!ok) continue;
     for (const auto& f : fill) {
       std::array<Index, 3> t{corner[f[0]], corner[f[1]], corner[f[2]]};  // the loop's turn: facing as around it

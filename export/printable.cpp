@@ -345,13 +345,19 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     // ~ voxel^-2 to ^-3: each step at least halves the error (of alternating sign under ^-3)
     for (int k = 0; k < 64; ++k) fit *= std::sqrt(estimate_at(fit) / params.max_memory_bytes);
     const double needed = fit * 1.05;
-    if (params.voxel_size == 0 && needed <= params.min_radius) {
-      // the automatic voxel gives way to the memory limit, up to min_radius (a minimum-radius vein stays
-      // two voxels across); rounded up to two significant digits, a value a user can read and pass on
+    // the automatic voxel gives way to the memory limit, up to min_radius (a minimum-radius vein stays two
+    // voxels across): rounded up to two significant digits, a value a user can read and pass on, or the
+    // largest that is allowed; checked, as the iteration converges slowly where the per-primitive part of
+    // the estimate dominates
+    double chosen = 0;
+    if (params.voxel_size == 0) {
       const double unit = std::pow(10.0, std::floor(std::log10(needed)) - 1);
-      const double rounded = std::ceil(needed / unit) * unit;
+      for (const double v : {std::ceil(needed / unit) * unit, needed, params.min_radius})
+        if (chosen == 0 && v > voxel && v <= params.min_radius && estimate_at(v) <= params.max_memory_bytes) chosen = v;
+    }
+    if (chosen > 0) {
       voxel_raised_from = voxel;
-      voxel = rounded <= params.min_radius && estimate_at(rounded) <= params.max_memory_bytes ? rounded : needed;
+      voxel = chosen;
       estimate = estimate_at(voxel);
     } else {
       const std::string advice =

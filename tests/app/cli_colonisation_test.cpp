@@ -213,6 +213,16 @@ TEST_CASE("space colonisation resumes to the bit-identical veins, in a leaf and 
   r = cli({"resume", (out / "checkpoint.cfck").string(), "--script", edited.string(), "--quiet"});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("changed: colonisation.darts = 2000.0 (was 3000.0)"));
+  // the run's own script with a --set a plain resume takes (a colonisation checkpoint keeps no cell
+  // values): a plain resume, not an edit with a copy of the checkpoint
+  r = cli({"resume", (out / "checkpoint.cfck").string(), "--script", (t.path / "ball.lua").string(), "--set",
+           "colonisation.max_nodes=1000000", "--quiet"});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("plain resume"));
+  CHECK_FALSE(nlohmann::json::parse(slurp(out / "run.json"))["script"].contains("replaces"));
+  for (const auto& e : fs::directory_iterator(out))
+    CHECK(e.path().filename().string().rfind("checkpoint-step", 0) != 0);
 }
 
 TEST_CASE("a space-colonisation run writes the vein files output{} asks for", "[cli][colonisation]") {

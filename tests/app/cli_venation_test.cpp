@@ -71,3 +71,24 @@ TEST_CASE("a print with no vein grown yet says what to change, not to print agai
   CHECK_THAT(r.err, !Contains("to print again with other print.* values"));
   CHECK(fs::exists(t.path / "a" / "checkpoint.cfck"));
 }
+
+TEST_CASE("run.json's vein figures are the last canalisation's, through resumes that reach none", "[cli][venation]") {
+  TempDir t("cli-every");
+  const auto script =
+      t.write("every.lua",
+              "division { trigger = 'neighbours', radius = 1.25, min_neighbours = 6, max_cells = 200 }\n"
+              "venation { threshold = 10, every = 10 }\n"
+              "disc { radius = 4 }\npetiole { at = {0, -4, 0} }\n");
+  const fs::path out = t.path / "o", fresh = t.path / "f";
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "20"}).code == 0);
+  const auto at20 = nlohmann::json::parse(slurp(out / "run.json"))["veins"];
+  REQUIRE(at20["vein_cells"].get<int>() + at20["petiole_inflow"].get<double>() > 0);
+  // steps 21 to 25 run no canalisation: the figures stay those of step 20, as in a run of 25 steps
+  REQUIRE(cli({"resume", out.string(), "--steps", "25", "--quiet"}).code == 0);
+  REQUIRE(cli({"run", script.string(), "--out", fresh.string(), "--quiet", "--steps", "25"}).code == 0);
+  const auto expected = nlohmann::json::parse(slurp(fresh / "run.json"))["veins"];
+  CHECK(expected == at20);
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["veins"] == expected);
+  REQUIRE(cli({"resume", out.string(), "--quiet"}).code == 0);  // and through one that runs no step
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["veins"] == expected);
+}

@@ -61,13 +61,17 @@ TEST_CASE("an unwritable output location fails clearly", "[cli]") {
   CHECK_FALSE(fs::exists(t.path / "o" / "cells.ply"));
 }
 
-TEST_CASE("a run removes the staging folders and checkpoint drafts of killed runs, and only those", "[cli]") {
+TEST_CASE(
+    "a run removes the staging folders and checkpoint drafts of killed runs (with the folder locked, all), and only "
+    "those",
+    "[cli]") {
   TempDir t("cli-stale");
   const auto script = t.write("small.lua", kSmall);
   const fs::path out = t.path / "out";
   fs::create_directories(out / ".partial-999999999");  // no such process (beyond any pid_max)
   std::ofstream(out / ".partial-999999999" / "veins.ply") << "half";
-  const fs::path live = out / (".partial-" + std::to_string(::getppid()));  // a process that is running
+  // a process with that id runs (a container gives ids again): but no run writes in a folder it cannot lock
+  const fs::path live = out / (".partial-" + std::to_string(::getppid()));
   fs::create_directories(live);
   fs::create_directories(out / ".partial-notes");                               // not a run's
   std::ofstream(out / "checkpoint.cfck.tmp-999999999") << "half a checkpoint";  // a killed run's
@@ -87,8 +91,8 @@ TEST_CASE("a run removes the staging folders and checkpoint drafts of killed run
   CHECK_FALSE(fs::exists(killed));
   CHECK_FALSE(fs::exists(out / ".partial-999999999"));
   CHECK_FALSE(fs::exists(out / "checkpoint.cfck.tmp-999999999"));
-  CHECK(fs::exists(live));
-  CHECK(fs::exists(live_tmp));
+  CHECK_FALSE(fs::exists(live));
+  CHECK_FALSE(fs::exists(live_tmp));
   CHECK(fs::exists(out / ".partial-notes"));
   CHECK(fs::exists(out / "cells.ply"));
 }
@@ -288,17 +292,24 @@ TEST_CASE("a run killed after a checkpoint keeps its frames up to it: the resume
   kill(pid, SIGKILL);
   wait_exit(pid);
   REQUIRE(ready);
-  const auto meta = nlohmann::json::parse(
-      cellform::core::read_chunk_file(slurp(out / "checkpoint.cfck"), "CKPT", 1, "test").chunks.at("meta"));
+  const std::string bytes = slurp(out / "checkpoint.cfck");
+  const auto meta = nlohmann::json::parse(cellform::core::read_chunk_file(bytes, "CKPT", 1, "test").chunks.at("meta"));
   const std::uint64_t at = meta["step"].get<std::uint64_t>();
   REQUIRE(at >= 3);
-  CHECK(meta["writer_pid"] == pid);
+  // the staging folder is known by the checkpoint it last wrote (not by its process id, which a container
+  // gives again, or which another process may hold now)
+  CHECK(slurp(staging / cellform::app::kStagingMark) == cellform::app::checkpoint_mark(bytes) + "\n");
+  // a decoy: another killed run's staging folder, with frames of its own, is not taken
+  fs::create_directories(out / ".partial-1" / "frames");
+  std::ofstream(out / ".partial-1" / "frames" / "cells_000000.ply") << "another run's";
+  std::ofstream(out / ".partial-1" / cellform::app::kStagingMark) << "fnv1a64:0000000000000000\n";
   // the resume lists and keeps every frame, as a run that was never killed
   const std::string target = std::to_string(at + 4);
   CliResult r = cli({"resume", out.string(), "--steps", target, "--quiet"});
   INFO(r.err);
   REQUIRE(r.code == 0);
   CHECK_FALSE(fs::exists(staging));
+  CHECK_FALSE(fs::exists(out / ".partial-1"));
   const fs::path fresh = t.path / "fresh";
   REQUIRE(cli({"run", script.string(), "--out", fresh.string(), "--quiet", "--steps", target}).code == 0);
   const auto listed = nlohmann::json::parse(slurp(out / "run.json"))["outputs"];

@@ -373,7 +373,23 @@ TEST_CASE("the automatic voxel size gives way to the memory limit, up to min_rad
   ThickenParams given = p;
   given.voxel_size = rep.voxel_size;
   CHECK(exporters::thicken(capsule, {}, given).triangles == m.triangles);
+  // a limit just above what min_radius needs: allowed (5% headroom on the fit must not push it past)
+  ThickenParams at_min = p;
+  at_min.voxel_size = p.min_radius;
+  at_min.max_memory_bytes = 1e12;
+  ThickenReport min_rep;
+  exporters::thicken(capsule, {}, at_min, &min_rep);
+  for (const double above : {1.0, 1.02, 1.04}) {
+    INFO(above);
+    p.max_memory_bytes = min_rep.estimated_bytes * above;
+    ThickenReport near;
+    REQUIRE_NOTHROW(exporters::thicken(capsule, {}, p, &near));
+    CHECK(near.voxel_size <= p.min_radius);
+    CHECK(near.estimated_bytes <= p.max_memory_bytes);
+  }
   // where even min_radius does not fit, the refusal stays, and an explicit voxel is never changed
+  p.max_memory_bytes = min_rep.estimated_bytes * 0.99;
+  CHECK_THROWS_WITH(exporters::thicken(capsule, {}, p), Catch::Contains("raise the memory limit"));
   p.max_memory_bytes = 1e3;
   CHECK_THROWS_WITH(exporters::thicken(capsule, {}, p), Catch::Contains("raise the memory limit"));
   given.voxel_size = 0.5;
