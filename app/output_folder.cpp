@@ -40,7 +40,11 @@ std::vector<long> live_stagings(const fs::path& dir) {
     const std::string name = e.path().filename().string();
     if (name.rfind(".partial-", 0) != 0) continue;
     const std::string digits = name.substr(9, name.find('-', 9) - 9);  // ".partial-PID" or ".partial-PID-K"
-    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    const std::string rest =
+        name.find('-', 9) == std::string::npos ? std::string() : name.substr(name.find('-', 9) + 1);
+    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos ||
+        rest.find_first_not_of("0123456789") != std::string::npos || e.is_symlink(ec))
+      continue;
     const auto pid = static_cast<pid_t>(std::stol(digits));
     if (pid != ::getpid() && process_alive(pid)) out.push_back(pid);
   }
@@ -103,8 +107,8 @@ void mark_superseded(const fs::path& dir) {
   write_run_json(file, j);
 }
 
-fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, const std::string& keep_mark,
-                      fs::path* kept) {
+fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, fs::path* kept,
+                      std::string* checkpoint_mark_out) {
   core::ensure_directory(dir);
   lock.emplace(dir);
   {
@@ -134,29 +138,43 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, cons
                             "lists: choose another --out folder, or move that file away");
     }
   }
-  // staging folders (".partial-PID" or ".partial-PID-K") and half-written checkpoints
-  // ("checkpoint.cfck.tmp-PID") of runs that were killed (a second Ctrl-C, SIGKILL): with the folder locked,
-  // no other run is writing there, so all of them, whatever runs under those process ids now
+  // staging folders (".partial-PID" or ".partial-PID-K") and half-written checkpoints and run.json files
+  // ("checkpoint.cfck.tmp-PID", "run.json.tmp-PID") of runs that were killed (a second Ctrl-C, SIGKILL):
+  // with the folder locked no other run writes there, so all of them, whatever runs under those process
+  // ids now; unlocked (a file system without locks), those whose process is gone
   std::error_code ec;
-  const std::string tmp_checkpoint = std::string(kCheckpointName) + ".tmp-";
-  auto run_suffix = [](const std::string& t) {  // "PID" or "PID-K"
+  const bool locked = lock && lock->held();
+  std::string folder_mark;  // of the checkpoint in the folder: the staging folder holding its frames stays
+  if (fs::is_regular_file(dir / kCheckpointName, ec)) try {
+      folder_mark = checkpoint_mark(core::read_file(dir / kCheckpointName));
+    } catch (const std::exception&) {
+    }
+  auto pid_of = [](const std::string& t) -> long {  // "PID" or "PID-K", else -1
     const std::size_t dash = t.find('-');
     auto digits = [](const std::string& d) {
       return !d.empty() && d.size() <= 9 && d.find_first_not_of("0123456789") == std::string::npos;
     };
-    return dash == std::string::npos ? digits(t) : digits(t.substr(0, dash)) && digits(t.substr(dash + 1));
+    const std::string head = t.substr(0, dash);
+    if (!digits(head) || (dash != std::string::npos && !digits(t.substr(dash + 1)))) return -1;
+    return std::stol(head);
   };
   std::vector<fs::path> stale;
   for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
-    const bool staging_dir = name.rfind(".partial-", 0) == 0 && !e.is_symlink(ec) && e.is_directory(ec);
-    const bool checkpoint_tmp = name.rfind(tmp_checkpoint, 0) == 0 && e.is_regular_file(ec);
-    if ((!staging_dir && !checkpoint_tmp) || !run_suffix(name.substr(staging_dir ? 9 : tmp_checkpoint.size())))
-      continue;
-    if (staging_dir && !keep_mark.empty() && kept && kept->empty()) {  // the run that wrote the checkpoint resumed
+    std::size_t prefix = 0;
+    if (name.rfind(".partial-", 0) == 0 && !e.is_symlink(ec) && e.is_directory(ec))
+      prefix = 9;
+    else
+      for (const std::string& tmp : {std::string(kCheckpointName) + ".tmp-", std::string("run.json.tmp-")})
+        if (name.rfind(tmp, 0) == 0 && !e.is_symlink(ec) && e.is_regular_file(ec)) prefix = tmp.size();
+    const long pid = prefix ? pid_of(name.substr(prefix)) : -1;
+    if (pid < 0) continue;
+    if (!locked && (pid == ::getpid() || process_alive(static_cast<pid_t>(pid)))) continue;
+    if (prefix == 9 && !folder_mark.empty() && kept && kept->empty()) {
       std::ifstream in(e.path() / kStagingMark);
-      std::string mark;
-      if (std::getline(in, mark) && mark == keep_mark) {
+      bool holds = false;
+      for (std::string mark; std::getline(in, mark);) holds = holds || mark == folder_mark;
+      if (holds) {
         *kept = e.path();
         continue;
       }
@@ -165,6 +183,7 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, cons
   }
   std::sort(stale.begin(), stale.end());
   for (const fs::path& p : stale) fs::remove_all(p, ec);
+  if (checkpoint_mark_out) *checkpoint_mark_out = folder_mark;
   fs::path staging = dir / (".partial-" + std::to_string(::getpid()));
   for (int k = 1; fs::exists(staging, ec) || fs::is_symlink(staging, ec); ++k)  // the kept one, of an earlier
     staging = dir / (".partial-" + std::to_string(::getpid()) + "-" + std::to_string(k));  // run with our pid
@@ -172,10 +191,15 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, cons
   return staging;
 }
 
-void mark_staging(const fs::path& staging, const std::string& mark) {
-  try {  // best effort: without it only the frames of a killed run are lost, as before there was a mark
-    core::write_file_atomically(staging / kStagingMark, [&](std::ostream& os) { os << mark << "\n"; });
+bool mark_staging(const fs::path& staging, const std::vector<std::string>& marks) {
+  try {
+    core::write_file_atomically(staging / kStagingMark, [&](std::ostream& os) {
+      for (const std::string& m : marks)
+        if (!m.empty()) os << m << "\n";
+    });
+    return true;
   } catch (const std::exception&) {
+    return false;
   }
 }
 

@@ -161,7 +161,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   std::unique_ptr<forms::Scene> scene;
   std::uint64_t seed = 0, target = 0;
   fs::path staging;
-  fs::path killed_staging;         // resume: the staging folder of the killed run that wrote the checkpoint, if any
+  fs::path killed_staging;  // the staging folder holding the frames of the checkpoint in the folder (a killed run's)
+  std::string folder_mark;  // checkpoint_mark of the checkpoint in the folder when this run took it
   std::optional<FolderLock> lock;  // held until the run has written its last file
   try {
     s = start_from(o);
@@ -287,7 +288,15 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   const fs::path dir = s.out_dir;
   const fs::path created = first_missing(dir);  // made by this run: removed again if it stays empty
   try {
-    staging = make_staging(dir, lock, s.resume ? s.checkpoint_mark : std::string(), &killed_staging);
+    staging = make_staging(dir, lock, &killed_staging, &folder_mark);
+    // a resume of this folder's checkpoint read it before taking the lock: another run may have replaced it
+    std::error_code same;
+    if (s.resume && fs::equivalent(o.checkpoint, dir / kCheckpointName, same) && folder_mark != s.checkpoint_mark) {
+      lock.reset();
+      fs::remove_all(staging, same);
+      throw core::FileError("checkpoint '" + o.checkpoint.string() +
+                            "' was replaced by another run while this one started; resume it again");
+    }
     if (s.script_replaced) record_replaced_script(s, o, dir);
   } catch (const FolderBusy& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
@@ -329,10 +338,15 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   std::size_t saved_cells = 0;             // and its cells
   std::uint64_t stepping = 0;              // the step being computed, while one is (steps count from 1)
   std::vector<std::uint64_t> frame_steps;  // the step of every frame written (outputs holds their names)
-  // the frames a killed run wrote up to the checkpoint this one resumes are this run's too
-  for (const auto& [step, name] : salvage_frames(killed_staging, staging, sim.step_count())) {
-    outputs.push_back(name);
-    frame_steps.push_back(step);
+  // the frames a killed run wrote up to the checkpoint this one resumes are this run's too (a checkpoint of
+  // another folder, or a new run, takes none; the folder stays until this run replaces that checkpoint)
+  std::string held_mark;  // the checkpoint whose frames (up to its step) this run's staging folder holds
+  if (s.resume && !killed_staging.empty() && folder_mark == s.checkpoint_mark) {
+    for (const auto& [step, name] : salvage_frames(killed_staging, staging, sim.step_count())) {
+      outputs.push_back(name);
+      frame_steps.push_back(step);
+    }
+    held_mark = s.checkpoint_mark;
   }
   // run.json's "veins": the last canalisation's figures; one run in this process (Report::cells counts the
   // cells it saw), or the checkpoint's (a resume that reached no canalisation yet), or what the cells say
@@ -344,14 +358,20 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   auto checkpoint_now = [&] {
     keep_resumed_checkpoint(s, dir, err);  // resume --script: the checkpoint resumed is replaced now
     const std::string bytes = checkpoint_bytes(s, seed, target, *scene, vein_record());
+    const std::string mark = checkpoint_mark(bytes);
+    // marked before and after the checkpoint is replaced: a kill at any moment leaves the folder's checkpoint
+    // with a staging folder that holds its frames (this one, or the one kept)
+    const bool marked = mark_staging(staging, {mark, held_mark});
     write_checkpoint(checkpoint, bytes);
     saved_step = sim.step_count();
     saved_cells = sim.cells().size();
-    mark_staging(staging, checkpoint_mark(bytes));  // a resume of it after a kill takes the frames from there
-    if (!killed_staging.empty()) {                  // the checkpoint resumed is replaced: its run's staging folder goes
-      std::error_code ec;
-      fs::remove_all(killed_staging, ec);
-      killed_staging.clear();
+    if (marked && mark_staging(staging, {mark})) {
+      held_mark = mark;
+      if (!killed_staging.empty()) {  // no checkpoint needs its frames any more
+        std::error_code ec;
+        fs::remove_all(killed_staging, ec);
+        killed_staging.clear();
+      }
     }
   };
   // a run that an error stops after it wrote a checkpoint: the folder then shows it as far as that

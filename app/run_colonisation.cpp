@@ -245,11 +245,13 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
   const fs::path dir = s.out_dir;
   const fs::path created = first_missing(dir);  // made by this run: removed again if it stays empty
   fs::path staging;
+  fs::path kept_staging;           // the frames of the folder's checkpoint (a killed cell run's): kept until
+                                   // this run replaces that checkpoint
   std::optional<FolderLock> lock;  // held until the run has written its last file
   bool resumable = false;          // a checkpoint of this run is in the folder when the outputs are written
   std::string checkpoint_failure;  // why the final checkpoint could not be written
   try {
-    staging = make_staging(dir, lock);
+    staging = make_staging(dir, lock, &kept_staging);
     if (s.script_replaced) record_replaced_script(s, o, dir);
   } catch (const FolderBusy& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
@@ -394,6 +396,11 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       keep_resumed_checkpoint(s, dir, err);  // resume --script: the checkpoint resumed is replaced now
       write_checkpoint(checkpoint, colonisation_checkpoint_bytes(s, seed, spec.params, col, sheet ? &*sheet : nullptr,
                                                                  sheet_initial));
+      if (!kept_staging.empty()) {
+        std::error_code ec;
+        fs::remove_all(kept_staging, ec);
+        kept_staging.clear();
+      }
     };
     if (!o.quiet)
       err << (fresh ? "growing" : "resuming") << " veins by space colonisation in " << s.script_path.string()

@@ -204,6 +204,8 @@ class FolderLock {
   ~FolderLock();
   FolderLock(const FolderLock&) = delete;
   FolderLock& operator=(const FolderLock&) = delete;
+  /// False on a file system without locks (the run goes on unlocked).
+  bool held() const { return fd_ >= 0; }
 
  private:
   int fd_ = -1;
@@ -212,20 +214,24 @@ class FolderLock {
 /// A short fingerprint of a checkpoint file's bytes ("fnv1a64:<hex>").
 std::string checkpoint_mark(const std::string& bytes);
 
-/// The name of the file in a staging folder that holds the checkpoint_mark of the last checkpoint its run
-/// wrote (mark_staging): a resume of that checkpoint after a kill knows the folder by it.
+/// The name of the file in a staging folder that holds, a line each, the checkpoint_mark of the checkpoints
+/// whose frames (up to their step) it holds: the one its run last wrote, and while it writes the next,
+/// that one too (mark_staging). A resume of such a checkpoint after a kill knows the folder by it.
 inline constexpr const char* kStagingMark = "checkpoint.mark";
 
 /// Creates `dir`, locks it into `lock` and makes a private staging folder inside it, where a run's outputs
 /// wait until all are complete. Refuses (core::FileError) a folder whose run.json cellform did not write:
-/// a run replaces run.json and deletes the earlier outputs it lists. The staging folders of killed runs
-/// (with the lock held, every other one there) are removed, except one marked with `keep_mark` (the
-/// checkpoint a resume continues), whose path goes to `kept`.
+/// a run replaces run.json and deletes the earlier outputs it lists. The staging folders and drafts of
+/// killed runs are removed (with the lock held, every other one there; without, those whose process is
+/// gone), except the staging folder marked with the checkpoint now in `dir`: its path goes to `kept` (empty
+/// when there is none), to be removed once this run has replaced that checkpoint. `checkpoint_mark_out`
+/// gets the checkpoint_mark of that checkpoint (empty when `dir` has none).
 std::filesystem::path make_staging(const std::filesystem::path& dir, std::optional<FolderLock>& lock,
-                                   const std::string& keep_mark = {}, std::filesystem::path* kept = nullptr);
+                                   std::filesystem::path* kept = nullptr, std::string* checkpoint_mark_out = nullptr);
 
-/// Writes `mark` (checkpoint_mark of the checkpoint just written) into `staging`, replacing the last.
-void mark_staging(const std::filesystem::path& staging, const std::string& mark);
+/// Writes `marks` (checkpoint_mark of checkpoints whose frames `staging` holds) into `staging`, replacing
+/// what was there. Returns false if it could not.
+bool mark_staging(const std::filesystem::path& staging, const std::vector<std::string>& marks);
 
 /// A resume after a kill: the frames (frames/cells_NNNNNN.ply, step <= up_to) the killed run left in its
 /// staging folder `from` (make_staging kept it) are linked (or copied) into `staging`. Returns their steps
