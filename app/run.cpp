@@ -100,12 +100,13 @@ bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, 
 
 namespace {
 
-/// run.json's "veins": the last canalisation step's report; when this command ran no step (a resume of a
-/// finished run), what the cells' saved attributes tell (the count of cells with no path to a petiole is
-/// not kept, so it is null).
-json vein_summary(const cells::Cells& c, const venation::Report& last, bool from_cells, const json& saved) {
-  if (from_cells && saved.is_object()) return saved;  // the last canalisation's, as the checkpoint kept it
-  if (!from_cells)
+/// run.json's "veins": the last canalisation's figures. Its report when one ran in this process
+/// (Report::cells counts the cells it saw); else those the checkpoint kept (`saved`: a resume that reached no
+/// canalisation yet); else what the cells' saved attributes tell (an older checkpoint: the count of cells
+/// with no path to a petiole is not known, so it is null).
+json vein_summary(const cells::Cells& c, const venation::Report& last, const json& saved) {
+  if (last.cells == 0 && saved.is_object()) return saved;
+  if (last.cells > 0)
     return {{"vein_cells", last.vein_cells},
             {"petiole_inflow", last.petiole_inflow},
             {"unconnected_cells", last.unconnected}};
@@ -128,7 +129,7 @@ json run_head(const Start& s, std::uint64_t seed, int threads, const std::string
           {"script", script_record(s)},
           {"seed", seed},
           {"threads", threads},  // as asked (0 = all cores); threads_used: what that came to here
-          {"threads_used", threads <= 0 ? core::hardware_threads() : std::min(threads, core::hardware_threads())},
+          {"threads_used", core::effective_threads(threads)},
           {"status", status}};
 }
 
@@ -348,12 +349,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     }
     held_mark = s.checkpoint_mark;
   }
-  // run.json's "veins": the last canalisation's figures; one run in this process (Report::cells counts the
-  // cells it saw), or the checkpoint's (a resume that reached no canalisation yet), or what the cells say
   auto vein_record = [&]() -> json {
-    if (!cfg.scene.venation) return json();
-    if (scene->venation_report().cells > 0) return vein_summary(sim.cells(), scene->venation_report(), false, json());
-    return vein_summary(sim.cells(), scene->venation_report(), true, s.vein_summary);
+    return cfg.scene.venation ? vein_summary(sim.cells(), scene->venation_report(), s.vein_summary) : json();
   };
   auto checkpoint_now = [&] {
     keep_resumed_checkpoint(s, dir, err);  // resume --script: the checkpoint resumed is replaced now

@@ -33,6 +33,8 @@ int hardware_threads() {
   return n == 0 ? 1 : static_cast<int>(n);
 }
 
+int effective_threads(int threads) { return threads <= 0 ? hardware_threads() : std::min(threads, hardware_threads()); }
+
 void parallel_for(std::size_t n, int threads, const std::function<void(std::size_t, std::size_t)>& body,
                   std::size_t grain) {
   if (n == 0) return;
@@ -42,7 +44,7 @@ void parallel_for(std::size_t n, int threads, const std::function<void(std::size
   }
   // more threads than cores cannot help, and TBB warns on stderr when asked for them; results do not
   // depend on the count
-  const int t = threads <= 0 ? hardware_threads() : std::min(threads, hardware_threads());
+  const int t = effective_threads(threads);
   arena_for(t).execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
                       [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });

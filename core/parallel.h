@@ -15,4 +15,8 @@ void parallel_for(std::size_t n, int threads, const std::function<void(std::size
 /// Number of hardware threads.
 int hardware_threads();
 
+/// The worker threads a `threads` setting comes to here: 0 or less = all cores; more than the cores cannot
+/// help, so at most that many (what parallel_for uses).
+int effective_threads(int threads);
+
 }  // namespace cellform::core

@@ -115,6 +115,18 @@ TEST_CASE("one layer leaves out a triangle folded onto its neighbour, not a crea
 }
 
 namespace {
+/// A sheet grown from a hex patch by neighbour count with the default parameters, which crowd and buckle
+/// it (its link cliques overlap in many places), to `cells` cells or `max_steps` steps.
+Cells grown_sheet(std::size_t cells, std::uint64_t seed, int max_steps) {
+  Params p;
+  p.division.trigger = DivisionTrigger::neighbours;
+  p.division.max_cells = cells;
+  Simulation sim(p, seed);
+  sim.cells() = cellform::testing::hex_sheet(8, 8);
+  for (int i = 0; i < max_steps && sim.cells().size() < cells; ++i) sim.step();
+  return sim.cells();
+}
+
 /// Pairs of triangles of `s` that share one corner and no side and lie over each other there: nearly in
 /// one plane (normals within 30 degrees) and more than 3 of 24 points just inside the first near that
 /// corner, moved into the second's plane, inside the second (a brute-force look, not the angle test the
@@ -196,15 +208,8 @@ TEST_CASE("one layer leaves out a triangle lying over another round a common cor
 }
 
 TEST_CASE("a crowded, crumpled grown sheet in one layer: at most two triangles on a side, none folded", "[surface]") {
-  // the first script of docs/scripting.md in miniature: growth by neighbour count with the default
-  // parameters crowds and buckles the sheet, and its link cliques overlap in many places
-  Params p;
-  p.division.trigger = DivisionTrigger::neighbours;
-  p.division.max_cells = 500;
-  Simulation sim(p, 1);
-  sim.cells() = cellform::testing::hex_sheet(8, 8);
-  for (int i = 0; i < 600 && sim.cells().size() < 500; ++i) sim.step();
-  const Cells& c = sim.cells();
+  // the first script of docs/scripting.md in miniature
+  const Cells c = grown_sheet(500, 1, 600);
   REQUIRE(c.size() >= 400);
   auto sides = [](const Surface& s) {
     std::map<std::pair<Index, Index>, std::vector<Index>> m;  // side -> third corners
@@ -501,13 +506,8 @@ TEST_CASE("a closed sheet faces outward, an open one up", "[surface]") {
 TEST_CASE("a larger grown sheet in one layer has no triangles stacked round a corner", "[surface]") {
   // 2,000 cells grown by neighbour count (seed 3): their one-layer surface had a pair stacked round a
   // corner before the one-layer rules looked at corners (two_petioles.lua's had seven)
-  Params p;
-  p.division.trigger = DivisionTrigger::neighbours;
-  p.division.max_cells = 2000;
-  Simulation sim(p, 3);
-  sim.cells() = cellform::testing::hex_sheet(8, 8);
-  for (int i = 0; i < 3000 && sim.cells().size() < 2000; ++i) sim.step();
-  REQUIRE(sim.cells().size() == 2000);
-  CHECK(stacked_pairs(sim.cells(), triangulate(sim.cells(), false)) > 0);
-  CHECK(stacked_pairs(sim.cells(), triangulate(sim.cells())) == 0);
+  const Cells c = grown_sheet(2000, 3, 3000);
+  REQUIRE(c.size() == 2000);
+  CHECK(stacked_pairs(c, triangulate(c, false)) > 0);
+  CHECK(stacked_pairs(c, triangulate(c)) == 0);
 }

@@ -1,0 +1,53 @@
+// Internal to app/: the cell sheet that surface{cells = true} grows before space colonisation puts veins on
+// it (run_sheet.cpp), and what a colonisation run that failed has left (run_colonisation.cpp).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <ostream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "app/run_internal.h"
+#include "cells/cells.h"
+
+namespace cellform::app {
+
+/// The cells of surface{cells = true}, and whether they grew for all their steps.
+struct Sheet {
+  cells::Cells cells;
+  std::uint64_t step = 0, target = 0;
+  std::size_t initial = 0;  // cells when the growth began (of the run, not of this resume)
+  bool complete = false;
+  bool checkpointed = false;     // a sheet checkpoint of this run is in the folder
+  std::string checkpoint_error;  // why the checkpoint on Ctrl-C could not be written
+};
+
+/// What a colonisation run that a step's error stopped has left: for its run.json and its message.
+struct FailedRun {
+  bool checkpointed = false;    // this run wrote the checkpoint in its folder
+  std::string checkpoint_note;  // said of that checkpoint (", taken while the sheet grew")
+  std::string phase;            // "cells" while the sheet grew
+  nlohmann::json steps;         // run.json's steps; null unless a step failed
+  // while the sheet grows, for a script stuck in one library call (ScriptHost::set_on_stuck), whose
+  // handler cannot wait for an exception: the step being computed and the checkpoints so far
+  bool sheet_growing = false;
+  std::uint64_t sheet_first = 0, sheet_saved = 0, sheet_stepping = 0;
+  bool sheet_checkpointed = false;
+  /// The state of the sheet's growth as run_colonisation's catch records it, with `failing` the step.
+  void sheet_failed(std::uint64_t failing) {
+    phase = "cells";
+    steps = {{"sheet_first", sheet_first}, {"sheet_completed", sheet_saved}, {"sheet_failed", failing}};
+    checkpointed = sheet_checkpointed;
+    checkpoint_note = ", taken while the sheet grew at step " + std::to_string(sheet_saved);
+  }
+};
+
+/// surface{cells = true}: grows the script's cells (cells{}, division{}, run{}, shapes) for --steps or
+/// run.steps steps (from a sheet checkpoint's step when `s` resumes one). Writes a sheet checkpoint to
+/// `checkpoint` as output.checkpoint_every asks and when a Ctrl-C ends the growth early.
+Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
+                 const std::filesystem::path& checkpoint, std::ostream& err, FailedRun& failed);
+
+}  // namespace cellform::app
