@@ -73,7 +73,7 @@ Colonisation::Impl::Impl(const Domain& d, const ColonisationParams& params)
 bool Colonisation::Impl::place_3d(Index v, Vec3& q, double D) const {
   const Vec3& from = nodes.point(v);
   q = region->project(q);
-  if (has_child_at(v, q, D)) {
+  if (retraces(v, q)) {
     Index best = kNoIndex;
     double best_d2 = 0;
     for (std::size_t a = 0; a < active.size(); ++a) {
@@ -184,6 +184,7 @@ void Colonisation::Impl::close_source(Index s, double D) {
   for (std::size_t i = 1; i < r.size(); ++i) {
     const Index a = r[0], b = r[i];
     if (parent[a] == b || parent[b] == a || (nodes.point(a) - nodes.point(b)).squaredNorm() > 9 * D * D) continue;
+    if (!loop_keys.insert(loop_key(a, b)).second) continue;  // another source closed this loop already
     anastomoses.emplace_back(a, b);
     ++rep.loops;
   }
@@ -415,7 +416,7 @@ void Colonisation::Impl::step() {
   std::sort(touched.begin(), touched.end());
   for (Index v : touched) seen[v] = 0;
   // leaves: the new nodes enter the tree in one batch (nothing below queries it before the batch is in;
-  // each v gets at most one child here, so has_child_at needs only the older ones); 3-D: one by one, as
+  // each v gets at most one child here, so retraces() needs only the older ones); 3-D: one by one, as
   // place_3d queries the tree
   const auto step_no = static_cast<std::uint32_t>(rep.steps + 1);
   new_pos.clear();
@@ -427,7 +428,7 @@ void Colonisation::Impl::step() {
     if (!(len > 1e-9)) continue;  // opposite sources cancel: no direction (Eq. 1 undefined)
     Vec3 q = nodes.point(v) + D * n / len;
     if (region && !place_3d(v, q, D)) continue;
-    if (has_child_at(v, q, D)) continue;
+    if (retraces(v, q)) continue;
     if (region) {
       child[v] = add_node(q, v, step_no);
     } else {

@@ -154,7 +154,11 @@ class Colonisation {
   /// the blade now reaches, with the same tests), find the nodes each source influences (open:
   /// nearest node, ties by index; closed: relative neighbourhood, Eq. 2/3), add one node per influenced
   /// node at distance D along the normalised mean direction (Eq. 1), remove (open) or tag and later
-  /// remove (closed) sources reached within d_k, grow the blade. Returns the cumulative report.
+  /// remove (closed) sources reached within d_k, grow the blade. A node whose new segment would run
+  /// within 5 degrees of one of its segments (to a child or its parent) does not grow: Eq. 1 then only
+  /// repeats a node (pulls that cancel but for a remainder pointing back along the vein) or lays one on a
+  /// segment that growth stretched, and drawing that segment twice is no progress. Returns the cumulative
+  /// report.
   const ColonisationReport& step();
   /// True once the report says finished, stalled or hit a limit.
   bool done() const;

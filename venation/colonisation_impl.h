@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "core/errors.h"
 #include "core/parallel.h"
@@ -96,6 +97,8 @@ class SourceGrid {
 // (about 60 bytes each), and a nonuniform growth factor beyond this makes coordinates meaningless.
 inline constexpr double kMaxDartsPerStep = 2e7;
 inline constexpr double kMaxNonuniformGrowth = 1e6;
+/// cos 5 degrees: a new node whose segment runs closer than this to one of its parent's segments retraces it.
+inline constexpr double kRetraceCos = 0.99619469809174553;
 
 /// Throws naming colonisation.darts if `expected` darts (rho times `what`, at `step` if not 0) would be
 /// thrown in one step.
@@ -118,9 +121,13 @@ struct Colonisation::Impl {
 
   PointTree nodes;
   std::vector<Index> parent;
-  std::vector<Index> first_child, next_sibling;  // children lists, to refuse duplicate nodes
+  std::vector<Index> first_child, next_sibling;  // children lists, to refuse retracing nodes
   std::vector<std::uint32_t> birth;
   std::vector<std::pair<Index, Index>> anastomoses;
+  std::unordered_set<std::uint64_t> loop_keys;  // anastomoses as loop_key(a, b): each joins a pair once
+  static std::uint64_t loop_key(Index a, Index b) {
+    return static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b);
+  }
 
   std::vector<Vec3> src;
   std::vector<char> alive, tagged;
@@ -224,10 +231,11 @@ struct Colonisation::Impl {
     if (closed) nodes.relative_neighbourhood(src[s], out, scratch);
   }
 
-  /// 3-D: moves the Eq. 1 node q of v into the domain. Where sources pulling v apart made that node
-  /// already (its child there is farther from each of them than v, so v stays their nearest node and
-  /// the step would only repeat), v grows towards its nearest influencing source alone, which splits
-  /// the set as in Figure 6k. False if v cannot advance (the projection undoes the step).
+  /// 3-D: moves the Eq. 1 node q of v into the domain. Where that node retraces one of v's segments
+  /// (retraces(): usually sources pulling v apart made that node already, its child there is farther from
+  /// each of them than v, so v stays their nearest node and the step would only repeat), v grows towards
+  /// its nearest influencing source alone, which splits the set as in Figure 6k. False if v cannot
+  /// advance (the projection undoes the step).
   bool place_3d(Index v, Vec3& q, double D) const;
 
   /// Eq. 4 at t = grown: y_t(y_0) by the trapezoid rule from 0 (the petiole), on 4097 heights.
@@ -278,12 +286,18 @@ struct Colonisation::Impl {
   std::vector<Vec3> new_pos;  // step scratch: the nodes of this step, before they enter the tree
   std::vector<Index> new_parent;
 
-  /// True if v already has a child at q: Eq. 1 then gives the same node again (the mean direction points
-  /// away from the sources, so v stays their nearest node), and adding it would loop without progress.
-  bool has_child_at(Index v, const Vec3& q, double D) const {
+  /// True if the segment v -> q would run along one of v's segments (to a child or to its parent),
+  /// within kRetraceCos. Eq. 1 then gives a node the vein already has: its child again (the mean
+  /// direction points away from the sources, so v stays their nearest node), or a point on a segment that
+  /// growth has stretched or on the way back to v's parent. Adding it would loop without progress and
+  /// draw that segment twice (a pen plotter or laser cutter goes over it again).
+  bool retraces(Index v, const Vec3& q) const {
+    const Vec3& from = nodes.point(v);
+    const Vec3 u = (q - from).normalized();
+    auto along = [&](Index w) { return (nodes.point(w) - from).normalized().dot(u) > detail::kRetraceCos; };
     for (Index c = first_child[v]; c != kNoIndex; c = next_sibling[c])
-      if ((nodes.point(c) - q).squaredNorm() < 1e-12 * D * D) return true;
-    return false;
+      if (along(c)) return true;
+    return parent[v] != kNoIndex && along(parent[v]);
   }
 
   void remove_source(Index s) {

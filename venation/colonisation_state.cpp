@@ -357,7 +357,11 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
       m.first_child[m.parent[i]] = i;
     }
   m.anastomoses.clear();
-  for (std::size_t i = 0; i < ana.size(); i += 2) m.anastomoses.emplace_back(ana[i], ana[i + 1]);
+  m.loop_keys.clear();
+  for (std::size_t i = 0; i < ana.size(); i += 2) {
+    m.anastomoses.emplace_back(ana[i], ana[i + 1]);
+    m.loop_keys.insert(Impl::loop_key(ana[i], ana[i + 1]));
+  }
   m.sectors.assign(ns, {});
   for (std::size_t s = 0; s < ns; ++s) {
     Impl::Sectors& st = m.sectors[s];

@@ -53,6 +53,14 @@ std::pair<std::size_t, std::size_t> components_and_cycles(const v::VeinTree& t) 
   return {comps, cycles};
 }
 
+/// Edges joining a pair of nodes that an earlier edge joins already (drawn twice in every file).
+std::size_t repeated_edges(const v::VeinTree& t) {
+  std::set<std::pair<Index, Index>> seen;
+  std::size_t repeated = 0;
+  for (const auto& [a, b] : t.edges()) repeated += !seen.insert({std::min(a, b), std::max(a, b)}).second;
+  return repeated;
+}
+
 }  // namespace
 
 TEST_CASE("open patterns are trees and no source survives within the kill distance", "[colonisation]") {
@@ -103,6 +111,7 @@ TEST_CASE("closed patterns are connected with loops where veins met at a shared 
     CHECK(cycles == t.anastomoses.size());  // every closing edge closes a loop (single seed)
     CHECK(rep.loops == t.anastomoses.size());
     for (const auto& [a, b] : t.anastomoses) CHECK((t.positions[a] - t.positions[b]).norm() <= 3.0 + 1e-9);
+    CHECK(repeated_edges(t) == 0);
   }
 }
 
@@ -503,7 +512,7 @@ TEST_CASE("with lazy sectors every step follows Eq. 1 and 2 by brute force (fixe
         continue;
       }
       const Vec3 q = before.positions[u] + e.sum[u].normalized();
-      const bool repeat = v::testing::has_child_at(before, u, q);  // Eq. 1 gives its child: no new node
+      const bool repeat = v::testing::retraces(before, u, q);  // Eq. 1 retraces a segment: no new node
       REQUIRE(grown.count(u) == (repeat ? 0u : 1u));
       if (!repeat) {
         REQUIRE((grown[u] - q).norm() < 1e-9);
@@ -516,4 +525,62 @@ TEST_CASE("with lazy sectors every step follows Eq. 1 and 2 by brute force (fixe
   CHECK((c.report().finished || c.report().stalled));
   CHECK(checked > 500);
   CHECK(lazy_steps > 1000);
+}
+
+TEST_CASE("growing leaves never lay a vein segment along another (a plotter would draw it twice)", "[colonisation]") {
+  // Isogonic growth stretches the segments, so an Eq. 1 node that repeats a child no longer lands on it,
+  // and one pointing back along the parent lands on the parent's segment: both once added a node.
+  auto degrees = [](const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)) * 180 / M_PI; };
+  for (v::GrowthMode g : {v::GrowthMode::uniform, v::GrowthMode::nonuniform}) {
+    v::ColonisationParams p = params(v::VenationType::closed, 1, 3);
+    p.growth = g;
+    p.darts_per_area = 0.05;
+    if (g == v::GrowthMode::uniform) {
+      p.initial_scale = 0.1;
+      p.scale_step = 0.004;
+    } else {
+      p.growth_x = {{0, 40}, {1.02, 1.02}};
+      p.growth_y = {{0, 40}, {1.02, 1.02}};
+      p.growth_steps = 120;
+      p.initial_scale = 0.1;
+    }
+    v::Colonisation sim(ellipse_leaf(100, 70, v::ShapeKind::ovate), p);
+    sim.run();
+    const v::VeinTree t = sim.tree();
+    std::vector<std::vector<Index>> tree_neighbours(t.size());
+    for (Index k = 0; k < t.size(); ++k)
+      if (t.parent[k] != kNoIndex) {
+        tree_neighbours[k].push_back(t.parent[k]);
+        tree_neighbours[t.parent[k]].push_back(k);
+      }
+    std::size_t retraced = 0, junctions = 0;
+    for (Index u = 0; u < t.size(); ++u) {
+      const auto& nb = tree_neighbours[u];
+      junctions += nb.size() > 2;
+      for (std::size_t a = 0; a < nb.size(); ++a)
+        for (std::size_t b = a + 1; b < nb.size(); ++b)
+          retraced += degrees(t.positions[nb[a]] - t.positions[u], t.positions[nb[b]] - t.positions[u]) < 5;
+    }
+    INFO("growth " << static_cast<int>(g) << " steps " << sim.report().steps << " nodes " << t.size());
+    CHECK((sim.report().finished || sim.report().stalled));
+    CHECK(junctions > 50);  // branched enough for the check to mean something
+    CHECK(retraced == 0);
+    CHECK(repeated_edges(t) == 0);
+  }
+}
+
+TEST_CASE("two sources that the same two veins reach close their loop once", "[colonisation]") {
+  // the veins from two seeds meet at a pair of sources closer together than d_k: the same two nodes
+  // reach both, and each source would add the same closing edge
+  v::Leaf leaf = ellipse_leaf(40, 40);
+  leaf.initial_nodes = {{-8, 20}, {8, 20}};
+  leaf.initial_sources = {{0, 20.1}, {0, 19.9}, {-8, 26}, {8, 26}};
+  v::ColonisationParams p = params(v::VenationType::closed, 1);
+  p.darts_per_area = 0;
+  const auto [t, rep] = v::colonise(leaf, p);
+  INFO("nodes " << t.size() << " loops " << rep.loops);
+  CHECK(rep.finished);
+  CHECK(t.anastomoses.size() >= 1);
+  CHECK(repeated_edges(t) == 0);
+  CHECK(rep.loops == t.anastomoses.size());
 }

@@ -331,7 +331,7 @@ TEST_CASE("closed 3-D colonisation steps with the exact relative neighbourhood (
       const std::vector<Vec3>& acc = e.sum;
       const std::vector<char>& touched = e.pulled;
       const std::vector<Index>& nearest_source = e.nearest_source;
-      auto has_child_at = [&](Index u, const Vec3& q) { return v::testing::has_child_at(before, u, q); };
+      auto retraces = [&](Index u, const Vec3& q) { return v::testing::retraces(before, u, q); };
       auto in_box = [&](const Vec3& q) { return Vec3(q.cwiseMax(d.box_min).cwiseMin(d.box_max)); };
       c.step();
       const v::VeinTree after = c.tree();
@@ -342,11 +342,11 @@ TEST_CASE("closed 3-D colonisation steps with the exact relative neighbourhood (
           continue;
         }
         Vec3 q = in_box(before.positions[u] + acc[u].normalized());
-        if (has_child_at(u, q)) {  // Eq. 1 repeats a node: towards the nearest source alone
+        if (retraces(u, q)) {  // Eq. 1 retraces a segment: towards the nearest source alone
           const Vec3 dir = sources[nearest_source[u]] - before.positions[u];
           q = in_box(before.positions[u] + dir / dir.norm());
         }
-        if ((q - before.positions[u]).norm() < 0.1 || has_child_at(u, q)) {  // no progress, no node
+        if ((q - before.positions[u]).norm() < 0.1 || retraces(u, q)) {  // no progress, no node
           REQUIRE(grown.count(u) == 0);
           continue;
         }

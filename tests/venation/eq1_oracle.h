@@ -2,6 +2,7 @@
 // for the tests that recompute a Colonisation's step from outside (colonisation_test, domain_test).
 #pragma once
 
+#include <cmath>
 #include <map>
 #include <vector>
 
@@ -44,10 +45,15 @@ inline std::map<core::Index, core::Vec3> grown_by_parent(const VeinTree& before,
   return grown;
 }
 
-/// True if node u already has a child at q (Eq. 1 repeating it adds no node).
-inline bool has_child_at(const VeinTree& t, core::Index u, const core::Vec3& q) {
+/// True if the segment u -> q runs within 5 degrees of one of u's tree segments (to a child or to its
+/// parent): Eq. 1 then only retraces the vein and adds no node.
+inline bool retraces(const VeinTree& t, core::Index u, const core::Vec3& q) {
+  auto degrees = [](const core::Vec3& a, const core::Vec3& b) {
+    return std::atan2(a.cross(b).norm(), a.dot(b)) * 180 / 3.14159265358979323846;
+  };
   for (core::Index k = 0; k < t.size(); ++k)
-    if (t.parent[k] == u && (t.positions[k] - q).norm() < 1e-6) return true;
+    if ((t.parent[k] == u || t.parent[u] == k) && degrees(t.positions[k] - t.positions[u], q - t.positions[u]) < 5)
+      return true;
   return false;
 }
 
