@@ -18,8 +18,10 @@ void say(const char* text, std::size_t size) {
   (void)written;
 }
 
-void on_interrupt(int) {
+void on_interrupt(int sig) {
   using namespace cellform::app;
+  int none = 0;
+  g_interrupt_signal.compare_exchange_strong(none, sig);
   if (g_interrupt.exchange(true)) {
     // a print the first Ctrl-C asked for: this one cancels it, keeping the other outputs
     if (g_print_after_interrupt.load() && !g_print_cancel.exchange(true)) {
@@ -27,7 +29,7 @@ void on_interrupt(int) {
       say(kCancel, sizeof kCancel - 1);
       return;
     }
-    std::_Exit(130);  // quits at once
+    exit_process(130);  // quits at once
   }
   if (g_reading_script.load()) {  // stopped at the script's next instruction
     static const char kReading[] = "\ncellform: Ctrl-C: stopping the script being read (Ctrl-C again quits at once)\n";
@@ -105,6 +107,11 @@ int main(int argc, char** argv) {
     else if (!S_ISFIFO(st.st_mode) && !S_ISSOCK(st.st_mode))
       err << "cellform: cannot write to standard output (a full disk?)\n";
     return code == 0 ? 1 : code;
+  }
+  // after a Ctrl-C, even one that came as the work ended, by SIGINT (exit_process says why)
+  if (cellform::app::g_interrupt_signal.load() == SIGINT) {
+    std::cerr.flush();
+    cellform::app::exit_process(code);
   }
   return code;
 }

@@ -39,6 +39,14 @@ extern std::atomic<bool> g_print_after_interrupt;
 /// Set while a script is read (ScriptHost::load): a first Ctrl-C then stops the reading, and says so.
 extern std::atomic<bool> g_reading_script;
 extern std::atomic<bool> g_print_cancel;
+/// The signal of the first interrupt: SIGINT or SIGTERM (0: none, or a hang-up).
+extern std::atomic<int> g_interrupt_signal;
+
+/// Ends the process at once with `code` (async-signal-safe). A process that a Ctrl-C (SIGINT) stopped
+/// ends by SIGINT instead, whatever `code`: a shell running it in a loop (for f in *.lua; do cellform run
+/// "$f"; done) then stops the loop too, as after any program a Ctrl-C ends; after a plain exit(130) bash
+/// goes on with the next. The shell's $? is 130 either way.
+[[noreturn]] void exit_process(int code);
 
 /// Runs a script (or resumes a checkpoint when options.checkpoint is set); reports to `out`/`err`
 /// and returns an exit code. Never throws.

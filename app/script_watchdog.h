@@ -108,7 +108,7 @@ class ScriptHost::Watchdog {
         on_stuck_(what + advice);
       } catch (...) {  // nothing more can be done: the process ends anyway
       }
-    ::_exit(code);
+    exit_process(code);
   }
 
  public:

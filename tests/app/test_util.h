@@ -95,13 +95,16 @@ inline pid_t spawn_cellform_logged(const std::vector<std::string>& args, const s
   return pid;
 }
 
-/// Exit code of child `pid` if it ends within `seconds`; otherwise kills it and returns -2 (-1: a signal
-/// ended it).
+/// A child's wait status as a shell's $? gives it: the exit code, or 128 + the signal that ended it
+/// (a Ctrl-C ends cellform by SIGINT: 130, as exit(130) would).
+inline int shell_status(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status); }
+
+/// shell_status of child `pid` if it ends within `seconds`; otherwise kills it and returns -2.
 inline int exit_within(pid_t pid, double seconds) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
   while (std::chrono::steady_clock::now() < end) {
     int status = 0;
-    if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (waitpid(pid, &status, WNOHANG) == pid) return shell_status(status);
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   kill(pid, SIGKILL);
@@ -109,11 +112,13 @@ inline int exit_within(pid_t pid, double seconds) {
   return -2;
 }
 
-/// Waits for child `pid` to end: its exit code, or -1 if a signal ended it.
-inline int wait_exit(pid_t pid) {
+/// Waits for child `pid` to end: its shell_status (-1 if it cannot be waited for). `signal`, if given,
+/// gets the signal that ended it (0: it exited).
+inline int wait_exit(pid_t pid, int* signal = nullptr) {
   int status = 0;
   if (waitpid(pid, &status, 0) != pid) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  if (signal) *signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
+  return shell_status(status);
 }
 
 }  // namespace cellform::test

@@ -1,0 +1,61 @@
+// Tests of how the cellform process ends on signals (app/main.cpp, app::exit_process).
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "tests/app/test_util.h"
+
+using namespace cellform::test;
+namespace fs = std::filesystem;
+
+namespace {
+const char* const kLong = "division { trigger = 'none' }\nrun { steps = 1000000 }\ndisc { radius = 20 }\n";
+}
+
+TEST_CASE("a Ctrl-C stops a shell loop of runs, not only the run it came in", "[cli][signal]") {
+  // A terminal's Ctrl-C reaches the shell and the run (one process group). bash goes on with the next
+  // run if that one merely exited, even with 130; only a run that ended by SIGINT stops the loop.
+  TempDir t("cli-loop");
+  t.write("long.lua", kLong);
+  const std::string exe = std::string(CELLFORM_BINARY_DIR) + "/bin/cellform";
+  const pid_t shell = fork();
+  if (shell == 0) {
+    setsid();  // its own process group, as a terminal's foreground job
+    if (chdir(t.path.c_str()) != 0) _exit(98);
+    execl("/bin/bash", "bash", "-c",
+          "for i in 1 2; do \"$0\" run long.lua --out o$i --quiet 2>/dev/null; echo \"$i $?\" >> after; done; "
+          "echo went-on >> after",
+          exe.c_str(), static_cast<char*>(nullptr));
+    _exit(99);
+  }
+  REQUIRE(shell > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  killpg(shell, SIGINT);
+  const int status = exit_within(shell, 60);
+  if (status == -2) killpg(shell, SIGKILL);  // the loop went on with a run of a million steps
+  CHECK(status == 130);                      // bash itself ended by SIGINT
+  CHECK(fs::exists(t.path / "o1" / "checkpoint.cfck"));
+  CHECK(nlohmann::json::parse(slurp(t.path / "o1" / "run.json"))["status"] == "interrupted");
+  CHECK_FALSE(fs::exists(t.path / "o2"));
+  CHECK_FALSE(fs::exists(t.path / "after"));
+}
+
+TEST_CASE("SIGTERM stops a run as Ctrl-C does and exits 130", "[cli][signal]") {
+  TempDir t("cli-term");
+  const auto script = t.write("long.lua", kLong);
+  const fs::path out = t.path / "o";
+  const pid_t pid = spawn_cellform({"run", script.string(), "--out", out.string(), "--quiet"});
+  REQUIRE(pid > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+  kill(pid, SIGTERM);
+  int signal = -1;
+  CHECK(wait_exit(pid, &signal) == 130);
+  CHECK(signal == 0);  // an exit: a SIGTERM reaches this process alone, not the shell
+  CHECK(fs::exists(out / "checkpoint.cfck"));
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "interrupted");
+}
