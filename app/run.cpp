@@ -2,12 +2,10 @@
 #include "app/run.h"
 #include "app/run_internal.h"
 
-#include <pthread.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
-#include <csignal>
 #include <iostream>
 #include <optional>
 #include <set>
@@ -32,27 +30,6 @@ namespace cellform::app {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-std::atomic<bool> g_interrupt{false};
-std::atomic<bool> g_print_after_interrupt{false};
-std::atomic<bool> g_reading_script{false};
-std::atomic<bool> g_print_cancel{false};
-std::atomic<int> g_interrupt_signal{0};
-
-void exit_process(int code) {
-  if (g_interrupt_signal.load() == SIGINT) {
-    struct sigaction dfl {};
-    dfl.sa_handler = SIG_DFL;
-    sigemptyset(&dfl.sa_mask);
-    sigaction(SIGINT, &dfl, nullptr);
-    sigset_t only;
-    sigemptyset(&only);
-    sigaddset(&only, SIGINT);
-    pthread_sigmask(SIG_UNBLOCK, &only, nullptr);  // blocked inside the handler that may call this
-    raise(SIGINT);
-  }
-  ::_exit(code);
-}
 
 std::string version() { return CELLFORM_VERSION; }
 
