@@ -32,9 +32,10 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
         {"problems", r.problems()},
         {"triangles", r.triangles},
         {"vertices", r.vertices},
-        {"parts", r.parts},
-        // a part's volume sign means solid or pocket only on a closed, oriented mesh
-        {"pieces", r.closed_manifold() && r.consistently_oriented ? nlohmann::json(r.pieces) : nlohmann::json(nullptr)},
+        // as run.json's print.parts: solid pieces, each with the cavities inside it; a surface's volume sign
+        // means solid or pocket only on a closed, oriented mesh
+        {"parts", r.closed_manifold() && r.consistently_oriented ? nlohmann::json(r.pieces) : nlohmann::json(nullptr)},
+        {"surfaces", r.parts},  // connected surfaces: a piece's outer wall and each cavity's wall count
         {"cavities",
          r.closed_manifold() && r.consistently_oriented ? nlohmann::json(r.cavities) : nlohmann::json(nullptr)},
         {"boundary_edges", r.boundary_edges},

@@ -115,6 +115,10 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
                              "raise print.min_radius, grow longer, or set pieces = \"warn\")");
   if (rep.pieces > 1 && spec.pieces == "warn")
     err << "cellform: warning: the printable form has " << rep.pieces << " separate parts\n";
+  if (rep.self_intersections > 0)  // none left in any case tested: said if it happens
+    err << "cellform: warning: printable solid: " << rep.self_intersections
+        << " pairs of triangles still cross after meshing without merging around them (cellform check FILE "
+           "counts them; a finer print.voxel_size may avoid them)\n";
   for (const std::string& f : spec.formats) {
     const std::string name = "printable." + f;
     if (f == "vdb")
@@ -133,6 +137,7 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
                   {"parts", rep.pieces},
                   {"cavities", rep.cavities},
                   {"filled_cavities", rep.filled_cavities},
+                  {"self_intersections", rep.self_intersections},
                   {"volume_mm3", rep.volume},
                   {"area_mm2", rep.area},
                   {"seconds", rep.voxelise_seconds + rep.mesh_seconds}};

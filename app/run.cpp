@@ -509,8 +509,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                                   err, o.quiet);
         if (!o.quiet)
           err << "printable solid: " << printed["triangles"] << " triangles, " << printed["parts"] << " part(s), "
-              << printed["cavities"] << " closed cavities, scale " << printed["scale_mm_per_unit"]
-              << " mm per model unit\n";
+              << printed["cavities"]
+              << (printed["filled_cavities"] > 0 ? " closed cavities (filled), scale " : " closed cavities, scale ")
+              << printed["scale_mm_per_unit"] << " mm per model unit\n";
       } catch (const core::Cancelled&) {  // said once the other files are in (another Ctrl-C quits before)
         print_cancelled = true;
         printed = {{"error", "interrupted"}};

@@ -119,8 +119,8 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
 /// shorter diagonal, orients the result outward (positive signed volume). Vertices in mm.
 /// Adaptive merging can fold triangles into each other at creases; every intersecting pair is found
 /// (self_intersecting_pairs) and the voxels around it are meshed again without merging, for up to three
-/// passes, then once without merging anywhere near the remaining ones. report->self_intersections says
-/// what is left (0 in every case tested).
+/// passes, then once without merging anywhere; each pass checks the whole mesh again.
+/// report->self_intersections says what is left (0 in every case tested).
 PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& params, ThickenReport* report = nullptr);
 
 /// voxelise() then mesh_level_set(). Throws as voxelise().

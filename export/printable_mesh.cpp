@@ -178,8 +178,9 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
     report_progress(params, 0.5);
     if (params.adaptivity <= 0) return;  // uniform dual contouring: no folds seen in any test
     // Adaptive merging can fold triangles into each other at creases. Find every intersecting pair and
-    // mesh the voxels around them again without merging, until none is left (at most a few passes).
-    openvdb::BoolTree recheck(false);  // the re-meshed regions widened by 3 voxels: only there can new folds appear
+    // mesh the voxels around them again without merging, until none is left (at most a few passes; the
+    // last merges nowhere). Each pass checks the whole mesh again: a changed mask changes the merging of
+    // whole leaf nodes, and a fold 9 voxels from the re-meshed box once went unseen.
     auto pairs = self_intersecting_pairs(mesh, params.threads);
     for (int pass = 0; pass < 4 && !pairs.empty(); ++pass) {
       report_progress(params, 0.6 + 0.1 * pass);
@@ -201,31 +202,10 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
       for (const auto& pr : pairs)
         for (std::uint32_t t : pr) {
           no_merge->sparseFill(box(t, margin), true, true);
-          recheck.sparseFill(box(t, margin + 3), true, true);
           ++repaired;
         }
       mesh = mesh_once(grid, a, no_merge);
-      // Re-check only triangles touching the widened regions; elsewhere the mesh is as before.
-      openvdb::tree::ValueAccessor<const openvdb::BoolTree> acc(recheck);
-      std::vector<std::array<std::uint32_t, 3>> near;
-      std::vector<std::uint32_t> near_id;
-      for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
-        const auto& t = mesh.triangles[k];
-        bool in = false;
-        for (std::uint32_t i : t) {
-          const Vec3& p = mesh.vertices[i];
-          in = in || acc.isValueOn(openvdb::Coord(static_cast<int>(std::floor(p.x() / voxel + 0.5)),
-                                                  static_cast<int>(std::floor(p.y() / voxel + 0.5)),
-                                                  static_cast<int>(std::floor(p.z() / voxel + 0.5))));
-        }
-        if (in) {
-          near.push_back(t);
-          near_id.push_back(static_cast<std::uint32_t>(k));
-        }
-      }
-      pairs = self_intersecting_pairs(mesh.vertices, near, params.threads);
-      for (auto& pr : pairs)  // back to indices of mesh.triangles
-        for (auto& t : pr) t = near_id[t];
+      pairs = self_intersecting_pairs(mesh, params.threads);
     }
     intersections = pairs.size();
   });

@@ -439,6 +439,8 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
   r = cli({"check", (out / "printable.stl").string(), "--json"});
   const auto checked = nlohmann::json::parse(r.out);
   CHECK(checked["printable"] == true);
+  CHECK(checked["parts"] == run["print"]["parts"]);  // solid pieces in both
+  CHECK(checked["surfaces"].get<int>() == run["print"]["parts"].get<int>() + run["print"]["cavities"].get<int>());
   // veins are raised to print.min_radius = 0.4 mm: about 0.8 mm through, less a voxel or two (0.2 mm)
   const auto& wall = checked["wall_thickness_mm"];
   INFO(wall.dump());
