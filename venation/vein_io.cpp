@@ -11,6 +11,7 @@
 #include "core/chunk_file.h"
 #include "core/polylines.h"
 #include "core/text.h"
+#include "venation/plot_order.h"
 
 namespace cellform::venation {
 
@@ -68,20 +69,6 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
       out += " Z\"/>\n";
     }
     out += "<g stroke=\"#2b3a1a\" stroke-linecap=\"round\" stroke-linejoin=\"round\" fill=\"none\">\n";
-    auto segment = [&](Index a, Index b, double r) {
-      out += "<path stroke-width=\"";
-      num(std::max(sp.min_stroke, 2 * r * s));
-      out += "\" d=\"M";
-      num(X(tree.positions[a].x()));
-      out += ' ';
-      num(Y(tree.positions[a].y()));
-      out += " L";
-      num(X(tree.positions[b].x()));
-      out += ' ';
-      num(Y(tree.positions[b].y()));
-      out += "\"/>\n";
-      core::drain(out, os);
-    };
     // Veins as polylines, so a plotter draws a vein without lifting its pen at every node: a path runs on
     // through a node with one child while the width stays the same (between branch points it does).
     const auto n = static_cast<Index>(tree.size());
@@ -96,26 +83,46 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
       const Index p = tree.parent[i];
       return p != kNoIndex && tree.parent[p] != kNoIndex && children[p] == 1 && width(p) == width(i);
     };
-    auto point = [&](Index i) {
-      num(X(tree.positions[i].x()));
-      out += ' ';
-      num(Y(tree.positions[i].y()));
-    };
+    std::vector<Index> stroke_start{0}, stroke_node;  // strokes: runs of nodes (CSR)
+    std::vector<double> stroke_width;
     for (Index i = 0; i < n; ++i) {
       if (tree.parent[i] == kNoIndex || continues(i)) continue;  // not the first segment of a path
-      out += "<path stroke-width=\"";
-      num(width(i));
-      out += "\" d=\"M";
-      point(tree.parent[i]);
+      stroke_node.push_back(tree.parent[i]);
       for (Index at = i;; at = only_child[at]) {
-        out += " L";
-        point(at);
+        stroke_node.push_back(at);
         if (children[at] != 1 || !continues(only_child[at])) break;
+      }
+      stroke_start.push_back(static_cast<Index>(stroke_node.size()));
+      stroke_width.push_back(width(i));
+    }
+    for (const auto& [a, b] : tree.anastomoses) {
+      stroke_node.insert(stroke_node.end(), {a, b});
+      stroke_start.push_back(static_cast<Index>(stroke_node.size()));
+      stroke_width.push_back(std::max(sp.min_stroke, 2 * tip * s));
+    }
+    // drawn nearest-next from where the outline ends (its first point), not in the order the veins grew:
+    // a plotter's pen then travels a fraction as far between strokes
+    auto page = [&](Index i) { return Vec2(X(tree.positions[i].x()), Y(tree.positions[i].y())); };
+    std::vector<std::array<Vec2, 2>> ends(stroke_width.size());
+    for (std::size_t k = 0; k < ends.size(); ++k)
+      ends[k] = {page(stroke_node[stroke_start[k]]), page(stroke_node[stroke_start[k + 1] - 1])};
+    const Vec2 pen = outline.points.empty() ? Vec2(0, 0) : Vec2(X(outline.points[0].x()), Y(outline.points[0].y()));
+    for (const PlotStep& step : plot_order(ends, pen)) {
+      const std::size_t k = step.stroke;
+      out += "<path stroke-width=\"";
+      num(stroke_width[k]);
+      out += "\" d=\"";
+      const Index first = stroke_start[k], last = stroke_start[k + 1];
+      for (Index m = 0; m < last - first; ++m) {
+        const Index node = stroke_node[step.reversed ? last - 1 - m : first + m];
+        out += m ? " L" : "M";
+        num(X(tree.positions[node].x()));
+        out += ' ';
+        num(Y(tree.positions[node].y()));
       }
       out += "\"/>\n";
       core::drain(out, os);
     }
-    for (const auto& [a, b] : tree.anastomoses) segment(a, b, tip);
     out += "</g>\n";
     if (sp.draw_sources)
       for (const Vec3& q : sources) {

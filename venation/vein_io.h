@@ -26,7 +26,9 @@ struct SvgParams {
 /// SVG of the outline (filled light green) and the veins as stroked paths of width 2 * radius of each
 /// segment's child node (tip radius for anastomoses; at least min_stroke): one path runs through every node
 /// with a single child while the width stays the same, so a plotter lifts its pen only at branch points,
-/// width changes and tips. Anastomoses are one path each. All is scaled by the same factor
+/// width changes and tips. Anastomoses are one path each. The paths come in plot_order() from the
+/// outline's first point (where its path ends), each drawn from the end nearer the pen. All is scaled by the same
+/// factor
 /// (`scale`, or else size / the box's longer side: mm per model unit), y pointing up. Written atomically;
 /// core::FileError on failure.
 void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline,

@@ -111,11 +111,13 @@ TEST_CASE("the SVG draws a vein as one path between branch points and width chan
   for (auto it = std::sregex_iterator(svg.begin(), svg.end(), re); it != std::sregex_iterator(); ++it)
     paths.push_back((*it)[1].str() + ": " + (*it)[2].str());
   // x -> 5 + x, y -> 5 + (5 - y): the trunk 0-1 ends at the branch point 1; 1-2-3 runs on; 3-4 is thinner;
-  // the branch 1-5; then the anastomosis 4-5 on its own
+  // the branch 1-5; the anastomosis 4-5 on its own. Nearest-next from the outline's first point (4, 11):
+  // the trunk, on to 3-4, the anastomosis from 4 (where the pen is), then the branch back from 5
   const std::vector<std::string> expected{"1.000: M6.000 10.000 L7.000 10.000",
                                           "1.000: M7.000 10.000 L8.000 10.000 L9.000 10.000",
-                                          "0.500: M9.000 10.000 L10.000 10.000", "1.000: M7.000 10.000 L7.000 8.000",
-                                          "0.500: M10.000 10.000 L7.000 8.000"};  // the tip radius, 0.25
+                                          "0.500: M9.000 10.000 L10.000 10.000",
+                                          "0.500: M10.000 10.000 L7.000 8.000",  // the tip radius, 0.25
+                                          "1.000: M7.000 8.000 L7.000 10.000"};
   CHECK(paths == expected);
 }
 
