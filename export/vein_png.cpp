@@ -49,7 +49,13 @@ PngFrame png_frame(const VeinTree& tree, const Outline& outline, const PngParams
     throw core::InvalidInput("png size must be 16 to 20000 pixels, got " + std::to_string(params.size));
   if (!(params.margin >= 0 && 2 * params.margin < params.size - 1))
     throw core::InvalidInput("png margin must be >= 0 pixels and leave room for the drawing");
-  const auto [lo, hi] = venation::drawing_bounds(tree, outline);
+  auto [lo, hi] = venation::drawing_bounds(tree, outline);
+  if (tree.radius.size() == tree.size())  // a thick vein at the edge (a petiole's) is drawn whole
+    for (Index i = 0; i < tree.size(); ++i) {
+      const Vec2 q(tree.positions[i].x(), tree.positions[i].y()), r = Vec2::Constant(std::max(tree.radius[i], 0.0));
+      lo = lo.cwiseMin(q - r);
+      hi = hi.cwiseMax(q + r);
+    }
   const double extent = std::max({hi.x() - lo.x(), hi.y() - lo.y(), 1e-12});
   PngFrame f;
   f.margin = params.margin;

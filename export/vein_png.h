@@ -21,8 +21,8 @@ struct PngParams {
 };
 
 /// Where write_vein_png() puts a model point: pixel = ((x - lo_x) * scale + margin, (hi_y - y) * scale +
-/// margin), y pointing up as in veins.svg. The drawing (outline and vein nodes) is fitted so that its
-/// longer side spans size - 2 margin pixels.
+/// margin), y pointing up as in veins.svg. The drawing (outline, and vein nodes with their radii) is
+/// fitted so that its longer side spans size - 2 margin pixels.
 struct PngFrame {
   int width = 0, height = 0;  ///< pixels
   double scale = 1;           ///< pixels per model unit

@@ -75,3 +75,22 @@ TEST_CASE("write_vein_png fits wide drawings to the longer side and refuses bad 
   t.write("not.png", "plain text");
   CHECK_THROWS_AS(exporters::read_png(t.path / "not.png"), core::FileError);
 }
+
+TEST_CASE("write_vein_png keeps a thick vein at the edge of the drawing whole", "[png]") {
+  // the petiole's vein, 16 units wide, starts on the outline's lower edge: half its stroke lies below it
+  test::TempDir t("png-edge");
+  venation::VeinTree tree = straight_vein();
+  tree.positions[0] = core::Vec3(50, 0, 0);
+  tree.radius = {8, 8, 2, 0.2};
+  exporters::PngParams p;
+  p.size = 220;
+  p.margin = 10;
+  exporters::write_vein_png(t.path / "v.png", tree, square(), p);
+  const exporters::Image img = exporters::read_png(t.path / "v.png");
+  for (int x = 0; x < img.width; ++x) {
+    INFO("x " << x);
+    CHECK(rgb(img.at(x, img.height - 1)) == p.background);  // the bottom row: nothing cut off
+  }
+  const exporters::PngFrame f = exporters::png_frame(tree, square(), p);
+  CHECK(f.py(-8) <= img.height - p.margin + 1e-9);  // the stroke's lowest point, inside the margin
+}
