@@ -109,7 +109,11 @@ void mark_superseded(const fs::path& dir) {
 
 fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, fs::path* kept,
                       std::string* checkpoint_mark_out) {
-  core::ensure_directory(dir);
+  try {
+    core::ensure_directory(dir);
+  } catch (const core::FileError& e) {  // --out names a place no folder can be made (a file on the way, /proc)
+    throw FolderRefused(e.what());
+  }
   lock.emplace(dir);
   {
     std::error_code ec;

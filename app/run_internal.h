@@ -188,8 +188,8 @@ class NothingToPrint : public core::InvalidInput {
   using core::InvalidInput::InvalidInput;
 };
 
-/// The output folder holds a run.json a run there would wrongly replace (another program's, or not a file):
-/// an input error, the user's to resolve by choosing another folder.
+/// The output folder holds a run.json a run there would wrongly replace (another program's, or not a file),
+/// or cannot be made: an input error, the user's to resolve by choosing another folder.
 class FolderRefused : public core::FileError {
  public:
   using core::FileError::FileError;

@@ -47,11 +47,14 @@ TEST_CASE("an unwritable output location fails clearly", "[cli]") {
   CHECK(r.code == 2);  // a usage error, said before the script is read
   CHECK_THAT(r.err, Contains("--out " + file.string() + " is a file, not a folder"));
   CHECK(slurp(file) == "x");
-  // a file inside the path is the system's refusal, a run-time failure
+  // a file inside the path: the same mistake, refused by the system; also an input error
   r = cli({"run", script.string(), "--out", (file / "sub").string(), "--quiet", "--steps", "2"});
-  CHECK(r.code == 1);
-  CHECK_THAT(r.err, Contains("cannot write outputs"));
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("cannot write outputs") && Contains("cannot create directory"));
   CHECK(slurp(file) == "x");
+  r = cli({"run", script.string(), "--out", "/proc/self/no-folder-here", "--quiet", "--steps", "2"});
+  CHECK(r.code == 2);
+  CHECK_FALSE(fs::exists("/proc/self/no-folder-here"));
   // a folder named run.json in the output folder is said as such (it was "not valid JSON") and kept
   fs::create_directories(t.path / "o" / "run.json");
   r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet", "--steps", "2"});
