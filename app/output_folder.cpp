@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <set>
 
 #include "app/run_internal.h"
@@ -105,6 +106,29 @@ void mark_superseded(const fs::path& dir) {
       "Ctrl-C pressed again): cellform resume this folder continues that run; the outputs listed here are this "
       "earlier run's";
   write_run_json(file, j);
+}
+
+void write_checkpoint(const fs::path& path, const std::string& bytes) {
+  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  std::string before;  // the earlier run's run.json, put back if the checkpoint is not written after all
+  {
+    std::ifstream in(dir / "run.json", std::ios::binary);
+    if (in) before.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  mark_superseded(dir);
+  try {
+    core::write_file_atomically(
+        path, [&](std::ostream& os) { os.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); });
+  } catch (...) {
+    // the folder's checkpoint is still the earlier run's (a full disk): its run.json says so again
+    if (!before.empty()) try {
+        core::write_file_atomically(dir / "run.json", [&](std::ostream& os) {
+          os.write(before.data(), static_cast<std::streamsize>(before.size()));
+        });
+      } catch (const std::exception&) {  // as full as before: the mark stays, the first error is the one said
+      }
+    throw;
+  }
 }
 
 fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, fs::path* kept,

@@ -48,12 +48,6 @@ std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t t
 
 }  // namespace
 
-void write_checkpoint(const fs::path& path, const std::string& bytes) {
-  mark_superseded(path.has_parent_path() ? path.parent_path() : fs::path("."));
-  core::write_file_atomically(
-      path, [&](std::ostream& os) { os.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); });
-}
-
 /// Writes the cell outputs of the current state into `dir`; returns their names.
 std::vector<std::string> write_outputs(const fs::path& dir, const OutputSpec& spec, const cells::Cells& c, bool veins) {
   std::vector<std::string> names;

@@ -138,7 +138,7 @@ nlohmann::json checkpoint_meta(const Start& s, std::uint64_t seed, std::uint64_t
 std::string absolute_path_text(const std::filesystem::path& p);
 
 /// Writes checkpoint bytes atomically (a temporary file, then a rename), after mark_superseded() of its
-/// folder.
+/// folder; if the checkpoint cannot be written (a full disk), that run.json is put back as it was.
 void write_checkpoint(const std::filesystem::path& path, const std::string& bytes);
 
 /// A checkpoint is about to replace the one an earlier run left in `dir`: that run's run.json, which a kill

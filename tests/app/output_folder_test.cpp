@@ -354,3 +354,20 @@ TEST_CASE("a command whose standard output cannot be written fails instead of sa
   ::close(null);
   CHECK(exit_within(pid, 60) == 0);
 }
+
+TEST_CASE("a checkpoint that cannot be written leaves the earlier run's run.json as it was", "[cli]") {
+  // a full disk, here a folder in the checkpoint's place: the folder's checkpoint is still the earlier
+  // run's, so its run.json must not say that a later run's replaced it
+  TempDir t("cli-ckpt-fail");
+  const auto script = t.write("small.lua", kSmall);
+  const fs::path out = t.path / "o";
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "2"}).code == 0);
+  const std::string before = slurp(out / "run.json");
+  fs::remove(out / "checkpoint.cfck");
+  fs::create_directories(out / "checkpoint.cfck" / "in-the-way");
+  CHECK_THROWS(cellform::app::write_checkpoint(out / "checkpoint.cfck", "bytes"));
+  CHECK(slurp(out / "run.json") == before);
+  fs::remove_all(out / "checkpoint.cfck");  // written: the earlier run is superseded
+  cellform::app::write_checkpoint(out / "checkpoint.cfck", "bytes");
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "superseded");
+}
