@@ -263,6 +263,10 @@ void section_leaf(Impl& I, const std::string& at) {
       venation::validate(leaf);
     } catch (const InvalidInput& e) {
       const std::string m = e.what();
+      if (!v["file"].str.empty() && m.rfind("leaf.petiole at", 0) == 0)
+        throw InvalidInput("leaf.file: the point (0, 0) of " + v["file"].str +
+                           ", where the blade attaches to its petiole, lies outside the outline; the outline must "
+                           "have (0, 0) inside it or on it");
       if (seeds <= 1 || m.rfind("leaf.initial_nodes[", 0) != 0) throw;
       const std::string nth = m.substr(19, m.find(']') - 19);
       throw InvalidInput(

@@ -2,6 +2,7 @@
 #include "venation/leaf_shape.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -330,30 +331,42 @@ Outline parse_outline(const std::string& text, const std::string& source) {
   while (std::getline(in, line)) {
     ++line_no;
     if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+    // "x y", or "x,y" as spreadsheets export it
+    const bool commas = line.find(',') != std::string::npos;
+    std::replace(line.begin(), line.end(), ',', ' ');
     std::istringstream ls(line);
-    double x, y;
-    std::string rest;
-    if (!(ls >> x)) {
-      ls.clear();
-      std::string word;
-      if (ls >> word) {
-        // a binary file's bytes are not echoed: printable characters only, and a short excerpt
-        const bool printable =
-            std::all_of(word.begin(), word.end(), [](unsigned char ch) { return ch >= 32 && ch < 127; });
-        const std::string shown = !printable         ? "bytes that are not text (is it an outline file?)"
-                                  : word.size() > 40 ? "'" + word.substr(0, 40) + "...'"
-                                                     : "'" + word + "'";
-        throw InvalidInput(source + ":" + std::to_string(line_no) + ": expected two numbers \"x y\", got " + shown);
-      }
-      continue;  // blank or comment line
+    std::vector<std::string> words;
+    for (std::string w; ls >> w;) words.push_back(w);
+    if (words.empty()) continue;  // blank or comment line
+    const std::string at = source + ":" + std::to_string(line_no) + ": ";
+    auto shown = [](const std::string& word) {  // a binary file's bytes are not echoed
+      const bool printable =
+          std::all_of(word.begin(), word.end(), [](unsigned char ch) { return ch >= 32 && ch < 127; });
+      return !printable         ? std::string("bytes that are not text (is it an outline file?)")
+             : word.size() > 40 ? "'" + word.substr(0, 40) + "...'"
+                                : "'" + word + "'";
+    };
+    double xy[2] = {0, 0};
+    for (std::size_t k = 0; k < std::min<std::size_t>(words.size(), 2); ++k) {
+      const std::string& w = words[k];
+      const char* end = w.data() + w.size();
+      const auto [ptr, ec] = std::from_chars(w.data() + (w[0] == '+' && w.size() > 1 ? 1 : 0), end, xy[k]);
+      if (ec == std::errc::result_out_of_range)
+        throw InvalidInput(at + (k ? "y" : "x") + " " + shown(w) +
+                           " is beyond the range of numbers (about 1.8e308): scale the outline down");
+      if (ec != std::errc() || ptr != end)
+        throw InvalidInput(
+            at + "expected two numbers \"x y\", got " + shown(w) + (k == 0 ? std::string() : " as y") +
+            (w.find_first_of(";:") != std::string::npos ? " (numbers go apart by spaces or one comma)" : ""));
+      if (!std::isfinite(xy[k]))
+        throw InvalidInput(at + "coordinates must be finite numbers, got " + shown(w) + " as " + (k ? "y" : "x"));
     }
-    if (!(ls >> y))
-      throw InvalidInput(source + ":" + std::to_string(line_no) + ": expected two numbers \"x y\", got one");
-    if (ls >> rest)
-      throw InvalidInput(source + ":" + std::to_string(line_no) + ": expected two numbers \"x y\", got more ('" + rest +
-                         "')");
-    if (!std::isfinite(x) || !std::isfinite(y))
-      throw InvalidInput(source + ":" + std::to_string(line_no) + ": coordinates must be finite");
+    if (words.size() == 1) throw InvalidInput(at + "expected two numbers \"x y\", got one (" + shown(words[0]) + ")");
+    if (words.size() > 2)
+      throw InvalidInput(at + "expected two numbers \"x y\", got " + std::to_string(words.size()) + " (" +
+                         shown(words[2]) + " is a third)" +
+                         (commas ? "; decimals take a point, not a comma (\"0.5 1.25\" or \"0.5,1.25\")" : ""));
+    const double x = xy[0], y = xy[1];
     o.points.emplace_back(x, y);
     lines.line.push_back(static_cast<std::size_t>(line_no));
     last_line = line_no;
@@ -361,9 +374,15 @@ Outline parse_outline(const std::string& text, const std::string& source) {
   if (o.points.size() < 4)
     throw InvalidInput(source + ": an outline needs at least 3 vertices plus the first repeated at the end, got " +
                        std::to_string(o.points.size()) + " lines of coordinates");
-  if (o.points.front() != o.points.back())
+  // closed when the last vertex repeats the first, up to the rounding of an export (a millionth of the size)
+  double size = 0;
+  for (const Vec2& p : o.points) size = std::max(size, (p - o.points.front()).cwiseAbs().maxCoeff());
+  const double gap = (o.points.back() - o.points.front()).cwiseAbs().maxCoeff();
+  if (gap > 1e-6 * size)
     throw InvalidInput(source + ":" + std::to_string(last_line) +
-                       ": the outline is open: its last vertex must repeat the first one to close it");
+                       ": the outline is open: its last vertex must repeat the first one to close it (they are " +
+                       core::number_text(gap) + " apart)");
+  o.points.back() = o.points.front();
   o.points.pop_back();
   lines.line.pop_back();
   // a vertex repeated on the next line (an export that closes a polyline twice) is one vertex

@@ -344,6 +344,12 @@ TEST_CASE("an outline file in any unit is one leaf length from petiole to tip", 
   const auto r = cli({"run", c.string(), "--out", (t.path / "c").string(), "--quiet"});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("c.lua:1: leaf: "));
+  // an outline drawn away from (0, 0): the file is named
+  t.write("away.txt", "1 1\n1.3 1.3\n1 2\n0.7 1.3\n1 1\n");
+  const auto d = t.write("d.lua", "leaf { file = 'away.txt' }\n" + rest);
+  const auto away = cli({"run", d.string(), "--out", (t.path / "d").string(), "--quiet"});
+  CHECK(away.code == 2);
+  CHECK_THAT(away.err, Contains("d.lua:1: leaf: ") && Contains("(0, 0) of away.txt") && Contains("outside"));
 }
 
 TEST_CASE("Ctrl-C while surface{cells = true}'s sheet grows leaves a checkpoint that finishes it identically",

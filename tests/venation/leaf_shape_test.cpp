@@ -89,6 +89,23 @@ TEST_CASE("outline files: closed polygons parse, open, malformed and self-inters
                     Contains("open.txt") && Contains("open"));
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 zero\n1 1\n0 0\n", "bad.txt"), Contains("bad.txt:2"));
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n1 0 3\n1 1\n0 0\n", "bad.txt"), Contains("bad.txt:2"));
+  // what is wrong with a line is said as it is: a word, not "got one"
+  CHECK_THROWS_WITH(venation::parse_outline("0 0\n0.3 abc\n1 1\n0 0\n", "w.txt"),
+                    Contains("w.txt:2") && Contains("'abc' as y") && !Contains("got one"));
+  CHECK_THROWS_WITH(venation::parse_outline("0 0\n0 nan\n1 1\n0 0\n", "n.txt"),
+                    Contains("n.txt:2") && Contains("finite") && Contains("'nan'"));
+  CHECK_THROWS_WITH(venation::parse_outline("0 0\n-inf 1\n1 1\n0 0\n", "i.txt"), Contains("finite"));
+  CHECK_THROWS_WITH(venation::parse_outline("0 0\n0 1e400\n1 1\n0 0\n", "r.txt"),
+                    Contains("r.txt:2") && Contains("'1e400'") && Contains("beyond the range"));
+  CHECK_THROWS_WITH(venation::parse_outline("0 0\n0.3\n1 1\n0 0\n", "o.txt"), Contains("got one ('0.3')"));
+  // "x,y" as a spreadsheet writes it is read; decimal commas are explained
+  CHECK(venation::parse_outline("0,0\n0,1\n1,1\n1, 0\n0,0\n", "csv.txt").points == sq.points);
+  CHECK_THROWS_WITH(venation::parse_outline("0,5 0,5\n0 1\n1 1\n0,5 0,5\n", "dec.txt"),
+                    Contains("dec.txt:1") && Contains("decimals take a point"));
+  // closed up to an export's rounding; a real gap is said with its size
+  CHECK(venation::parse_outline("0 0\n0 1\n1 1\n1 0\n0 1e-9\n", "near.txt").points == sq.points);
+  CHECK_THROWS_WITH(venation::parse_outline("0 0\n0 1\n1 1\n1 0\n0 0.01\n", "gap.txt"),
+                    Contains("gap.txt:5") && Contains("open") && Contains("0.01 apart"));
   // a binary file is named as such, its bytes are not echoed to the terminal
   CHECK_THROWS_WITH(venation::parse_outline(std::string("\x7f"
                                                         "ELF\x02\x01\x01\n",
