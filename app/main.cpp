@@ -41,7 +41,13 @@ void on_interrupt(int sig) {
       "\ncellform: interrupted: the steps stop after the current one (a printable solid being made is skipped) "
       "and the outputs are written; Ctrl-C again skips a printable solid being made, and otherwise quits at "
       "once, without outputs\n";
-  say(kMessage, sizeof kMessage - 1);
+  static const char kNoPrint[] =
+      "\ncellform: interrupted: the steps stop after the current one and the outputs are written; Ctrl-C again "
+      "quits at once, without outputs\n";
+  if (g_print_planned.load())
+    say(kMessage, sizeof kMessage - 1);
+  else
+    say(kNoPrint, sizeof kNoPrint - 1);
 }
 void on_hangup(int) {
   using namespace cellform::app;

@@ -81,7 +81,11 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
                       : "print: the cells form no sheet of triangles to thicken yet (a line or a single cell has no "
                         "surface; grow a sheet, for example from a disc{...})");
   if (!quiet)
-    err << "thickening " << segments.size() << " vein segments" << (spec.shell ? " and the cell sheet" : "") << "...\n";
+    err << "thickening "
+        << (segments.empty() && spec.shell
+                ? std::string("the cell sheet")
+                : std::to_string(segments.size()) + " vein segments" + (spec.shell ? " and the cell sheet" : ""))
+        << "...\n";
   exporters::ThickenReport rep;
   tp.progress = stage_progress("voxelising");
   exporters::LevelSet level_set;

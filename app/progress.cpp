@@ -36,7 +36,8 @@ void Progress::update(std::uint64_t step, std::size_t cells) {
   const double done = static_cast<double>(step - first_);
   const double rate = elapsed > 0 ? done / elapsed : 0;
   const double left = rate > 0 ? static_cast<double>(last_ - step) / rate : NAN;
-  const double frac = last_ > first_ ? done / static_cast<double>(last_ - first_) : 1.0;
+  // of the whole run, as "step N/last" beside it reads (a resume starts part of the way)
+  const double frac = last_ > 0 ? static_cast<double>(step) / static_cast<double>(last_) : 1.0;
   char buf[160];
   if (terminal_) {
     const int width = 30;

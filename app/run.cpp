@@ -300,6 +300,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     return failure;
   }
 
+  g_print_planned = cfg.print.has_value();
   const std::uint64_t first = sim.step_count();
   const std::size_t initial_cells = sim.cells().size();       // of this command
   if (s.initial_cells == 0) s.initial_cells = initial_cells;  // a fresh run (or a checkpoint that did not say)

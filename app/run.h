@@ -39,6 +39,8 @@ extern std::atomic<bool> g_print_after_interrupt;
 /// Set while a script is read (ScriptHost::load): a first Ctrl-C then stops the reading, and says so.
 extern std::atomic<bool> g_reading_script;
 extern std::atomic<bool> g_print_cancel;
+/// Set once a run knows it ends with print{}: a Ctrl-C's message then says the printable solid is skipped.
+extern std::atomic<bool> g_print_planned;
 /// The signal of the first interrupt: SIGINT or SIGTERM (0: none, or a hang-up).
 extern std::atomic<int> g_interrupt_signal;
 

@@ -138,6 +138,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     return failure;
   }
   ColonisationSpec& spec = *cfg.colonisation;
+  g_print_planned = cfg.print.has_value();
   spec.params.seed = seed;
   spec.params.threads = o.threads;
   if (s.has_target) spec.params.max_steps = s.target_steps;  // --steps, or the checkpoint's limit

@@ -50,7 +50,11 @@ void fill_cell_table(Impl& I, const cells::Cells& c, core::Index i, std::uint64_
   for (int k = 0; k < c.link_stride; ++k)
     if (c.links[static_cast<std::size_t>(i) * c.link_stride + k] != core::kNoIndex) ++links;
   set_int("neighbours", links);
-  for (const auto& [name, values] : c.attributes) set_num(name.c_str(), values[i]);
+  for (const auto& [name, values] : c.attributes)
+    if (name == venation::kOrder)  // a whole number, as in cells.ply and veins.ply
+      set_int(name.c_str(), static_cast<long long>(values[i]));
+    else
+      set_num(name.c_str(), values[i]);
   I.in_host = was_host;
 }
 

@@ -13,6 +13,7 @@ std::atomic<bool> g_print_after_interrupt{false};
 std::atomic<bool> g_reading_script{false};
 std::atomic<bool> g_print_cancel{false};
 std::atomic<int> g_interrupt_signal{0};
+std::atomic<bool> g_print_planned{false};
 
 void exit_process(int code) {
   if (g_interrupt_signal.load() == SIGINT) {

@@ -95,8 +95,19 @@ double integrate_and_measure(Cells& cells, const Params& params, std::uint64_t s
       case kVelocity:
         msg << "velocity is " << describe(new_velocity(cells, params, i));
         break;
-      default:
-        msg << "speed " << new_velocity(cells, params, i).norm() << " exceeds cells.max_speed = " << params.max_speed;
+      default: {
+        // as many digits as tell the two apart (a speed just past the limit read "1e+06 exceeds 1e+06")
+        const double speed = new_velocity(cells, params, i).norm();
+        int digits = 6;
+        auto text = [&](double x) {
+          std::ostringstream t;
+          t.precision(digits);
+          t << x;
+          return t.str();
+        };
+        while (digits < 17 && text(speed) == text(params.max_speed)) ++digits;
+        msg << "speed " << text(speed) << " exceeds cells.max_speed = " << text(params.max_speed);
+      }
     }
     msg << "; the simulation diverged (try a smaller cells.time_step, more drag or smaller force weights)";
     throw core::SimulationDiverged(msg.str());

@@ -49,13 +49,17 @@ TEST_CASE("SIGTERM stops a run as Ctrl-C does and exits 130", "[cli][signal]") {
   TempDir t("cli-term");
   const auto script = t.write("long.lua", kLong);
   const fs::path out = t.path / "o";
-  const pid_t pid = spawn_cellform({"run", script.string(), "--out", out.string(), "--quiet"});
+  const fs::path log = t.path / "err.txt";
+  const pid_t pid = spawn_cellform_logged({"run", script.string(), "--out", out.string(), "--quiet"}, log);
   REQUIRE(pid > 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(1000));
   kill(pid, SIGTERM);
   int signal = -1;
   CHECK(wait_exit(pid, &signal) == 130);
   CHECK(signal == 0);  // an exit: a SIGTERM reaches this process alone, not the shell
+  // a run without print{} is not told about a printable solid
+  CHECK_THAT(slurp(log), Catch::Matchers::Contains("the steps stop after the current one") &&
+                             !Catch::Matchers::Contains("printable"));
   CHECK(fs::exists(out / "checkpoint.cfck"));
   CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "interrupted");
 }

@@ -40,6 +40,8 @@ TEST_CASE("a rule reading a field the cell table does not have is stopped, with 
   CHECK(divides("cell.flow == nil and cell.vein_radius == nil and cell.vein_order == nil and cell.flow_dx == nil", c));
   cellform::cells::attribute(c, "flow") = {7, 8};
   CHECK(divides("cell.flow == 7", c));
+  cellform::cells::attribute(c, "vein_order") = {2, 0};  // a whole number, as in the files: "2", not "2.0"
+  CHECK(divides("math.type(cell.vein_order) == 'integer' and tostring(cell.vein_order) == '2'", c));
   // keys that are not names are no fields: nil, as for any table
   CHECK(divides("cell[1] == nil and cell[true] == nil", c));
 }

@@ -131,4 +131,18 @@ TEST_CASE("speed above max_speed diverges", "[integrate]") {
     REQUIRE(msg.find("cells.max_speed") != std::string::npos);
   }
   REQUIRE(c.position[1] == Vec3(1, 0, 0));
+  // just past the limit: enough digits to show it ("1e+06 exceeds cells.max_speed = 1e+06" read as a bug)
+  p.max_speed = 1e6;
+  p.drag = Vec3::Ones();
+  c.acceleration[1] = Vec3(0, 1e6 / p.time_step * (1 + 1e-9), 0);
+  c.velocity[1].setZero();
+  try {
+    integrate(c, p, 8, 1);
+    FAIL("no exception");
+  } catch (const cellform::core::SimulationDiverged& e) {
+    const std::string msg = e.what();
+    INFO(msg);
+    REQUIRE(msg.find("speed 1e+06 ") == std::string::npos);
+    REQUIRE(msg.find("speed 1000000.001 exceeds cells.max_speed = 1000000;") != std::string::npos);
+  }
 }
