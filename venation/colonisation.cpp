@@ -429,6 +429,9 @@ void Colonisation::Impl::step() {
     Vec3 q = nodes.point(v) + D * n / len;
     if (region && !place_3d(v, q, D)) continue;
     if (retraces(v, q)) continue;
+    // marginal growth scales the margin, not the veins: an outline not star-shaped about the petiole (a
+    // lobe's sinus, a barb) leaves part of a young blade outside the grown one; no vein goes there
+    if (marginal && !in_final_blade(q)) continue;
     if (region) {
       child[v] = add_node(q, v, step_no);
     } else {

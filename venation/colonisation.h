@@ -35,7 +35,9 @@ enum class GrowthMode {
   none,      ///< the blade keeps its initial size
   marginal,  ///< the margin is scaled about the petiole; sources and veins stay where they are. Sources
              ///< are precomputed once over the final blade and appear as the margin reaches them
-             ///< (marginal_sources.h), not thrown over the whole blade every step
+             ///< (marginal_sources.h), not thrown over the whole blade every step. No node is added outside
+             ///< the grown blade: where the outline is not star-shaped about the petiole (a lobe's sinus, a
+             ///< barb), a young blade reaches where the grown one does not
   uniform,   ///< isogonic: the whole leaf scales; computed by shrinking the unit distance lambda_t = lambda_0 sigma_0 /
              ///< sigma_t
   nonuniform,  ///< anisotropic, Appendix A: rates of growth in x and y depend on the initial height y_0

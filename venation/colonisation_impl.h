@@ -272,6 +272,11 @@ struct Colonisation::Impl {
     const Vec3 u = petiole + (q - petiole) / frame_scale();
     return unit.contains(Vec2(u.x(), u.y()));
   }
+  /// Marginal growth: whether q lies in the grown blade (no node stays outside it).
+  bool in_final_blade(const Vec3& q) const {
+    const Vec3 u = petiole + (q - petiole) / std::max(frame_scale(), p.final_scale);
+    return unit.contains(Vec2(u.x(), u.y()));
+  }
   bool growth_over() const {
     if (nonuniform) return grown >= p.growth_steps;
     return p.growth == GrowthMode::none || sigma >= p.final_scale;

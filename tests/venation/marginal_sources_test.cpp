@@ -229,8 +229,15 @@ TEST_CASE("marginal growth reveals precomputed sources inside the current outlin
       }
       revealed += expect.size();
     }
-    INFO("steps " << sim.report().steps << " nodes " << sim.report().nodes << " revealed " << revealed);
-    CHECK(sim.report().finished);
+    INFO("steps " << sim.report().steps << " nodes " << sim.report().nodes << " revealed " << revealed << " left "
+                  << sim.report().sources);
+    // the C's slot lies between the petiole and its upper arm: the young blade's slot was below the grown
+    // one's, and veins once crossed the grown slot to the sources beyond. No vein is added there now, so
+    // sources that pull straight across it stay, and the run ends stalled
+    CHECK((sim.report().finished || sim.report().stalled));
+    const v::OutlineIndex grown(sim.outline());
+    for (const Vec3& q : sim.tree().positions)
+      CHECK((grown.contains({q.x(), q.y()}) || v::distance_to_boundary(sim.outline(), {q.x(), q.y()}) < 1e-9));
     CHECK(revealed > 100);
     CHECK(revealed == sim.report().sources_born);
     std::size_t entering = 0;
