@@ -6,13 +6,7 @@ namespace cellform::exporters {
 std::vector<Segment> vein_segments(const venation::VeinGraph& g) {
   std::vector<Segment> out;
   out.reserve(g.edges.size());
-  std::vector<char> used(g.position.size(), 0);
-  for (const auto& e : g.edges) {
-    out.push_back({g.position[e[0]], g.position[e[1]], g.radius[e[0]], g.radius[e[1]]});
-    used[e[0]] = used[e[1]] = 1;
-  }
-  for (std::size_t i = 0; i < g.position.size(); ++i)
-    if (!used[i]) out.push_back({g.position[i], g.position[i], g.radius[i], g.radius[i]});
+  for (const auto& e : g.edges) out.push_back({g.position[e[0]], g.position[e[1]], g.radius[e[0]], g.radius[e[1]]});
   return out;
 }
 

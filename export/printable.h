@@ -131,8 +131,8 @@ PrintableMesh thicken(const std::vector<Segment>& segments, const std::vector<st
 /// Atomic; core::FileError on failure.
 void write_vdb(const std::filesystem::path& path, const LevelSet& level_set);
 
-/// One segment per vein edge (child node to parent node) with the nodes' radii, plus a zero-length
-/// segment (a sphere) for every node that has no edge. Model units.
+/// One segment per vein edge (child node to parent node) with the nodes' radii. A node without an edge (a
+/// petiole no vein has reached yet) is left out: printed, it was a ball apart from the form. Model units.
 std::vector<Segment> vein_segments(const venation::VeinGraph& graph);
 
 /// The surface triangles of the cell sheet as positions (model units), for the shell.

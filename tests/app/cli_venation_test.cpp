@@ -92,3 +92,19 @@ TEST_CASE("run.json's vein figures are the last canalisation's, through resumes 
   REQUIRE(cli({"resume", out.string(), "--quiet"}).code == 0);  // and through one that runs no step
   CHECK(nlohmann::json::parse(slurp(out / "run.json"))["veins"] == expected);
 }
+
+TEST_CASE("a petiole no vein has reached yet is not printed as a ball apart from the form", "[cli][venation]") {
+  // the second petiole appears at the last step: no cell has drained to it long enough to become a vein
+  TempDir t("cli-lone-petiole");
+  const auto script = t.write("lone.lua", std::string(kTwoDiscs) +
+                                              "petiole { at = {0, -4, 0} }\npetiole { at = {0, 4, 0}, step = 30 }\n"
+                                              "print { min_radius = 0.5, size = 40 }\n");
+  const auto r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const auto j = nlohmann::json::parse(slurp(t.path / "o" / "run.json"));
+  const std::size_t vein_cells = j["veins"]["vein_cells"];
+  REQUIRE(vein_cells > 0);
+  CHECK(j["print"]["segments"] == vein_cells);  // one per vein cell, to its parent: as veins.ply's edges
+  CHECK(j["print"]["parts"] == 1);
+}
