@@ -378,15 +378,24 @@ std::string unplaced_changes(const Start& s, const SceneConfig& before, const Sc
     what.push_back("shapes (" + std::to_string(now.initial_cells.size()) + " cells, the run's " +
                    std::to_string(before.initial_cells.size()) + ")");
   if (due(before.scene.petioles) != due(now.scene.petioles)) {
+    // the lines of the petioles that differ (new or moved), and how many of the run's are gone
+    auto old_due = due(before.scene.petioles);
     std::string list;
-    for (const forms::PetioleSpec& p : now.scene.petioles)
-      if (grown || p.step <= s.step) {
-        std::string origin = p.origin;
-        while (!origin.empty() && (origin.back() == ' ' || origin.back() == ':')) origin.pop_back();
-        list += std::string(list.empty() ? "" : ", ") + (origin.empty() ? "petiole{}" : origin);
+    for (const forms::PetioleSpec& p : now.scene.petioles) {
+      if (!grown && p.step > s.step) continue;
+      const auto key = std::make_tuple(p.at.x(), p.at.y(), p.at.z(), p.fixed, p.step);
+      if (const auto same = std::find(old_due.begin(), old_due.end(), key); same != old_due.end()) {
+        old_due.erase(same);  // unchanged
+        continue;
       }
-    what.push_back((grown ? std::string("petioles") : "petioles due by step " + std::to_string(s.step)) + " (" +
-                   (list.empty() ? std::string("none now") : list) + ")");
+      std::string origin = p.origin;
+      while (!origin.empty() && (origin.back() == ' ' || origin.back() == ':')) origin.pop_back();
+      list += std::string(list.empty() ? "" : ", ") + (origin.empty() ? "petiole{}" : origin);
+    }
+    if (!old_due.empty())
+      list += std::string(list.empty() ? "" : "; ") + std::to_string(old_due.size()) + " of the run's no longer there";
+    what.push_back((grown ? std::string("petioles") : "petioles due by step " + std::to_string(s.step)) + " (" + list +
+                   ")");
   }
   if (grown) {
     const json a = physics_of(before.resolved), b = physics_of(now.resolved);

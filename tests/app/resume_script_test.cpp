@@ -236,6 +236,14 @@ TEST_CASE(
   CHECK(r.code == 0);
   CHECK_THAT(r.err, Contains("warning: " + moved.string() + " changes the petioles due by step 20") &&
                         Contains("start a new run for them"));
+  // only the petiole that changed is named, not the script's unchanged ones
+  const std::string moved_text = slurp(moved);
+  const auto lines = std::count(moved_text.begin(), moved_text.end(), '\n');
+  std::string named = moved.string();
+  named.insert(0, 1, '(');
+  named += ':' + std::to_string(lines) + ')';
+  INFO(r.err);
+  CHECK_THAT(r.err, Contains(named));
 }
 
 TEST_CASE(
