@@ -440,6 +440,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       core::PointGrid grid;
       cells::update_links(sim.cells(), sim.params(), grid, sim.threads());
     }
+    // the step at which the cells reached division.max_cells, in this command (a full start is no news)
+    std::uint64_t full_at = sim.cells().size() >= sim.params().division.max_cells ? target + 1 : 0;
     while (sim.step_count() < target) {
       if (g_interrupt.load()) {
         status = "interrupted";
@@ -473,6 +475,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       stepping = 0;
       sim_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
       const std::uint64_t step = sim.step_count();
+      if (full_at == 0 && sim.cells().size() >= sim.params().division.max_cells) full_at = step;
       progress.update(step, sim.cells().size());
       if (cfg.output.every > 0 && step % cfg.output.every == 0)  // asked for, whatever output.ply says of the end
         write_frame(sim.cells(), step);
@@ -480,6 +483,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         saved = periodic_checkpoint(checkpoint_now, err, checkpoint_warned) || saved;
     }
     progress.finish();
+    if (full_at > 0 && full_at <= target && !o.quiet)  // divisions, and the rules that decide them, stopped there
+      err << "cellform: note: the cells reached division.max_cells = " << sim.params().division.max_cells << " at step "
+          << full_at << "; no cell divided after it (raise division.max_cells to grow on)\n";
     if (const std::size_t lost = scene->venation_report().unconnected; lost > 0 && sim.step_count() > first)
       err << "cellform: warning: " << lost << " of " << scene->venation_report().cells  // at its last canalisation
           << " cells have no path through the links to a petiole: their auxin reaches no petiole and no vein grows "
