@@ -187,7 +187,11 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
         const std::string& kv = value();
         const auto eq = kv.find('=');
         if (eq == std::string::npos || eq == 0) throw UsageError("--set takes NAME=VALUE, got '" + kv + "'");
-        o.sets[kv.substr(0, eq)] = kv.substr(eq + 1);
+        const std::string name = kv.substr(0, eq), given = kv.substr(eq + 1);
+        if (const auto before = o.sets.find(name); before != o.sets.end() && before->second != given)
+          err << "cellform: note: --set " << name << " is given twice; the last, " << given << ", is used (not "
+              << before->second << ")\n";
+        o.sets[name] = given;
       } else if (a == "--script") {
         o.replace_script = value();
         if (cmd != "resume")

@@ -52,6 +52,8 @@ TEST_CASE("help, version and usage errors", "[cli]") {
   }
   r = cli({"run"});
   CHECK(r.code == 2);
+  r = cli({"run", "x.lua", "--set", "scale=0.1", "--set", "scale=0.2"});  // the last wins, and it is said
+  CHECK_THAT(r.err, Contains("--set scale is given twice; the last, 0.2, is used (not 0.1)"));
   r = cli({"params"});
   CHECK(r.code == 0);
   CHECK_THAT(r.out, Contains("rest_length"));
