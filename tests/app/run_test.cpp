@@ -23,3 +23,16 @@ TEST_CASE("a run whose cells reach division.max_cells says when, once", "[cli]")
   REQUIRE(r.code == 0);
   CHECK_THAT(r.err, !Contains("max_cells"));
 }
+
+TEST_CASE("a refused parameter recalls the knobs the run set, which it may come from", "[cli]") {
+  TempDir t("cli-knob-hint");
+  const auto script =
+      t.write("k.lua", "local P = params { scale = 1 }\nrun { steps = 2 }\ndisc { radius = 2 * P.scale }\n");
+  auto r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--set", "scale=-1"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("k.lua:3") && Contains("this run sets the script's knobs scale=-1"));
+  // a parameter set directly is named by the message itself: no recall
+  r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--set", "cells.time_step=-1"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, !Contains("knobs"));
+}
