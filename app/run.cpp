@@ -440,6 +440,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       cells::Cells placed = sim.cells();
       core::PointGrid grid;
       cells::update_links(placed, sim.params(), grid, sim.threads());
+      if (cfg.scene.venation)  // the attributes of the later frames, none flowing yet: one layout for a sequence
+        for (const char* name : {venation::kFlow, venation::kRadius, venation::kOrder, venation::kFlowX,
+                                 venation::kFlowY, venation::kFlowZ})
+          cells::attribute(placed, name);
       write_frame(placed, 0);
     }
     const auto& links = sim.cells().links;

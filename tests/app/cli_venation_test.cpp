@@ -2,6 +2,7 @@
 // petioles due after the run's last step.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "tests/app/test_util.h"
 
@@ -107,4 +108,24 @@ TEST_CASE("a petiole no vein has reached yet is not printed as a ball apart from
   REQUIRE(vein_cells > 0);
   CHECK(j["print"]["segments"] == vein_cells);  // one per vein cell, to its parent: as veins.ply's edges
   CHECK(j["print"]["parts"] == 1);
+}
+
+TEST_CASE("every frame of a run with venation has the same properties, the first too", "[cli][venation]") {
+  // a sequence imported into Houdini or Blender keeps one attribute layout: the first frame, of the cells
+  // as placed, had no flow or vein attributes
+  TempDir t("cli-frame-layout");
+  const auto script =
+      t.write("frames.lua", std::string(kTwoDiscs) + "petiole { at = {0, -4, 0} }\noutput { every = 10 }\n");
+  REQUIRE(cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet"}).code == 0);
+  auto properties = [](const std::string& ply) {
+    std::string out;
+    std::istringstream in(ply.substr(0, ply.find("end_header")));
+    for (std::string line; std::getline(in, line);)
+      if (line.rfind("property", 0) == 0) out += line + "\n";
+    return out;
+  };
+  const std::string first = properties(slurp(t.path / "o" / "frames/cells_000000.ply"));
+  CHECK_THAT(first, Contains("flow") && Contains("vein_order"));
+  CHECK(first == properties(slurp(t.path / "o" / "frames/cells_000010.ply")));
+  CHECK(first == properties(slurp(t.path / "o" / "cells.ply")));
 }
