@@ -316,8 +316,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     err << (s.resume ? "resuming " : "running ") << s.script_path.string() << " from step " << first << " to " << target
         << " (" << initial_cells << " cells, seed " << seed << ")\n";
   if (!o.quiet && s.resume && first >= target && !o.steps)
-    err << "cellform: note: the checkpoint is at its run's last step (" << target
-        << "); give --steps N to continue to step N\n";
+    err << "cellform: note: the checkpoint is at its run's last step (" << target << "): no step runs, the outputs"
+        << (cfg.print ? " and the printable solid" : "") << " are made again; give --steps N to continue to step N\n";
   for (const forms::PetioleSpec& p : cfg.scene.petioles)  // said now, not found missing at the end
     if (p.step > target && p.step > first)
       err << "cellform: note: " << p.origin << "the petiole due at step " << p.step

@@ -17,6 +17,10 @@ TEST_CASE("a run whose cells reach division.max_cells says when, once", "[cli]")
   r = cli({"resume", (t.path / "o").string(), "--steps", "70"});
   REQUIRE(r.code == 0);
   CHECK_THAT(r.err, !Contains("max_cells"));
+  // resumed at its last step: what that does is said (a print made again, say), and how to go on
+  r = cli({"resume", (t.path / "o").string()});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("at its run's last step (70): no step runs, the outputs are made again; give --steps N"));
   // under the limit: nothing said
   r = cli(
       {"run", script.string(), "--out", (t.path / "p").string(), "--set", "division.max_cells=5000", "--steps", "20"});
