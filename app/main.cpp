@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
   std::ostream out(&out_buf), err(&err_buf);
   err.setf(std::ios::unitbuf);  // as std::cerr: every message at once, after what stdout holds
   err.tie(&out);
-  const int code = cellform::app::cli_main(args, out, err);
+  int code = cellform::app::cli_main(args, out, err);
   out.flush();
   std::cout.flush();
   // a run's product is its files (its lines on stdout only say so); the other commands' is what they print:
@@ -112,7 +112,7 @@ int main(int argc, char** argv) {
       err << "cellform: cannot write to standard output: it is closed\n";
     else if (!S_ISFIFO(st.st_mode) && !S_ISSOCK(st.st_mode))
       err << "cellform: cannot write to standard output (a full disk?)\n";
-    return code == 0 ? 1 : code;
+    code = code == 0 ? 1 : code;
   }
   // after a Ctrl-C, even one that came as the work ended, by SIGINT (exit_process says why)
   if (cellform::app::g_interrupt_signal.load() == SIGINT) {

@@ -111,9 +111,11 @@ void mark_superseded(const fs::path& dir) {
 void write_checkpoint(const fs::path& path, const std::string& bytes) {
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
   std::string before;  // the earlier run's run.json, put back if the checkpoint is not written after all
-  {
+  std::error_code ec;
+  if (fs::is_regular_file(dir / "run.json", ec)) {
     std::ifstream in(dir / "run.json", std::ios::binary);
     if (in) before.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (in.bad()) before.clear();  // not read whole: not put back
   }
   mark_superseded(dir);
   try {
@@ -133,10 +135,21 @@ void write_checkpoint(const fs::path& path, const std::string& bytes) {
 
 fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, fs::path* kept,
                       std::string* checkpoint_mark_out) {
-  try {
-    core::ensure_directory(dir);
-  } catch (const core::FileError& e) {  // --out names a place no folder can be made (a file on the way, /proc)
-    throw FolderRefused(e.what());
+  {
+    // --out names a place no folder can be made (a file on the way, /proc, too long a name): an input
+    // error; a full or failing disk is not
+    std::error_code ec;
+    if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+      throw FolderRefused("'" + dir.string() + "' exists and is not a directory");
+    if (!fs::is_directory(dir, ec)) {
+      fs::create_directories(dir, ec);
+      if (ec) {
+        const std::string what = "cannot create directory '" + dir.string() + "': " + ec.message();
+        if (ec == std::errc::no_space_on_device || ec == std::errc::io_error || ec.value() == EDQUOT)
+          throw core::FileError(what);
+        throw FolderRefused(what);
+      }
+    }
   }
   lock.emplace(dir);
   {
@@ -268,7 +281,12 @@ fs::path plain_path(const fs::path& dir, std::error_code& ec) {
 fs::path first_missing(const fs::path& dir) {
   std::error_code ec;
   fs::path missing;
-  for (fs::path p = plain_path(dir, ec); !ec && !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+  fs::path p = plain_path(dir, ec);
+  if (ec) return missing;
+  for (; !p.empty(); p = p.parent_path()) {
+    std::error_code there;
+    if (fs::exists(p, there) || (there && there != std::errc::filename_too_long))
+      break;  // a name too long is not there
     missing = p;
     if (p == p.parent_path()) break;
   }
@@ -297,6 +315,12 @@ void remove_empty_up_to(const fs::path& dir, const fs::path& top) {
   std::error_code ec;
   fs::path p = plain_path(dir, ec);
   const fs::path stop = plain_path(top, ec);
+  // from the deepest folder there is: a failed create_directories may have made only the first few
+  while (!ec && p != stop && p != p.parent_path()) {
+    std::error_code there;
+    if (fs::symlink_status(p, there).type() != fs::file_type::not_found && !there) break;
+    p = p.parent_path();
+  }
   while (!ec && fs::is_directory(p, ec) && fs::is_empty(p, ec) && !ec) {
     fs::remove(p, ec);
     if (p == stop || p == p.parent_path()) break;

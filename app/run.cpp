@@ -225,6 +225,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     host.set_seed(seed);  // math.random in rules: from the seed and the step
     if (cfg.resolved.contains("run")) cfg.resolved["run"]["seed"] = seed;  // run.json: the seed used (--seed too)
     target = s.has_target ? s.target_steps : cfg.steps;
+    g_print_planned = cfg.print.has_value();                        // what a Ctrl-C from now on says
     if (s.script_replaced && !cfg.colonisation && target < s.step)  // as --steps below it would be
       throw InputError((cfg.steps_given_at.empty() ? s.script_path.string() + ": " : cfg.steps_given_at) +
                        "run.steps = " + std::to_string(target) + " is below the checkpoint's step " +
@@ -269,7 +270,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     // parameter, so the knobs set are recalled (--set scale=-1 said only "initial_length ... got -3200")
     std::string knobs;
     for (const auto& [name, value] : s.sets)
-      if (name.find('.') == std::string::npos && std::string(e.what()).find(name) == std::string::npos)
+      if (name.find('.') == std::string::npos && std::string(e.what()).find("knob " + name) == std::string::npos &&
+          std::string(e.what()).find("--set " + name + "=") == std::string::npos)
         knobs += (knobs.empty() ? "" : ", ") + name + "=" + value;
     if (!knobs.empty() && !g_interrupt.load())
       err << "  (this run sets the script's knobs " << knobs << ", which its parameters may be computed from)\n";
@@ -301,14 +303,14 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     return failure;  // the folder is the other run's now
   } catch (const FolderRefused& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
-    return usage;  // the folder is as it was
+    remove_empty_up_to(dir, created);  // the folders a failed --out made on its way
+    return usage;                      // the folder is as it was
   } catch (const std::exception& e) {
     err << "cellform: cannot write outputs: " << core::error_text(e) << "\n";
     remove_empty_up_to(dir, created);
     return failure;
   }
 
-  g_print_planned = cfg.print.has_value();
   const std::uint64_t first = sim.step_count();
   const std::size_t initial_cells = sim.cells().size();       // of this command
   if (s.initial_cells == 0) s.initial_cells = initial_cells;  // a fresh run (or a checkpoint that did not say)

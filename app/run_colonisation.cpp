@@ -131,14 +131,14 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     return failure;  // the folder is the other run's now
   } catch (const FolderRefused& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
-    return usage;  // the folder is as it was
+    remove_empty_up_to(dir, created);  // the folders a failed --out made on its way
+    return usage;                      // the folder is as it was
   } catch (const std::exception& e) {
     err << "cellform: cannot write outputs: " << core::error_text(e) << "\n";
     remove_empty_up_to(dir, created);
     return failure;
   }
   ColonisationSpec& spec = *cfg.colonisation;
-  g_print_planned = cfg.print.has_value();
   spec.params.seed = seed;
   spec.params.threads = o.threads;
   if (s.has_target) spec.params.max_steps = s.target_steps;  // --steps, or the checkpoint's limit

@@ -362,10 +362,11 @@ std::optional<SceneConfig> load_run_script(const Start& s, const ScriptLimits& l
 std::string unplaced_changes(const Start& s, const SceneConfig& before, const SceneConfig& now) {
   // a space-colonisation checkpoint on cells has its sheet grown: nothing of it applies any more
   const bool grown = !s.colonisation_bytes.empty() && !s.sheet_partial;
-  auto due = [&](const std::vector<forms::PetioleSpec>& all) {
+  auto due = [&](const std::vector<forms::PetioleSpec>& all) {  // as a set: the order of the lines is no change
     std::vector<std::tuple<double, double, double, bool, std::uint64_t>> out;
     for (const forms::PetioleSpec& p : all)
       if (grown || p.step <= s.step) out.emplace_back(p.at.x(), p.at.y(), p.at.z(), p.fixed, p.step);
+    std::sort(out.begin(), out.end());
     return out;
   };
   auto cells = [](const std::vector<InitialCell>& all) {
@@ -393,7 +394,8 @@ std::string unplaced_changes(const Start& s, const SceneConfig& before, const Sc
       list += std::string(list.empty() ? "" : ", ") + (origin.empty() ? "petiole{}" : origin);
     }
     if (!old_due.empty())
-      list += std::string(list.empty() ? "" : "; ") + std::to_string(old_due.size()) + " of the run's no longer there";
+      list += std::string(list.empty() ? "" : "; ") + std::to_string(old_due.size()) +
+              " of the run's no longer there (moved or removed)";
     what.push_back((grown ? std::string("petioles") : "petioles due by step " + std::to_string(s.step)) + " (" + list +
                    ")");
   }

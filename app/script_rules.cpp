@@ -1,4 +1,5 @@
 // Calling the script's rule functions (division.rule, division.direction, venation.source) on a cell.
+#include <cmath>
 #include <string>
 
 #include "app/script_host.h"
@@ -51,7 +52,7 @@ void fill_cell_table(Impl& I, const cells::Cells& c, core::Index i, std::uint64_
     if (c.links[static_cast<std::size_t>(i) * c.link_stride + k] != core::kNoIndex) ++links;
   set_int("neighbours", links);
   for (const auto& [name, values] : c.attributes)
-    if (name == venation::kOrder)  // a whole number, as in cells.ply and veins.ply
+    if (name == venation::kOrder && std::isfinite(values[i]))  // a whole number, as in cells.ply and veins.ply
       set_int(name.c_str(), static_cast<long long>(values[i]));
     else
       set_num(name.c_str(), values[i]);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -350,10 +351,16 @@ Outline parse_outline(const std::string& text, const std::string& source) {
     for (std::size_t k = 0; k < std::min<std::size_t>(words.size(), 2); ++k) {
       const std::string& w = words[k];
       const char* end = w.data() + w.size();
-      const auto [ptr, ec] = std::from_chars(w.data() + (w[0] == '+' && w.size() > 1 ? 1 : 0), end, xy[k]);
-      if (ec == std::errc::result_out_of_range)
-        throw InvalidInput(at + (k ? "y" : "x") + " " + shown(w) +
-                           " is beyond the range of numbers (about 1.8e308): scale the outline down");
+      const bool plus = w[0] == '+' && w.size() > 1 && w[1] != '+' && w[1] != '-';  // from_chars takes no '+'
+      auto [ptr, ec] = std::from_chars(w.data() + (plus ? 1 : 0), end, xy[k]);
+      if (ec == std::errc::result_out_of_range && ptr == end) {
+        // too small is zero, as a stream reads it; too large is no number
+        xy[k] = std::strtod(w.c_str(), nullptr);
+        if (std::isinf(xy[k]))
+          throw InvalidInput(at + (k ? "y" : "x") + " " + shown(w) +
+                             " is beyond the range of numbers (about 1.8e308): scale the outline down");
+        ec = std::errc();
+      }
       if (ec != std::errc() || ptr != end)
         throw InvalidInput(
             at + "expected two numbers \"x y\", got " + shown(w) + (k == 0 ? std::string() : " as y") +

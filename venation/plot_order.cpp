@@ -15,23 +15,28 @@ std::vector<PlotStep> plot_order(const std::vector<std::array<Vec2, 2>>& ends, c
   order.reserve(n);
   if (n == 0) return order;
   // grid of the 2n end points, about two per cell; blocks of kBlock x kBlock cells count the live ends
-  Vec2 lo = ends[0][0], hi = lo;
+  Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (const auto& e : ends)
-    for (const Vec2& q : e) {
-      lo = lo.cwiseMin(q);
-      hi = hi.cwiseMax(q);
-    }
-  const double wx = std::max(hi.x() - lo.x(), 1e-300), wy = std::max(hi.y() - lo.y(), 1e-300);
-  const double target = std::max(1.0, static_cast<double>(n));  // cells
-  double cell = std::sqrt(wx * wy / target);
-  if (!(cell > 0) || !std::isfinite(cell)) cell = std::max(wx, wy);
-  constexpr int kMaxSide = 1 << 14;
-  const int gx = static_cast<int>(std::clamp(std::floor(wx / cell) + 1, 1.0, static_cast<double>(kMaxSide)));
-  const int gy = static_cast<int>(std::clamp(std::floor(wy / cell) + 1, 1.0, static_cast<double>(kMaxSide)));
-  const double cx = wx / gx * (1 + 1e-12), cy = wy / gy * (1 + 1e-12);  // every point strictly inside
-  auto cell_of = [&](const Vec2& q) {
-    const int i = std::clamp(static_cast<int>((q.x() - lo.x()) / cx), 0, gx - 1);
-    const int j = std::clamp(static_cast<int>((q.y() - lo.y()) / cy), 0, gy - 1);
+    for (const Vec2& q : e)
+      if (q.allFinite()) {
+        lo = lo.cwiseMin(q);
+        hi = hi.cwiseMax(q);
+      }
+  if (!(lo.x() <= hi.x())) lo = hi = Vec2::Zero();  // no finite end
+  // cells about the size that holds one stroke's two ends, and never more cells along a side than
+  // strokes (a flat box, all ends on a line, is one row of n cells, not a grid of 1e-300 cells)
+  const double wx = hi.x() - lo.x(), wy = hi.y() - lo.y();
+  const double nd = static_cast<double>(n);
+  double cell = std::sqrt(wx / nd) * std::sqrt(wy);  // sqrt(wx wy / n) without overflow
+  cell = std::max(cell, std::max(wx, wy) / nd);
+  if (!(cell > 0) || !std::isfinite(cell)) cell = 1;  // all ends at one point (or not finite: see below)
+  auto side = [&](double w) { return static_cast<int>(std::clamp(std::floor(w / cell) + 1, 1.0, nd + 1)); };
+  const int gx = side(wx), gy = side(wy);
+  const double cx = std::max(wx / gx, cell) * (1 + 1e-12), cy = std::max(wy / gy, cell) * (1 + 1e-12);
+  auto cell_of = [&](const Vec2& q) {  // clamped before the conversion; NaN goes to cell 0
+    const double u = (q.x() - lo.x()) / cx, v = (q.y() - lo.y()) / cy;
+    const int i = u >= 0 ? static_cast<int>(std::min(u, gx - 1.0)) : 0;
+    const int j = v >= 0 ? static_cast<int>(std::min(v, gy - 1.0)) : 0;
     return std::array<int, 2>{i, j};
   };
   // ends by cell (CSR); an end is 2 * stroke + which
@@ -85,19 +90,30 @@ std::vector<PlotStep> plot_order(const std::vector<std::array<Vec2, 2>>& ends, c
     const auto [pi, pj] = cell_of(pen);
     const int pbi = pi / kBlock, pbj = pj / kBlock;
     for (int r = 0;; ++r) {
+      // the blocks at Chebyshev distance r from the pen's block, within the grid: the rows above and
+      // below in full, the columns left and right between them
       bool any_in_grid = false, any_near = false;
-      for (int bj = pbj - r; bj <= pbj + r; ++bj)
-        for (int bi = pbi - r; bi <= pbi + r; ++bi) {
-          if (std::max(std::abs(bi - pbi), std::abs(bj - pbj)) != r) continue;  // the ring only
-          if (bi < 0 || bj < 0 || bi >= bx || bj >= by) continue;
-          any_in_grid = true;
-          const double gap = block_gap2(bi, bj);
-          if (gap > std::get<0>(best)) continue;
-          any_near = true;
-          if (live_in_block[static_cast<std::size_t>(bj) * bx + bi] > 0) scan_block(bi, bj);
-        }
+      auto visit = [&](int bi, int bj) {
+        any_in_grid = true;
+        if (block_gap2(bi, bj) > std::get<0>(best)) return;
+        any_near = true;
+        if (live_in_block[static_cast<std::size_t>(bj) * bx + bi] > 0) scan_block(bi, bj);
+      };
+      const int i0 = std::max(pbi - r, 0), i1 = std::min(pbi + r, bx - 1);
+      const int j0 = std::max(pbj - r + 1, 0), j1 = std::min(pbj + r - 1, by - 1);
+      for (const int bj : {pbj - r, pbj + r}) {
+        if (bj < 0 || bj >= by || (r == 0 && bj != pbj)) continue;
+        for (int bi = i0; bi <= i1; ++bi) visit(bi, bj);
+        if (r == 0) break;
+      }
+      for (const int bi : {pbi - r, pbi + r}) {
+        if (r == 0 || bi < 0 || bi >= bx) continue;
+        for (int bj = j0; bj <= j1; ++bj) visit(bi, bj);
+      }
       if (!any_in_grid || (!any_near && std::get<1>(best) < n)) break;
     }
+    if (std::get<1>(best) == n)  // only strokes with an end that is not a number are left: in index order
+      best = {0.0, static_cast<std::size_t>(std::find(drawn.begin(), drawn.end(), 0) - drawn.begin()), 0};
     const auto [d2, s, which] = best;
     (void)d2;
     drawn[s] = 1;

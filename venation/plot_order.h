@@ -20,7 +20,9 @@ struct PlotStep {
 /// begun at its last point is drawn reversed), until all are drawn. Ties go to the smaller stroke index,
 /// then to the first point. Pen-up travel is what it saves: between paths in generation order a plotter
 /// jumps across the whole drawing (a leaf's veins: 35 m of travel for 3.6 m of line, 1.4 m in this order).
-/// Any units; time about linear in strokes (a grid of the ends, with counts per block to skip empty space).
+/// Any units; time about linear in strokes for ends spread over an area or along a line (a grid of the
+/// ends, with counts per block to skip empty space). Strokes with an end that is not a finite number come
+/// last, in index order.
 std::vector<PlotStep> plot_order(const std::vector<std::array<Vec2, 2>>& ends, const Vec2& start);
 
 }  // namespace cellform::venation

@@ -55,6 +55,12 @@ TEST_CASE("an unwritable output location fails clearly", "[cli]") {
   r = cli({"run", script.string(), "--out", "/proc/self/no-folder-here", "--quiet", "--steps", "2"});
   CHECK(r.code == 2);
   CHECK_FALSE(fs::exists("/proc/self/no-folder-here"));
+  // a name too long for the file system, under folders the run had to make: those go again
+  r = cli({"run", script.string(), "--out", (t.path / "newtop" / "mid" / std::string(300, 'x')).string(), "--quiet",
+           "--steps", "2"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("cannot create directory"));
+  CHECK_FALSE(fs::exists(t.path / "newtop"));
   // a folder named run.json in the output folder is said as such (it was "not valid JSON") and kept
   fs::create_directories(t.path / "o" / "run.json");
   r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet", "--steps", "2"});

@@ -32,7 +32,7 @@ TEST_CASE("resume continues to the bit-identical result", "[cli][checkpoint]") {
   // resumed at its last step without --steps: nothing to do, and said how to go on
   r = cli({"resume", (part / "checkpoint.cfck").string()});
   CHECK(r.code == 0);
-  CHECK_THAT(r.err, Contains("at its run's last step (40); give --steps N"));
+  CHECK_THAT(r.err, Contains("at its run's last step (40): no step runs, the outputs are made again; give --steps N"));
   // the run's folder names its checkpoint
   const fs::path folder = t.path / "folder";
   REQUIRE(cli({"run", script.string(), "--out", folder.string(), "--quiet", "--steps", "17"}).code == 0);

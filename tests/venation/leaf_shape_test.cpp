@@ -98,6 +98,9 @@ TEST_CASE("outline files: closed polygons parse, open, malformed and self-inters
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n0 1e400\n1 1\n0 0\n", "r.txt"),
                     Contains("r.txt:2") && Contains("'1e400'") && Contains("beyond the range"));
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n0.3\n1 1\n0 0\n", "o.txt"), Contains("got one ('0.3')"));
+  CHECK(venation::parse_outline("0 1e-400\n+0 1\n1 1\n1 0\n0 0\n", "tiny.txt").points == sq.points);  // 1e-400 is 0
+  CHECK_THROWS_WITH(venation::parse_outline("0 0\n+-1 1\n1 1\n0 0\n", "pm.txt"),
+                    Contains("pm.txt:2") && Contains("'+-1'"));
   // "x,y" as a spreadsheet writes it is read; decimal commas are explained
   CHECK(venation::parse_outline("0,0\n0,1\n1,1\n1, 0\n0,0\n", "csv.txt").points == sq.points);
   CHECK_THROWS_WITH(venation::parse_outline("0,5 0,5\n0 1\n1 1\n0,5 0,5\n", "dec.txt"),

@@ -73,6 +73,30 @@ TEST_CASE("plot order is the greedy nearest-next order (brute force), reversals 
     CHECK(travel(ends, fast, start) < 0.25 * travel(ends, given, start));
   }
   CHECK(venation::plot_order({}, Vec2(0, 0)).empty());
+  // all ends on one line (a flat box): the same order, and not a grid of 1e-300-wide cells to walk
+  std::vector<std::array<Vec2, 2>> line;
+  core::Rng rng(9);
+  for (int i = 0; i < 2000; ++i) {
+    const double a = rng.uniform(0, 1000);
+    line.push_back({Vec2(a, 3), Vec2(a + rng.uniform(-2, 2), 3)});
+  }
+  line.push_back({Vec2(0, 3), Vec2(1, 3)});
+  line.push_back({Vec2(100, 3), Vec2(101, 3)});
+  for (const Vec2& pen : {Vec2(0, 3), Vec2(-50, 40), Vec2(2000, -1e6)}) {
+    const auto fast = venation::plot_order(line, pen), slow = brute_order(line, pen);
+    REQUIRE(fast.size() == slow.size());
+    for (std::size_t k = 0; k < fast.size(); ++k)
+      REQUIRE((fast[k].stroke == slow[k].stroke && fast[k].reversed == slow[k].reversed));
+  }
+  // an end that is not a number: every stroke still comes once, that one last
+  std::vector<std::array<Vec2, 2>> odd{
+      {Vec2(0, 0), Vec2(1, 0)}, {Vec2(std::nan(""), 0), Vec2(2, 0)}, {Vec2(3, 0), Vec2(4, 0)}};
+  odd[1][1] = Vec2(std::nan(""), std::nan(""));
+  const auto o3 = venation::plot_order(odd, Vec2(0, 0));
+  REQUIRE(o3.size() == 3);
+  CHECK(o3[0].stroke == 0);
+  CHECK(o3[1].stroke == 2);
+  CHECK(o3[2].stroke == 1);
   // all ends at one point: ties by stroke index
   const std::vector<std::array<Vec2, 2>> same(5, {Vec2(1, 1), Vec2(1, 1)});
   const auto o = venation::plot_order(same, Vec2(0, 0));
