@@ -191,6 +191,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     std::optional<cells::Cells> sheet;
     // cells when the sheet began to grow, for run.json (a checkpoint that does not say: the script's shapes)
     std::size_t sheet_initial = s.initial_cells > 0 ? s.initial_cells : cfg.initial_cells.size();
+    double sheet_seconds = 0;         // growing surface{cells = true}'s sheet in this command
     bool sheet_checkpointed = false;  // a checkpoint written while the sheet grew is in the folder
     if (s.sheet_partial && !spec.on_cells)
       throw core::InvalidInput("checkpoint '" + o.checkpoint.string() +
@@ -218,7 +219,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       if (s.resume && !s.sheet_partial) {
         sheet = cells::load(s.cells_bytes, "checkpoint '" + o.checkpoint.string() + "'");
       } else {
+        const auto grow_start = std::chrono::steady_clock::now();
         Sheet grown = grow_sheet(o, s, cfg, host, seed, checkpoint, err, failed);
+        sheet_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - grow_start).count();
         sheet_initial = grown.initial;
         sheet_checkpointed = grown.checkpointed;
         if (!grown.complete) {  // Ctrl-C: the sheet so far, and its checkpoint to finish it from
@@ -413,6 +416,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         {"nodes", rep.nodes}, {"loops", rep.loops}, {"sources_left", rep.sources}, {"sources_born", rep.sources_born}};
     run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
                       {"simulation_s", seconds}};
+    if (sheet_seconds > 0) run["timings"]["sheet_s"] = sheet_seconds;  // the cells grown first, in this command
     run["checkpoint"] = checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr);
     if (cfg.print) run["print"] = printed;
     if (planar) run["veins"]["leaf_length"] = leaf_length;

@@ -85,6 +85,7 @@ TEST_CASE("3-D space colonisation: veins in a volume and on a grown cell sheet",
     const auto run = nlohmann::json::parse(slurp(out / "run.json"));
     CHECK(run["domain"] == "surface");
     CHECK(run["cells"]["final"].get<int>() > run["cells"]["initial"].get<int>());
+    CHECK(run["timings"]["sheet_s"].get<double>() > 0);  // the cells' time, besides the veins' simulation_s
     CHECK(run["veins"]["nodes"].get<int>() > 10);
     CHECK(run["print"]["shell_triangles"].get<int>() > 0);
     CHECK(fs::file_size(out / "cells.ply") > 0);
