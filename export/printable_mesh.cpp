@@ -230,6 +230,8 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
     fill_cavities(mesh);
     volume = signed_volume(mesh);
   }
+  if (intersections > 0 && (dust > 0 || (params.fill_cavities && cavities > 0)))  // of the mesh as written
+    intersections = self_intersecting_pairs(mesh, params.threads).size();
   if (report) {
     report->pieces = pieces;
     report->cavities = cavities;
