@@ -37,7 +37,7 @@ double shell_closing(const cells::Cells& c, double close_holes) {
 /// records. Throws on failure.
 json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::vector<exporters::Segment>& segments,
                        const std::vector<std::array<core::Vec3, 3>>& shell, int threads,
-                       std::vector<std::string>& names, std::ostream& err, bool quiet, double close_holes) {
+                       std::vector<std::string>& names, std::ostream& err, bool quiet, double close_holes, bool sheet) {
   exporters::ThickenParams tp;
   tp.scale = spec.scale;
   tp.auto_extent = spec.size;
@@ -113,12 +113,18 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
         << " mm (set print.voxel_size, or raise print.max_memory, for a finer surface)\n";
   tp.progress = stage_progress("meshing");
   const exporters::PrintableMesh mesh = exporters::mesh_level_set(level_set, tp, &rep);
+  // separate vein trees (several petioles, seeds) join through the sheet they grew in
+  const bool join_by_shell = sheet && !spec.shell;
   if (rep.pieces > 1 && spec.pieces == "one")
-    throw core::InvalidInput("print{pieces = \"one\"}: the form falls apart into " + std::to_string(rep.pieces) +
-                             " parts (" + (spec.flat_base > 0 ? "lower print.flat_base, " : "") +
-                             "raise print.min_radius, grow longer, or set pieces = \"warn\")");
+    throw core::InvalidInput(
+        "print{pieces = \"one\"}: the form falls apart into " + std::to_string(rep.pieces) + " parts (" +
+        (join_by_shell ? "print.shell = true adds the cell sheet, which joins the trees it connects; " : "") +
+        (spec.flat_base > 0 ? "lower print.flat_base, " : "") +
+        "raise print.min_radius, grow longer, or set pieces = \"warn\")");
   if (rep.pieces > 1 && spec.pieces == "warn")
-    err << "cellform: warning: the printable form has " << rep.pieces << " separate parts\n";
+    err << "cellform: warning: the printable form has " << rep.pieces << " separate parts"
+        << (join_by_shell ? " (print.shell = true adds the cell sheet, which joins the trees it connects)" : "")
+        << "\n";
   if (rep.self_intersections > 0)  // none left in any case tested: said if it happens
     err << "cellform: warning: printable solid: " << rep.self_intersections
         << " pairs of triangles still cross after meshing without merging around them (cellform check FILE "
@@ -159,7 +165,7 @@ json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Ce
   std::vector<std::array<core::Vec3, 3>> shell;
   if (spec.shell) shell = exporters::shell_triangles(c, cells::Surface{cells::covering_triangles(c), {}});
   return thicken_and_write(dir, spec, segments, shell, threads, names, err, quiet,
-                           spec.shell ? shell_closing(c, spec.close_holes) : 0.0);
+                           spec.shell ? shell_closing(c, spec.close_holes) : 0.0, true);
 }
 
 }  // namespace cellform::app

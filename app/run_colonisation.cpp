@@ -378,7 +378,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                   : "print: nothing to print: no vein grew (run longer, raise colonisation.darts, or lower "
                     "colonisation.birth_distance)");
         printed = thicken_and_write(staging, *cfg.print, segments, shell, o.threads, outputs, err, o.quiet,
-                                    cfg.print->shell && sheet ? shell_closing(*sheet, cfg.print->close_holes) : 0.0);
+                                    cfg.print->shell && sheet ? shell_closing(*sheet, cfg.print->close_holes) : 0.0,
+                                    sheet.has_value());
       } catch (const core::Cancelled&) {  // said once the other files are in (another Ctrl-C quits before)
         print_cancelled = true;
         printed = {{"error", "interrupted"}};

@@ -245,11 +245,12 @@ std::vector<std::pair<std::uint64_t, std::string>> salvage_frames(const std::fil
 /// writes the requested formats into `dir`. Appends the file names to `names`; returns what run.json
 /// records. Throws on failure (core::Cancelled on Ctrl-C).
 /// `close_holes`: model units, the radius of the shell's closing (exporters::ThickenParams::close_holes).
+/// `sheet`: there is a cell sheet print.shell could add (a form apart is then told it can join through it).
 nlohmann::json thicken_and_write(const std::filesystem::path& dir, const PrintSpec& spec,
                                  const std::vector<exporters::Segment>& segments,
                                  const std::vector<std::array<core::Vec3, 3>>& shell, int threads,
-                                 std::vector<std::string>& names, std::ostream& err, bool quiet,
-                                 double close_holes = 0);
+                                 std::vector<std::string>& names, std::ostream& err, bool quiet, double close_holes = 0,
+                                 bool sheet = false);
 
 /// Writes a periodic checkpoint with `write`. A failure (a full disk) is reported on `err` the first time
 /// (`warned`) and the run goes on, to try again at the next one; returns whether it was written.

@@ -487,7 +487,7 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
                              "print { pieces = 'one' }\n");
     r = cli({"run", two.string(), "--out", (t.path / "two").string(), "--quiet"});
     CHECK(r.code == 1);
-    CHECK_THAT(r.err, Contains("falls apart into 2 parts"));
+    CHECK_THAT(r.err, Contains("falls apart into 2 parts (print.shell = true adds the cell sheet"));
     CHECK(fs::exists(t.path / "two" / "checkpoint.cfck"));  // nothing else is lost
     // and another try of the print needs no growth again: said how
     CHECK_THAT(r.err, Contains("to print again with other print.* values: cellform resume " +
