@@ -139,16 +139,15 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, fs::
     // --out names a place no folder can be made (a file on the way, /proc, too long a name): an input
     // error; a full or failing disk is not
     std::error_code ec;
-    if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-      throw FolderRefused("'" + dir.string() + "' exists and is not a directory");
-    if (!fs::is_directory(dir, ec)) {
-      fs::create_directories(dir, ec);
-      if (ec) {
-        const std::string what = "cannot create directory '" + dir.string() + "': " + ec.message();
-        if (ec == std::errc::no_space_on_device || ec == std::errc::io_error || ec.value() == EDQUOT)
-          throw core::FileError(what);
-        throw FolderRefused(what);
-      }
+    core::ensure_directory(dir, ec);
+    if (ec) {
+      std::error_code probe;
+      const std::string what = ec == std::errc::not_a_directory && fs::exists(dir, probe)
+                                   ? "'" + dir.string() + "' exists and is not a directory"
+                                   : "cannot create directory '" + dir.string() + "': " + ec.message();
+      if (ec == std::errc::no_space_on_device || ec == std::errc::io_error || ec.value() == EDQUOT)
+        throw core::FileError(what);
+      throw FolderRefused(what);
     }
   }
   lock.emplace(dir);

@@ -266,15 +266,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     return usage;
   } catch (const core::InvalidInput& e) {
     err << "cellform: " << e.what() << "\n";
-    // a knob's --set reaches the parameters through the script's arithmetic: the message names the
-    // parameter, so the knobs set are recalled (--set scale=-1 said only "initial_length ... got -3200")
-    std::string knobs;
-    for (const auto& [name, value] : s.sets)
-      if (name.find('.') == std::string::npos && std::string(e.what()).find("knob " + name) == std::string::npos &&
-          std::string(e.what()).find("--set " + name + "=") == std::string::npos)
-        knobs += (knobs.empty() ? "" : ", ") + name + "=" + value;
-    if (!knobs.empty() && !g_interrupt.load())
-      err << "  (this run sets the script's knobs " << knobs << ", which its parameters may be computed from)\n";
+    if (!g_interrupt.load()) err << knob_recall(s.sets, e.what());
     return g_interrupt.load() ? interrupted : usage;  // a Ctrl-C while the script was read stops it there
   } catch (const core::FileError& e) {
     err << "cellform: " << e.what() << "\n";

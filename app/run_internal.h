@@ -106,6 +106,11 @@ std::optional<SceneConfig> load_run_script(const Start& s, const ScriptLimits& l
 /// change to shapes, petioles, cells{} or division{}.
 std::string unplaced_changes(const Start& s, const SceneConfig& before, const SceneConfig& now);
 
+/// A line recalling the knobs `sets` gives that `message` (a refused parameter) does not name, or "": a
+/// knob's --set reaches the parameters through the script's arithmetic (--set scale=-1 was said only as
+/// "initial_length ... got -3200").
+std::string knob_recall(const Overrides& sets, const std::string& message);
+
 /// Writes a run.json atomically (text that is not UTF-8, from a script's error say, is replaced).
 void write_run_json(const std::filesystem::path& path, const nlohmann::json& run);
 

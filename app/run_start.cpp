@@ -359,6 +359,17 @@ std::optional<SceneConfig> load_run_script(const Start& s, const ScriptLimits& l
   return std::nullopt;
 }
 
+std::string knob_recall(const Overrides& sets, const std::string& message) {
+  std::string knobs;
+  for (const auto& [name, value] : sets)
+    if (name.find('.') == std::string::npos && message.find("knob " + name) == std::string::npos &&
+        message.find("--set " + name + "=") == std::string::npos)
+      knobs += (knobs.empty() ? "" : ", ") + name + "=" + value;
+  return knobs.empty()
+             ? knobs
+             : "  (this run sets the script's knobs " + knobs + ", which its parameters may be computed from)\n";
+}
+
 std::string unplaced_changes(const Start& s, const SceneConfig& before, const SceneConfig& now) {
   // a space-colonisation checkpoint on cells has its sheet grown: nothing of it applies any more
   const bool grown = !s.colonisation_bytes.empty() && !s.sheet_partial;

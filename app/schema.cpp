@@ -138,10 +138,10 @@ std::vector<Field> build() {
   f.push_back(integer("petiole", "step", "0", 0, 1e9, "steps", "when the petiole appears (0 = at the start)"));
 
   // venation{}
-  f.push_back(num(
-      "venation", "threshold", "40", 0, kInf, true, "auxin per step",
-      "flow a cell next to a vein must exceed to become a vein cell (with source 1: about its upstream cells); "
-      "sets vein spacing"));
+  f.push_back(
+      num("venation", "threshold", "40", 0, kInf, true, "auxin per step",
+          "flow a cell next to a vein must exceed to become a vein cell (with source 1: about its upstream cells); "
+          "sets vein spacing"));
   f.push_back(Field{"venation", "source", Kind::number_or_function, "1", 0, 1e30, false, "", "auxin per step",
                     "auxin every cell produces; or function(cell) returning it"});
   f.push_back(num("venation", "murray_exponent", "3", 1, 4, false, "",
@@ -234,7 +234,7 @@ std::vector<Field> build() {
       num("colonisation", "length_step", "8", 0, kInf, false, "vein segments per step", "Delta L: growth per step"));
   f.push_back(integer("colonisation", "max_steps", "100000", 1, 1e9, "steps", "stop after this many steps"));
   f.push_back(integer("colonisation", "max_nodes", "2000000", 1, 1e9, "nodes",
-                            "stop after the step that reaches this many vein nodes"));
+                      "stop after the step that reaches this many vein nodes"));
   f.push_back(
       num("colonisation", "murray_exponent", "2", 1, 4, false, "", "n of r_parent^n = sum r_child^n (Table 1: 2)"));
   f.push_back(num("colonisation", "tip_radius", "0.15", 0, 1000, true, "vein segments", "radius of a free vein end"));
@@ -393,12 +393,11 @@ std::string schema_markdown() {
       s << "\n### `" << section
         << "{...}`\n\n| parameter | default | allowed | unit | meaning |\n|---|---|---|---|---|\n";
     }
-    // a function or table left out is no error (a rule not given: none); a plain value without a default is
-    const bool structured = f.kind == Kind::function || f.kind == Kind::table || f.kind == Kind::table_or_function;
     s << "| `" << f.name << "` | "
-      << (!f.default_text.empty() ? "`" + f.default_text + "`" : structured ? std::string("(none)") : "required")
-      << " | "
-      << allowed_text(f) << " | " << f.unit << " | " << f.doc << " |\n";
+      << (!f.default_text.empty() ? "`" + f.default_text + "`"
+          : f.structured()        ? std::string("(none)")
+                                  : "required")
+      << " | " << allowed_text(f) << " | " << f.unit << " | " << f.doc << " |\n";
   }
   return s.str();
 }

@@ -33,6 +33,8 @@ struct Field {
   std::string choices;         ///< allowed names for choice kinds, separated by '|'
   std::string unit;            ///< unit or role, e.g. "model units"
   std::string doc;             ///< one line
+  /// A function or table: leaving it out is no error, whatever default_text says.
+  bool structured() const { return kind == Kind::function || kind == Kind::table || kind == Kind::table_or_function; }
 };
 
 /// Every parameter of every script function, in documentation order.

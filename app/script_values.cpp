@@ -279,8 +279,7 @@ Values ScriptHost::Impl::read_section(const std::string& section, int idx, const
       }
     }
     Value& v = values[f->name];
-    const bool structured = f->kind == Kind::function || f->kind == Kind::table || f->kind == Kind::table_or_function;
-    if (!v.present && !structured) {
+    if (!v.present && !f->structured()) {
       if (f->default_text.empty())
         throw InvalidInput(at + section + "{...} needs '" + f->name + "' (" + allowed_text(*f) + ")");
       if (f->default_text.find("cells.") == std::string::npos) {

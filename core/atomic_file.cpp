@@ -15,14 +15,23 @@ namespace cellform::core {
 
 namespace fs = std::filesystem;
 
-void ensure_directory(const fs::path& dir) {
+void ensure_directory(const fs::path& dir, std::error_code& ec) {
+  ec.clear();
   if (dir.empty()) return;
-  std::error_code ec;
   if (fs::exists(dir, ec)) {
-    if (!fs::is_directory(dir, ec)) throw FileError("'" + dir.string() + "' exists and is not a directory");
+    if (!fs::is_directory(dir, ec)) ec = std::make_error_code(std::errc::not_a_directory);
     return;
   }
+  ec.clear();
   fs::create_directories(dir, ec);
+}
+
+void ensure_directory(const fs::path& dir) {
+  std::error_code ec;
+  ensure_directory(dir, ec);
+  std::error_code probe;
+  if (ec == std::errc::not_a_directory && fs::exists(dir, probe))
+    throw FileError("'" + dir.string() + "' exists and is not a directory");
   if (ec) throw FileError("cannot create directory '" + dir.string() + "': " + ec.message());
 }
 

@@ -15,6 +15,8 @@ void write_file_atomically(const std::filesystem::path& path, const std::functio
 
 /// Creates `dir` and its parents if needed; FileError if it exists and is not a directory or cannot be made.
 void ensure_directory(const std::filesystem::path& dir);
+/// The same, setting `ec` instead of throwing (std::errc::not_a_directory if `dir` is something else).
+void ensure_directory(const std::filesystem::path& dir, std::error_code& ec);
 
 /// Reads a whole file; FileError naming the path if it is missing or unreadable.
 std::string read_file(const std::filesystem::path& path);

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "core/errors.h"
+#include "tests/venation/leaf_fixtures.h"
 #include "venation/colonisation.h"
 
 using namespace cellform;
@@ -275,4 +276,27 @@ TEST_CASE("marginal growth is deterministic and the same for 1 and 2 threads", "
     CHECK(o->second.darts == a.second.darts);
     CHECK(o->second.sources_born == a.second.sources_born);
   }
+}
+
+TEST_CASE("marginal growth of an outline with barbs adds no vein outside the grown blade", "[colonisation]") {
+  // barbs that point back towards the petiole: the blade scaled up from the petiole leaves the space the
+  // young blade covered under each barb outside, and veins once grew there (7 mm out of a 120 mm leaf)
+  v::Leaf leaf;
+  leaf.outline.points = {{0, 0}, {45, 15}, {12, 35}, {35, 70}, {0, 100}, {-35, 70}, {-12, 35}, {-45, 15}};
+  v::ColonisationParams p = cellform::test::params(v::VenationType::open, 3, 1.5);
+  p.growth = v::GrowthMode::marginal;
+  p.initial_scale = 0.2;
+  p.final_scale = 1;
+  p.scale_step = 0.002;
+  p.darts_per_area = 0.004;
+  v::Colonisation sim(leaf, p);
+  sim.run();
+  const v::VeinTree t = sim.tree();
+  const v::OutlineIndex grown(leaf.outline);
+  std::size_t outside = 0;
+  for (const Vec3& q : t.positions)  // the seed at the petiole lies on the outline
+    outside += !grown.contains({q.x(), q.y()}) && v::distance_to_boundary(leaf.outline, {q.x(), q.y()}) > 1e-9;
+  INFO("nodes " << t.size() << " steps " << sim.report().steps << " sources left " << sim.report().sources);
+  CHECK(t.size() > 1000);
+  CHECK(outside == 0);
 }
