@@ -32,6 +32,18 @@ std::pair<Vec2, Vec2> drawing_bounds(const VeinTree& tree, const Outline& outlin
   return {lo, hi};
 }
 
+namespace {
+
+/// Stroke colour of the layer of vein order `order` (distinct, so software that separates a drawing's
+/// operations by colour, as laser cutters' usually does, can give each order its own power or pen).
+const char* order_colour(std::uint32_t order) {
+  static const char* const kColours[] = {"#2b3a1a", "#1f5fa8", "#b8321e", "#2e8b57",
+                                         "#8a5a00", "#6a3d9a", "#00838f", "#c2185b"};
+  return kColours[(order == 0 ? 0 : order - 1) % (sizeof kColours / sizeof kColours[0])];
+}
+
+}  // namespace
+
 void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline, const SvgParams& sp,
                const std::vector<Vec3>& sources) {
   const auto [lo, hi] = drawing_bounds(tree, outline);
@@ -43,10 +55,53 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
   double tip = 0;
   if (tree.radius.size() == tree.size() && !tree.radius.empty())
     tip = *std::min_element(tree.radius.begin(), tree.radius.end());
+
+  // Veins as polylines, so a plotter draws a vein without lifting its pen at every node: a path runs on
+  // through a node with one child while the width stays the same (between branch points it does).
+  const auto n = static_cast<Index>(tree.size());
+  const bool orders = tree.order.size() == tree.size();
+  auto order_of = [&](Index i) { return orders ? tree.order[i] : 0u; };
+  std::vector<Index> children(n, 0), only_child(n, kNoIndex);
+  for (Index i = 0; i < n; ++i)
+    if (tree.parent[i] != kNoIndex) {
+      ++children[tree.parent[i]];
+      only_child[tree.parent[i]] = i;
+    }
+  auto width = [&](Index i) { return std::max(sp.min_stroke, 2 * radius_of(tree, i) * s); };
+  auto continues = [&](Index i) {  // does the segment into i go on from the segment into its parent?
+    const Index p = tree.parent[i];
+    return p != kNoIndex && tree.parent[p] != kNoIndex && children[p] == 1 && width(p) == width(i) &&
+           order_of(p) == order_of(i);
+  };
+  std::vector<Index> stroke_start{0}, stroke_node;  // strokes: runs of nodes (CSR)
+  std::vector<double> stroke_width;
+  std::vector<std::uint32_t> stroke_order;  // the layer: the order of the segments' child nodes
+  for (Index i = 0; i < n; ++i) {
+    if (tree.parent[i] == kNoIndex || continues(i)) continue;  // not the first segment of a path
+    stroke_node.push_back(tree.parent[i]);
+    for (Index at = i;; at = only_child[at]) {
+      stroke_node.push_back(at);
+      if (children[at] != 1 || !continues(only_child[at])) break;
+    }
+    stroke_start.push_back(static_cast<Index>(stroke_node.size()));
+    stroke_width.push_back(width(i));
+    stroke_order.push_back(order_of(i));
+  }
+  for (const auto& [a, b] : tree.anastomoses) {  // a loop joins the finer of the veins it closes
+    stroke_node.insert(stroke_node.end(), {a, b});
+    stroke_start.push_back(static_cast<Index>(stroke_node.size()));
+    stroke_width.push_back(std::max(sp.min_stroke, 2 * tip * s));
+    stroke_order.push_back(std::max(order_of(a), order_of(b)));
+  }
+  std::vector<std::uint32_t> layers = stroke_order;
+  std::sort(layers.begin(), layers.end());
+  layers.erase(std::unique(layers.begin(), layers.end()), layers.end());
+
   core::write_file_atomically(path, [&](std::ostream& os) {
     std::string out;  // numbers as "%.3f" (micrometres)
     auto num = [&](double x) { core::append_fixed(out, x, 3); };
-    out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"";
+    out += "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\" ";
+    out += "width=\"";
     num(w);
     out += "mm\" height=\"";
     num(h);
@@ -55,9 +110,52 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
     out += ' ';
     num(h);
     out += "\">\n";
+    // One Inkscape layer per vein order, the widest first, then the outline (a laser cuts it last, after
+    // engraving the veins). Layer names begin with their number, as AxiDraw's "plot one layer" wants.
+    // In each layer the strokes come nearest-next from where the pen is (the page's corner, then the end
+    // of the previous layer), each drawn from its nearer end: a plotter's pen travels a fraction as far as
+    // between strokes in the order the veins grew.
+    auto page = [&](Index i) { return Vec2(X(tree.positions[i].x()), Y(tree.positions[i].y())); };
+    Vec2 pen(0, 0);
+    std::size_t number = 0;
+    std::vector<std::size_t> members;
+    std::vector<std::array<Vec2, 2>> ends;
+    for (const std::uint32_t layer : layers) {
+      members.clear();
+      ends.clear();
+      for (std::size_t k = 0; k < stroke_order.size(); ++k)
+        if (stroke_order[k] == layer) {
+          members.push_back(k);
+          ends.push_back({page(stroke_node[stroke_start[k]]), page(stroke_node[stroke_start[k + 1] - 1])});
+        }
+      const std::string label =
+          std::to_string(++number) + (layer == 0 ? " veins" : " veins of order " + std::to_string(layer));
+      out += "<g id=\"veins-order-" + std::to_string(layer) + "\" inkscape:groupmode=\"layer\" inkscape:label=\"" +
+             label + "\" stroke=\"" + order_colour(layer) +
+             "\" stroke-linecap=\"round\" stroke-linejoin=\"round\" fill=\"none\">\n";
+      for (const PlotStep& step : plot_order(ends, pen)) {
+        const std::size_t k = members[step.stroke];
+        pen = ends[step.stroke][step.reversed ? 0 : 1];
+        out += "<path stroke-width=\"";
+        num(stroke_width[k]);
+        out += "\" d=\"";
+        const Index first = stroke_start[k], last = stroke_start[k + 1];
+        for (Index m = 0; m < last - first; ++m) {
+          const Index node = stroke_node[step.reversed ? last - 1 - m : first + m];
+          out += m ? " L" : "M";
+          num(X(tree.positions[node].x()));
+          out += ' ';
+          num(Y(tree.positions[node].y()));
+        }
+        out += "\"/>\n";
+        core::drain(out, os);
+      }
+      out += "</g>\n";
+    }
     if (!outline.points.empty()) {
       // a line, not a filled shape: plotters draw it, laser cutters cut it (a fill they would engrave)
-      out += "<path fill=\"none\" stroke=\"#4a7a2a\" stroke-width=\"";
+      out += "<g id=\"outline\" inkscape:groupmode=\"layer\" inkscape:label=\"" + std::to_string(++number) +
+             " outline\">\n<path fill=\"none\" stroke=\"#4a7a2a\" stroke-width=\"";
       num(sp.outline_stroke);
       out += "\" d=\"";
       for (std::size_t i = 0; i < outline.points.size(); ++i) {
@@ -66,73 +164,21 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
         out += ' ';
         num(Y(outline.points[i].y()));
       }
-      out += " Z\"/>\n";
+      out += " Z\"/>\n</g>\n";
     }
-    out += "<g stroke=\"#2b3a1a\" stroke-linecap=\"round\" stroke-linejoin=\"round\" fill=\"none\">\n";
-    // Veins as polylines, so a plotter draws a vein without lifting its pen at every node: a path runs on
-    // through a node with one child while the width stays the same (between branch points it does).
-    const auto n = static_cast<Index>(tree.size());
-    std::vector<Index> children(n, 0), only_child(n, kNoIndex);
-    for (Index i = 0; i < n; ++i)
-      if (tree.parent[i] != kNoIndex) {
-        ++children[tree.parent[i]];
-        only_child[tree.parent[i]] = i;
-      }
-    auto width = [&](Index i) { return std::max(sp.min_stroke, 2 * radius_of(tree, i) * s); };
-    auto continues = [&](Index i) {  // does the segment into i go on from the segment into its parent?
-      const Index p = tree.parent[i];
-      return p != kNoIndex && tree.parent[p] != kNoIndex && children[p] == 1 && width(p) == width(i);
-    };
-    std::vector<Index> stroke_start{0}, stroke_node;  // strokes: runs of nodes (CSR)
-    std::vector<double> stroke_width;
-    for (Index i = 0; i < n; ++i) {
-      if (tree.parent[i] == kNoIndex || continues(i)) continue;  // not the first segment of a path
-      stroke_node.push_back(tree.parent[i]);
-      for (Index at = i;; at = only_child[at]) {
-        stroke_node.push_back(at);
-        if (children[at] != 1 || !continues(only_child[at])) break;
-      }
-      stroke_start.push_back(static_cast<Index>(stroke_node.size()));
-      stroke_width.push_back(width(i));
-    }
-    for (const auto& [a, b] : tree.anastomoses) {
-      stroke_node.insert(stroke_node.end(), {a, b});
-      stroke_start.push_back(static_cast<Index>(stroke_node.size()));
-      stroke_width.push_back(std::max(sp.min_stroke, 2 * tip * s));
-    }
-    // drawn nearest-next from where the outline ends (its first point), not in the order the veins grew:
-    // a plotter's pen then travels a fraction as far between strokes
-    auto page = [&](Index i) { return Vec2(X(tree.positions[i].x()), Y(tree.positions[i].y())); };
-    std::vector<std::array<Vec2, 2>> ends(stroke_width.size());
-    for (std::size_t k = 0; k < ends.size(); ++k)
-      ends[k] = {page(stroke_node[stroke_start[k]]), page(stroke_node[stroke_start[k + 1] - 1])};
-    const Vec2 pen = outline.points.empty() ? Vec2(0, 0) : Vec2(X(outline.points[0].x()), Y(outline.points[0].y()));
-    for (const PlotStep& step : plot_order(ends, pen)) {
-      const std::size_t k = step.stroke;
-      out += "<path stroke-width=\"";
-      num(stroke_width[k]);
-      out += "\" d=\"";
-      const Index first = stroke_start[k], last = stroke_start[k + 1];
-      for (Index m = 0; m < last - first; ++m) {
-        const Index node = stroke_node[step.reversed ? last - 1 - m : first + m];
-        out += m ? " L" : "M";
-        num(X(tree.positions[node].x()));
-        out += ' ';
-        num(Y(tree.positions[node].y()));
-      }
-      out += "\"/>\n";
-      core::drain(out, os);
-    }
-    out += "</g>\n";
-    if (sp.draw_sources)
+    if (sp.draw_sources && !sources.empty()) {
+      // a layer whose name begins with "%" is one AxiDraw does not plot
+      out += "<g id=\"sources\" inkscape:groupmode=\"layer\" inkscape:label=\"% sources\" fill=\"#c03020\">\n";
       for (const Vec3& q : sources) {
         out += "<circle cx=\"";
         num(X(q.x()));
         out += "\" cy=\"";
         num(Y(q.y()));
-        out += "\" r=\"0.5\" fill=\"#c03020\"/>\n";
+        out += "\" r=\"0.5\"/>\n";
         core::drain(out, os);
       }
+      out += "</g>\n";
+    }
     out += "</svg>\n";
     core::drain(out, os, 0);
   });

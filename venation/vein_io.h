@@ -23,14 +23,17 @@ struct SvgParams {
   bool draw_sources = false;    ///< draw the sources passed in as dots of 1 mm diameter
 };
 
-/// SVG of the outline (filled light green) and the veins as stroked paths of width 2 * radius of each
-/// segment's child node (tip radius for anastomoses; at least min_stroke): one path runs through every node
-/// with a single child while the width stays the same, so a plotter lifts its pen only at branch points,
-/// width changes and tips. Anastomoses are one path each. The paths come in plot_order() from the
-/// outline's first point (where its path ends), each drawn from the end nearer the pen. All is scaled by the same
-/// factor
-/// (`scale`, or else size / the box's longer side: mm per model unit), y pointing up. Written atomically;
-/// core::FileError on failure.
+/// SVG of the veins as stroked paths of width 2 * radius of each segment's child node (tip radius for
+/// anastomoses; at least min_stroke) and the outline as a line. One path runs through every node with a
+/// single child while the width stays the same, so a plotter lifts its pen only at branch points, width
+/// changes and tips; anastomoses are one path each. Inkscape layers, their names beginning with their
+/// number (AxiDraw plots one layer by number): "1 veins of order 1", "2 veins of order 2", ... (an
+/// anastomosis joins the higher order of its ends), each in its own stroke colour, then the outline last
+/// (a laser cutter cuts it after engraving the veins); the sources, when drawn, in a layer "% sources"
+/// that AxiDraw skips. Within a layer the paths come in plot_order() from where the pen is (the page's
+/// top-left corner, then the end of the previous layer), each drawn from the end nearer the pen. All is
+/// scaled by the same factor (`scale`, or else size / the box's longer side: mm per model unit), y
+/// pointing up. Written atomically; core::FileError on failure.
 void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline,
                const SvgParams& params = {}, const std::vector<Vec3>& sources = {});
 

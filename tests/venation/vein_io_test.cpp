@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -69,16 +71,19 @@ TEST_CASE("the SVG is drawn in millimetres at svg size", "[vein_io]") {
   REQUIRE(xs.size() >= 4);
   CHECK(*std::min_element(xs.begin(), xs.end()) == Approx(5));
   CHECK(*std::max_element(xs.begin(), xs.end()) == Approx(125));
-  CHECK(svg.find("M65.000 35.000 L65.000 20.000") != std::string::npos);  // the midvein, base (y = 0) below
+  // the midvein, base (y = 0) below, drawn from its end nearer the page corner where the pen starts
+  CHECK(svg.find("M65.000 20.000 L65.000 35.000") != std::string::npos);
 
-  // strokes: 2 r mm per unit for veins, the minimum for the thin branch, the outline's own width
+  // strokes: 2 r mm per unit for veins, the minimum for the thin branch, then the outline's own width
   const std::vector<double> strokes = captured(svg, "stroke-width=\"([0-9.]+)\"");
   REQUIRE(strokes.size() == 3);
-  CHECK(strokes[0] == Approx(sp.outline_stroke));
+  CHECK(strokes[2] == Approx(sp.outline_stroke));
   CHECK(svg.find("<path fill=\"none\" stroke=\"#4a7a2a\"") != std::string::npos);  // the outline: a line to cut
   CHECK(svg.find("fill=\"#") == std::string::npos);  // nothing filled but the marked sources, of which none here
-  CHECK(strokes[1] == Approx(2 * 0.5 * 3));          // the midvein: 3 mm wide
-  CHECK(strokes[2] == Approx(sp.min_stroke));        // 0.06 mm drawn at the minimum
+  CHECK(strokes[0] == Approx(2 * 0.5 * 3));          // the midvein: 3 mm wide
+  CHECK(strokes[1] == Approx(sp.min_stroke));        // 0.06 mm drawn at the minimum
+  // no orders computed: one layer of veins, then the outline's
+  CHECK_THAT(svg, Contains("inkscape:label=\"1 veins\"") && Contains("inkscape:label=\"2 outline\""));
 
   // a given scale (a print's, mm per model unit) replaces the size
   sp.scale = 2;
@@ -110,15 +115,89 @@ TEST_CASE("the SVG draws a vein as one path between branch points and width chan
   const std::regex re("<path stroke-width=\"([0-9.]+)\" d=\"([^\"]*)\"/>");
   for (auto it = std::sregex_iterator(svg.begin(), svg.end(), re); it != std::sregex_iterator(); ++it)
     paths.push_back((*it)[1].str() + ": " + (*it)[2].str());
-  // x -> 5 + x, y -> 5 + (5 - y): the trunk 0-1 ends at the branch point 1; 1-2-3 runs on; 3-4 is thinner;
-  // the branch 1-5; the anastomosis 4-5 on its own. Nearest-next from the outline's first point (4, 11):
-  // the trunk, on to 3-4, the anastomosis from 4 (where the pen is), then the branch back from 5
-  const std::vector<std::string> expected{"1.000: M6.000 10.000 L7.000 10.000",
+  // x -> 6 + x, y -> 5 + (5 - y): the trunk 0-1 ends at the branch point 1; 1-2-3 runs on; 3-4 is thinner;
+  // the branch 1-5; the anastomosis 4-5 on its own. Nearest-next from the page's corner (0, 0): the branch
+  // from 5 (the anastomosis's end there is as near, but a later stroke), the trunk back from 1, 1-2-3, 3-4,
+  // then the anastomosis from 4
+  const std::vector<std::string> expected{"1.000: M7.000 8.000 L7.000 10.000", "1.000: M7.000 10.000 L6.000 10.000",
                                           "1.000: M7.000 10.000 L8.000 10.000 L9.000 10.000",
                                           "0.500: M9.000 10.000 L10.000 10.000",
-                                          "0.500: M10.000 10.000 L7.000 8.000",  // the tip radius, 0.25
-                                          "1.000: M7.000 8.000 L7.000 10.000"};
+                                          "0.500: M10.000 10.000 L7.000 8.000"};  // the tip radius, 0.25
   CHECK(paths == expected);
+}
+
+TEST_CASE("the SVG has a layer per vein order, each path in the layer of its segments' order", "[vein_io]") {
+  auto [t, rep] = v::colonise(ellipse_leaf(30, 20), params(v::VenationType::closed, 1));
+  v::compute_widths(t, {});
+  REQUIRE(!t.anastomoses.empty());
+  const std::uint32_t top = *std::max_element(t.order.begin(), t.order.end());
+  REQUIRE(top >= 3);
+  const auto dir = std::filesystem::temp_directory_path() / "cellform_vein_io_layers";
+  std::filesystem::create_directories(dir);
+  v::SvgParams sp;
+  sp.scale = 10;
+  v::write_svg(dir / "leaf.svg", t, ellipse_leaf(30, 20).outline, sp);
+  const std::string svg = read_text(dir / "leaf.svg");
+  std::filesystem::remove_all(dir);
+
+  // the node at each drawn point (3 decimals of mm at 10 mm per unit: distinct for these nodes)
+  const auto [lo, hi] = v::drawing_bounds(t, ellipse_leaf(30, 20).outline);
+  std::map<std::string, Index> node_at;
+  for (Index i = 0; i < t.size(); ++i) {
+    char key[64];
+    std::snprintf(key, sizeof key, "%.3f %.3f", (t.positions[i].x() - lo.x()) * 10 + 5,
+                  (hi.y() - t.positions[i].y()) * 10 + 5);
+    REQUIRE(node_at.emplace(key, i).second);
+  }
+  // every segment once, in the layer of its order: a tree edge's child node's, an anastomosis's higher end
+  std::map<std::pair<Index, Index>, std::uint32_t> want;
+  for (Index i = 0; i < t.size(); ++i)
+    if (t.parent[i] != kNoIndex) want[{std::min(i, t.parent[i]), std::max(i, t.parent[i])}] = t.order[i];
+  for (const auto& [a, b] : t.anastomoses) want[{std::min(a, b), std::max(a, b)}] = std::max(t.order[a], t.order[b]);
+  std::map<std::pair<Index, Index>, std::uint32_t> drawn;
+  std::vector<std::string> labels, colours;
+  const std::regex layer_re(
+      "<g id=\"([a-z0-9-]+)\" inkscape:groupmode=\"layer\" inkscape:label=\"([^\"]*)\"( stroke=\"(#[0-9a-f]+)\")?");
+  const std::regex path_re("<path stroke-width=\"[0-9.]+\" d=\"([^\"]*)\"/>"), point_re("[ML]([0-9.]+ [0-9.]+)");
+  std::uint32_t layer_order = 0;
+  std::size_t duplicates = 0, unknown = 0, misplaced = 0;
+  std::istringstream lines(svg);
+  for (std::string line; std::getline(lines, line);) {
+    std::smatch m;
+    if (std::regex_search(line, m, layer_re)) {
+      labels.push_back(m[2].str());
+      colours.push_back(m[4].str());
+      const std::string id = m[1].str();
+      layer_order = id.rfind("veins-order-", 0) == 0 ? static_cast<std::uint32_t>(std::stoul(id.substr(12))) : 0;
+      continue;
+    }
+    if (!std::regex_search(line, m, path_re)) continue;
+    const std::string d = m[1].str();
+    std::vector<Index> nodes;
+    for (auto it = std::sregex_iterator(d.begin(), d.end(), point_re); it != std::sregex_iterator(); ++it) {
+      const auto at = node_at.find((*it)[1].str());
+      REQUIRE(at != node_at.end());
+      nodes.push_back(at->second);
+    }
+    for (std::size_t k = 0; k + 1 < nodes.size(); ++k) {
+      const std::pair<Index, Index> e{std::min(nodes[k], nodes[k + 1]), std::max(nodes[k], nodes[k + 1])};
+      const auto it = want.find(e);
+      unknown += it == want.end();
+      misplaced += it != want.end() && it->second != layer_order;
+      duplicates += !drawn.emplace(e, layer_order).second;
+    }
+  }
+  CHECK(unknown == 0);
+  CHECK(misplaced == 0);
+  CHECK(duplicates == 0);
+  CHECK(drawn.size() == want.size());
+  // layers 1 .. top by order (every order from 1 to the highest has a vein), then the outline, numbered on
+  std::vector<std::string> expected;
+  for (std::uint32_t o = 1; o <= top; ++o)
+    expected.push_back(std::to_string(o) + " veins of order " + std::to_string(o));
+  expected.push_back(std::to_string(top + 1) + " outline");
+  CHECK(labels == expected);
+  for (std::size_t k = 1; k < std::min<std::size_t>(colours.size() - 1, 8); ++k) CHECK(colours[k] != colours[k - 1]);
 }
 
 TEST_CASE("SVG, PLY and OBJ output", "[colonisation]") {
@@ -135,9 +214,11 @@ TEST_CASE("SVG, PLY and OBJ output", "[colonisation]") {
   const std::string text = s.str();
   CHECK_THAT(text, Contains("<svg") && Contains("</svg>"));
   const auto edges = t.edges();
-  // every edge is drawn once: one "L" per segment in the veins' group (paths join segments into polylines)
-  const std::size_t group = text.find("<g "), group_end = text.find("</g>");
+  // every edge is drawn once: one "L" per segment in the veins' layers (paths join segments into
+  // polylines); the outline's layer comes after them
+  const std::size_t group = text.find("<g "), group_end = text.find("<g id=\"outline\"");
   REQUIRE(group != std::string::npos);
+  REQUIRE(group_end != std::string::npos);
   std::size_t ls = 0;
   for (std::size_t at = text.find(" L", group); at < group_end; at = text.find(" L", at + 2)) ++ls;
   CHECK(ls == edges.size());
