@@ -1,5 +1,6 @@
--- A coral-like formation: uniform growth by age with little drag folds the sheet into frills that
--- grow back onto themselves and form new connections (a non-manifold surface).
+-- A coral-like mass: uniform growth by age with little drag crumples the sheet into folds that
+-- grow back onto themselves and form new connections (a non-manifold surface). Growth in the whole
+-- sheet outruns the springs: the folds pack densely, cells about half a rest length apart.
 
 local P = params {
   size = 8000,

@@ -1,5 +1,6 @@
--- A flower-like folded form: a disc whose cells split around its centre (circumferential
--- anisotropic growth), so the rim lengthens faster than the radius and folds into petals.
+-- A crumpled, flower-like disc: its cells split around its centre (circumferential anisotropic
+-- growth), so the rim lengthens faster than the radius and the disc crumples into a thick, ruffled mass
+-- (growth in the whole sheet outruns the springs: cells pack about half a rest length apart).
 
 local P = params {
   size = 7000,
