@@ -34,13 +34,21 @@ std::pair<Vec2, Vec2> drawing_bounds(const VeinTree& tree, const Outline& outlin
 
 namespace {
 
-/// Stroke colour of the layer of vein order `order` (distinct, so software that separates a drawing's
-/// operations by colour, as laser cutters' usually does, can give each order its own power or pen).
+/// Stroke colour of the layer of vein order `order`: LightBurn's layer colours 00 to 07, then 10 to 13
+/// (cycling), so software that separates a drawing's operations by colour, as laser cutters' does, gives
+/// each order its own layer (LightBurn maps a colour to its nearest palette entry: colours off its palette
+/// could share a layer) and its own power or pen.
 const char* order_colour(std::uint32_t order) {
-  static const char* const kColours[] = {"#2b3a1a", "#1f5fa8", "#b8321e", "#2e8b57",
-                                         "#8a5a00", "#6a3d9a", "#00838f", "#c2185b"};
+  static const char* const kColours[] = {"#000000", "#0000ff", "#ff0000", "#00e000", "#d0d000", "#ff8000",
+                                         "#00e0e0", "#ff00ff", "#a00000", "#00a000", "#a0a000", "#c08000"};
   return kColours[(order == 0 ? 0 : order - 1) % (sizeof kColours / sizeof kColours[0])];
 }
+
+/// The outline's colour: LightBurn's layer 09, used by no vein order.
+constexpr const char* kOutlineColour = "#0000a0";
+/// The outline layer's number: fixed, whatever the number of vein orders (below 100: a branch off the main
+/// child carries at most half its parent's flow), so a plotter's "plot layer 100" draws any leaf's outline.
+constexpr std::size_t kOutlineLayer = 100;
 
 }  // namespace
 
@@ -154,8 +162,9 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
     }
     if (!outline.points.empty()) {
       // a line, not a filled shape: plotters draw it, laser cutters cut it (a fill they would engrave)
-      out += "<g id=\"outline\" inkscape:groupmode=\"layer\" inkscape:label=\"" + std::to_string(++number) +
-             " outline\">\n<path fill=\"none\" stroke=\"#4a7a2a\" stroke-width=\"";
+      out += "<g id=\"outline\" inkscape:groupmode=\"layer\" inkscape:label=\"" +
+             std::to_string(std::max(kOutlineLayer, number + 1)) + " outline\" stroke=\"" + kOutlineColour +
+             "\" fill=\"none\">\n<path stroke-width=\"";
       num(sp.outline_stroke);
       out += "\" d=\"";
       for (std::size_t i = 0; i < outline.points.size(); ++i) {
