@@ -284,6 +284,7 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
   std::string chunk = "@";  // (not "@" + path: GCC 12 warns falsely of overlapping copies there, -Wrestrict)
   chunk += script_path.string();
   I.memory_exceeded = false;
+  I.refused = false;
   // as the lua command accepts them: a UTF-8 byte-order mark, and a first line "#!..." (made a comment)
   std::string text = source.rfind("\xEF\xBB\xBF", 0) == 0 ? source.substr(3) : source;
   if (!text.empty() && text[0] == '#') text.insert(0, "--");

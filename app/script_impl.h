@@ -71,6 +71,10 @@ struct ScriptHost::Impl {
   ScriptLimits limits;
   std::size_t used = 0;
   bool memory_exceeded = false;
+  // alloc refused this allocation over the limit and waits for Lua to ask again, after a collection
+  bool refused = false;
+  void* refused_ptr = nullptr;
+  std::size_t refused_osize = 0, refused_nsize = 0;
   std::size_t placements = 0;  // shape and constraint calls of the script being read
   bool in_host = false;        // an API function's C++ body runs: no Lua error may be raised (see alloc)
   // for the watchdog (ScriptHost::Watchdog): hook calls so far, and whether Lua code runs now
@@ -130,13 +134,56 @@ struct ScriptHost::Impl {
     }
     // host code (an API function's C++ body) may pass the limit: a Lua memory error there would longjmp
     // past its C++ objects; the script's next allocation fails instead
-    if (nsize > old && !self->in_host && self->used - old + nsize > self->limits.memory_bytes) {
-      self->memory_exceeded = true;
-      return nullptr;
+    if (nsize > old && !self->in_host) {
+      // An allocation over the limit is refused once: Lua then collects all garbage and asks again. Asked
+      // again, the script really holds that much; not asked again (a library's buffer raised "not enough
+      // memory" at once), the refusal stands. Either way the script is over its limit: allocations pass, up
+      // to a reserve above it, and the hook's next instruction stops the script with the line it is at (a
+      // Lua memory error names none). An allocation beyond the reserve (a string doubled at once) fails.
+      const bool retry =
+          self->refused && ptr == self->refused_ptr && osize == self->refused_osize && nsize == self->refused_nsize;
+      if (self->refused && !retry) self->exceeded();
+      self->refused = false;
+      const std::size_t want = self->used - old + nsize;
+      if (want > self->limits.memory_bytes) {
+        if (!self->memory_exceeded && !retry) {
+          self->refused = true;
+          self->refused_ptr = ptr;
+          self->refused_osize = osize;
+          self->refused_nsize = nsize;
+          return nullptr;
+        }
+        self->exceeded();
+        if (want > self->limits.memory_bytes + std::max<std::size_t>(self->limits.memory_bytes / 4, 4u << 20))
+          return nullptr;
+      }
     }
     void* p = std::realloc(ptr, nsize);
     if (p) self->used = self->used - old + nsize;
     return p;
+  }
+
+  /// The script is over its memory limit: the hook's next instruction says so (see alloc).
+  void exceeded() {
+    if (memory_exceeded) return;
+    memory_exceeded = true;
+    lua_sethook(L, &Impl::hook, kHookMask, 1);
+  }
+
+  /// "the script exceeded its memory limit of N MiB; ..." (the line in front, where it is known).
+  std::string memory_message() const {
+    return "the script exceeded its memory limit of " + std::to_string(limits.memory_bytes >> 20) +
+           " MiB; raise it with --lua-memory";
+  }
+
+  /// Pushes "file:line: " of the line running now, or "" when there is none (luaL_error would name the
+  /// caller's line, which for the main chunk is none).
+  static void push_where(lua_State* L, lua_Debug* ar) {
+    lua_getinfo(L, "Sl", ar);
+    if (ar->currentline > 0)
+      lua_pushfstring(L, "%s:%d: ", ar->short_src, ar->currentline);
+    else
+      lua_pushliteral(L, "");
   }
 
   static void hook(lua_State* L, lua_Debug* ar) {
@@ -177,6 +224,13 @@ struct ScriptHost::Impl {
       lua_pushstring(L, self->stop_message.c_str());
       lua_error(L);
     }
+    if (self->memory_exceeded) {  // set by alloc, which can raise no error with a line
+      push_where(L, ar);
+      lua_pushstring(L, self->memory_message().c_str());
+      lua_concat(L, 2);
+      self->stop(lua_tostring(L, -1));
+      lua_error(L);
+    }
     if (lua_gethookcount(L) != kHookEvery) {  // a coroutine kept from a call that was stopped
       lua_sethook(L, &Impl::hook, kHookMask, kHookEvery);
       return;
@@ -190,12 +244,7 @@ struct ScriptHost::Impl {
       lua_error(L);
     }
     if (self->executed > self->budget) {
-      // the line running now (luaL_error would name the caller's, which for the main chunk is none)
-      lua_getinfo(L, "Sl", ar);
-      if (ar->currentline > 0)
-        lua_pushfstring(L, "%s:%d: ", ar->short_src, ar->currentline);
-      else
-        lua_pushliteral(L, "");
+      push_where(L, ar);
       if (self->rule_call)
         lua_pushfstring(L,
                         "a rule function ran more than %I instructions in one call (an endless loop?); it is called "
@@ -222,9 +271,12 @@ struct ScriptHost::Impl {
 
   /// Turns a Lua error message into one line that names the script; adds the memory-limit hint.
   std::string describe(const std::string& lua_message) const {
-    if (memory_exceeded || lua_message == "not enough memory")
-      return script_name + ": the script exceeded its memory limit of " + std::to_string(limits.memory_bytes >> 20) +
-             " MiB; raise it with --lua-memory";
+    if (memory_exceeded || lua_message == "not enough memory") {
+      const std::string text = memory_message();
+      const bool placed = lua_message.size() > text.size() &&
+                          lua_message.compare(lua_message.size() - text.size(), text.size(), text) == 0;
+      return placed ? lua_message : script_name + ": " + text;
+    }
     if (lua_message == "C stack overflow")  // Lua's parser says it with no place
       return script_name +
              ": C stack overflow: the script nests deeper than Lua allows (about 200 levels of brackets, table "
@@ -248,6 +300,7 @@ struct ScriptHost::Impl {
     budget = call_budget;
     rule_call = rule;
     memory_exceeded = false;
+    refused = false;
     if (stopping) {
       stopping = false;
       stop_pending.store(false, std::memory_order_release);
