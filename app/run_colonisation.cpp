@@ -402,6 +402,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       // svg_size 0: at the print's scale, so that a cut outline fits the printed veins
       if (cfg.output.svg_size == 0 && printed.contains("scale_mm_per_unit"))
         svg.scale = printed["scale_mm_per_unit"].get<double>();
+      svg.join_veins = cfg.output.svg_join_veins;
       venation::write_svg(staging / "veins.svg", tree, col.outline(), svg);
       outputs.push_back("veins.svg");
     }

@@ -299,6 +299,10 @@ std::vector<Field> build() {
   f.push_back(num("output", "svg_size", "0", 0, 1e5, false, "mm",
                   "longer side of the leaf (outline and veins) in veins.svg, drawn in mm with a 5 mm margin; 0 = at "
                   "the print's scale with print{...} (the outline fits the printed veins), else 200"));
+  f.push_back(choice("output", "svg_paths", Kind::choice, "widths", "widths|veins",
+                     "veins.svg: widths = a path runs between branch points and width changes, each at its width; "
+                     "veins = a path per vein, from its parent vein to its tip at its mean width (about half the "
+                     "pen lifts for a plotter)"));
   return f;
 }
 
@@ -387,6 +391,14 @@ std::string allowed_text(const Field& f) {
 std::string schema_markdown() {
   std::ostringstream s;
   std::string section;
+  auto cell = [](const std::string& text) {  // a "|" in a cell ends it: escaped ("one of a|b")
+    std::string out;
+    for (const char c : text) {
+      if (c == '|') out += '\\';
+      out += c;
+    }
+    return out;
+  };
   for (const Field& f : schema()) {
     if (f.section != section) {
       section = f.section;
@@ -397,7 +409,7 @@ std::string schema_markdown() {
       << (!f.default_text.empty() ? "`" + f.default_text + "`"
           : f.structured()        ? std::string("(none)")
                                   : "required")
-      << " | " << allowed_text(f) << " | " << f.unit << " | " << f.doc << " |\n";
+      << " | " << cell(allowed_text(f)) << " | " << f.unit << " | " << cell(f.doc) << " |\n";
   }
   return s.str();
 }

@@ -378,10 +378,12 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     section_leaf(I, I.script_name + ": ");
   }
   if (cfg.colonisation) finish_colonisation(I);
-  if (!cfg.output.svg_size_at.empty() &&
-      (!cfg.colonisation || cfg.colonisation->domain.kind != venation::DomainKind::leaf))
-    cfg.notes.push_back(cfg.output.svg_size_at + "output.svg_size has no effect: only a space-colonisation run in a " +
-                        "leaf{...} writes veins.svg");
+  if (!cfg.colonisation || cfg.colonisation->domain.kind != venation::DomainKind::leaf)
+    for (const auto& [at, name] :
+         {std::pair{cfg.output.svg_size_at, "svg_size"}, {cfg.output.svg_paths_at, "svg_paths"}})
+      if (!at.empty())
+        cfg.notes.push_back(at + "output." + name + " has no effect: only a space-colonisation run in a " +
+                            "leaf{...} writes veins.svg");
   const bool on_cells = cfg.colonisation && cfg.colonisation->on_cells;
   if (cfg.colonisation && ((!cfg.initial_cells.empty() && !on_cells) || I.sections_seen.count("venation")))
     throw InvalidInput(I.sections_seen["colonisation"] +

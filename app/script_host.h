@@ -51,6 +51,8 @@ struct OutputSpec {
   int png_size = 1024;             ///< pixels: longer side of veins.png
   double svg_size = 0;             ///< mm: longer side of the leaf drawn in veins.svg (0: the print's scale, or 200)
   std::string svg_size_at;         ///< where svg_size was given ("file:line: " or "--set ...: "), or empty
+  bool svg_join_veins = false;     ///< veins.svg: a path per vein (svg_paths = "veins")
+  std::string svg_paths_at;        ///< where svg_paths was given, or empty
 };
 
 /// Space colonisation requested by colonisation{...} in a leaf{...}, volume{...} or surface{...}.

@@ -249,6 +249,8 @@ void section_output(Impl& I, const std::string& at) {
   I.cfg->output.png_size = static_cast<int>(v["png_size"].num);
   I.cfg->output.svg_size = v["svg_size"].num;
   if (v["svg_size"].present) I.cfg->output.svg_size_at = I.value_at("output.svg_size", at);
+  I.cfg->output.svg_join_veins = v["svg_paths"].str == "veins";
+  if (v["svg_paths"].present) I.cfg->output.svg_paths_at = I.value_at("output.svg_paths", at);
 }
 
 namespace {

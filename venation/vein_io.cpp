@@ -84,16 +84,43 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
   std::vector<Index> stroke_start{0}, stroke_node;  // strokes: runs of nodes (CSR)
   std::vector<double> stroke_width;
   std::vector<std::uint32_t> stroke_order;  // the layer: the order of the segments' child nodes
-  for (Index i = 0; i < n; ++i) {
-    if (tree.parent[i] == kNoIndex || continues(i)) continue;  // not the first segment of a path
-    stroke_node.push_back(tree.parent[i]);
-    for (Index at = i;; at = only_child[at]) {
-      stroke_node.push_back(at);
-      if (children[at] != 1 || !continues(only_child[at])) break;
+  if (sp.join_veins) {
+    // A path per vein: from where it leaves its parent vein on along its main child (the one of its own
+    // order, the widest, the first) to its tip, at its length-weighted mean width.
+    std::vector<Index> main_child(n, kNoIndex);
+    for (Index i = 0; i < n; ++i) {
+      const Index p = tree.parent[i];
+      if (p == kNoIndex || order_of(i) != order_of(p)) continue;
+      const Index m = main_child[p];
+      if (m == kNoIndex || radius_of(tree, i) > radius_of(tree, m)) main_child[p] = i;
     }
-    stroke_start.push_back(static_cast<Index>(stroke_node.size()));
-    stroke_width.push_back(width(i));
-    stroke_order.push_back(order_of(i));
+    for (Index i = 0; i < n; ++i) {
+      const Index p = tree.parent[i];
+      if (p == kNoIndex || (tree.parent[p] != kNoIndex && main_child[p] == i)) continue;  // not a vein's first
+      stroke_node.push_back(p);
+      double length = 0, weighted = 0;
+      for (Index at = i; at != kNoIndex; at = main_child[at]) {
+        stroke_node.push_back(at);
+        const double l = (tree.positions[at] - tree.positions[tree.parent[at]]).norm();
+        length += l;
+        weighted += l * width(at);
+      }
+      stroke_start.push_back(static_cast<Index>(stroke_node.size()));
+      stroke_width.push_back(length > 0 ? weighted / length : width(i));
+      stroke_order.push_back(order_of(i));
+    }
+  } else {
+    for (Index i = 0; i < n; ++i) {
+      if (tree.parent[i] == kNoIndex || continues(i)) continue;  // not the first segment of a path
+      stroke_node.push_back(tree.parent[i]);
+      for (Index at = i;; at = only_child[at]) {
+        stroke_node.push_back(at);
+        if (children[at] != 1 || !continues(only_child[at])) break;
+      }
+      stroke_start.push_back(static_cast<Index>(stroke_node.size()));
+      stroke_width.push_back(width(i));
+      stroke_order.push_back(order_of(i));
+    }
   }
   for (const auto& [a, b] : tree.anastomoses) {  // a loop joins the finer of the veins it closes
     stroke_node.insert(stroke_node.end(), {a, b});

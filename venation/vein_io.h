@@ -21,14 +21,18 @@ struct SvgParams {
   double min_stroke = 0.1;      ///< mm: thinnest drawn vein (radius 0 or before compute_widths)
   double outline_stroke = 0.2;  ///< mm: width of the outline's line
   bool draw_sources = false;    ///< draw the sources passed in as dots of 1 mm diameter
+  /// One path per vein, from where it leaves its parent vein along its main child (the child of its own
+  /// order, the widest) to its tip, at its length-weighted mean width: about half the paths, so half the
+  /// pen lifts of a plotter, which draws every width alike. Off: a path per run between branch points.
+  bool join_veins = false;
 };
 
 /// SVG of the veins as stroked paths of width 2 * radius of each segment's child node (tip radius for
 /// anastomoses; at least min_stroke) and the outline as a line. One path runs through every node with a
 /// single child while the width stays the same, so a plotter lifts its pen only at branch points, width
-/// changes and tips; anastomoses are one path each. Inkscape layers, their names beginning with their
-/// number (AxiDraw plots one layer by number): "1 veins of order 1", "2 veins of order 2", ... (an
-/// anastomosis joins the higher order of its ends), each in its own stroke colour from LightBurn's layer
+/// changes and tips (with join_veins, a path runs a whole vein); anastomoses are one path each. Inkscape layers, their
+/// names beginning with their number (AxiDraw plots one layer by number): "1 veins of order 1", "2 veins of order 2",
+/// ... (an anastomosis joins the higher order of its ends), each in its own stroke colour from LightBurn's layer
 /// palette (00, 01, ...: a laser program that separates operations by colour gives each order its own
 /// layer), then the outline last, "100 outline" in LightBurn's colour 09 (a laser cutter cuts it after
 /// engraving the veins; a plotter plots it as layer 100 whatever the leaf); the sources, when drawn, in a layer "%

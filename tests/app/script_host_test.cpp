@@ -451,6 +451,17 @@ TEST_CASE("docs/scripting.md documents every parameter as the program knows it",
   s << in.rdbuf();
   // the reference tables are `cellform params` output pasted verbatim; regenerate them when this fails
   CHECK_THAT(s.str(), Contains(cellform::app::schema_markdown()));
+  // every row has the header's five cells (a "|" inside a cell, as in "one of a|b", is escaped)
+  std::istringstream rows(cellform::app::schema_markdown());
+  std::size_t checked = 0;
+  for (std::string row; std::getline(rows, row);) {
+    if (row.rfind("| `", 0) != 0) continue;
+    std::size_t bars = 0;
+    for (std::size_t k = 0; k < row.size(); ++k) bars += row[k] == '|' && (k == 0 || row[k - 1] != '\\');
+    CHECK(bars == 6);
+    ++checked;
+  }
+  CHECK(checked > 50);
 }
 
 TEST_CASE("positions beyond 1e9 model units are refused (their squares would overflow)", "[script]") {
@@ -504,6 +515,12 @@ TEST_CASE("settings without effect in this run (a shell's without a shell, svg_s
   CHECK_THAT(cells_run.notes[0], Contains(":2: output.svg_size has no effect"));
   CHECK(load("volume { ball = { radius = 5 } }\ncolonisation {}\noutput { svg_size = 50 }\n").notes.size() == 1);
   CHECK(load("output { svg_size = 50 }\nleaf {}\ncolonisation {}\n").notes.empty());
+  const auto paths = load("disc { radius = 2 }\noutput { svg_size = 50,\n  svg_paths = 'veins' }\n");
+  REQUIRE(paths.notes.size() == 2);
+  CHECK_THAT(paths.notes[1], Contains(":2: output.svg_paths has no effect"));
+  CHECK(load("output { svg_paths = 'veins' }\nleaf {}\ncolonisation {}\n").output.svg_join_veins);
+  CHECK_THAT(load_error("output { svg_paths = 'joined' }\nleaf {}\ncolonisation {}\n"),
+             Contains(":1: output.svg_paths") && Contains("widths") && Contains("veins"));
   const auto blade = load("output { svg_size = 50 }\ncolonisation {}\n");  // a leaf, the default blade: said
   REQUIRE(blade.notes.size() == 1);
   CHECK_THAT(blade.notes[0], Contains(":2: no leaf{...}, volume{...} or surface{...}: the veins grow in leaf{}'s"));

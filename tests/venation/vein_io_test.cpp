@@ -130,7 +130,39 @@ TEST_CASE("the SVG draws a vein as one path between branch points and width chan
   CHECK(paths == expected);
 }
 
+TEST_CASE("joined, the SVG draws each vein as one path at its length-weighted mean width", "[vein_io]") {
+  // 0 - 1 - 2 - 3 - 4 in a line, all 0.5 wide but the last segment; a branch 1 - 5 of the same width (the
+  // first child, 2, goes on: equal widths), and an anastomosis 4 - 5
+  v::Outline outline;
+  outline.points = {{-1, -1}, {10, -1}, {10, 5}, {-1, 5}};
+  v::VeinTree t;
+  t.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0), Vec3(4, 0, 0), Vec3(1, 2, 0)};
+  t.parent = {kNoIndex, 0, 1, 2, 3, 1};
+  t.radius = {0.5, 0.5, 0.5, 0.5, 0.25, 0.5};
+  t.anastomoses = {{4, 5}};
+  const auto dir = std::filesystem::temp_directory_path() / "cellform_vein_io_joined";
+  std::filesystem::create_directories(dir);
+  v::SvgParams sp;
+  sp.scale = 1;
+  sp.join_veins = true;
+  v::write_svg(dir / "p.svg", t, outline, sp);
+  const std::string svg = read_text(dir / "p.svg");
+  std::filesystem::remove_all(dir);
+  std::vector<std::string> paths;
+  const std::regex re("<path stroke-width=\"([0-9.]+)\" d=\"([^\"]*)\"/>");
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), re); it != std::sregex_iterator(); ++it)
+    paths.push_back((*it)[1].str() + ": " + (*it)[2].str());
+  // the branch from 5 (nearest the page's corner), the whole main vein from 0 at (1 + 1 + 1 + 0.5) / 4 mm,
+  // the anastomosis from 4, the outline
+  const std::vector<std::string> expected{
+      "1.000: M7.000 8.000 L7.000 10.000",
+      "0.875: M6.000 10.000 L7.000 10.000 L8.000 10.000 L9.000 10.000 L10.000 10.000",
+      "0.500: M10.000 10.000 L7.000 8.000", "0.200: M5.000 11.000 L16.000 11.000 L16.000 5.000 L5.000 5.000 Z"};
+  CHECK(paths == expected);
+}
+
 TEST_CASE("the SVG has a layer per vein order, each path in the layer of its segments' order", "[vein_io]") {
+  const bool join = GENERATE(false, true);  // paths between branch points, or a path per vein
   auto [t, rep] = v::colonise(ellipse_leaf(30, 20), params(v::VenationType::closed, 1));
   v::compute_widths(t, {});
   REQUIRE(!t.anastomoses.empty());
@@ -140,6 +172,7 @@ TEST_CASE("the SVG has a layer per vein order, each path in the layer of its seg
   std::filesystem::create_directories(dir);
   v::SvgParams sp;
   sp.scale = 10;
+  sp.join_veins = join;
   v::write_svg(dir / "leaf.svg", t, ellipse_leaf(30, 20).outline, sp);
   const std::string svg = read_text(dir / "leaf.svg");
   std::filesystem::remove_all(dir);
@@ -165,7 +198,7 @@ TEST_CASE("the SVG has a layer per vein order, each path in the layer of its seg
   const std::regex path_re("<path stroke-width=\"[0-9.]+\" d=\"([^\"]*)\"/>"), point_re("[ML]([0-9.]+ [0-9.]+)");
   std::uint32_t layer_order = 0;
   bool in_outline = false;
-  std::size_t duplicates = 0, unknown = 0, misplaced = 0;
+  std::size_t duplicates = 0, unknown = 0, misplaced = 0, paths = 0, broken = 0;
   std::istringstream lines(svg);
   for (std::string line; std::getline(lines, line);) {
     std::smatch m;
@@ -185,6 +218,13 @@ TEST_CASE("the SVG has a layer per vein order, each path in the layer of its seg
       REQUIRE(at != node_at.end());
       nodes.push_back(at->second);
     }
+    ++paths;
+    // a vein's path runs from parent to child (either way round) but for an anastomosis, a path of two nodes
+    if (nodes.size() > 2) {
+      const bool down = t.parent[nodes[1]] == nodes[0];
+      for (std::size_t k = 0; k + 1 < nodes.size(); ++k)
+        broken += down ? t.parent[nodes[k + 1]] != nodes[k] : t.parent[nodes[k]] != nodes[k + 1];
+    }
     for (std::size_t k = 0; k + 1 < nodes.size(); ++k) {
       const std::pair<Index, Index> e{std::min(nodes[k], nodes[k + 1]), std::max(nodes[k], nodes[k + 1])};
       const auto it = want.find(e);
@@ -197,6 +237,17 @@ TEST_CASE("the SVG has a layer per vein order, each path in the layer of its seg
   CHECK(misplaced == 0);
   CHECK(duplicates == 0);
   CHECK(drawn.size() == want.size());
+  CHECK(broken == 0);
+  // a path per vein ends at a tip (the widest child goes on in its parent's order): one per tip and
+  // anastomosis; between branch points there are more
+  std::vector<int> children(t.size(), 0);
+  for (Index i = 0; i < t.size(); ++i)
+    if (t.parent[i] != kNoIndex) ++children[t.parent[i]];
+  const auto tips = static_cast<std::size_t>(std::count(children.begin(), children.end(), 0));
+  if (join)
+    CHECK(paths == tips + t.anastomoses.size());
+  else
+    CHECK(paths > tips + t.anastomoses.size());
   // layers 1 .. top by order (every order from 1 to the highest has a vein), then the outline as layer 100
   std::vector<std::string> expected;
   for (std::uint32_t o = 1; o <= top; ++o)
