@@ -135,18 +135,19 @@ struct ScriptHost::Impl {
     // host code (an API function's C++ body) may pass the limit: a Lua memory error there would longjmp
     // past its C++ objects; the script's next allocation fails instead
     if (nsize > old && !self->in_host) {
-      // An allocation over the limit is refused once: Lua then collects all garbage and asks again. Asked
-      // again, the script really holds that much; not asked again (a library's buffer raised "not enough
-      // memory" at once), the refusal stands. Either way the script is over its limit: allocations pass, up
-      // to a reserve above it, and the hook's next instruction stops the script with the line it is at (a
-      // Lua memory error names none). An allocation beyond the reserve (a string doubled at once) fails.
+      // An allocation over the limit that collecting all garbage could make room for is refused once:
+      // Lua then collects and asks again (a library's buffer raises "not enough memory" at once instead).
+      // Asked again, the script really holds that much; not asked again, the refusal stands. Either way
+      // the script is over its limit: allocations pass, up to twice the limit and 256 MiB more, and the
+      // hook's next instruction stops the script with the line it is at (a Lua memory error names none).
+      // One allocation beyond that fails, with no line.
       const bool retry =
           self->refused && ptr == self->refused_ptr && osize == self->refused_osize && nsize == self->refused_nsize;
       if (self->refused && !retry) self->exceeded();
       self->refused = false;
       const std::size_t want = self->used - old + nsize;
       if (want > self->limits.memory_bytes) {
-        if (!self->memory_exceeded && !retry) {
+        if (!self->memory_exceeded && !retry && nsize - old <= self->limits.memory_bytes) {  // garbage may make room
           self->refused = true;
           self->refused_ptr = ptr;
           self->refused_osize = osize;
@@ -154,8 +155,7 @@ struct ScriptHost::Impl {
           return nullptr;
         }
         self->exceeded();
-        if (want > self->limits.memory_bytes + std::max<std::size_t>(self->limits.memory_bytes / 4, 4u << 20))
-          return nullptr;
+        if (want > 2 * self->limits.memory_bytes + (std::size_t{256} << 20)) return nullptr;
       }
     }
     void* p = std::realloc(ptr, nsize);

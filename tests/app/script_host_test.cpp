@@ -145,7 +145,12 @@ TEST_CASE("runaway scripts are stopped", "[script][limits]") {
   memory.instructions = 2'000'000'000;
   CHECK_THAT(load_error("local t = {} for i = 1, 1e9 do t[i] = i end", {}, memory), Contains("memory limit of 16 MiB"));
   CHECK_THAT(load_error("local s = 'x' while true do s = s .. s end", {}, memory), Contains("memory limit"));
-  // a line of the loop that passed the limit is named (the one of the instruction after the allocation)
+  // the line that passed the limit is named, or the next (the hook runs before the next instruction), also
+  // for one large allocation, up to twice the limit and 256 MiB more
+  CHECK_THAT(load_error("local s = string.rep('x', 1e8)\nlocal n = #s\n", {}, memory),
+             Matches("test/leaf\\.lua:[12]: the script exceeded its memory limit of 16 MiB.*"));
+  CHECK_THAT(load_error("local s = string.rep('x', 1e9)\nlocal n = #s\n", {}, memory),
+             Matches("test/leaf\\.lua: the script exceeded its memory limit of 16 MiB.*"));
   CHECK_THAT(load_error("local t = {}\nfor i = 1, 1e9 do\n  t[i] = {}\nend", {}, memory),
              Matches("test/leaf\\.lua:[23]: the script exceeded its memory limit of 16 MiB; raise it with "
                      "--lua-memory"));
