@@ -9,6 +9,7 @@
 #include "tests/app/script_test_util.h"
 
 using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
 using cellform::test::load;
 using cellform::test::load_error;
 
@@ -51,6 +52,11 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
   CHECK_THAT(load_error("leaf {}\ncolonisation {}\ndivision { age = 3 }\n"),
              Contains(":3: division{...} sets up the cell system"));
   CHECK_THAT(load_error("cells { spring = 2 }\nleaf {}\ncolonisation {}\n"), Contains(":1: cells{...}"));
+  // and by --set, which needs no call
+  CHECK_THAT(load_error("leaf {}\ncolonisation {}\n", {{"cells.spring", "2"}}),
+             StartsWith("--set cells.spring=2: cells{...} sets up the cell system"));
+  CHECK_THAT(load_error("leaf {}\ncolonisation {}\n", {{"division.max_cells", "10"}}),
+             StartsWith("--set division.max_cells=10: division{...} sets up the cell system"));
   // messages name the script's parameters, not the library's fields
   CHECK_THAT(load_error("leaf {}\ncolonisation { length_step = 0 }\n"),
              Contains(":2: colonisation.length_step") && !Contains("scale_step"));
