@@ -58,7 +58,7 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
           {"samples", th.samples},
           {"missed", th.missed},
           {"given_up", th.given_up}}}};
-    out << j.dump(2) << "\n";
+    out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
   } else {
     out << file.string() << ": " << (r.printable() ? "printable" : "NOT printable") << "\n" << r.summary();
     if (th.samples > 0)

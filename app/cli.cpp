@@ -188,6 +188,9 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
         const auto eq = kv.find('=');
         if (eq == std::string::npos || eq == 0) throw UsageError("--set takes NAME=VALUE, got '" + kv + "'");
         const std::string name = kv.substr(0, eq), given = kv.substr(eq + 1);
+        if (!core::is_utf8(kv))  // run.json and the checkpoint record it
+          throw UsageError("--set " + core::printable(kv) +
+                           ": not UTF-8 text, which run.json and the checkpoint record; give the value in UTF-8");
         if (const auto before = o.sets.find(name); before != o.sets.end() && before->second != given)
           err << "cellform: note: --set " << name << " is given twice; the last, " << given << ", is used (not "
               << before->second << ")\n";

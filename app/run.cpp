@@ -43,7 +43,7 @@ std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t t
   if (veins.is_object()) meta["veins"] = veins;  // run.json's of a resume that runs no step
   return core::write_chunk_file(
       kCheckpointKind, kCheckpointVersion,
-      {{"meta", meta.dump()}, {"script", s.source}, {"cells", cells::save(scene.simulation().cells())}});
+      {{"meta", checkpoint_meta_text(meta)}, {"script", s.source}, {"cells", cells::save(scene.simulation().cells())}});
 }
 
 }  // namespace

@@ -71,7 +71,8 @@ std::string colonisation_checkpoint_bytes(const Start& s, std::uint64_t seed, co
   json meta = checkpoint_meta(s, seed, p.max_steps, col.report().steps);
   meta["mode"] = "colonisation";
   if (sheet) meta["initial_cells"] = sheet_initial;
-  std::map<std::string, std::string> chunks{{"meta", meta.dump()}, {"script", s.source}, {"colonisation", col.save()}};
+  std::map<std::string, std::string> chunks{
+      {"meta", checkpoint_meta_text(meta)}, {"script", s.source}, {"colonisation", col.save()}};
   if (sheet) chunks["cells"] = cells::save(*sheet);
   return core::write_chunk_file(kCheckpointKind, kCheckpointVersion, chunks);
 }

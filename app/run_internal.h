@@ -137,6 +137,9 @@ Overrides with_physics(const Overrides& overrides, const nlohmann::json& physics
 /// --set overrides, seed, --checkpoint-every, the step limit, the step, and the output folder. Each kind
 /// of checkpoint adds its own (mode, initial cells, physics).
 nlohmann::json checkpoint_meta(const Start& s, std::uint64_t seed, std::uint64_t target, std::uint64_t step);
+/// The checkpoint's "meta" chunk: `meta` as JSON text, bytes of a path that are not UTF-8 replaced by U+FFFD
+/// (the paths there only name things; the outputs go beside the checkpoint, the script is in it).
+std::string checkpoint_meta_text(const nlohmann::json& meta);
 
 /// `p` made absolute (against the current directory) for a checkpoint, so that resume works from
 /// anywhere; `p` itself if the current directory cannot be read.

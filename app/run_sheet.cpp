@@ -24,8 +24,9 @@ std::string sheet_checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint
   meta["steps_given"] = s.has_target;
   meta["initial_cells"] = initial_cells;
   meta["physics"] = physics;  // a resume grows the rest with these values, whatever the defaults then
-  return core::write_chunk_file(kCheckpointKind, kCheckpointVersion,
-                                {{"meta", meta.dump()}, {"script", s.source}, {"cells", cells::save(sim.cells())}});
+  return core::write_chunk_file(
+      kCheckpointKind, kCheckpointVersion,
+      {{"meta", checkpoint_meta_text(meta)}, {"script", s.source}, {"cells", cells::save(sim.cells())}});
 }
 
 }  // namespace

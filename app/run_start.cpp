@@ -105,6 +105,8 @@ json checkpoint_meta(const Start& s, std::uint64_t seed, std::uint64_t target, s
           {"replaced_scripts", s.replaced}};
 }
 
+std::string checkpoint_meta_text(const json& meta) { return meta.dump(-1, ' ', false, json::error_handler_t::replace); }
+
 std::string absolute_path_text(const fs::path& p) {
   std::error_code ec;
   const fs::path a = fs::absolute(p, ec);

@@ -388,6 +388,12 @@ int api_params(lua_State* L) {
                            "records); keep a " +
                            type + " in a local variable, or give its parts as knobs of their own");
       }
+      if (!core::is_utf8(key) || (t == LUA_TSTRING && !core::is_utf8(lua_tostring(L, -1)))) {
+        lua_pop(L, 2);
+        throw InvalidInput(at + "params{...}: the knob " + core::printable(key) +
+                           (core::is_utf8(key) ? "'s default" : "") +
+                           " is not UTF-8 text, which run.json and the checkpoint record; write it in UTF-8");
+      }
       const bool integer = t == LUA_TNUMBER && lua_isinteger(L, -1);
       if (it != I.overrides->end()) {
         I.used_overrides.insert(key);

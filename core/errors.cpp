@@ -93,4 +93,17 @@ std::string printable(std::string_view text) {
   return out;
 }
 
+bool is_utf8(std::string_view text) {
+  for (std::size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    const auto next = i + 1 < text.size() ? static_cast<unsigned char>(text[i + 1]) : 0u;
+    const std::size_t len = c < 0x80                                    ? 1
+                            : c == 0xc2 && next >= 0x80 && next <= 0x9f ? 2  // a C1 control: UTF-8 all the same
+                                                                        : utf8_sequence(text, i);
+    if (len == 0) return false;
+    i += len;
+  }
+  return true;
+}
+
 }  // namespace cellform::core

@@ -45,6 +45,9 @@ std::string error_text(const std::exception& e);
 /// U+0080 to U+009F; other UTF-8 text stays.
 std::string printable(std::string_view text);
 
+/// Whether `text` is well-formed UTF-8 (what JSON, and so run.json and a checkpoint, can hold).
+bool is_utf8(std::string_view text);
+
 /// Levenshtein distance; used to suggest the closest valid name for a misspelt one.
 std::size_t edit_distance(const std::string& a, const std::string& b);
 

@@ -181,6 +181,29 @@ TEST_CASE("run.json names the script by its full path when it was given relative
   CHECK(fs::path(run["script"]["path"].get<std::string>()).is_absolute());
 }
 
+TEST_CASE("text that is not UTF-8: a script's name is recorded replaced; a value is refused", "[cli]") {
+  TempDir t("cli-utf8");
+  const auto script = t.write("n\xff\xfe" "ame.lua", kSmall);
+  const fs::path out = t.path / "out";
+  auto r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "3"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["script"]["path"].get<std::string>().find("n\xef\xbf\xbd\xef\xbf\xbd" "ame.lua") != std::string::npos);
+  // the checkpoint is written and resumes
+  r = cli({"resume", (out / "checkpoint.cfck").string(), "--steps", "5", "--quiet"});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  // a value is run.json's and the checkpoint's to record as given: refused before the run
+  r = cli({"run", script.string(), "--out", out.string(), "--set", "size=\xff"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--set size=\\xff: not UTF-8 text"));
+  const auto knob = t.write("knob.lua", "local P = params { name = 'caf\xe9' }\ndisc { radius = 2 }\n");
+  r = cli({"run", knob.string(), "--out", (t.path / "k").string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("knob.lua:1: params{...}: the knob name's default is not UTF-8 text"));
+}
+
 TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {
   TempDir t("cli-run");
   const auto script = t.write("small.lua", kSmall);

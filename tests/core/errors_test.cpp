@@ -19,6 +19,21 @@ TEST_CASE("number_text keeps messages short", "[core]") {
   CHECK(cellform::core::number_text(0.5) == "0.5");
 }
 
+TEST_CASE("is_utf8 accepts well-formed UTF-8 (as JSON does) and nothing else", "[core]") {
+  using cellform::core::is_utf8;
+  CHECK(is_utf8(""));
+  CHECK(is_utf8("leaf.lua"));
+  CHECK(is_utf8("caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x8c\xbf"));
+  CHECK(is_utf8("\xc2\x85"));  // a C1 control is UTF-8 all the same
+  CHECK(is_utf8(std::string("a\0b", 3)));
+  CHECK_FALSE(is_utf8("n\xff\xfe"));    // never in UTF-8
+  CHECK_FALSE(is_utf8("caf\xe9"));       // Latin-1
+  CHECK_FALSE(is_utf8("\xc3"));          // cut short
+  CHECK_FALSE(is_utf8("\xc0\xaf"));      // overlong
+  CHECK_FALSE(is_utf8("\xed\xa0\x80"));  // a surrogate
+  CHECK_FALSE(is_utf8("\xf4\x90\x80\x80"));  // beyond U+10FFFF
+}
+
 TEST_CASE("printable escapes the bytes that would act on a terminal or cut a message", "[core]") {
   using cellform::core::printable;
   CHECK(printable("leaf.obj: 'v 1 2'") == "leaf.obj: 'v 1 2'");
