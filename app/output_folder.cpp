@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <climits>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -227,6 +228,12 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, fs::
   fs::path staging = dir / (".partial-" + std::to_string(::getpid()));
   for (int k = 1; fs::exists(staging, ec) || fs::is_symlink(staging, ec); ++k)  // the kept one, of an earlier
     staging = dir / (".partial-" + std::to_string(::getpid()) + "-" + std::to_string(k));  // run with our pid
+  // the longest path a run writes (a frame written aside in the staging folder) must fit the system's
+  // limit, else the run would fail only at its end
+  const std::string longest = (staging / "frames" / "cells_000000000000000000.ply.tmp-4294967295").string();
+  if (longest.size() >= PATH_MAX)
+    throw FolderRefused("the --out folder's path is too long: its files' paths would pass the system's limit of " +
+                        std::to_string(PATH_MAX) + " bytes ('" + dir.string().substr(0, 60) + "...')");
   core::ensure_directory(staging);
   return staging;
 }
@@ -387,9 +394,19 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
   std::set<std::string> listed;
   for (const std::string& n : names)
     if (listed.insert(n).second) order.push_back(n);
-  for (const std::string& n : order)
+  for (const std::string& n : order) {
     if (!fs::is_regular_file(staging / n))
       throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': it was not written");
+    // nor may anything stand in its place but an earlier file (a folder made there during the run)
+    std::error_code ec;
+    const fs::path to = dir / n;
+    if (fs::exists(to, ec) && !fs::is_regular_file(to, ec))
+      throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': '" + to.string() +
+                            "' is not a file (a folder?); move that away, then resume");
+    if (to.parent_path() != dir && fs::exists(to.parent_path(), ec) && !fs::is_directory(to.parent_path(), ec))
+      throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': '" + to.parent_path().string() +
+                            "' is not a folder; move that away, then resume");
+  }
   // the old run.json goes first and the new one last: a folder that a kill leaves between two runs' files
   // has no run.json (README: such a folder is unfinished)
   if (listed.count("run.json")) {

@@ -290,6 +290,15 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                             "' was replaced by another run while this one started; resume it again");
     }
     if (s.script_replaced) record_replaced_script(s, o, dir);
+    // frames asked for go into frames/: a file of that name would stop the run only at its end
+    std::error_code ec;
+    if (cfg.output.every > 0 && fs::exists(dir / "frames", ec) && !fs::is_directory(dir / "frames", ec)) {
+      lock.reset();
+      fs::remove_all(staging, ec);
+      throw FolderRefused("'" + (dir / "frames").string() +
+                          "' is not a folder; output.every writes the frames into frames/: choose another --out "
+                          "folder, or move that away");
+    }
   } catch (const FolderBusy& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
     return failure;  // the folder is the other run's now

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <climits>
 #include <set>
 #include <thread>
 
@@ -29,9 +30,23 @@ TEST_CASE("a commit stopped between two runs' files leaves no run.json", "[cli]"
   fs::create_directories(staging);
   for (const char* n : {"run.json", "a.txt", "b.txt"}) std::ofstream(staging / n) << "new " << n;
   using cellform::app::commit_outputs;
-  CHECK_THROWS_AS(commit_outputs(staging, dir, {"run.json", "a.txt", "b.txt"}), cellform::core::FileError);
-  CHECK(slurp(dir / "a.txt") == "new a.txt");  // moved before the failure
-  CHECK_FALSE(fs::exists(dir / "run.json"));   // the old one does not describe the mix
+  // b.txt is checked before anything moves: the earlier outputs stay as they were, run.json with them
+  CHECK_THROWS_WITH(commit_outputs(staging, dir, {"run.json", "a.txt", "b.txt"}),
+                    Contains("b.txt' is not a file (a folder?); move that away, then resume"));
+  CHECK(slurp(dir / "a.txt") == "old a");
+  CHECK(fs::exists(dir / "run.json"));
+  // a move that fails all the same (here: its path passes the system's limit, the shorter ones do not)
+  // leaves no run.json: the old one would not describe the mix
+  fs::path deep = t.path / "deep";
+  while (deep.string().size() < PATH_MAX - 220) deep /= std::string(200, 'd');
+  deep /= std::string(PATH_MAX - 11 - deep.string().size(), 'e');  // deep/run.json fits, deep/bbbbbb.txt not
+  fs::create_directories(deep);
+  std::ofstream(deep / "a") << "old a";
+  std::ofstream(deep / "run.json") << R"({"outputs": ["a", "run.json"]})";
+  for (const char* n : {"a", "bbbbbb.txt"}) std::ofstream(staging / n) << "new " << n;
+  CHECK_THROWS_AS(commit_outputs(staging, deep, {"run.json", "a", "bbbbbb.txt"}), cellform::core::FileError);
+  CHECK(slurp(deep / "a") == "new a");         // moved before the failure
+  CHECK_FALSE(fs::exists(deep / "run.json"));  // the old one does not describe the mix
   // a whole commit moves run.json too, listed in any position
   fs::remove_all(dir / "b.txt");
   REQUIRE_NOTHROW(commit_outputs(staging, dir, {"run.json", "b.txt"}));
@@ -68,6 +83,22 @@ TEST_CASE("an unwritable output location fails clearly", "[cli]") {
   CHECK_THAT(r.err, Contains("run.json' is not a file (a folder?)"));
   CHECK(fs::is_directory(t.path / "o" / "run.json"));
   CHECK_FALSE(fs::exists(t.path / "o" / "cells.ply"));
+  // so is a file in the place of frames/ when frames are asked for: before the run, not after
+  fs::create_directories(t.path / "o3");
+  t.write("o3/frames", "a note\n");
+  r = cli({"run", script.string(), "--out", (t.path / "o3").string(), "--quiet", "--steps", "2", "--set",
+           "output.every=1"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("frames' is not a folder; output.every writes the frames into frames/"));
+  CHECK_FALSE(fs::exists(t.path / "o3" / "checkpoint.cfck"));
+  for (const auto& e : fs::directory_iterator(t.path / "o3"))  // no staging folder is left
+    CHECK(e.path().filename().string().rfind(".partial", 0) != 0);
+  // a folder whose files' paths would be too long for the system (each name within its own limit)
+  fs::path deep = t.path / "o4";
+  while (deep.string().size() < PATH_MAX - 40) deep /= std::string(200, 'd');
+  r = cli({"run", script.string(), "--out", deep.string(), "--quiet", "--steps", "2"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("path is too long"));
 }
 
 TEST_CASE(
