@@ -29,6 +29,10 @@ void on_interrupt(int sig) {
       say(kCancel, sizeof kCancel - 1);
       return;
     }
+    static const char kQuit[] =
+        "\ncellform: quit: the output folder keeps its last checkpoint, if one was written (cellform resume goes on "
+        "from it); the next run or resume there removes the files this one left half-written\n";
+    say(kQuit, sizeof kQuit - 1);
     exit_process(130);  // quits at once
   }
   if (g_reading_script.load()) {  // stopped at the script's next instruction
