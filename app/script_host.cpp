@@ -316,7 +316,9 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
       std::vector<std::string> names(std::begin(kSections), std::end(kSections));
       names.push_back("params");
       const std::string near = global.empty() ? std::string() : core::closest_name(global, names);
-      err += near.empty() ? "; no such function" : "; did you mean '" + near + "'?";
+      err += near == global ? "; the script set it to nil before this call"
+             : near.empty() ? "; no such function"
+                            : "; did you mean '" + near + "'?";
     }
     throw InvalidInput(err);
   }

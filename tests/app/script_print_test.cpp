@@ -13,6 +13,9 @@ TEST_CASE("print values that contradict each other are refused before the run: v
   CHECK_THAT(load_error("dsic { radius = 3 }\n"),
              Contains(":1: attempt to call a nil value (global 'dsic'); did you mean 'disc'?"));
   CHECK_THAT(load_error("disc { radius = 3 }\nfrobnicate()\n"), Contains(":2:") && Contains("; no such function"));
+  // a section's own name is not suggested for itself
+  CHECK_THAT(load_error("run = nil\nrun { steps = 3 }\n"),
+             Contains(":2:") && Contains("; the script set it to nil before this call") && !Contains("did you mean"));
   CHECK_THAT(load_error("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { voxel_size = 1, min_radius = 0.4 }\n"),
              Contains(":4: print.voxel_size (1 mm) exceeds print.min_radius (0.4 mm)"));
   // a shell thicker than the whole print (the auto scale fits the form to size, its walls come on top)
