@@ -482,6 +482,12 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         if (saved) {
           keep_failed_run(e.what());
           err << resume_hint(o, checkpoint, s.script_path) << "\n";
+          // a value that made it diverge may be a --set one, which the resume keeps unless given again
+          std::string sets;
+          for (const auto& [k, v] : s.sets) sets += (sets.empty() ? "" : ", ") + k + "=" + v;
+          if (!sets.empty())
+            err << "  (the run's --set values carry over: " << sets
+                << "; with --script, --set NAME=VALUE gives another)\n";
         }
         std::error_code ec;
         fs::remove_all(staging, ec);

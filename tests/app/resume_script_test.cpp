@@ -296,7 +296,8 @@ TEST_CASE(
   CliResult r = cli({"run", tight.string(), "--out", out.string(), "--quiet"});
   REQUIRE(r.code == 1);
   CHECK_THAT(r.err, Contains("the simulation diverged") &&
-                        Contains("cellform resume " + checkpoint + " --script " + tight.string()));
+                        Contains("cellform resume " + checkpoint + " --script " + tight.string()) &&
+                        !Contains("carry over"));  // no --set: nothing to say of them
   const auto run = nlohmann::json::parse(slurp(out / "run.json"));
   CHECK(run["status"] == "failed");
   CHECK_THAT(run["error"].get<std::string>(), Contains("exceeds cells.max_speed = 0.001"));
@@ -308,6 +309,16 @@ TEST_CASE(
   INFO(r.err);
   REQUIRE(r.code == 0);
   CHECK(nlohmann::json::parse(slurp(out / "run.json"))["steps"]["completed"] == 20);
+  // a value given by --set carries over to the resume: the hint says so, and --set gives another
+  const fs::path out2 = t.path / "out2";
+  r = cli({"run", loose.string(), "--out", out2.string(), "--quiet", "--set", "cells.max_speed=0.001"});
+  REQUIRE(r.code == 1);
+  CHECK_THAT(r.err, Contains("(the run's --set values carry over: cells.max_speed=0.001; with --script, --set "
+                             "NAME=VALUE gives another)"));
+  r = cli({"resume", (out2 / "checkpoint.cfck").string(), "--script", loose.string(), "--quiet", "--set",
+           "cells.max_speed=100"});
+  INFO(r.err);
+  CHECK(r.code == 0);
 }
 
 TEST_CASE(
