@@ -362,6 +362,7 @@ std::optional<SceneConfig> load_run_script(const Start& s, const ScriptLimits& l
 }
 
 std::string knob_recall(const Overrides& sets, const std::string& message) {
+  if (message.rfind("--set ", 0) == 0) return {};  // the error is of a value given by --set itself
   std::string knobs;
   for (const auto& [name, value] : sets)
     if (name.find('.') == std::string::npos && message.find("knob " + name) == std::string::npos &&
