@@ -30,6 +30,14 @@ namespace {
 constexpr const char* kNoSheetSeeds =
     "surface{cells = true} needs seeds = {{x, y, z}, ...} or a petiole{...} cell where the veins start";
 
+/// The petiole cells of a grown sheet, in order: the default seeds of surface{cells = true}.
+std::vector<core::Vec3> sheet_petioles(const cells::Cells& sheet) {
+  std::vector<core::Vec3> out;
+  for (std::size_t i = 0; i < sheet.size(); ++i)
+    if (sheet.type[i] == cells::CellType::petiole) out.push_back(sheet.position[i]);
+  return out;
+}
+
 /// The colonisation of the spec's domain; for surface{cells = true} the sheet of `sheet`, with the seeds
 /// (default: the petiole cells) moved onto it. With `state` (resume), from that Colonisation::save() state.
 venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cells::Cells* sheet,
@@ -51,10 +59,7 @@ venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cel
     throw core::InvalidInput(
         "surface{cells = true}: the grown cells form no triangles to grow veins on (place a "
         "sheet such as disc{...} and grow it longer)");
-  std::vector<core::Vec3> seeds = d.initial_nodes;
-  if (seeds.empty())
-    for (std::size_t i = 0; i < sheet->size(); ++i)
-      if (sheet->type[i] == cells::CellType::petiole) seeds.push_back(sheet->position[i]);
+  std::vector<core::Vec3> seeds = d.initial_nodes.empty() ? sheet_petioles(*sheet) : d.initial_nodes;
   if (seeds.empty()) throw core::InvalidInput(kNoSheetSeeds);
   d.initial_nodes = {d.mesh.vertices[d.mesh.triangles[0][0]]};
   const venation::PreparedDomain sheet_surface(d);
@@ -330,6 +335,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     checkpoint_failure = checkpoint_error;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
     venation::VeinTree tree = col.tree();
+    // petiole cells the grown sheet left off its surface (the veins started at the nearest point of it): a
+    // stem joins each to its veins, so they stand on their supports
+    if (sheet && spec.domain.initial_nodes.empty()) tree = venation::with_stems(tree, sheet_petioles(*sheet), 1e-9);
     venation::compute_widths(tree, spec.widths);
     const venation::ColonisationReport rep = col.report();
     if (rep.sources_born == 0 && code == ok)  // nothing to grow towards: say why instead of a bare seed node
@@ -417,6 +425,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     run["steps"] = {{"first", first}, {"completed", rep.steps}, {"limit", spec.params.max_steps}};
     run["veins"] = {
         {"nodes", rep.nodes}, {"loops", rep.loops}, {"sources_left", rep.sources}, {"sources_born", rep.sources_born}};
+    if (tree.size() > rep.nodes) run["veins"]["stems"] = tree.size() - rep.nodes;  // nodes of veins.* beyond
     run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
                       {"simulation_s", seconds}};
     if (sheet_seconds > 0) run["timings"]["sheet_s"] = sheet_seconds;  // the cells grown first, in this command

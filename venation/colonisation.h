@@ -224,4 +224,11 @@ struct WidthParams {
 /// others get order + 1. Throws core::InvalidInput for exponent or tip_radius not positive.
 void compute_widths(VeinTree& tree, const WidthParams& params);
 
+/// `tree` with a stem to each root from its anchor (anchors[k] for the k-th root in index order, that is
+/// the k-th seed) where they lie more than `min_length` (model units) apart: a seed moved onto a surface
+/// from where it stands (a support cell off the grown sheet) is joined to it. The stems' nodes come first
+/// (parents before children, as compute_widths needs), seed step 0; widths are computed after. Throws
+/// core::InvalidInput when the anchors are not one per root.
+VeinTree with_stems(const VeinTree& tree, const std::vector<Vec3>& anchors, double min_length);
+
 }  // namespace cellform::venation

@@ -17,6 +17,32 @@ std::vector<std::pair<Index, Index>> VeinTree::edges() const {
   return e;
 }
 
+VeinTree with_stems(const VeinTree& tree, const std::vector<Vec3>& anchors, double min_length) {
+  std::vector<Index> roots;
+  for (Index i = 0; i < tree.size(); ++i)
+    if (tree.parent[i] == kNoIndex) roots.push_back(i);
+  if (roots.size() != anchors.size())
+    throw InvalidInput("with_stems: " + std::to_string(anchors.size()) + " anchors for " +
+                       std::to_string(roots.size()) + " roots");
+  VeinTree out;
+  std::vector<Index> stem_of(tree.size(), kNoIndex);
+  for (std::size_t k = 0; k < roots.size(); ++k)
+    if ((anchors[k] - tree.positions[roots[k]]).norm() > min_length) {
+      stem_of[roots[k]] = static_cast<Index>(out.positions.size());
+      out.positions.push_back(anchors[k]);
+      out.parent.push_back(kNoIndex);
+      out.birth_step.push_back(0);
+    }
+  const auto shift = static_cast<Index>(out.positions.size());
+  for (Index i = 0; i < tree.size(); ++i) {
+    out.positions.push_back(tree.positions[i]);
+    out.parent.push_back(tree.parent[i] != kNoIndex ? tree.parent[i] + shift : stem_of[i]);
+    out.birth_step.push_back(i < tree.birth_step.size() ? tree.birth_step[i] : 0);
+  }
+  for (const auto& [a, b] : tree.anastomoses) out.anastomoses.emplace_back(a + shift, b + shift);
+  return out;
+}
+
 std::pair<VeinTree, ColonisationReport> colonise(const Leaf& leaf, const ColonisationParams& params,
                                                  const ColonisationProgress& progress) {
   Colonisation c(leaf, params);

@@ -1,0 +1,43 @@
+// Tests of venation/colonisation_tree.cpp: stems from anchors to the roots of a vein tree.
+#include <catch2/catch.hpp>
+
+#include "venation/colonisation.h"
+
+using namespace cellform;
+using Catch::Matchers::Contains;
+using core::Index;
+using core::kNoIndex;
+using core::Vec3;
+namespace v = cellform::venation;
+
+TEST_CASE("with_stems joins each root to its anchor where they differ, keeping parents before children",
+          "[colonisation]") {
+  // two roots (0 and 1), a branch 0 -> 2 -> 3, 1 -> 4, and an anastomosis 3 - 4
+  v::VeinTree t;
+  t.positions = {Vec3(0, 0, 0), Vec3(5, 0, 0), Vec3(0, 1, 0), Vec3(0, 2, 0), Vec3(5, 1, 0)};
+  t.parent = {kNoIndex, kNoIndex, 0, 2, 1};
+  t.birth_step = {0, 0, 1, 2, 1};
+  t.anastomoses = {{3, 4}};
+  // root 0 stands on its anchor; root 1's anchor is 1.5 below it
+  const v::VeinTree s = v::with_stems(t, {Vec3(0, 0, 0), Vec3(5, 0, -1.5)}, 1e-9);
+  REQUIRE(s.size() == 6);
+  CHECK(s.positions[0] == Vec3(5, 0, -1.5));  // the stem's node first
+  CHECK(s.parent[0] == kNoIndex);
+  for (Index i = 0; i < t.size(); ++i) CHECK(s.positions[i + 1] == t.positions[i]);
+  CHECK(s.parent[1] == kNoIndex);  // root 0 had no stem
+  CHECK(s.parent[2] == 0);         // root 1 hangs from its stem
+  CHECK(s.parent[3] == 1);
+  CHECK(s.parent[4] == 3);
+  CHECK(s.parent[5] == 2);
+  for (Index i = 0; i < s.size(); ++i)
+    if (s.parent[i] != kNoIndex) CHECK(s.parent[i] < i);  // compute_widths' one reverse pass holds
+  CHECK(s.anastomoses == std::vector<std::pair<Index, Index>>{{4, 5}});
+  CHECK(s.birth_step == std::vector<std::uint32_t>{0, 0, 0, 1, 2, 1});
+  // widths then run through the stem: it carries root 1's whole flow
+  v::VeinTree w = s;
+  v::compute_widths(w, {});
+  CHECK(w.flow[0] == Approx(w.flow[2]));
+  // anchors within min_length add nothing; the anchors must be one per root
+  CHECK(v::with_stems(t, {Vec3(0, 0, 0), Vec3(5, 0, 1e-12)}, 1e-9).size() == t.size());
+  CHECK_THROWS_WITH(v::with_stems(t, {Vec3(0, 0, 0)}, 1e-9), Contains("1 anchors for 2 roots"));
+}
