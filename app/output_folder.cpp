@@ -143,7 +143,10 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, fs::
     core::ensure_directory(dir, ec);
     if (ec) {
       std::error_code probe;
-      const std::string what = ec == std::errc::not_a_directory && fs::exists(dir, probe)
+      const bool dangling = fs::is_symlink(dir, probe) && !fs::exists(dir, probe);
+      const std::string what = dangling ? "'" + dir.string() + "' is a symbolic link to '" +
+                                              fs::read_symlink(dir, probe).string() + "', which does not exist"
+                               : ec == std::errc::not_a_directory && fs::exists(dir, probe)
                                    ? "'" + dir.string() + "' exists and is not a directory"
                                    : "cannot create directory '" + dir.string() + "': " + ec.message();
       if (ec == std::errc::no_space_on_device || ec == std::errc::io_error || ec.value() == EDQUOT)
@@ -234,7 +237,13 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, fs::
   if (longest.size() >= PATH_MAX)
     throw FolderRefused("the --out folder's path is too long: its files' paths would pass the system's limit of " +
                         std::to_string(PATH_MAX) + " bytes ('" + dir.string().substr(0, 60) + "...')");
-  core::ensure_directory(staging);
+  core::ensure_directory(staging, ec);
+  if (ec) {  // a folder no file can be written in (/proc, read-only): an input error; a failing disk is not
+    const std::string what = "cannot write in '" + dir.string() + "': " + ec.message();
+    if (ec == std::errc::no_space_on_device || ec == std::errc::io_error || ec.value() == EDQUOT)
+      throw core::FileError(what);
+    throw FolderRefused(what);
+  }
   return staging;
 }
 

@@ -70,6 +70,15 @@ TEST_CASE("an unwritable output location fails clearly", "[cli]") {
   r = cli({"run", script.string(), "--out", "/proc/self/no-folder-here", "--quiet", "--steps", "2"});
   CHECK(r.code == 2);
   CHECK_FALSE(fs::exists("/proc/self/no-folder-here"));
+  // a folder that exists but takes no file (/proc): an input error too, said of the folder given
+  r = cli({"run", script.string(), "--out", "/proc", "--quiet", "--steps", "2"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("cannot write in '/proc'") && !Contains(".partial"));
+  // a symbolic link to nothing is said as such (it was "File exists")
+  fs::create_symlink(t.path / "nowhere", t.path / "dangling");
+  r = cli({"run", script.string(), "--out", (t.path / "dangling").string(), "--quiet", "--steps", "2"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("dangling' is a symbolic link to '") && Contains("nowhere', which does not exist"));
   // a name too long for the file system, under folders the run had to make: those go again
   r = cli({"run", script.string(), "--out", (t.path / "newtop" / "mid" / std::string(300, 'x')).string(), "--quiet",
            "--steps", "2"});
