@@ -105,8 +105,16 @@ PrintableMesh read_obj(const std::filesystem::path& path, const std::string& s) 
     if (!(ls >> tag)) continue;
     if (tag == "v") {
       Vec3 p;
-      if (!(ls >> p.x() >> p.y() >> p.z()))
-        malformed(path, "line " + std::to_string(line_no) + ": 'v' needs three numbers");
+      for (int k = 0; k < 3; ++k) {  // strtod, unlike >>, reads "nan" and "inf": said as such
+        std::string word;
+        char* stop = nullptr;
+        if (ls >> word) p[k] = std::strtod(word.c_str(), &stop);
+        if (!stop || stop != word.c_str() + word.size())
+          malformed(path, "line " + std::to_string(line_no) + ": 'v' needs three numbers");
+      }
+      if (!p.allFinite())
+        malformed(path, "line " + std::to_string(line_no) +
+                            ": 'v' needs three finite numbers (NaN and infinity are not allowed)");
       m.vertices.push_back(p);
     } else if (tag == "f") {
       poly.clear();

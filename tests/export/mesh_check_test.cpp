@@ -411,6 +411,13 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "bad.obj"), Catch::Contains("bad.obj") && Catch::Contains("line 2"));
   { std::ofstream(dir / "far.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1e30\nf 1 2 3\nf 1 2 4\n"; }
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "far.obj"), Catch::Contains("vertex 4") && Catch::Contains("1e15"));
+  // OBJ: NaN and infinity are named as such (they read as "needs three numbers"), as is a word no number
+  { std::ofstream(dir / "nan.obj") << "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"; }
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "nan.obj"), Catch::Contains("line 2") && Catch::Contains("NaN"));
+  { std::ofstream(dir / "inf.obj") << "v 0 0 0\nv 1 0 0\nv 0 -inf 0\nf 1 2 3\n"; }
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "inf.obj"), Catch::Contains("line 3") && Catch::Contains("infinity"));
+  { std::ofstream(dir / "word.obj") << "v 0 0 0\nv 1 0x 0\nv 0 1 0\nf 1 2 3\n"; }
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "word.obj"), Catch::Contains("line 2: 'v' needs three numbers"));
   { std::ofstream(dir / "half.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1.5 2 3\n"; }  // not read as f 1 2 3
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "half.obj"), Catch::Contains("line 4") && Catch::Contains("'1.5'"));
   // a vein graph (edges, no faces) is said to be one, and where its printable solid is
