@@ -5,8 +5,8 @@
 -- by Delta L = 15 per step, rho = 300 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
 -- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
--- 1 / scale^2): the default, scale = 0.03, grows the leaf from 0.3 to 1500 (about 1.5 s here; 0.05:
--- about 5 s). The paper's size, `--set scale=1`, would precompute about 4.5 x 10^9 darts (rho for each
+-- 1 / scale^2): the default, scale = 0.03, grows the leaf from 0.3 to 1500 (about 2.5 s here, print included; 0.05:
+-- about 12 s). The paper's size, `--set scale=1`, would precompute about 4.5 x 10^9 darts (rho for each
 -- of the 3,300 steps over the final blade's box), more than the 10^9 allowed.
 -- One departure: b_v = d_k = 100 instead of 1. Sources appear at the growing margin (precomputed, as in
 -- the paper), but rho darts per unit area for each of the 3,300 steps make about one dart per unit area,

@@ -4,7 +4,7 @@
 -- by Delta L = 9 per step, rho = 200 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
 -- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
--- 1 / scale^2): the default, scale = 0.2, grows the leaf from 23 to 700 (about 2 s here);
+-- 1 / scale^2): the default, scale = 0.2, grows the leaf from 23 to 700 (about 4 s here, print included);
 -- `--set scale=1` gives the paper's size: 3.9 million nodes, the veins in 2.5 to 3.5 minutes on 2 cores
 -- (the machine's load varies) and the whole run with its print about a minute more (see docs/benchmarks.md).
 

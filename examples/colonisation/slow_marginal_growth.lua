@@ -5,7 +5,7 @@
 -- by Delta L = 34 per step, rho = 300 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
 -- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
--- 1 / scale^2): the default, scale = 0.02, grows the leaf from 90 to 2240 (about 2 s here). From
+-- 1 / scale^2): the default, scale = 0.02, grows the leaf from 90 to 2240 (about 5 s here, print included). From
 -- scale = 0.03 the leaf tip moves more than a vein segment per step (34 x 0.03 > 1): sources pile up
 -- ahead of the veins (0.03: about 8 s). The paper's size, `--set scale=1`, would precompute about
 -- 7 x 10^9 darts (rho for each of the 3,160 steps over the final blade's box), more than the 10^9 allowed.

@@ -4,7 +4,7 @@
 -- by Delta L = 7 per step, rho = 200 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
 -- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
--- 1 / scale^2): the default, scale = 0.1, grows the leaf from 120 to 670 (about 2 s here);
+-- 1 / scale^2): the default, scale = 0.1, grows the leaf from 120 to 670 (about 4 s here, print included);
 -- `--set scale=1` gives the paper's size.
 
 local P = params {

@@ -4,7 +4,7 @@
 -- rho = 100 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies the leaf length (d_k, b_s and rho stay, in vein segments). The full size takes
 -- far longer (vein nodes grow with the leaf area, 1 / scale^2): the default, scale = 0.6, makes the leaf
--- 2700 long (about 2 s here); `--set scale=1` gives the paper's size.
+-- 2700 long (about 4 s here, print included); `--set scale=1` gives the paper's size.
 
 local P = params {
   neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (here not faster: exact reuses sector bests)
