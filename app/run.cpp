@@ -289,7 +289,6 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       throw core::FileError("checkpoint '" + o.checkpoint.string() +
                             "' was replaced by another run while this one started; resume it again");
     }
-    if (s.script_replaced) record_replaced_script(s, o, dir);
     // frames asked for go into frames/: a file of that name would stop the run only at its end
     std::error_code ec;
     if (cfg.output.every > 0 && fs::exists(dir / "frames", ec) && !fs::is_directory(dir / "frames", ec)) {
@@ -299,6 +298,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                           "' is not a folder; output.every writes the frames into frames/: choose another --out "
                           "folder, or move that away");
     }
+    if (s.script_replaced) record_replaced_script(s, o, dir);
   } catch (const FolderBusy& e) {
     err << "cellform: cannot write outputs: " << e.what() << "\n";
     return failure;  // the folder is the other run's now
