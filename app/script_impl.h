@@ -93,7 +93,8 @@ struct ScriptHost::Impl {
   }
   std::uint64_t executed = 0;
   std::uint64_t budget = 0;
-  bool rule_call = false;  // the budget is a rule function's per-call one, which no option raises
+  int hook_every = kHookEvery;  // instructions between the hook's budget checks (fewer for a tiny budget)
+  bool rule_call = false;       // the budget is a rule function's per-call one, which no option raises
   // the call ran out of budget or was interrupted: every instruction from then on raises the error again,
   // so a script's pcall cannot catch it and go on (the hook runs each instruction then)
   bool stopping = false;
@@ -231,11 +232,11 @@ struct ScriptHost::Impl {
       self->stop(lua_tostring(L, -1));
       lua_error(L);
     }
-    if (lua_gethookcount(L) != kHookEvery) {  // a coroutine kept from a call that was stopped
-      lua_sethook(L, &Impl::hook, kHookMask, kHookEvery);
+    if (lua_gethookcount(L) != self->hook_every) {  // a coroutine kept from a call that was stopped
+      lua_sethook(L, &Impl::hook, kHookMask, self->hook_every);
       return;
     }
-    self->executed += kHookEvery;
+    self->executed += static_cast<std::uint64_t>(self->hook_every);
     // Ctrl-C while a script is read (a rule's step ends first: the run then stops after it)
     if (!self->rule_call && g_interrupt.load(std::memory_order_relaxed)) {
       self->stop("interrupted while the script was read; nothing was written");
@@ -301,10 +302,13 @@ struct ScriptHost::Impl {
     rule_call = rule;
     memory_exceeded = false;
     refused = false;
-    if (stopping) {
+    // a budget under kHookEvery instructions is checked as often as it is small
+    const int every = static_cast<int>(std::clamp<std::uint64_t>(call_budget, 1, kHookEvery));
+    if (stopping || every != hook_every) {
       stopping = false;
       stop_pending.store(false, std::memory_order_release);
-      lua_sethook(L, &Impl::hook, kHookMask, kHookEvery);
+      hook_every = every;
+      lua_sethook(L, &Impl::hook, kHookMask, hook_every);
     }
     const int base = lua_gettop(L) - nargs;  // the function; the handler goes below it
     lua_pushcfunction(L, &Impl::error_object_text);

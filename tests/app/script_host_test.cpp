@@ -141,6 +141,12 @@ TEST_CASE("runaway scripts are stopped", "[script][limits]") {
   limits.instructions = 1'000'000;
   limits.memory_bytes = 16u << 20;
   CHECK_THAT(load_error("while true do end", {}, limits), Contains("instruction budget"));
+  // a budget under the hook's 1000 instructions is held too (it was checked only every 1000)
+  ScriptLimits tiny = limits;
+  tiny.instructions = 100;
+  CHECK_THAT(load_error("local x = 0\nfor i = 1, 200 do x = x + i end\ndisc { radius = 2 }\n", {}, tiny),
+             Contains("instruction budget of 100 instructions exceeded"));
+  CHECK_NOTHROW(load("local x = 1\ndisc { radius = 2 }\n", {}, tiny));
   ScriptLimits memory = limits;
   memory.instructions = 2'000'000'000;
   CHECK_THAT(load_error("local t = {} for i = 1, 1e9 do t[i] = i end", {}, memory), Contains("memory limit of 16 MiB"));
