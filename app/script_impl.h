@@ -291,8 +291,11 @@ struct ScriptHost::Impl {
     if (line != std::string::npos && line + 1 < colon && msg.find_first_not_of("0123456789", line + 1) == colon) {
       const std::string where = msg.substr(0, colon + 2);
       while (msg.compare(where.size(), where.size(), where) == 0) msg.erase(0, where.size());
+      return msg;
     }
-    return msg;
+    // no place (error("...", 0)): the script's name at least
+    if (msg.rfind(script_name + ":", 0) == 0 || msg.rfind("--set ", 0) == 0) return msg;
+    return script_name + ": " + msg;
   }
 
   /// pcall with the instruction budget reset to `budget`; returns "" or the error message.

@@ -51,6 +51,9 @@ TEST_CASE("a script sets parameters, shapes and defaults", "[script]") {
 TEST_CASE("script errors name the file and line", "[script]") {
   SECTION("syntax error") { CHECK_THAT(load_error("cells {\n  spring = = 1 }\n"), Contains("test/leaf.lua:2:")); }
   SECTION("runtime error") { CHECK_THAT(load_error("\n\nlocal x = nil + 1\n"), Contains("test/leaf.lua:3:")); }
+  SECTION("an error without a place (level 0) still names the script") {
+    CHECK(load_error("disc { radius = 2 }\nerror('custom failure', 0)\n") == "test/leaf.lua: custom failure");
+  }
   SECTION("an error a library function raises without a line") {
     // a recursion through string.gsub overflows the C stack: Lua says so with no line of the script
     CHECK_THAT(
