@@ -412,7 +412,8 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
     if (fs::exists(to, ec) && !fs::is_regular_file(to, ec))
       throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': '" + to.string() +
                             "' is not a file (a folder?); move that away, then resume");
-    if (to.parent_path() != dir && fs::exists(to.parent_path(), ec) && !fs::is_directory(to.parent_path(), ec))
+    if (to.parent_path() != dir && fs::exists(fs::symlink_status(to.parent_path(), ec)) &&
+        !fs::is_directory(to.parent_path(), ec))  // a file, or a link to nothing
       throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': '" + to.parent_path().string() +
                             "' is not a folder; move that away, then resume");
   }

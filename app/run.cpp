@@ -163,6 +163,11 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       if (s.script_replaced)
         for (const auto& [k, v] : s.checkpoint_sets)
           if (!o.sets.count(k)) may_go_unused.insert(k);
+      // a space-colonisation checkpoint of a run that set cells.* or division.* (which such a run now
+      // refuses, and once ignored): those go unused
+      if (colonisation_checkpoint)
+        for (const auto& [k, v] : s.checkpoint_sets)
+          if ((k.rfind("cells.", 0) == 0 || k.rfind("division.", 0) == 0) && !o.sets.count(k)) may_go_unused.insert(k);
       cfg = host.load(s.source, s.script_path, s.sets, may_go_unused);
       for (const std::string& n : cfg.notes) err << "cellform: note: " << n << "\n";
       for (const std::string& k : host.unused_overrides()) {
@@ -291,7 +296,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     }
     // frames asked for go into frames/: a file of that name would stop the run only at its end
     std::error_code ec;
-    if (cfg.output.every > 0 && fs::exists(dir / "frames", ec) && !fs::is_directory(dir / "frames", ec)) {
+    if (cfg.output.every > 0 && fs::exists(fs::symlink_status(dir / "frames", ec)) &&
+        !fs::is_directory(dir / "frames", ec)) {  // a file, or a link to nothing
       lock.reset();
       fs::remove_all(staging, ec);
       throw FolderRefused("'" + (dir / "frames").string() +

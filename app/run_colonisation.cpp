@@ -337,7 +337,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     venation::VeinTree tree = col.tree();
     // petiole cells the grown sheet left off its surface (the veins started at the nearest point of it): a
     // stem joins each to its veins, so they stand on their supports
-    if (sheet && spec.domain.initial_nodes.empty()) tree = venation::with_stems(tree, sheet_petioles(*sheet), 1e-9);
+    const std::vector<core::Vec3> petioles = sheet ? sheet_petioles(*sheet) : std::vector<core::Vec3>{};
+    if (sheet && spec.domain.initial_nodes.empty() && tree.size() > petioles.size())  // veins grew from them
+      tree = venation::with_stems(tree, petioles, 1e-9);
     venation::compute_widths(tree, spec.widths);
     const venation::ColonisationReport rep = col.report();
     if (rep.sources_born == 0 && code == ok)  // nothing to grow towards: say why instead of a bare seed node

@@ -402,10 +402,10 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
         throw InvalidInput(called.at(section) + section +
                            "{...} sets up the cell system; this space-colonisation run grows no cells (only "
                            "surface{cells = true} does)");
-    if (I.overrides)  // a --set of theirs too, which needs no call
+    if (I.overrides)  // a --set of theirs too, which needs no call (but one a checkpoint kept goes unused)
       for (const auto& [key, value] : *I.overrides)
         for (const std::string section : {"cells", "division"})
-          if (key.rfind(section + ".", 0) == 0)
+          if (key.rfind(section + ".", 0) == 0 && !may_go_unused.count(key))
             throw InvalidInput("--set " + key + "=" + value + ": " + section +
                                "{...} sets up the cell system; this space-colonisation run grows no cells (only "
                                "surface{cells = true} does)");

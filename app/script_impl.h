@@ -137,14 +137,13 @@ struct ScriptHost::Impl {
     // past its C++ objects; the script's next allocation fails instead
     if (nsize > old && !self->in_host) {
       // An allocation over the limit that collecting all garbage could make room for is refused once:
-      // Lua then collects and asks again (a library's buffer raises "not enough memory" at once instead).
-      // Asked again, the script really holds that much; not asked again, the refusal stands. Either way
-      // the script is over its limit: allocations pass, up to twice the limit and 256 MiB more, and the
-      // hook's next instruction stops the script with the line it is at (a Lua memory error names none).
-      // One allocation beyond that fails, with no line.
+      // Lua then collects and asks again. Asked again, the script really holds that much: allocations
+      // pass, up to twice the limit and 256 MiB more, and the hook's next instruction stops the script
+      // with the line it is at (a Lua memory error names none). Not asked again (a library's buffer, which
+      // raises "not enough memory" at once, as a pcall may catch), the refusal stands as a memory error.
+      // One allocation beyond twice the limit and 256 MiB fails, with no line.
       const bool retry =
           self->refused && ptr == self->refused_ptr && osize == self->refused_osize && nsize == self->refused_nsize;
-      if (self->refused && !retry) self->exceeded();
       self->refused = false;
       const std::size_t want = self->used - old + nsize;
       if (want > self->limits.memory_bytes) {
@@ -272,11 +271,14 @@ struct ScriptHost::Impl {
 
   /// Turns a Lua error message into one line that names the script; adds the memory-limit hint.
   std::string describe(const std::string& lua_message) const {
-    if (memory_exceeded || lua_message == "not enough memory") {
+    {
+      // the hook's stop, with its place; Lua's own memory error, without (another error, such as a syntax
+      // error found while the limit was passed, is itself)
       const std::string text = memory_message();
-      const bool placed = lua_message.size() > text.size() &&
-                          lua_message.compare(lua_message.size() - text.size(), text.size(), text) == 0;
-      return placed ? lua_message : script_name + ": " + text;
+      if (lua_message.size() > text.size() &&
+          lua_message.compare(lua_message.size() - text.size(), text.size(), text) == 0)
+        return lua_message;
+      if (lua_message == "not enough memory") return script_name + ": " + text;
     }
     if (lua_message == "C stack overflow")  // Lua's parser says it with no place
       return script_name +

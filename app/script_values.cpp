@@ -388,7 +388,9 @@ int api_params(lua_State* L) {
                            "records); keep a " +
                            type + " in a local variable, or give its parts as knobs of their own");
       }
-      if (!core::is_utf8(key) || (t == LUA_TSTRING && !core::is_utf8(lua_tostring(L, -1)))) {
+      std::size_t length = 0;
+      const char* given = t == LUA_TSTRING ? lua_tolstring(L, -1, &length) : nullptr;  // whole, NULs included
+      if (!core::is_utf8(key) || (given && !core::is_utf8(std::string_view(given, length)))) {
         lua_pop(L, 2);
         throw InvalidInput(at + "params{...}: the knob " + core::printable(key) +
                            (core::is_utf8(key) ? "'s default" : "") +

@@ -284,6 +284,26 @@ TEST_CASE("with print{}, veins.svg is drawn at the print's scale, so a cut outli
   CHECK(scale > 0);
 }
 
+TEST_CASE("a colonisation checkpoint whose run set cells.* (once ignored, now refused) still resumes",
+          "[cli][checkpoint]") {
+  TempDir t("cli-col-old-sets");
+  const auto script = t.write("leaf.lua", "leaf {}\ncolonisation { initial_length = 20, final_length = 24 }\n");
+  const fs::path out = t.path / "o";
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "3"}).code == 0);
+  // forged as an earlier cellform wrote it for a run given --set cells.spring=2
+  cellform::core::ChunkFile saved = cellform::core::read_chunk_file(slurp(out / "checkpoint.cfck"), "CKPT", 1, "t");
+  auto meta = nlohmann::json::parse(saved.chunks.at("meta"));
+  meta["overrides"]["cells.spring"] = "2";
+  saved.chunks["meta"] = meta.dump();
+  fs::create_directories(t.path / "older");
+  t.write("older/checkpoint.cfck", cellform::core::write_chunk_file("CKPT", 1, saved.chunks));
+  const auto r = cli({"resume", (t.path / "older" / "checkpoint.cfck").string(), "--quiet"});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  // a new run given it is refused
+  CHECK(cli({"run", script.string(), "--out", (t.path / "n").string(), "--set", "cells.spring=2"}).code == 2);
+}
+
 TEST_CASE("a colonisation run stopped by max_nodes says so, and resumes under the larger limit it suggests",
           "[cli][colonisation]") {
   TempDir t("cli-maxnodes");

@@ -181,33 +181,6 @@ TEST_CASE("run.json names the script by its full path when it was given relative
   CHECK(fs::path(run["script"]["path"].get<std::string>()).is_absolute());
 }
 
-TEST_CASE("text that is not UTF-8: a script's name is recorded replaced; a value is refused", "[cli]") {
-  TempDir t("cli-utf8");
-  const auto script = t.write(
-      "n\xff\xfe"
-      "ame.lua",
-      kSmall);
-  const fs::path out = t.path / "out";
-  auto r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "3"});
-  INFO(r.err);
-  REQUIRE(r.code == 0);
-  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
-  CHECK(run["script"]["path"].get<std::string>().find("n\xef\xbf\xbd\xef\xbf\xbd"
-                                                      "ame.lua") != std::string::npos);
-  // the checkpoint is written and resumes
-  r = cli({"resume", (out / "checkpoint.cfck").string(), "--steps", "5", "--quiet"});
-  INFO(r.err);
-  CHECK(r.code == 0);
-  // a value is run.json's and the checkpoint's to record as given: refused before the run
-  r = cli({"run", script.string(), "--out", out.string(), "--set", "size=\xff"});
-  CHECK(r.code == 2);
-  CHECK_THAT(r.err, Contains("--set size=\\xff: not UTF-8 text"));
-  const auto knob = t.write("knob.lua", "local P = params { name = 'caf\xe9' }\ndisc { radius = 2 }\n");
-  r = cli({"run", knob.string(), "--out", (t.path / "k").string()});
-  CHECK(r.code == 2);
-  CHECK_THAT(r.err, Contains("knob.lua:1: params{...}: the knob name's default is not UTF-8 text"));
-}
-
 TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {
   TempDir t("cli-run");
   const auto script = t.write("small.lua", kSmall);
@@ -305,30 +278,6 @@ TEST_CASE("Ctrl-C stops cleanly with outputs and a checkpoint that resumes ident
           0);
   REQUIRE(cli({"resume", (out / "checkpoint.cfck").string(), "--steps", std::to_string(target), "--quiet"}).code == 0);
   CHECK(slurp(whole / "cells.ply") == slurp(out / "cells.ply"));
-}
-
-TEST_CASE("a second Ctrl-C quits at once, says what the folder keeps, and the next run clears what it left",
-          "[cli][signal]") {
-  TempDir t("cli-int-twice");
-  const auto script =
-      t.write("long.lua", "division { trigger = 'none' }\nrun { steps = 1000000 }\ndisc { radius = 80 }\n");
-  const fs::path out = t.path / "o", log = t.path / "err.txt";
-  const pid_t pid =
-      spawn_cellform_logged({"run", script.string(), "--out", out.string(), "--quiet", "--threads", "1"}, log);
-  REQUIRE(pid > 0);
-  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
-  kill(pid, SIGINT);
-  std::this_thread::sleep_for(std::chrono::milliseconds(5));  // delivered apart, within the step and the writing
-  kill(pid, SIGINT);
-  CHECK(wait_exit(pid) == 130);
-  CHECK_THAT(slurp(log), Contains("quit: the output folder keeps its last checkpoint, if one was written"));
-  CHECK_FALSE(fs::exists(out / "run.json"));
-  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "2"}).code == 0);
-  for (const auto& e : fs::directory_iterator(out)) {
-    const std::string name = e.path().filename().string();
-    CHECK(name.find(".partial") == std::string::npos);
-    CHECK(name.find(".tmp-") == std::string::npos);
-  }
 }
 
 TEST_CASE("a closed terminal (SIGHUP) stops like Ctrl-C; a closed stderr pipe does not stop the run", "[cli][signal]") {

@@ -11,6 +11,7 @@
 #include "tests/app/test_util.h"
 
 using namespace cellform::test;
+using Catch::Matchers::Contains;
 namespace fs = std::filesystem;
 
 namespace {
@@ -62,4 +63,28 @@ TEST_CASE("SIGTERM stops a run as Ctrl-C does and exits 130", "[cli][signal]") {
                              !Catch::Matchers::Contains("printable"));
   CHECK(fs::exists(out / "checkpoint.cfck"));
   CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "interrupted");
+}
+
+TEST_CASE("a second Ctrl-C quits at once, says what the folder keeps, and the next run clears what it left",
+          "[cli][signal]") {
+  TempDir t("cli-int-twice");
+  const auto script =
+      t.write("long.lua", "division { trigger = 'none' }\nrun { steps = 1000000 }\ndisc { radius = 80 }\n");
+  const fs::path out = t.path / "o", log = t.path / "err.txt";
+  const pid_t pid =
+      spawn_cellform_logged({"run", script.string(), "--out", out.string(), "--quiet", "--threads", "1"}, log);
+  REQUIRE(pid > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  kill(pid, SIGINT);
+  std::this_thread::sleep_for(std::chrono::milliseconds(5));  // delivered apart, within the step and the writing
+  kill(pid, SIGINT);
+  CHECK(wait_exit(pid) == 130);
+  CHECK_THAT(slurp(log), Contains("quit: the output folder keeps its last checkpoint, if one was written"));
+  CHECK_FALSE(fs::exists(out / "run.json"));
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "2"}).code == 0);
+  for (const auto& e : fs::directory_iterator(out)) {
+    const std::string name = e.path().filename().string();
+    CHECK(name.find(".partial") == std::string::npos);
+    CHECK(name.find(".tmp-") == std::string::npos);
+  }
 }

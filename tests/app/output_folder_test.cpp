@@ -100,6 +100,12 @@ TEST_CASE("an unwritable output location fails clearly", "[cli]") {
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("frames' is not a folder; output.every writes the frames into frames/"));
   CHECK_FALSE(fs::exists(t.path / "o3" / "checkpoint.cfck"));
+  fs::create_directories(t.path / "o5");  // a link to nothing is no folder either
+  fs::create_symlink(t.path / "nowhere", t.path / "o5" / "frames");
+  r = cli({"run", script.string(), "--out", (t.path / "o5").string(), "--quiet", "--steps", "2", "--set",
+           "output.every=1"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("frames' is not a folder"));
   for (const auto& e : fs::directory_iterator(t.path / "o3"))  // no staging folder is left
     CHECK(e.path().filename().string().rfind(".partial", 0) != 0);
   // a folder whose files' paths would be too long for the system (each name within its own limit)

@@ -1,7 +1,11 @@
-// Tests of what resume --script says about an edited script's placed things (app/run_start.cpp).
+// Tests of app/run_start.cpp: what resume --script says about an edited script's placed things, and the
+// checkpoint's metadata of text that is not UTF-8.
 #include <catch2/catch.hpp>
 
+#include <nlohmann/json.hpp>
+
 #include "app/run_internal.h"
+#include "tests/app/test_util.h"
 
 using namespace cellform;
 using Catch::Matchers::Contains;
@@ -28,4 +32,47 @@ TEST_CASE("resume --script names the petioles it changes, not those it only reor
   CHECK_THAT(app::unplaced_changes(s, before, now), Contains("(e.lua:7)"));
   now.scene.petioles = {petiole(0, 3), petiole(5, 4), {core::Vec3(9, 0, 0), true, 20, "e.lua:8: "}};
   CHECK(app::unplaced_changes(s, before, now).empty());  // due after the checkpoint: placed as the run goes on
+}
+
+namespace fs = std::filesystem;
+using namespace cellform::test;
+
+TEST_CASE("text that is not UTF-8: a script's name is recorded replaced; a value is refused", "[cli]") {
+  TempDir t("cli-utf8");
+  const auto script = t.write(
+      "n\xff\xfe"
+      "ame.lua",
+      kSmall);
+  const fs::path out = t.path / "out";
+  auto r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "3"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["script"]["path"].get<std::string>().find("n\xef\xbf\xbd\xef\xbf\xbd"
+                                                      "ame.lua") != std::string::npos);
+  // the checkpoint is written and resumes
+  r = cli({"resume", (out / "checkpoint.cfck").string(), "--steps", "5", "--quiet"});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  // a script in a folder whose name is not UTF-8 reads its files beside it, on resume too (the checkpoint
+  // keeps the path's bytes)
+  fs::create_directories(t.path / "f\xe9");
+  t.write("f\xe9/segment.txt", "-0.125 0\n0.125 0\n0.125 1\n-0.125 1\n-0.125 0\n");
+  const auto leaf = t.write("f\xe9/grass.lua",
+                            "leaf { file = 'segment.txt' }\ncolonisation { initial_length = 20, final_length = 30 }\n");
+  const fs::path grass = t.path / "grass";
+  r = cli({"run", leaf.string(), "--out", grass.string(), "--quiet", "--steps", "3"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  r = cli({"resume", (grass / "checkpoint.cfck").string(), "--steps", "6", "--quiet"});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  // a value is run.json's and the checkpoint's to record as given: refused before the run
+  r = cli({"run", script.string(), "--out", out.string(), "--set", "size=\xff"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--set size=\\xff: not UTF-8 text"));
+  const auto knob = t.write("knob.lua", "local P = params { name = 'caf\xe9' }\ndisc { radius = 2 }\n");
+  r = cli({"run", knob.string(), "--out", (t.path / "k").string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("knob.lua:1: params{...}: the knob name's default is not UTF-8 text"));
 }

@@ -40,8 +40,8 @@ TEST_CASE("a refused parameter recalls the knobs the run set, which it may come 
   CHECK(r.code == 2);
   CHECK_THAT(r.err, !Contains("knobs"));
   // nor when knobs are set too: the message is of the value --set gave
-  r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--set", "scale=2", "--set",
-           "cells.time_step=-1"});
+  r = cli(
+      {"run", script.string(), "--out", (t.path / "o").string(), "--set", "scale=2", "--set", "cells.time_step=-1"});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("cells.time_step") && !Contains("knobs"));
 }

@@ -459,45 +459,6 @@ TEST_CASE("errors without a message, runaway loops and file headers name the lin
   CHECK_THAT(load_error("cells { neighbours = 3.0000000001 }\n"), Contains("got 3.0000000001"));
 }
 
-TEST_CASE("docs/scripting.md documents every parameter as the program knows it", "[script][docs]") {
-  std::ifstream in(std::string(CELLFORM_SOURCE_DIR) + "/docs/scripting.md");
-  std::stringstream s;
-  s << in.rdbuf();
-  // the reference tables are `cellform params` output pasted verbatim; regenerate them when this fails
-  CHECK_THAT(s.str(), Contains(cellform::app::schema_markdown()));
-  // every row has the header's five cells (a "|" inside a cell, as in "one of a|b", is escaped)
-  std::istringstream rows(cellform::app::schema_markdown());
-  std::size_t checked = 0;
-  for (std::string row; std::getline(rows, row);) {
-    if (row.rfind("| `", 0) != 0) continue;
-    std::size_t bars = 0;
-    for (std::size_t k = 0; k < row.size(); ++k) bars += row[k] == '|' && (k == 0 || row[k - 1] != '\\');
-    CHECK(bars == 6);
-    ++checked;
-  }
-  CHECK(checked > 50);
-}
-
-TEST_CASE("positions beyond 1e9 model units are refused (their squares would overflow)", "[script]") {
-  CHECK_THAT(load_error("disc { radius = 3 }\npetiole { at = {1e300, 0, 0} }\nvenation {}\n"),
-             Contains(":2: petiole.at") && Contains("1e+09"));
-  CHECK_THAT(load_error("disc { radius = 3 }\nsurface { cells = true, seeds = {{1e12, 0, 0}} }\ncolonisation {}\n"),
-             Contains("surface.seeds") && Contains("beyond 1e+09"));
-  // a shape too large to place, made so on the command line: the option is named beside the script's line
-  CHECK_THAT(load_error("disc { radius = 3 }\n", {{"disc.radius", "1e9"}}),
-             Contains("test/leaf.lua:1: disc: ") && Contains("(given by --set disc.radius=1e9)"));
-  CHECK_THAT(load_error("disc { radius = 1e9 }\n"), !Contains("given by"));
-}
-
-TEST_CASE("directions that mean nothing are refused, not replaced", "[script]") {
-  CHECK_THAT(load_error("disc { radius = 2, normal = {0, 0, 0} }\n"), Contains(":1: disc: normal must be a non-zero"));
-  CHECK_THAT(load_error("rectangle { width = 2, height = 2, normal = {0, 0, 0} }\n"), Contains("rectangle: normal"));
-  CHECK_THAT(load_error("disc { radius = 2 }\nhalf_space { normal = {0, 0, 0} }\n"),
-             Contains(":2: half_space.normal must be a non-zero vector"));
-  CHECK_THAT(load_error("disc { radius = 2 }\ndivision { direction = 'auxin' }\n"),
-             Contains(":2: division.direction = \"auxin\"") && Contains("venation{...}"));
-}
-
 TEST_CASE("a setting of the other division trigger is refused, not dropped unseen", "[script]") {
   CHECK_THAT(load_error("disc { radius = 2 }\ndivision { trigger = 'neighbours', age = 5 }\n"),
              Contains(":2: division.age has no effect with trigger = \"neighbours\""));
@@ -574,43 +535,6 @@ TEST_CASE("a division rule with trigger settings is refused, not half applied", 
       "disc { radius = 2 }\ndivision { rule = function(cell) return true end, probability = 0.5, "
       "max_cells = 100 }\n");
   CHECK(cfg.scene.cells.division.max_cells == 100);
-}
-
-TEST_CASE("a value that fails a check of several parameters is reported where it was given", "[script]") {
-  // the time step's stability limit depends on the force weights: checked after the section is read
-  CHECK_THAT(load_error("run { steps = 3 }\ncells { time_step = 5 }\ndisc { radius = 3 }\n"),
-             Contains("test/leaf.lua:2:") && Contains("cells.time_step 5 is above the stable limit"));
-  CHECK_THAT(load_error("cells { }\ndisc { radius = 3 }\n", {{"cells.time_step", "4"}}),
-             Contains("--set cells.time_step=4: cells.time_step 4"));
-  // a --set of another weight that lowered the limit is named too
-  CHECK_THAT(load_error("cells { rest_length = 1 }\ndisc { radius = 3 }\n",
-                        {{"cells.spring", "100000"}, {"cells.max_speed", "5"}}),
-             Contains("test/leaf.lua:1: cells.time_step") && Contains("(with --set cells.spring=100000)"));
-  CHECK_THAT(load_error("cells { }\ndisc { radius = 3 }\n", {{"cells.time_step", "3"}, {"cells.spring", "3"}}),
-             Contains("--set cells.time_step=3: ") && Contains("(with --set cells.spring=3)"));
-  // the straightening factor is named by the script's name, and the message names the term that binds
-  const std::string veined = "cells { }\ndisc { radius = 3 }\npetiole { at = {0, -3, 0} }\nvenation { }\n";
-  CHECK_THAT(load_error(veined, {{"cells.vein_cohesion", "1e6"}}),
-             Contains("test/leaf.lua:1: cells.time_step") && Contains("(with --set cells.vein_cohesion=1e6)") &&
-                 Contains("the largest term is cells.vein.cohesion 0.05 times cells.vein_cohesion 1e+06"));
-  // without canalisation no cell joins a vein tree: the straightening terms bound nothing
-  CHECK_NOTHROW(load("cells { }\ndisc { radius = 3 }\n", {{"cells.vein_cohesion", "1e6"}}));
-  CHECK_NOTHROW(load("cells { cohesion = 40, time_step = 0.1 }\ndisc { radius = 3 }\n"));  // was refused
-  CHECK_THAT(load_error("cells { cohesion = 4000, time_step = 0.1 }\ndisc { radius = 3 }\n"),
-             Contains("the largest term is cells.cohesion 4000)"));  // the plain term still binds
-  CHECK_THAT(load_error("cells { spring = 1000 }\ndisc { radius = 3 }\n"),
-             Contains("the largest term is cells.spring 1000)"));
-  // a --set value is named as the --set, not as the script line that set another value
-  const std::string print =
-      "disc { radius = 3 }\npetiole { at = {0, 0, 0} }\nvenation { }\nprint { formats = \"stl\" }\n";
-  CHECK_THAT(load_error(print, {{"print.formats", "stl,stp"}}),
-             Contains("--set print.formats=stl,stp: print.formats: unknown format 'stp'"));
-  CHECK_THAT(load_error(print, {{"print.voxel_size", "1"}}), Contains("--set print.voxel_size=1: print.voxel_size"));
-  CHECK_THAT(load_error("disc { radius = 3 }\npetiole { at = {0, 0, 0} }\nvenation { }\nprint { voxel_size = 1 }\n"),
-             Contains("test/leaf.lua:4: print.voxel_size"));
-  // surface{cells = true} without a start for the veins: said with the section's line, before any growth
-  CHECK_THAT(load_error("disc { radius = 3 }\nsurface { cells = true }\ncolonisation { type = \"open\" }\n"),
-             Contains("test/leaf.lua:2: surface{cells = true} needs seeds"));
 }
 
 TEST_CASE("run.json's shapes say how many cells each placed, in whole numbers", "[script]") {
