@@ -381,6 +381,14 @@ std::vector<std::string> earlier_frames(const fs::path& dir, std::uint64_t up_to
   return kept;
 }
 
+void check_frames_folder(const fs::path& dir) {
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(dir / "frames", ec)) && !fs::is_directory(dir / "frames", ec))
+    throw FolderRefused("'" + (dir / "frames").string() +
+                        "' is not a folder; output.every writes the frames into frames/: choose another --out "
+                        "folder, or move that away");
+}
+
 /// Moves every file of `staging` (recursively) into `dir`, then removes the outputs of an earlier run
 /// (listed in its run.json) that this run did not write again and `keep` does not name.
 void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vector<std::string>& names,

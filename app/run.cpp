@@ -285,6 +285,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   const fs::path dir = s.out_dir;
   const fs::path created = first_missing(dir);  // made by this run: removed again if it stays empty
   try {
+    if (cfg.output.every > 0) check_frames_folder(dir);  // before anything is made there
     staging = make_staging(dir, lock, &killed_staging, &folder_mark);
     // a resume of this folder's checkpoint read it before taking the lock: another run may have replaced it
     std::error_code same;
@@ -293,16 +294,6 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       fs::remove_all(staging, same);
       throw core::FileError("checkpoint '" + o.checkpoint.string() +
                             "' was replaced by another run while this one started; resume it again");
-    }
-    // frames asked for go into frames/: a file of that name would stop the run only at its end
-    std::error_code ec;
-    if (cfg.output.every > 0 && fs::exists(fs::symlink_status(dir / "frames", ec)) &&
-        !fs::is_directory(dir / "frames", ec)) {  // a file, or a link to nothing
-      lock.reset();
-      fs::remove_all(staging, ec);
-      throw FolderRefused("'" + (dir / "frames").string() +
-                          "' is not a folder; output.every writes the frames into frames/: choose another --out "
-                          "folder, or move that away");
     }
     if (s.script_replaced) record_replaced_script(s, o, dir);
   } catch (const FolderBusy& e) {
@@ -488,12 +479,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         if (saved) {
           keep_failed_run(e.what());
           err << resume_hint(o, checkpoint, s.script_path) << "\n";
-          // a value that made it diverge may be a --set one, which the resume keeps unless given again
-          std::string sets;
-          for (const auto& [k, v] : s.sets) sets += (sets.empty() ? "" : ", ") + k + "=" + v;
-          if (!sets.empty())
-            err << "  (the run's --set values carry over: " << sets
-                << "; with --script, --set NAME=VALUE gives another)\n";
+          err << sets_carry_over(s.sets);
         }
         std::error_code ec;
         fs::remove_all(staging, ec);

@@ -118,6 +118,9 @@ void write_run_json(const std::filesystem::path& path, const nlohmann::json& run
 /// resume with --script, and the --out and --steps of this command that still apply.
 std::string resume_hint(const RunOptions& o, const std::filesystem::path& checkpoint,
                         const std::filesystem::path& script);
+/// After a divergence's resume_hint: a line saying the run's --set values (`sets`) carry over to the resume
+/// (a value that made it diverge may be one), and that --set gives another; "" when there are none.
+std::string sets_carry_over(const Overrides& sets);
 
 /// run.json's "script": path and hash; after resume --script also what it replaced, and from which step.
 nlohmann::json script_record(const Start& s);
@@ -236,6 +239,9 @@ inline constexpr const char* kStagingMark = "checkpoint.mark";
 /// gets the checkpoint_mark of that checkpoint (empty when `dir` has none).
 std::filesystem::path make_staging(const std::filesystem::path& dir, std::optional<FolderLock>& lock,
                                    std::filesystem::path* kept = nullptr, std::string* checkpoint_mark_out = nullptr);
+/// Refuses (FolderRefused) a `dir` whose frames/ is a file or a link to nothing: output.every writes there,
+/// and the run would fail only at its end.
+void check_frames_folder(const std::filesystem::path& dir);
 
 /// Writes `marks` (checkpoint_mark of checkpoints whose frames `staging` holds) into `staging`, replacing
 /// what was there. Returns false if it could not.

@@ -86,6 +86,14 @@ std::string resume_hint(const RunOptions& o, const fs::path& checkpoint, const f
   return hint;
 }
 
+std::string sets_carry_over(const Overrides& sets) {
+  std::string listed;
+  for (const auto& [k, v] : sets) listed += (listed.empty() ? "" : ", ") + k + "=" + v;
+  return listed.empty()
+             ? listed
+             : "  (the run's --set values carry over: " + listed + "; with --script, --set NAME=VALUE gives another)\n";
+}
+
 json script_record(const Start& s) {
   json r = {{"path", absolute_path_text(s.script_path)}, {"hash", script_hash(s.source)}};  // wherever run from
   if (!s.replaced.empty()) r["replaces"] = s.replaced;
