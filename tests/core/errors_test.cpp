@@ -26,11 +26,11 @@ TEST_CASE("is_utf8 accepts well-formed UTF-8 (as JSON does) and nothing else", "
   CHECK(is_utf8("caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x8c\xbf"));
   CHECK(is_utf8("\xc2\x85"));  // a C1 control is UTF-8 all the same
   CHECK(is_utf8(std::string("a\0b", 3)));
-  CHECK_FALSE(is_utf8("n\xff\xfe"));    // never in UTF-8
-  CHECK_FALSE(is_utf8("caf\xe9"));       // Latin-1
-  CHECK_FALSE(is_utf8("\xc3"));          // cut short
-  CHECK_FALSE(is_utf8("\xc0\xaf"));      // overlong
-  CHECK_FALSE(is_utf8("\xed\xa0\x80"));  // a surrogate
+  CHECK_FALSE(is_utf8("n\xff\xfe"));         // never in UTF-8
+  CHECK_FALSE(is_utf8("caf\xe9"));           // Latin-1
+  CHECK_FALSE(is_utf8("\xc3"));              // cut short
+  CHECK_FALSE(is_utf8("\xc0\xaf"));          // overlong
+  CHECK_FALSE(is_utf8("\xed\xa0\x80"));      // a surrogate
   CHECK_FALSE(is_utf8("\xf4\x90\x80\x80"));  // beyond U+10FFFF
 }
 

@@ -97,8 +97,11 @@ TEST_CASE("the SVG is drawn in millimetres at svg size", "[vein_io]") {
   CHECK(scaled.find("width=\"90.000mm\" height=\"30.000mm\"") != std::string::npos);  // 40 x 10 units at 2 mm
 }
 
-TEST_CASE("the SVG draws a vein as one path between branch points and width changes", "[vein_io]") {
-  // 0 - 1 - 2 - 3 - 4 in a line, all 0.5 wide but the last segment; a branch 1 - 5 of the same width
+namespace {
+/// "width: d" of each path of the SVG of a hand-made tree, in order (the veins', then the outline's):
+/// 0 - 1 - 2 - 3 - 4 in a line, all 0.5 wide but the last segment; a branch 1 - 5 of the same width; an
+/// anastomosis 4 - 5. Drawn at 1 mm per unit: x -> 6 + x, y -> 5 + (5 - y).
+std::vector<std::string> hand_tree_paths(bool join_veins) {
   v::Outline outline;
   outline.points = {{-1, -1}, {10, -1}, {10, 5}, {-1, 5}};
   v::VeinTree t;
@@ -110,41 +113,7 @@ TEST_CASE("the SVG draws a vein as one path between branch points and width chan
   std::filesystem::create_directories(dir);
   v::SvgParams sp;
   sp.scale = 1;
-  v::write_svg(dir / "p.svg", t, outline, sp);
-  const std::string svg = read_text(dir / "p.svg");
-  std::filesystem::remove_all(dir);
-  std::vector<std::string> paths;  // the "d" of each path, in order: the veins', then the outline's
-  const std::regex re("<path stroke-width=\"([0-9.]+)\" d=\"([^\"]*)\"/>");
-  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), re); it != std::sregex_iterator(); ++it)
-    paths.push_back((*it)[1].str() + ": " + (*it)[2].str());
-  // x -> 6 + x, y -> 5 + (5 - y): the trunk 0-1 ends at the branch point 1; 1-2-3 runs on; 3-4 is thinner;
-  // the branch 1-5; the anastomosis 4-5 on its own. Nearest-next from the page's corner (0, 0): the branch
-  // from 5 (the anastomosis's end there is as near, but a later stroke), the trunk back from 1, 1-2-3, 3-4,
-  // then the anastomosis from 4; the outline last
-  const std::vector<std::string> expected{"1.000: M7.000 8.000 L7.000 10.000",
-                                          "1.000: M7.000 10.000 L6.000 10.000",
-                                          "1.000: M7.000 10.000 L8.000 10.000 L9.000 10.000",
-                                          "0.500: M9.000 10.000 L10.000 10.000",
-                                          "0.500: M10.000 10.000 L7.000 8.000",  // the tip radius, 0.25
-                                          "0.200: M5.000 11.000 L16.000 11.000 L16.000 5.000 L5.000 5.000 Z"};
-  CHECK(paths == expected);
-}
-
-TEST_CASE("joined, the SVG draws each vein as one path at its length-weighted mean width", "[vein_io]") {
-  // 0 - 1 - 2 - 3 - 4 in a line, all 0.5 wide but the last segment; a branch 1 - 5 of the same width (the
-  // first child, 2, goes on: equal widths), and an anastomosis 4 - 5
-  v::Outline outline;
-  outline.points = {{-1, -1}, {10, -1}, {10, 5}, {-1, 5}};
-  v::VeinTree t;
-  t.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0), Vec3(4, 0, 0), Vec3(1, 2, 0)};
-  t.parent = {kNoIndex, 0, 1, 2, 3, 1};
-  t.radius = {0.5, 0.5, 0.5, 0.5, 0.25, 0.5};
-  t.anastomoses = {{4, 5}};
-  const auto dir = std::filesystem::temp_directory_path() / "cellform_vein_io_joined";
-  std::filesystem::create_directories(dir);
-  v::SvgParams sp;
-  sp.scale = 1;
-  sp.join_veins = true;
+  sp.join_veins = join_veins;
   v::write_svg(dir / "p.svg", t, outline, sp);
   const std::string svg = read_text(dir / "p.svg");
   std::filesystem::remove_all(dir);
@@ -152,13 +121,32 @@ TEST_CASE("joined, the SVG draws each vein as one path at its length-weighted me
   const std::regex re("<path stroke-width=\"([0-9.]+)\" d=\"([^\"]*)\"/>");
   for (auto it = std::sregex_iterator(svg.begin(), svg.end(), re); it != std::sregex_iterator(); ++it)
     paths.push_back((*it)[1].str() + ": " + (*it)[2].str());
-  // the branch from 5 (nearest the page's corner), the whole main vein from 0 at (1 + 1 + 1 + 0.5) / 4 mm,
-  // the anastomosis from 4, the outline
+  return paths;
+}
+}  // namespace
+
+TEST_CASE("the SVG draws a vein as one path between branch points and width changes", "[vein_io]") {
+  // the trunk 0-1 ends at the branch point 1; 1-2-3 runs on; 3-4 is thinner; the branch 1-5; the
+  // anastomosis 4-5 on its own. Nearest-next from the page's corner (0, 0): the branch from 5 (the
+  // anastomosis's end there is as near, but a later stroke), the trunk back from 1, 1-2-3, 3-4, then the
+  // anastomosis from 4; the outline last
+  const std::vector<std::string> expected{"1.000: M7.000 8.000 L7.000 10.000",
+                                          "1.000: M7.000 10.000 L6.000 10.000",
+                                          "1.000: M7.000 10.000 L8.000 10.000 L9.000 10.000",
+                                          "0.500: M9.000 10.000 L10.000 10.000",
+                                          "0.500: M10.000 10.000 L7.000 8.000",  // the tip radius, 0.25
+                                          "0.200: M5.000 11.000 L16.000 11.000 L16.000 5.000 L5.000 5.000 Z"};
+  CHECK(hand_tree_paths(false) == expected);
+}
+
+TEST_CASE("joined, the SVG draws each vein as one path at its length-weighted mean width", "[vein_io]") {
+  // the first child of 1, 2, goes on (equal widths): the branch from 5 (nearest the page's corner), the
+  // whole main vein from 0 at (1 + 1 + 1 + 0.5) / 4 mm, the anastomosis from 4, the outline
   const std::vector<std::string> expected{
       "1.000: M7.000 8.000 L7.000 10.000",
       "0.875: M6.000 10.000 L7.000 10.000 L8.000 10.000 L9.000 10.000 L10.000 10.000",
       "0.500: M10.000 10.000 L7.000 8.000", "0.200: M5.000 11.000 L16.000 11.000 L16.000 5.000 L5.000 5.000 Z"};
-  CHECK(paths == expected);
+  CHECK(hand_tree_paths(true) == expected);
 }
 
 TEST_CASE("the SVG has a layer per vein order, each path in the layer of its segments' order", "[vein_io]") {
