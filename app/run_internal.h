@@ -141,7 +141,7 @@ Overrides with_physics(const Overrides& overrides, const nlohmann::json& physics
 /// of checkpoint adds its own (mode, initial cells, physics).
 nlohmann::json checkpoint_meta(const Start& s, std::uint64_t seed, std::uint64_t target, std::uint64_t step);
 /// The checkpoint's "meta" chunk: `meta` as JSON text, bytes of a path that are not UTF-8 replaced by U+FFFD
-/// (the paths there only name things; the outputs go beside the checkpoint, the script is in it).
+/// (the outputs go beside the checkpoint; the script's path is kept byte for byte in "script_bytes").
 std::string checkpoint_meta_text(const nlohmann::json& meta);
 
 /// `p` made absolute (against the current directory) for a checkpoint, so that resume works from

@@ -111,15 +111,10 @@ json checkpoint_meta(const Start& s, std::uint64_t seed, std::uint64_t target, s
                {"step", step},
                {"out", absolute_path_text(s.out_dir)},
                {"replaced_scripts", s.replaced}};
-  // a script path that is not UTF-8 (which JSON holds with U+FFFD) also in hex, byte for byte: a resume
-  // finds the script's files (a mesh, an outline) beside it
+  // a script path that is not UTF-8 (which JSON holds with U+FFFD) also as its bytes: a resume finds the
+  // script's files (a mesh, an outline) beside it
   const std::string path = absolute_path_text(s.script_path);
-  if (!core::is_utf8(path)) {
-    static const char kHex[] = "0123456789abcdef";
-    std::string hex;
-    for (const char c : path) hex += {kHex[static_cast<unsigned char>(c) >> 4], kHex[c & 15]};
-    meta["script_hex"] = hex;
-  }
+  if (!core::is_utf8(path)) meta["script_bytes"] = std::vector<std::uint8_t>(path.begin(), path.end());
   return meta;
 }
 
@@ -151,14 +146,9 @@ Start start_from(const RunOptions& o) {
       try {
         meta = json::parse(f.at("meta", what));
         s.script_path = meta.at("script").get<std::string>();
-        if (meta.contains("script_hex")) {  // the path's bytes, where they are not UTF-8
-          const std::string hex = meta["script_hex"].is_string() ? meta["script_hex"].get<std::string>() : "";
-          if (hex.empty() || hex.size() % 2 || hex.find_first_not_of("0123456789abcdef") != std::string::npos)
-            throw core::FileError(what + " is corrupt (metadata 'script_hex')");
-          std::string path;
-          for (std::size_t k = 0; k < hex.size(); k += 2)
-            path += static_cast<char>(std::stoi(hex.substr(k, 2), nullptr, 16));
-          s.script_path = path;
+        if (meta.contains("script_bytes")) {  // the path's bytes, where they are not UTF-8
+          const auto raw = meta["script_bytes"].get<std::vector<std::uint8_t>>();
+          s.script_path = std::string(raw.begin(), raw.end());
         }
         s.sets = meta.at("overrides").get<Overrides>();
         // counts must be whole numbers >= 0 (a negative one would wrap round to a huge step)
