@@ -1,28 +1,31 @@
--- A coral-like mass: uniform growth by age with little drag crumples the sheet into folds that
--- grow back onto themselves and form new connections (a non-manifold surface). Growth in the whole
--- sheet outruns the springs: the folds pack densely, cells about half a rest length apart.
+-- A coral-like form: a sphere of cells grows into ruffled lobes that fold back onto themselves and form
+-- new connections (a non-manifold surface). A cell divides only while fewer than 8 cells lie within 1.5
+-- rest lengths (the paper's division "by amount of neighbours"), so growth goes where the sheet has
+-- room: folds that press together stop growing, and the form stays a sheet instead of packing into a
+-- foam. Splits lie in the sheet (tangent) and a strong planarisation keeps the lobes smooth.
 
 local P = params {
   size = 8000,
 }
 
-run { steps = 500, seed = 3 }
+run { steps = 1500, seed = 3 }
 
 cells {
   rest_length = 1.0,
   time_step = 0.15,
   spring = 1.0,
-  planar = 0.4,
+  planar = 1.0,
   separation = 0.08,
   drag = {0.8, 0.8, 0.8},
 }
 
 division {
-  trigger = "age",
-  age = 30,
+  trigger = "neighbours",
+  min_neighbours = 8,
+  radius = 1.5,          -- model units: the second ring of a sheet lies just beyond it
   min_age = 10,
   probability = 0.3,
-  direction = "random",   -- uniform growth
+  direction = "tangent",  -- random, within the sheet
   max_cells = P.size,
 }
 

@@ -1,25 +1,27 @@
--- A crumpled, flower-like disc: its cells split around its centre (circumferential anisotropic
--- growth), so the rim lengthens faster than the radius and the disc crumples into a thick, ruffled mass
--- (growth in the whole sheet outruns the springs: cells pack about half a rest length apart).
+-- A flower-like form: a disc whose cells split around its centre (circumferential anisotropic growth)
+-- ruffles into concentric petal-like folds, like a rose seen from above. A cell divides only while fewer
+-- than 8 cells lie within 1.5 rest lengths (division "by amount of neighbours"), so folds that press
+-- together stop growing and the form stays a sheet instead of packing into a foam.
 
 local P = params {
   size = 7000,
 }
 
-run { steps = 500, seed = 5 }
+run { steps = 2500, seed = 5 }
 
 cells {
   rest_length = 1.0,
   time_step = 0.15,
   spring = 1.0,
-  planar = 0.5,
+  planar = 1.0,
   separation = 0.05,
   drag = {0.85, 0.85, 0.85},
 }
 
 division {
-  trigger = "age",
-  age = 25,
+  trigger = "neighbours",
+  min_neighbours = 8,
+  radius = 1.5,  -- model units: the second ring of a sheet lies just beyond it
   min_age = 10,
   probability = 0.4,
   direction = "circumferential",

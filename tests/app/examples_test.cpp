@@ -266,3 +266,41 @@ TEST_CASE("the ribbed vault's veins stand on each of its six supports", "[exampl
   const auto run = nlohmann::json::parse(slurp(out / "run.json"));
   CHECK(nodes.size() == run["veins"]["nodes"].get<std::size_t>() + run["veins"].value("stems", std::size_t{0}));
 }
+
+TEST_CASE("the coral and the flower grow a folded sheet, not a packed foam", "[examples]") {
+  // In a sheet each cell has its ring of about six neighbours within one rest length (1 model unit in
+  // both scripts); folds packed together, as growth by age packed them, put 8 to 10 there (median).
+  TempDir t("sheet-examples");
+  for (const char* name : {"coral", "flower"}) {
+    DYNAMIC_SECTION(name) {
+      const fs::path out = t.path / name;
+      const auto r = cli({"run", (fs::path(CELLFORM_SOURCE_DIR) / "examples" / (std::string(name) + ".lua")).string(),
+                          "--out", out.string(), "--quiet", "--set", "size=2000"});
+      INFO(r.err);
+      REQUIRE(r.code == 0);
+      std::vector<std::array<double, 3>> cells;
+      std::istringstream obj(slurp(out / "cells.obj"));
+      for (std::string line; std::getline(obj, line);)
+        if (line.rfind("v ", 0) == 0) {
+          std::array<double, 3> p{};
+          std::istringstream(line.substr(2)) >> p[0] >> p[1] >> p[2];
+          cells.push_back(p);
+        }
+      REQUIRE(cells.size() == 2000);
+      std::vector<int> within(cells.size(), 0);
+      std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+      for (std::size_t i = 0; i < cells.size(); ++i) {
+        for (std::size_t j = 0; j < cells.size(); ++j)
+          if (j != i && std::hypot(cells[i][0] - cells[j][0], cells[i][1] - cells[j][1], cells[i][2] - cells[j][2]) < 1)
+            ++within[i];
+        for (int k = 0; k < 3; ++k) {
+          lo[k] = std::min(lo[k], cells[i][k]);
+          hi[k] = std::max(hi[k], cells[i][k]);
+        }
+      }
+      std::nth_element(within.begin(), within.begin() + within.size() / 2, within.end());
+      CHECK(within[within.size() / 2] <= 6);
+      for (int k = 0; k < 3; ++k) CHECK(hi[k] - lo[k] > 10);  // a 3-D form, not a flat disc
+    }
+  }
+}
