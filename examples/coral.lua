@@ -30,3 +30,6 @@ division {
 }
 
 sphere { radius = 3 }
+
+-- printed as a closed shell of the sheet (0.6 mm walls, 120 mm across), one piece
+print { formats = "stl", shell = true, veins = false }

@@ -32,3 +32,6 @@ division {
 
 disc { radius = 5 }
 petiole { at = {0, 0, 0} }
+
+-- printed as a closed shell of the sheet (0.6 mm walls, 120 mm across), one piece
+print { formats = "stl", shell = true, veins = false }

@@ -267,7 +267,7 @@ TEST_CASE("the ribbed vault's veins stand on each of its six supports", "[exampl
   CHECK(nodes.size() == run["veins"]["nodes"].get<std::size_t>() + run["veins"].value("stems", std::size_t{0}));
 }
 
-TEST_CASE("the coral and the flower grow a folded sheet, not a packed foam", "[examples]") {
+TEST_CASE("the coral and the flower grow a folded sheet, not a packed foam, and print in one piece", "[examples]") {
   // In a sheet each cell has its ring of about six neighbours within one rest length (1 model unit in
   // both scripts); folds packed together, as growth by age packed them, put 8 to 10 there (median).
   TempDir t("sheet-examples");
@@ -301,6 +301,8 @@ TEST_CASE("the coral and the flower grow a folded sheet, not a packed foam", "[e
       std::nth_element(within.begin(), within.begin() + within.size() / 2, within.end());
       CHECK(within[within.size() / 2] <= 6);
       for (int k = 0; k < 3; ++k) CHECK(hi[k] - lo[k] > 10);  // a 3-D form, not a flat disc
+      // and its shell prints in one piece
+      CHECK(nlohmann::json::parse(slurp(out / "run.json"))["print"]["parts"] == 1);
     }
   }
 }
