@@ -1,8 +1,8 @@
 -- A coral-like form: a sphere of cells grows into ruffled lobes that fold back onto themselves and form
--- new connections (a non-manifold surface). A cell divides only while fewer than 8 cells lie within 1.5
--- rest lengths (the paper's division "by amount of neighbours"), so growth goes where the sheet has
--- room: folds that press together stop growing, and the form stays a sheet instead of packing into a
--- foam. Splits lie in the sheet (tangent) and a strong planarisation keeps the lobes smooth.
+-- new connections (a non-manifold surface). A cell divides only while fewer than 8 other cells lie within
+-- 1.5 model units, 1.5 rest lengths here (the paper's division "by amount of neighbours"), so growth goes
+-- where the sheet has room: a compressed patch or a fold pressed against another stops growing, and the
+-- form stays a sheet instead of packing into a foam. Splits lie in the sheet (tangent).
 
 local P = params {
   size = 8000,
@@ -22,7 +22,7 @@ cells {
 division {
   trigger = "neighbours",
   min_neighbours = 8,
-  radius = 1.5,          -- model units: the second ring of a sheet lies just beyond it
+  radius = 1.5,          -- model units: the second ring of a sheet at rest lies beyond it, at 1.73
   min_age = 10,
   probability = 0.3,
   direction = "tangent",  -- random, within the sheet
@@ -31,5 +31,5 @@ division {
 
 sphere { radius = 3 }
 
--- printed as a closed shell of the sheet (0.6 mm walls, 120 mm across), one piece
+-- printed as one watertight shell of the sheet (0.6 mm walls, 120 mm across), perforated where the sheet has gaps
 print { formats = "stl", shell = true, veins = false }

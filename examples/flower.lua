@@ -1,13 +1,14 @@
 -- A flower-like form: a disc whose cells split around its centre (circumferential anisotropic growth)
 -- ruffles into concentric petal-like folds, like a rose seen from above. A cell divides only while fewer
--- than 8 cells lie within 1.5 rest lengths (division "by amount of neighbours"), so folds that press
--- together stop growing and the form stays a sheet instead of packing into a foam.
+-- than 8 other cells lie within 1.5 model units, 1.5 rest lengths here (division "by amount of
+-- neighbours"), so folds that press together stop growing and the form stays a sheet instead of packing
+-- into a foam.
 
 local P = params {
   size = 7000,
 }
 
-run { steps = 2500, seed = 5 }
+run { steps = 1500, seed = 5 }
 
 cells {
   rest_length = 1.0,
@@ -21,7 +22,7 @@ cells {
 division {
   trigger = "neighbours",
   min_neighbours = 8,
-  radius = 1.5,  -- model units: the second ring of a sheet lies just beyond it
+  radius = 1.5,  -- model units: the second ring of a sheet at rest lies beyond it, at 1.73
   min_age = 10,
   probability = 0.4,
   direction = "circumferential",
@@ -33,5 +34,5 @@ division {
 disc { radius = 5 }
 petiole { at = {0, 0, 0} }
 
--- printed as a closed shell of the sheet (0.6 mm walls, 120 mm across), one piece
+-- printed as one watertight shell of the sheet (0.6 mm walls, 120 mm across), perforated where the sheet has gaps
 print { formats = "stl", shell = true, veins = false }
