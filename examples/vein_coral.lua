@@ -1,6 +1,9 @@
 -- A coral-like 3-D form whose veins climb from a petiole on the ground: a small cap of cells sits on
 -- the ground plane, grows upward under reverse gravity while its rim folds, and auxin drains down to the
 -- fixed petiole at its foot, so the veins become the structural members of the standing form.
+-- Growth by age packs the mound's cells densely (about 10 within a rest length, not a sheet's 6); its
+-- veins, not its sheet, are what prints. Division by room, as in coral.lua, gives a looser sheet but a
+-- low, spreading one whose veins wander sideways, and with some seeds it sheds a few cells.
 
 local P = params {
   size = 8000,
