@@ -8,7 +8,9 @@ local P = params {
   size = 8000,
 }
 
-run { steps = 1500, seed = 3 }
+-- growth slows as the form fills out (about 1,200 steps to 8,000 cells, 2,200 to 100,000): the run
+-- lengthens with size
+run { steps = 1500 + math.max(0, math.floor(300 * math.log(P.size / 8000, 2))), seed = 3 }
 
 cells {
   rest_length = 1.0,
