@@ -496,17 +496,21 @@ void PointGrid::nearest_all_hashed(int k, Index* out, int threads) const {
       1024);
 }
 
-void PointGrid::within(const Vec3& q, double radius, Index self, std::vector<Index>& out) const {
+// Calls visit(i) for every point i within `radius` of q but `self`, each once, until visit returns false.
+// In the hashed layout several grid cells share a bucket: a point is taken only at its own grid cell, so
+// none is seen twice and no list of those found is needed.
+template <class Visit>
+void PointGrid::for_each_within(const Vec3& q, double radius, Index self, Visit&& visit) const {
   const double r2 = radius * radius;
   const long lo[3] = {coord(q.x() - radius), coord(q.y() - radius), coord(q.z() - radius)};
   const long hi[3] = {coord(q.x() + radius), coord(q.y() + radius), coord(q.z() + radius)};
-  const std::size_t start = out.size();
   // cell count in double: the product of three long extents can overflow for a huge radius
   const double cells = static_cast<double>(hi[0] - lo[0] + 1) * static_cast<double>(hi[1] - lo[1] + 1) *
                        static_cast<double>(hi[2] - lo[2] + 1);
   if (!(cells <= static_cast<double>(start_.size()))) {
     for (std::size_t i = 0; i < points_.size(); ++i)
-      if (static_cast<Index>(i) != self && (points_[i] - q).squaredNorm() <= r2) out.push_back(static_cast<Index>(i));
+      if (static_cast<Index>(i) != self && (points_[i] - q).squaredNorm() <= r2 && !visit(static_cast<Index>(i)))
+        return;
     return;
   }
   for (long ix = lo[0]; ix <= hi[0]; ++ix)
@@ -515,17 +519,26 @@ void PointGrid::within(const Vec3& q, double radius, Index self, std::vector<Ind
         const std::size_t b = bucket_of(ix, iy, iz);
         for (Index s = start_[b]; s < start_[b + 1]; ++s) {
           const Index i = order_[s];
-          if (i == self || (points_[i] - q).squaredNorm() > r2) continue;
-          if (std::find(out.begin() + static_cast<long>(start), out.end(), i) == out.end()) out.push_back(i);
+          const Vec3& p = points_[i];
+          if (i == self || (p - q).squaredNorm() > r2) continue;
+          if (!dense_ && (coord(p.x()) != ix || coord(p.y()) != iy || coord(p.z()) != iz)) continue;
+          if (!visit(i)) return;
         }
       }
 }
 
-int PointGrid::count_within(const Vec3& q, double radius, Index self) const {
-  thread_local std::vector<Index> scratch;
-  scratch.clear();
-  within(q, radius, self, scratch);
-  return static_cast<int>(scratch.size());
+void PointGrid::within(const Vec3& q, double radius, Index self, std::vector<Index>& out) const {
+  for_each_within(q, radius, self, [&](Index i) {
+    out.push_back(i);
+    return true;
+  });
+}
+
+int PointGrid::count_within(const Vec3& q, double radius, Index self, int limit) const {
+  int count = 0;
+  if (limit <= 0) return 0;
+  for_each_within(q, radius, self, [&](Index) { return ++count < limit; });
+  return count;
 }
 
 std::vector<Index> spatial_order(std::span<const Vec3> points, double cell_size) {

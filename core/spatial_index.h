@@ -1,6 +1,7 @@
 // Exact k-nearest and radius queries on a point set through a hashed uniform grid.
 #pragma once
 
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -36,8 +37,9 @@ class PointGrid {
   /// only costs time, never changes the result.
   void nearest_all(int k, Index* out, int threads, const Index* hint) const;
 
-  /// Number of points within `radius` of `query` (distance <= radius), not counting `self`.
-  int count_within(const Vec3& query, double radius, Index self) const;
+  /// Number of points within `radius` of `query` (distance <= radius), not counting `self`; the count
+  /// stops at `limit` (so a wide radius costs only until `limit` points are found).
+  int count_within(const Vec3& query, double radius, Index self, int limit = std::numeric_limits<int>::max()) const;
 
   /// Appends to `out` every point within `radius` of `query` (unsorted), not counting `self`.
   void within(const Vec3& query, double radius, Index self, std::vector<Index>& out) const;
@@ -49,6 +51,8 @@ class PointGrid {
 
  private:
   std::size_t bucket_of(long ix, long iy, long iz) const;
+  template <class Visit>
+  void for_each_within(const Vec3& query, double radius, Index self, Visit&& visit) const;
   long coord(double v) const;
   void nearest_all_hashed(int k, Index* out, int threads) const;
   void nearest_all_dense(int k, Index* out, int threads, const Index* hint) const;

@@ -122,6 +122,32 @@ TEST_CASE("within and count_within equal brute force", "[spatial_index]") {
       std::sort(got.begin(), got.end());
       REQUIRE(got == expected);
       REQUIRE(grid.count_within(pts[i], radius, self) == static_cast<int>(expected.size()));
+      for (int limit : {0, 1, 8})  // a count stops at its limit
+        REQUIRE(grid.count_within(pts[i], radius, self, limit) == std::min(limit, static_cast<int>(expected.size())));
+    }
+  }
+}
+
+TEST_CASE("within and count_within are exact and see each point once in the hashed layout", "[spatial_index]") {
+  // two far clusters make the grid hashed: grid cells of both share buckets, and a radius query spans many
+  auto pts = random_cloud(11, 600, 4.0);
+  for (const Vec3& p : random_cloud(12, 600, 4.0)) pts.push_back(p + Vec3(1e5, 0, 0));
+  PointGrid grid;
+  grid.build(pts, 0.5);
+  REQUIRE_FALSE(grid.dense());
+  std::vector<Index> got;
+  for (double radius : {0.7, 2.0, 6.0}) {
+    for (std::size_t i = 0; i < pts.size(); i += 13) {
+      const auto self = static_cast<Index>(i);
+      std::vector<Index> expected;
+      for (std::size_t j = 0; j < pts.size(); ++j)
+        if (j != i && (pts[j] - pts[i]).squaredNorm() <= radius * radius) expected.push_back(static_cast<Index>(j));
+      got.clear();
+      grid.within(pts[i], radius, self, got);
+      std::sort(got.begin(), got.end());
+      REQUIRE(got == expected);  // no repeats
+      REQUIRE(grid.count_within(pts[i], radius, self) == static_cast<int>(expected.size()));
+      REQUIRE(grid.count_within(pts[i], radius, self, 5) == std::min(5, static_cast<int>(expected.size())));
     }
   }
 }
