@@ -18,13 +18,15 @@ namespace {
 using core::Vec3;
 
 /// A flat hexagonal sheet of about n cells, slightly perturbed so forces are not all zero.
-std::unique_ptr<cells::Simulation> sheet(std::size_t n, bool grow) {
+/// `division`, if given, replaces the division parameters.
+std::unique_ptr<cells::Simulation> sheet(std::size_t n, bool grow, const cells::DivisionParams* division = nullptr) {
   cells::Params p;
   p.weights[0].separation = 0.05;
   p.drag = Vec3(0.9, 0.9, 0.6);
   p.division.trigger = grow ? cells::DivisionTrigger::age : cells::DivisionTrigger::none;
   p.division.division_age = 8;
   p.division.max_cells = grow ? 20000 : n * 2;
+  if (division) p.division = *division;
   auto sim = std::make_unique<cells::Simulation>(p, 7);
   const double radius = std::sqrt(static_cast<double>(n) * std::sqrt(3.0) / 2.0 / M_PI);
   core::Rng rng(3);
@@ -56,6 +58,31 @@ const Register r3{{"cells.step.1m.t1", "steps/s", "steps per second, 1,000,000 c
                    [] { return steps_per_second(1000000, 1, 2); }}};
 const Register r4{{"cells.step.1m.t2", "steps/s", "steps per second, 1,000,000 cells, fixed population, 2 threads", 3,
                    [] { return steps_per_second(1000000, 2, 3); }}};
+/// Steps per second of a 50,000-cell sheet whose every cell counts its neighbours within `radius` each step
+/// (division by neighbours, min_neighbours 1000, so no count stops early; no cell divides: probability ~0).
+double room_steps_per_second(double radius, int steps) {
+  cells::DivisionParams d;
+  d.trigger = cells::DivisionTrigger::neighbours;
+  d.radius = radius;
+  d.min_neighbours = 1000;
+  d.min_age = 0;
+  d.probability = 1e-12;
+  d.max_cells = 100000;
+  auto sim = sheet(50000, false, &d);
+  sim->set_threads(2);
+  for (int i = 0; i < 3; ++i) sim->step();
+  const auto a = std::chrono::steady_clock::now();
+  for (int i = 0; i < steps; ++i) sim->step();
+  return steps / std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+}
+
+const Register r5a{
+    {"cells.step.50k.room.1.5", "steps/s",
+     "steps per second, 50,000 cells each counting the cells within 1.5 (division by neighbours), 2 threads", 3,
+     [] { return room_steps_per_second(1.5, 10); }}};
+const Register r5b{{"cells.step.50k.room.10", "steps/s",
+                    "the same counting within 10 model units (about 360 cells each)", 3,
+                    [] { return room_steps_per_second(10, 3); }}};
 const Register r5{{"cells.memory.1m", "bytes/cell",
                    "resident memory added by a 1,000,000-cell simulation after 3 steps, per cell", 1, [] {
                      const double before = current_rss_bytes();

@@ -13,13 +13,13 @@ namespace cellform::cells {
 namespace {
 
 // Degenerate field directions (a cell at the centre or on the axis) fall back to a random one.
-Vec3 normalised_or_random(const Vec3& v, core::Rng& rng) {
+Vec3 normalised_or_random(const Vec3& v, core::StreamRng& rng) {
   const double n = v.norm();
   if (n > 1e-12 && std::isfinite(n)) return v / n;
   return rng.unit_vector();
 }
 
-Vec3 split_direction(const Cells& cells, const Params& params, const Rules& rules, Index i, core::Rng& rng) {
+Vec3 split_direction(const Cells& cells, const Params& params, const Rules& rules, Index i, core::StreamRng& rng) {
   const DivisionParams& d = params.division;
   switch (d.direction) {
     case SplitDirection::random:
@@ -88,6 +88,10 @@ std::size_t divide(Cells& cells, const Params& params, const Rules& rules, std::
           fires[i] = count_grid->count_within(cells.position[i], d.radius, static_cast<Index>(i), d.min_neighbours) <
                      d.min_neighbours;
         }
+        // the chance, drawn here in parallel (a cell's stream depends only on the seed, the step and its id),
+        // so the serial pass below sets up a stream only for the cells that divide
+        if (fires[i] && d.probability < 1)
+          fires[i] = core::StreamRng(core::stream_key(seed, step, cells.id[i])).uniform() < d.probability;
       }
     });
   }
@@ -98,9 +102,9 @@ std::size_t divide(Cells& cells, const Params& params, const Rules& rules, std::
     const auto mother = static_cast<Index>(i);
     if (cells.age[i] < d.min_age) continue;  // a rule replaces the trigger, not the wait after a division
     if (rules.divides ? !rules.divides(cells, mother) : !fires[i]) continue;
-    core::Rng rng(core::stream_key(seed, step, cells.id[i]));
+    core::StreamRng rng(core::stream_key(seed, step, cells.id[i]));
     const double draw = rng.uniform();  // drawn always, so directions do not depend on the probability
-    if (d.probability < 1 && !(draw < d.probability)) continue;
+    if (rules.divides && d.probability < 1 && !(draw < d.probability)) continue;  // (else decided above)
     const Vec3 dir = split_direction(cells, params, rules, mother, rng);
 
     Vec3 pos = cells.position[i] + (0.5 * params.rest_length) * dir;
