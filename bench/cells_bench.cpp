@@ -30,8 +30,10 @@ std::unique_ptr<cells::Simulation> sheet(std::size_t n, bool grow, const cells::
   auto sim = std::make_unique<cells::Simulation>(p, 7);
   const double radius = std::sqrt(static_cast<double>(n) * std::sqrt(3.0) / 2.0 / M_PI);
   core::Rng rng(3);
-  for (const Vec3& q : forms::hex_disc(Vec3::Zero(), Vec3::UnitZ(), radius, 1.0))
-    cells::add_cell(sim->cells(), q + 0.05 * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)));
+  for (const Vec3& q : forms::hex_disc(Vec3::Zero(), Vec3::UnitZ(), radius, 1.0)) {
+    const double z = rng.uniform(-1, 1), y = rng.uniform(-1, 1), x = rng.uniform(-1, 1);  // in this order
+    cells::add_cell(sim->cells(), q + 0.05 * Vec3(x, y, z));
+  }
   return sim;
 }
 

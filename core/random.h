@@ -58,7 +58,12 @@ class Rng {
   template <class G>
   static Vec3 random_unit_vector(G& g) {
     for (;;) {
-      const Vec3 v(g.uniform(-1, 1), g.uniform(-1, 1), g.uniform(-1, 1));
+      // one draw per statement: C++ leaves the order of a call's arguments open (g++ takes the last
+      // first, which these keep, so g++ builds give the numbers they gave before)
+      const double z = g.uniform(-1, 1);
+      const double y = g.uniform(-1, 1);
+      const double x = g.uniform(-1, 1);
+      const Vec3 v(x, y, z);
       const double n2 = v.squaredNorm();
       if (n2 > 1e-6 && n2 <= 1.0) return v / std::sqrt(n2);
     }

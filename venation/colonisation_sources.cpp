@@ -8,6 +8,18 @@
 
 namespace cellform::venation {
 
+namespace {
+
+/// A point of the box [lo, hi] in the plane z = 0: y drawn first, then x (the order g++ took them in when
+/// they were two arguments of one call, which C++ leaves open).
+Vec3 box_dart(core::Rng& rng, const Vec3& lo, const Vec3& hi) {
+  const double y = rng.uniform(lo.y(), hi.y());
+  const double x = rng.uniform(lo.x(), hi.x());
+  return Vec3(x, y, 0.0);
+}
+
+}  // namespace
+
 void Colonisation::Impl::throw_darts(double bs2, double bv2) {
   darts.clear();
   if (region)
@@ -65,7 +77,7 @@ void Colonisation::Impl::draw_blade_darts() {
   if (p.threads == 1) {  // one at a time: nothing drawn in vain, nothing to rewind
     for (std::size_t d = 0; d < count; ++d) {
       Vec3 q;
-      do q = Vec3(rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), 0.0);
+      do q = box_dart(rng, lo, hi);
       while (!in_blade(q));
       darts.push_back(q);
     }
@@ -79,7 +91,7 @@ void Colonisation::Impl::draw_blade_darts() {
     const auto batch = static_cast<std::size_t>(opening ? 0.9 * need / inside : 1.1 * need / inside + 16) + 1;
     rng_mark = rng;
     cand.resize(batch);
-    for (Vec3& q : cand) q = Vec3(rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), 0.0);
+    for (Vec3& q : cand) q = box_dart(rng, lo, hi);
     cand_in.resize(batch);
     core::parallel_for(
         batch, p.threads,
