@@ -502,8 +502,11 @@ void PointGrid::nearest_all_hashed(int k, Index* out, int threads) const {
 template <class Visit>
 void PointGrid::for_each_within(const Vec3& q, double radius, Index self, Visit&& visit) const {
   const double r2 = radius * radius;
-  const long lo[3] = {coord(q.x() - radius), coord(q.y() - radius), coord(q.z() - radius)};
-  const long hi[3] = {coord(q.x() + radius), coord(q.y() + radius), coord(q.z() + radius)};
+  // the box a little wider than the ball: q +- radius is rounded, and a point exactly at the radius
+  // (squared distances equal) may lie just past the rounded bound, in the next grid cell
+  auto pad = [&](double c) { return radius + 4 * std::numeric_limits<double>::epsilon() * (std::abs(c) + radius); };
+  const long lo[3] = {coord(q.x() - pad(q.x())), coord(q.y() - pad(q.y())), coord(q.z() - pad(q.z()))};
+  const long hi[3] = {coord(q.x() + pad(q.x())), coord(q.y() + pad(q.y())), coord(q.z() + pad(q.z()))};
   // cell count in double: the product of three long extents can overflow for a huge radius
   const double cells = static_cast<double>(hi[0] - lo[0] + 1) * static_cast<double>(hi[1] - lo[1] + 1) *
                        static_cast<double>(hi[2] - lo[2] + 1);

@@ -152,6 +152,16 @@ TEST_CASE("within and count_within are exact and see each point once in the hash
   }
 }
 
+TEST_CASE("within counts a point exactly at the radius across a grid-cell boundary", "[spatial_index]") {
+  // q + radius rounds below p.x, which lies in the next grid cell, yet |p - q|^2 == radius^2 exactly
+  const double qx = 0.07217818566878155, px = 0.22007173913148523, radius = 0.14789355346270366;
+  const std::vector<Vec3> pts{Vec3(px, 0, 0)};
+  REQUIRE((pts[0] - Vec3(qx, 0, 0)).squaredNorm() == radius * radius);
+  PointGrid grid;
+  grid.build(pts, 0.44014347826297051);
+  CHECK(grid.count_within(Vec3(qx, 0, 0), radius, kNoIndex) == 1);
+}
+
 TEST_CASE("within counts points exactly at the radius on a lattice", "[spatial_index]") {
   std::vector<Vec3> pts;
   for (int x = -2; x <= 2; ++x)
