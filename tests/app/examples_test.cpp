@@ -242,6 +242,23 @@ TEST_CASE("every Table 1 preset runs small and keeps the paper's parameters", "[
   }
 }
 
+namespace {
+
+/// The positions of an OBJ file's `v` lines, in order (faces, lines and the rest skipped).
+std::vector<std::array<double, 3>> obj_vertices(const fs::path& path) {
+  std::vector<std::array<double, 3>> out;
+  std::istringstream obj(slurp(path));
+  for (std::string line; std::getline(obj, line);)
+    if (line.rfind("v ", 0) == 0) {
+      std::array<double, 3> p{};
+      std::istringstream(line.substr(2)) >> p[0] >> p[1] >> p[2];
+      out.push_back(p);
+    }
+  return out;
+}
+
+}  // namespace
+
 TEST_CASE("the ribbed vault's veins stand on each of its six supports", "[examples]") {
   // examples/ribbed_shell.lua as given, but for the shell (its thickening is not what is tested here);
   // some supports end up off the grown sheet's triangles, and a stem joins them to their veins
@@ -251,14 +268,7 @@ TEST_CASE("the ribbed vault's veins stand on each of its six supports", "[exampl
                       out.string(), "--quiet", "--set", "print.shell=false", "--set", "print.pieces=any"});
   INFO(r.err);
   REQUIRE(r.code == 0);
-  std::vector<std::array<double, 3>> nodes;
-  std::istringstream obj(slurp(out / "veins.obj"));
-  for (std::string line; std::getline(obj, line);)
-    if (line.rfind("v ", 0) == 0) {
-      std::array<double, 3> p{};
-      std::istringstream(line.substr(2)) >> p[0] >> p[1] >> p[2];
-      nodes.push_back(p);
-    }
+  const std::vector<std::array<double, 3>> nodes = obj_vertices(out / "veins.obj");
   for (int i = 0; i < 6; ++i) {
     const double a = i / 6.0 * 2 * M_PI, x = 6 * std::cos(a), y = 6 * std::sin(a), z = 0.5;
     double nearest = 1e9;
@@ -282,14 +292,7 @@ TEST_CASE("the coral and the flower grow a folded sheet, not a packed foam, and 
                           "--out", out.string(), "--quiet", "--set", "size=2000", "--set", "print.size=40"});
       INFO(r.err);
       REQUIRE(r.code == 0);
-      std::vector<std::array<double, 3>> cells;
-      std::istringstream obj(slurp(out / "cells.obj"));
-      for (std::string line; std::getline(obj, line);)
-        if (line.rfind("v ", 0) == 0) {
-          std::array<double, 3> p{};
-          std::istringstream(line.substr(2)) >> p[0] >> p[1] >> p[2];
-          cells.push_back(p);
-        }
+      const std::vector<std::array<double, 3>> cells = obj_vertices(out / "cells.obj");
       REQUIRE(cells.size() == 2000);
       std::vector<int> within(cells.size(), 0);
       std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};

@@ -106,26 +106,35 @@ TEST_CASE("nearest without self exclusion finds the point itself first", "[spati
   }
 }
 
+namespace {
+
+/// within() and count_within() (also with limits) of every `step`-th point against a brute-force scan:
+/// the same points, none twice.
+void check_within(const PointGrid& grid, const std::vector<Vec3>& pts, double radius, std::size_t step) {
+  std::vector<Index> got;
+  for (std::size_t i = 0; i < pts.size(); i += step) {
+    const auto self = static_cast<Index>(i);
+    std::vector<Index> expected;
+    for (std::size_t j = 0; j < pts.size(); ++j)
+      if (j != i && (pts[j] - pts[i]).squaredNorm() <= radius * radius) expected.push_back(static_cast<Index>(j));
+    got.clear();
+    grid.within(pts[i], radius, self, got);
+    std::sort(got.begin(), got.end());
+    INFO("point " << i << ", radius " << radius);
+    REQUIRE(got == expected);
+    REQUIRE(grid.count_within(pts[i], radius, self) == static_cast<int>(expected.size()));
+    for (int limit : {0, 1, 5, 8})  // a count stops at its limit
+      REQUIRE(grid.count_within(pts[i], radius, self, limit) == std::min(limit, static_cast<int>(expected.size())));
+  }
+}
+
+}  // namespace
+
 TEST_CASE("within and count_within equal brute force", "[spatial_index]") {
   const auto pts = random_cloud(5, 1000, 4.0);
   PointGrid grid;
   grid.build(pts, 0.7);
-  std::vector<Index> got;
-  for (double radius : {0.0, 0.5, 1.5, 3.0, 100.0}) {
-    for (std::size_t i = 0; i < pts.size(); i += 7) {
-      const auto self = static_cast<Index>(i);
-      std::vector<Index> expected;
-      for (std::size_t j = 0; j < pts.size(); ++j)
-        if (j != i && (pts[j] - pts[i]).squaredNorm() <= radius * radius) expected.push_back(static_cast<Index>(j));
-      got.clear();
-      grid.within(pts[i], radius, self, got);
-      std::sort(got.begin(), got.end());
-      REQUIRE(got == expected);
-      REQUIRE(grid.count_within(pts[i], radius, self) == static_cast<int>(expected.size()));
-      for (int limit : {0, 1, 8})  // a count stops at its limit
-        REQUIRE(grid.count_within(pts[i], radius, self, limit) == std::min(limit, static_cast<int>(expected.size())));
-    }
-  }
+  for (double radius : {0.0, 0.5, 1.5, 3.0, 100.0}) check_within(grid, pts, radius, 7);
 }
 
 TEST_CASE("within and count_within are exact and see each point once in the hashed layout", "[spatial_index]") {
@@ -135,21 +144,7 @@ TEST_CASE("within and count_within are exact and see each point once in the hash
   PointGrid grid;
   grid.build(pts, 0.5);
   REQUIRE_FALSE(grid.dense());
-  std::vector<Index> got;
-  for (double radius : {0.7, 2.0, 6.0}) {
-    for (std::size_t i = 0; i < pts.size(); i += 13) {
-      const auto self = static_cast<Index>(i);
-      std::vector<Index> expected;
-      for (std::size_t j = 0; j < pts.size(); ++j)
-        if (j != i && (pts[j] - pts[i]).squaredNorm() <= radius * radius) expected.push_back(static_cast<Index>(j));
-      got.clear();
-      grid.within(pts[i], radius, self, got);
-      std::sort(got.begin(), got.end());
-      REQUIRE(got == expected);  // no repeats
-      REQUIRE(grid.count_within(pts[i], radius, self) == static_cast<int>(expected.size()));
-      REQUIRE(grid.count_within(pts[i], radius, self, 5) == std::min(5, static_cast<int>(expected.size())));
-    }
-  }
+  for (double radius : {0.7, 2.0, 6.0}) check_within(grid, pts, radius, 13);
 }
 
 TEST_CASE("within counts a point exactly at the radius across a grid-cell boundary", "[spatial_index]") {
