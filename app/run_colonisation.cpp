@@ -148,6 +148,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
   spec.params.seed = seed;
   spec.params.threads = o.threads;
   if (s.has_target) spec.params.max_steps = s.target_steps;  // --steps, or the checkpoint's limit
+  if (cfg.resolved.contains("colonisation"))                 // run.json: the limit this run goes to
+    cfg.resolved["colonisation"]["max_steps"] = spec.params.max_steps;
   apply_checkpoint_every(s.checkpoint_every, &cfg.output, cfg.resolved);
   const fs::path checkpoint = dir / kCheckpointName;
   int code = ok;

@@ -65,6 +65,9 @@ struct Start {
   // resume only: the checkpoint's own target and --checkpoint-every (before this command's options)
   std::uint64_t checkpoint_target = 0;
   std::optional<std::uint64_t> checkpoint_every_of_run;
+  // resume of a space-colonisation run: this resume changes colonisation.max_steps (by --set, or an edited
+  // script), which then becomes the run's step limit unless --steps gives one
+  bool max_steps_changed = false;
   std::string checkpoint_mark;  // resume only: checkpoint_mark of the checkpoint resumed
   nlohmann::json vein_summary;  // resume only: run.json's "veins" at the checkpoint (null = not kept)
 };

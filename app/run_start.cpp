@@ -272,6 +272,9 @@ Start start_from(const RunOptions& o) {
                                                      " is the script the checkpoint keeps, unchanged: this is a "
                                                      "plain resume)"
                                                : std::string()));
+        if (k == "colonisation.max_steps" && !s.colonisation_bytes.empty() && !s.sheet_partial &&
+            (saved_value == s.sets.end() || saved_value->second != v))
+          s.max_steps_changed = true;
         s.sets[k] = v;
       }
       return s;
@@ -353,6 +356,9 @@ void adopt_edited_script(Start& s, const RunOptions& o, const SceneConfig& cfg, 
     if (cell_run) was["run"]["steps"] = s.checkpoint_target;
   }
   if (colonisation && was.contains("colonisation")) was["colonisation"]["max_steps"] = s.checkpoint_target;
+  if (colonisation && before->colonisation && cfg.colonisation &&
+      before->colonisation->params.max_steps != cfg.colonisation->params.max_steps)
+    s.max_steps_changed = true;
   apply_checkpoint_every(s.checkpoint_every_of_run, nullptr, was);
   const std::string unplaced = unplaced_changes(s, *before, cfg);
   if (!unplaced.empty())

@@ -330,6 +330,54 @@ TEST_CASE("a colonisation run stopped by max_nodes says so, and resumes under th
   CHECK(run2["veins"]["nodes"].get<std::size_t>() >= 80);
 }
 
+TEST_CASE("a colonisation run stopped by max_steps resumes under a larger max_steps, by --set or an edited script",
+          "[cli][colonisation][checkpoint]") {
+  TempDir t("cli-maxsteps");
+  const std::string source =
+      "run { seed = 2 }\n"
+      "leaf { shape = 'ellipse' }\n"
+      "colonisation { type = 'open', growth = 'none', initial_length = 60, darts = 2000, max_steps = 8 }\n";
+  const auto script = t.write("steps.lua", source);
+  const fs::path out = t.path / "out", whole = t.path / "whole";
+  auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  REQUIRE(run["steps"]["completed"] == 8);
+  CHECK(run["status"] == "stopped at max_steps");
+  // the same run to 20 steps in one go
+  r = cli({"run", script.string(), "--out", whole.string(), "--quiet", "--set", "colonisation.max_steps=20"});
+  REQUIRE(r.code == 0);
+  r = cli({"resume", (out / "checkpoint.cfck").string(), "--set", "colonisation.max_steps=20", "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["steps"]["first"] == 8);
+  CHECK(run["steps"]["completed"] == 20);
+  CHECK(run["steps"]["limit"] == 20);
+  CHECK(run["parameters"]["colonisation"]["max_steps"] == 20);  // run.json agrees with itself
+  CHECK(slurp(out / "veins.ply") == slurp(whole / "veins.ply"));
+  // below the checkpoint's step: refused, as --steps would be
+  r = cli({"resume", (out / "checkpoint.cfck").string(), "--set", "colonisation.max_steps=5", "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("colonisation.max_steps = 5 is below the checkpoint's step 20"));
+  // an edited script that raises its max_steps goes on to it (a run whose --set gave max_steps keeps that)
+  const fs::path edit = t.path / "edit";
+  REQUIRE(cli({"run", script.string(), "--out", edit.string(), "--quiet"}).code == 0);
+  std::string edited_source = source;
+  edited_source.replace(edited_source.find("max_steps = 8"), 13, "max_steps = 20");
+  const auto edited = t.write("edited.lua", edited_source);
+  r = cli({"resume", (edit / "checkpoint.cfck").string(), "--script", edited.string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(nlohmann::json::parse(slurp(edit / "run.json"))["steps"]["completed"] == 20);
+  CHECK(slurp(edit / "veins.ply") == slurp(whole / "veins.ply"));
+  // --steps on a fresh run: run.json's max_steps is the limit used
+  r = cli({"run", script.string(), "--out", (t.path / "s").string(), "--quiet", "--steps", "5"});
+  REQUIRE(r.code == 0);
+  CHECK(nlohmann::json::parse(slurp(t.path / "s" / "run.json"))["parameters"]["colonisation"]["max_steps"] == 5);
+}
+
 TEST_CASE("an outline file in any unit is one leaf length from petiole to tip", "[cli][colonisation]") {
   TempDir t("cli-outline-unit");
   // a kite with its tip 1 from the petiole, and the same drawn 128 times larger (scaling back is exact)
