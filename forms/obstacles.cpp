@@ -495,12 +495,15 @@ void PreparedObstacles::apply(cells::Cells& cells, const std::vector<Vec3>& prev
             any_change |= changed;
             if (!changed) break;
           }
-          if (changed && (inside_solid(p, margin) || crosses_mesh(prev, p))) {
-            // Wedged between obstacles: stay where the cell was, if that was a valid place.
-            if (!inside_solid(prev, margin)) {
-              p = prev;
-              v.setZero();
-            }
+          if (any_change && crosses_mesh(prev, p)) {
+            // A mesh is never crossed, even where pushing a cell out of a solid would cross one (a cell
+            // inside a box that stands on a mesh floor, its nearest way out under the floor): it stays
+            p = prev;
+            v.setZero();
+          } else if (changed && inside_solid(p, margin) && !inside_solid(prev, margin)) {
+            // Wedged between obstacles: stay where the cell was, as that was a valid place.
+            p = prev;
+            v.setZero();
           }
           if (any_change) {
             cells.position[i] = p;

@@ -53,12 +53,17 @@ Scene::Scene(SceneDescription description, std::uint64_t seed)
       seed_(seed),
       sim_(desc_.cells, seed),
       obstacles_(desc_.obstacles) {
-  if (!desc_.obstacles.meshes.empty()) {
-    // a daughter is placed half a rest length from its mother after the step's constraints: not across a
-    // mesh, which only stops moves (a solid's inside is pushed out at the next step)
+  if (!desc_.obstacles.empty()) {
+    // A daughter is placed half a rest length from its mother after the step's constraints. Not inside a
+    // solid: there it goes to the mother's other side (a solid's nearest way out, at the next step, may cross a
+    // mesh, or lead through the solid's far side); nor across a mesh, which only stops moves.
     const double margin = desc_.obstacle_margin > 0 ? desc_.obstacle_margin : 0.01 * desc_.cells.rest_length;
     sim_.rules().place = [this, margin](const cells::Cells& c, core::Index mother, const Vec3& daughter) {
-      return obstacles_.stop_at_mesh(c.position[mother], daughter, margin);
+      const Vec3& m = c.position[mother];
+      const Vec3 here = obstacles_.stop_at_mesh(m, daughter, margin);
+      if (!obstacles_.inside_solid(here, margin)) return here;
+      const Vec3 there = obstacles_.stop_at_mesh(m, 2 * m - daughter, margin);
+      return obstacles_.inside_solid(there, margin) ? here : there;  // both inside: pushed out next step
     };
   }
   if (desc_.split_along_auxin) {

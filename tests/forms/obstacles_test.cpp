@@ -394,6 +394,37 @@ TEST_CASE("all obstacle kinds together, repeated steps, fixed cells untouched", 
   }
 }
 
+TEST_CASE("a solid standing on a mesh floor never pushes a cell through the floor", "[forms][obstacles]") {
+  // a box on a floor given as a mesh: a cell in the box's margin next to the floor has its nearest way out of
+  // the box under the floor, which the mesh forbids
+  core::Rng rng(21);
+  Obstacles o;
+  TriangleMesh floor;
+  floor.vertices = {Vec3(-10, -10, 0), Vec3(10, -10, 0), Vec3(10, 10, 0), Vec3(-10, 10, 0)};
+  floor.triangles = {{0, 1, 2}, {0, 2, 3}};
+  o.meshes.push_back(floor);
+  o.boxes.push_back({Vec3(-1, -1, 0), Vec3(1, 1, 1)});
+  const forms::PreparedObstacles prepared(o);
+  const double margin = 0.05;
+  std::vector<Vec3> prev, cur;
+  while (prev.size() < 2000) {
+    // half of them start in the box's margin just above the floor (as a daughter placed there would)
+    const Vec3 p = prev.size() % 2 ? Vec3(rng.uniform(-0.9, 0.9), rng.uniform(-0.9, 0.9), rng.uniform(0.001, 0.04))
+                                   : Vec3(rng.uniform(-3, 3), rng.uniform(-3, 3), rng.uniform(0.001, 3));
+    prev.push_back(p);
+    cur.push_back(p + 0.3 * random_point(rng, 1.0));
+  }
+  for (std::size_t k = 0; k < cur.size(); ++k)
+    if (cur[k].z() < 0) cur[k].z() = prev[k].z();  // moves that do not cross the floor themselves
+  Cells cells = make_cells(cur, rng);
+  prepared.apply(cells, prev, margin);
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    INFO(i);
+    REQUIRE_FALSE(segment_hits_mesh(prev[i], cells.position[i], floor));
+    REQUIRE(cells.position[i].z() > 0);
+  }
+}
+
 TEST_CASE("obstacles give bitwise identical results with 1 and 2 threads", "[forms][obstacles]") {
   core::Rng rng(16);
   Obstacles o;

@@ -89,3 +89,41 @@ TEST_CASE("daughters are not placed across a mesh obstacle", "[forms][scene]") {
   // a mesh out of the way changes nothing: placement is only corrected where a daughter would cross
   CHECK(grow(true, true) == std::pair{free_cells, free_below});
 }
+
+TEST_CASE("cells growing round a box in a mesh mould stay above its floor and out of the box", "[forms][scene]") {
+  // a disc dropped by gravity onto a box that stands on the floor of a closed mesh, growing at its margin: a
+  // daughter put inside the box was pushed out by its nearest face, under the floor, and fell for good
+  forms::SceneDescription d;
+  d.cells.time_step = 0.15;
+  d.cells.weights[0].planar = 0.6;
+  d.cells.weights[0].separation = 0.05;
+  d.cells.unary = Vec3(0, 0, -0.05);
+  d.cells.drag = Vec3(0.85, 0.85, 0.85);
+  d.cells.division.trigger = cells::DivisionTrigger::neighbours;
+  d.cells.division.probability = 0.3;
+  d.cells.division.direction = cells::SplitDirection::tangent;
+  d.cells.division.max_cells = 3000;
+  forms::TriangleMesh mould;  // a closed cube, 20 wide, its floor at z = 0
+  for (int k = 0; k < 8; ++k) mould.vertices.emplace_back(k & 4 ? 10 : -10, k & 2 ? 10 : -10, k & 1 ? 20 : 0);
+  mould.triangles = {{0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}, {0, 4, 5}, {0, 5, 1},
+                     {2, 3, 7}, {2, 7, 6}, {0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}};
+  d.obstacles.meshes.push_back(mould);
+  const forms::Box box{Vec3(-3, -3, 0), Vec3(3, 3, 2)};
+  d.obstacles.boxes.push_back(box);
+  forms::Scene scene(d, 5);
+  for (const Vec3& p : forms::hex_disc(Vec3(0, 0, 5), Vec3::UnitZ(), 3.0, 1.0))
+    cells::add_cell(scene.simulation().cells(), p);
+  scene.start();
+  std::size_t below = 0, in_box = 0, on_floor = 0;
+  for (int i = 0; i < 800; ++i) {
+    scene.step();
+    for (const Vec3& p : scene.simulation().cells().position) below += p.z() < 0;
+  }
+  for (const Vec3& p : scene.simulation().cells().position) {
+    in_box += (p.array() > box.min.array()).all() && (p.array() < box.max.array()).all();
+    on_floor += p.z() < 0.5;
+  }
+  CHECK(on_floor > 100);  // the sheet reached the floor round the box
+  CHECK(below == 0);      // cell-steps below the floor
+  CHECK(in_box == 0);
+}
