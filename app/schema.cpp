@@ -102,7 +102,8 @@ std::vector<Field> build() {
   f.push_back(choice("division", "direction", Kind::choice_or_function, "random",
                      "random|tangent|axis|radial|circumferential|auxin",
                      "split direction (tangent: random within the sheet; auxin: along the local auxin flow); or "
-                     "function(cell) returning {x, y, z}"));
+                     "function(cell) returning {x, y, z}. An axis, a field or a function's vector has no sign: the "
+                     "daughter goes either way along it, by a seeded draw"));
   f.push_back(vec("division", "axis", "{1, 0, 0}", -kFar, kFar, "direction", "split axis (axis, circumferential)"));
   f.push_back(
       vec("division", "centre", "{0, 0, 0}", -kFar, kFar, "model units", "field centre (radial, circumferential)"));

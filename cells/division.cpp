@@ -19,7 +19,12 @@ Vec3 normalised_or_random(const Vec3& v, core::StreamRng& rng) {
   return rng.unit_vector();
 }
 
-Vec3 split_direction(const Cells& cells, const Params& params, const Rules& rules, Index i, core::StreamRng& rng) {
+// A split axis has no sign: the daughter goes to either side of its mother with equal chance, so a field
+// of axes (one axis, radial, circumferential, the auxin flow, a rule's) stretches the form both ways instead
+// of pushing it along.
+Vec3 either_way(const Vec3& axis, core::StreamRng& rng) { return rng.uniform() < 0.5 ? Vec3(-axis) : axis; }
+
+Vec3 split_axis(const Cells& cells, const Params& params, const Rules& rules, Index i, core::StreamRng& rng) {
   const DivisionParams& d = params.division;
   switch (d.direction) {
     case SplitDirection::random:
@@ -52,6 +57,12 @@ Vec3 split_direction(const Cells& cells, const Params& params, const Rules& rule
     }
   }
   return rng.unit_vector();
+}
+
+Vec3 split_direction(const Cells& cells, const Params& params, const Rules& rules, Index i, core::StreamRng& rng) {
+  const Vec3 axis = split_axis(cells, params, rules, i, rng);
+  const SplitDirection mode = params.division.direction;
+  return mode == SplitDirection::random || mode == SplitDirection::tangent ? axis : either_way(axis, rng);
 }
 
 }  // namespace

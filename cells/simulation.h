@@ -37,12 +37,13 @@ void compute_accelerations(Cells& cells, const Params& params, const VeinChildre
 void integrate(Cells& cells, const Params& params, std::uint64_t step, int threads);
 
 /// Ages every cell by one step and divides those whose trigger fires, in index order. A daughter is
-/// placed half a rest length from its mother along the split direction, is a general cell, copies
-/// the mother's velocity, generation + 1, attributes and links; both get age 0. Stops at max_cells.
-/// Randomness comes from (seed, step, cell id) only. Returns the number of divisions.
-/// `grid` must index the current positions (trigger = neighbours counts cells within the radius through
-/// it); the built-in triggers are evaluated on up to `threads` threads, the rules serially. Throws
-/// core::InvalidInput naming the cell if a split direction rule returns a zero or non-finite vector.
+/// placed half a rest length from its mother along the split direction (a split axis (axis, radial,
+/// circumferential, a rule's vector) has no sign: the daughter goes either way along it, by a seeded draw), is a
+/// general cell, copies the mother's velocity, generation + 1, attributes and links; both get age 0. Stops at
+/// max_cells. Randomness comes from (seed, step, cell id) only. Returns the number of divisions. `grid` must index the
+/// current positions (trigger = neighbours counts cells within the radius through it); the built-in triggers are
+/// evaluated on up to `threads` threads, the rules serially. Throws core::InvalidInput naming the cell if a split
+/// direction rule returns a zero or non-finite vector.
 std::size_t divide(Cells& cells, const Params& params, const Rules& rules, std::uint64_t seed, std::uint64_t step,
                    const core::PointGrid& grid, int threads = 1);
 

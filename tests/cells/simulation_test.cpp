@@ -120,3 +120,32 @@ TEST_CASE("a flat sheet stays flat", "[simulation]") {
   for (int s = 0; s < 100; ++s) sim.step();
   for (const Vec3& x : sim.cells().position) REQUIRE(x.z() == 0.0);
 }
+
+TEST_CASE("a disc dividing along one axis stretches both ways and stays where it was", "[simulation]") {
+  // split direction = axis: were the daughter always on the axis's + side, the form would drift along it
+  Params p;
+  p.drag = cellform::core::Vec3(0.85, 0.85, 0.2);
+  p.division.trigger = DivisionTrigger::age;
+  p.division.division_age = 30;
+  p.division.min_age = 1;
+  p.division.direction = SplitDirection::axis;
+  p.division.axis = cellform::core::Vec3(1, 0, 0);
+  Simulation sim(p, 1);
+  Cells& c = sim.cells();
+  c = cellform::testing::hex_sheet(5, 5);
+  cellform::core::Vec3 centre = cellform::core::Vec3::Zero();
+  for (const auto& q : c.position) centre += q;
+  centre /= static_cast<double>(c.size());
+  for (int i = 0; i < 150; ++i) sim.step();
+  REQUIRE(c.size() > 100);
+  cellform::core::Vec3 mean = cellform::core::Vec3::Zero(), lo = c.position[0], hi = c.position[0];
+  for (const auto& q : c.position) {
+    mean += q;
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  mean /= static_cast<double>(c.size());
+  // one-sided daughters moved the centre 1.5 rest lengths along x in a form 11 across (measured)
+  CHECK(std::abs(mean.x() - centre.x()) < 0.1 * (hi.x() - lo.x()));
+  CHECK(std::abs(centre.x() - lo.x()) == Approx(std::abs(hi.x() - centre.x())).epsilon(0.25));
+}
