@@ -206,9 +206,16 @@ void validate_outline(const Outline& o, const std::string& what, const OutlineLi
           throw InvalidInput(what + ": the outline folds back on itself at " + vertex_name(i_first ? j : i));
         continue;
       }
-      if (segments_touch(p, q, r, s))
-        throw InvalidInput(what + ": the outline intersects itself near (" + coordinate(p.x()) + ", " +
-                           coordinate(p.y()) + ") (" + edges_name(i, j) + ")");
+      if (segments_touch(p, q, r, s)) {
+        // where: the crossing point, or for edges along one line, an end of one lying on the other
+        const double den = cross(q - p, s - r);
+        const Vec2 at = den != 0                                      ? Vec2(p + (cross(r - p, s - r) / den) * (q - p))
+                        : orient(p, q, r) == 0 && on_segment(p, q, r) ? r
+                        : orient(p, q, s) == 0 && on_segment(p, q, s) ? s
+                                                                      : p;
+        throw InvalidInput(what + ": the outline crosses itself at (" + coordinate(at.x()) + ", " + coordinate(at.y()) +
+                           ") (" + edges_name(i, j) + ")");
+      }
     }
   }
   double extent = 0;
@@ -308,11 +315,10 @@ Outline make_outline(const ShapeParams& sp) {
       } catch (const InvalidInput& e) {
         if (fade * 1.5 > 0.5 * L) {
           std::string m = e.what();
-          const auto near = m.find("near");
-          m = near == std::string::npos ? m.substr(m.find(':') + 2) : m.substr(near);
+          const auto at = m.find("crosses itself ");
+          m = at == std::string::npos ? m.substr(m.find(':') + 2) : "the margin " + m.substr(at);
           throw InvalidInput("shape.teeth: teeth " + core::number_text(amplitude) +
-                             " deep cross each other on this outline (the margin " + m +
-                             "); use shallower or fewer teeth");
+                             " deep cross each other on this outline (" + m + "); use shallower or fewer teeth");
         }
       }
     }
