@@ -233,6 +233,57 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
     r.genus[p] = closed[p] && chi % 2 == 0 ? static_cast<int>((2 - chi) / 2) : -1;
   }
 
+  // Nesting: the surfaces of a solid wind once round every point of it. Seen from a point on part p, the
+  // other parts' winding number W is 0 outside every piece (p must face out) and 1 inside a piece (p is a
+  // pocket's wall and must face in); anything else is a surface facing the wrong way for where it lies (two
+  // outward cubes, one inside the other).
+  if (r.parts > 1 && r.closed_manifold() && r.consistently_oriented) {
+    std::vector<std::int64_t> tri_part(nt, -1);
+    std::vector<Vec3> lo(r.parts, Vec3::Constant(std::numeric_limits<double>::infinity())), hi(r.parts, -lo[0]);
+    std::vector<std::size_t> first(r.parts, nt);
+    for (std::size_t t = 0; t < nt; ++t) {
+      if (collapsed(t)) continue;
+      const auto p = static_cast<std::size_t>(part_of[uf.find(tris[t][0])]);
+      tri_part[t] = static_cast<std::int64_t>(p);
+      if (first[p] == nt) first[p] = t;
+      for (const std::uint32_t i : tris[t]) {
+        lo[p] = lo[p].cwiseMin(mesh.vertices[i]);
+        hi[p] = hi[p].cwiseMax(mesh.vertices[i]);
+      }
+    }
+    std::vector<std::vector<std::uint32_t>> part_tris(r.parts);
+    for (std::size_t t = 0; t < nt; ++t)
+      if (tri_part[t] >= 0) part_tris[static_cast<std::size_t>(tri_part[t])].push_back(static_cast<std::uint32_t>(t));
+    std::vector<char> wrong(r.parts, 0);
+    core::parallel_for(
+        r.parts, threads,
+        [&](std::size_t b0, std::size_t e0) {
+          for (std::size_t p = b0; p < e0; ++p) {
+            if (first[p] == nt) continue;
+            const Tri& w = tris[first[p]];
+            const Vec3 q = (mesh.vertices[w[0]] + mesh.vertices[w[1]] + mesh.vertices[w[2]]) / 3.0;
+            double solid_angle = 0;  // of the other parts whose boxes hold q (only those can wind round it)
+            for (std::size_t o = 0; o < r.parts; ++o) {
+              if (o == p || (q.array() < lo[o].array()).any() || (q.array() > hi[o].array()).any()) continue;
+              for (const std::uint32_t t : part_tris[o]) {
+                // Van Oosterom and Strackee: the solid angle of a triangle seen from q
+                const Vec3 a = mesh.vertices[tris[t][0]] - q, b = mesh.vertices[tris[t][1]] - q,
+                           c = mesh.vertices[tris[t][2]] - q;
+                const double la = a.norm(), lb = b.norm(), lc = c.norm();
+                const double num = a.dot(b.cross(c));
+                const double den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+                solid_angle += 2 * std::atan2(num, den);
+              }
+            }
+            const double winding = solid_angle / (4 * M_PI);
+            const bool outside = std::abs(winding) < 0.25, inside = std::abs(winding - 1) < 0.25;
+            wrong[p] = !((outside && part_volume[p] > 0) || (inside && part_volume[p] < 0));
+          }
+        },
+        1);
+    for (const char x : wrong) r.misnested_parts += x;
+  }
+
   const auto pairs = self_intersecting_pairs(mesh.vertices, tris, threads);  // skips the degenerate ones too
   r.self_intersections = pairs.size();
   r.intersecting_pairs.assign(pairs.begin(),
@@ -258,6 +309,10 @@ std::vector<std::string> MeshReport::problems() const {
   if (degenerate_triangles > 0)
     p.push_back(count(degenerate_triangles, "degenerate triangle", "degenerate triangles") +
                 " (repeated corners or zero area)");
+  if (misnested_parts > 0)
+    p.push_back("misoriented shells: " + count(misnested_parts, "closed surface faces", "closed surfaces face") +
+                " the wrong way for where it lies (a surface inside a solid is a pocket's wall and must face into the "
+                "pocket; one outside every solid, or inside a pocket, must face out)");
   if (triangles > 0 && closed_manifold() && consistently_oriented && !(volume > 0))
     p.push_back(volume < 0 ? "inside out: every triangle faces inward (the enclosed volume is negative); reverse "
                              "the triangles' winding"
@@ -270,17 +325,23 @@ std::string MeshReport::summary() const {
   s << triangles << " triangles, " << vertices << " vertices, ";
   // the inner walls of closed pockets are parts too, but not pieces that come apart (a volume's sign means
   // that only on a closed, consistently oriented mesh, and only if it is not inside out)
-  if (cavities > 0 && pieces > 0 && closed_manifold() && consistently_oriented)
+  if (cavities > 0 && pieces > 0 && closed_manifold() && consistently_oriented && misnested_parts == 0)
     s << pieces << (pieces == 1 ? " solid piece with " : " solid pieces with ") << cavities
       << (cavities == 1 ? " closed cavity" : " closed cavities") << " inside (" << parts << " surfaces)";
-  else
+  else if (closed_manifold() && consistently_oriented && misnested_parts == 0)
     s << parts << (parts == 1 ? " part" : " parts");
+  else  // pieces and pockets are not told apart on such a mesh
+    s << parts << (parts == 1 ? " connected surface" : " connected surfaces");
   // a volume means something only inside a closed, consistently oriented surface
   s << "; volume ";
-  if (closed_manifold() && consistently_oriented)
+  if (closed_manifold() && consistently_oriented && misnested_parts == 0)
     s << volume;
   else
-    s << "none (" << (closed_manifold() ? "misoriented" : boundary_edges > 0 ? "not closed" : "not 2-manifold") << ")";
+    s << "none ("
+      << (!closed_manifold()       ? boundary_edges > 0 ? "not closed" : "not 2-manifold"
+          : !consistently_oriented ? "misoriented"
+                                   : "misoriented shells")
+      << ")";
   s << ", area " << area << "; bounding box " << (bbox_max - bbox_min).transpose() << "\n";
   s << "boundary edges " << boundary_edges << ", non-manifold edges " << nonmanifold_edges << ", non-manifold vertices "
     << nonmanifold_vertices << ", misoriented edges " << misoriented_edges << ", self-intersecting pairs "

@@ -26,7 +26,11 @@ struct MeshReport {
   std::size_t nonmanifold_vertices = 0;  ///< vertices whose triangles form more than one fan
   std::size_t misoriented_edges = 0;     ///< edges whose two triangles run them in the same direction
   bool consistently_oriented = true;     ///< misoriented_edges == 0
-  std::size_t self_intersections = 0;    ///< pairs of triangles without a shared vertex that intersect
+  /// Closed parts facing the wrong way for where they lie: one inside a solid must face into its pocket (the
+  /// other parts wind once round it), one outside every solid or inside a pocket must face out (they wind
+  /// zero times). Checked on closed, consistently oriented meshes of several parts.
+  std::size_t misnested_parts = 0;
+  std::size_t self_intersections = 0;  ///< pairs of triangles without a shared vertex that intersect
   std::vector<std::array<std::uint32_t, 2>>
       intersecting_pairs;                ///< up to 16 examples (triangle indices), deterministic
   std::size_t degenerate_triangles = 0;  ///< triangles with repeated (welded) vertices or zero area
@@ -37,10 +41,11 @@ struct MeshReport {
 
   /// No holes, no non-manifold edges or vertices.
   bool closed_manifold() const { return boundary_edges == 0 && nonmanifold_edges == 0 && nonmanifold_vertices == 0; }
-  /// Closed manifold, consistently oriented, no self-intersections, no degenerate triangles, positive volume.
+  /// Closed manifold, consistently oriented (also as nested), no self-intersections, no degenerate triangles,
+  /// positive volume.
   bool printable() const {
-    return triangles > 0 && closed_manifold() && consistently_oriented && self_intersections == 0 &&
-           degenerate_triangles == 0 && volume > 0;
+    return triangles > 0 && closed_manifold() && consistently_oriented && misnested_parts == 0 &&
+           self_intersections == 0 && degenerate_triangles == 0 && volume > 0;
   }
   /// Why the mesh is not printable, one phrase each ("not closed: 12 boundary edges", "inside out: ..."); empty
   /// when printable().

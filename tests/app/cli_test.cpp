@@ -512,10 +512,25 @@ TEST_CASE("cellform check reports broken and unreadable meshes", "[cli][check]")
   r = cli({"check", closed.string()});
   INFO(r.out);
   CHECK(r.code == 0);
+  // the report as JSON says what the text says: one surface, no pieces or genus on an open mesh
+  r = cli({"check", open.string()});
+  CHECK_THAT(r.out, Contains("1 connected surface;") && Contains("genus per part: open"));
+  r = cli({"check", open.string(), "--json"});
+  auto j = nlohmann::json::parse(r.out);
+  CHECK(j["surfaces"] == 1);
+  CHECK(j["parts"].is_null());
+  CHECK(j["genus"] == nlohmann::json::array({nullptr}));
+  CHECK(j["wall_thickness_mm"]["samples"].get<int>() == 0);  // no ray leaves through another wall
+  CHECK(j["wall_thickness_mm"]["median"].is_null());
   const auto garbage = t.write("garbage.stl", "this is not a mesh");
   r = cli({"check", garbage.string()});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("garbage.stl"));
+  r = cli({"check", garbage.string(), "--json"});  // a program reading the report gets one
+  CHECK(r.code == 2);
+  j = nlohmann::json::parse(r.out);
+  CHECK(j["printable"] == false);
+  CHECK_THAT(j["error"].get<std::string>(), Contains("garbage.stl"));
   CHECK(cli({"check"}).code == 2);
   CHECK(cli({"check", (t.path / "none.stl").string()}).code == 2);
 }

@@ -222,6 +222,44 @@ TEST_CASE("the walls of a closed pocket inside a solid count as a cavity, not a 
   CHECK(r.problems().empty());
 }
 
+TEST_CASE("nested shells must face the way their nesting asks: out, in, out, ...", "[mesh_check]") {
+  // three spheres, one inside the next: a solid ball (out), a pocket in it (in), an island in the pocket (out)
+  auto shell = [](double radius, bool outward) {
+    PrintableMesh s = uv_sphere(16, 32, radius);
+    if (!outward)
+      for (auto& t : s.triangles) std::swap(t[1], t[2]);
+    return s;
+  };
+  auto nest = [&](std::vector<std::pair<double, bool>> shells) {
+    PrintableMesh m;
+    for (const auto& [radius, outward] : shells) append(m, shell(radius, outward));
+    return exporters::check_mesh(m);
+  };
+  const auto good = nest({{3, true}, {2, false}, {1, true}});
+  CHECK(good.printable());
+  CHECK(good.misnested_parts == 0);
+  CHECK(good.pieces == 2);
+  CHECK(good.cavities == 1);
+  // a solid inside a solid, both outward (a review's two cubes: "printable, volume 9000"): the inner one is wrong
+  const auto doubled = nest({{3, true}, {1, true}});
+  CHECK_FALSE(doubled.printable());
+  CHECK(doubled.misnested_parts == 1);
+  REQUIRE(doubled.problems().size() == 1);
+  CHECK_THAT(doubled.problems()[0], Catch::StartsWith("misoriented shells: 1 closed surface faces the wrong way"));
+  CHECK_THAT(doubled.summary(), Catch::Contains("2 connected surfaces; volume none (misoriented shells)"));
+  // an island in a pocket facing in, and a pocket facing out
+  CHECK(nest({{3, true}, {2, false}, {1, false}}).misnested_parts == 1);
+  CHECK(nest({{3, true}, {2, true}, {1, true}}).misnested_parts == 2);
+  // side by side, both outward: two pieces, nothing nested
+  PrintableMesh apart = shell(1, true);
+  PrintableMesh other = shell(1, true);
+  for (auto& v : other.vertices) v.x() += 5;
+  append(apart, other);
+  const auto two = exporters::check_mesh(apart);
+  CHECK(two.printable());
+  CHECK(two.pieces == 2);
+}
+
 TEST_CASE("an inside-out mesh is named so, not counted as a cavity", "[mesh_check]") {
   auto m = uv_sphere(24, 48, 2.0);
   for (auto& t : m.triangles) std::swap(t[1], t[2]);
