@@ -97,6 +97,9 @@ int main(int argc, char** argv) {
   // comes); under nohup, which ignores it, go on
   if (std::signal(SIGHUP, SIG_IGN) != SIG_IGN) std::signal(SIGHUP, on_hangup);
   std::signal(SIGPIPE, SIG_IGN);  // a closed pipe on stdout or stderr: the writes fail, the run goes on
+  // a file-size limit (ulimit -f) would kill the process mid-write: the write fails instead (EFBIG) and is
+  // reported as a full disk is
+  std::signal(SIGXFSZ, SIG_IGN);
   std::vector<std::string> args(argv + 1, argv + argc);
   EscapingBuf out_buf(std::cout.rdbuf()), err_buf(std::cerr.rdbuf());
   std::ostream out(&out_buf), err(&err_buf);

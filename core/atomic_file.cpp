@@ -47,9 +47,15 @@ void write_file_atomically(const fs::path& path, const std::function<void(std::o
     {
       std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
       if (!out) throw FileError("cannot write '" + path.string() + "': " + std::strerror(errno));
+      errno = 0;
       write(out);
       out.flush();
-      if (!out) throw FileError("cannot write '" + path.string() + "': write failed (disk full?)");
+      const int err = errno;  // of the write that failed, if the stream set it
+      if (!out)
+        throw FileError("cannot write '" + path.string() + "': " +
+                        (err == EFBIG    ? "the file is larger than this process may write (ulimit -f)"
+                         : err == ENOSPC ? "the disk is full"
+                                         : "write failed (disk full?)"));
     }
     const int fd = ::open(tmp.c_str(), O_RDONLY);
     if (fd >= 0) {

@@ -425,6 +425,9 @@ TriangleMesh load_mesh(const fs::path& path) {
   if (!fs::exists(path, ec))  // a name too long or a loop of links is not "missing"
     throw core::FileError("mesh " + name + (ec ? " cannot be read: " + ec.message() : std::string(" does not exist")));
   if (fs::is_directory(path, ec)) throw core::FileError("mesh " + name + " is a directory, not a file");
+  // a pipe would block the run for good, a device such as /dev/zero never ends: only regular files are read
+  if (!fs::is_regular_file(path, ec))
+    throw core::FileError("mesh " + name + " is not a regular file (a pipe, socket or device cannot be read)");
   const auto size = fs::file_size(path, ec);
   std::ifstream probe(path, std::ios::binary);
   if (!probe || ec) throw core::FileError("mesh " + name + " cannot be opened for reading");

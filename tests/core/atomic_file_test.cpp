@@ -94,14 +94,17 @@ TEST_CASE("a write that runs out of space is reported, not silently truncated", 
   small.rlim_cur = 4096;
   setrlimit(RLIMIT_FSIZE, &small);
   bool threw = false;
+  std::string message;
   try {
     cellform::core::write_file_atomically(f, [](std::ostream& os) { os << std::string(1 << 20, 'x'); });
-  } catch (const cellform::core::FileError&) {
+  } catch (const cellform::core::FileError& e) {
     threw = true;
+    message = e.what();
   }
   setrlimit(RLIMIT_FSIZE, &old);
   std::signal(SIGXFSZ, old_handler);
   CHECK(threw);
+  CHECK_THAT(message, Catch::Contains("big.bin") && Catch::Contains("ulimit -f"));  // says which limit
   CHECK(slurp(f) == "old");
   CHECK(entries(d.path) == 1);
 }

@@ -2,6 +2,7 @@
 // and load_mesh (declared in forms/obstacles.h) reads STL and OBJ files or says what is wrong.
 #include "forms/mesh_io.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -181,6 +182,14 @@ TEST_CASE("load_mesh errors name the file and the problem", "[forms][mesh_io]") 
   const fs::path missing = dir / "missing.stl";
   CHECK_THROWS_AS(forms::load_mesh(missing), core::FileError);
   CHECK_THROWS_WITH(forms::load_mesh(missing), Catch::Contains("missing.stl") && Catch::Contains("does not exist"));
+
+  // a pipe blocked the run for good, /dev/zero was "cannot be opened": neither is a file to read
+  REQUIRE(::mkfifo((dir / "fifo.stl").c_str(), 0600) == 0);
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "fifo.stl"),
+                    Catch::Contains("fifo.stl") && Catch::Contains("not a regular file"));
+  fs::create_symlink("/dev/zero", dir / "zero.stl");
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "zero.stl"),
+                    Catch::Contains("zero.stl") && Catch::Contains("not a regular file"));
 
   write_text(dir / "empty.obj", "");
   CHECK_THROWS_WITH(forms::load_mesh(dir / "empty.obj"), Catch::Contains("empty.obj") && Catch::Contains("not a mesh"));
