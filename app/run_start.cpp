@@ -291,7 +291,10 @@ Start start_from(const RunOptions& o) {
     s.target_steps = *o.steps;
     s.has_target = true;
   }
-  s.out_dir = o.out ? out_folder(*o.out) : fs::path("out") / o.script.stem();
+  // out/<script name>; a script named "..lua" or "...lua" would write into out/ itself or the working folder
+  const fs::path stem = o.script.stem();
+  s.out_dir = o.out ? out_folder(*o.out)
+                    : fs::path("out") / (stem.empty() || stem == "." || stem == ".." ? fs::path("script") : stem);
   return s;
 }
 

@@ -76,3 +76,14 @@ TEST_CASE("text that is not UTF-8: a script's name is recorded replaced; a value
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("knob.lua:1: params{...}: the knob name's default is not UTF-8 text"));
 }
+
+TEST_CASE("a script's default output folder is out/<its name>, never out/ itself or the working folder", "[cli]") {
+  TempDir t("run-start-name");
+  for (const auto& [name, folder] : {std::pair{"leaf.lua", "out/leaf"}, std::pair{"...lua", "out/script"},
+                                     std::pair{"..lua", "out/script"}, std::pair{".lua", "out/.lua"}}) {
+    INFO(name);
+    app::RunOptions o;
+    o.script = t.write(name, "disc { radius = 2 }\n");
+    CHECK(app::start_from(o).out_dir == std::filesystem::path(folder));
+  }
+}
