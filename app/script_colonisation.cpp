@@ -311,7 +311,9 @@ venation::GrowthFunction read_growth_function(Impl& I, const Value& given, const
       lua_rawgeti(L, LUA_REGISTRYINDEX, given.ref);
       lua_pushnumber(L, y0);
       const LuaRunsHere lua_runs(I);         // the function's allocations count against the memory limit
+      I.sampling = "the function " + field;  // it must not describe the scene
       const int rc = lua_pcall(L, 1, 1, 0);  // counts against the script's own instruction budget
+      I.sampling.clear();
       I.wait_if_dying();
       if (rc != LUA_OK) {
         const std::string msg = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "error object is not a string";

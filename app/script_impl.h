@@ -434,11 +434,14 @@ struct ScriptHost::Impl {
 
   /// The scene is described while the script loads; a rule function runs later, during the steps.
   void require_loading(const std::string& section, const std::string& at) const {
-    if (!cfg)
+    if (!cfg || !sampling.empty())
       throw InvalidInput(at + section +
                          "{...} describes the scene and can only be called at the top level of the script, not "
-                         "inside a rule function");
+                         "inside " +
+                         (sampling.empty() ? std::string("a rule function") : sampling));
   }
+  /// Set while a function given to a section is called as the script loads (colonisation.growth_x, ...).
+  std::string sampling;
 };
 
 using Impl = ScriptHost::Impl;

@@ -183,6 +183,11 @@ TEST_CASE("colonisation{growth = 'nonuniform'} takes growth tables or functions 
              Contains("must return a number"));
   CHECK_THAT(load_error(head + "  growth_x = function(y) error('no rate here') end,\n" + y_ok),
              Contains("no rate here") && Contains("colonisation.growth_x failed at y0 = -0.5"));
+  // a growth function is called as the script loads, but it is no place to describe the scene
+  for (const char* call : {"output { png = true }", "params { zz = 1 }", "cell { at = {0, 0, 0} }"})
+    CHECK_THAT(load_error(head + "  growth_x = function(y) " + call + " return 1.1 end,\n" + y_ok),
+               Contains("can only be called at the top level of the script, not inside the function "
+                        "colonisation.growth_x"));
   CHECK_THAT(load_error(head + "  growth_y = {{0, 1.01}}, growth_steps = 5 }\n"), Contains("needs growth_x"));
   CHECK_THAT(load_error(head + "  growth_x = {{0, 1.01}}, growth_y = {{0, 1.01}} }\n"), Contains("growth_steps >= 1"));
   CHECK_THAT(load_error("colonisation { growth = 'marginal', growth_x = {{0, 1.1}} }\n"),
