@@ -33,40 +33,41 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
     auto measured = [&](double x) { return th.samples > 0 ? nlohmann::json(x) : nlohmann::json(nullptr); };
     nlohmann::json genus = nlohmann::json::array();  // null for a part that is no closed manifold
     for (const int g : r.genus) genus.push_back(g < 0 ? nlohmann::json(nullptr) : nlohmann::json(g));
-    nlohmann::json j = {{"file", file.string()},
-                        {"printable", r.printable()},
-                        // the keys say mm, as cellform's printable files are; a mesh in other units (cells.ply is in
-                        // model units) keeps them
-                        {"units", "the file's own: the *_mm fields are millimetres for cellform's printable.* files"},
-                        {"problems", r.problems()},
-                        {"triangles", r.triangles},
-                        {"vertices", r.vertices},
-                        // as run.json's print.parts: solid pieces, each with the cavities inside it; a surface's volume
-                        // sign means solid or pocket only on a closed, oriented mesh
-                        {"parts", solid ? nlohmann::json(r.pieces) : nlohmann::json(nullptr)},
-                        {"surfaces", r.parts},  // connected surfaces: a piece's outer wall and each cavity's wall count
-                        {"cavities", solid ? nlohmann::json(r.cavities) : nlohmann::json(nullptr)},
-                        {"boundary_edges", r.boundary_edges},
-                        {"nonmanifold_edges", r.nonmanifold_edges},
-                        {"nonmanifold_vertices", r.nonmanifold_vertices},
-                        {"consistently_oriented", r.consistently_oriented},
-                        {"misoriented_shells", r.misnested_parts},
-                        {"self_intersections", r.self_intersections},
-                        {"degenerate_triangles", r.degenerate_triangles},
-                        {"volume_mm3", solid ? nlohmann::json(r.volume) : nlohmann::json(nullptr)},
-                        {"area_mm2", r.area},
-                        {"bbox_min_mm", {r.bbox_min.x(), r.bbox_min.y(), r.bbox_min.z()}},
-                        {"bbox_max_mm", {r.bbox_max.x(), r.bbox_max.y(), r.bbox_max.z()}},
-                        {"genus", genus},
-                        {"wall_thickness_mm",
-                         {{"min", measured(th.min)},
-                          {"min_at", th.samples > 0 ? nlohmann::json({th.min_at.x(), th.min_at.y(), th.min_at.z()})
-                                                    : nlohmann::json(nullptr)},
-                          {"p01", measured(th.p01)},
-                          {"median", measured(th.median)},
-                          {"samples", th.samples},
-                          {"missed", th.missed},
-                          {"given_up", th.given_up}}}};
+    nlohmann::json j = {
+        {"file", file.string()},
+        {"printable", r.printable()},
+        // the keys say mm, as cellform's printable files are; a mesh in other units (cells.ply is in
+        // model units) keeps them
+        {"units", "the file's own: the *_mm fields are millimetres for cellform's printable.* files"},
+        {"problems", r.problems()},
+        {"triangles", r.triangles},
+        {"vertices", r.vertices},
+        // as run.json's print.parts: solid pieces, each with the cavities inside it; a surface's volume
+        // sign means solid or pocket only on a closed, oriented mesh
+        {"parts", solid ? nlohmann::json(r.pieces) : nlohmann::json(nullptr)},
+        {"surfaces", r.parts},  // connected surfaces: a piece's outer wall and each cavity's wall count
+        {"cavities", solid ? nlohmann::json(r.cavities) : nlohmann::json(nullptr)},
+        {"boundary_edges", r.boundary_edges},
+        {"nonmanifold_edges", r.nonmanifold_edges},
+        {"nonmanifold_vertices", r.nonmanifold_vertices},
+        {"consistently_oriented", r.consistently_oriented},
+        {"misoriented_shells", r.misnested_parts},
+        {"self_intersections", r.intersections_tested ? nlohmann::json(r.self_intersections) : nlohmann::json(nullptr)},
+        {"degenerate_triangles", r.degenerate_triangles},
+        {"volume_mm3", solid ? nlohmann::json(r.volume) : nlohmann::json(nullptr)},
+        {"area_mm2", r.area},
+        {"bbox_min_mm", {r.bbox_min.x(), r.bbox_min.y(), r.bbox_min.z()}},
+        {"bbox_max_mm", {r.bbox_max.x(), r.bbox_max.y(), r.bbox_max.z()}},
+        {"genus", genus},
+        {"wall_thickness_mm",
+         {{"min", measured(th.min)},
+          {"min_at",
+           th.samples > 0 ? nlohmann::json({th.min_at.x(), th.min_at.y(), th.min_at.z()}) : nlohmann::json(nullptr)},
+          {"p01", measured(th.p01)},
+          {"median", measured(th.median)},
+          {"samples", th.samples},
+          {"missed", th.missed},
+          {"given_up", th.given_up}}}};
     out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
   } else {
     out << file.string() << ": " << (r.printable() ? "printable" : "NOT printable") << "\n" << r.summary();

@@ -233,11 +233,20 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
     r.genus[p] = closed[p] && chi % 2 == 0 ? static_cast<int>((2 - chi) / 2) : -1;
   }
 
+  // skips the degenerate ones too; a grid that leaves more than 1e9 + 64 per triangle candidate pairs (a stack
+  // of triangles over one another, some minutes of tests) is not searched
+  const SelfIntersectionCount found =
+      count_self_intersections(mesh.vertices, tris, 16, 1e9 + 64.0 * static_cast<double>(nt), threads);
+  r.self_intersections = found.count;
+  r.intersecting_pairs = found.examples;
+  r.intersections_tested = found.tested;
+
   // Nesting: the surfaces of a solid wind once round every point of it. Seen from a point on part p, the
   // other parts' winding number W is 0 outside every piece (p must face out) and 1 inside a piece (p is a
   // pocket's wall and must face in); anything else is a surface facing the wrong way for where it lies (two
   // outward cubes, one inside the other).
-  if (r.parts > 1 && r.closed_manifold() && r.consistently_oriented) {
+  if (r.parts > 1 && r.closed_manifold() && r.consistently_oriented && r.intersections_tested &&
+      r.self_intersections == 0) {  // parts apart from each other: each lies inside another or outside it
     std::vector<std::int64_t> tri_part(nt, -1);
     std::vector<Vec3> lo(r.parts, Vec3::Constant(std::numeric_limits<double>::infinity())), hi(r.parts, -lo[0]);
     std::vector<std::size_t> first(r.parts, nt);
@@ -284,10 +293,6 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
     for (const char x : wrong) r.misnested_parts += x;
   }
 
-  const auto pairs = self_intersecting_pairs(mesh.vertices, tris, threads);  // skips the degenerate ones too
-  r.self_intersections = pairs.size();
-  r.intersecting_pairs.assign(pairs.begin(),
-                              pairs.begin() + static_cast<std::ptrdiff_t>(std::min<std::size_t>(pairs.size(), 16)));
   return r;
 }
 
@@ -304,6 +309,10 @@ std::vector<std::string> MeshReport::problems() const {
   if (!consistently_oriented)
     p.push_back("misoriented: " + count(misoriented_edges, "edge whose", "edges whose") +
                 " two triangles run it the same way");
+  if (!intersections_tested)
+    p.push_back(
+        "self-intersections not tested: too many triangles lie over one another (a test of every pair would "
+        "take hours)");
   if (self_intersections > 0)
     p.push_back("self-intersecting: " + count(self_intersections, "pair", "pairs") + " of triangles cross");
   if (degenerate_triangles > 0)
@@ -345,7 +354,8 @@ std::string MeshReport::summary() const {
   s << ", area " << area << "; bounding box " << (bbox_max - bbox_min).transpose() << "\n";
   s << "boundary edges " << boundary_edges << ", non-manifold edges " << nonmanifold_edges << ", non-manifold vertices "
     << nonmanifold_vertices << ", misoriented edges " << misoriented_edges << ", self-intersecting pairs "
-    << self_intersections << ", degenerate triangles " << degenerate_triangles << "\n";
+    << (intersections_tested ? std::to_string(self_intersections) : std::string("not tested"))
+    << ", degenerate triangles " << degenerate_triangles << "\n";
   s << "genus per part:";
   for (std::size_t p = 0; p < genus.size() && p < 20; ++p)
     s << " " << (genus[p] < 0 ? std::string("open") : std::to_string(genus[p]));

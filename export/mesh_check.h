@@ -31,6 +31,7 @@ struct MeshReport {
   /// zero times). Checked on closed, consistently oriented meshes of several parts.
   std::size_t misnested_parts = 0;
   std::size_t self_intersections = 0;  ///< pairs of triangles without a shared vertex that intersect
+  bool intersections_tested = true;    ///< false: too many overlapping triangles to test (not printable)
   std::vector<std::array<std::uint32_t, 2>>
       intersecting_pairs;                ///< up to 16 examples (triangle indices), deterministic
   std::size_t degenerate_triangles = 0;  ///< triangles with repeated (welded) vertices or zero area
@@ -45,7 +46,7 @@ struct MeshReport {
   /// positive volume.
   bool printable() const {
     return triangles > 0 && closed_manifold() && consistently_oriented && misnested_parts == 0 &&
-           self_intersections == 0 && degenerate_triangles == 0 && volume > 0;
+           intersections_tested && self_intersections == 0 && degenerate_triangles == 0 && volume > 0;
   }
   /// Why the mesh is not printable, one phrase each ("not closed: 12 boundary edges", "inside out: ..."); empty
   /// when printable().
@@ -70,6 +71,19 @@ std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(const Printabl
 std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(
     const std::vector<core::Vec3>& vertices, const std::vector<std::array<std::uint32_t, 3>>& triangles,
     int threads = 0);
+
+/// What count_self_intersections() found.
+struct SelfIntersectionCount {
+  std::size_t count = 0;                               ///< intersecting pairs (as self_intersecting_pairs)
+  std::vector<std::array<std::uint32_t, 2>> examples;  ///< the smallest pairs, up to the number asked for
+  bool tested = true;                                  ///< false: more candidate pairs than max_tests, none tested
+};
+/// The same pairs as self_intersecting_pairs(), counted in memory independent of their number (a file of
+/// thousands of triangles crossing one line has millions of pairs), and refused, untested, when the grid
+/// leaves more than `max_tests` candidate pairs to test (a stack of parallel triangles: time ~ its square).
+SelfIntersectionCount count_self_intersections(const std::vector<core::Vec3>& vertices,
+                                               const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                               std::size_t examples, double max_tests, int threads = 0);
 
 /// Signed volume by the divergence theorem (units^3): positive for a closed mesh wound outward.
 double signed_volume(const PrintableMesh& mesh);

@@ -163,8 +163,17 @@ struct CellKey {
   }
 };
 
+/// Bounds of a search that only counts (check_mesh): at most `keep` pairs kept per grid cell (the smallest), and
+/// no search at all beyond `max_tests` candidate pairs (`tested` then false). Deterministic: per cell, in order.
+struct Budget {
+  std::size_t keep = std::numeric_limits<std::size_t>::max();
+  double max_tests = std::numeric_limits<double>::infinity();
+  std::size_t count = 0;  // out: every intersecting pair, kept or not
+  bool tested = true;     // out
+};
+
 Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tris, const std::vector<char>& skip,
-                         int threads) {
+                         int threads, Budget* budget = nullptr) {
   const std::size_t n = tris.size();
   if (n < 2) return {};
   std::vector<Vec3> lo(n), hi(n);
@@ -410,13 +419,36 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
         if (s[p] == t[q]) return true;
     return false;
   };
+  // a counting search: the candidate pairs are known before any is tested; too many, and none is
+  if (budget) {
+    double tests = static_cast<double>(big.size()) * static_cast<double>(n);
+    for (std::size_t r = 0; r < nruns; ++r) {
+      const double m = static_cast<double>(runs[r + 1] - runs[r]);
+      tests += m * (m - 1) / 2;
+    }
+    if (tests > budget->max_tests) {
+      budget->tested = false;
+      return {};
+    }
+  }
+  std::vector<Pairs> found(nruns + big.size());
+  std::vector<std::size_t> counted(budget ? found.size() : 0, 0);
   const auto test = [&](std::uint32_t ti, std::uint32_t tj, Pairs& out) {  // boxes overlap
     if (share_vertex(ti, tj)) return;
     const Tri &s = tris[ti], &t = tris[tj];
     const Vec3 A[3] = {v[s[0]], v[s[1]], v[s[2]]}, B[3] = {v[t[0]], v[t[1]], v[t[2]]};
-    if (meet(A, B)) out.push_back({std::min(ti, tj), std::max(ti, tj)});
+    if (!meet(A, B)) return;
+    const std::array<std::uint32_t, 2> pair{std::min(ti, tj), std::max(ti, tj)};
+    if (!budget) {
+      out.push_back(pair);
+      return;
+    }
+    ++counted[static_cast<std::size_t>(&out - found.data())];
+    // keep the smallest `keep` of this cell's pairs, sorted
+    if (out.size() == budget->keep && !(pair < out.back())) return;
+    if (out.size() == budget->keep) out.pop_back();
+    out.insert(std::upper_bound(out.begin(), out.end(), pair), pair);
   };
-  std::vector<Pairs> found(nruns + big.size());
   core::parallel_for(
       nruns, threads,
       [&](std::size_t b0, std::size_t e0) {
@@ -491,6 +523,10 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
   Pairs all;
   for (const Pairs& f : found) all.insert(all.end(), f.begin(), f.end());
   std::sort(all.begin(), all.end());
+  if (budget) {
+    for (const std::size_t c : counted) budget->count += c;
+    if (all.size() > budget->keep) all.resize(budget->keep);
+  }
   return all;
 }
 
@@ -505,6 +541,25 @@ std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(const std::vec
     skip[t] = w[0] == w[1] || w[1] == w[2] || w[0] == w[2] || (b - a).cross(c - a).squaredNorm() == 0;
   }
   return intersecting_pairs(vertices, triangles, skip, threads);
+}
+
+SelfIntersectionCount count_self_intersections(const std::vector<Vec3>& vertices, const std::vector<Tri>& triangles,
+                                               std::size_t examples, double max_tests, int threads) {
+  std::vector<char> skip(triangles.size(), 0);
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const Tri& w = triangles[t];
+    const Vec3 &a = vertices[w[0]], &b = vertices[w[1]], &c = vertices[w[2]];
+    skip[t] = w[0] == w[1] || w[1] == w[2] || w[0] == w[2] || (b - a).cross(c - a).squaredNorm() == 0;
+  }
+  Budget budget;
+  budget.keep = std::max<std::size_t>(examples, 1);
+  budget.max_tests = max_tests;
+  SelfIntersectionCount out;
+  out.examples = intersecting_pairs(vertices, triangles, skip, threads, &budget);
+  out.examples.resize(std::min(out.examples.size(), examples));
+  out.count = budget.count;
+  out.tested = budget.tested;
+  return out;
 }
 
 bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {

@@ -335,6 +335,46 @@ TEST_CASE("self_intersecting_pairs equals testing every pair, with fans round on
   CHECK(exporters::self_intersecting_pairs(m, 1) == found);
 }
 
+TEST_CASE("check_mesh counts millions of crossings in little memory, and does not test a stack for hours",
+          "[mesh_check]") {
+  // N triangles through the z axis at N angles: every pair crosses (N (N - 1) / 2 pairs)
+  auto fan = [](std::uint32_t n) {
+    PrintableMesh m;
+    for (std::uint32_t k = 0; k < n; ++k) {
+      const double a = M_PI * k / n;
+      m.vertices.emplace_back(std::cos(a), std::sin(a), 0);
+      m.vertices.emplace_back(-std::cos(a), -std::sin(a), 0);
+      m.vertices.emplace_back(0, 0, 1 + 1e-3 * k);
+      m.triangles.push_back({3 * k, 3 * k + 1, 3 * k + 2});
+    }
+    return m;
+  };
+  const PrintableMesh small = fan(300);
+  const auto oracle = every_pair(small);
+  REQUIRE(oracle.size() == 300 * 299 / 2);
+  const auto counted = exporters::count_self_intersections(small.vertices, small.triangles, 16, 1e12);
+  CHECK(counted.tested);
+  CHECK(counted.count == oracle.size());
+  CHECK(counted.examples == std::vector<std::array<std::uint32_t, 2>>(oracle.begin(), oracle.begin() + 16));
+  const auto r = exporters::check_mesh(fan(4000));  // 8 million pairs: their list alone took 64 MB
+  CHECK(r.self_intersections == 4000u * 3999u / 2);
+  CHECK(r.intersecting_pairs.size() == 16);
+  // 60,000 triangles stacked 1e-6 apart: the grid cannot part them (1.8e9 candidate pairs): refused untested
+  PrintableMesh stack;
+  for (std::uint32_t k = 0; k < 60000; ++k) {
+    stack.vertices.emplace_back(0, 0, 1e-6 * k);
+    stack.vertices.emplace_back(1, 0, 1e-6 * k);
+    stack.vertices.emplace_back(0, 1, 1e-6 * k);
+    stack.triangles.push_back({3 * k, 3 * k + 1, 3 * k + 2});
+  }
+  const auto s = exporters::check_mesh(stack);
+  CHECK_FALSE(s.intersections_tested);
+  CHECK_FALSE(s.printable());
+  CHECK_THAT(s.summary(),
+             Catch::Contains("self-intersecting pairs not tested") &&
+                 Catch::Contains("self-intersections not tested: too many triangles lie over one another"));
+}
+
 TEST_CASE("a sliver within rounding of another triangle's plane is tested in that plane", "[mesh_check]") {
   // A stands across B's plane by 1e-6 (within the tolerance), and A's normal lies in B's plane: projected
   // along it, B is a segment that A's edge crosses; in B's plane they are 0.047 apart
