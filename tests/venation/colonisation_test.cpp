@@ -392,7 +392,7 @@ TEST_CASE("bad input names the parameter", "[colonisation]") {
   v::Leaf bow;
   bow.outline.points = {{0, 0}, {2, 2}, {2, 0}, {0, 1}};
   CHECK_THROWS_WITH(v::Colonisation(bow, params(v::VenationType::open, 1)),
-                    Contains("leaf.outline") && Contains("intersects"));
+                    Contains("leaf.outline") && Contains("crosses itself at ("));
 }
 
 namespace {
