@@ -2,6 +2,7 @@
 // range checked, a whole section read, and params{} (ScriptHost::Impl, declared in app/script_impl.h).
 #include "app/script_impl.h"
 
+#include <charconv>
 #include <iterator>
 #include <string_view>
 
@@ -94,6 +95,10 @@ Value ScriptHost::Impl::from_lua(const Field& f, int idx, const std::string& at)
     case Kind::integer:
       if (t != LUA_TNUMBER) throw fail(got);
       v.num = lua_tonumber(L, idx);
+      // a Lua integer beyond 2^53 is no double: it would be taken rounded (9007199254740993 as ...992)
+      if (lua_isinteger(L, idx) && static_cast<lua_Integer>(v.num) != lua_tointeger(L, idx) && std::abs(v.num) < 0x1p63)
+        throw InvalidInput(at + name + " must be a whole number of at most 2^53 (9007199254740992) in size, got " +
+                           std::to_string(lua_tointeger(L, idx)));
       break;
     case Kind::boolean:
       if (t != LUA_TBOOLEAN) throw fail(got);
@@ -397,12 +402,23 @@ int api_params(lua_State* L) {
                            " is not UTF-8 text, which run.json and the checkpoint record; write it in UTF-8");
       }
       const bool integer = t == LUA_TNUMBER && lua_isinteger(L, -1);
+      if (t == LUA_TNUMBER && !integer && !std::isfinite(lua_tonumber(L, -1))) {
+        const double x = lua_tonumber(L, -1);
+        lua_pop(L, 2);
+        throw InvalidInput(at + "params{...}: the knob " + core::printable(key) + " is " + core::number_text(x) +
+                           "; a knob is a finite number (run.json records it, and --set gives only those)");
+      }
       if (it != I.overrides->end()) {
         I.used_overrides.insert(key);
         const std::string& text = it->second;
         double x;
         lua_pop(L, 1);
-        if (t == LUA_TNUMBER) {
+        long long whole = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), whole);
+        if (integer && ec == std::errc() && end == text.data() + text.size()) {  // exactly, beyond 2^53 too
+          lua_pushinteger(L, static_cast<lua_Integer>(whole));
+          rec[key] = static_cast<std::int64_t>(whole);
+        } else if (t == LUA_TNUMBER) {
           if (!parse_double(text, x) || !std::isfinite(x))
             throw InvalidInput("--set " + key + ": expected a finite number, got \"" + text + "\"");
           // a whole default stays whole (a count such as 3 given as --set n=5 is 5, not 5.0)

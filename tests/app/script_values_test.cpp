@@ -70,3 +70,18 @@ TEST_CASE("a knob's text default is checked whole for UTF-8, past a NUL", "[scri
              Contains("test/leaf.lua:1: params{...}: the knob name's default is not UTF-8 text"));
   CHECK_NOTHROW(load(std::string("local P = params { name = 'a\\0b' }\ndisc { radius = 2 }\n")));
 }
+
+TEST_CASE("numbers are taken exactly or refused: no NaN knob, no rounded seed", "[script]") {
+  using cellform::test::load;
+  // a knob of NaN or infinity was taken, and run.json recorded it as null
+  for (const char* x : {"0/0", "math.huge", "-math.huge"})
+    CHECK_THAT(load_error(std::string("local P = params { x = ") + x + " }\ndisc { radius = 2 }\n"),
+               Contains("test/leaf.lua:1: params{...}: the knob x is") && Contains("a knob is a finite number"));
+  // a Lua integer beyond 2^53 was rounded to a double (seed 9007199254740993 ran as ...992)
+  CHECK_THAT(load_error("run { seed = 9007199254740993 }\ndisc { radius = 2 }\n"),
+             Contains("run.seed must be a whole number of at most 2^53") && Contains("9007199254740993"));
+  CHECK(load("run { seed = 9007199254740992 }\ndisc { radius = 2 }\n").seed == 9007199254740992ull);
+  // --set of a whole knob is taken exactly, beyond 2^53 too
+  const auto cfg = load("local P = params { n = 3 }\ndisc { radius = 2 }\n", {{"n", "9007199254740993"}});
+  CHECK(cfg.resolved["params"]["n"].get<std::int64_t>() == 9007199254740993LL);
+}
