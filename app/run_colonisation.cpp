@@ -293,6 +293,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     const auto a = std::chrono::steady_clock::now();
     const bool nonuniform = spec.params.growth == venation::GrowthMode::nonuniform;
     std::size_t last_print = 0;
+    auto last_print_time = std::chrono::steady_clock::now();
     bool saved = false;          // this run wrote checkpoint.cfck (an older one may be there from another run)
     std::size_t saved_step = 0;  // the step of the last checkpoint it wrote
     CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
@@ -304,8 +305,12 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
           break;
         }
         const venation::ColonisationReport& r = col.step();
-        if (!o.quiet && (r.steps - last_print >= 50 || col.done())) {
+        // every 50 steps, or 5 s (a step of millions of sources can take seconds)
+        const auto now = std::chrono::steady_clock::now();
+        if (!o.quiet &&
+            (r.steps - last_print >= 50 || now - last_print_time >= std::chrono::seconds(5) || col.done())) {
           last_print = r.steps;
+          last_print_time = now;
           err << "step " << r.steps << ": " << r.nodes << " vein nodes, " << r.sources << " sources";
           if (planar) err << (nonuniform ? ", growth step " : ", leaf length ") << r.scale;
           err << (::isatty(2) ? "\r" : "\n") << std::flush;
