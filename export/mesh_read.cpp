@@ -178,9 +178,12 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
         if (!t.empty() && !known_ply_type(t)) malformed(path, "unknown PLY property type '" + t + "'");
   for (const Element& e : elements)  // a vertex without one of x, y, z would silently sit at 0 there
     if (e.name == "vertex")
-      for (const char* axis : {"x", "y", "z"})
-        if (std::none_of(e.props.begin(), e.props.end(), [&](const Property& p) { return p.name == axis; }))
-          malformed(path, std::string("PLY vertices have no '") + axis + "' property");
+      for (const char* axis : {"x", "y", "z"}) {
+        const auto p = std::find_if(e.props.begin(), e.props.end(), [&](const Property& q) { return q.name == axis; });
+        if (p == e.props.end()) malformed(path, std::string("PLY vertices have no '") + axis + "' property");
+        if (!p->count_type.empty())  // read as a list, the coordinate would be lost
+          malformed(path, std::string("PLY vertex property '") + axis + "' is a list, not one number");
+      }
   const bool ascii = format == "ascii";
   if (!ascii && format != "binary_little_endian")
     malformed(path, "PLY format '" + format + "' is not supported (ascii or binary_little_endian)");

@@ -614,5 +614,13 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
                                        "0 0\n1 0\n0 1\n3 0 1 2\n";
   }
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "flat.ply"), Catch::Contains("no 'z' property"));
+  {  // x as a list was read as its length and lost: every vertex at x = 0
+    std::ofstream(dir / "xlist.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty list uchar float x\n"
+                                        "property float y\nproperty float z\nelement face 1\n"
+                                        "property list uchar int vertex_indices\nend_header\n"
+                                        "1 0 0 0\n1 1 0 0\n1 0 1 0\n3 0 1 2\n";
+  }
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "xlist.ply"),
+                    Catch::Contains("xlist.ply") && Catch::Contains("'x' is a list, not one number"));
   fs::remove_all(dir);
 }
