@@ -5,6 +5,7 @@
 #include <array>
 #include <charconv>
 #include <filesystem>
+#include <map>
 #include <string_view>
 
 #include "app/check.h"
@@ -145,6 +146,7 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
     }
     RunOptions o;
     std::vector<std::string> positional;
+    std::map<std::string, std::string> once;  // option -> value: one value each (--set: one per name)
     for (std::size_t i = 1; i < args.size(); ++i) {
       const std::string& a = args[i];
       auto value = [&]() -> const std::string& {
@@ -154,6 +156,11 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
             std::find(kRunOptions.begin(), kRunOptions.end(), next) != kRunOptions.end())
           throw UsageError(a + " needs a value, got the option " + next +
                            (a == "--out" || a == "--script" ? " (a file or folder so named is ./" + next + ")" : ""));
+        if (a != "--set") {  // the last of two would win unsaid: which one was meant?
+          const auto [it, first] = once.emplace(a, next);
+          if (!first && it->second != next)
+            throw UsageError(a + " is given twice (" + it->second + " and " + next + "); give it once");
+        }
         return args[++i];
       };
       if (a == "-h" || a == "--help") {

@@ -262,7 +262,9 @@ Start start_from(const RunOptions& o) {
         const auto saved_value = s.sets.find(k);
         const std::string section = k.find('.') == std::string::npos ? std::string() : k.substr(0, k.find('.'));
         if ((s.colonisation_bytes.empty() || s.sheet_partial) && !s.script_replaced && section != "output" &&
-            section != "print" && (saved_value == s.sets.end() || saved_value->second != v))
+            section != "print" && (saved_value == s.sets.end() || saved_value->second != v)) {
+          if (k == "run.steps")  // the one value a resume takes by an option of its own
+            throw InputError("--set run.steps=" + v + ": a resume is given its total of steps by --steps " + v);
           throw InputError("--set " + k + "=" + v + ": " + what +
                            " continues with the parameters it was saved with (only output.* and print.* may change "
                            "when resuming a cell run, or a run stopped while its cell sheet grew); start a new run, "
@@ -272,6 +274,7 @@ Start start_from(const RunOptions& o) {
                                                      " is the script the checkpoint keeps, unchanged: this is a "
                                                      "plain resume)"
                                                : std::string()));
+        }
         if (k == "colonisation.max_steps" && !s.colonisation_bytes.empty() && !s.sheet_partial &&
             (saved_value == s.sets.end() || saved_value->second != v))
           s.max_steps_changed = true;

@@ -42,7 +42,7 @@ std::vector<Field> build() {
   f.push_back(integer("run", "seed", "1", 0, 9007199254740992.0, "", "seed of every random choice (--seed overrides)"));
 
   // cells{}
-  f.push_back(num("cells", "rest_length", "1", 0, kInf, true, "model units",
+  f.push_back(num("cells", "rest_length", "1", 0, kFar, true, "model units",
                   "d of Eq. 2: target distance between linked cells"));
   f.push_back(
       integer("cells", "neighbours", "6", 3, 32, "cells", "k: links per cell, the k nearest (dynamic neighbourhood)"));

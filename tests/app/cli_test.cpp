@@ -54,6 +54,12 @@ TEST_CASE("help, version and usage errors", "[cli]") {
   CHECK(r.code == 2);
   r = cli({"run", "x.lua", "--set", "scale=0.1", "--set", "scale=0.2"});  // the last wins, and it is said
   CHECK_THAT(r.err, Contains("--set scale is given twice; the last, 0.2, is used (not 0.1)"));
+  // another option given twice with two values is refused: the last one won unsaid
+  r = cli({"run", "x.lua", "--seed", "3", "--steps", "10", "--seed", "4"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--seed is given twice (3 and 4); give it once"));
+  r = cli({"run", "x.lua", "--out", "a", "--out", "b"});
+  CHECK_THAT(r.err, Contains("--out is given twice (a and b)"));
   r = cli({"params"});
   CHECK(r.code == 0);
   CHECK_THAT(r.out, Contains("rest_length"));

@@ -277,6 +277,9 @@ TEST_CASE("resume refuses to go back in steps or to change the seed, leaving the
     CHECK(physics.code == 2);
     CHECK_THAT(physics.err, Contains(std::string("--set ") + set) && Contains("only output.* and print.* may change"));
   }
+  const CliResult steps = cli({"resume", ck.string(), "--set", "run.steps=12", "--quiet"});
+  CHECK(steps.code == 2);
+  CHECK_THAT(steps.err, Contains("a resume is given its total of steps by --steps 12"));
   CHECK(cli({"resume", ck.string(), "--set", "output.obj=false", "--quiet", "--steps", "8"}).code == 0);
 }
 
