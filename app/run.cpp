@@ -542,7 +542,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       } catch (const std::exception& e) {
         err << "cellform: " << core::error_text(e) << "\n  (the other outputs and the checkpoint are written)\n";
         if (saved && !dynamic_cast<const NothingToPrint*>(&e))  // a retry need not grow the cells again
-          err << "  to print again with other print.* values: cellform resume " << checkpoint.string()
+          err << "  to print again with other print.* values: cellform resume " << shell_word(checkpoint.string())
               << " --set print.NAME=VALUE\n";
         printed = {{"error", core::error_text(e)}};
         if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
@@ -582,7 +582,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                 : code == ok        ? "done: step "
                                     : "stopped with an error at step ")
             << sim.step_count() << ", " << sim.cells().size() << " cells; outputs in " << dir.string() << "/\n";
-      if (code == interrupted && saved) err << "continue with: cellform resume " << checkpoint.string() << "\n";
+      if (code == interrupted && saved)
+        err << "continue with: cellform resume " << shell_word(checkpoint.string()) << "\n";
     }
     return code;
   } catch (const core::InvalidInput& e) {

@@ -256,7 +256,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                 << ")\n";
             return failure;
           }
-          err << "continue with: cellform resume " << checkpoint.string() << "\n";
+          err << "continue with: cellform resume " << shell_word(checkpoint.string()) << "\n";
           return interrupted;
         }
         sheet = std::move(grown.cells);
@@ -405,7 +405,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       } catch (const std::exception& e) {
         err << "cellform: " << core::error_text(e) << "\n";
         if (saved && !dynamic_cast<const NothingToPrint*>(&e))  // a retry need not grow the veins again
-          err << "  to print again with other print.* values: cellform resume " << checkpoint.string()
+          err << "  to print again with other print.* values: cellform resume " << shell_word(checkpoint.string())
               << " --set print.NAME=VALUE\n";
         printed = {{"error", core::error_text(e)}};
         if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
@@ -467,13 +467,13 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     if ((!o.quiet || code != ok) && code != interrupted && !rep.finished && !rep.stalled && checkpoint_error.empty()) {
       // both limits can be reached in one step; doubled, within what --steps and --set accept
       auto twice = [](std::size_t n) { return std::to_string(std::min<std::size_t>(2 * n, 1'000'000'000)); };
-      where << "continue with: cellform resume " << checkpoint.string();
+      where << "continue with: cellform resume " << shell_word(checkpoint.string());
       if (rep.hit_max_nodes) where << " --set colonisation.max_nodes=" << twice(spec.params.max_nodes);
       if (rep.hit_max_steps) where << " --steps " << twice(spec.params.max_steps);
       where << "\n";
     }
     if (code == interrupted && checkpoint_error.empty())
-      err << "continue with: cellform resume " << checkpoint.string() << "\n";
+      err << "continue with: cellform resume " << shell_word(checkpoint.string()) << "\n";
     return code;
   } catch (const std::exception& e) {
     const bool input = dynamic_cast<const core::InvalidInput*>(&e) != nullptr;

@@ -117,6 +117,9 @@ std::string knob_recall(const Overrides& sets, const std::string& message);
 /// Writes a run.json atomically (text that is not UTF-8, from a script's error say, is replaced).
 void write_run_json(const std::filesystem::path& path, const nlohmann::json& run);
 
+/// A path or word as a POSIX shell reads it back: as it is when plain, else in single quotes.
+std::string shell_word(const std::string& p);
+
 /// The line that tells how to go on from `checkpoint` with the script corrected after an error: cellform
 /// resume with --script, and the --out and --steps of this command that still apply.
 std::string resume_hint(const RunOptions& o, const std::filesystem::path& checkpoint,

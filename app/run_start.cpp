@@ -63,8 +63,6 @@ void write_run_json(const fs::path& path, const json& run) {
       path, [&](std::ostream& os) { os << run.dump(2, ' ', false, json::error_handler_t::replace) << "\n"; });
 }
 
-namespace {
-
 /// `p` as a shell word: quoted when it holds anything but letters, digits and -_./+,:@%=
 std::string shell_word(const std::string& p) {
   if (!p.empty() && p.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_./+,:@%=") ==
@@ -75,11 +73,9 @@ std::string shell_word(const std::string& p) {
   return q + "'";
 }
 
-}  // namespace
-
 std::string resume_hint(const RunOptions& o, const fs::path& checkpoint, const fs::path& script) {
   std::string hint = "  to go on from it with the script corrected: cellform resume " +
-                     shell_word(checkpoint.string()) + " --script " + shell_word(script.string());
+                     shell_word(checkpoint.string()) + " --script " + shell_word(absolute_path_text(script));
   // a new checkpoint is in this command's folder, where a resume writes anyway; the one resumed may not be
   if (o.out && checkpoint == o.checkpoint) hint += " --out " + shell_word(o.out->string());
   if (o.steps) hint += " --steps " + std::to_string(*o.steps);

@@ -87,3 +87,9 @@ TEST_CASE("a script's default output folder is out/<its name>, never out/ itself
     CHECK(app::start_from(o).out_dir == std::filesystem::path(folder));
   }
 }
+
+TEST_CASE("the commands cellform suggests can be pasted back into a shell", "[cli]") {
+  CHECK(app::shell_word("/tmp/out/leaf/checkpoint.cfck") == "/tmp/out/leaf/checkpoint.cfck");
+  CHECK(app::shell_word("/tmp/o é sp2/checkpoint.cfck") == "'/tmp/o é sp2/checkpoint.cfck'");
+  CHECK(app::shell_word("it's") == "'it'\\''s'");
+}

@@ -77,7 +77,8 @@ TEST_CASE("script errors name the file and line", "[script]") {
                Contains("cells.drag must be {x, y, z} with each from 0 to 1"));
     CHECK_THAT(load_error("disc { radius = 2 }", {{"cells.drag", "0.5"}}),  // the form --set takes
                Contains("got \"0.5\"; on the command line three numbers: --set cells.drag=X,Y,Z"));
-    CHECK_THAT(load_error("cells { rest_length = 0 }"), Contains("cells.rest_length must be a number > 0"));
+    CHECK_THAT(load_error("cells { rest_length = 0 }"),
+               Contains("cells.rest_length must be a number from 0 (exclusive) to 1e+09"));
     CHECK_THAT(load_error("cells { neighbours = 2 }"), Contains("cells.neighbours"));
     CHECK_THAT(load_error("cells { neighbours = 6.5 }"), Contains("whole number"));
   }
