@@ -35,6 +35,18 @@ void on_interrupt(int sig) {
     say(kQuit, sizeof kQuit - 1);
     exit_process(130);  // quits at once
   }
+  if (sig == SIGTERM) {  // said as what it is, not as a Ctrl-C (the same stop, the same escalation)
+    static const char kTermReading[] =
+        "\ncellform: SIGTERM: stopping the script being read (another SIGTERM or Ctrl-C quits at once)\n";
+    static const char kTerm[] =
+        "\ncellform: terminated (SIGTERM): the steps stop after the current one and the outputs are written; "
+        "another SIGTERM or Ctrl-C skips a printable solid being made, and otherwise quits at once, without outputs\n";
+    if (g_reading_script.load())
+      say(kTermReading, sizeof kTermReading - 1);
+    else
+      say(kTerm, sizeof kTerm - 1);
+    return;
+  }
   if (g_reading_script.load()) {  // stopped at the script's next instruction
     static const char kReading[] = "\ncellform: Ctrl-C: stopping the script being read (Ctrl-C again quits at once)\n";
     say(kReading, sizeof kReading - 1);
