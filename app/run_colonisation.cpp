@@ -432,8 +432,11 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                     : rep.hit_max_nodes ? "stopped at max_nodes"
                                         : "stopped at max_steps";
     run["steps"] = {{"first", first}, {"completed", rep.steps}, {"limit", spec.params.max_steps}};
-    run["veins"] = {
-        {"nodes", rep.nodes}, {"loops", rep.loops}, {"sources_left", rep.sources}, {"sources_born", rep.sources_born}};
+    run["veins"] = {{"nodes", rep.nodes},
+                    {"loops", venation::independent_cycles(tree)},  // cycles, not the joins of two seeds' trees
+                    {"anastomoses", rep.loops},
+                    {"sources_left", rep.sources},
+                    {"sources_born", rep.sources_born}};
     if (tree.size() > rep.nodes) run["veins"]["stems"] = tree.size() - rep.nodes;  // nodes of veins.* beyond
     run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
                       {"simulation_s", seconds}};
@@ -462,8 +465,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                 : rep.stalled       ? "done (stalled: some sources can no longer be reached)"
                 : rep.hit_max_nodes ? "stopped at colonisation.max_nodes"
                                     : "stopped at max_steps")
-            << ": " << rep.steps << " steps, " << rep.nodes << " vein nodes, " << rep.loops << " loops; outputs in "
-            << dir.string() << "/\n";
+            << ": " << rep.steps << " steps, " << rep.nodes << " vein nodes, " << venation::independent_cycles(tree)
+            << " loops; outputs in " << dir.string() << "/\n";
     if ((!o.quiet || code != ok) && code != interrupted && !rep.finished && !rep.stalled && checkpoint_error.empty()) {
       // both limits can be reached in one step; doubled, within what --steps and --set accept
       auto twice = [](std::size_t n) { return std::to_string(std::min<std::size_t>(2 * n, 1'000'000'000)); };

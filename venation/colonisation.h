@@ -129,7 +129,7 @@ struct ColonisationReport {
   std::size_t sources_born = 0;     ///< sources accepted by dart throwing
   std::size_t sources_removed = 0;  ///< sources removed (reached)
   std::size_t darts = 0;            ///< darts thrown
-  std::size_t loops = 0;            ///< anastomosis edges added (independent cycles of the graph)
+  std::size_t loops = 0;            ///< anastomosis edges added (a join of two seeds' trees closes no cycle)
   double scale = 1;                 ///< growth scale sigma at the end (nonuniform: steps of growth done)
   bool finished = false;            ///< growth over and no source left: the pattern is complete
   bool stalled = false;             ///< growth over, sources remain, but settle_steps steps changed nothing
@@ -223,6 +223,10 @@ struct WidthParams {
 /// start at 1, at each node the child with the largest flow (ties: smaller index) keeps the order, the
 /// others get order + 1. Throws core::InvalidInput for exponent or tip_radius not positive.
 void compute_widths(VeinTree& tree, const WidthParams& params);
+
+/// Independent cycles of the vein graph (its cyclomatic number, edges - nodes + components): the loops a
+/// closed pattern made, not counting anastomoses that joined the trees of two seeds into one.
+std::size_t independent_cycles(const VeinTree& tree);
 
 /// `tree` with a stem to each root from its anchor (anchors[k] for the k-th root in index order, that is
 /// the k-th seed) where they lie more than `min_length` (model units) apart: a seed moved onto a surface

@@ -90,4 +90,28 @@ void compute_widths(VeinTree& tree, const WidthParams& w) {
       tree.order[i] = tree.order[tree.parent[i]] + (main_child[tree.parent[i]] == i ? 0 : 1);
 }
 
+std::size_t independent_cycles(const VeinTree& tree) {
+  const std::size_t n = tree.size();
+  std::vector<Index> up(n);  // union-find: a node's representative
+  for (std::size_t i = 0; i < n; ++i) up[i] = static_cast<Index>(i);
+  auto find = [&](Index x) {
+    while (up[x] != x) x = up[x] = up[up[x]];
+    return x;
+  };
+  std::size_t cycles = 0;
+  auto join = [&](Index a, Index b) {
+    if (a >= n || b >= n) return;
+    a = find(a);
+    b = find(b);
+    if (a == b)
+      ++cycles;  // the edge closes a cycle
+    else
+      up[std::max(a, b)] = std::min(a, b);
+  };
+  for (std::size_t i = 0; i < n; ++i)
+    if (tree.parent[i] != kNoIndex) join(static_cast<Index>(i), tree.parent[i]);
+  for (const auto& [a, b] : tree.anastomoses) join(a, b);
+  return cycles;
+}
+
 }  // namespace cellform::venation

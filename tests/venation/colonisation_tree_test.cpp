@@ -41,3 +41,19 @@ TEST_CASE("with_stems joins each root to its anchor where they differ, keeping p
   CHECK(v::with_stems(t, {Vec3(0, 0, 0), Vec3(5, 0, 1e-12)}, 1e-9).size() == t.size());
   CHECK_THROWS_WITH(v::with_stems(t, {Vec3(0, 0, 0)}, 1e-9), Contains("1 anchors for 2 roots"));
 }
+
+TEST_CASE("independent cycles: a loop counts, a join of two seeds' trees does not", "[colonisation]") {
+  // two seeds 0 and 1, each with a chain of two nodes: 0 <- 2 <- 4 and 1 <- 3 <- 5
+  v::VeinTree t;
+  for (int i = 0; i < 6; ++i) t.positions.emplace_back(i, 0, 0);
+  t.parent = {cellform::core::kNoIndex, cellform::core::kNoIndex, 0, 1, 2, 3};
+  CHECK(v::independent_cycles(t) == 0);
+  t.anastomoses.push_back({4, 5});  // joins the two trees: no cycle yet (a review found run.json's loops said 1)
+  CHECK(v::independent_cycles(t) == 0);
+  t.anastomoses.push_back({2, 3});  // now 2-4-5-3-2 is a cycle
+  CHECK(v::independent_cycles(t) == 1);
+  t.anastomoses.push_back({0, 4});  // and 0-2-4-0
+  CHECK(v::independent_cycles(t) == 2);
+  // E - V + C: 4 parent edges and 3 anastomoses, 6 nodes, 1 component
+  CHECK(v::independent_cycles(t) == 4 + t.anastomoses.size() - 6 + 1);
+}
