@@ -129,7 +129,8 @@ std::vector<Field> build() {
   f.push_back(vec("sphere", "centre", "{0, 0, 0}", -kFar, kFar, "model units", "centre"));
   f.push_back(vec("line", "from", "", -kFar, kFar, "model units", "first cell"));
   f.push_back(vec("line", "to", "", -kFar, kFar, "model units", "last cell"));
-  f.push_back(num("line", "spacing", "cells.rest_length", 0, kInf, true, "model units", "distance between cells"));
+  f.push_back(num("line", "spacing", "cells.rest_length", 0, kInf, true, "model units",
+                  "largest distance between cells (the line is divided evenly, a cell at each end)"));
   f.push_back(vec("cell", "at", "", -kFar, kFar, "model units", "one cell at this position"));
   f.push_back(boolean("cell", "fixed", "false", "a fixed (static) cell never moves"));
   f.push_back(vec("petiole", "at", "{0, 0, 0}", -kFar, kFar, "model units",

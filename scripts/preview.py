@@ -8,7 +8,11 @@ import struct
 import sys
 from pathlib import Path
 
-import matplotlib
+try:
+    import matplotlib
+except ImportError:
+    sys.exit("preview.py needs Debian's python3-matplotlib, which is not installed: "
+             "sudo apt-get install python3-matplotlib")
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
