@@ -39,12 +39,18 @@ void on_interrupt(int sig) {
     static const char kTermReading[] =
         "\ncellform: SIGTERM: stopping the script being read (another SIGTERM or Ctrl-C quits at once)\n";
     static const char kTerm[] =
+        "\ncellform: terminated (SIGTERM): the steps stop after the current one (a printable solid being made is "
+        "skipped) and the outputs are written; another SIGTERM or Ctrl-C skips a printable solid being made, and "
+        "otherwise quits at once, without outputs\n";
+    static const char kTermNoPrint[] =
         "\ncellform: terminated (SIGTERM): the steps stop after the current one and the outputs are written; "
-        "another SIGTERM or Ctrl-C skips a printable solid being made, and otherwise quits at once, without outputs\n";
+        "another SIGTERM or Ctrl-C quits at once, without outputs\n";
     if (g_reading_script.load())
       say(kTermReading, sizeof kTermReading - 1);
-    else
+    else if (g_print_planned.load())
       say(kTerm, sizeof kTerm - 1);
+    else
+      say(kTermNoPrint, sizeof kTermNoPrint - 1);
     return;
   }
   if (g_reading_script.load()) {  // stopped at the script's next instruction

@@ -1,6 +1,7 @@
 // The small exception hierarchy every module throws for problems a user can act on.
 #pragma once
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -51,11 +52,12 @@ bool is_utf8(std::string_view text);
 /// Levenshtein distance; used to suggest the closest valid name for a misspelt one.
 std::size_t edit_distance(const std::string& a, const std::string& b);
 
-/// The candidate closest to `name` by edit distance, or "" if none is reasonably close.
+/// The candidate closest to `name` by edit distance, or "" if none is reasonably close: at most a third of
+/// `name`'s letters changed, and one at least ("nope" is not a misspelt "type").
 template <class Range>
 std::string closest_name(const std::string& name, const Range& candidates) {
   std::string best;
-  std::size_t best_d = name.size() / 2 + 2;
+  std::size_t best_d = std::max<std::size_t>(name.size() / 3, 1) + 1;
   for (const auto& c : candidates) {
     std::string s(c);
     const std::size_t d = edit_distance(name, s);

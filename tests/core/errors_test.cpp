@@ -53,3 +53,20 @@ TEST_CASE("printable escapes the bytes that would act on a terminal or cut a mes
                   "2J") == "\\xc2\\x9b2J");    // U+009B, a terminal's CSI
   CHECK(printable("\xc2\xa0") == "\xc2\xa0");  // U+00A0, text
 }
+
+TEST_CASE("misspelt names are matched by edits and swaps; a name with nothing close gets no suggestion",
+          "[core][errors]") {
+  using cellform::core::closest_name;
+  using cellform::core::edit_distance;
+  CHECK(edit_distance("run", "rnu") == 1);  // a swap of neighbours is one edit
+  CHECK(edit_distance("disc", "dsic") == 1);
+  CHECK(edit_distance("kitten", "sitting") == 3);
+  CHECK(edit_distance("", "abc") == 3);
+  CHECK(edit_distance("abc", "abc") == 0);
+  CHECK(edit_distance("ca", "abc") == 3);  // optimal string alignment: a swapped pair is not edited again
+  const std::vector<std::string> fields{"type", "age", "generation", "id", "flow"};
+  CHECK(closest_name("tpye", fields) == "type");
+  CHECK(closest_name("nope", fields).empty());  // two of four letters changed: no "did you mean 'type'?"
+  CHECK(closest_name("rnu", std::vector<std::string>{"run", "resume", "params", "check"}) == "run");
+  CHECK(closest_name("seperation", std::vector<std::string>{"separation", "spring"}) == "separation");
+}
