@@ -269,8 +269,16 @@ struct ScriptHost::Impl {
     lua_sethook(L, &Impl::hook, kHookMask, 1);
   }
 
-  /// Turns a Lua error message into one line that names the script; adds the memory-limit hint.
+  /// Turns a Lua error message into one line that names the script; adds the memory-limit hint. A message
+  /// longer than 4,000 bytes is cut there (error(string.rep("x", 1e8)) wrote 100 MB to the terminal).
   std::string describe(const std::string& lua_message) const {
+    constexpr std::size_t kLongest = 4000;
+    if (lua_message.size() > kLongest) {
+      std::size_t cut = kLongest;  // not inside a UTF-8 sequence
+      while (cut > 0 && (static_cast<unsigned char>(lua_message[cut]) & 0xc0) == 0x80) --cut;
+      return describe(lua_message.substr(0, cut)) + "... (" + std::to_string(lua_message.size() - cut) +
+             " bytes more of the message left out)";
+    }
     {
       // the hook's stop, with its place; Lua's own memory error, without (another error, such as a syntax
       // error found while the limit was passed, is itself)

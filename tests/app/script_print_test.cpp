@@ -34,3 +34,10 @@ TEST_CASE("print formats are case-blind", "[script]") {
   REQUIRE(cfg.print);
   CHECK(cfg.print->formats == std::vector<std::string>{"stl", "obj"});
 }
+
+TEST_CASE("an enormous error message is cut to a few thousand bytes", "[script]") {
+  const std::string e = load_error("error(string.rep('x', 1000000))\n");
+  CHECK(e.size() < 4200);
+  CHECK_THAT(
+      e, Contains("test/leaf.lua:1: xxxx") && Contains("... (996") && Contains("bytes more of the message left out)"));
+}
