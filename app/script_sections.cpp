@@ -232,8 +232,13 @@ void section_print(Impl& I, const std::string& at) {
   if (p.formats.empty())
     throw InvalidInput(I.value_at("print.formats", at) +
                        "print.formats must name at least one of stl, obj, ply, scad, vdb");
-  if (!p.veins && !p.shell)
-    throw InvalidInput(at + "print{...} with veins = false needs shell = true (nothing to print)");
+  if (!p.veins && !p.shell) {  // named where it was given: the script's line or a --set
+    const std::string veins_at = I.value_at("print.veins", ""), shell_at = I.value_at("print.shell", "");
+    throw InvalidInput((veins_at.empty() && shell_at.empty() ? at
+                        : veins_at.empty()                   ? shell_at
+                                                             : veins_at) +
+                       "print{...} with veins = false needs shell = true (nothing to print)");
+  }
   I.cfg->print = p;
 }
 

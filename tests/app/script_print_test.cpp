@@ -41,3 +41,11 @@ TEST_CASE("an enormous error message is cut to a few thousand bytes", "[script]"
   CHECK_THAT(
       e, Contains("test/leaf.lua:1: xxxx") && Contains("... (996") && Contains("bytes more of the message left out)"));
 }
+
+TEST_CASE("a print with nothing to print is named where it was asked for", "[script]") {
+  CHECK_THAT(load_error("disc { radius = 2 }\nvenation {}\nprint { veins = false }\n"),
+             Contains("test/leaf.lua:3: print{...} with veins = false needs shell = true"));
+  // by a --set: the --set is named, not the script's print{} line
+  CHECK_THAT(load_error("disc { radius = 2 }\nvenation {}\nprint {}\n", {{"print.veins", "false"}}),
+             Contains("--set print.veins=false: print{...} with veins = false needs shell = true"));
+}
