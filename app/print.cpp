@@ -168,4 +168,11 @@ json write_printable(const fs::path& dir, const PrintSpec& spec, const cells::Ce
                            spec.shell ? shell_closing(c, spec.close_holes) : 0.0, true);
 }
 
+void say_printed(std::ostream& err, const nlohmann::json& printed) {
+  err << "printable solid: " << printed["triangles"] << " triangles, " << printed["parts"] << " part(s), "
+      << printed["cavities"]
+      << (printed["filled_cavities"] > 0 ? " closed cavities (filled), scale " : " closed cavities, scale ")
+      << printed["scale_mm_per_unit"] << " mm per model unit\n";
+}
+
 }  // namespace cellform::app

@@ -529,11 +529,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       try {
         printed = write_printable(staging, *cfg.print, sim.cells(), cfg.scene.venation.has_value(), o.threads, outputs,
                                   err, o.quiet);
-        if (!o.quiet)
-          err << "printable solid: " << printed["triangles"] << " triangles, " << printed["parts"] << " part(s), "
-              << printed["cavities"]
-              << (printed["filled_cavities"] > 0 ? " closed cavities (filled), scale " : " closed cavities, scale ")
-              << printed["scale_mm_per_unit"] << " mm per model unit\n";
+        if (!o.quiet) say_printed(err, printed);
       } catch (const core::Cancelled&) {  // said once the other files are in (another Ctrl-C quits before)
         print_cancelled = true;
         printed = {{"error", "interrupted"}};

@@ -398,6 +398,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         printed = thicken_and_write(staging, *cfg.print, segments, shell, o.threads, outputs, err, o.quiet,
                                     cfg.print->shell && sheet ? shell_closing(*sheet, cfg.print->close_holes) : 0.0,
                                     sheet.has_value());
+        if (!o.quiet) say_printed(err, printed);
       } catch (const core::Cancelled&) {  // said once the other files are in (another Ctrl-C quits before)
         print_cancelled = true;
         printed = {{"error", "interrupted"}};

@@ -276,6 +276,9 @@ nlohmann::json thicken_and_write(const std::filesystem::path& dir, const PrintSp
 /// (`warned`) and the run goes on, to try again at the next one; returns whether it was written.
 bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, bool& warned);
 
+/// The line a finished print says: "printable solid: T triangles, P part(s), C closed cavities, scale ...".
+void say_printed(std::ostream& err, const nlohmann::json& printed);
+
 /// print{} for a cell run: the vein graph and, if asked, the cell sheet (print.cpp).
 nlohmann::json write_printable(const std::filesystem::path& dir, const PrintSpec& spec, const cells::Cells& cells,
                                bool has_veins, int threads, std::vector<std::string>& names, std::ostream& err,
