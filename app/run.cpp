@@ -237,15 +237,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                        std::to_string(s.step) + "; raise it, or give --steps " + std::to_string(s.step) + " or more");
     // run.json: the steps this cell run goes to (--steps, or its checkpoint's, too)
     if (!cfg.colonisation && cfg.resolved.contains("run")) cfg.resolved["run"]["steps"] = target;
-    if (cfg.colonisation && s.max_steps_changed && !o.steps) {  // a resume that raises (or lowers) the limit
-      const std::uint64_t limit = cfg.colonisation->params.max_steps;
-      if (limit < s.step)
-        throw InputError("colonisation.max_steps = " + std::to_string(limit) + " is below the checkpoint's step " +
-                         std::to_string(s.step) + "; give " + std::to_string(s.step) + " or more");
-      s.target_steps = limit;
-      s.has_target = true;
+    if (cfg.colonisation) {
+      adopt_max_steps(s, o, cfg);
+      return run_colonisation(o, s, cfg, host, seed, out, err, t0);
     }
-    if (cfg.colonisation) return run_colonisation(o, s, cfg, host, seed, out, err, t0);
     // the one default changed since checkpoints record their values: say so where it applies
     const json division = cfg.resolved.value("division", json::object());
     if (s.resume && !s.physics.is_object() && division.value("trigger", "") == "neighbours" &&

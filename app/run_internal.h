@@ -94,6 +94,10 @@ void keep_resumed_checkpoint(Start& s, const std::filesystem::path& dir, std::os
 /// parameters) so; nothing when `every` is empty.
 void apply_checkpoint_every(std::optional<std::uint64_t> every, OutputSpec* output, nlohmann::json& resolved);
 
+/// A resume of a space-colonisation run whose --set or edited script changed colonisation.max_steps: that is
+/// the run's step limit now, unless --steps gives one. Throws InputError for a limit below the checkpoint's step.
+void adopt_max_steps(Start& s, const RunOptions& o, const SceneConfig& cfg);
+
 /// resume --script, once the edited script is read into `cfg`: reads the run's own script again to record
 /// its values as the run used them (s.replaced_parameters), warns on `err` of shapes and petioles the
 /// edited script changes that will not be placed, and keeps the run's target unless run.steps changed.

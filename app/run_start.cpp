@@ -340,6 +340,16 @@ void apply_checkpoint_every(std::optional<std::uint64_t> every, OutputSpec* outp
   }
 }
 
+void adopt_max_steps(Start& s, const RunOptions& o, const SceneConfig& cfg) {
+  if (!s.max_steps_changed || o.steps || !cfg.colonisation) return;  // --steps wins
+  const std::uint64_t limit = cfg.colonisation->params.max_steps;
+  if (limit < s.step)
+    throw InputError("colonisation.max_steps = " + std::to_string(limit) + " is below the checkpoint's step " +
+                     std::to_string(s.step) + "; give " + std::to_string(s.step) + " or more");
+  s.target_steps = limit;
+  s.has_target = true;
+}
+
 void adopt_edited_script(Start& s, const RunOptions& o, const SceneConfig& cfg, std::ostream& err) {
   std::string why;
   const std::optional<SceneConfig> before = load_run_script(s, o.limits, why);

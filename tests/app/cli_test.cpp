@@ -1,4 +1,4 @@
-// Tests of the cellform command line: exit codes, help, outputs, run.json, Ctrl-C, printing and check.
+// Tests of the cellform command line: exit codes, help, outputs, run.json, Ctrl-C and printing (check: check_test.cpp).
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -504,41 +504,6 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
     CHECK_THAT(failed["print"]["error"].get<std::string>(), Contains("falls apart"));
     CHECK_THAT(r.err, Contains("stopped with an error at step 40"));
   }
-}
-
-TEST_CASE("cellform check reports broken and unreadable meshes", "[cli][check]") {
-  TempDir t("cli-check");
-  // a tetrahedron with one face missing: a hole
-  const auto open = t.write("open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\n");
-  auto r = cli({"check", open.string()});
-  CHECK(r.code == 1);
-  CHECK_THAT(r.out, Contains("NOT printable"));
-  CHECK_THAT(r.out, Contains("boundary edges 3"));
-  const auto closed = t.write("closed.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n");
-  r = cli({"check", closed.string()});
-  INFO(r.out);
-  CHECK(r.code == 0);
-  // the report as JSON says what the text says: one surface, no pieces or genus on an open mesh
-  r = cli({"check", open.string()});
-  CHECK_THAT(r.out, Contains("1 connected surface;") && Contains("genus per part: open"));
-  r = cli({"check", open.string(), "--json"});
-  auto j = nlohmann::json::parse(r.out);
-  CHECK(j["surfaces"] == 1);
-  CHECK(j["parts"].is_null());
-  CHECK(j["genus"] == nlohmann::json::array({nullptr}));
-  CHECK(j["wall_thickness_mm"]["samples"].get<int>() == 0);  // no ray leaves through another wall
-  CHECK(j["wall_thickness_mm"]["median"].is_null());
-  const auto garbage = t.write("garbage.stl", "this is not a mesh");
-  r = cli({"check", garbage.string()});
-  CHECK(r.code == 2);
-  CHECK_THAT(r.err, Contains("garbage.stl"));
-  r = cli({"check", garbage.string(), "--json"});  // a program reading the report gets one
-  CHECK(r.code == 2);
-  j = nlohmann::json::parse(r.out);
-  CHECK(j["printable"] == false);
-  CHECK_THAT(j["error"].get<std::string>(), Contains("garbage.stl"));
-  CHECK(cli({"check"}).code == 2);
-  CHECK(cli({"check", (t.path / "none.stl").string()}).code == 2);
 }
 
 TEST_CASE("periodic checkpoints come every N steps, but not within output.checkpoint_seconds of the last", "[cli]") {

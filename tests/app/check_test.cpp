@@ -1,0 +1,43 @@
+// Tests of app/check.cpp: `cellform check` on broken and unreadable meshes, as text and as JSON.
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "tests/app/test_util.h"
+
+using namespace cellform::test;
+using Catch::Matchers::Contains;
+
+TEST_CASE("cellform check reports broken and unreadable meshes", "[cli][check]") {
+  TempDir t("cli-check");
+  // a tetrahedron with one face missing: a hole
+  const auto open = t.write("open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\n");
+  auto r = cli({"check", open.string()});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.out, Contains("NOT printable"));
+  CHECK_THAT(r.out, Contains("boundary edges 3"));
+  const auto closed = t.write("closed.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n");
+  r = cli({"check", closed.string()});
+  INFO(r.out);
+  CHECK(r.code == 0);
+  // the report as JSON says what the text says: one surface, no pieces or genus on an open mesh
+  r = cli({"check", open.string()});
+  CHECK_THAT(r.out, Contains("1 connected surface;") && Contains("genus per part: open"));
+  r = cli({"check", open.string(), "--json"});
+  auto j = nlohmann::json::parse(r.out);
+  CHECK(j["surfaces"] == 1);
+  CHECK(j["parts"].is_null());
+  CHECK(j["genus"] == nlohmann::json::array({nullptr}));
+  CHECK(j["wall_thickness_mm"]["samples"].get<int>() == 0);  // no ray leaves through another wall
+  CHECK(j["wall_thickness_mm"]["median"].is_null());
+  const auto garbage = t.write("garbage.stl", "this is not a mesh");
+  r = cli({"check", garbage.string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("garbage.stl"));
+  r = cli({"check", garbage.string(), "--json"});  // a program reading the report gets one
+  CHECK(r.code == 2);
+  j = nlohmann::json::parse(r.out);
+  CHECK(j["printable"] == false);
+  CHECK_THAT(j["error"].get<std::string>(), Contains("garbage.stl"));
+  CHECK(cli({"check"}).code == 2);
+  CHECK(cli({"check", (t.path / "none.stl").string()}).code == 2);
+}
