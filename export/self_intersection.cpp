@@ -530,27 +530,28 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
   return all;
 }
 
-}  // namespace
-
-std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(const std::vector<Vec3>& vertices,
-                                                                  const std::vector<Tri>& triangles, int threads) {
+/// Per triangle: repeated corners or zero area (never tested).
+std::vector<char> degenerate(const std::vector<Vec3>& vertices, const std::vector<Tri>& triangles) {
   std::vector<char> skip(triangles.size(), 0);
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     const Tri& w = triangles[t];
     const Vec3 &a = vertices[w[0]], &b = vertices[w[1]], &c = vertices[w[2]];
     skip[t] = w[0] == w[1] || w[1] == w[2] || w[0] == w[2] || (b - a).cross(c - a).squaredNorm() == 0;
   }
+  return skip;
+}
+
+}  // namespace
+
+std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(const std::vector<Vec3>& vertices,
+                                                                  const std::vector<Tri>& triangles, int threads) {
+  const std::vector<char> skip = degenerate(vertices, triangles);
   return intersecting_pairs(vertices, triangles, skip, threads);
 }
 
 SelfIntersectionCount count_self_intersections(const std::vector<Vec3>& vertices, const std::vector<Tri>& triangles,
                                                std::size_t examples, double max_tests, int threads) {
-  std::vector<char> skip(triangles.size(), 0);
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    const Tri& w = triangles[t];
-    const Vec3 &a = vertices[w[0]], &b = vertices[w[1]], &c = vertices[w[2]];
-    skip[t] = w[0] == w[1] || w[1] == w[2] || w[0] == w[2] || (b - a).cross(c - a).squaredNorm() == 0;
-  }
+  const std::vector<char> skip = degenerate(vertices, triangles);
   Budget budget;
   budget.keep = std::max<std::size_t>(examples, 1);
   budget.max_tests = max_tests;
