@@ -356,6 +356,10 @@ void adopt_edited_script(Start& s, const RunOptions& o, const SceneConfig& cfg, 
   if (!before) {
     err << "cellform: note: the run's own script (" << s.replaced_path << ") no longer loads (" << why << "), so what "
         << s.script_path.string() << " changes in its shapes and petioles is not checked\n";
+    // its max_steps is not known: the edited script's counts as a change where it differs from the run's limit
+    if (cfg.colonisation && !s.colonisation_bytes.empty() && !s.sheet_partial &&
+        cfg.colonisation->params.max_steps != s.checkpoint_target)
+      s.max_steps_changed = true;
     return;
   }
   const bool cell_run = s.colonisation_bytes.empty() && !s.sheet_partial;

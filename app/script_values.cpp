@@ -96,7 +96,8 @@ Value ScriptHost::Impl::from_lua(const Field& f, int idx, const std::string& at)
       if (t != LUA_TNUMBER) throw fail(got);
       v.num = lua_tonumber(L, idx);
       // a Lua integer beyond 2^53 is no double: it would be taken rounded (9007199254740993 as ...992)
-      if (lua_isinteger(L, idx) && static_cast<lua_Integer>(v.num) != lua_tointeger(L, idx) && std::abs(v.num) < 0x1p63)
+      if (f.kind == Kind::integer && lua_isinteger(L, idx) &&
+          (!(std::abs(v.num) < 0x1p63) || static_cast<lua_Integer>(v.num) != lua_tointeger(L, idx)))
         throw InvalidInput(at + name + " must be a whole number of at most 2^53 (9007199254740992) in size, got " +
                            std::to_string(lua_tointeger(L, idx)));
       break;
@@ -169,9 +170,16 @@ Value ScriptHost::Impl::from_text(const Field& f, const std::string& text, const
   switch (f.kind) {
     case Kind::number:
     case Kind::integer:
-    case Kind::number_or_function:
+    case Kind::number_or_function: {
       if (!parse_double(text, v.num)) throw fail();
+      long long whole = 0;  // a whole number the double would round (9007199254740993 as ...992): refused
+      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), whole);
+      if (f.kind == Kind::integer && ec == std::errc() && end == text.data() + text.size() &&
+          (!(std::abs(v.num) < 0x1p63) || static_cast<long long>(v.num) != whole))
+        throw InvalidInput(at + name + " must be a whole number of at most 2^53 (9007199254740992) in size, got " +
+                           text);
       break;
+    }
     case Kind::boolean:
       if (text == "true" || text == "1")
         v.flag = true;

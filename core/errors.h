@@ -49,7 +49,8 @@ std::string printable(std::string_view text);
 /// Whether `text` is well-formed UTF-8 (what JSON, and so run.json and a checkpoint, can hold).
 bool is_utf8(std::string_view text);
 
-/// Levenshtein distance; used to suggest the closest valid name for a misspelt one.
+/// Edit distance counting insertions, deletions, substitutions and swaps of neighbouring letters (optimal
+/// string alignment); used to suggest the closest valid name for a misspelt one.
 std::size_t edit_distance(const std::string& a, const std::string& b);
 
 /// The candidate closest to `name` by edit distance, or "" if none is reasonably close: at most a third of

@@ -233,10 +233,9 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
     r.genus[p] = closed[p] && chi % 2 == 0 ? static_cast<int>((2 - chi) / 2) : -1;
   }
 
-  // skips the degenerate ones too; a grid that leaves more than 1e9 + 64 per triangle candidate pairs (a stack
-  // of triangles over one another, some minutes of tests) is not searched
-  const SelfIntersectionCount found =
-      count_self_intersections(mesh.vertices, tris, 16, 1e9 + 64.0 * static_cast<double>(nt), threads);
+  // skips the degenerate ones too; a grid cell that leaves more than 3e8 candidate pairs after its fans are
+  // peeled off (a stack of triangles over one another, minutes of tests) ends the search, untested
+  const SelfIntersectionCount found = count_self_intersections(mesh.vertices, tris, 16, 3e8, threads);
   r.self_intersections = found.count;
   r.intersecting_pairs = found.examples;
   r.intersections_tested = found.tested;
@@ -263,33 +262,47 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
     std::vector<std::vector<std::uint32_t>> part_tris(r.parts);
     for (std::size_t t = 0; t < nt; ++t)
       if (tri_part[t] >= 0) part_tris[static_cast<std::size_t>(tri_part[t])].push_back(static_cast<std::uint32_t>(t));
+    // the work: a solid angle per triangle of every part whose box holds another's point; beyond 3e8 (thousands
+    // of pockets in a shell of millions of triangles: minutes) the nesting is not checked, and the report says so
+    double work = 0;
+    if (r.parts <= 20000)
+      for (std::size_t p = 0; p < r.parts && work <= 3e8; ++p) {
+        if (first[p] == nt) continue;
+        const Tri& w = tris[first[p]];
+        const Vec3 q = (mesh.vertices[w[0]] + mesh.vertices[w[1]] + mesh.vertices[w[2]]) / 3.0;
+        for (std::size_t o = 0; o < r.parts; ++o)
+          if (o != p && (q.array() >= lo[o].array()).all() && (q.array() <= hi[o].array()).all())
+            work += static_cast<double>(part_tris[o].size());
+      }
+    r.nesting_tested = r.parts <= 20000 && work <= 3e8;
     std::vector<char> wrong(r.parts, 0);
-    core::parallel_for(
-        r.parts, threads,
-        [&](std::size_t b0, std::size_t e0) {
-          for (std::size_t p = b0; p < e0; ++p) {
-            if (first[p] == nt) continue;
-            const Tri& w = tris[first[p]];
-            const Vec3 q = (mesh.vertices[w[0]] + mesh.vertices[w[1]] + mesh.vertices[w[2]]) / 3.0;
-            double solid_angle = 0;  // of the other parts whose boxes hold q (only those can wind round it)
-            for (std::size_t o = 0; o < r.parts; ++o) {
-              if (o == p || (q.array() < lo[o].array()).any() || (q.array() > hi[o].array()).any()) continue;
-              for (const std::uint32_t t : part_tris[o]) {
-                // Van Oosterom and Strackee: the solid angle of a triangle seen from q
-                const Vec3 a = mesh.vertices[tris[t][0]] - q, b = mesh.vertices[tris[t][1]] - q,
-                           c = mesh.vertices[tris[t][2]] - q;
-                const double la = a.norm(), lb = b.norm(), lc = c.norm();
-                const double num = a.dot(b.cross(c));
-                const double den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
-                solid_angle += 2 * std::atan2(num, den);
+    if (r.nesting_tested)
+      core::parallel_for(
+          r.parts, threads,
+          [&](std::size_t b0, std::size_t e0) {
+            for (std::size_t p = b0; p < e0; ++p) {
+              if (first[p] == nt) continue;
+              const Tri& w = tris[first[p]];
+              const Vec3 q = (mesh.vertices[w[0]] + mesh.vertices[w[1]] + mesh.vertices[w[2]]) / 3.0;
+              double solid_angle = 0;  // of the other parts whose boxes hold q (only those can wind round it)
+              for (std::size_t o = 0; o < r.parts; ++o) {
+                if (o == p || (q.array() < lo[o].array()).any() || (q.array() > hi[o].array()).any()) continue;
+                for (const std::uint32_t t : part_tris[o]) {
+                  // Van Oosterom and Strackee: the solid angle of a triangle seen from q
+                  const Vec3 a = mesh.vertices[tris[t][0]] - q, b = mesh.vertices[tris[t][1]] - q,
+                             c = mesh.vertices[tris[t][2]] - q;
+                  const double la = a.norm(), lb = b.norm(), lc = c.norm();
+                  const double num = a.dot(b.cross(c));
+                  const double den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+                  solid_angle += 2 * std::atan2(num, den);
+                }
               }
+              const double winding = solid_angle / (4 * M_PI);
+              const bool outside = std::abs(winding) < 0.25, inside = std::abs(winding - 1) < 0.25;
+              wrong[p] = !((outside && part_volume[p] > 0) || (inside && part_volume[p] < 0));
             }
-            const double winding = solid_angle / (4 * M_PI);
-            const bool outside = std::abs(winding) < 0.25, inside = std::abs(winding - 1) < 0.25;
-            wrong[p] = !((outside && part_volume[p] > 0) || (inside && part_volume[p] < 0));
-          }
-        },
-        1);
+          },
+          1);
     for (const char x : wrong) r.misnested_parts += x;
   }
 
@@ -311,17 +324,20 @@ std::vector<std::string> MeshReport::problems() const {
                 " two triangles run it the same way");
   if (!intersections_tested)
     p.push_back(
-        "self-intersections not tested: too many triangles lie over one another (a test of every pair would "
-        "take hours)");
+        "self-intersections not tested: too many triangles overlap in one place (more than 3e8 pairs to test in "
+        "one cell of the search grid, as in a stack of triangles over one another)");
   if (self_intersections > 0)
     p.push_back("self-intersecting: " + count(self_intersections, "pair", "pairs") + " of triangles cross");
   if (degenerate_triangles > 0)
     p.push_back(count(degenerate_triangles, "degenerate triangle", "degenerate triangles") +
                 " (repeated corners or zero area)");
   if (misnested_parts > 0)
-    p.push_back("misoriented shells: " + count(misnested_parts, "closed surface faces", "closed surfaces face") +
-                " the wrong way for where it lies (a surface inside a solid is a pocket's wall and must face into the "
-                "pocket; one outside every solid, or inside a pocket, must face out)");
+    p.push_back("misoriented shells: " +
+                (misnested_parts == 1
+                     ? std::string("1 closed surface faces the wrong way for where it lies")
+                     : std::to_string(misnested_parts) + " closed surfaces face the wrong way for where they lie") +
+                " (a surface inside a solid is a pocket's wall and must face into the pocket; one outside every "
+                "solid, or inside a pocket, must face out)");
   if (triangles > 0 && closed_manifold() && consistently_oriented && !(volume > 0))
     p.push_back(volume < 0 ? "inside out: every triangle faces inward (the enclosed volume is negative); reverse "
                              "the triangles' winding"
@@ -356,6 +372,8 @@ std::string MeshReport::summary() const {
     << nonmanifold_vertices << ", misoriented edges " << misoriented_edges << ", self-intersecting pairs "
     << (intersections_tested ? std::to_string(self_intersections) : std::string("not tested"))
     << ", degenerate triangles " << degenerate_triangles << "\n";
+  if (!nesting_tested)
+    s << "nesting of the parts not checked (too many parts inside others' boxes to compare in reasonable time)\n";
   s << "genus per part:";
   for (std::size_t p = 0; p < genus.size() && p < 20; ++p)
     s << " " << (genus[p] < 0 ? std::string("open") : std::to_string(genus[p]));

@@ -30,6 +30,7 @@ struct MeshReport {
   /// other parts wind once round it), one outside every solid or inside a pocket must face out (they wind
   /// zero times). Checked on closed, consistently oriented meshes of several parts.
   std::size_t misnested_parts = 0;
+  bool nesting_tested = true;  ///< false: too many parts inside others' boxes (over 20,000, or 3e8 solid angles)
   std::size_t self_intersections = 0;  ///< pairs of triangles without a shared vertex that intersect
   bool intersections_tested = true;    ///< false: too many overlapping triangles to test (not printable)
   std::vector<std::array<std::uint32_t, 2>>
@@ -79,8 +80,9 @@ struct SelfIntersectionCount {
   bool tested = true;                                  ///< false: more candidate pairs than max_tests, none tested
 };
 /// The same pairs as self_intersecting_pairs(), counted in memory independent of their number (a file of
-/// thousands of triangles crossing one line has millions of pairs), and refused, untested, when the grid
-/// leaves more than `max_tests` candidate pairs to test (a stack of parallel triangles: time ~ its square).
+/// thousands of triangles crossing one line has millions of pairs), and given up, untested, when one cell of
+/// the grid leaves more than `max_tests` candidate pairs to test, its fans round a shared vertex peeled off (a
+/// stack of parallel triangles: time ~ its square).
 SelfIntersectionCount count_self_intersections(const std::vector<core::Vec3>& vertices,
                                                const std::vector<std::array<std::uint32_t, 3>>& triangles,
                                                std::size_t examples, double max_tests, int threads = 0);

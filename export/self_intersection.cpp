@@ -2,6 +2,7 @@
 // triangle-triangle test as narrow phase.
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -164,7 +165,9 @@ struct CellKey {
 };
 
 /// Bounds of a search that only counts (check_mesh): at most `keep` pairs kept per grid cell (the smallest), and
-/// no search at all beyond `max_tests` candidate pairs (`tested` then false). Deterministic: per cell, in order.
+/// given up (`tested` false) when one grid cell enumerates more than `max_tests` candidate pairs (after its fans
+/// are peeled off). Deterministic: whether some cell passes the bound does not depend on the threads; once one
+/// does, the others stop early.
 struct Budget {
   std::size_t keep = std::numeric_limits<std::size_t>::max();
   double max_tests = std::numeric_limits<double>::infinity();
@@ -419,20 +422,10 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
         if (s[p] == t[q]) return true;
     return false;
   };
-  // a counting search: the candidate pairs are known before any is tested; too many, and none is
-  if (budget) {
-    double tests = static_cast<double>(big.size()) * static_cast<double>(n);
-    for (std::size_t r = 0; r < nruns; ++r) {
-      const double m = static_cast<double>(runs[r + 1] - runs[r]);
-      tests += m * (m - 1) / 2;
-    }
-    if (tests > budget->max_tests) {
-      budget->tested = false;
-      return {};
-    }
-  }
   std::vector<Pairs> found(nruns + big.size());
   std::vector<std::size_t> counted(budget ? found.size() : 0, 0);
+  std::atomic<bool> gave_up{false};
+  const auto stop = [&] { return budget && gave_up.load(std::memory_order_relaxed); };
   const auto test = [&](std::uint32_t ti, std::uint32_t tj, Pairs& out) {  // boxes overlap
     if (share_vertex(ti, tj)) return;
     const Tri &s = tris[ti], &t = tris[tj];
@@ -454,11 +447,16 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
       [&](std::size_t b0, std::size_t e0) {
         std::vector<std::uint32_t> ids, group;
         std::vector<std::size_t> bounds;
-        for (std::size_t r = b0; r < e0; ++r) {
+        for (std::size_t r = b0; r < e0 && !stop(); ++r) {
           const std::uint64_t cell = refs[runs[r]].cell;
           // each pair once: in the cell of the low corner of the boxes' overlap when both are whole (both
           // hold it), else in the first cell (by key) that both hold
+          double enumerated = 0;  // candidate pairs of this cell (a counting search gives up past its bound)
           const auto candidate = [&](std::uint32_t ti, std::uint32_t tj, bool both_whole) {
+            if (budget && ++enumerated > budget->max_tests) {
+              if (!gave_up.load(std::memory_order_relaxed)) gave_up.store(true, std::memory_order_relaxed);
+              return;
+            }
             if (overlap(ti, tj) && (both_whole ? key_of(lo[ti].cwiseMax(lo[tj])) == cell
                                                : !share_vertex(ti, tj) && first_shared_is(ti, tj, cell)))
               test(std::min(ti, tj), std::max(ti, tj), found[r]);  // in index order, whatever the path
@@ -499,12 +497,12 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
             bounds.push_back(rest);  // the fan lies from here to the previous bound
           }
           // the rest with everything after it; each fan with what lies after it (its own pairs share the hub)
-          for (std::size_t i = 0; i < rest; ++i)
+          for (std::size_t i = 0; i < rest && !stop(); ++i)
             for (std::size_t j = i + 1; j < group.size(); ++j)
               candidate(group[i], group[j], whole[group[i]] && whole[group[j]]);
           for (std::size_t k = 1; k < bounds.size(); ++k) {
             const std::size_t fan_end = k == 1 ? group.size() : bounds[k - 1];
-            for (std::size_t i = bounds[k]; i < fan_end; ++i)
+            for (std::size_t i = bounds[k]; i < fan_end && !stop(); ++i)
               for (std::size_t j = fan_end; j < group.size(); ++j)
                 candidate(group[i], group[j], whole[group[i]] && whole[group[j]]);
           }
@@ -523,6 +521,10 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
   Pairs all;
   for (const Pairs& f : found) all.insert(all.end(), f.begin(), f.end());
   std::sort(all.begin(), all.end());
+  if (budget && gave_up.load()) {
+    budget->tested = false;
+    return {};
+  }
   if (budget) {
     for (const std::size_t c : counted) budget->count += c;
     if (all.size() > budget->keep) all.resize(budget->keep);

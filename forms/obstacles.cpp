@@ -495,7 +495,7 @@ void PreparedObstacles::apply(cells::Cells& cells, const std::vector<Vec3>& prev
             any_change |= changed;
             if (!changed) break;
           }
-          if (any_change && crosses_mesh(prev, p)) {
+          if (changed && crosses_mesh(prev, p)) {  // (a pass that changed nothing found no crossing)
             // A mesh is never crossed, even where pushing a cell out of a solid would cross one (a cell
             // inside a box that stands on a mesh floor, its nearest way out under the floor): it stays
             p = prev;

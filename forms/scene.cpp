@@ -63,7 +63,8 @@ Scene::Scene(SceneDescription description, std::uint64_t seed)
       const Vec3 here = obstacles_.stop_at_mesh(m, daughter, margin);
       if (!obstacles_.inside_solid(here, margin)) return here;
       const Vec3 there = obstacles_.stop_at_mesh(m, 2 * m - daughter, margin);
-      return obstacles_.inside_solid(there, margin) ? here : there;  // both inside: pushed out next step
+      // both inside: pushed out at the next step, unless that way out crosses a mesh (then it stays)
+      return obstacles_.inside_solid(there, margin) ? here : there;
     };
   }
   if (desc_.split_along_auxin) {

@@ -81,6 +81,9 @@ TEST_CASE("numbers are taken exactly or refused: no NaN knob, no rounded seed", 
   CHECK_THAT(load_error("run { seed = 9007199254740993 }\ndisc { radius = 2 }\n"),
              Contains("run.seed must be a whole number of at most 2^53") && Contains("9007199254740993"));
   CHECK(load("run { seed = 9007199254740992 }\ndisc { radius = 2 }\n").seed == 9007199254740992ull);
+  CHECK_THAT(load_error("run { steps = 1 }\ndisc { radius = 2 }\n", {{"run.seed", "9007199254740993"}}),
+             Contains("--set run.seed=9007199254740993: run.seed must be a whole number of at most 2^53"));
+  CHECK_THAT(load_error("run { seed = math.maxinteger }\ndisc { radius = 2 }\n"), Contains("run.seed must be"));
   // --set of a whole knob is taken exactly, beyond 2^53 too
   const auto cfg = load("local P = params { n = 3 }\ndisc { radius = 2 }\n", {{"n", "9007199254740993"}});
   CHECK(cfg.resolved["params"]["n"].get<std::int64_t>() == 9007199254740993LL);
