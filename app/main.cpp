@@ -4,6 +4,7 @@
 
 #include <csignal>
 #include <cstddef>
+#include <cstring>
 #include <iostream>
 #include <streambuf>
 #include <string>
@@ -35,41 +36,26 @@ void on_interrupt(int sig) {
     say(kQuit, sizeof kQuit - 1);
     exit_process(130);  // quits at once
   }
-  if (sig == SIGTERM) {  // said as what it is, not as a Ctrl-C (the same stop, the same escalation)
-    static const char kTermReading[] =
-        "\ncellform: SIGTERM: stopping the script being read (another SIGTERM or Ctrl-C quits at once)\n";
-    static const char kTerm[] =
-        "\ncellform: terminated (SIGTERM): the steps stop after the current one (a printable solid being made is "
-        "skipped) and the outputs are written; another SIGTERM or Ctrl-C skips a printable solid being made, and "
-        "otherwise quits at once, without outputs\n";
-    static const char kTermNoPrint[] =
-        "\ncellform: terminated (SIGTERM): the steps stop after the current one and the outputs are written; "
-        "another SIGTERM or Ctrl-C quits at once, without outputs\n";
-    if (g_reading_script.load())
-      say(kTermReading, sizeof kTermReading - 1);
-    else if (g_print_planned.load())
-      say(kTerm, sizeof kTerm - 1);
-    else
-      say(kTermNoPrint, sizeof kTermNoPrint - 1);
-    return;
-  }
-  if (g_reading_script.load()) {  // stopped at the script's next instruction
-    static const char kReading[] = "\ncellform: Ctrl-C: stopping the script being read (Ctrl-C again quits at once)\n";
-    say(kReading, sizeof kReading - 1);
-    return;
-  }
-  // the first waits for the step (or the script's own code) to end: say so, or a busy step looks hung
-  static const char kMessage[] =
-      "\ncellform: interrupted: the steps stop after the current one (a printable solid being made is skipped) "
-      "and the outputs are written; Ctrl-C again skips a printable solid being made, and otherwise quits at "
-      "once, without outputs\n";
-  static const char kNoPrint[] =
-      "\ncellform: interrupted: the steps stop after the current one and the outputs are written; Ctrl-C again "
-      "quits at once, without outputs\n";
-  if (g_print_planned.load())
-    say(kMessage, sizeof kMessage - 1);
-  else
-    say(kNoPrint, sizeof kNoPrint - 1);
+  // said as what came, Ctrl-C or SIGTERM (the same stop, the same escalation); the first waits for the step (or
+  // the script's own code) to end: say so, or a busy step looks hung
+  const int term = sig == SIGTERM ? 1 : 0;
+  static const char* const kReading[2] = {
+      "\ncellform: Ctrl-C: stopping the script being read (Ctrl-C again quits at once)\n",
+      "\ncellform: SIGTERM: stopping the script being read (another SIGTERM or Ctrl-C quits at once)\n"};
+  static const char* const kStop[2][2] = {
+      // [term][print planned]
+      {"\ncellform: interrupted: the steps stop after the current one and the outputs are written; Ctrl-C again "
+       "quits at once, without outputs\n",
+       "\ncellform: interrupted: the steps stop after the current one (a printable solid being made is skipped) "
+       "and the outputs are written; Ctrl-C again skips a printable solid being made, and otherwise quits at "
+       "once, without outputs\n"},
+      {"\ncellform: terminated (SIGTERM): the steps stop after the current one and the outputs are written; "
+       "another SIGTERM or Ctrl-C quits at once, without outputs\n",
+       "\ncellform: terminated (SIGTERM): the steps stop after the current one (a printable solid being made is "
+       "skipped) and the outputs are written; another SIGTERM or Ctrl-C skips a printable solid being made, and "
+       "otherwise quits at once, without outputs\n"}};
+  const char* text = g_reading_script.load() ? kReading[term] : kStop[term][g_print_planned.load() ? 1 : 0];
+  say(text, std::strlen(text));  // strlen is async-signal-safe
 }
 void on_hangup(int) {
   using namespace cellform::app;
