@@ -426,12 +426,13 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       outputs.push_back("veins.svg");
     }
     json run = run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
-    run["status"] = code == interrupted ? "interrupted"
-                    : print_failed      ? "print failed"
-                    : rep.finished      ? "complete"
-                    : rep.stalled       ? "stalled"
-                    : rep.hit_max_nodes ? "stopped at max_nodes"
-                                        : "stopped at max_steps";
+    run["status"] = code == interrupted   ? "interrupted"
+                    : print_failed        ? "print failed"
+                    : rep.finished        ? "complete"
+                    : rep.stalled         ? "stalled"
+                    : rep.hit_max_nodes   ? "stopped at max_nodes"
+                    : rep.hit_max_sources ? "stopped at max_sources"
+                                          : "stopped at max_steps";
     run["steps"] = {{"first", first}, {"completed", rep.steps}, {"limit", spec.params.max_steps}};
     run["veins"] = {{"nodes", rep.nodes},
                     {"loops", venation::independent_cycles(tree)},  // cycles, not the joins of two seeds' trees
@@ -465,7 +466,11 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                 : rep.finished      ? "done"
                 : rep.stalled       ? "done (stalled: some sources can no longer be reached)"
                 : rep.hit_max_nodes ? "stopped at colonisation.max_nodes"
-                                    : "stopped at max_steps")
+                : rep.hit_max_sources
+                    ? "stopped at colonisation.max_sources (" + std::to_string(rep.sources) +
+                          " auxin sources wait: the leaf grows faster than its veins fill it; grow it less, or throw "
+                          "fewer darts)"
+                    : std::string("stopped at max_steps"))
             << ": " << rep.steps << " steps, " << rep.nodes << " vein nodes, " << venation::independent_cycles(tree)
             << " loops; outputs in " << dir.string() << "/\n";
     if ((!o.quiet || code != ok) && code != interrupted && !rep.finished && !rep.stalled && checkpoint_error.empty()) {
@@ -473,6 +478,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       auto twice = [](std::size_t n) { return std::to_string(std::min<std::size_t>(2 * n, 1'000'000'000)); };
       where << "continue with: cellform resume " << shell_word(checkpoint.string());
       if (rep.hit_max_nodes) where << " --set colonisation.max_nodes=" << twice(spec.params.max_nodes);
+      if (rep.hit_max_sources) where << " --set colonisation.max_sources=" << twice(spec.params.max_sources);
       if (rep.hit_max_steps) where << " --steps " << twice(spec.params.max_steps);
       where << "\n";
     }

@@ -464,10 +464,13 @@ std::string unplaced_changes(const Start& s, const SceneConfig& before, const Sc
 
 /// What a resume changes of a colonisation run's own values, in words ("colonisation.darts = 2 (was 1)"):
 /// the --set overrides that differ from the run's, and with --script the edited script's colonisation
-/// values that differ from the run's script's. Leaves out threads, max_steps and max_nodes, which may change.
+/// values that differ from the run's script's. Leaves out threads and the limits (max_steps, max_nodes, max_sources),
+/// which may change.
 std::string changed_colonisation_values(const Start& s, const SceneConfig& cfg) {
   std::vector<std::string> changed;
-  auto may_change = [](const std::string& key) { return key == "threads" || key == "max_steps" || key == "max_nodes"; };
+  auto may_change = [](const std::string& key) {
+    return key == "threads" || key == "max_steps" || key == "max_nodes" || key == "max_sources";
+  };
   for (const auto& [k, v] : s.sets) {
     const auto was = s.checkpoint_sets.find(k);
     const std::string name = k.rfind("colonisation.", 0) == 0 ? k.substr(sizeof("colonisation.") - 1) : std::string();

@@ -429,6 +429,7 @@ void section_colonisation(Impl& I, const std::string& at) {
   read_nonuniform_growth(I, v, at, p);
   p.max_steps = static_cast<std::size_t>(v["max_steps"].num);
   p.max_nodes = static_cast<std::size_t>(v["max_nodes"].num);
+  p.max_sources = static_cast<std::size_t>(v["max_sources"].num);
   I.cfg->colonisation->growth_given = v["growth"].present;
   for (const char* name : {"initial_length", "final_length", "length_step"})
     if (v[name].present && I.cfg->colonisation->length_given.empty()) I.cfg->colonisation->length_given = name;

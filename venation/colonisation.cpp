@@ -488,6 +488,7 @@ void Colonisation::Impl::step() {
   }
   if (rep.steps >= p.max_steps && !rep.finished && !rep.stalled) rep.hit_max_steps = true;
   if (nodes.size() >= p.max_nodes && !rep.finished && !rep.stalled) rep.hit_max_nodes = true;
+  if (active.size() >= p.max_sources && !rep.finished && !rep.stalled) rep.hit_max_sources = true;
 }
 
 // ---- Colonisation ----
@@ -518,7 +519,7 @@ const ColonisationReport& Colonisation::step() {
 
 bool Colonisation::done() const {
   const auto& r = impl_->rep;
-  return r.finished || r.stalled || r.hit_max_steps || r.hit_max_nodes;
+  return r.finished || r.stalled || r.hit_max_steps || r.hit_max_nodes || r.hit_max_sources;
 }
 
 const ColonisationReport& Colonisation::run(const ColonisationProgress& progress) {

@@ -72,10 +72,12 @@ struct ColonisationParams {
   std::size_t growth_steps = 0;  ///< nonuniform: steps during which the leaf grows
   std::uint64_t seed = 1;        ///< all randomness (dart positions) derives from this
   int threads = 1;  ///< threads for the per-source neighbourhoods (0 = all cores); same result for any count
-  std::size_t max_steps = 100000;   ///< stop (report.hit_max_steps) after this many steps
-  std::size_t max_nodes = 5000000;  ///< stop (report.hit_max_nodes) once this many vein nodes exist
-  std::size_t settle_steps = 5;     ///< after growth ends: stop when this many steps in a row added no
-                                    ///< node and no source (finished if no source is left, else stalled)
+  std::size_t max_steps = 100000;     ///< stop (report.hit_max_steps) after this many steps
+  std::size_t max_nodes = 5000000;    ///< stop (report.hit_max_nodes) once this many vein nodes exist
+  std::size_t max_sources = 5000000;  ///< stop (report.hit_max_sources) after a step that leaves this many
+                                      ///< auxin sources waiting (a leaf growing faster than its veins fill it)
+  std::size_t settle_steps = 5;       ///< after growth ends: stop when this many steps in a row added no
+                                      ///< node and no source (finished if no source is left, else stalled)
   /// Closed, exact, planar, nodes that never move (not nonuniform growth): a source whose nearest node
   /// provably excludes every other node from V(s) follows only that node until the proof runs out,
   /// instead of updating its six sector bests every step. The same result either way (false: to test
@@ -135,6 +137,7 @@ struct ColonisationReport {
   bool stalled = false;             ///< growth over, sources remain, but settle_steps steps changed nothing
   bool hit_max_steps = false;       ///< stopped by max_steps
   bool hit_max_nodes = false;       ///< stopped by max_nodes
+  bool hit_max_sources = false;     ///< stopped by max_sources
 };
 
 /// Progress callback: (steps so far, vein nodes); return false to cancel (core::Cancelled).
@@ -185,7 +188,7 @@ class Colonisation {
   std::string save() const;
   /// Continues a state from save(): the steps that follow are bit-identical to those of the run that
   /// saved it, for any thread count. `params` and `domain` must be those it was saved with, except
-  /// threads, max_steps and max_nodes (the limits are applied anew: a run stopped by max_steps goes on
+  /// threads, max_steps, max_nodes and max_sources (the limits are applied anew: a run stopped by max_steps goes on
   /// under a larger one). Throws core::InvalidInput naming what differs (wrong domain or parameters)
   /// and core::FileError naming `what` for bytes that are not such a state or are corrupt.
   static Colonisation load(const Domain& domain, const ColonisationParams& params, const std::string& bytes,

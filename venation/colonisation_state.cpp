@@ -61,7 +61,7 @@ std::vector<std::vector<Index>> get_lists(core::ByteReader& r) {
   return lists;
 }
 
-/// Fingerprint of what the steps depend on in the parameters (not threads, max_steps, max_nodes).
+/// Fingerprint of what the steps depend on in the parameters (not threads, max_steps, max_nodes, max_sources).
 std::uint64_t params_hash(const ColonisationParams& p) {
   core::ByteWriter w;
   for (double v : {p.source_birth_distance, p.vein_birth_distance, p.kill_distance, p.node_distance, p.darts_per_area,
@@ -230,9 +230,11 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
     core::ByteReader r(f.at("setup", what), what);
     const auto ph = r.get<std::uint64_t>(), dh = r.get<std::uint64_t>();
     if (ph != params_hash(m.p))
-      throw InvalidInput(what +
-                         " was saved with other colonisation parameters (or another seed): only the thread count, "
-                         "colonisation.max_steps and colonisation.max_nodes may differ when continuing it");
+      throw InvalidInput(
+          what +
+          " was saved with other colonisation parameters (or another seed): only the thread count, "
+          "colonisation.max_steps, colonisation.max_nodes and colonisation.max_sources may differ when continuing "
+          "it");
     core::ByteWriter scratch;
     if (dh != (m.region ? domain_hash(m.region->domain()) : leaf_hash(m.leaf, scratch)))
       throw InvalidInput(what +
@@ -399,6 +401,7 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
   // the limits are those of `params`
   m.rep.hit_max_steps = m.rep.steps >= m.p.max_steps && !m.rep.finished && !m.rep.stalled;
   m.rep.hit_max_nodes = n >= m.p.max_nodes && !m.rep.finished && !m.rep.stalled;
+  m.rep.hit_max_sources = m.active.size() >= m.p.max_sources && !m.rep.finished && !m.rep.stalled;
 }
 
 Colonisation Colonisation::load(const Domain& domain, const ColonisationParams& params, const std::string& bytes,

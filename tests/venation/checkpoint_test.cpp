@@ -256,6 +256,34 @@ TEST_CASE("a run stopped by max_steps goes on under a larger limit as if never s
   CHECK(v::Colonisation::load(leaf, cut, first.save()).done());
 }
 
+TEST_CASE("a leaf outgrowing its veins stops at max_sources and goes on under a larger limit as if never stopped",
+          "[checkpoint]") {
+  const v::Leaf leaf = ovate_leaf(30, 20);
+  const v::ColonisationParams p = leaf_params(v::VenationType::closed, 1, 2);
+  v::Colonisation whole(leaf, p);
+  std::size_t peak = 0;  // the most sources waiting after a step of the whole run
+  while (!whole.done()) peak = std::max(peak, whole.step().sources);
+  REQUIRE(peak > 20);
+  v::ColonisationParams cut = p;
+  cut.max_sources = peak / 2;
+  v::Colonisation first(leaf, cut);
+  std::size_t before = 0;  // sources waiting after each step but the last stay below the limit
+  while (!first.done()) {
+    CHECK(before < cut.max_sources);
+    before = first.step().sources;
+  }
+  REQUIRE(first.report().hit_max_sources);
+  CHECK_FALSE(first.report().hit_max_steps);
+  CHECK(first.report().sources >= cut.max_sources);
+  CHECK(first.report().sources == first.sources().size());
+  v::Colonisation second = v::Colonisation::load(leaf, p, first.save());
+  CHECK_FALSE(second.done());
+  second.run();
+  require_same(whole, second);
+  CHECK_FALSE(second.report().hit_max_sources);
+  CHECK(v::Colonisation::load(leaf, cut, first.save()).done());
+}
+
 TEST_CASE("states refuse other parameters or domains, and corrupt bytes", "[checkpoint]") {
   const v::Leaf leaf = ovate_leaf(30, 20);
   const v::ColonisationParams p = leaf_params(v::VenationType::closed, 1, 2);
