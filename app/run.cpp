@@ -89,10 +89,9 @@ bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, 
 
 namespace {
 
-/// run.json's "veins": the last canalisation's figures. Its report when one ran in this process
-/// (Report::cells counts the cells it saw); else those the checkpoint kept (`saved`: a resume that reached no
-/// canalisation yet); else what the cells' saved attributes tell (an older checkpoint: the count of cells
-/// with no path to a petiole is not known, so it is null).
+/// run.json's "veins": the last canalisation's figures. Its report when one ran in this process (Report::cells
+/// counts the cells it saw); else those the checkpoint kept (`saved`: a resume that reached no canalisation
+/// yet); else what the cells' saved attributes tell (an older checkpoint: cells with no path to a petiole: null).
 json vein_summary(const cells::Cells& c, const venation::Report& last, const json& saved) {
   if (last.cells == 0 && saved.is_object()) return saved;
   if (last.cells > 0)
@@ -468,6 +467,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       stepping = sim.step_count() + 1;
       try {
         scene->step();
+        host.check_knobs(sim.step_count());
       } catch (const core::SimulationDiverged& e) {
         err << (o.quiet ? "" : "\n") << "cellform: " << e.what() << "\n";  // says "diverged" and what to try
         try {

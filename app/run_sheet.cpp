@@ -74,6 +74,7 @@ Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHo
       host.set_step(sim.step_count() + 1);
       failed.sheet_stepping = sim.step_count() + 1;
       scene.step();
+      host.check_knobs(sim.step_count());
       progress.update(sim.step_count(), sim.cells().size());
       if (sim.step_count() < out.target && checkpoints.due(sim.step_count()) &&
           periodic_checkpoint(save, err, warned)) {

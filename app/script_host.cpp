@@ -245,6 +245,8 @@ void ScriptHost::set_step(std::uint64_t step) {
   lua_call(L, 2, 0);
 }
 
+void ScriptHost::check_knobs(std::uint64_t step) { check_knobs_unchanged(*impl_, step); }
+
 void ScriptHost::set_print(std::function<void(const std::string&)> print) { impl_->print = std::move(print); }
 
 void ScriptHost::set_on_stuck(std::function<void(const std::string&)> handler) {

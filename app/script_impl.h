@@ -124,6 +124,7 @@ struct ScriptHost::Impl {
   int params_ref = LUA_NOREF;      // the table params{} returned (P), and its metatable
   int params_meta_ref = LUA_NOREF;
   std::string params_at;  // "file:line: " of the params{} call
+  nlohmann::json knobs;   // the knobs as params{} made them (run.json's record), for the checks after steps
 
   static void* alloc(void* ud, void* ptr, std::size_t osize, std::size_t nsize) {
     auto* self = static_cast<Impl*>(ud);
@@ -536,8 +537,9 @@ int api_params(lua_State* L);
 /// print(P) of params{}' knobs, P on top of the stack (script_values.cpp).
 int api_print_knobs(lua_State* L);
 
-/// Throws if the script changed a knob of params{} after it was made (run.json records the knobs as made).
-void check_knobs_unchanged(Impl& I);
+/// Throws if the script changed a knob of params{} after it was made (run.json records the knobs as made):
+/// while it was read (step 0), or in a rule function during `step`.
+void check_knobs_unchanged(Impl& I, std::uint64_t step = 0);
 
 /// __index of the cell table: a misspelt field is an error naming the closest one (script_values.cpp).
 int api_cell_index(lua_State* L);

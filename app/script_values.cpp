@@ -468,6 +468,7 @@ int api_params(lua_State* L) {
     lua_pushvalue(L, 2);
     I.params_ref = luaL_ref(L, LUA_REGISTRYINDEX);
     I.params_at = at;
+    I.knobs = rec;
     lua_settop(L, 2);
     return 1;
   });
@@ -521,8 +522,8 @@ int api_print_knobs(lua_State* L) {
   });
 }
 
-void check_knobs_unchanged(Impl& I) {
-  if (I.params_ref == LUA_NOREF || !I.cfg) return;
+void check_knobs_unchanged(Impl& I, std::uint64_t step) {
+  if (I.params_ref == LUA_NOREF) return;
   lua_State* L = I.L;
   // outside any protected call a Lua memory error would abort: the limit waits (as in fill_cell_table)
   struct Host {
@@ -531,7 +532,7 @@ void check_knobs_unchanged(Impl& I) {
     ~Host() { I.in_host = was; }
   } host{I, I.in_host};
   I.in_host = true;
-  const nlohmann::json& rec = I.cfg->resolved["params"];
+  const nlohmann::json& rec = I.knobs;
   lua_rawgeti(L, LUA_REGISTRYINDEX, I.params_ref);
   for (const auto& [name, was] : rec.items()) {
     lua_pushlstring(L, name.data(), name.size());
@@ -540,9 +541,10 @@ void check_knobs_unchanged(Impl& I) {
     lua_pop(L, 1);
     if (now.dump() != was.dump()) {  // (as text: a NaN knob equals itself)
       lua_pop(L, 1);
-      throw InvalidInput(I.params_at + "params: the script changed the knob " + core::printable(name) + " from " +
-                         was.dump() + " to " + now.dump() +
-                         " after params{...} made it, but run.json records it as made: the knobs are read-only; give "
+      throw InvalidInput(I.params_at + "params: " + (step ? "a rule function" : "the script") + " changed the knob " +
+                         core::printable(name) + " from " + was.dump() + " to " + now.dump() +
+                         (step ? " during step " + std::to_string(step) : std::string(" after params{...} made it")) +
+                         ", but run.json records it as made: the knobs are read-only; give "
                          "its value in params{...}, or --set " +
                          core::printable(name) +
                          "=VALUE for one run (a value computed from the knobs goes in a local "

@@ -170,6 +170,14 @@ TEST_CASE("a rule that fails in a step before any checkpoint leaves no empty out
   CHECK(n.code == 2);
   CHECK_THAT(n.err,
              Contains("must return a number from 0 to 1e30 (as a constant source), got -0.25 (") && Contains("step 3"));
+  // a rule that changes a knob of params{} stops after that step, as a failing rule does
+  const auto knob = t.write("knob.lua",
+                            "local P = params { n = 3 }\nrun { steps = 20 }\ndisc { radius = 3 }\n"
+                            "division { rule = function(c) if c.step == 6 then P.n = 4 end return false end }\n");
+  const auto k = cli({"run", knob.string(), "--out", (t.path / "k").string(), "--quiet"});
+  CHECK(k.code == 2);
+  CHECK_THAT(k.err, Contains("knob.lua:1: params: a rule function changed the knob n from 3 to 4 during step 6"));
+  CHECK_FALSE(fs::exists(t.path / "k"));
   CHECK_FALSE(fs::exists(out));
   // nor the folders it made to hold it
   CHECK(cli({"run", script.string(), "--out", (t.path / "nest" / "a" / "b").string(), "--quiet"}).code == 2);

@@ -60,6 +60,26 @@ TEST_CASE("params{} knobs are read-only, iterate with pairs, next and rawget, an
   CHECK_NOTHROW(load("local P = params { n = 3 }\nP.n = 4\nP.n = 3\n"));
   CHECK_NOTHROW(load("local P = params { size = 500 }\nP.other = P.size + 1\nP.other = P.other + 1\n"));
   CHECK_THAT(load_error("local P = params { bad = 0/0 }\n"), Contains("a knob is a finite number"));
+  // a rule function that changes a knob is stopped after its step, naming the knob and the step (a resume
+  // would start again from the knob as made)
+  {
+    cellform::cells::Cells c;
+    cellform::cells::add_cell(c, {1, 0, 0});
+    ScriptHost host;
+    host.load(
+        "local P = params { n = 3, keep = 1 }\ndisc { radius = 2 }\n"
+        "division { rule = function(cell) P.keep = 1 if cell.age > 5 then P.n = P.n + 1 end return false end }\n",
+        "knob.lua", {});
+    auto rules = host.rules();
+    c.age = {2};
+    rules.divides(c, 0);
+    CHECK_NOTHROW(host.check_knobs(6));  // setting a knob to its own value changes nothing
+    c.age = {7};
+    rules.divides(c, 0);
+    CHECK_THROWS_WITH(host.check_knobs(7), Contains("knob.lua:1: params: a rule function changed the knob n from 3 "
+                                                    "to 4 during step 7") &&
+                                               Contains("the knobs are read-only"));
+  }
   // a misspelt knob is still named
   CHECK_THAT(load_error("local P = params { size = 500 }\ndisc { radius = P.sise }\n"),
              Contains(":2: params has no knob 'sise'; did you mean 'size'?"));
