@@ -70,7 +70,10 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
           {"given_up", th.given_up}}}};
     out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
   } else {
-    out << file.string() << ": " << (r.printable() ? "printable" : "NOT printable") << "\n" << r.summary();
+    // the verdict, with its reasons, heads the report (summary() ends with it)
+    const std::string summary = r.summary();
+    const std::size_t last = summary.rfind('\n', summary.size() - 2) + 1;
+    out << file.string() << ": " << summary.substr(last) << summary.substr(0, last);
     if (th.samples > 0)
       out << "wall thickness (in the file's units; cellform prints are in mm): 1% of the surface is thinner than "
           << th.p01 << ", median " << th.median << "; shortest ray " << th.min << " near (" << th.min_at.x() << ", "

@@ -367,7 +367,8 @@ std::string MeshReport::summary() const {
           : !consistently_oriented ? "misoriented"
                                    : "misoriented shells")
       << ")";
-  s << ", area " << area << "; bounding box " << (bbox_max - bbox_min).transpose() << "\n";
+  const Vec3 size = bbox_max - bbox_min;
+  s << ", area " << area << "; bounding box " << size.x() << " x " << size.y() << " x " << size.z() << "\n";
   s << "boundary edges " << boundary_edges << ", non-manifold edges " << nonmanifold_edges << ", non-manifold vertices "
     << nonmanifold_vertices << ", misoriented edges " << misoriented_edges << ", self-intersecting pairs "
     << (intersections_tested ? std::to_string(self_intersections) : std::string("not tested"))

@@ -19,6 +19,12 @@ TEST_CASE("cellform check reports broken and unreadable meshes", "[cli][check]")
   r = cli({"check", closed.string()});
   INFO(r.out);
   CHECK(r.code == 0);
+  // the verdict heads the report, once, and the box reads as its three sizes
+  CHECK(r.out.rfind(closed.string() + ": printable\n4 triangles, 4 vertices, 1 part;", 0) == 0);
+  CHECK(r.out.find("printable", r.out.find("printable") + 1) == std::string::npos);
+  CHECK_THAT(r.out, Contains("bounding box 1 x 1 x 1\n"));
+  r = cli({"check", open.string()});  // with its reasons
+  CHECK(r.out.rfind(open.string() + ": NOT printable: ", 0) == 0);
   // the report as JSON says what the text says: one surface, no pieces or genus on an open mesh
   r = cli({"check", open.string()});
   CHECK_THAT(r.out, Contains("1 connected surface;") && Contains("genus per part: open"));
