@@ -49,4 +49,4 @@ colonisation {
   tip_radius = 0.12,
 }
 
-print { formats = "stl", shell = true, pieces = "one", fill_cavities = true }
+print { formats = "stl", shell = true, pieces = "one", fill_cavities = true, flat_base = 2 }  -- 2 mm off the bottom: its six supports stand on flat feet
