@@ -41,7 +41,9 @@ void write_veins_ply(const std::filesystem::path& path, const venation::VeinGrap
     put<std::int32_t>(body, static_cast<std::int32_t>(e[1]));
   }
   const std::string header =
-      "ply\nformat binary_little_endian 1.0\ncomment cellform vein graph, in model units: edges run child -> parent\n"
+      "ply\nformat binary_little_endian 1.0\ncomment cellform vein graph, in model units (printable.* is in mm): edges "
+      "run "
+      "child -> parent\n"
       "element vertex " +
       std::to_string(g.cell.size()) +
       "\nproperty float x\nproperty float y\nproperty float z\nproperty float flow\n"
@@ -56,7 +58,8 @@ void write_veins_ply(const std::filesystem::path& path, const venation::VeinGrap
 
 void write_veins_obj(const std::filesystem::path& path, const venation::VeinGraph& g) {
   core::write_file_atomically(path, [&](std::ostream& os) {
-    os << "# cellform vein graph: " << g.cell.size() << " nodes, " << g.edges.size() << " segments, in model units\n"
+    os << "# cellform vein graph: " << g.cell.size() << " nodes, " << g.edges.size()
+       << " segments, in model units (printable.* is in mm: run.json gives print.scale_mm_per_unit)\n"
        << "# per vertex: '#a flow radius order' follows its 'v' line\no veins\n";
     std::string out;
     for (std::size_t i = 0; i < g.cell.size(); ++i) {  // "v %.9g %.9g %.9g\n#a %.9g %.9g %d"

@@ -241,7 +241,9 @@ void write_vein_ply(const std::filesystem::path& path, const VeinTree& tree) {
   for (const auto& [a, b] : tree.anastomoses) edge(a, b);
   const std::string body = w.take();
   std::string header =
-      "ply\nformat binary_little_endian 1.0\ncomment cellform space-colonisation veins, in model units: edges run "
+      "ply\nformat binary_little_endian 1.0\ncomment cellform space-colonisation veins, in model units (printable.* is "
+      "in "
+      "mm): edges run "
       "child -> parent, "
       "then the edges that close loops\nelement vertex ";
   core::append_integer(header, tree.size());
@@ -261,7 +263,9 @@ void write_vein_obj(const std::filesystem::path& path, const VeinTree& tree) {
   core::write_file_atomically(path, [&](std::ostream& os) {
     std::string out = "# cellform space-colonisation veins: ";
     core::append_integer(out, tree.size());
-    out += " nodes, in model units\n# per vertex: '#a flow radius order' follows its 'v' line\no veins\n";
+    out +=
+        " nodes, in model units (printable.* is in mm: run.json gives print.scale_mm_per_unit)\n"
+        "# per vertex: '#a flow radius order' follows its 'v' line\no veins\n";
     for (Index i = 0; i < tree.size(); ++i) {  // numbers as "%.9g"
       const Vec3& q = tree.positions[i];
       out += 'v';
