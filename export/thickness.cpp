@@ -267,11 +267,21 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
   ThicknessReport r;
   const std::vector<double> th = triangle_thickness(m, threads);
   std::vector<std::pair<double, double>> samples;  // (thickness, area)
-  double total = 0;
+  std::vector<double> areas(th.size());
   for (std::size_t t = 0; t < th.size(); ++t) {
     const auto& tri = m.triangles[t];
-    const double area =
-        0.5 * (m.vertices[tri[1]] - m.vertices[tri[0]]).cross(m.vertices[tri[2]] - m.vertices[tri[0]]).norm();
+    areas[t] = 0.5 * (m.vertices[tri[1]] - m.vertices[tri[0]]).cross(m.vertices[tri[2]] - m.vertices[tri[0]]).norm();
+  }
+  // the shortest ray leaves out slivers (a mesher's micrometre triangles at a voxel corner): the ray along
+  // their noisy normal meets a neighbour of theirs, not the far wall
+  std::vector<double> sorted = areas;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+  const double sliver = sorted.empty() ? 0.0 : kSliverArea * sorted[sorted.size() / 2];
+  double total = 0;
+  bool min_found = false;
+  for (std::size_t t = 0; t < th.size(); ++t) {
+    const auto& tri = m.triangles[t];
+    const double area = areas[t];
     if (!(area > 0)) continue;
     if (th[t] == kGivenUp) {
       ++r.given_up;
@@ -283,7 +293,8 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
     }
     samples.emplace_back(th[t], area);
     total += area;
-    if (r.samples == 0 || th[t] < r.min) {
+    if (area >= sliver && (!min_found || th[t] < r.min)) {
+      min_found = true;
       r.min = th[t];
       r.min_at = (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3;
     }

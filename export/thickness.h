@@ -19,12 +19,17 @@ struct ThicknessReport {
   std::size_t samples = 0;   ///< triangles whose ray left the solid through another triangle
   std::size_t missed = 0;    ///< rays that met nothing or entered the solid (open, inverted or creased spots)
   std::size_t given_up = 0;  ///< rays given up among too many overlapping boxes (where very many triangles meet)
-  double min = 0;            ///< thinnest sample (0 if there is none); single rays in the crotch of a
-                             ///< junction can cut a corner, so p01 is the robust figure
+  double min = 0;  ///< thinnest sample of a triangle not under kSliverArea times the median triangle area (0 if
+                   ///< there is none); single rays in the crotch of a junction can cut a corner, so p01 is
+                   ///< the robust figure
   core::Vec3 min_at = core::Vec3::Zero();  ///< centroid of the triangle of the thinnest sample
   double p01 = 0;                          ///< 1st percentile of the samples, by area: 1% of the surface is thinner
   double median = 0;                       ///< median of the samples, by area
 };
+
+/// ThicknessReport::min leaves out triangles under this fraction of the median triangle area: a mesher's
+/// slivers, whose normal is noise (their samples still count, by their area, in p01 and median).
+inline constexpr double kSliverArea = 0.01;
 
 /// Casts one ray per non-degenerate triangle through a bounding-volume hierarchy (median splits),
 /// O(T log T). Deterministic for any `threads` (0 = all cores).
