@@ -34,14 +34,16 @@ std::pair<Vec2, Vec2> drawing_bounds(const VeinTree& tree, const Outline& outlin
 
 namespace {
 
-/// Stroke colour of the layer of vein order `order`: LightBurn's layer colours 00 to 07, then 10 to 13
-/// (cycling), so software that separates a drawing's operations by colour, as laser cutters' does, gives
-/// each order its own layer (LightBurn maps a colour to its nearest palette entry: colours off its palette
-/// could share a layer) and its own power or pen.
+/// Stroke colour of the layer of vein order `order`: LightBurn's layer colours 00 to 07, then 10 to 13,
+/// so software that separates a drawing's operations by colour, as laser cutters' does, gives each order
+/// its own layer (LightBurn maps a colour to its nearest palette entry: colours off its palette could share
+/// a layer) and its own power or pen. Orders from 12 on share the last colour: the finest veins together,
+/// never with the midvein.
 const char* order_colour(std::uint32_t order) {
   static const char* const kColours[] = {"#000000", "#0000ff", "#ff0000", "#00e000", "#d0d000", "#ff8000",
                                          "#00e0e0", "#ff00ff", "#a00000", "#00a000", "#a0a000", "#c08000"};
-  return kColours[(order == 0 ? 0 : order - 1) % (sizeof kColours / sizeof kColours[0])];
+  constexpr std::uint32_t kLast = sizeof kColours / sizeof kColours[0] - 1;
+  return kColours[std::min(order == 0 ? 0 : order - 1, kLast)];
 }
 
 /// The outline's colour: LightBurn's layer 09, used by no vein order.

@@ -250,6 +250,40 @@ TEST_CASE("the SVG has a layer per vein order, each path in the layer of its seg
   CHECK(std::unique(distinct.begin(), distinct.end()) == distinct.end());
 }
 
+TEST_CASE("the SVG's finest orders share the last layer colour, never the midvein's", "[vein_io]") {
+  // a chain of 15 nodes whose segments have orders 1 to 14
+  v::VeinTree t;
+  for (Index i = 0; i < 15; ++i) {
+    t.positions.push_back(Vec3(i, (i % 2) * 0.5, 0));
+    t.parent.push_back(i == 0 ? kNoIndex : i - 1);
+    t.radius.push_back(0.1);
+    t.order.push_back(i == 0 ? 1 : i);
+  }
+  v::Outline outline;
+  outline.points = {{-1, -1}, {15, -1}, {15, 2}, {-1, 2}};
+  const auto dir = std::filesystem::temp_directory_path() / "cellform_vein_io_colours";
+  std::filesystem::create_directories(dir);
+  v::write_svg(dir / "leaf.svg", t, outline);
+  const std::string svg = read_text(dir / "leaf.svg");
+  std::filesystem::remove_all(dir);
+  std::map<std::uint32_t, std::string> colour;
+  const std::regex layer_re("<g id=\"veins-order-([0-9]+)\"[^>]* stroke=\"(#[0-9a-f]+)\"");
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), layer_re); it != std::sregex_iterator(); ++it)
+    colour[static_cast<std::uint32_t>(std::stoul((*it)[1].str()))] = (*it)[2].str();
+  REQUIRE(colour.size() == 14);
+  const std::set<std::string> first_eleven = [&] {
+    std::set<std::string> s;
+    for (std::uint32_t o = 1; o <= 11; ++o) s.insert(colour[o]);
+    return s;
+  }();
+  CHECK(first_eleven.size() == 11);
+  for (std::uint32_t o = 12; o <= 14; ++o) {
+    INFO("order " << o);
+    CHECK(colour[o] == colour[12]);
+    CHECK(first_eleven.count(colour[o]) == 0);
+  }
+}
+
 TEST_CASE("SVG, PLY and OBJ output", "[colonisation]") {
   auto [t, rep] = v::colonise(ellipse_leaf(30, 20), params(v::VenationType::closed, 1));
   v::compute_widths(t, {});
