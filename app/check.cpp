@@ -17,7 +17,8 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
   try {
     const exporters::PrintableMesh mesh = exporters::read_mesh(file);
     r = exporters::check_mesh(mesh);
-    th = exporters::wall_thickness(mesh);
+    // a wall has an inside only where the surfaces bound a solid (an open sheet's rays cross its folds)
+    if (r.closed_manifold() && r.consistently_oriented && r.misnested_parts == 0) th = exporters::wall_thickness(mesh);
   } catch (const std::exception& e) {
     err << "cellform: " << core::error_text(e) << "\n";
     if (json)  // a program reading the report gets one too
@@ -26,9 +27,9 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
           << "\n";
     return usage;
   }
+  // pieces, pockets, a volume and walls mean something only where the surfaces bound a solid the right way round
+  const bool solid = r.closed_manifold() && r.consistently_oriented && r.misnested_parts == 0;
   if (json) {
-    // pieces, pockets and a volume mean something only where the surfaces bound a solid the right way round
-    const bool solid = r.closed_manifold() && r.consistently_oriented && r.misnested_parts == 0;
     // a thickness no ray measured is null, not 0
     auto measured = [&](double x) { return th.samples > 0 ? nlohmann::json(x) : nlohmann::json(nullptr); };
     nlohmann::json genus = nlohmann::json::array();  // null for a part that is no closed manifold
@@ -78,6 +79,8 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
       out << "wall thickness (in the file's units; cellform prints are in mm): 1% of the surface is thinner than "
           << th.p01 << ", median " << th.median << "; shortest ray " << th.min << " near (" << th.min_at.x() << ", "
           << th.min_at.y() << ", " << th.min_at.z() << ")\n";
+    else if (!solid)
+      out << "wall thickness: not measured (the surfaces bound no solid: a wall has no inside to cross)\n";
     else if (th.given_up > 0)
       out << "wall thickness: not measured (no ray that was followed left the solid through another wall)\n";
     else

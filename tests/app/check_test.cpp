@@ -28,6 +28,7 @@ TEST_CASE("cellform check reports broken and unreadable meshes", "[cli][check]")
   // the report as JSON says what the text says: one surface, no pieces or genus on an open mesh
   r = cli({"check", open.string()});
   CHECK_THAT(r.out, Contains("1 connected surface;") && Contains("genus per part: open"));
+  CHECK_THAT(r.out, Contains("wall thickness: not measured (the surfaces bound no solid"));
   r = cli({"check", open.string(), "--json"});
   auto j = nlohmann::json::parse(r.out);
   CHECK(j["surfaces"] == 1);
