@@ -21,6 +21,7 @@
 #include "core/errors.h"
 #include "core/parallel.h"
 #include "export/mesh_check.h"
+#include "export/mesh_clean.h"
 #include "export/printable.h"
 #include "export/printable_internal.h"
 
@@ -34,9 +35,13 @@ using detail::seconds_since;
 
 namespace {
 
+constexpr double kShortestEdge = 0.05;  // voxels: shorter edges of the mesher's output are collapsed
+
 // One volumeToMesh pass; voxels active in `no_merge` are meshed without adaptivity. Quads are split
-// along their shorter diagonal; triangles with a repeated vertex (from merged points) are dropped.
-PrintableMesh mesh_once(const openvdb::FloatGrid& grid, double adaptivity, const openvdb::BoolTree::Ptr& no_merge) {
+// along their shorter diagonal; triangles with a repeated vertex (from merged points) are dropped; edges
+// shorter than `shortest` (mm) are collapsed (collapse_short_edges).
+PrintableMesh mesh_once(const openvdb::FloatGrid& grid, double adaptivity, const openvdb::BoolTree::Ptr& no_merge,
+                        double shortest) {
   openvdb::tools::VolumeToMesh mesher(0.0, adaptivity, true);
   if (no_merge) mesher.setAdaptivityMask(no_merge);
   mesher(grid);
@@ -67,6 +72,7 @@ PrintableMesh mesh_once(const openvdb::FloatGrid& grid, double adaptivity, const
       add(t[0], t[1], t[2]);
     }
   }
+  collapse_short_edges(mesh, shortest);
   return mesh;
 }
 
@@ -155,6 +161,9 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
   check_params(params);
   const auto& grid = *level_set.impl().grid;
   const double voxel = level_set.voxel_size();
+  // Two voxels' vertices that land at their shared corner make micrometre edges, and slivers that repair
+  // tools flag: collapsed, where the self-intersection check below follows (adaptive meshing)
+  const double shortest = params.adaptivity > 0 ? kShortestEdge * voxel : 0.0;
   PrintableMesh mesh;
   std::size_t repaired = 0, intersections = 0;
   tbb::task_arena arena(arena_threads(params.threads));
@@ -174,7 +183,7 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
                              true, true);
       no_merge->topologyIntersection(grid.tree());  // only where the grid has voxels: the foot, not its box
     }
-    mesh = mesh_once(grid, params.adaptivity, no_merge->empty() ? nullptr : no_merge);
+    mesh = mesh_once(grid, params.adaptivity, no_merge->empty() ? nullptr : no_merge, shortest);
     report_progress(params, 0.5);
     if (params.adaptivity <= 0) return;  // uniform dual contouring: no folds seen in any test
     // Adaptive merging can fold triangles into each other at creases. Find every intersecting pair and
@@ -204,7 +213,7 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
           no_merge->sparseFill(box(t, margin), true, true);
           ++repaired;
         }
-      mesh = mesh_once(grid, a, no_merge);
+      mesh = mesh_once(grid, a, no_merge, shortest);
       pairs = self_intersecting_pairs(mesh, params.threads);
     }
     intersections = pairs.size();

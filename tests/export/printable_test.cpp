@@ -397,6 +397,23 @@ TEST_CASE("the automatic voxel size gives way to the memory limit, up to min_rad
   CHECK_THROWS_WITH(exporters::thicken(capsule, {}, given), Catch::Contains("use a voxel size of at least"));
 }
 
+TEST_CASE("a thickened mesh keeps no micrometre edge, and stays printable", "[printable]") {
+  // where two voxels' vertices meet at their shared corner the mesher leaves edges of a few micrometres,
+  // and slivers that repair tools flag; they are collapsed (here 0.44% of the mesher's edges were under a
+  // twentieth of a voxel; about 1 in 100 of them stays: those whose collapse would leave a vertex of two
+  // triangles)
+  const Shell shell{{Vec3(-30, -30, 0), Vec3(30, -30, 0), Vec3(0, 30, 0)}};
+  ThickenParams p;
+  p.voxel_size = 0.3;
+  ThickenReport rep;
+  const auto m = exporters::thicken(random_tree(800, 11), shell, p, &rep);
+  require_printable(m);
+  std::size_t short_sides = 0;  // triangle sides: each edge of the closed mesh twice
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) short_sides += (m.vertices[t[k]] - m.vertices[t[(k + 1) % 3]]).norm() < 0.05 * 0.3;
+  CHECK(short_sides * 2000 < 3 * m.triangles.size());  // under 0.05%
+}
+
 TEST_CASE("thickening is bitwise identical with 1 and 2 threads", "[printable]") {
   const auto tree = random_tree(800, 11);
   const Shell shell{{Vec3(-30, -30, 0), Vec3(30, -30, 0), Vec3(0, 30, 0)}};
