@@ -2,6 +2,7 @@
 // one given by --script); and the run.json and checkpoint pieces that depend on it.
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <optional>
 #include <set>
 #include <tuple>
@@ -259,8 +260,14 @@ Start start_from(const RunOptions& o) {
         const std::string section = k.find('.') == std::string::npos ? std::string() : k.substr(0, k.find('.'));
         if ((s.colonisation_bytes.empty() || s.sheet_partial) && !s.script_replaced && section != "output" &&
             section != "print" && (saved_value == s.sets.end() || saved_value->second != v)) {
-          if (k == "run.steps")  // the one value a resume takes by an option of its own
-            throw InputError("--set run.steps=" + v + ": a resume is given its total of steps by --steps " + v);
+          if (k == "run.steps") {  // the one value a resume takes by an option of its own, as a whole number
+            double x = 0;
+            const auto [end, bad] = std::from_chars(v.data(), v.data() + v.size(), x);
+            const bool whole =
+                bad == std::errc() && end == v.data() + v.size() && x >= 0 && x <= 1e9 && x == std::floor(x);
+            throw InputError("--set run.steps=" + v + ": a resume is given its total of steps by --steps " +
+                             (whole ? std::to_string(static_cast<long long>(x)) : std::string("N (a whole number)")));
+          }
           throw InputError("--set " + k + "=" + v + ": " + what +
                            " continues with the parameters it was saved with (only output.* and print.* may change "
                            "when resuming a cell run, or a run stopped while its cell sheet grew); start a new run, "

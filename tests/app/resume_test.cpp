@@ -280,6 +280,10 @@ TEST_CASE("resume refuses to go back in steps or to change the seed, leaving the
   const CliResult steps = cli({"resume", ck.string(), "--set", "run.steps=12", "--quiet"});
   CHECK(steps.code == 2);
   CHECK_THAT(steps.err, Contains("a resume is given its total of steps by --steps 12"));
+  // written as --steps accepts it
+  CHECK_THAT(cli({"resume", ck.string(), "--set", "run.steps=1.2e1", "--quiet"}).err, Contains("by --steps 12\n"));
+  CHECK_THAT(cli({"resume", ck.string(), "--set", "run.steps=lots", "--quiet"}).err,
+             Contains("by --steps N (a whole number)"));
   CHECK(cli({"resume", ck.string(), "--set", "output.obj=false", "--quiet", "--steps", "8"}).code == 0);
 }
 
