@@ -41,17 +41,29 @@ std::size_t collapse_round(PrintableMesh& mesh, double min2) {
 
   std::vector<char> locked(nv, 0), dead(nt, 0);
   std::vector<std::uint32_t> ring_a, ring_b;
-  // the vertices around v other than v, sorted; false if v is not a manifold vertex of a closed mesh
-  // (there as many distinct neighbours as triangles)
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> fan;
+  // the vertices around v other than v, sorted; false unless v is a manifold vertex of a closed, oriented
+  // mesh: its triangles (v, p, q) chain p -> q into one cycle through all of them
   auto ring = [&](std::uint32_t v, std::vector<std::uint32_t>& out) {
     out.clear();
-    for (std::uint32_t s = start[v]; s < start[v + 1]; ++s)
-      for (const std::uint32_t i : tris[around[s]])
-        if (i != v) out.push_back(i);
+    fan.clear();
+    for (std::uint32_t s = start[v]; s < start[v + 1]; ++s) {
+      const auto& t = tris[around[s]];
+      const int k = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+      fan.emplace_back(t[(k + 1) % 3], t[(k + 2) % 3]);
+      out.push_back(t[(k + 1) % 3]);
+    }
+    std::sort(fan.begin(), fan.end());
     std::sort(out.begin(), out.end());
-    const std::size_t with_repeats = out.size();
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return with_repeats == 2 * out.size() && out.size() == start[v + 1] - start[v];
+    if (std::adjacent_find(out.begin(), out.end()) != out.end()) return false;  // a p twice: no single cycle
+    std::uint32_t at = fan.front().first;
+    for (std::size_t k = 0; k < fan.size(); ++k) {  // follow p -> q; back at the start after exactly all
+      const auto it = std::lower_bound(fan.begin(), fan.end(), std::make_pair(at, std::uint32_t{0}));
+      if (it == fan.end() || it->first != at) return false;
+      at = it->second;
+      if (at == fan.front().first && k + 1 < fan.size()) return false;
+    }
+    return at == fan.front().first;
   };
   std::size_t done = 0;
   for (const auto& [l2, a, b] : cand) {
@@ -111,6 +123,8 @@ std::size_t collapse_round(PrintableMesh& mesh, double min2) {
 
 std::size_t collapse_short_edges(PrintableMesh& mesh, double min_length) {
   if (!(min_length > 0)) return 0;
+  for (const auto& t : mesh.triangles)  // a triangle with a repeated corner: not a mesh this is for
+    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) return 0;
   std::size_t total = 0;
   for (int round = 0; round < 8; ++round) {
     const std::size_t n = collapse_round(mesh, min_length * min_length);

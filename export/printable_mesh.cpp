@@ -213,7 +213,7 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
           no_merge->sparseFill(box(t, margin), true, true);
           ++repaired;
         }
-      mesh = mesh_once(grid, a, no_merge, shortest);
+      mesh = mesh_once(grid, a, no_merge, a > 0 ? shortest : 0.0);  // the last resort changes nothing more
       pairs = self_intersecting_pairs(mesh, params.threads);
     }
     intersections = pairs.size();
