@@ -11,14 +11,23 @@
 
 namespace cellform::app {
 
+namespace {
+
+bool walled(const exporters::MeshReport& r) {
+  return r.boundary_edges == 0 && r.nonmanifold_edges == 0 && r.consistently_oriented && r.misnested_parts == 0;
+}
+
+}  // namespace
+
 int check_command(const std::filesystem::path& file, bool json, std::ostream& out, std::ostream& err) {
   exporters::MeshReport r;
   exporters::ThicknessReport th;
   try {
     const exporters::PrintableMesh mesh = exporters::read_mesh(file);
     r = exporters::check_mesh(mesh);
-    // a wall has an inside only where the surfaces bound a solid (an open sheet's rays cross its folds)
-    if (r.closed_manifold() && r.consistently_oriented && r.misnested_parts == 0) th = exporters::wall_thickness(mesh);
+    // a wall has an inside only where the surfaces are closed and face one way (an open sheet's rays
+    // cross its folds); two solids that touch at a corner still have walls
+    if (walled(r)) th = exporters::wall_thickness(mesh);
   } catch (const std::exception& e) {
     err << "cellform: " << core::error_text(e) << "\n";
     if (json)  // a program reading the report gets one too
@@ -68,7 +77,9 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
           {"median", measured(th.median)},
           {"samples", th.samples},
           {"missed", th.missed},
-          {"given_up", th.given_up}}}};
+          {"given_up", th.given_up},
+          // why no ray was cast: the surfaces are open, branch, or face both ways
+          {"not_measured", walled(r) ? nlohmann::json(nullptr) : nlohmann::json("the surfaces bound no solid")}}}};
     out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
   } else {
     // the verdict, with its reasons, heads the report (summary() ends with it)
@@ -79,7 +90,7 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
       out << "wall thickness (in the file's units; cellform prints are in mm): 1% of the surface is thinner than "
           << th.p01 << ", median " << th.median << "; shortest ray " << th.min << " near (" << th.min_at.x() << ", "
           << th.min_at.y() << ", " << th.min_at.z() << ")\n";
-    else if (!solid)
+    else if (!walled(r))
       out << "wall thickness: not measured (the surfaces bound no solid: a wall has no inside to cross)\n";
     else if (th.given_up > 0)
       out << "wall thickness: not measured (no ray that was followed left the solid through another wall)\n";

@@ -279,6 +279,8 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
   const double sliver = sorted.empty() ? 0.0 : kSliverArea * sorted[sorted.size() / 2];
   double total = 0;
   bool min_found = false;
+  double any_min = 0;  // the shortest ray of all, for a mesh of slivers only
+  Vec3 any_at = Vec3::Zero();
   for (std::size_t t = 0; t < th.size(); ++t) {
     const auto& tri = m.triangles[t];
     const double area = areas[t];
@@ -293,6 +295,10 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
     }
     samples.emplace_back(th[t], area);
     total += area;
+    if (r.samples == 0 || th[t] < any_min) {
+      any_min = th[t];
+      any_at = (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3;
+    }
     if (area >= sliver && (!min_found || th[t] < r.min)) {
       min_found = true;
       r.min = th[t];
@@ -301,6 +307,10 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
     ++r.samples;
   }
   if (samples.empty()) return r;
+  if (!min_found) {
+    r.min = any_min;
+    r.min_at = any_at;
+  }
   std::sort(samples.begin(), samples.end());
   auto quantile = [&](double q) {
     double acc = 0;

@@ -19,6 +19,12 @@ TEST_CASE("cellform check reports broken and unreadable meshes", "[cli][check]")
   r = cli({"check", closed.string()});
   INFO(r.out);
   CHECK(r.code == 0);
+  // two tetrahedra meeting at a corner (a non-manifold vertex) still have walls to measure
+  const auto pinch = t.write("pinch.obj",
+                             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv -1 0 0\nv 0 -1 0\nv 0 0 -1\n"
+                             "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 6 5\nf 1 5 7\nf 1 7 6\nf 5 6 7\n");
+  const auto pinched = cli({"check", pinch.string()});
+  CHECK_THAT(pinched.out, Contains("non-manifold vertices 1") && Contains("wall thickness (in the file's units"));
   // the verdict heads the report, once, and the box reads as its three sizes
   CHECK(r.out.rfind(closed.string() + ": printable\n4 triangles, 4 vertices, 1 part;", 0) == 0);
   CHECK(r.out.find("printable", r.out.find("printable") + 1) == std::string::npos);
@@ -36,6 +42,7 @@ TEST_CASE("cellform check reports broken and unreadable meshes", "[cli][check]")
   CHECK(j["genus"] == nlohmann::json::array({nullptr}));
   CHECK(j["wall_thickness_mm"]["samples"].get<int>() == 0);  // no ray leaves through another wall
   CHECK(j["wall_thickness_mm"]["median"].is_null());
+  CHECK(j["wall_thickness_mm"]["not_measured"] == "the surfaces bound no solid");
   const auto garbage = t.write("garbage.stl", "this is not a mesh");
   r = cli({"check", garbage.string()});
   CHECK(r.code == 2);

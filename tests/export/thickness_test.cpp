@@ -151,6 +151,24 @@ TEST_CASE("the shortest ray leaves out slivers far under the median triangle", "
   r = exporters::wall_thickness(m);
   CHECK(r.min == Approx(0.4));
   CHECK(r.min_at.x() > 9);
+  // where only slivers were measured (the large triangles, an open sheet, missed), their shortest is the min
+  m = PrintableMesh{};
+  add_box(m, Vec3(10, 10, 10), Vec3(10.001, 10.001, 10.001));
+  for (int i = 0; i < 8; ++i) {
+    const auto b = static_cast<std::uint32_t>(m.vertices.size());
+    m.vertices.insert(m.vertices.end(), {Vec3(40 * i, -50, 0), Vec3(40 * i + 30, -50, 0), Vec3(40 * i, -20, 0)});
+    m.triangles.push_back({b, b + 1, b + 2});
+  }
+  for (int i = 0; i < 8; ++i) {  // more large than small: the median is a large one
+    const auto b = static_cast<std::uint32_t>(m.vertices.size());
+    m.vertices.insert(m.vertices.end(), {Vec3(40 * i, 50, 0), Vec3(40 * i + 30, 50, 0), Vec3(40 * i, 80, 0)});
+    m.triangles.push_back({b, b + 1, b + 2});
+  }
+  r = exporters::wall_thickness(m);
+  CHECK(r.samples == 12);
+  CHECK(r.missed == 16);
+  CHECK(r.min == Approx(0.001));
+  CHECK(r.min_at.x() > 9);
 }
 
 TEST_CASE("a hollow box has the wall between its outer and inner surfaces", "[thickness]") {
