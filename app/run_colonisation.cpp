@@ -468,18 +468,22 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                 : rep.hit_max_nodes ? "stopped at colonisation.max_nodes"
                 : rep.hit_max_sources
                     ? "stopped at colonisation.max_sources (" + std::to_string(rep.sources) +
-                          " auxin sources wait: the leaf grows faster than its veins fill it; grow it less, or throw "
-                          "fewer darts)"
+                          " auxin sources wait for veins; the limit keeps a leaf that outgrows its veins from running "
+                          "out of memory: raise it to go on, or grow the leaf less or throw fewer darts)"
                     : std::string("stopped at max_steps"))
             << ": " << rep.steps << " steps, " << rep.nodes << " vein nodes, " << venation::independent_cycles(tree)
             << " loops; outputs in " << dir.string() << "/\n";
     if ((!o.quiet || code != ok) && code != interrupted && !rep.finished && !rep.stalled && checkpoint_error.empty()) {
       // both limits can be reached in one step; doubled, within what --steps and --set accept
-      auto twice = [](std::size_t n) { return std::to_string(std::min<std::size_t>(2 * n, 1'000'000'000)); };
+      // (twice what was reached, where one step went past the limit: the resume must make room to step on)
+      auto twice = [](std::size_t limit, std::size_t reached) {
+        return std::to_string(std::min<std::size_t>(2 * std::max(limit, reached), 1'000'000'000));
+      };
       where << "continue with: cellform resume " << shell_word(checkpoint.string());
-      if (rep.hit_max_nodes) where << " --set colonisation.max_nodes=" << twice(spec.params.max_nodes);
-      if (rep.hit_max_sources) where << " --set colonisation.max_sources=" << twice(spec.params.max_sources);
-      if (rep.hit_max_steps) where << " --steps " << twice(spec.params.max_steps);
+      if (rep.hit_max_nodes) where << " --set colonisation.max_nodes=" << twice(spec.params.max_nodes, rep.nodes);
+      if (rep.hit_max_sources)
+        where << " --set colonisation.max_sources=" << twice(spec.params.max_sources, rep.sources);
+      if (rep.hit_max_steps) where << " --steps " << twice(spec.params.max_steps, rep.steps);
       where << "\n";
     }
     if (code == interrupted && checkpoint_error.empty())

@@ -87,7 +87,8 @@ Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHo
   } catch (const std::exception& e) {
     failed.sheet_growing = false;
     if (!o.quiet && ::isatty(2)) err << "\n";
-    const std::uint64_t failing = sim.step_count() + 1;
+    // the step being made (a knob check after a step has counted it already)
+    const std::uint64_t failing = failed.sheet_stepping > sim.step_count() ? failed.sheet_stepping : sim.step_count();
     // cells that diverged keep the last good step: that one is worth a checkpoint
     if (dynamic_cast<const core::SimulationDiverged*>(&e)) try {
         save();

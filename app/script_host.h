@@ -136,8 +136,8 @@ class ScriptHost {
   void set_step(std::uint64_t step);
 
   /// Throws core::InvalidInput, naming the knob and `step`, if a rule function changed a knob of params{}
-  /// during that step: the knobs are read-only (run.json records them as made, and a resume would start
-  /// from them). Call after each step.
+  /// by the end of that step (in it, or in a rule called before the first step): the knobs are read-only (run.json
+  /// records them as made, and a resume would start from them). Call after each step.
   void check_knobs(std::uint64_t step);
 
   /// The run's seed, for math.random in rules (set_step). While a script is read, math.random is seeded

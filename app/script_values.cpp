@@ -539,16 +539,21 @@ void check_knobs_unchanged(Impl& I, std::uint64_t step) {
     lua_rawget(L, -2);
     const nlohmann::json now = knob_record(L);
     lua_pop(L, 1);
-    if (now.dump() != was.dump()) {  // (as text: a NaN knob equals itself)
+    // (as text: a NaN knob equals itself; a string that is not UTF-8 is written with replacements)
+    auto text = [](const nlohmann::json& j) {
+      return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    };
+    if (text(now) != text(was)) {
       lua_pop(L, 1);
-      throw InvalidInput(I.params_at + "params: " + (step ? "a rule function" : "the script") + " changed the knob " +
-                         core::printable(name) + " from " + was.dump() + " to " + now.dump() +
-                         (step ? " during step " + std::to_string(step) : std::string(" after params{...} made it")) +
-                         ", but run.json records it as made: the knobs are read-only; give "
-                         "its value in params{...}, or --set " +
-                         core::printable(name) +
-                         "=VALUE for one run (a value computed from the knobs goes in a local "
-                         "variable)");
+      throw InvalidInput(
+          I.params_at + "params: " + (step ? "a rule function" : "the script") + " changed the knob " +
+          core::printable(name) + " from " + text(was) + " to " + text(now) +
+          (step ? " by the end of step " + std::to_string(step) : std::string(" after params{...} made it")) +
+          ", but run.json records it as made: the knobs are read-only; give "
+          "its value in params{...}, or --set " +
+          core::printable(name) +
+          "=VALUE for one run (a value computed from the knobs goes in a local "
+          "variable)");
     }
   }
   lua_pop(L, 1);

@@ -176,7 +176,8 @@ TEST_CASE("a rule that fails in a step before any checkpoint leaves no empty out
                             "division { rule = function(c) if c.step == 6 then P.n = 4 end return false end }\n");
   const auto k = cli({"run", knob.string(), "--out", (t.path / "k").string(), "--quiet"});
   CHECK(k.code == 2);
-  CHECK_THAT(k.err, Contains("knob.lua:1: params: a rule function changed the knob n from 3 to 4 during step 6"));
+  CHECK_THAT(k.err,
+             Contains("knob.lua:1: params: a rule function changed the knob n from 3 to 4 by the end of step 6"));
   CHECK_FALSE(fs::exists(t.path / "k"));
   CHECK_FALSE(fs::exists(out));
   // nor the folders it made to hold it

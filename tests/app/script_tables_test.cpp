@@ -77,7 +77,7 @@ TEST_CASE("params{} knobs are read-only, iterate with pairs, next and rawget, an
     c.age = {7};
     rules.divides(c, 0);
     CHECK_THROWS_WITH(host.check_knobs(7), Contains("knob.lua:1: params: a rule function changed the knob n from 3 "
-                                                    "to 4 during step 7") &&
+                                                    "to 4 by the end of step 7") &&
                                                Contains("the knobs are read-only"));
   }
   // a misspelt knob is still named
