@@ -331,35 +331,6 @@ TEST_CASE("a colonisation run stopped by max_nodes says so, and resumes under th
   CHECK(run2["veins"]["nodes"].get<std::size_t>() >= 80);
 }
 
-TEST_CASE("a leaf whose waiting sources pass max_sources stops, says why, and resumes", "[cli][colonisation]") {
-  TempDir t("cli-maxsources");
-  // rates of 1.1 per step grow the blade 13-fold in 27 steps: the darts outrun the veins for a while
-  const auto script = t.write("outgrow.lua",
-                              "leaf { shape = 'ellipse', width = 0.5 }\n"
-                              "colonisation { type = 'open', kill_distance = 1, birth_distance = 3,"
-                              " growth = 'nonuniform', initial_length = 20, growth_steps = 27, darts = 2000,"
-                              " growth_x = function(y0) return 1.1 end, growth_y = function(y0) return 1.1 end,"
-                              " max_sources = 300 }\n");
-  const fs::path out = t.path / "out";
-  const auto r = cli({"run", script.string(), "--out", out.string()});
-  INFO(r.out << r.err);
-  REQUIRE(r.code == 0);
-  CHECK_THAT(r.out, Contains("stopped at colonisation.max_sources ("));
-  CHECK_THAT(r.out, Contains("auxin sources wait for veins"));
-  const auto left = nlohmann::json::parse(slurp(out / "run.json"))["veins"]["sources_left"].get<std::size_t>();
-  CHECK_THAT(r.out, Contains("--set colonisation.max_sources=" + std::to_string(2 * left)));
-  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
-  CHECK(run["status"] == "stopped at max_sources");
-  CHECK(left >= 300);
-  const auto steps = run["steps"]["completed"].get<std::size_t>();
-  const auto more = cli({"resume", (out / "checkpoint.cfck").string(), "--set",
-                         "colonisation.max_sources=" + std::to_string(2 * left), "--quiet"});
-  INFO(more.err);
-  REQUIRE(more.code == 0);
-  const auto run2 = nlohmann::json::parse(slurp(out / "run.json"));
-  CHECK(run2["steps"]["completed"].get<std::size_t>() > steps);
-}
-
 TEST_CASE("a colonisation run stopped by max_steps resumes under a larger max_steps, by --set or an edited script",
           "[cli][colonisation][checkpoint]") {
   TempDir t("cli-maxsteps");

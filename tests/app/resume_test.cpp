@@ -1,5 +1,6 @@
 // Tests of checkpoints and `cellform resume` through the command line: bit-identical continuation,
-// where a resume writes, what it keeps and refuses, and damaged or foreign checkpoints.
+// where a resume writes, what it keeps and refuses, damaged or foreign checkpoints, and a space-colonisation
+// run resumed past its max_sources.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
@@ -373,4 +374,33 @@ TEST_CASE("math.random in a rule gives the same cells for the same seed, after a
   REQUIRE(cli({"resume", (t.path / "c" / "checkpoint.cfck").string(), "--steps", "30", "--quiet"}).code == 0);
   CHECK(slurp(t.path / "c" / "cells.ply") == a);
   CHECK(run_to("d", {"--seed", "6"}) != a);  // and the seed matters
+}
+
+TEST_CASE("a leaf whose waiting sources pass max_sources stops, says why, and resumes", "[cli][colonisation]") {
+  TempDir t("cli-maxsources");
+  // rates of 1.1 per step grow the blade 13-fold in 27 steps: the darts outrun the veins for a while
+  const auto script = t.write("outgrow.lua",
+                              "leaf { shape = 'ellipse', width = 0.5 }\n"
+                              "colonisation { type = 'open', kill_distance = 1, birth_distance = 3,"
+                              " growth = 'nonuniform', initial_length = 20, growth_steps = 27, darts = 2000,"
+                              " growth_x = function(y0) return 1.1 end, growth_y = function(y0) return 1.1 end,"
+                              " max_sources = 300 }\n");
+  const fs::path out = t.path / "out";
+  const auto r = cli({"run", script.string(), "--out", out.string()});
+  INFO(r.out << r.err);
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.out, Contains("stopped at colonisation.max_sources ("));
+  CHECK_THAT(r.out, Contains("auxin sources wait for veins"));
+  const auto left = nlohmann::json::parse(slurp(out / "run.json"))["veins"]["sources_left"].get<std::size_t>();
+  CHECK_THAT(r.out, Contains("--set colonisation.max_sources=" + std::to_string(2 * left)));
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["status"] == "stopped at max_sources");
+  CHECK(left >= 300);
+  const auto steps = run["steps"]["completed"].get<std::size_t>();
+  const auto more = cli({"resume", (out / "checkpoint.cfck").string(), "--set",
+                         "colonisation.max_sources=" + std::to_string(2 * left), "--quiet"});
+  INFO(more.err);
+  REQUIRE(more.code == 0);
+  const auto run2 = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run2["steps"]["completed"].get<std::size_t>() > steps);
 }
