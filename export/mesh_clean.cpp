@@ -19,6 +19,17 @@ std::size_t collapse_round(PrintableMesh& mesh, double min2) {
   const std::size_t nv = mesh.vertices.size(), nt = mesh.triangles.size();
   auto& tris = mesh.triangles;
   auto& pos = mesh.vertices;
+  std::vector<std::tuple<double, std::uint32_t, std::uint32_t>> cand;
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = std::min(t[k], t[(k + 1) % 3]), b = std::max(t[k], t[(k + 1) % 3]);
+      const double l2 = (pos[a] - pos[b]).squaredNorm();
+      if (l2 < min2) cand.emplace_back(l2, a, b);
+    }
+  if (cand.empty()) return 0;  // (most meshes, after a round or two: no adjacency to build)
+  std::sort(cand.begin(), cand.end());
+  cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+  // the triangles around each vertex: around[start[v]] .. around[start[v + 1] - 1]
   std::vector<std::uint32_t> start(nv + 1, 0), around(3 * nt);
   for (const auto& t : tris)
     for (const std::uint32_t i : t) ++start[i + 1];
@@ -28,16 +39,6 @@ std::size_t collapse_round(PrintableMesh& mesh, double min2) {
     for (std::size_t t = 0; t < nt; ++t)
       for (const std::uint32_t i : tris[t]) around[fill[i]++] = static_cast<std::uint32_t>(t);
   }
-  std::vector<std::tuple<double, std::uint32_t, std::uint32_t>> cand;
-  for (const auto& t : tris)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = std::min(t[k], t[(k + 1) % 3]), b = std::max(t[k], t[(k + 1) % 3]);
-      const double l2 = (pos[a] - pos[b]).squaredNorm();
-      if (l2 < min2) cand.emplace_back(l2, a, b);
-    }
-  if (cand.empty()) return 0;
-  std::sort(cand.begin(), cand.end());
-  cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
 
   std::vector<char> locked(nv, 0), dead(nt, 0);
   std::vector<std::uint32_t> ring_a, ring_b;
@@ -131,8 +132,11 @@ std::size_t collapse_short_edges(PrintableMesh& mesh, double min_length) {
     total += n;
     if (n == 0) break;
   }
-  if (total == 0) return 0;
-  // drop the vertices no triangle uses any more, keeping the others in order
+  if (total > 0) drop_unused_vertices(mesh);
+  return total;
+}
+
+void drop_unused_vertices(PrintableMesh& mesh) {
   std::vector<std::uint32_t> index(mesh.vertices.size(), 0);
   for (const auto& t : mesh.triangles)
     for (const std::uint32_t i : t) index[i] = 1;
@@ -145,7 +149,6 @@ std::size_t collapse_short_edges(PrintableMesh& mesh, double min_length) {
   mesh.vertices.resize(next);
   for (auto& t : mesh.triangles)
     for (std::uint32_t& i : t) i = index[i];
-  return total;
 }
 
 }  // namespace cellform::exporters

@@ -1,4 +1,4 @@
-// Removing a mesher's micrometre edges from a closed triangle mesh.
+// Removing a mesher's micrometre edges from a closed triangle mesh, and vertices no triangle uses.
 #pragma once
 
 #include <cstddef>
@@ -18,5 +18,8 @@ namespace cellform::exporters {
 /// Removes the two triangles of each collapsed edge and the vertices left unused; returns how many edges
 /// it collapsed. A mesh with a triangle that repeats a corner is left as it is (returns 0).
 std::size_t collapse_short_edges(PrintableMesh& mesh, double min_length);
+
+/// Removes the vertices no triangle uses, keeping the others in order, and renumbers the triangles.
+void drop_unused_vertices(PrintableMesh& mesh);
 
 }  // namespace cellform::exporters

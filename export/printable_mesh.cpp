@@ -135,18 +135,8 @@ std::size_t remove_parts(PrintableMesh& mesh, Drop drop) {
   kept.reserve(mesh.triangles.size());
   for (const auto& t : mesh.triangles)
     if (!drop(part_volume[find(t[0])])) kept.push_back(t);
-  std::vector<std::uint32_t> remap(nv, 0xffffffffu);
-  std::vector<Vec3> vertices;
-  for (auto& t : kept)
-    for (auto& v : t) {
-      if (remap[v] == 0xffffffffu) {
-        remap[v] = static_cast<std::uint32_t>(vertices.size());
-        vertices.push_back(mesh.vertices[v]);
-      }
-      v = remap[v];
-    }
-  mesh.vertices.swap(vertices);
   mesh.triangles.swap(kept);
+  drop_unused_vertices(mesh);
   return removed;
 }
 

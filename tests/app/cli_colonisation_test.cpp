@@ -523,14 +523,8 @@ TEST_CASE("a rule error while surface{cells = true}'s sheet grows can go on with
   CHECK(run["steps"]["sheet_completed"] == 10);
   CHECK_FALSE(fs::exists(out / "veins.ply"));
   {  // a rule that changes a knob fails at the step it changed it in, as the message says
-    const auto knob = t.write("knob.lua",
-                              "local P = params { n = 3 }\n"
-                              "cells { time_step = 0.2, separation = 0.05, drag = {0.8, 0.8, 0.3} }\n"
-                              "division { max_cells = 400, min_age = 3, rule = function(cell)\n"
-                              "  if cell.step == 12 then P.n = 4 end return cell.age > 5 end }\n"
-                              "run { steps = 40 }\ndisc { radius = 4 }\npetiole { at = {0, -4, 0} }\n"
-                              "surface { cells = true }\n"
-                              "colonisation { kill_distance = 1, birth_distance = 2, darts = 20000 }\n");
+    const auto knob =
+        t.write("knob.lua", "local P = params { n = 3 }\n" + head + "false end if cell.step == 12 then P.n = 4" + tail);
     const fs::path k = t.path / "knob";
     const CliResult kr = cli({"run", knob.string(), "--out", k.string(), "--checkpoint-every", "5", "--quiet"});
     CHECK(kr.code == 2);
