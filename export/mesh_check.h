@@ -61,10 +61,6 @@ struct MeshReport {
 /// vertex. About a second for 500k triangles. `threads`: 0 = all cores; the report does not depend on it.
 MeshReport check_mesh(const PrintableMesh& mesh, int threads = 0);
 
-/// Do two triangles meet? Points within a rounding tolerance (about 1e-6 of the largest coordinate, in the
-/// mesh's units) of the other's plane count as on it. The narrow phase of self_intersecting_pairs().
-bool triangles_intersect(const std::array<core::Vec3, 3>& a, const std::array<core::Vec3, 3>& b);
-
 /// Every pair of intersecting triangles (lower index first) that share no vertex index, in a deterministic
 /// order; the test check_mesh() uses, without welding. Zero-area triangles are skipped.
 std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(const PrintableMesh& mesh, int threads = 0);

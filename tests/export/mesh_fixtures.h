@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/triangle_intersection.h"
 #include "export/mesh_check.h"
 
 namespace cellform::testing {
@@ -38,7 +39,7 @@ inline std::vector<std::array<std::uint32_t, 2>> every_pair(const PrintableMesh&
       bool shared = false;
       for (const auto a : m.triangles[i])
         for (const auto b : m.triangles[j]) shared = shared || a == b;
-      if (!shared && exporters::triangles_intersect(corners(i), corners(j))) all.push_back({i, j});
+      if (!shared && core::triangles_intersect(corners(i), corners(j))) all.push_back({i, j});
     }
   return all;
 }

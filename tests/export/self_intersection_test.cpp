@@ -116,20 +116,6 @@ TEST_CASE("check_mesh counts millions of crossings in little memory, and does no
                  Catch::Contains("self-intersections not tested: too many triangles overlap in one place"));
 }
 
-TEST_CASE("a sliver within rounding of another triangle's plane is tested in that plane", "[mesh_check]") {
-  // A stands across B's plane by 1e-6 (within the tolerance), and A's normal lies in B's plane: projected
-  // along it, B is a segment that A's edge crosses; in B's plane they are 0.047 apart
-  const std::array<Vec3, 3> b{Vec3(0, -1, 0), Vec3(2, -1, 0), Vec3(2, -0.9, 0)};
-  const std::array<Vec3, 3> a{Vec3(0.05, -0.95, -1e-6), Vec3(0.05, -0.9, 0), Vec3(0.05, -0.95, 1e-6)};
-  CHECK_FALSE(exporters::triangles_intersect(a, b));
-  CHECK_FALSE(exporters::triangles_intersect(b, a));
-  // moved onto B (x = 1.9, where B spans y from -1 to -0.905), it meets it
-  std::array<Vec3, 3> on = a;
-  for (Vec3& p : on) p.x() = 1.9;
-  CHECK(exporters::triangles_intersect(on, b));
-  CHECK(exporters::triangles_intersect(b, on));
-}
-
 TEST_CASE("self_intersecting_pairs equals testing every pair on soups of small triangles and loose slivers",
           "[mesh_check]") {
   // slivers are held only in the cells they cross, small triangles in every cell of their boxes: pairs of

@@ -1,0 +1,114 @@
+// Exact-predicate style triangle-triangle intersection, with a rounding tolerance.
+#include "core/triangle_intersection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Core>
+
+namespace cellform::core {
+
+namespace {
+
+double orient(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) { return (b - a).cross(c - a).dot(d - a); }
+
+int sign(double x) { return (x > 0) - (x < 0); }
+
+using P2 = Eigen::Vector2d;
+double cross2(const P2& a, const P2& b, const P2& c) { return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x(); }
+
+bool segments_cross_2d(const P2& p, const P2& q, const P2& a, const P2& b) {
+  const int o1 = sign(cross2(p, q, a)), o2 = sign(cross2(p, q, b)), o3 = sign(cross2(a, b, p)),
+            o4 = sign(cross2(a, b, q));
+  return o1 * o2 < 0 && o3 * o4 < 0;
+}
+
+bool inside_2d(const P2& p, const P2& a, const P2& b, const P2& c) {
+  const int s1 = sign(cross2(a, b, p)), s2 = sign(cross2(b, c, p)), s3 = sign(cross2(c, a, p));
+  return (s1 > 0 && s2 > 0 && s3 > 0) || (s1 < 0 && s2 < 0 && s3 < 0);
+}
+
+// Projection dropping the dominant axis of the normal of triangle T.
+struct Projection {
+  int drop = 2;
+  explicit Projection(const Vec3* T) {
+    const Vec3 n = (T[1] - T[0]).cross(T[2] - T[0]).cwiseAbs();
+    drop = n.x() >= n.y() && n.x() >= n.z() ? 0 : (n.y() >= n.z() ? 1 : 2);
+  }
+  P2 operator()(const Vec3& v) const {
+    return drop == 0 ? P2(v.y(), v.z()) : drop == 1 ? P2(v.x(), v.z()) : P2(v.x(), v.y());
+  }
+};
+
+// Does segment pq meet triangle T? dp, dq: sides of p and q relative to T's plane, 0 when within the
+// tolerance; a point on the plane meets T if it lies inside T (projected), so nearly parallel segments
+// are never extended to a far-away crossing. Not for a segment lying in the plane (handled in 2D).
+bool segment_meets_triangle(const Vec3& p, const Vec3& q, int dp, int dq, const Vec3* T) {
+  if (dp * dq > 0 || (dp == 0 && dq == 0)) return false;
+  if (dp == 0 || dq == 0) {
+    const Projection pr(T);
+    return inside_2d(pr(dp == 0 ? p : q), pr(T[0]), pr(T[1]), pr(T[2]));
+  }
+  const int s1 = sign(orient(p, q, T[0], T[1])), s2 = sign(orient(p, q, T[1], T[2])),
+            s3 = sign(orient(p, q, T[2], T[0]));
+  if (s1 == 0 && s2 == 0 && s3 == 0) return false;
+  return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
+}
+
+// Sides of the points P[0..2] relative to the plane of T, 0 within `tol` (a length).
+void sides(const Vec3* T, const Vec3* P, double tol, int* out) {
+  const Vec3 n = (T[1] - T[0]).cross(T[2] - T[0]);
+  const double len = n.norm();
+  for (int i = 0; i < 3; ++i) {
+    const double d = n.dot(P[i] - T[0]);
+    out[i] = std::abs(d) <= tol * len ? 0 : sign(d);
+  }
+}
+
+// Triangle-triangle intersection (Moller's separating-plane rejection first): two triangles in general
+// position meet iff an edge of one meets the other; coplanar pairs are tested in 2D. Points within a
+// rounding tolerance of the other plane count as on it, so that coplanar neighbours written through
+// float or decimal files are not reported.
+bool meet(const Vec3* A, const Vec3* B) {
+  double scale = 0, edge = 0;
+  for (int i = 0; i < 3; ++i) {
+    scale = std::max({scale, A[i].cwiseAbs().maxCoeff(), B[i].cwiseAbs().maxCoeff()});
+    edge = std::max({edge, (A[i] - A[(i + 1) % 3]).norm(), (B[i] - B[(i + 1) % 3]).norm()});
+  }
+  const double tol = 8 * std::numeric_limits<float>::epsilon() * scale + 1e-9 * edge;
+  int da[3], db[3];
+  sides(B, A, tol, da);
+  if (da[0] == da[1] && da[1] == da[2] && da[0] != 0) return false;
+  sides(A, B, tol, db);
+  if (db[0] == db[1] && db[1] == db[2] && db[0] != 0) return false;
+  const bool a_flat = da[0] == 0 && da[1] == 0 && da[2] == 0, b_flat = db[0] == 0 && db[1] == 0 && db[2] == 0;
+  if (a_flat || b_flat) {
+    // onto the plane the other lies in (of the larger when both do): a sliver thinner than the tolerance
+    // may have a normal lying in the other's plane, and projected along it far triangles would overlap
+    const auto area2 = [](const Vec3* T) { return (T[1] - T[0]).cross(T[2] - T[0]).squaredNorm(); };
+    const Projection pr(a_flat && b_flat ? (area2(A) >= area2(B) ? A : B) : a_flat ? B : A);
+    P2 a[3], b[3];
+    for (int i = 0; i < 3; ++i) a[i] = pr(A[i]), b[i] = pr(B[i]);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (segments_cross_2d(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3])) return true;
+    for (int i = 0; i < 3; ++i)
+      if (inside_2d(a[i], b[0], b[1], b[2]) || inside_2d(b[i], a[0], a[1], a[2])) return true;
+    return false;
+  }
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3;
+    if (segment_meets_triangle(A[i], A[j], da[i], da[j], B) || segment_meets_triangle(B[i], B[j], db[i], db[j], A))
+      return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
+  return meet(a.data(), b.data());
+}
+
+}  // namespace cellform::core

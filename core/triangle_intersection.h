@@ -1,0 +1,17 @@
+// Do two triangles meet? The narrow phase of the printed-mesh checks and of the cell surface's hole filling.
+#pragma once
+
+#include <array>
+
+#include "core/types.h"
+
+namespace cellform::core {
+
+/// Do triangles a and b meet (share any point)? Moller's separating planes first; then, in general
+/// position, an edge of one crossing the other; coplanar pairs in 2-D. Points within a rounding tolerance
+/// (about 1e-6 of the largest coordinate, in the triangles' units, plus 1e-9 of the longest side) of the
+/// other's plane count as on it, so coplanar neighbours written through float or decimal files do not meet.
+/// Triangles that share a corner meet there: callers skip such pairs.
+bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b);
+
+}  // namespace cellform::core

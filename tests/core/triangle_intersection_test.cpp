@@ -1,0 +1,36 @@
+// Tests of core/triangle_intersection.cpp: crossing, touching, apart, and slivers within rounding of a plane.
+#include "core/triangle_intersection.h"
+
+#include <catch2/catch.hpp>
+
+using cellform::core::triangles_intersect;
+using cellform::core::Vec3;
+
+TEST_CASE("triangles meet when an edge crosses, touch, or overlap in one plane; not when apart", "[triangle]") {
+  const std::array<Vec3, 3> flat{Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0, 2, 0)};
+  // an upright triangle whose lower edge pierces the flat one
+  CHECK(triangles_intersect(flat, {Vec3(0.5, 0.5, -1), Vec3(0.5, 0.5, 1), Vec3(0.5, 3, 0)}));
+  // the same, moved beyond the flat one's hypotenuse x + y = 2
+  CHECK_FALSE(triangles_intersect(flat, {Vec3(1.5, 1.5, -1), Vec3(1.5, 1.5, 1), Vec3(1.5, 3, 0)}));
+  // above it
+  CHECK_FALSE(triangles_intersect(flat, {Vec3(0, 0, 0.1), Vec3(1, 0, 0.1), Vec3(0, 1, 0.1)}));
+  // touching it with a corner inside it
+  CHECK(triangles_intersect(flat, {Vec3(0.5, 0.5, 0), Vec3(0.5, 0.5, 1), Vec3(1, 0.5, 1)}));
+  // coplanar: overlapping, then apart
+  CHECK(triangles_intersect(flat, {Vec3(1, 1, 0), Vec3(-1, 1, 0), Vec3(1, -1, 0)}));
+  CHECK_FALSE(triangles_intersect(flat, {Vec3(3, 3, 0), Vec3(5, 3, 0), Vec3(3, 5, 0)}));
+}
+
+TEST_CASE("a sliver within rounding of another triangle's plane is tested in that plane", "[triangle]") {
+  // A stands across B's plane by 1e-6 (within the tolerance), and A's normal lies in B's plane: projected
+  // along it, B is a segment that A's edge crosses; in B's plane they are 0.047 apart
+  const std::array<Vec3, 3> b{Vec3(0, -1, 0), Vec3(2, -1, 0), Vec3(2, -0.9, 0)};
+  const std::array<Vec3, 3> a{Vec3(0.05, -0.95, -1e-6), Vec3(0.05, -0.9, 0), Vec3(0.05, -0.95, 1e-6)};
+  CHECK_FALSE(triangles_intersect(a, b));
+  CHECK_FALSE(triangles_intersect(b, a));
+  // moved onto B (x = 1.9, where B spans y from -1 to -0.905), it meets it
+  std::array<Vec3, 3> on = a;
+  for (Vec3& p : on) p.x() = 1.9;
+  CHECK(triangles_intersect(on, b));
+  CHECK(triangles_intersect(b, on));
+}
