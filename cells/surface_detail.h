@@ -27,6 +27,12 @@ class CornerIndex {
   void add(const std::array<Index, 3>& t);
   /// Whether `t` lies over a triangle added before that it shares a corner but no side with (stacked_at).
   bool stacks(const std::vector<Vec3>& pos, const std::array<Index, 3>& t) const;
+  /// Calls f(triangle) for every triangle added with corner v.
+  template <class F>
+  void for_each_at(Index v, F&& f) const {
+    for (std::size_t x = start_[v]; x < fill_[v]; ++x) f(slot_[x]);
+    for (std::uint32_t x = head_[v]; x != kNone; x = spill_[x].first) f(spill_[x].second);
+  }
 
  private:
   static constexpr std::uint32_t kNone = 0xffffffffu;
@@ -36,11 +42,11 @@ class CornerIndex {
   std::vector<std::pair<std::uint32_t, std::array<Index, 3>>> spill_;  // (previous entry, triangle)
 };
 
-/// Fills the small holes the one-layer surface leaves where pruning took a crossing edge out of a pentagon
-/// or hexagon of cells (see surface_holes.cpp): `sides` are every triangle side, sorted; `incidence` the
+/// Fills the small holes (loops of up to 12 boundary sides) the one-layer surface leaves (see
+/// surface_holes.cpp): `sides` are every triangle side, sorted; `incidence` the
 /// (side, triangle) pairs sorted by side, `inc_start` where each side's pairs begin. New triangles are
 /// appended to `tris`, which is then sorted by smallest index (stable); a hole whose fill would lie over a
-/// triangle round a corner (stacked_at) stays open.
+/// triangle round a corner (stacked_at) or cross one stays open.
 void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array<Index, 2>>& sides,
                       const std::vector<std::size_t>& inc_start,
                       const std::vector<std::pair<std::size_t, std::size_t>>& incidence,

@@ -1,27 +1,46 @@
 // Small holes of the one-layer cell surface, closed by their shortest-diagonal triangulation.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <set>
 
 #include "cells/surface_detail.h"
+#include "core/spatial_index.h"
+#include "core/triangle_intersection.h"
 
 namespace cellform::cells::detail {
 
 namespace {
 
 /// The triangulation of polygon p[0..n) (n <= kMaxHole) with the least total diagonal length (dynamic
-/// programming over sub-polygons; ties to the first found), as corner triples in polygon order.
-constexpr std::size_t kMaxHole = 6;
-std::vector<std::array<std::size_t, 3>> shortest_triangulation(const std::vector<Vec3>& p) {
+/// programming over sub-polygons; ties to the first found) that crosses none of `chords` (pairs i < j of
+/// polygon positions, which a triangulation then holds, being maximal), uses none of `taken` (i < j) and
+/// has every triangle, in polygon order, facing along `up` (so none lies outside a polygon that is nearly
+/// flat across `up`: its triangles' areas add up to the polygon's), as corner triples in polygon order;
+/// empty if there is none.
+constexpr std::size_t kMaxHole = 12;
+constexpr std::size_t kWalkBudget = 1024;  // steps of the search for the loops through one boundary side
+std::vector<std::array<std::size_t, 3>> shortest_triangulation(const std::vector<Vec3>& p,
+                                                               const std::vector<std::array<std::size_t, 2>>& chords,
+                                                               const std::vector<std::array<std::size_t, 2>>& taken,
+                                                               const Vec3& up) {
   const std::size_t n = p.size();
+  auto allowed = [&](std::size_t a, std::size_t b) {  // a < b: a side, or a diagonal crossing no chord
+    if (std::find(taken.begin(), taken.end(), std::array<std::size_t, 2>{a, b}) != taken.end()) return false;
+    for (const auto& [c, d] : chords)
+      if ((a < c && c < b && b < d) || (c < a && a < d && d < b)) return false;
+    return true;
+  };
+  constexpr double kNone = std::numeric_limits<double>::infinity();
   double cost[kMaxHole][kMaxHole] = {};
   std::size_t pick[kMaxHole][kMaxHole] = {};
   for (std::size_t len = 2; len < n; ++len)
     for (std::size_t i = 0; i + len < n; ++i) {
       const std::size_t j = i + len;
-      cost[i][j] = std::numeric_limits<double>::infinity();
+      cost[i][j] = kNone;
       for (std::size_t k = i + 1; k < j; ++k) {
+        if (!allowed(i, k) || !allowed(k, j) || !((p[k] - p[i]).cross(p[j] - p[i]).dot(up) > 0)) continue;
         const double c = cost[i][k] + cost[k][j] + (k > i + 1 ? (p[i] - p[k]).norm() : 0.0) +
                          (j > k + 1 ? (p[k] - p[j]).norm() : 0.0);
         if (c < cost[i][j]) {
@@ -31,6 +50,7 @@ std::vector<std::array<std::size_t, 3>> shortest_triangulation(const std::vector
       }
     }
   std::vector<std::array<std::size_t, 3>> out;
+  if (!(cost[0][n - 1] < kNone)) return out;
   std::vector<std::array<std::size_t, 2>> pending{{0, n - 1}};  // sub-polygons left to split
   while (!pending.empty()) {
     const auto [i, j] = pending.back();
@@ -46,12 +66,16 @@ std::vector<std::array<std::size_t, 3>> shortest_triangulation(const std::vector
 
 }  // namespace
 
-/// Fills the small holes the one-layer surface leaves where pruning took a crossing edge out of a pentagon
-/// or hexagon of cells: a closed loop of 3 to kMaxHole boundary sides (one triangle each), simple, without
-/// a chord (a side between two of its cells that are not neighbours on it), gets the triangulation of
-/// least diagonal length. The loop runs each side against its triangle, so the new triangles continue the
-/// orientation around them; a loop whose fill would face against the triangles around it (the outline of
-/// a small sheet, an isolated triangle) is left open. Deterministic: loops in the order of their sides.
+/// Fills the small holes the one-layer surface leaves where pruning took crossing edges out of a few cells,
+/// or no link closed a triangle: a closed simple loop of 3 to kMaxHole boundary sides (one triangle each;
+/// through a cell where holes touch, the shortest that can be closed) gets the triangulation of least diagonal length
+/// whose triangles all face as the triangles round the loop do (so none lies outside a nearly flat hole). A side across
+/// the hole without a triangle (a chord) is kept in the fill; a side between two of its cells that has triangles is not
+/// used. The loop runs each side against its triangle, so the new triangles continue the orientation around them; a
+/// loop with no such fill (the outline of a small sheet, an isolated triangle, a loop twisted round a fold) or whose
+/// fill would fold onto a triangle next to it (less than 90 degrees between them round their side), lie over one round
+/// a corner or cross any triangle (another sheet passing through the hole) is left open. Deterministic: loops in the
+/// order of their sides.
 void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array<Index, 2>>& sides,
                       const std::vector<std::size_t>& inc_start,
                       const std::vector<std::pair<std::size_t, std::size_t>>& incidence,
@@ -71,49 +95,78 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
     half.push_back(forward ? Half{b, a, t} : Half{a, b, t});
   }
   std::sort(half.begin(), half.end());
-  // the one boundary side leaving v, or half.size() when none or several (a pinch: not a simple loop)
-  auto leaving = [&](Index v) {
-    const auto lo = std::lower_bound(half.begin(), half.end(), Half{v, 0, 0});
-    if (lo == half.end() || lo->from != v || (lo + 1 != half.end() && (lo + 1)->from == v)) return half.size();
-    return static_cast<std::size_t>(lo - half.begin());
-  };
-  auto is_side = [&](Index u, Index v) {
+  auto side_index = [&](Index u, Index v) {  // sides.size() when u-v is no side
     const std::array<Index, 2> key{std::min(u, v), std::max(u, v)};
-    return std::binary_search(sides.begin(), sides.end(), key);
+    const auto it = std::lower_bound(sides.begin(), sides.end(), key);
+    return it != sides.end() && *it == key ? static_cast<std::size_t>(it - sides.begin()) : sides.size();
   };
   auto normal = [&](Index a, Index b, Index c) -> Vec3 { return (pos[b] - pos[a]).cross(pos[c] - pos[a]); };
   std::vector<std::uint8_t> done(half.size(), 0);
   std::set<std::array<Index, 2>> diagonals;   // new sides, each used by one fill
   CornerIndex corners(pos.size(), {}, tris);  // a fill must not lie over a triangle round a corner
-  for (std::size_t h = 0; h < half.size(); ++h) {
-    if (done[h]) continue;
-    std::vector<std::size_t> loop{h};  // half-edges around the loop
-    bool closed = false;
-    while (loop.size() <= kMaxHole) {
-      const Index v = half[loop.back()].to;
-      if (v == half[h].from) {
-        closed = true;
-        break;
-      }
-      const std::size_t next = leaving(v);
-      if (next == half.size() || done[next] ||
-          std::any_of(loop.begin(), loop.end(), [&](std::size_t x) { return half[x].from == v; }))
-        break;
-      loop.push_back(next);
+  // nor cross one: a triangle that meets fill triangle F has a corner within F's radius plus its own longest
+  // side of F's centre, so the cells found that near (a grid, made when the first fill needs it) hold it
+  double longest = 0, total = 0;
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k) {
+      const double side = (pos[t[k]] - pos[t[(k + 1) % 3]]).norm();
+      longest = std::max(longest, side);
+      total += side;
     }
-    if (!closed || loop.size() < 3 || loop.size() > kMaxHole) continue;
-    for (const std::size_t x : loop) done[x] = 1;  // a loop is found once, from its first side
+  core::PointGrid grid;
+  bool grid_built = false;
+  std::vector<Index> near;
+  auto crosses = [&](const std::array<Index, 3>& f, const std::vector<std::array<Index, 3>>& others) {
+    const std::array<Vec3, 3> F{pos[f[0]], pos[f[1]], pos[f[2]]};
+    auto meets = [&](const std::array<Index, 3>& u) {
+      for (const Index a : f)
+        if (a == u[0] || a == u[1] || a == u[2]) return false;  // sharing a corner: stacked_at's case
+      return core::triangles_intersect(F, {pos[u[0]], pos[u[1]], pos[u[2]]});
+    };
+    if (std::any_of(others.begin(), others.end(), meets)) return true;
+    if (!grid_built) {
+      const double typical = total / static_cast<double>(3 * std::max<std::size_t>(tris.size(), 1));
+      grid.build(pos, typical > 0 && std::isfinite(typical) ? typical : 1.0);
+      grid_built = true;
+    }
+    const Vec3 centre = (F[0] + F[1] + F[2]) / 3;
+    double radius = 0;
+    for (const Vec3& c : F) radius = std::max(radius, (c - centre).norm());
+    near.clear();
+    grid.within(centre, radius + longest, kNoIndex, near);
+    bool found = false;
+    for (const Index v : near)
+      corners.for_each_at(v, [&](const std::array<Index, 3>& u) { found = found || meets(u); });
+    return found;
+  };
+  // Closes the hole `loop` (half-edges in order) if it can; see above.
+  auto try_fill = [&](const std::vector<std::size_t>& loop) {
     const std::size_t n = loop.size();
     std::vector<Index> corner(n);
     std::vector<Vec3> p(n);
     for (std::size_t i = 0; i < n; ++i) p[i] = pos[corner[i] = half[loop[i]].from];
+    // a chord (a side between two cells of the loop that are not neighbours on it) with no triangle lies
+    // over the hole and divides it: the fill holds it; one with triangles lies outside the hole (round a
+    // corner of the loop that turns away from it, or across a fold): the fill must not use it
     bool ok = true;
-    for (std::size_t i = 0; i < n && ok; ++i)
-      for (std::size_t j = i + 2; j < n && ok; ++j)
-        if (!(i == 0 && j == n - 1) && is_side(corner[i], corner[j])) ok = false;  // a chord
-    if (!ok) continue;
-    const std::vector<std::array<std::size_t, 3>> fill = shortest_triangulation(p);
-    // every side of the loop: its fill triangle must face the way its old triangle does
+    std::vector<std::array<std::size_t, 2>> chords, taken;
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = i + 2; j < n; ++j) {
+        if (i == 0 && j == n - 1) continue;
+        const std::size_t e = side_index(corner[i], corner[j]);
+        if (e == sides.size()) continue;
+        (inc_start[e + 1] == inc_start[e] ? chords : taken).push_back({i, j});
+      }
+    Vec3 up = Vec3::Zero();  // the way the triangles round the loop face
+    for (const std::size_t x : loop) {
+      const auto& t = tris[half[x].tri];
+      const Vec3 nt = normal(t[0], t[1], t[2]);
+      if (nt.squaredNorm() > 0) up += nt.normalized();
+    }
+    const std::vector<std::array<std::size_t, 3>> fill = shortest_triangulation(p, chords, taken, up);
+    if (fill.empty()) return false;
+    // every side of the loop: its fill triangle must not fold onto its old triangle (a crease sharper than
+    // a right angle, as the one-layer surface has none)
     for (std::size_t i = 0; i < n && ok; ++i) {
       const std::size_t j = (i + 1) % n;
       for (const auto& f : fill) {
@@ -145,18 +198,60 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
         ok = common != 1 || !stacked_at(pos, t, u, shared);
       }
     }
-    if (!ok) continue;
+    std::vector<std::array<Index, 3>> added;
+    for (std::size_t a = 0; a < fill.size() && ok; ++a) {
+      const std::array<Index, 3> t{corner[fill[a][0]], corner[fill[a][1]], corner[fill[a][2]]};
+      ok = !crosses(t, added);
+      added.push_back(t);
+    }
+    if (!ok) return false;
+    for (const std::size_t x : loop) done[x] = 1;
     for (const auto& f : fill) {
       std::array<Index, 3> t{corner[f[0]], corner[f[1]], corner[f[2]]};  // the loop's turn: facing as around it
       std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
       corners.add(t);
       tris.push_back(t);
+      for (int k = 0; k < 3; ++k) longest = std::max(longest, (pos[t[k]] - pos[t[(k + 1) % 3]]).norm());
       for (int k = 0; k < 3; ++k) {
         const std::size_t a = f[k], b = f[(k + 1) % 3];
         if ((a + 1) % n != b && (b + 1) % n != a)
           diagonals.insert({std::min(corner[a], corner[b]), std::max(corner[a], corner[b])});
       }
     }
+    return true;
+  };
+  for (std::size_t h = 0; h < half.size(); ++h) {
+    if (done[h]) continue;
+    // the simple loops of boundary sides from h back to its start, of at most kMaxHole sides; at a pinch,
+    // where several boundary sides leave a cell (holes or the outlines of small pieces that touch there),
+    // each way is taken. The shortest that can be closed is.
+    std::vector<std::vector<std::size_t>> loops;
+    std::vector<std::size_t> path{h};
+    std::size_t budget = kWalkBudget;  // steps of the walk from h: a tangle of pinches would branch without end
+    auto walk = [&](auto& self) -> void {
+      if (budget == 0) return;
+      --budget;
+      const Index v = half[path.back()].to;
+      if (v == half[h].from) {
+        if (path.size() >= 3) loops.push_back(path);
+        return;
+      }
+      if (path.size() == kMaxHole ||
+          std::any_of(path.begin(), path.end(), [&](std::size_t x) { return half[x].from == v; }))
+        return;
+      for (auto it = std::lower_bound(half.begin(), half.end(), Half{v, 0, 0}); it != half.end() && it->from == v;
+           ++it) {
+        const auto next = static_cast<std::size_t>(it - half.begin());
+        if (done[next]) continue;
+        path.push_back(next);
+        self(self);
+        path.pop_back();
+      }
+    };
+    walk(walk);
+    std::stable_sort(loops.begin(), loops.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); });
+    for (const auto& loop : loops)
+      if (try_fill(loop)) break;
   }
   // sorted by smallest index, the triangles that were there keeping their order
   std::stable_sort(tris.begin(), tris.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });

@@ -1,0 +1,165 @@
+// The small holes of the one-layer cell surface: which are closed, and that the fill lies flat in them.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <map>
+#include <set>
+#include <vector>
+
+#include "cells/surface.h"
+#include "tests/fixtures.h"
+
+using namespace cellform::cells;
+
+namespace {
+
+double area(const Cells& c, const std::vector<std::array<Index, 3>>& tris) {
+  double a = 0;
+  for (const auto& t : tris)
+    a += 0.5 * (c.position[t[1]] - c.position[t[0]]).cross(c.position[t[2]] - c.position[t[0]]).norm();
+  return a;
+}
+
+/// Sides with one triangle, counted from the directed sides (each must run once).
+std::size_t boundary_sides(const Surface& s) {
+  std::map<std::pair<Index, Index>, int> directed;
+  for (const auto& t : s.triangles)
+    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+  std::size_t boundary = 0;
+  for (const auto& [side, count] : directed) {
+    CHECK(count == 1);
+    boundary += directed.count({side.second, side.first}) == 0;
+  }
+  return boundary;
+}
+
+/// A 9 x 9 hex sheet less the cells at (row, column) in `gone`, with lattice links.
+Cells holed_sheet(const std::set<std::pair<int, int>>& gone) {
+  const Cells full = cellform::testing::hex_sheet(9, 9);
+  Cells c;
+  for (int r = 0; r < 9; ++r)
+    for (int q = 0; q < 9; ++q)
+      if (!gone.count({r, q})) add_cell(c, full.position[static_cast<std::size_t>(r * 9 + q)]);
+  cellform::testing::link_lattice(c);
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("holes of up to twelve cells around are closed flat, facing as the sheet; larger ones stay", "[surface]") {
+  const Cells full = holed_sheet({});
+  const Surface whole = triangulate(full);
+  const double full_area = area(full, whole.triangles);
+  REQUIRE(full_area == Approx(8 * 8 * 2 * std::sqrt(3.0) / 4));
+  const std::size_t outline = boundary_sides(whole);
+  // (cells taken out, cells round the hole): one cell, two, three in a row, a triangle, a bent row,
+  // four in a row; two cells two apart, whose holes touch at the cell between them (a pinch)
+  const std::vector<std::pair<std::set<std::pair<int, int>>, int>> holes = {
+      {{{4, 4}}, 6},
+      {{{4, 4}, {4, 5}}, 8},
+      {{{4, 3}, {4, 4}, {4, 5}}, 10},
+      {{{4, 4}, {4, 5}, {5, 4}}, 9},
+      {{{4, 3}, {4, 4}, {5, 4}}, 10},
+      {{{4, 2}, {4, 3}, {4, 4}, {4, 5}}, 12},
+      {{{4, 3}, {4, 5}}, 12},
+  };
+  for (const auto& [gone, round] : holes) {
+    CAPTURE(round, gone.size());
+    const Cells c = holed_sheet(gone);
+    REQUIRE(area(c, triangulate(c, false).triangles) < full_area - 0.5);  // the cliques leave the hole open
+    const Surface s = triangulate(c);
+    for (const auto& t : s.triangles)
+      CHECK((c.position[t[1]] - c.position[t[0]]).cross(c.position[t[2]] - c.position[t[0]]).z() > 0);
+    // all facing up and adding up to the whole sheet: no fill triangle lies outside its hole or over another
+    CHECK(area(c, s.triangles) == Approx(full_area));
+    CHECK(boundary_sides(s) == outline);
+    CHECK(s.edges.size() == triangulate(c, false).edges.size());  // no link is invented
+  }
+  // five in a row: fourteen cells round, left open
+  const Cells c = holed_sheet({{4, 2}, {4, 3}, {4, 4}, {4, 5}, {4, 6}});
+  const Surface s = triangulate(c);
+  CHECK(area(c, s.triangles) == Approx(area(c, triangulate(c, false).triangles)));
+  CHECK(boundary_sides(s) == outline + 14);
+}
+
+TEST_CASE("a hole another sheet passes through stays open", "[surface]") {
+  // the one-cell hole of the sheet above, and a small upright triangle of three more cells through its middle
+  Cells c = holed_sheet({{4, 4}});
+  const Cells plain = c;
+  const Vec3 middle = cellform::testing::hex_sheet(9, 9).position[4 * 9 + 4];
+  const auto n = static_cast<Index>(c.size());
+  for (const Vec3& d : {Vec3(0, 0, -0.3), Vec3(0.2, 0.05, 0.3), Vec3(-0.2, -0.05, 0.3)}) add_cell(c, middle + d);
+  c.links.assign(c.size() * 6, cellform::core::kNoIndex);
+  std::copy(plain.links.begin(), plain.links.end(), c.links.begin());
+  for (Index k = 0; k < 3; ++k) {
+    c.links[(n + k) * 6] = n + (k + 1) % 3;
+    c.links[(n + k) * 6 + 1] = n + (k + 2) % 3;
+  }
+  REQUIRE(triangulate(plain).triangles.size() == triangulate(plain, false).triangles.size() + 4);  // filled
+  const Surface s = triangulate(c);
+  CHECK(s.triangles.size() == triangulate(c, false).triangles.size());  // not filled: the fill would cross it
+  CHECK(area(c, s.triangles) ==
+        Approx(area(plain, triangulate(plain, false).triangles) + area(c, {{n, n + 1, n + 2}})));
+}
+
+TEST_CASE("a concave hole is closed inside its outline; a chord over a hole is kept", "[surface]") {
+  auto link_all = [](Cells& c, const std::vector<std::pair<Index, Index>>& pairs) {
+    c.link_stride = 6;
+    c.links.assign(c.size() * 6, cellform::core::kNoIndex);
+    std::vector<int> used(c.size(), 0);
+    for (const auto& [a, b] : pairs) c.links[a * 6 + static_cast<std::size_t>(used[a]++)] = b;
+  };
+  // A wide pentagon A B C D E with a deep notch C-D-E (D reflex), one triangle outside each side (X above the
+  // notch). The shortest diagonals, C-E and A-C (or B-E), pass outside over the notch; the fill must be the
+  // fan from D, the only one inside.
+  Cells notch;
+  enum : Index { A, B, C, D, E, O1, O2, O3, X };
+  for (const Vec3& p : {Vec3(-3, 0, 0), Vec3(9, 0, 0), Vec3(4, 3, 0), Vec3(3, 0.4, 0), Vec3(2, 3, 0), Vec3(3, -4, 0),
+                        Vec3(9, 3, 0), Vec3(-3, 3, 0), Vec3(3, 3.5, 0)})
+    add_cell(notch, p);
+  const std::vector<std::pair<Index, Index>> rim = {{A, B},  {B, C},  {C, D}, {D, E}, {E, A}, {A, O1}, {B, O1},
+                                                    {B, O2}, {C, O2}, {C, X}, {D, X}, {E, X}, {E, O3}, {A, O3}};
+  link_all(notch, rim);
+  const Surface cliques = triangulate(notch, false);
+  REQUIRE(cliques.triangles.size() == 5);
+  const Surface s = triangulate(notch);
+  REQUIRE(s.triangles.size() == 8);
+  std::set<std::array<Index, 3>> fill;
+  for (const auto& t : s.triangles) {
+    CHECK((notch.position[t[1]] - notch.position[t[0]]).cross(notch.position[t[2]] - notch.position[t[0]]).z() > 0);
+    if (std::find(cliques.triangles.begin(), cliques.triangles.end(), t) == cliques.triangles.end()) {
+      std::array<Index, 3> sorted = t;
+      std::sort(sorted.begin(), sorted.end());
+      fill.insert(sorted);
+    }
+  }
+  CHECK(fill == std::set<std::array<Index, 3>>{{A, B, D}, {B, C, D}, {A, D, E}});
+  // the pentagon's area (shoelace) is what the fill adds
+  CHECK(area(notch, s.triangles) - area(notch, cliques.triangles) ==
+        Approx(0.5 * (9 * 3 + (4 * 0.4 - 3 * 3) + (3 * 3 - 2 * 0.4) + 3 * 3)));
+
+  // A regular octagon of cells, one triangle outside each side, and a link from cell 0 to cell 4 over the
+  // hole that no triangle has: the fill keeps it, three triangles on either side (the halves are pentagons,
+  // which no quad closing reaches).
+  Cells octagon;
+  std::vector<std::pair<Index, Index>> links = {{0, 4}};
+  for (int k = 0; k < 8; ++k) add_cell(octagon, 2 * Vec3(std::cos(k * M_PI / 4), std::sin(k * M_PI / 4), 0));
+  for (int k = 0; k < 8; ++k) {
+    add_cell(octagon, 3 * Vec3(std::cos((k + 0.5) * M_PI / 4), std::sin((k + 0.5) * M_PI / 4), 0));
+    const auto o = static_cast<Index>(8 + k), a = static_cast<Index>(k), b = static_cast<Index>((k + 1) % 8);
+    links.insert(links.end(), {{a, b}, {a, o}, {b, o}});
+  }
+  link_all(octagon, links);
+  const Surface oc = triangulate(octagon, false);
+  REQUIRE(oc.triangles.size() == 8);
+  const Surface os = triangulate(octagon);
+  REQUIRE(os.triangles.size() == 8 + 6);
+  int on_chord = 0;
+  for (const auto& t : os.triangles) {
+    CHECK((octagon.position[t[1]] - octagon.position[t[0]]).cross(octagon.position[t[2]] - octagon.position[t[0]]).z() >
+          0);
+    on_chord += std::count(t.begin(), t.end(), 0) && std::count(t.begin(), t.end(), 4);
+  }
+  CHECK(on_chord == 2);
+  CHECK(area(octagon, os.triangles) - area(octagon, oc.triangles) == Approx(8 * 2 * std::sin(M_PI / 4)));
+}
