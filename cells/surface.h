@@ -25,8 +25,9 @@ struct Surface {
 /// (third corners less than 90 degrees apart round their side) and no two lying over each other round a
 /// common corner (nearly in one plane, their angles there overlapping; greedy, shortest longest side first:
 /// a crowded or buckled sheet's cliques overlap), with the 4-cycles then left open closed on their shorter
-/// diagonal, and the small holes left after orienting (a loop of 3 to 12 boundary sides, where a fill can
-/// face as the triangles around it and crosses no triangle) closed by their shortest-diagonal triangulation.
+/// diagonal, and the small holes left after orienting (a loop of 3 to 12 boundary sides whose triangles
+/// face one way, where a fill can face that way too, fold nowhere and cross no triangle) closed by their
+/// shortest-diagonal triangulation.
 /// So every side of the one-layer surface borders one or two triangles; sheets that meet keep a seam.
 /// Without it every clique is kept: overlapping, but with no gap (what a thickened shell wants).
 /// Deterministic: triangles sorted by smallest index.

@@ -43,10 +43,11 @@ class CornerIndex {
 };
 
 /// Fills the small holes (loops of up to 12 boundary sides) the one-layer surface leaves (see
-/// surface_holes.cpp): `sides` are every triangle side, sorted; `incidence` the
-/// (side, triangle) pairs sorted by side, `inc_start` where each side's pairs begin. New triangles are
-/// appended to `tris`, which is then sorted by smallest index (stable); a hole whose fill would lie over a
-/// triangle round a corner (stacked_at) or cross one stays open.
+/// surface_holes.cpp): `sides` are the links the triangles are made of (with or without a triangle) and the
+/// diagonals of closed quads, sorted; `incidence` the (side, triangle) pairs sorted by side, `inc_start`
+/// where each side's pairs begin. New triangles are appended to `tris`, which is then sorted by smallest
+/// index (stable); a hole whose fill would fold, lie over a triangle round a corner (stacked_at) or cross
+/// one stays open.
 void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array<Index, 2>>& sides,
                       const std::vector<std::size_t>& inc_start,
                       const std::vector<std::pair<std::size_t, std::size_t>>& incidence,

@@ -20,6 +20,8 @@ namespace {
 /// flat across `up`: its triangles' areas add up to the polygon's), as corner triples in polygon order;
 /// empty if there is none.
 constexpr std::size_t kMaxHole = 12;
+constexpr double kMinFacing = 0.5;         // |sum of the unit normals round a hole| / their number, at least
+constexpr double kLongSides = 4;           // a triangle with a side longer than this many typical sides is "long"
 constexpr std::size_t kWalkBudget = 1024;  // steps of the search for the loops through one boundary side
 std::vector<std::array<std::size_t, 3>> shortest_triangulation(const std::vector<Vec3>& p,
                                                                const std::vector<std::array<std::size_t, 2>>& chords,
@@ -68,14 +70,16 @@ std::vector<std::array<std::size_t, 3>> shortest_triangulation(const std::vector
 
 /// Fills the small holes the one-layer surface leaves where pruning took crossing edges out of a few cells,
 /// or no link closed a triangle: a closed simple loop of 3 to kMaxHole boundary sides (one triangle each;
-/// through a cell where holes touch, the shortest that can be closed) gets the triangulation of least diagonal length
-/// whose triangles all face as the triangles round the loop do (so none lies outside a nearly flat hole). A side across
-/// the hole without a triangle (a chord) is kept in the fill; a side between two of its cells that has triangles is not
-/// used. The loop runs each side against its triangle, so the new triangles continue the orientation around them; a
-/// loop with no such fill (the outline of a small sheet, an isolated triangle, a loop twisted round a fold) or whose
-/// fill would fold onto a triangle next to it (less than 90 degrees between them round their side), lie over one round
-/// a corner or cross any triangle (another sheet passing through the hole) is left open. Deterministic: loops in the
-/// order of their sides.
+/// through a cell where holes touch, the shortest that can be closed) whose triangles face one way (their
+/// unit normals add up to at least kMinFacing of their number) gets the triangulation of least diagonal
+/// length whose triangles all face that way too (so none lies outside a nearly flat hole). A side across
+/// the hole without a triangle (a chord) is kept in the fill; a side between two of its cells that has
+/// triangles, or that an earlier fill made, is not used. The loop runs each side against its triangle, so
+/// the new triangles continue the orientation around them. A loop with no such fill (the outline of a
+/// small sheet or an isolated triangle, a loop twisted round a fold, the open end of a tube), or whose fill
+/// would fold (less than 90 degrees between two triangles round a side, the fill's own or the loop's), lie
+/// over a triangle round a corner or cross any triangle (another sheet passing through the hole), is left
+/// open. Deterministic: loops in the order of their sides.
 void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array<Index, 2>>& sides,
                       const std::vector<std::size_t>& inc_start,
                       const std::vector<std::pair<std::size_t, std::size_t>>& incidence,
@@ -104,36 +108,51 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
   std::vector<std::uint8_t> done(half.size(), 0);
   std::set<std::array<Index, 2>> diagonals;   // new sides, each used by one fill
   CornerIndex corners(pos.size(), {}, tris);  // a fill must not lie over a triangle round a corner
-  // nor cross one: a triangle that meets fill triangle F has a corner within F's radius plus its own longest
-  // side of F's centre, so the cells found that near (a grid, made when the first fill needs it) hold it
-  double longest = 0, total = 0;
+  // nor cross one. A triangle that meets fill triangle F has a corner within F's radius plus its own longest
+  // side of F's centre: the cells that near (a grid, made when the first fill needs it) hold every triangle
+  // with sides up to kLongSides typical sides; the longer ones are kept in a list and always tested.
+  double total = 0;
   for (const auto& t : tris)
-    for (int k = 0; k < 3; ++k) {
-      const double side = (pos[t[k]] - pos[t[(k + 1) % 3]]).norm();
-      longest = std::max(longest, side);
-      total += side;
-    }
+    for (int k = 0; k < 3; ++k) total += (pos[t[k]] - pos[t[(k + 1) % 3]]).norm();
+  const double typical = total / static_cast<double>(3 * std::max<std::size_t>(tris.size(), 1));
+  const double reach = kLongSides * (typical > 0 && std::isfinite(typical) ? typical : 1.0);
+  std::vector<std::array<Index, 3>> long_tris;
+  auto note_long = [&](const std::array<Index, 3>& t) {
+    for (int k = 0; k < 3; ++k)
+      if (!((pos[t[k]] - pos[t[(k + 1) % 3]]).norm() <= reach)) {
+        long_tris.push_back(t);
+        return;
+      }
+  };
+  for (const auto& t : tris) note_long(t);
   core::PointGrid grid;
   bool grid_built = false;
   std::vector<Index> near;
   auto crosses = [&](const std::array<Index, 3>& f, const std::vector<std::array<Index, 3>>& others) {
     const std::array<Vec3, 3> F{pos[f[0]], pos[f[1]], pos[f[2]]};
     auto meets = [&](const std::array<Index, 3>& u) {
-      for (const Index a : f)
-        if (a == u[0] || a == u[1] || a == u[2]) return false;  // sharing a corner: stacked_at's case
-      return core::triangles_intersect(F, {pos[u[0]], pos[u[1]], pos[u[2]]});
+      const std::array<Vec3, 3> U{pos[u[0]], pos[u[1]], pos[u[2]]};
+      int common = 0, at_f = 0, at_u = 0;
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+          if (f[a] == u[b]) ++common, at_f = a, at_u = b;
+      if (common == 0) return core::triangles_intersect(F, U);
+      if (common > 1) return false;  // a side: the fold test's case
+      // one corner: they cross beyond it iff the side of one opposite it meets the other
+      return core::segment_meets_triangle(F[(at_f + 1) % 3], F[(at_f + 2) % 3], U) ||
+             core::segment_meets_triangle(U[(at_u + 1) % 3], U[(at_u + 2) % 3], F);
     };
-    if (std::any_of(others.begin(), others.end(), meets)) return true;
+    if (std::any_of(others.begin(), others.end(), meets) || std::any_of(long_tris.begin(), long_tris.end(), meets))
+      return true;
     if (!grid_built) {
-      const double typical = total / static_cast<double>(3 * std::max<std::size_t>(tris.size(), 1));
-      grid.build(pos, typical > 0 && std::isfinite(typical) ? typical : 1.0);
+      grid.build(pos, reach / kLongSides);
       grid_built = true;
     }
     const Vec3 centre = (F[0] + F[1] + F[2]) / 3;
     double radius = 0;
     for (const Vec3& c : F) radius = std::max(radius, (c - centre).norm());
     near.clear();
-    grid.within(centre, radius + longest, kNoIndex, near);
+    grid.within(centre, radius + reach, kNoIndex, near);
     bool found = false;
     for (const Index v : near)
       corners.for_each_at(v, [&](const std::array<Index, 3>& u) { found = found || meets(u); });
@@ -154,15 +173,19 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
       for (std::size_t j = i + 2; j < n; ++j) {
         if (i == 0 && j == n - 1) continue;
         const std::size_t e = side_index(corner[i], corner[j]);
-        if (e == sides.size()) continue;
-        (inc_start[e + 1] == inc_start[e] ? chords : taken).push_back({i, j});
+        const bool filled = diagonals.count({std::min(corner[i], corner[j]), std::max(corner[i], corner[j])}) > 0;
+        if (e == sides.size() && !filled) continue;
+        (e < sides.size() && inc_start[e + 1] == inc_start[e] && !filled ? chords : taken).push_back({i, j});
       }
-    Vec3 up = Vec3::Zero();  // the way the triangles round the loop face
+    // the way the triangles round the loop face; their unit normals must add up to at least half their
+    // number (round the open end of a tube they cancel: it stays open)
+    Vec3 up = Vec3::Zero();
     for (const std::size_t x : loop) {
       const auto& t = tris[half[x].tri];
       const Vec3 nt = normal(t[0], t[1], t[2]);
       if (nt.squaredNorm() > 0) up += nt.normalized();
     }
+    if (!(up.norm() >= kMinFacing * static_cast<double>(n))) return false;
     const std::vector<std::array<std::size_t, 3>> fill = shortest_triangulation(p, chords, taken, up);
     if (fill.empty()) return false;
     // every side of the loop: its fill triangle must not fold onto its old triangle (a crease sharper than
@@ -186,7 +209,7 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
     for (std::size_t a = 0; a < fill.size() && ok; ++a) {
       const std::array<Index, 3> t{corner[fill[a][0]], corner[fill[a][1]], corner[fill[a][2]]};
       ok = !corners.stacks(pos, t);
-      for (std::size_t b = a + 1; b < fill.size() && ok; ++b) {  // nor on each other (a twisted loop)
+      for (std::size_t b = a + 1; b < fill.size() && ok; ++b) {  // nor on each other, nor folded onto each other
         const std::array<Index, 3> u{corner[fill[b][0]], corner[fill[b][1]], corner[fill[b][2]]};
         int common = 0;
         Index shared = kNoIndex;
@@ -195,7 +218,8 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
             ++common;
             shared = x;
           }
-        ok = common != 1 || !stacked_at(pos, t, u, shared);
+        if (common == 1) ok = !stacked_at(pos, t, u, shared);
+        if (common == 2) ok = normal(t[0], t[1], t[2]).dot(normal(u[0], u[1], u[2])) > 0;
       }
     }
     std::vector<std::array<Index, 3>> added;
@@ -211,7 +235,7 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
       std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
       corners.add(t);
       tris.push_back(t);
-      for (int k = 0; k < 3; ++k) longest = std::max(longest, (pos[t[k]] - pos[t[(k + 1) % 3]]).norm());
+      note_long(t);
       for (int k = 0; k < 3; ++k) {
         const std::size_t a = f[k], b = f[(k + 1) % 3];
         if ((a + 1) % n != b && (b + 1) % n != a)
@@ -220,6 +244,7 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
     }
     return true;
   };
+  std::set<std::vector<std::size_t>> tried;
   for (std::size_t h = 0; h < half.size(); ++h) {
     if (done[h]) continue;
     // the simple loops of boundary sides from h back to its start, of at most kMaxHole sides; at a pinch,
@@ -250,8 +275,13 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
     };
     walk(walk);
     std::stable_sort(loops.begin(), loops.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); });
-    for (const auto& loop : loops)
+    for (auto& loop : loops) {
+      // a loop that could not be closed is found again from each of its sides: tried once
+      std::vector<std::size_t> key = loop;
+      std::rotate(key.begin(), std::min_element(key.begin(), key.end()), key.end());
+      if (!tried.insert(key).second) continue;
       if (try_fill(loop)) break;
+    }
   }
   // sorted by smallest index, the triangles that were there keeping their order
   std::stable_sort(tris.begin(), tris.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });

@@ -44,7 +44,7 @@ struct Projection {
 // Does segment pq meet triangle T? dp, dq: sides of p and q relative to T's plane, 0 when within the
 // tolerance; a point on the plane meets T if it lies inside T (projected), so nearly parallel segments
 // are never extended to a far-away crossing. Not for a segment lying in the plane (handled in 2D).
-bool segment_meets_triangle(const Vec3& p, const Vec3& q, int dp, int dq, const Vec3* T) {
+bool segment_crosses(const Vec3& p, const Vec3& q, int dp, int dq, const Vec3* T) {
   if (dp * dq > 0 || (dp == 0 && dq == 0)) return false;
   if (dp == 0 || dq == 0) {
     const Projection pr(T);
@@ -70,13 +70,16 @@ void sides(const Vec3* T, const Vec3* P, double tol, int* out) {
 // position meet iff an edge of one meets the other; coplanar pairs are tested in 2D. Points within a
 // rounding tolerance of the other plane count as on it, so that coplanar neighbours written through
 // float or decimal files are not reported.
+// The rounding tolerance (a length) for points of the largest coordinate `scale` and longest side `edge`.
+double tolerance(double scale, double edge) { return 8 * std::numeric_limits<float>::epsilon() * scale + 1e-9 * edge; }
+
 bool meet(const Vec3* A, const Vec3* B) {
   double scale = 0, edge = 0;
   for (int i = 0; i < 3; ++i) {
     scale = std::max({scale, A[i].cwiseAbs().maxCoeff(), B[i].cwiseAbs().maxCoeff()});
     edge = std::max({edge, (A[i] - A[(i + 1) % 3]).norm(), (B[i] - B[(i + 1) % 3]).norm()});
   }
-  const double tol = 8 * std::numeric_limits<float>::epsilon() * scale + 1e-9 * edge;
+  const double tol = tolerance(scale, edge);
   int da[3], db[3];
   sides(B, A, tol, da);
   if (da[0] == da[1] && da[1] == da[2] && da[0] != 0) return false;
@@ -99,13 +102,30 @@ bool meet(const Vec3* A, const Vec3* B) {
   }
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3;
-    if (segment_meets_triangle(A[i], A[j], da[i], da[j], B) || segment_meets_triangle(B[i], B[j], db[i], db[j], A))
-      return true;
+    if (segment_crosses(A[i], A[j], da[i], da[j], B) || segment_crosses(B[i], B[j], db[i], db[j], A)) return true;
   }
   return false;
 }
 
 }  // namespace
+
+bool segment_meets_triangle(const Vec3& p, const Vec3& q, const std::array<Vec3, 3>& t) {
+  double scale = std::max(p.cwiseAbs().maxCoeff(), q.cwiseAbs().maxCoeff()), edge = (q - p).norm();
+  for (int i = 0; i < 3; ++i) {
+    scale = std::max(scale, t[i].cwiseAbs().maxCoeff());
+    edge = std::max(edge, (t[i] - t[(i + 1) % 3]).norm());
+  }
+  const Vec3 P[3] = {p, q, q};
+  int d[3];
+  sides(t.data(), P, tolerance(scale, edge), d);
+  if (d[0] != 0 || d[1] != 0) return segment_crosses(p, q, d[0], d[1], t.data());
+  const Projection pr(t.data());  // in the plane: an end inside, or crossing a side
+  const P2 a = pr(p), b = pr(q), T[3] = {pr(t[0]), pr(t[1]), pr(t[2])};
+  if (inside_2d(a, T[0], T[1], T[2]) || inside_2d(b, T[0], T[1], T[2])) return true;
+  for (int i = 0; i < 3; ++i)
+    if (segments_cross_2d(a, b, T[i], T[(i + 1) % 3])) return true;
+  return false;
+}
 
 bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
   return meet(a.data(), b.data());

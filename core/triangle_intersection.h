@@ -14,4 +14,8 @@ namespace cellform::core {
 /// Triangles that share a corner meet there: callers skip such pairs.
 bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b);
 
+/// Does segment pq meet triangle t, with the same tolerance? For triangles that share one corner, which
+/// cross (beyond that corner) iff the side of one opposite it meets the other.
+bool segment_meets_triangle(const Vec3& p, const Vec3& q, const std::array<Vec3, 3>& t);
+
 }  // namespace cellform::core

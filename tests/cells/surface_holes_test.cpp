@@ -52,28 +52,30 @@ TEST_CASE("holes of up to twelve cells around are closed flat, facing as the she
   const double full_area = area(full, whole.triangles);
   REQUIRE(full_area == Approx(8 * 8 * 2 * std::sqrt(3.0) / 4));
   const std::size_t outline = boundary_sides(whole);
-  // (cells taken out, cells round the hole): one cell, two, three in a row, a triangle, a bent row,
-  // four in a row; two cells two apart, whose holes touch at the cell between them (a pinch)
-  const std::vector<std::pair<std::set<std::pair<int, int>>, int>> holes = {
-      {{{4, 4}}, 6},
-      {{{4, 4}, {4, 5}}, 8},
-      {{{4, 3}, {4, 4}, {4, 5}}, 10},
-      {{{4, 4}, {4, 5}, {5, 4}}, 9},
-      {{{4, 3}, {4, 4}, {5, 4}}, 10},
-      {{{4, 2}, {4, 3}, {4, 4}, {4, 5}}, 12},
-      {{{4, 3}, {4, 5}}, 12},
+  // (cells taken out, fill triangles): one cell, two, three in a row, a triangle, a bent row, four in a
+  // row (holes of 6, 8, 10, 9, 10 and 12 cells round: n - 2 triangles each); two cells two apart, whose
+  // holes touch at the cell between them (a pinch: two holes of 6)
+  const std::vector<std::pair<std::set<std::pair<int, int>>, std::size_t>> holes = {
+      {{{4, 4}}, 4},
+      {{{4, 4}, {4, 5}}, 6},
+      {{{4, 3}, {4, 4}, {4, 5}}, 8},
+      {{{4, 4}, {4, 5}, {5, 4}}, 7},
+      {{{4, 3}, {4, 4}, {5, 4}}, 8},
+      {{{4, 2}, {4, 3}, {4, 4}, {4, 5}}, 10},
+      {{{4, 3}, {4, 5}}, 8},
   };
-  for (const auto& [gone, round] : holes) {
-    CAPTURE(round, gone.size());
+  for (const auto& [gone, fills] : holes) {
+    CAPTURE(fills, gone.size());
     const Cells c = holed_sheet(gone);
-    REQUIRE(area(c, triangulate(c, false).triangles) < full_area - 0.5);  // the cliques leave the hole open
+    const Surface cliques = triangulate(c, false);
+    REQUIRE(area(c, cliques.triangles) < full_area - 0.5);  // the cliques leave the hole open
     const Surface s = triangulate(c);
+    CHECK(s.triangles.size() == cliques.triangles.size() + fills);
     for (const auto& t : s.triangles)
       CHECK((c.position[t[1]] - c.position[t[0]]).cross(c.position[t[2]] - c.position[t[0]]).z() > 0);
     // all facing up and adding up to the whole sheet: no fill triangle lies outside its hole or over another
     CHECK(area(c, s.triangles) == Approx(full_area));
     CHECK(boundary_sides(s) == outline);
-    CHECK(s.edges.size() == triangulate(c, false).edges.size());  // no link is invented
   }
   // five in a row: fourteen cells round, left open
   const Cells c = holed_sheet({{4, 2}, {4, 3}, {4, 4}, {4, 5}, {4, 6}});
@@ -162,4 +164,95 @@ TEST_CASE("a concave hole is closed inside its outline; a chord over a hole is k
   }
   CHECK(on_chord == 2);
   CHECK(area(octagon, os.triangles) - area(octagon, oc.triangles) == Approx(8 * 2 * std::sin(M_PI / 4)));
+}
+
+TEST_CASE("a fill does not fold across its diagonal, nor cross a triangle at one of its corners", "[surface]") {
+  auto link_all = [](Cells& c, const std::vector<std::pair<Index, Index>>& pairs) {
+    c.link_stride = 6;
+    c.links.assign(c.size() * 6, cellform::core::kNoIndex);
+    std::vector<int> used(c.size(), 0);
+    for (const auto& [a, b] : pairs) c.links[a * 6 + static_cast<std::size_t>(used[a]++)] = b;
+  };
+  // a quad p s q r bent into a V (s and r raised), one triangle outside each side in the plane of the fill
+  // triangle next to it: either diagonal folds the fill by less than 90 degrees, so it stays open
+  Cells vee;
+  enum : Index { P, S, Q, R, O1, O2, O3, O4 };
+  const Vec3 p(0, -1, 0), s(1.2, 0, 2), q(0, 1, 0), r(-1.2, 0, 2);
+  for (const Vec3& x : {p, s, q, r, Vec3(p + s - q), Vec3(s + q - p), Vec3(q + r - p), Vec3(r + p - q)})
+    add_cell(vee, x);
+  link_all(vee,
+           {{P, S}, {S, Q}, {Q, R}, {R, P}, {P, O1}, {S, O1}, {S, O2}, {Q, O2}, {Q, O3}, {R, O3}, {R, O4}, {P, O4}});
+  REQUIRE(triangulate(vee, false).triangles.size() == 4);
+  CHECK(triangulate(vee).triangles.size() == 4);
+  // flattened (s and r lowered to the plane), the same hole is closed
+  Cells flat = vee;
+  for (const Index i : {S, R, O1, O2, O3, O4}) flat.position[i].z() = 0;
+  CHECK(triangulate(flat).triangles.size() == 6);
+
+  // a one-cell hole and an upright triangle from one of the six cells round it through the hole: each
+  // triangulation of the hole has a triangle at that cell which the upright one cuts, so it stays open
+  for (int which = 0; which < 6; ++which) {
+    CAPTURE(which);
+    Cells c = holed_sheet({{4, 4}});
+    const Vec3 m = cellform::testing::hex_sheet(9, 9).position[4 * 9 + 4];
+    std::vector<std::pair<double, Index>> by_distance;
+    for (Index i = 0; i < c.size(); ++i) by_distance.push_back({(c.position[i] - m).norm(), i});
+    std::sort(by_distance.begin(), by_distance.end());
+    const Index v = by_distance[static_cast<std::size_t>(which)].second;
+    const Vec3 inside = c.position[v] + 0.3 * (m - c.position[v]);
+    const std::vector<Index> lattice = c.links;
+    const Index a = add_cell(c, inside + Vec3(0, 0, 0.5)), b = add_cell(c, inside + Vec3(0, 0, -0.5));
+    c.links.assign(c.size() * 6, cellform::core::kNoIndex);
+    std::copy(lattice.begin(), lattice.end(), c.links.begin());
+    c.links[v * 6 + 5] = a;  // a cell round the hole has five lattice links
+    c.links[a * 6] = b;
+    c.links[b * 6] = v;
+    const Surface cliques = triangulate(c, false);
+    REQUIRE(std::count(cliques.triangles.begin(), cliques.triangles.end(), std::array<Index, 3>{v, a, b}) +
+                std::count(cliques.triangles.begin(), cliques.triangles.end(), std::array<Index, 3>{v, b, a}) ==
+            1);
+    CHECK(triangulate(c).triangles.size() == cliques.triangles.size());
+  }
+}
+
+TEST_CASE("a long triangle through a hole keeps it open; a tube's open ends stay open", "[surface]") {
+  // a triangle 40 cells across, upright, through the middle of a one-cell hole: no corner of it is near
+  Cells c = holed_sheet({{4, 4}});
+  const Vec3 m = cellform::testing::hex_sheet(9, 9).position[4 * 9 + 4];
+  const std::vector<Index> lattice = c.links;
+  const auto n = static_cast<Index>(c.size());
+  for (const Vec3& d : {Vec3(-20, 0.1, -20), Vec3(20, 0.1, -20), Vec3(0, -0.1, 20)}) add_cell(c, m + d);
+  c.links.assign(c.size() * 6, cellform::core::kNoIndex);
+  std::copy(lattice.begin(), lattice.end(), c.links.begin());
+  c.links[n * 6] = n + 1;
+  c.links[n * 6 + 1] = n + 2;
+  c.links[(n + 1) * 6] = n + 2;
+  const Surface cliques = triangulate(c, false);
+  CHECK(triangulate(c).triangles.size() == cliques.triangles.size());
+
+  // a tube of 12 cells round and four rings (staggered), triangles between the rings: its ends are loops of
+  // 12 boundary sides whose triangles face every way round, not holes in a sheet
+  Cells tube;
+  const double radius = 0.5 / std::sin(M_PI / 12);
+  for (int ring = 0; ring < 4; ++ring)
+    for (int j = 0; j < 12; ++j) {
+      const double angle = (j + 0.5 * (ring % 2)) * M_PI / 6;
+      add_cell(tube, Vec3(radius * std::cos(angle), radius * std::sin(angle), 0.9 * ring));
+    }
+  tube.link_stride = 6;
+  tube.links.assign(tube.size() * 6, cellform::core::kNoIndex);
+  std::vector<int> used(tube.size(), 0);
+  auto link = [&](int a, int b) { tube.links[static_cast<std::size_t>(a * 6 + used[a]++)] = static_cast<Index>(b); };
+  for (int ring = 0; ring < 4; ++ring)
+    for (int j = 0; j < 12; ++j) {
+      const int a = ring * 12 + j;
+      link(a, ring * 12 + (j + 1) % 12);
+      if (ring == 3) continue;
+      // the next ring is turned half a step on (odd rings) or back (even rings)
+      link(a, (ring + 1) * 12 + j);
+      link(a, (ring + 1) * 12 + (ring % 2 ? (j + 1) % 12 : (j + 11) % 12));
+    }
+  const Surface t = triangulate(tube);
+  CHECK(t.triangles.size() == 3 * 12 * 2);
+  CHECK(t.triangles.size() == triangulate(tube, false).triangles.size());
 }
