@@ -34,3 +34,18 @@ TEST_CASE("a sliver within rounding of another triangle's plane is tested in tha
   CHECK(triangles_intersect(on, b));
   CHECK(triangles_intersect(b, on));
 }
+
+TEST_CASE("a segment meets a triangle it crosses, touches or lies across in its plane", "[triangle]") {
+  using cellform::core::segment_meets_triangle;
+  const std::array<Vec3, 3> flat{Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0, 2, 0)};
+  CHECK(segment_meets_triangle(Vec3(0.5, 0.5, -1), Vec3(0.5, 0.5, 1), flat));         // through it
+  CHECK_FALSE(segment_meets_triangle(Vec3(1.5, 1.5, -1), Vec3(1.5, 1.5, 1), flat));   // beside it
+  CHECK_FALSE(segment_meets_triangle(Vec3(0.5, 0.5, 0.1), Vec3(0.5, 0.5, 1), flat));  // short of it
+  CHECK(segment_meets_triangle(Vec3(0.5, 0.5, 0), Vec3(0.5, 0.5, 1), flat));          // ending on it
+  CHECK(segment_meets_triangle(Vec3(-1, 0.5, 0), Vec3(3, 0.5, 0), flat));             // across, in its plane
+  CHECK_FALSE(segment_meets_triangle(Vec3(-1, 3, 0), Vec3(3, 3, 0), flat));           // in its plane, past it
+  // two triangles sharing corner (0, 0, 0): an upright one through the flat one crosses it beyond the corner
+  // exactly when its side opposite the corner meets the flat one
+  CHECK(segment_meets_triangle(Vec3(1, 0.5, -1), Vec3(1, 0.5, 1), flat));
+  CHECK_FALSE(segment_meets_triangle(Vec3(1, 1.5, -1), Vec3(1, 1.5, 1), flat));
+}
