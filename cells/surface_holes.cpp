@@ -13,16 +13,17 @@ namespace cellform::cells::detail {
 
 namespace {
 
+constexpr std::size_t kMaxHole = 12;       // boundary sides of the longest loop closed
+constexpr double kMinFacing = 0.25;        // |sum of the unit normals round a hole| / their number, at least
+constexpr double kLongSides = 4;           // a triangle with a side longer than this many typical sides is "long"
+constexpr std::size_t kWalkBudget = 1024;  // steps of the search for the loops through one boundary side
+
 /// The triangulation of polygon p[0..n) (n <= kMaxHole) with the least total diagonal length (dynamic
 /// programming over sub-polygons; ties to the first found) that crosses none of `chords` (pairs i < j of
 /// polygon positions, which a triangulation then holds, being maximal), uses none of `taken` (i < j) and
 /// has every triangle, in polygon order, facing along `up` (so none lies outside a polygon that is nearly
 /// flat across `up`: its triangles' areas add up to the polygon's), as corner triples in polygon order;
 /// empty if there is none.
-constexpr std::size_t kMaxHole = 12;
-constexpr double kMinFacing = 0.5;         // |sum of the unit normals round a hole| / their number, at least
-constexpr double kLongSides = 4;           // a triangle with a side longer than this many typical sides is "long"
-constexpr std::size_t kWalkBudget = 1024;  // steps of the search for the loops through one boundary side
 std::vector<std::array<std::size_t, 3>> shortest_triangulation(const std::vector<Vec3>& p,
                                                                const std::vector<std::array<std::size_t, 2>>& chords,
                                                                const std::vector<std::array<std::size_t, 2>>& taken,
@@ -112,17 +113,27 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
   // side of F's centre: the cells that near (a grid, made when the first fill needs it) hold every triangle
   // with sides up to kLongSides typical sides; the longer ones are kept in a list and always tested.
   double total = 0;
+  std::size_t counted = 0;
   for (const auto& t : tris)
-    for (int k = 0; k < 3; ++k) total += (pos[t[k]] - pos[t[(k + 1) % 3]]).norm();
-  const double typical = total / static_cast<double>(3 * std::max<std::size_t>(tris.size(), 1));
+    for (int k = 0; k < 3; ++k) {
+      const double side = (pos[t[k]] - pos[t[(k + 1) % 3]]).norm();
+      if (std::isfinite(side)) total += side, ++counted;
+    }
+  const double typical = counted > 0 ? total / static_cast<double>(counted) : 0.0;
   const double reach = kLongSides * (typical > 0 && std::isfinite(typical) ? typical : 1.0);
   std::vector<std::array<Index, 3>> long_tris;
+  double longest_short = 0;  // the longest side of the other triangles: the grid's search reaches that far
   auto note_long = [&](const std::array<Index, 3>& t) {
-    for (int k = 0; k < 3; ++k)
-      if (!((pos[t[k]] - pos[t[(k + 1) % 3]]).norm() <= reach)) {
+    double longest = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double side = (pos[t[k]] - pos[t[(k + 1) % 3]]).norm();
+      if (!(side <= reach)) {
         long_tris.push_back(t);
         return;
       }
+      longest = std::max(longest, side);
+    }
+    longest_short = std::max(longest_short, longest);
   };
   for (const auto& t : tris) note_long(t);
   core::PointGrid grid;
@@ -152,12 +163,13 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
     double radius = 0;
     for (const Vec3& c : F) radius = std::max(radius, (c - centre).norm());
     near.clear();
-    grid.within(centre, radius + reach, kNoIndex, near);
+    grid.within(centre, radius + longest_short, kNoIndex, near);
     bool found = false;
     for (const Index v : near)
       corners.for_each_at(v, [&](const std::array<Index, 3>& u) { found = found || meets(u); });
     return found;
   };
+  std::set<std::vector<std::size_t>> tried;  // loops that could not be closed (canonical rotation)
   // Closes the hole `loop` (half-edges in order) if it can; see above.
   auto try_fill = [&](const std::vector<std::size_t>& loop) {
     const std::size_t n = loop.size();
@@ -230,6 +242,7 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
     }
     if (!ok) return false;
     for (const std::size_t x : loop) done[x] = 1;
+    if (!chords.empty()) tried.clear();  // a loop that failed with one of them forced may now close
     for (const auto& f : fill) {
       std::array<Index, 3> t{corner[f[0]], corner[f[1]], corner[f[2]]};  // the loop's turn: facing as around it
       std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
@@ -244,7 +257,6 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
     }
     return true;
   };
-  std::set<std::vector<std::size_t>> tried;
   for (std::size_t h = 0; h < half.size(); ++h) {
     if (done[h]) continue;
     // the simple loops of boundary sides from h back to its start, of at most kMaxHole sides; at a pinch,

@@ -115,6 +115,7 @@ bool segment_meets_triangle(const Vec3& p, const Vec3& q, const std::array<Vec3,
     scale = std::max(scale, t[i].cwiseAbs().maxCoeff());
     edge = std::max(edge, (t[i] - t[(i + 1) % 3]).norm());
   }
+  if ((t[1] - t[0]).cross(t[2] - t[0]).squaredNorm() == 0) return false;  // no area, no plane: nothing to meet
   const Vec3 P[3] = {p, q, q};
   int d[3];
   sides(t.data(), P, tolerance(scale, edge), d);

@@ -15,7 +15,8 @@ namespace cellform::core {
 bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b);
 
 /// Does segment pq meet triangle t, with the same tolerance? For triangles that share one corner, which
-/// cross (beyond that corner) iff the side of one opposite it meets the other.
+/// cross (beyond that corner) iff the side of one opposite it meets the other. A triangle of no area meets
+/// nothing.
 bool segment_meets_triangle(const Vec3& p, const Vec3& q, const std::array<Vec3, 3>& t);
 
 }  // namespace cellform::core

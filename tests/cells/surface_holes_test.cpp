@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "cells/surface.h"
@@ -255,4 +256,69 @@ TEST_CASE("a long triangle through a hole keeps it open; a tube's open ends stay
   const Surface t = triangulate(tube);
   CHECK(t.triangles.size() == 3 * 12 * 2);
   CHECK(t.triangles.size() == triangulate(tube, false).triangles.size());
+}
+
+TEST_CASE("a chord one hole's fill takes no longer blocks the hole on its other side", "[surface]") {
+  // Two holes either side of an island of six triangles (a1 a2 m1 m2 b1 b2), inside an outline of eight
+  // cells (each with a triangle outside it), and a link x-y with no triangle across the left hole. The left
+  // hole's fill must keep x-y; once it has, the right hole's must not use it. Whichever hole comes first,
+  // both close: only the outline stays open. Mirrored (x -> -x), the other hole comes first.
+  struct Point {
+    const char* name;
+    double x, y;
+  };
+  const std::vector<Point> inner = {{"x", 0, 0},       {"y", 0, 2},       {"a1", 0.3, 0.6},  {"a2", 1.0, 0.5},
+                                    {"m1", 0.5, 1.0},  {"m2", 1.1, 1.0},  {"b1", 0.3, 1.4},  {"b2", 1.0, 1.5},
+                                    {"L1", -0.7, 1.7}, {"L2", -0.9, 1.0}, {"L3", -0.7, 0.3}, {"R3", 1.8, 0.3},
+                                    {"R2", 2.0, 1.0},  {"R1", 1.8, 1.7}};
+  std::map<std::string, Index> id;
+  std::vector<Vec3> at;
+  for (const Point& p : inner) {
+    id[p.name] = static_cast<Index>(at.size());
+    at.emplace_back(p.x, p.y, 0);
+  }
+  std::vector<std::pair<Index, Index>> links;
+  for (const auto& [a, b] : std::vector<std::pair<const char*, const char*>>{{"x", "a1"},
+                                                                             {"x", "a2"},
+                                                                             {"a1", "a2"},
+                                                                             {"a2", "m2"},
+                                                                             {"a1", "m2"},
+                                                                             {"a1", "m1"},
+                                                                             {"m1", "m2"},
+                                                                             {"m2", "b2"},
+                                                                             {"m1", "b2"},
+                                                                             {"m1", "b1"},
+                                                                             {"b1", "b2"},
+                                                                             {"b1", "y"},
+                                                                             {"b2", "y"},
+                                                                             {"x", "y"}})
+    links.push_back({id[a], id[b]});
+  const std::vector<std::string> outline = {"y", "L1", "L2", "L3", "x", "R3", "R2", "R1", "y"};
+  for (std::size_t i = 0; i + 1 < outline.size(); ++i) {
+    const Vec3 u = at[id[outline[i]]], v = at[id[outline[i + 1]]];
+    const Vec3 side = Vec3(v.y() - u.y(), u.x() - v.x(), 0).normalized(), mid = (u + v) / 2;
+    const Vec3 out = (mid + 0.6 * side - Vec3(0.55, 1, 0)).norm() > (mid - 0.6 * side - Vec3(0.55, 1, 0)).norm()
+                         ? Vec3(mid + 0.6 * side)
+                         : Vec3(mid - 0.6 * side);
+    const auto o = static_cast<Index>(at.size());
+    at.push_back(out);
+    links.insert(links.end(), {{id[outline[i]], id[outline[i + 1]]}, {o, id[outline[i]]}, {o, id[outline[i + 1]]}});
+  }
+  for (const double mirror : {1.0, -1.0}) {
+    CAPTURE(mirror);
+    Cells c;
+    for (const Vec3& p : at) add_cell(c, Vec3(mirror * p.x(), p.y(), 0));
+    c.link_stride = 8;
+    c.links.assign(c.size() * 8, cellform::core::kNoIndex);
+    std::vector<int> used(c.size(), 0);
+    for (const auto& [a, b] : links) c.links[a * 8 + static_cast<std::size_t>(used[a]++)] = b;
+    const Surface cliques = triangulate(c, false), s = triangulate(c);
+    REQUIRE(cliques.triangles.size() == 6 + 8);  // the island, the ring outside the outline
+    CHECK(s.triangles.size() == 6 + 8 + 6 + 6);  // the left hole (8 sides, x-y across) and the right (8)
+    CHECK(boundary_sides(s) == 2 * 8);           // the outer sides of the ring's triangles only
+    int on_chord = 0;
+    for (const auto& t : s.triangles)
+      on_chord += std::count(t.begin(), t.end(), id["x"]) && std::count(t.begin(), t.end(), id["y"]);
+    CHECK(on_chord == 2);  // one on either side of it, both from the left hole's fill
+  }
 }

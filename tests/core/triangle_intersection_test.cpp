@@ -48,4 +48,11 @@ TEST_CASE("a segment meets a triangle it crosses, touches or lies across in its 
   // exactly when its side opposite the corner meets the flat one
   CHECK(segment_meets_triangle(Vec3(1, 0.5, -1), Vec3(1, 0.5, 1), flat));
   CHECK_FALSE(segment_meets_triangle(Vec3(1, 1.5, -1), Vec3(1, 1.5, 1), flat));
+  // a triangle of no area (in a line, or two corners the same) has no plane and meets nothing, however the
+  // segment lies
+  for (const std::array<Vec3, 3>& line : {std::array<Vec3, 3>{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)},
+                                          std::array<Vec3, 3>{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 0)}}) {
+    CHECK_FALSE(segment_meets_triangle(Vec3(0.5, 5, 5), Vec3(0.5, 5, 6), line));
+    CHECK_FALSE(segment_meets_triangle(Vec3(0.5, -1, 0), Vec3(0.5, 1, 0), line));
+  }
 }
