@@ -34,6 +34,14 @@ std::size_t boundary_sides(const Surface& s) {
   return boundary;
 }
 
+/// Replaces the links of `c` by `pairs` (each one way: a's row holds b), `stride` a row.
+void link_all(Cells& c, const std::vector<std::pair<Index, Index>>& pairs, std::size_t stride = 6) {
+  c.link_stride = static_cast<int>(stride);
+  c.links.assign(c.size() * stride, cellform::core::kNoIndex);
+  std::vector<std::size_t> used(c.size(), 0);
+  for (const auto& [a, b] : pairs) c.links[a * stride + used[a]++] = b;
+}
+
 /// A 9 x 9 hex sheet less the cells at (row, column) in `gone`, with lattice links.
 Cells holed_sheet(const std::set<std::pair<int, int>>& gone) {
   const Cells full = cellform::testing::hex_sheet(9, 9);
@@ -106,12 +114,6 @@ TEST_CASE("a hole another sheet passes through stays open", "[surface]") {
 }
 
 TEST_CASE("a concave hole is closed inside its outline; a chord over a hole is kept", "[surface]") {
-  auto link_all = [](Cells& c, const std::vector<std::pair<Index, Index>>& pairs) {
-    c.link_stride = 6;
-    c.links.assign(c.size() * 6, cellform::core::kNoIndex);
-    std::vector<int> used(c.size(), 0);
-    for (const auto& [a, b] : pairs) c.links[a * 6 + static_cast<std::size_t>(used[a]++)] = b;
-  };
   // A wide pentagon A B C D E with a deep notch C-D-E (D reflex), one triangle outside each side (X above the
   // notch). The shortest diagonals, C-E and A-C (or B-E), pass outside over the notch; the fill must be the
   // fan from D, the only one inside.
@@ -168,12 +170,6 @@ TEST_CASE("a concave hole is closed inside its outline; a chord over a hole is k
 }
 
 TEST_CASE("a fill does not fold across its diagonal, nor cross a triangle at one of its corners", "[surface]") {
-  auto link_all = [](Cells& c, const std::vector<std::pair<Index, Index>>& pairs) {
-    c.link_stride = 6;
-    c.links.assign(c.size() * 6, cellform::core::kNoIndex);
-    std::vector<int> used(c.size(), 0);
-    for (const auto& [a, b] : pairs) c.links[a * 6 + static_cast<std::size_t>(used[a]++)] = b;
-  };
   // a quad p s q r bent into a V (s and r raised), one triangle outside each side in the plane of the fill
   // triangle next to it: either diagonal folds the fill by less than 90 degrees, so it stays open
   Cells vee;
@@ -308,10 +304,7 @@ TEST_CASE("a chord one hole's fill takes no longer blocks the hole on its other 
     CAPTURE(mirror);
     Cells c;
     for (const Vec3& p : at) add_cell(c, Vec3(mirror * p.x(), p.y(), 0));
-    c.link_stride = 8;
-    c.links.assign(c.size() * 8, cellform::core::kNoIndex);
-    std::vector<int> used(c.size(), 0);
-    for (const auto& [a, b] : links) c.links[a * 8 + static_cast<std::size_t>(used[a]++)] = b;
+    link_all(c, links, 8);
     const Surface cliques = triangulate(c, false), s = triangulate(c);
     REQUIRE(cliques.triangles.size() == 6 + 8);  // the island, the ring outside the outline
     CHECK(s.triangles.size() == 6 + 8 + 6 + 6);  // the left hole (8 sides, x-y across) and the right (8)
