@@ -257,13 +257,15 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
     }
     return true;
   };
+  std::vector<std::vector<std::size_t>> loops;  // per boundary side h, reused: most sheets have many
+  std::vector<std::size_t> path;
   for (std::size_t h = 0; h < half.size(); ++h) {
     if (done[h]) continue;
     // the simple loops of boundary sides from h back to its start, of at most kMaxHole sides; at a pinch,
     // where several boundary sides leave a cell (holes or the outlines of small pieces that touch there),
     // each way is taken. The shortest that can be closed is.
-    std::vector<std::vector<std::size_t>> loops;
-    std::vector<std::size_t> path{h};
+    loops.clear();
+    path.assign(1, h);
     std::size_t budget = kWalkBudget;  // steps of the walk from h: a tangle of pinches would branch without end
     auto walk = [&](auto& self) -> void {
       if (budget == 0) return;
@@ -287,7 +289,7 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
     };
     walk(walk);
     std::stable_sort(loops.begin(), loops.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); });
-    for (auto& loop : loops) {
+    for (const auto& loop : loops) {
       // a loop that could not be closed is found again from each of its sides: tried once
       std::vector<std::size_t> key = loop;
       std::rotate(key.begin(), std::min_element(key.begin(), key.end()), key.end());
