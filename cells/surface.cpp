@@ -138,9 +138,10 @@ bool folded(const std::vector<Vec3>& pos, Index u, Index v, Index w1, Index w2) 
 
 /// Closes the 4-cycles of `edges` (sorted, i < j) that have no diagonal and whose four sides each border
 /// at most one triangle of `tris` (a gap in the sheet the size of a cell): two triangles on the shorter
-/// diagonal (ties: the smaller index pair), unless one would fold onto a side's triangle or lie over one
-/// round a corner (detail::stacked_at). Appends triangles as sorted triples, in a deterministic order;
-/// returns the diagonals used (sorted), the only triangle sides that are not edges.
+/// diagonal (ties: the smaller index pair), unless one would fold onto a side's triangle, lie over one
+/// round a corner (detail::stacked_at) or cross one (another sheet passing through the quad). Appends triangles as
+/// sorted triples, in a deterministic order; returns the diagonals used (sorted), the only triangle sides that are not
+/// edges.
 std::vector<std::array<Index, 2>> close_quads(const std::vector<Vec3>& pos,
                                               const std::vector<std::array<Index, 2>>& edges,
                                               std::vector<std::array<Index, 3>>& tris) {
@@ -193,7 +194,7 @@ std::vector<std::array<Index, 2>> close_quads(const std::vector<Vec3>& pos,
   }
   std::sort(quads.begin(), quads.end());
   quads.erase(std::unique(quads.begin(), quads.end()), quads.end());
-  detail::CornerIndex corners(pos.size(), {}, tris);  // nor may they lie over a triangle round a corner
+  detail::SheetIndex sheet(pos, tris);  // nor may they lie over a triangle round a corner, nor cross one
   // A new triangle has the quad's diagonal, which is no link, as a side: it can only repeat a triangle of
   // another quad on the same diagonal, which `diagonals` prevents.
   std::set<std::array<Index, 2>> diagonals;  // closing diagonals used so far
@@ -221,11 +222,12 @@ std::vector<std::array<Index, 2>> close_quads(const std::vector<Vec3>& pos,
         const std::size_t e = index(u, v);
         folds = folds || (e < edges.size() && uses[e] == 1 && folded(pos, u, v, t[k], third[e]));
       }
-    if (folds || corners.stacks(pos, t1) || corners.stacks(pos, t2)) continue;
+    if (folds || sheet.stacks(t1) || sheet.stacks(t2)) continue;
     // a diagonal another quad closed already would border four triangles
-    if (!diagonals.insert(diagonal).second) continue;
-    corners.add(t1);
-    corners.add(t2);
+    if (diagonals.count(diagonal) || sheet.crosses(t1, {}) || sheet.crosses(t2, {})) continue;
+    diagonals.insert(diagonal);
+    sheet.add(t1);
+    sheet.add(t2);
     tris.push_back(t1);
     tris.push_back(t2);
     for (int k = 0; k < 4; ++k) use(q[k], q[(k + 1) % 4]);
@@ -241,9 +243,10 @@ std::vector<std::array<Index, 2>> close_quads(const std::vector<Vec3>& pos,
 /// The triangles of `tris` (3-cliques of the edges in `up`, the CSR adjacency to larger indices of
 /// `start`) that lie in one layer: at most two on any side, and those two not folded onto each other
 /// (see folded: overlapping triangles, which the links of a crowded or crumpled sheet give, would be
-/// non-manifold edges in a modeller), nor lying over one another round a common corner (see stacked_at).
-/// Greedy, best first: shortest longest side (ties by position in `tris`), a triangle stays unless one of
-/// its sides has two already, or one folded onto it, or one stacked with it. Keeps the order of `tris`.
+/// non-manifold edges in a modeller), nor lying over one another round a common corner (see stacked_at),
+/// nor crossing beyond one (CornerIndex::crosses_at_corner). Greedy, best first: shortest longest side
+/// (ties by position in `tris`), a triangle stays unless one of its sides has two already, or one folded
+/// onto it, or one stacked with it or crossing it at a corner. Keeps the order of `tris`.
 void keep_one_layer(const std::vector<Vec3>& pos, const std::vector<std::size_t>& start, const std::vector<Index>& up,
                     std::vector<std::array<Index, 3>>& tris) {
   auto side = [&](Index u, Index v) {  // the edge's position in up
@@ -274,7 +277,7 @@ void keep_one_layer(const std::vector<Vec3>& pos, const std::vector<std::size_t>
       else if (th[0] != kNoIndex)
         ok = !folded(pos, u, v, tri[k], th[0]);
     }
-    if (!ok || kept.stacks(pos, tri)) continue;
+    if (!ok || kept.stacks(pos, tri) || kept.crosses_at_corner(pos, tri)) continue;
     keep[t] = 1;
     kept.add(tri);
     for (int k = 0; k < 3; ++k) {
@@ -494,89 +497,5 @@ std::vector<std::array<Index, 3>> covering_triangles(const Cells& cells) {
   std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });
   return out;
 }
-
-namespace detail {
-
-bool stacked_at(const std::vector<Vec3>& pos, const std::array<Index, 3>& t1, const std::array<Index, 3>& t2, Index v) {
-  constexpr double kCosCoplanar = 0.819;  // cos 35 degrees
-  constexpr double kMinShare = 0.2;
-  auto others = [&](const std::array<Index, 3>& t) {
-    return t[0] == v   ? std::array<Index, 2>{t[1], t[2]}
-           : t[1] == v ? std::array<Index, 2>{t[0], t[2]}
-                       : std::array<Index, 2>{t[0], t[1]};
-  };
-  const auto [a1, b1] = others(t1);
-  const auto [a2, b2] = others(t2);
-  const Vec3 n1 = (pos[a1] - pos[v]).cross(pos[b1] - pos[v]), n2 = (pos[a2] - pos[v]).cross(pos[b2] - pos[v]);
-  const double l1 = n1.norm(), l2 = n2.norm();
-  if (!(l1 > 0 && l2 > 0) || std::abs(n1.dot(n2)) < kCosCoplanar * l1 * l2) return false;
-  // Disjoint angles, the common case round a corner of a sheet, are found with signs of cross products: no
-  // end (nor the bisector, for two equal angles) of either strictly inside the other, seen along n1.
-  {
-    const Vec3 A = pos[a1] - pos[v], B = pos[b1] - pos[v], C = pos[a2] - pos[v], D = pos[b2] - pos[v];
-    auto turn = [&](const Vec3& x, const Vec3& y) { return x.cross(y).dot(n1); };  // > 0: x to y anticlockwise
-    const double sigma = turn(C, D) > 0 ? 1.0 : -1.0;
-    auto in_ab = [&](const Vec3& x) { return turn(A, x) > 0 && turn(x, B) > 0; };
-    auto in_cd = [&](const Vec3& x) { return sigma * turn(C, x) > 0 && sigma * turn(x, D) > 0; };
-    const Vec3 mid = C.normalized() + D.normalized();
-    if (!in_ab(C) && !in_ab(D) && !in_ab(mid) && !in_cd(A) && !in_cd(B)) return false;
-  }
-  const Vec3 e1 = (pos[a1] - pos[v]).normalized(), e2 = (n1 / l1).cross(e1);
-  auto angle = [&](Index w) {
-    const Vec3 d = pos[w] - pos[v];
-    return std::atan2(d.dot(e2), d.dot(e1));
-  };
-  constexpr double kTwoPi = 6.283185307179586;
-  // arcs [start, start + width], the shorter way round between the two other corners
-  auto arc = [&](double x, double y) {
-    double d = std::fmod(y - x + 2 * kTwoPi, kTwoPi);
-    return d <= kTwoPi / 2 ? std::array<double, 2>{x, d} : std::array<double, 2>{y, kTwoPi - d};
-  };
-  const auto [s1, w1] = arc(0.0, angle(b1));
-  const auto [s2, w2] = arc(angle(a2), angle(b2));
-  const double off = std::fmod(s2 - s1 + 2 * kTwoPi, kTwoPi);  // s2 from s1, round the way arc 1 runs
-  const double shared = std::max(0.0, std::min(w1, off + w2) - off) + std::max(0.0, std::min(w1, off + w2 - kTwoPi));
-  return shared > kMinShare * std::min(w1, w2);
-}
-
-CornerIndex::CornerIndex(std::size_t cells, const std::vector<std::array<Index, 3>>& room,
-                         const std::vector<std::array<Index, 3>>& tris)
-    : start_(cells + 1, 0), head_(cells, kNone) {
-  for (const auto* list : {&room, &tris})
-    for (const auto& t : *list)
-      for (const Index v : t) ++start_[v + 1];
-  for (std::size_t v = 0; v < cells; ++v) start_[v + 1] += start_[v];
-  fill_.assign(start_.begin(), start_.end() - 1);
-  slot_.resize(start_.back());
-  for (const auto& t : tris) add(t);
-}
-
-void CornerIndex::add(const std::array<Index, 3>& t) {
-  for (const Index v : t) {
-    if (fill_[v] < start_[v + 1]) {
-      slot_[fill_[v]++] = t;
-    } else {
-      spill_.push_back({head_[v], t});
-      head_[v] = static_cast<std::uint32_t>(spill_.size() - 1);
-    }
-  }
-}
-
-bool CornerIndex::stacks(const std::vector<Vec3>& pos, const std::array<Index, 3>& t) const {
-  auto stacked_with = [&](const std::array<Index, 3>& u, Index v) {
-    int common = 0;
-    for (const Index a : t) common += a == u[0] || a == u[1] || a == u[2];
-    return common == 1 && stacked_at(pos, t, u, v);
-  };
-  for (const Index v : t) {
-    for (std::size_t x = start_[v]; x < fill_[v]; ++x)
-      if (stacked_with(slot_[x], v)) return true;
-    for (std::uint32_t x = head_[v]; x != kNone; x = spill_[x].first)
-      if (stacked_with(spill_[x].second, v)) return true;
-  }
-  return false;
-}
-
-}  // namespace detail
 
 }  // namespace cellform::cells

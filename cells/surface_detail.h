@@ -1,5 +1,6 @@
 // Private to cells/: the filling of small holes in the one-layer cell surface (surface_holes.cpp) and the
-// test for triangles stacked round a corner, used by triangulate() in surface.cpp. Not installed, not for users.
+// tests of a new triangle against the sheet, stacked round a corner or crossing (surface_index.cpp), used by
+// triangulate() in surface.cpp. Not installed, not for users.
 #pragma once
 
 #include <array>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "cells/cells.h"
+#include "core/spatial_index.h"
 
 namespace cellform::cells::detail {
 
@@ -27,6 +29,9 @@ class CornerIndex {
   void add(const std::array<Index, 3>& t);
   /// Whether `t` lies over a triangle added before that it shares a corner but no side with (stacked_at).
   bool stacks(const std::vector<Vec3>& pos, const std::array<Index, 3>& t) const;
+  /// Whether `t` crosses, beyond their common corner, a triangle added before that it shares one corner
+  /// with (the side of one opposite that corner meets the other: core::segment_meets_triangle).
+  bool crosses_at_corner(const std::vector<Vec3>& pos, const std::array<Index, 3>& t) const;
   /// Calls f(triangle) for every triangle added with corner v.
   template <class F>
   void for_each_at(Index v, F&& f) const {
@@ -40,6 +45,36 @@ class CornerIndex {
   std::vector<std::array<Index, 3>> slot_;
   std::vector<std::uint32_t> head_;                                    // per cell: its latest spilled entry, or kNone
   std::vector<std::pair<std::uint32_t, std::array<Index, 3>>> spill_;  // (previous entry, triangle)
+};
+
+/// The triangles of a growing one-layer sheet, to test a new triangle against: stacked on one round a
+/// corner (CornerIndex), or crossing one. A triangle that meets a new one F has a corner within F's radius
+/// plus its own longest side of F's centre: the cells that near (a grid of every cell, made at the first
+/// crossing test) hold every triangle with sides up to kLongSides typical sides (the mean side of the sheet
+/// given first); the longer ones are kept in a list that every test goes through.
+class SheetIndex {
+ public:
+  static constexpr double kLongSides = 4;
+  /// `pos` is kept by reference; `tris`: the sheet now.
+  SheetIndex(const std::vector<Vec3>& pos, const std::vector<std::array<Index, 3>>& tris);
+  void add(const std::array<Index, 3>& t);
+  /// Whether `t` lies over a triangle of the sheet round a corner they share (CornerIndex::stacks).
+  bool stacks(const std::array<Index, 3>& t) const { return corners_.stacks(pos_, t); }
+  /// Whether `f` crosses a triangle of the sheet or of `others` (not in the sheet yet) with no common side:
+  /// with no common corner, they meet (core::triangles_intersect); with one, they meet beyond it (the side of
+  /// one opposite it meets the other). Two with a common side are the fold tests' case: never.
+  bool crosses(const std::array<Index, 3>& f, const std::vector<std::array<Index, 3>>& others);
+
+ private:
+  void note_long(const std::array<Index, 3>& t);
+  const std::vector<Vec3>& pos_;
+  CornerIndex corners_;
+  double reach_ = 1;                        // model units: kLongSides typical sides
+  std::vector<std::array<Index, 3>> long_;  // triangles with a side longer than reach_
+  double longest_short_ = 0;                // the longest side of the others: the grid search reaches that far
+  core::PointGrid grid_;
+  bool grid_built_ = false;
+  std::vector<Index> near_;
 };
 
 /// Fills the small holes (loops of up to 12 boundary sides) the one-layer surface leaves (see

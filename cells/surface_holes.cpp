@@ -6,8 +6,6 @@
 #include <set>
 
 #include "cells/surface_detail.h"
-#include "core/spatial_index.h"
-#include "core/triangle_intersection.h"
 
 namespace cellform::cells::detail {
 
@@ -15,7 +13,6 @@ namespace {
 
 constexpr std::size_t kMaxHole = 12;       // boundary sides of the longest loop closed
 constexpr double kMinFacing = 0.25;        // |sum of the unit normals round a hole| / their number, at least
-constexpr double kLongSides = 4;           // a triangle with a side longer than this many typical sides is "long"
 constexpr std::size_t kWalkBudget = 1024;  // steps of the search for the loops through one boundary side
 
 /// The triangulation of polygon p[0..n) (n <= kMaxHole) with the least total diagonal length (dynamic
@@ -107,68 +104,8 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
   };
   auto normal = [&](Index a, Index b, Index c) -> Vec3 { return (pos[b] - pos[a]).cross(pos[c] - pos[a]); };
   std::vector<std::uint8_t> done(half.size(), 0);
-  std::set<std::array<Index, 2>> diagonals;   // new sides, each used by one fill
-  CornerIndex corners(pos.size(), {}, tris);  // a fill must not lie over a triangle round a corner
-  // nor cross one. A triangle that meets fill triangle F has a corner within F's radius plus its own longest
-  // side of F's centre: the cells that near (a grid, made when the first fill needs it) hold every triangle
-  // with sides up to kLongSides typical sides; the longer ones are kept in a list and always tested.
-  double total = 0;
-  std::size_t counted = 0;
-  for (const auto& t : tris)
-    for (int k = 0; k < 3; ++k) {
-      const double side = (pos[t[k]] - pos[t[(k + 1) % 3]]).norm();
-      if (std::isfinite(side)) total += side, ++counted;
-    }
-  const double typical = counted > 0 ? total / static_cast<double>(counted) : 0.0;
-  const double reach = kLongSides * (typical > 0 && std::isfinite(typical) ? typical : 1.0);
-  std::vector<std::array<Index, 3>> long_tris;
-  double longest_short = 0;  // the longest side of the other triangles: the grid's search reaches that far
-  auto note_long = [&](const std::array<Index, 3>& t) {
-    double longest = 0;
-    for (int k = 0; k < 3; ++k) {
-      const double side = (pos[t[k]] - pos[t[(k + 1) % 3]]).norm();
-      if (!(side <= reach)) {
-        long_tris.push_back(t);
-        return;
-      }
-      longest = std::max(longest, side);
-    }
-    longest_short = std::max(longest_short, longest);
-  };
-  for (const auto& t : tris) note_long(t);
-  core::PointGrid grid;
-  bool grid_built = false;
-  std::vector<Index> near;
-  auto crosses = [&](const std::array<Index, 3>& f, const std::vector<std::array<Index, 3>>& others) {
-    const std::array<Vec3, 3> F{pos[f[0]], pos[f[1]], pos[f[2]]};
-    auto meets = [&](const std::array<Index, 3>& u) {
-      const std::array<Vec3, 3> U{pos[u[0]], pos[u[1]], pos[u[2]]};
-      int common = 0, at_f = 0, at_u = 0;
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-          if (f[a] == u[b]) ++common, at_f = a, at_u = b;
-      if (common == 0) return core::triangles_intersect(F, U);
-      if (common > 1) return false;  // a side: the fold test's case
-      // one corner: they cross beyond it iff the side of one opposite it meets the other
-      return core::segment_meets_triangle(F[(at_f + 1) % 3], F[(at_f + 2) % 3], U) ||
-             core::segment_meets_triangle(U[(at_u + 1) % 3], U[(at_u + 2) % 3], F);
-    };
-    if (std::any_of(others.begin(), others.end(), meets) || std::any_of(long_tris.begin(), long_tris.end(), meets))
-      return true;
-    if (!grid_built) {
-      grid.build(pos, reach / kLongSides);
-      grid_built = true;
-    }
-    const Vec3 centre = (F[0] + F[1] + F[2]) / 3;
-    double radius = 0;
-    for (const Vec3& c : F) radius = std::max(radius, (c - centre).norm());
-    near.clear();
-    grid.within(centre, radius + longest_short, kNoIndex, near);
-    bool found = false;
-    for (const Index v : near)
-      corners.for_each_at(v, [&](const std::array<Index, 3>& u) { found = found || meets(u); });
-    return found;
-  };
+  std::set<std::array<Index, 2>> diagonals;  // new sides, each used by one fill
+  SheetIndex sheet(pos, tris);               // a fill must not lie over a triangle round a corner, nor cross one
   std::set<std::vector<std::size_t>> tried;  // loops that could not be closed (canonical rotation)
   // Closes the hole `loop` (half-edges in order) if it can; see above.
   auto try_fill = [&](const std::vector<std::size_t>& loop) {
@@ -220,7 +157,7 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
       }
     for (std::size_t a = 0; a < fill.size() && ok; ++a) {
       const std::array<Index, 3> t{corner[fill[a][0]], corner[fill[a][1]], corner[fill[a][2]]};
-      ok = !corners.stacks(pos, t);
+      ok = !sheet.stacks(t);
       for (std::size_t b = a + 1; b < fill.size() && ok; ++b) {  // nor on each other, nor folded onto each other
         const std::array<Index, 3> u{corner[fill[b][0]], corner[fill[b][1]], corner[fill[b][2]]};
         int common = 0;
@@ -237,7 +174,7 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
     std::vector<std::array<Index, 3>> added;
     for (std::size_t a = 0; a < fill.size() && ok; ++a) {
       const std::array<Index, 3> t{corner[fill[a][0]], corner[fill[a][1]], corner[fill[a][2]]};
-      ok = !crosses(t, added);
+      ok = !sheet.crosses(t, added);
       added.push_back(t);
     }
     if (!ok) return false;
@@ -246,9 +183,8 @@ void fill_small_holes(const std::vector<Vec3>& pos, const std::vector<std::array
     for (const auto& f : fill) {
       std::array<Index, 3> t{corner[f[0]], corner[f[1]], corner[f[2]]};  // the loop's turn: facing as around it
       std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
-      corners.add(t);
+      sheet.add(t);
       tris.push_back(t);
-      note_long(t);
       for (int k = 0; k < 3; ++k) {
         const std::size_t a = f[k], b = f[(k + 1) % 3];
         if ((a + 1) % n != b && (b + 1) % n != a)

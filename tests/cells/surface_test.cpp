@@ -207,6 +207,52 @@ TEST_CASE("one layer leaves out a triangle lying over another round a common cor
   }
 }
 
+TEST_CASE("one layer leaves out a triangle crossing another beyond a common corner", "[surface]") {
+  // 0-1-2 flat; 0-3-4 upright (90 degrees from it: not stacked), its side 3-4 through 0-1-2 at (0.3, 0.3)
+  // when x = 0.3, beside it when x = -0.3; 0-3-4 has the shorter longest side, so it is kept first
+  for (const double x : {0.3, -0.3}) {
+    CAPTURE(x);
+    Cells c;
+    for (const Vec3& p : {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(x, 0.3, -0.5), Vec3(x, 0.3, 0.5)})
+      add_cell(c, p);
+    c.links[0] = 1;
+    c.links[1] = 2;
+    c.links[2] = 3;
+    c.links[3] = 4;
+    c.links[6] = 2;
+    c.links[18] = 4;
+    REQUIRE(triangulate(c, false).triangles.size() == 2);
+    const Surface one = triangulate(c);
+    if (x > 0) {
+      REQUIRE(one.triangles.size() == 1);
+      CHECK(std::find(one.triangles[0].begin(), one.triangles[0].end(), Index{3}) != one.triangles[0].end());
+    } else {
+      CHECK(one.triangles.size() == 2);  // apart round the corner: both stay
+    }
+  }
+}
+
+TEST_CASE("a square gap another sheet passes through stays open", "[surface]") {
+  // the square 0-1-2-3 of the test above, and an upright triangle 4-5-6 through it at (0.75, 0.6) (beside
+  // it at (3, 0.6)), linked only among its own corners
+  for (const double x : {0.75, 3.0}) {
+    CAPTURE(x);
+    Cells c;
+    for (const Vec3& p : {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.1, 1.0, 0), Vec3(0, 0.9, 0)}) add_cell(c, p);
+    for (const Vec3& d : {Vec3(0, 0, -0.3), Vec3(0.1, 0.05, 0.3), Vec3(-0.1, -0.05, 0.3)})
+      add_cell(c, Vec3(x, 0.6, 0) + d);
+    for (Index i = 0; i < 4; ++i) {
+      c.links[i * 6] = (i + 1) % 4;
+      c.links[i * 6 + 1] = (i + 3) % 4;
+    }
+    for (Index k = 0; k < 3; ++k) {
+      c.links[(4 + k) * 6] = 4 + (k + 1) % 3;
+      c.links[(4 + k) * 6 + 1] = 4 + (k + 2) % 3;
+    }
+    CHECK(triangulate(c).triangles.size() == (x < 2 ? 1u : 3u));
+  }
+}
+
 TEST_CASE("a crowded, crumpled grown sheet in one layer: at most two triangles on a side, none folded", "[surface]") {
   // the first script of docs/scripting.md in miniature
   const Cells c = grown_sheet(500, 1, 600);
