@@ -1,10 +1,12 @@
 // cellform-bench: runs named benchmarks, prints median/min/max, writes JSON.
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -47,11 +49,27 @@ int main(int argc, char** argv) {
   int reps_override = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--json" && i + 1 < argc)
+    if ((a == "--json" || a == "--repetitions") && i + 1 >= argc) {
+      std::cerr << "cellform-bench: " << a << " needs a value\n";
+      return 2;
+    }
+    if (a == "--json") {
       json_path = argv[++i];
-    else if (a == "--repetitions" && i + 1 < argc)
-      reps_override = std::atoi(argv[++i]);
-    else if (a == "--list") {
+    } else if (a == "--repetitions") {
+      const std::string v = argv[++i];
+      std::size_t used = 0;
+      long n = 0;
+      try {
+        n = std::stol(v, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != v.size() || v.empty() || n < 1 || n > 1000000) {
+        std::cerr << "cellform-bench: --repetitions needs a whole number from 1 to 1000000, got '" << v << "'\n";
+        return 2;
+      }
+      reps_override = static_cast<int>(n);
+    } else if (a == "--list") {
       for (const Benchmark& b : registry()) std::cout << b.name << "\t" << b.unit << "\t" << b.doc << "\n";
       return 0;
     } else if (a == "-h" || a == "--help") {
@@ -76,6 +94,19 @@ int main(int argc, char** argv) {
   if (chosen.empty()) {
     std::cerr << "cellform-bench: no benchmark matches; see cellform-bench --list\n";
     return 2;
+  }
+  if (!json_path.empty()) {  // before the benchmarks, which may take many minutes
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path parent = fs::absolute(json_path, ec).parent_path();
+    const char* problem = fs::is_directory(json_path, ec)       ? "is a folder"
+                          : !fs::is_directory(parent, ec)       ? "is in a folder that does not exist"
+                          : ::access(parent.c_str(), W_OK) != 0 ? "is in a folder this process cannot write"
+                                                                : nullptr;
+    if (problem) {
+      std::cerr << "cellform-bench: --json '" << json_path << "' " << problem << "\n";
+      return 2;
+    }
   }
   nlohmann::json results = nlohmann::json::array();
   std::printf("%-34s %14s %14s %14s  %s\n", "benchmark", "median", "min", "max", "unit");

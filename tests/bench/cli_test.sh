@@ -1,0 +1,29 @@
+#!/bin/sh
+# cellform-bench's command line: a bad option is refused before any benchmark runs, with exit 2 and a
+# message naming it. Usage: cli_test.sh PATH-TO-cellform-bench
+bench="$1"
+fail=0
+expect() {  # expect EXIT-CODE MESSAGE ARGS...
+  code=$1
+  msg=$2
+  shift 2
+  out=$(timeout -s KILL 60 "$bench" "$@" 2>&1)
+  got=$?
+  if [ "$got" -ne "$code" ] || ! printf '%s' "$out" | grep -qF -- "$msg"; then
+    echo "FAIL: cellform-bench $* exited $got (want $code) and said: $out (want: $msg)"
+    fail=1
+  fi
+}
+one='cells.step.1m.t1$'  # would take a minute: each refusal must come first
+expect 2 "--repetitions needs a whole number from 1 to 1000000, got 'abc'" "$one" --repetitions abc
+expect 2 "--repetitions needs a whole number from 1 to 1000000, got '0'" "$one" --repetitions 0
+expect 2 "--repetitions needs a whole number from 1 to 1000000, got '-3'" "$one" --repetitions -3
+expect 2 "--repetitions needs a whole number from 1 to 1000000, got '2x'" "$one" --repetitions 2x
+expect 2 "--repetitions needs a value" "$one" --repetitions
+expect 2 "--json needs a value" "$one" --json
+expect 2 "--json '/nonexistent-cellform/x.json' is in a folder that does not exist" "$one" --json /nonexistent-cellform/x.json
+expect 2 "--json '/' is a folder" "$one" --json /
+expect 2 "unknown option '--fast'" "$one" --fast
+expect 2 "no benchmark matches" no.such.benchmark
+expect 0 "cells.step.1m.t1" --list
+exit $fail
