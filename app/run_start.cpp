@@ -155,6 +155,10 @@ Start start_from(const RunOptions& o) {
         s.seed = meta.at("seed").get<std::uint64_t>();
         s.target_steps = meta.at("target_steps").get<std::uint64_t>();
         s.step = meta.at("step").get<std::uint64_t>();
+        for (const char* key : {"target_steps", "step"})  // no run goes further (run.steps, --steps, max_steps)
+          if (meta.at(key).get<std::uint64_t>() > 1000000000)
+            throw core::FileError(what + " is corrupt (metadata '" + key +
+                                  "' is over 1e9, the most steps a run takes)");
         s.replaced = meta.value("replaced_scripts", json::array());  // older checkpoints: none
         if (s.replaced.is_null()) s.replaced = json::array();
         bool listed = s.replaced.is_array();

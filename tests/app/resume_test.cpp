@@ -158,6 +158,15 @@ TEST_CASE("corrupt, foreign and truncated checkpoints are refused clearly", "[cl
   r = cli({"resume", t.write("negative.cfck", cellform::core::write_chunk_file("CKPT", 1, forged)).string()});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("corrupt") && Contains("'step' is not a whole number >= 0"));
+  // a step or target beyond any run's 1e9 (forged with a valid checksum) would report or run absurd steps
+  for (const char* key : {"step", "target_steps"}) {
+    auto over = nlohmann::json::parse(good.chunks.at("meta"));
+    over[key] = 1000000000001ull;
+    forged["meta"] = over.dump();
+    r = cli({"resume", t.write("over.cfck", cellform::core::write_chunk_file("CKPT", 1, forged)).string()});
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains("corrupt") && Contains("'" + std::string(key) + "' is over 1e9"));
+  }
   meta["step"] = 5;
   meta["initial_cells"] = -3;
   forged["meta"] = meta.dump();
