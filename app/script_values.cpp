@@ -181,9 +181,9 @@ Value ScriptHost::Impl::from_text(const Field& f, const std::string& text, const
       break;
     }
     case Kind::boolean:
-      if (text == "true" || text == "1")
+      if (text == "true")  // only these, as in a script and for a params{} knob
         v.flag = true;
-      else if (text == "false" || text == "0")
+      else if (text == "false")
         v.flag = false;
       else
         throw fail();

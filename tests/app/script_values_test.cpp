@@ -88,3 +88,19 @@ TEST_CASE("numbers are taken exactly or refused: no NaN knob, no rounded seed", 
   const auto cfg = load("local P = params { n = 3 }\ndisc { radius = 2 }\n", {{"n", "9007199254740993"}});
   CHECK(cfg.resolved["params"]["n"].get<std::int64_t>() == 9007199254740993LL);
 }
+
+TEST_CASE("a boolean is true or false alike in a script, a knob and --set", "[script]") {
+  // --set print.shell=1 was taken as true, while print { shell = 1 } and --set of a boolean knob were refused
+  for (const char* text : {"1", "0", "yes", "True"}) {
+    CAPTURE(text);
+    CHECK_THAT(load_error("disc { radius = 2 }\nprint { }\n", {{"print.shell", text}}),
+               Contains("print.shell must be true or false") && Contains(std::string("got \"") + text + "\""));
+    CHECK_THAT(load_error("local P = params { flag = true }\ndisc { radius = 2 }\n", {{"flag", text}}),
+               Contains("expected true or false"));
+  }
+  CHECK_THAT(load_error("disc { radius = 2 }\nprint { shell = 1 }\n"), Contains("print.shell must be true or false"));
+  CHECK(load("disc { radius = 2 }\nprint { }\n", {{"print.shell", "true"}}).resolved["print"]["shell"] == true);
+  CHECK(load("disc { radius = 2 }\npetiole { at = {0, 0, 0} }\nvenation { }\nprint { shell = true }\n",
+             {{"print.shell", "false"}})
+            .resolved["print"]["shell"] == false);
+}
