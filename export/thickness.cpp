@@ -37,6 +37,8 @@ constexpr std::size_t kMaxVisits = 4096;
 constexpr double kPieceLength = 8;
 constexpr int kMaxPieces = 64;
 constexpr std::size_t kMaxBoxesPerTriangle = 8;  // boxes in the tree per triangle of the mesh, at most
+constexpr int kMaxLevel = 8;                     // a large triangle gets at most kMaxLevel^2 rays
+constexpr std::size_t kSubRayBudget = 1 << 20;   // sub-rays of a check, at least (4 per triangle if more)
 
 /// How many pieces triangle T would be cut into (1: its own box).
 int pieces_wanted(const Vec3* T) {
@@ -158,12 +160,6 @@ Bvh build_bvh(const PrintableMesh& m) {
   return b;
 }
 
-bool shares_vertex(const std::array<std::uint32_t, 3>& a, const std::array<std::uint32_t, 3>& b) {
-  for (std::uint32_t i : a)
-    if (i == b[0] || i == b[1] || i == b[2]) return true;
-  return false;
-}
-
 /// Entry parameter of the ray into the box within [0, t_max], or infinity if it misses.
 double enter_box(const Vec3& o, const Vec3& inv, const Vec3& lo, const Vec3& hi, double t_max) {
   double t0 = 0, t1 = t_max;
@@ -197,94 +193,191 @@ double ray_triangle(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, 
 
 }  // namespace
 
-std::vector<double> triangle_thickness(const PrintableMesh& m, int threads) {
-  const std::size_t n = m.triangles.size();
-  std::vector<double> out(n, -1.0);
-  if (n == 0) return out;
-  const Bvh bvh = build_bvh(m);
-  const double extent = (bvh.nodes[0].hi - bvh.nodes[0].lo).norm();
-  const double eps = 1e-9 * extent;  // rays start at a centroid; hits closer than this are that triangle's own
+namespace {
+
+using Stack = std::vector<std::pair<std::uint32_t, double>>;
+
+/// The ray from `o` (on triangle `self`) along the unit vector `d` to the first triangle it meets farther
+/// than `eps` that shares no corner with self (neighbours meet it only at folds of a crease or of a fine
+/// mesh, not across the wall): the distance if the ray leaves the solid there (that triangle faces along
+/// d), a negative number if it meets none or enters the solid first, kGivenUp past kMaxVisits boxes.
+double cast(const Bvh& bvh, const PrintableMesh& m, const Vec3& o, const Vec3& d, std::uint32_t self, double eps,
+            Stack& stack) {
+  const auto& own = m.triangles[self];
+  const Vec3 inv = d.cwiseInverse();
+  double best = std::numeric_limits<double>::infinity();
+  std::uint32_t best_tri = 0;
+  // depth first, nearer child first, each entry kept with the distance at which the ray enters it
+  stack.clear();
+  if (std::isfinite(enter_box(o, inv, bvh.nodes[0].lo, bvh.nodes[0].hi, best))) stack.push_back({0, 0.0});
+  std::size_t visits = 0;
+  while (!stack.empty()) {
+    const auto [id, enter] = stack.back();
+    stack.pop_back();
+    if (enter > best) continue;
+    if (++visits > kMaxVisits) return kGivenUp;
+    const Bvh::Node& nd = bvh.nodes[id];
+    if (nd.count == 0) {
+      const Bvh::Node &l = bvh.nodes[nd.left], &r = bvh.nodes[nd.right];
+      const double tl = enter_box(o, inv, l.lo, l.hi, best), tr = enter_box(o, inv, r.lo, r.hi, best);
+      const bool left_first = tl <= tr;
+      const double t_far = left_first ? tr : tl, t_near = left_first ? tl : tr;
+      if (std::isfinite(t_far)) stack.push_back({left_first ? nd.right : nd.left, t_far});
+      if (std::isfinite(t_near)) stack.push_back({left_first ? nd.left : nd.right, t_near});
+      continue;
+    }
+    for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) {
+      const std::uint32_t u = bvh.tri[bvh.order[k]];  // a piece's triangle: tested whole
+      const auto& h = m.triangles[u];
+      if (own[0] == h[0] || own[0] == h[1] || own[0] == h[2] || own[1] == h[0] || own[1] == h[1] || own[1] == h[2] ||
+          own[2] == h[0] || own[2] == h[1] || own[2] == h[2])
+        continue;  // itself, or a neighbour
+      const double s = ray_triangle(o, d, m.vertices[h[0]], m.vertices[h[1]], m.vertices[h[2]]);
+      if (s > eps && (s < best || (s == best && u < best_tri))) {
+        best = s;
+        best_tri = u;
+      }
+    }
+  }
+  if (!std::isfinite(best)) return -1;
+  const auto& h = m.triangles[best_tri];
+  const Vec3 hn = (m.vertices[h[1]] - m.vertices[h[0]]).cross(m.vertices[h[2]] - m.vertices[h[0]]);
+  return hn.dot(d) > 0 ? best : -1;  // leaving the solid: a wall; else the ray went outside first
+}
+
+/// The inward unit normal of triangle t, or zero for a triangle of no area.
+Vec3 inward(const PrintableMesh& m, std::size_t t) {
+  const auto& tri = m.triangles[t];
+  const Vec3 normal = (m.vertices[tri[1]] - m.vertices[tri[0]]).cross(m.vertices[tri[2]] - m.vertices[tri[0]]);
+  const double len = normal.norm();
+  return len > 0 ? Vec3(-normal / len) : Vec3::Zero();
+}
+
+double longest_side(const PrintableMesh& m, std::size_t t) {
+  const auto& tri = m.triangles[t];
+  const Vec3 &a = m.vertices[tri[0]], &b = m.vertices[tri[1]], &c = m.vertices[tri[2]];
+  return std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+}
+
+/// Rays from the centroids (see triangle_thickness).
+std::vector<double> centroid_rays(const PrintableMesh& m, const Bvh& bvh, double eps, int threads) {
+  std::vector<double> out(m.triangles.size(), -1.0);
   core::parallel_for(
-      n, threads,
+      m.triangles.size(), threads,
       [&](std::size_t begin, std::size_t end) {
-        std::vector<std::pair<std::uint32_t, double>> stack;
+        Stack stack;
         for (std::size_t t = begin; t < end; ++t) {
+          const Vec3 d = inward(m, t);
+          if (d == Vec3::Zero()) continue;
           const auto& tri = m.triangles[t];
-          const Vec3 &a = m.vertices[tri[0]], &b = m.vertices[tri[1]], &c = m.vertices[tri[2]];
-          const Vec3 normal = (b - a).cross(c - a);
-          const double len = normal.norm();
-          if (!(len > 0)) continue;
-          const Vec3 d = -normal / len;
-          const Vec3 o = (a + b + c) / 3;
-          const Vec3 inv = d.cwiseInverse();
-          double best = std::numeric_limits<double>::infinity();
-          std::uint32_t best_tri = 0;
-          // depth first, nearer child first, each entry kept with the distance at which the ray enters it
-          stack.clear();
-          if (std::isfinite(enter_box(o, inv, bvh.nodes[0].lo, bvh.nodes[0].hi, best))) stack.push_back({0, 0.0});
-          std::size_t visits = 0;
-          while (!stack.empty()) {
-            const auto [id, enter] = stack.back();
-            stack.pop_back();
-            if (enter > best) continue;
-            if (++visits > kMaxVisits) break;
-            const Bvh::Node& nd = bvh.nodes[id];
-            if (nd.count == 0) {
-              const Bvh::Node &l = bvh.nodes[nd.left], &r = bvh.nodes[nd.right];
-              const double tl = enter_box(o, inv, l.lo, l.hi, best), tr = enter_box(o, inv, r.lo, r.hi, best);
-              const bool left_first = tl <= tr;
-              const double t_far = left_first ? tr : tl, t_near = left_first ? tl : tr;
-              if (std::isfinite(t_far)) stack.push_back({left_first ? nd.right : nd.left, t_far});
-              if (std::isfinite(t_near)) stack.push_back({left_first ? nd.left : nd.right, t_near});
-              continue;
-            }
-            for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) {
-              const std::uint32_t u = bvh.tri[bvh.order[k]];  // a piece's triangle: tested whole
-              const auto& h = m.triangles[u];
-              if (shares_vertex(tri, h)) continue;  // itself, or a fold at a crease: not the opposite wall
-              const double s = ray_triangle(o, d, m.vertices[h[0]], m.vertices[h[1]], m.vertices[h[2]]);
-              if (s > eps && (s < best || (s == best && u < best_tri))) {
-                best = s;
-                best_tri = u;
-              }
-            }
-          }
-          if (visits > kMaxVisits) {
-            out[t] = kGivenUp;
-            continue;
-          }
-          if (!std::isfinite(best)) continue;
-          const auto& h = m.triangles[best_tri];
-          const Vec3 hn = (m.vertices[h[1]] - m.vertices[h[0]]).cross(m.vertices[h[2]] - m.vertices[h[0]]);
-          if (hn.dot(d) > 0) out[t] = best;  // leaving the solid: a wall; else the ray went outside first
+          const Vec3 o = (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3;
+          out[t] = cast(bvh, m, o, d, static_cast<std::uint32_t>(t), eps, stack);
         }
       },
       1024);
   return out;
 }
 
+/// Barycentric (u, v) of the centroid of sub-triangle k (0 <= k < level^2) of the regular subdivision of a
+/// triangle into level^2: first the level (level + 1) / 2 upright ones, then the others.
+std::array<double, 2> sub_centroid(int level, int k) {
+  const int up = level * (level + 1) / 2;
+  const bool upright = k < up;
+  int rest = upright ? k : k - up, i = 0;
+  const int rows = upright ? level : level - 1;  // row i holds rows - i of them
+  while (rest >= rows - i) rest -= rows - i, ++i;
+  const double third = upright ? 1.0 / 3 : 2.0 / 3;
+  return {(i + third) / level, (rest + third) / level};
+}
+
+}  // namespace
+
+std::vector<double> triangle_thickness(const PrintableMesh& m, int threads) {
+  if (m.triangles.empty()) return {};
+  const Bvh bvh = build_bvh(m);
+  return centroid_rays(m, bvh, 1e-9 * (bvh.nodes[0].hi - bvh.nodes[0].lo).norm(), threads);
+}
+
 ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
   ThicknessReport r;
-  const std::vector<double> th = triangle_thickness(m, threads);
-  std::vector<std::pair<double, double>> samples;  // (thickness, area)
-  std::vector<double> areas(th.size());
-  for (std::size_t t = 0; t < th.size(); ++t) {
+  const std::size_t n = m.triangles.size();
+  if (n == 0) return r;
+  const Bvh bvh = build_bvh(m);
+  const double eps = 1e-9 * (bvh.nodes[0].hi - bvh.nodes[0].lo).norm();  // closer hits: the ray's own start
+  const std::vector<double> th = centroid_rays(m, bvh, eps, threads);
+  std::vector<double> areas(n), longest(n);
+  for (std::size_t t = 0; t < n; ++t) {
     const auto& tri = m.triangles[t];
-    areas[t] = 0.5 * (m.vertices[tri[1]] - m.vertices[tri[0]]).cross(m.vertices[tri[2]] - m.vertices[tri[0]]).norm();
+    const Vec3 &a = m.vertices[tri[0]], &b = m.vertices[tri[1]], &c = m.vertices[tri[2]];
+    areas[t] = 0.5 * (b - a).cross(c - a).norm();
+    longest[t] = longest_side(m, t);
   }
+  // A triangle at least twice as long as its wall is thick gets level^2 rays, one from each sub-triangle of
+  // its regular subdivision (level = longest side / thickness at its centroid, rounded down, at most
+  // kMaxLevel): one ray from the centroid would miss how the wall changes across it (the large faces of a
+  // coarse mesh: a wedge of two triangles a side). Each ray weighs its sub-triangle's area. A budget of
+  // sub-rays keeps a check linear: over it, the largest level comes down until it fits.
+  std::vector<int> level(n, 1);
+  auto wanted = [&](std::size_t t, int cap) {
+    if (!(th[t] > 0) || !(longest[t] >= 2 * th[t])) return 1;
+    return static_cast<int>(std::min(static_cast<double>(cap), std::floor(longest[t] / th[t])));
+  };
+  const std::size_t budget = std::max<std::size_t>(kSubRayBudget, 4 * n);
+  int cap = kMaxLevel;
+  for (;; --cap) {
+    std::size_t rays = 0;
+    for (std::size_t t = 0; t < n; ++t) {
+      level[t] = wanted(t, cap);
+      if (level[t] > 1) rays += static_cast<std::size_t>(level[t] * level[t]);
+    }
+    if (rays <= budget || cap == 1) break;
+  }
+  std::vector<std::size_t> first(n + 1, 0);  // each refined triangle's sub-rays
+  for (std::size_t t = 0; t < n; ++t)
+    first[t + 1] = first[t] + (level[t] > 1 ? static_cast<std::size_t>(level[t] * level[t]) : 0);
+  auto origin = [&](std::size_t t, int k) {
+    const auto& tri = m.triangles[t];
+    const auto [u, v] = sub_centroid(level[t], k);
+    const Vec3& a = m.vertices[tri[0]];
+    return Vec3(a + u * (m.vertices[tri[1]] - a) + v * (m.vertices[tri[2]] - a));
+  };
+  std::vector<double> sub(first[n], -1.0);
+  core::parallel_for(
+      n, threads,
+      [&](std::size_t begin, std::size_t end) {
+        Stack stack;
+        for (std::size_t t = begin; t < end; ++t)
+          for (int k = 0; k < (level[t] > 1 ? level[t] * level[t] : 0); ++k)
+            sub[first[t] + static_cast<std::size_t>(k)] =
+                cast(bvh, m, origin(t, k), inward(m, t), static_cast<std::uint32_t>(t), eps, stack);
+      },
+      256);
+
   // the shortest ray leaves out slivers (a mesher's micrometre triangles at a voxel corner): the ray along
   // their noisy normal meets a neighbour of theirs, not the far wall
   std::vector<double> sorted = areas;
   std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-  const double sliver = sorted.empty() ? 0.0 : kSliverArea * sorted[sorted.size() / 2];
+  const double sliver = kSliverArea * sorted[sorted.size() / 2];
+  std::vector<std::pair<double, double>> samples;  // (thickness, area)
   double total = 0;
   bool min_found = false;
   double any_min = 0;  // the shortest ray of all, for a mesh of slivers only
   Vec3 any_at = Vec3::Zero();
-  for (std::size_t t = 0; t < th.size(); ++t) {
-    const auto& tri = m.triangles[t];
-    const double area = areas[t];
-    if (!(area > 0)) continue;
+  auto sample = [&](std::size_t t, double value, double area, const Vec3& at) {
+    samples.emplace_back(value, area);
+    total += area;
+    if (samples.size() == 1 || value < any_min) {
+      any_min = value;
+      any_at = at;
+    }
+    if (areas[t] >= sliver && (!min_found || value < r.min)) {
+      min_found = true;
+      r.min = value;
+      r.min_at = at;
+    }
+  };
+  for (std::size_t t = 0; t < n; ++t) {
+    if (!(areas[t] > 0)) continue;
     if (th[t] == kGivenUp) {
       ++r.given_up;
       continue;
@@ -293,18 +386,15 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
       ++r.missed;
       continue;
     }
-    samples.emplace_back(th[t], area);
-    total += area;
-    if (r.samples == 0 || th[t] < any_min) {
-      any_min = th[t];
-      any_at = (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3;
-    }
-    if (area >= sliver && (!min_found || th[t] < r.min)) {
-      min_found = true;
-      r.min = th[t];
-      r.min_at = (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3;
-    }
     ++r.samples;
+    if (level[t] == 1) {
+      const auto& tri = m.triangles[t];
+      sample(t, th[t], areas[t], (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3);
+      continue;
+    }
+    const double part = areas[t] / static_cast<double>(level[t] * level[t]);
+    for (int k = 0; k < level[t] * level[t]; ++k)
+      if (const double v = sub[first[t] + static_cast<std::size_t>(k)]; v >= 0) sample(t, v, part, origin(t, k));
   }
   if (samples.empty()) return r;
   if (!min_found) {

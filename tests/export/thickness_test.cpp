@@ -247,6 +247,14 @@ TEST_CASE("a finely divided cone is measured, and rays through a pile of triangl
   // (-2, -1) / sqrt(5) to the base: 10 sqrt(5) / 3 (a base sliver's ray meets the side sliver sharing its
   // rim edge, which is skipped as a crease: missed)
   CHECK(r.samples == static_cast<std::size_t>(n));
+  const auto th = exporters::triangle_thickness(cone);
+  for (std::size_t t = 0; t < th.size(); t += 2) {
+    if (th[t] == Approx(10 * std::sqrt(5.0) / 3).epsilon(1e-6)) continue;
+    FAIL_CHECK("side sliver " << t << ": " << th[t]);
+    break;
+  }
+  // (the side slivers, 11.2 long, are not twice as long as that: one ray each)
+  CHECK(r.min == Approx(10 * std::sqrt(5.0) / 3).epsilon(1e-6));
   CHECK(r.median == Approx(10 * std::sqrt(5.0) / 3).epsilon(1e-6));
   // 20,000 copies of one small triangle at the centre of a sphere, whose rays all pass there: a ray
   // enters every box of the pile and is given up
@@ -264,4 +272,33 @@ TEST_CASE("a finely divided cone is measured, and rays through a pile of triangl
   CHECK(p.samples + p.missed + p.given_up == pile.triangles.size());
   // an ordinary closed mesh gives up none
   CHECK(exporters::wall_thickness(icosphere(1.0, 5)).given_up == 0);
+}
+
+TEST_CASE("a coarse mesh shows where its walls thin: a wedge of two triangles a side", "[thickness]") {
+  // a slab 100 x 10 whose height falls from 2 at y = 0 to 0.2 at y = 10, as a modeller exports it (12
+  // triangles): one ray from each centroid measured 0.8 at the thinnest (a third of the way in) and a
+  // median of 1.4. Each large face now gets 8 x 8 rays; the one nearest the thin side starts 10/24 in:
+  // 0.2 + 0.18 * 10 / 24 = 0.275
+  PrintableMesh w;
+  w.vertices = {Vec3(0, 0, 0), Vec3(100, 0, 0), Vec3(100, 10, 0),   Vec3(0, 10, 0),
+                Vec3(0, 0, 2), Vec3(100, 0, 2), Vec3(100, 10, 0.2), Vec3(0, 10, 0.2)};
+  w.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                 {3, 7, 6}, {3, 6, 2}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
+  const auto r = exporters::wall_thickness(w);
+  CHECK(r.samples == 11);  // the ray of {0, 5, 4} leaves through the top's {4, 5, 6}, a neighbour: skipped
+  CHECK(r.missed == 1);
+  CHECK(r.min == Approx(0.275).epsilon(1e-9));
+  CHECK(r.min_at.y() > 9.5);
+  CHECK(r.p01 < 0.35);
+  // by area: the top and bottom (2016 of 2258) run evenly from 0.2 to 2, the sides are thicker: the median
+  // is at 0.56 of the way, about 1.21
+  CHECK(r.median == Approx(1.21).margin(0.06));
+  // a tetrahedron is not measured: every ray leaves through a face that shares corners with its own, and
+  // such neighbours are skipped (at the folds and creases of a fine mesh they are no wall)
+  PrintableMesh tet;
+  tet.vertices = {Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(0, 12, 0), Vec3(0, 0, 14)};
+  tet.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  const auto q = exporters::wall_thickness(tet);
+  CHECK(q.samples == 0);
+  CHECK(q.missed == 4);
 }
