@@ -392,9 +392,21 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
       sample(t, th[t], areas[t], (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3);
       continue;
     }
+    // a sub-ray that finds no wall (it leaves through a neighbour, or is given up) leaves its part of the
+    // area to the centroid's value, so the triangle weighs its whole area as before
     const double part = areas[t] / static_cast<double>(level[t] * level[t]);
-    for (int k = 0; k < level[t] * level[t]; ++k)
-      if (const double v = sub[first[t] + static_cast<std::size_t>(k)]; v >= 0) sample(t, v, part, origin(t, k));
+    double unmeasured = 0;
+    for (int k = 0; k < level[t] * level[t]; ++k) {
+      const double v = sub[first[t] + static_cast<std::size_t>(k)];
+      if (v >= 0)
+        sample(t, v, part, origin(t, k));
+      else
+        unmeasured += part;
+    }
+    if (unmeasured > 0) {
+      const auto& tri = m.triangles[t];
+      sample(t, th[t], unmeasured, (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3);
+    }
   }
   if (samples.empty()) return r;
   if (!min_found) {

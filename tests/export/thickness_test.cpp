@@ -302,3 +302,29 @@ TEST_CASE("a coarse mesh shows where its walls thin: a wedge of two triangles a 
   CHECK(q.samples == 0);
   CHECK(q.missed == 4);
 }
+
+TEST_CASE("a large triangle whose extra rays find no wall keeps its centroid's value", "[thickness]") {
+  // a frustum: a top of side 10 and a tiny downward tip 2.5 to 3.1 below its centroid (review, December
+  // 2026): the top's centroid ray meets the tip at about 3.07, so the top (10 long) gets 3 x 3 rays, which
+  // all leave through the sides, neighbours of the top; it counted as a sample with no area, and with
+  // every other ray missed too the check said "thinner than 0, median 0, shortest ray 0 near (0, 0, 0)"
+  PrintableMesh m;
+  const double s = 10, r = 0.15, depth = 2.5;
+  const Vec3 a(0, 0, 0), b(s, 0, 0), c(s / 2, s * std::sqrt(3.0) / 2, 0);
+  const Vec3 g = (a + b + c) / 3;
+  auto bottom = [&](const Vec3& x) {
+    return Vec3(g.x() + (x - g).x() * r / 5.77, g.y() + (x - g).y() * r / 5.77, -depth);
+  };
+  m.vertices = {a, b, c, bottom(a), bottom(b), bottom(c), Vec3(g.x() + 0.01, g.y() + 0.02, -depth - 0.6)};
+  m.triangles = {{0, 1, 2}, {3, 6, 4}, {4, 6, 5}, {5, 6, 3}, {0, 3, 4},
+                 {0, 4, 1}, {1, 4, 5}, {1, 5, 2}, {2, 5, 3}, {2, 3, 0}};
+  const auto th = exporters::triangle_thickness(m);
+  REQUIRE(th[0] > 2.5);
+  REQUIRE(th[0] < 3.2);
+  const auto rep = exporters::wall_thickness(m);
+  REQUIRE(rep.samples >= 1);
+  CHECK(rep.min == th[0]);
+  CHECK(rep.median == th[0]);
+  CHECK(rep.p01 == th[0]);
+  CHECK((rep.min_at - g).norm() < 1e-12);
+}
