@@ -125,6 +125,29 @@ double surface_seconds(std::size_t n, int k, bool one_layer) {
   return s.triangles.empty() ? -1 : t;
 }
 
+/// Seconds to triangulate a square lattice of n x n cells `spacing` model units apart, linked to their four
+/// lattice neighbours only: every square is a quad to close (no triangle to take the typical side from).
+double quad_lattice_seconds(int n, double spacing) {
+  cells::Cells c;
+  c.link_stride = 4;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      cells::add_cell(c, core::Vec3(i * spacing, j * spacing, 0.01 * spacing * ((i * 7 + j * 3) % 5)));
+  c.links.assign(c.size() * 4, core::kNoIndex);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const auto a = static_cast<std::size_t>(i * n + j);
+      int k = 0;
+      for (const auto& [di, dj] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{-1, 0}, std::pair{0, -1}})
+        if (i + di >= 0 && i + di < n && j + dj >= 0 && j + dj < n)
+          c.links[a * 4 + static_cast<std::size_t>(k++)] = static_cast<core::Index>((i + di) * n + j + dj);
+    }
+  const auto a = std::chrono::steady_clock::now();
+  const cells::Surface s = cells::triangulate(c, true);
+  const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+  return s.triangles.size() == static_cast<std::size_t>(2 * (n - 1) * (n - 1)) ? t : -1;
+}
+
 const Register r7{{"cells.surface.1m", "s", "triangulate 1,000,000 cells in one layer (cells.ply, cells.obj)", 3,
                    [] { return surface_seconds(1000000, 6, true); }}};
 const Register r8{{"cells.surface.1m.cliques", "s", "the same keeping every 3-clique (printed shells)", 3,
@@ -133,6 +156,9 @@ const Register r9{{"cells.surface.20k.k32", "s", "one layer, 20,000 cells with t
                    [] { return surface_seconds(20000, 32, true); }}};
 const Register r10{{"cells.surface.20k.k32.cliques", "s", "every clique, 20,000 cells with 32 nearest links each", 3,
                     [] { return surface_seconds(20000, 32, false); }}};
+const Register r11{{"cells.surface.quads.40k.s10", "s",
+                    "one layer, a 200 x 200 lattice of quads 10 units apart (closing every quad)", 3,
+                    [] { return quad_lattice_seconds(200, 10); }}};
 
 }  // namespace
 

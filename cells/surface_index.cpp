@@ -120,7 +120,7 @@ bool CornerIndex::crosses_at_corner(const std::vector<Vec3>& pos, const std::arr
   return false;
 }
 
-SheetIndex::SheetIndex(const std::vector<Vec3>& pos, const std::vector<std::array<Index, 3>>& tris)
+SheetIndex::SheetIndex(const std::vector<Vec3>& pos, const std::vector<std::array<Index, 3>>& tris, double no_sides)
     : pos_(pos), corners_(pos.size(), {}, tris) {
   double total = 0;
   std::size_t counted = 0;
@@ -130,7 +130,8 @@ SheetIndex::SheetIndex(const std::vector<Vec3>& pos, const std::vector<std::arra
       if (std::isfinite(side)) total += side, ++counted;
     }
   const double typical = counted > 0 ? total / static_cast<double>(counted) : 0.0;
-  reach_ = kLongSides * (typical > 0 && std::isfinite(typical) ? typical : 1.0);
+  const double fallback = no_sides > 0 && std::isfinite(no_sides) ? no_sides : 1.0;
+  reach_ = kLongSides * (typical > 0 && std::isfinite(typical) ? typical : fallback);
   for (const auto& t : tris) note_long(t);
 }
 
