@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "app/run_internal.h"
+#include "app/schema.h"
 #include "core/atomic_file.h"
 #include "core/chunk_file.h"
 #include "core/errors.h"
@@ -148,6 +149,12 @@ Start start_from(const RunOptions& o) {
           s.script_path = std::string(raw.begin(), raw.end());
         }
         s.sets = meta.at("overrides").get<Overrides>();
+        // a boolean field set to 1 or 0, which --set took before December 2026, reads as true or false
+        for (auto& [key, text] : s.sets)
+          if (const auto dot = key.find('.'); dot != std::string::npos && (text == "1" || text == "0"))
+            if (const Field* field = find_field(key.substr(0, dot), key.substr(dot + 1));
+                field && field->kind == Kind::boolean)
+              text = text == "1" ? "true" : "false";
         // counts must be whole numbers >= 0 (a negative one would wrap round to a huge step)
         for (const char* key : {"seed", "target_steps", "step"})
           if (!meta.at(key).is_number_unsigned())

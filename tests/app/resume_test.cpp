@@ -413,3 +413,25 @@ TEST_CASE("a leaf whose waiting sources pass max_sources stops, says why, and re
   const auto run2 = nlohmann::json::parse(slurp(out / "run.json"));
   CHECK(run2["steps"]["completed"].get<std::size_t>() > steps);
 }
+
+TEST_CASE("a checkpoint whose --set gave a boolean as 1 or 0 still resumes", "[cli][checkpoint]") {
+  // --set output.obj=0 was taken (as false) before December 2026 and kept in the checkpoint; --set now
+  // takes only true or false, and the checkpoint's overrides are read back as --set texts
+  TempDir t("cli-old-boolean");
+  const auto script = t.write("small.lua", kSmall);
+  const fs::path out = t.path / "o";
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "5"}).code == 0);
+  const auto good = cellform::core::read_chunk_file(slurp(out / "checkpoint.cfck"), "CKPT", 1, "test");
+  auto meta = nlohmann::json::parse(good.chunks.at("meta"));
+  meta["overrides"]["output.obj"] = "0";
+  auto forged = good.chunks;
+  forged["meta"] = meta.dump();
+  fs::create_directories(t.path / "old");
+  const auto ck = t.path / "old" / "checkpoint.cfck";
+  std::ofstream(ck, std::ios::binary) << cellform::core::write_chunk_file("CKPT", 1, forged);
+  const auto r = cli({"resume", ck.string(), "--quiet", "--steps", "8"});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  CHECK(fs::exists(t.path / "old" / "cells.ply"));
+  CHECK(!fs::exists(t.path / "old" / "cells.obj"));  // output.obj = false
+}
