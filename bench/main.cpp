@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
@@ -46,6 +47,7 @@ int main(int argc, char** argv) {
   using namespace cellform::bench;
   std::vector<std::string> names;
   std::string json_path;
+  bool json_given = false;
   int reps_override = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -55,16 +57,12 @@ int main(int argc, char** argv) {
     }
     if (a == "--json") {
       json_path = argv[++i];
+      json_given = true;
     } else if (a == "--repetitions") {
       const std::string v = argv[++i];
-      std::size_t used = 0;
       long n = 0;
-      try {
-        n = std::stol(v, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != v.size() || v.empty() || n < 1 || n > 1000000) {
+      const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), n);
+      if (ec != std::errc() || end != v.data() + v.size() || n < 1 || n > 1000000) {
         std::cerr << "cellform-bench: --repetitions needs a whole number from 1 to 1000000, got '" << v << "'\n";
         return 2;
       }
@@ -95,14 +93,17 @@ int main(int argc, char** argv) {
     std::cerr << "cellform-bench: no benchmark matches; see cellform-bench --list\n";
     return 2;
   }
-  if (!json_path.empty()) {  // before the benchmarks, which may take many minutes
+  if (json_given) {  // before the benchmarks, which may take many minutes: a file can be made there
     namespace fs = std::filesystem;
     std::error_code ec;
-    const fs::path parent = fs::absolute(json_path, ec).parent_path();
-    const char* problem = fs::is_directory(json_path, ec)       ? "is a folder"
-                          : !fs::is_directory(parent, ec)       ? "is in a folder that does not exist"
-                          : ::access(parent.c_str(), W_OK) != 0 ? "is in a folder this process cannot write"
-                                                                : nullptr;
+    const fs::path parent = json_path.empty() ? fs::path() : fs::absolute(json_path, ec).parent_path();
+    const fs::path probe = parent / (".cellform-bench-probe-" + std::to_string(::getpid()));
+    const char* problem = json_path.empty()                 ? "is empty"
+                          : fs::is_directory(json_path, ec) ? "is a folder"
+                          : !fs::is_directory(parent, ec)   ? "is in a folder that does not exist"
+                          : !std::ofstream(probe).good()    ? "is in a folder where no file can be made"
+                                                            : nullptr;
+    fs::remove(probe, ec);
     if (problem) {
       std::cerr << "cellform-bench: --json '" << json_path << "' " << problem << "\n";
       return 2;
@@ -130,7 +131,7 @@ int main(int argc, char** argv) {
                        {"max", v.back()},
                        {"repetitions", reps}});
   }
-  if (!json_path.empty()) {
+  if (json_given) {
     try {
       cellform::core::write_file_atomically(json_path, [&](std::ostream& os) {
         os << nlohmann::json{{"results", results}}.dump(2) << "\n";

@@ -13,7 +13,9 @@ namespace {
 /// Whether the angles AvB and CvD of two triangles with the common corner v (A to D: their other corners
 /// from v; n = A x B, not zero) are disjoint seen along n, found with signs of cross products: no end (nor
 /// the bisector, for two equal angles) of either strictly inside the other. Then neither triangle reaches
-/// over the other: each lies in the cone of its angle, and seen along n the cones meet only at v.
+/// over the other: each lies in the cone of its angle, and seen along n the cones meet only at v. (Exactly
+/// so; core::segment_meets_triangle counts points within its rounding tolerance, about 1e-6 of the
+/// coordinates, of a plane as on it, so for a pair that all but touches the two may disagree.)
 bool apart(const Vec3& A, const Vec3& B, const Vec3& C, const Vec3& D, const Vec3& n) {
   auto turn = [&](const Vec3& x, const Vec3& y) { return x.cross(y).dot(n); };  // > 0: x to y anticlockwise
   const double sigma = turn(C, D) > 0 ? 1.0 : -1.0;

@@ -19,10 +19,14 @@ expect 2 "--repetitions needs a whole number from 1 to 1000000, got 'abc'" "$one
 expect 2 "--repetitions needs a whole number from 1 to 1000000, got '0'" "$one" --repetitions 0
 expect 2 "--repetitions needs a whole number from 1 to 1000000, got '-3'" "$one" --repetitions -3
 expect 2 "--repetitions needs a whole number from 1 to 1000000, got '2x'" "$one" --repetitions 2x
+expect 2 "--repetitions needs a whole number from 1 to 1000000, got ' 3'" "$one" --repetitions ' 3'
+expect 2 "--repetitions needs a whole number from 1 to 1000000, got '+3'" "$one" --repetitions +3
 expect 2 "--repetitions needs a value" "$one" --repetitions
 expect 2 "--json needs a value" "$one" --json
 expect 2 "--json '/nonexistent-cellform/x.json' is in a folder that does not exist" "$one" --json /nonexistent-cellform/x.json
 expect 2 "--json '/' is a folder" "$one" --json /
+expect 2 "--json '' is empty" "$one" --json ''
+expect 2 "--json '/proc/x.json' is in a folder where no file can be made" "$one" --json /proc/x.json
 expect 2 "unknown option '--fast'" "$one" --fast
 expect 2 "no benchmark matches" no.such.benchmark
 expect 0 "cells.step.1m.t1" --list
