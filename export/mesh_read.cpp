@@ -59,6 +59,17 @@ T get(const std::string& s, std::size_t at) {
   return v;
 }
 
+/// get() of a value stored big-endian (`big`) or little-endian.
+template <class T>
+T get_ordered(const std::string& s, std::size_t at, bool big) {
+  char bytes[sizeof(T)];
+  std::memcpy(bytes, s.data() + at, sizeof(T));
+  if (big != (std::endian::native == std::endian::big)) std::reverse(bytes, bytes + sizeof(T));
+  T v;
+  std::memcpy(&v, bytes, sizeof(T));
+  return v;
+}
+
 PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s) {
   if (s.size() >= 84) {
     const std::uint32_t n = get<std::uint32_t>(s, 80);
@@ -185,8 +196,9 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
           malformed(path, std::string("PLY vertex property '") + axis + "' is a list, not one number");
       }
   const bool ascii = format == "ascii";
-  if (!ascii && format != "binary_little_endian")
-    malformed(path, "PLY format '" + format + "' is not supported (ascii or binary_little_endian)");
+  const bool big = format == "binary_big_endian";
+  if (!ascii && !big && format != "binary_little_endian")
+    malformed(path, "PLY format '" + format + "' is not supported (ascii, binary_little_endian or binary_big_endian)");
   if (format_version != "1.0")  // the only PLY version there is; another may lay out its data otherwise
     malformed(path, "PLY version '" + format_version + "' is not supported (1.0)");
   std::size_t at = s.find('\n', end);
@@ -230,21 +242,21 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
       malformed(path, "PLY data ends early" + in() + "; is the file truncated, or are the header's counts wrong?");
     double v = 0;
     if (t == "char" || t == "int8")
-      v = get<std::int8_t>(s, at);
+      v = get_ordered<std::int8_t>(s, at, big);
     else if (t == "uchar" || t == "uint8")
-      v = get<std::uint8_t>(s, at);
+      v = get_ordered<std::uint8_t>(s, at, big);
     else if (t == "short" || t == "int16")
-      v = get<std::int16_t>(s, at);
+      v = get_ordered<std::int16_t>(s, at, big);
     else if (t == "ushort" || t == "uint16")
-      v = get<std::uint16_t>(s, at);
+      v = get_ordered<std::uint16_t>(s, at, big);
     else if (t == "int" || t == "int32")
-      v = get<std::int32_t>(s, at);
+      v = get_ordered<std::int32_t>(s, at, big);
     else if (t == "uint" || t == "uint32")
-      v = get<std::uint32_t>(s, at);
+      v = get_ordered<std::uint32_t>(s, at, big);
     else if (t == "float" || t == "float32")
-      v = get<float>(s, at);
+      v = get_ordered<float>(s, at, big);
     else
-      v = get<double>(s, at);
+      v = get_ordered<double>(s, at, big);
     at += n;
     return v;
   };

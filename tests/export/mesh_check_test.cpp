@@ -282,8 +282,9 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
   }
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "veins.ply"),
                     Catch::Contains("only edges: a polyline graph such as veins.ply, not a surface"));
-  { std::ofstream(dir / "bad.ply") << "ply\nformat binary_big_endian 1.0\nend_header\n"; }
-  CHECK_THROWS_AS(exporters::read_mesh(dir / "bad.ply"), core::FileError);
+  { std::ofstream(dir / "bad.ply") << "ply\nformat binary_middle_endian 1.0\nend_header\n"; }
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "bad.ply"),
+                    Catch::Contains("PLY format 'binary_middle_endian' is not supported"));
   // NaN in a binary STL is unreadable input (exit 2 in check), not an unprintable shape
   {
     std::string stl(80, ' ');
@@ -347,6 +348,25 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
     std::ofstream(dir / "junk.ply", std::ios::binary) << bin + std::string(40, 'x');
   }
   CHECK(exporters::read_mesh(dir / "whole.ply").triangles.size() == 1);
+  {  // big-endian (older tools and SGI/Sun data): each value's bytes the other way round; double vertices here
+    std::string bin =
+        "ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty double x\nproperty double y\n"
+        "property double z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    auto append_swapped = [&](const void* p, std::size_t n) {
+      const auto* b = static_cast<const char*>(p);
+      for (std::size_t k = n; k-- > 0;) bin += b[k];
+    };
+    for (const double x : {0.0, 0.0, 0.0, 1.5, 0.0, 0.0, 0.0, -2.25, 0.0}) append_swapped(&x, sizeof x);
+    bin += '\x03';
+    for (const std::int32_t i : {0, 1, 2}) append_swapped(&i, sizeof i);
+    std::ofstream(dir / "big.ply", std::ios::binary) << bin;
+  }
+  const auto big = exporters::read_mesh(dir / "big.ply");
+  REQUIRE(big.vertices.size() == 3);
+  CHECK(big.vertices[1] == Vec3(1.5, 0, 0));
+  CHECK(big.vertices[2] == Vec3(0, -2.25, 0));
+  REQUIRE(big.triangles.size() == 1);
+  CHECK(big.triangles[0] == std::array<std::uint32_t, 3>{0, 1, 2});
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "junk.ply"), Catch::Contains("(40 bytes more)"));
   std::string negative = head;
   negative.replace(negative.find("vertex 3"), 8, "vertex -1");
