@@ -155,6 +155,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   std::optional<FolderLock> lock;  // held until the run has written its last file
   try {
     s = start_from(o);
+    host.accept_digit_booleans(s.digit_booleans);
     const bool colonisation_checkpoint = !s.colonisation_bytes.empty() || s.sheet_partial;
     try {
       // resume --script: the run's own --sets that the edited script has no parameter for are dropped

@@ -52,6 +52,7 @@ struct Start {
   std::string checkpoint_source;  // the checkpoint's script
   std::string checkpoint_script_hash;
   Overrides checkpoint_sets;
+  std::set<std::string> digit_booleans;  // the checkpoint's overrides given as 1 or 0 (see accept_digit_booleans)
   // resume --script: the checkpoint's script was replaced by `source` (its path was replaced_path)
   bool script_replaced = false;
   std::string replaced_path;

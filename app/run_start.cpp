@@ -8,7 +8,6 @@
 #include <tuple>
 
 #include "app/run_internal.h"
-#include "app/schema.h"
 #include "core/atomic_file.h"
 #include "core/chunk_file.h"
 #include "core/errors.h"
@@ -149,12 +148,9 @@ Start start_from(const RunOptions& o) {
           s.script_path = std::string(raw.begin(), raw.end());
         }
         s.sets = meta.at("overrides").get<Overrides>();
-        // a boolean field set to 1 or 0, which --set took before December 2026, reads as true or false
-        for (auto& [key, text] : s.sets)
-          if (const auto dot = key.find('.'); dot != std::string::npos && (text == "1" || text == "0"))
-            if (const Field* field = find_field(key.substr(0, dot), key.substr(dot + 1));
-                field && field->kind == Kind::boolean)
-              text = text == "1" ? "true" : "false";
+        // --set took a boolean field as 1 or 0 before December 2026: the checkpoint's own such texts still read
+        for (const auto& [key, text] : s.sets)
+          if (text == "1" || text == "0") s.digit_booleans.insert(key);
         // counts must be whole numbers >= 0 (a negative one would wrap round to a huge step)
         for (const char* key : {"seed", "target_steps", "step"})
           if (!meta.at(key).is_number_unsigned())
@@ -293,6 +289,7 @@ Start start_from(const RunOptions& o) {
             (saved_value == s.sets.end() || saved_value->second != v))
           s.max_steps_changed = true;
         s.sets[k] = v;
+        s.digit_booleans.erase(k);  // given now: as --set takes it now
       }
       return s;
     }
@@ -408,6 +405,7 @@ void adopt_edited_script(Start& s, const RunOptions& o, const SceneConfig& cfg, 
 std::optional<SceneConfig> load_run_script(const Start& s, const ScriptLimits& limits, std::string& why) {
   try {
     ScriptHost old(limits);
+    old.accept_digit_booleans(s.digit_booleans);
     return old.load(s.checkpoint_source, s.replaced_path, s.checkpoint_sets);
   } catch (const core::InvalidInput& e) {
     if (g_interrupt.load()) throw;  // a Ctrl-C while it was read stops the resume, as in the first reading

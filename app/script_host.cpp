@@ -253,6 +253,8 @@ void ScriptHost::set_on_stuck(std::function<void(const std::string&)> handler) {
   watchdog_->set_on_stuck(std::move(handler));
 }
 
+void ScriptHost::accept_digit_booleans(const std::set<std::string>& keys) { impl_->digit_booleans = keys; }
+
 SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::path& script_path,
                              const Overrides& overrides, const std::set<std::string>& may_go_unused) {
   Impl& I = *impl_;

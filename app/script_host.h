@@ -120,6 +120,10 @@ class ScriptHost {
   SceneConfig load(const std::string& source, const std::filesystem::path& script_path, const Overrides& overrides,
                    const std::set<std::string>& may_go_unused = {});
 
+  /// Overrides among `keys` that set a boolean field may say 1 or 0 for true or false, as --set took them
+  /// before December 2026 (a resumed checkpoint's own); any other must say true or false.
+  void accept_digit_booleans(const std::set<std::string>& keys);
+
   /// The overrides of `may_go_unused` that the last load() found no parameter for, in key order.
   const std::vector<std::string>& unused_overrides() const { return unused_; }
 

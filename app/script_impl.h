@@ -106,6 +106,7 @@ struct ScriptHost::Impl {
   // state while a script loads
   SceneConfig* cfg = nullptr;
   const Overrides* overrides = nullptr;
+  std::set<std::string> digit_booleans;  // see ScriptHost::accept_digit_booleans
   std::set<std::string> used_overrides;
   std::map<std::string, std::string> sections_seen;  // section -> where
   std::string first_constraint;                      // where and which: the first obstacle or attractor

@@ -181,9 +181,10 @@ Value ScriptHost::Impl::from_text(const Field& f, const std::string& text, const
       break;
     }
     case Kind::boolean:
-      if (text == "true")  // only these, as in a script and for a params{} knob
+      // only these, as in a script and for a params{} knob (and 1 or 0 from an older checkpoint's --set)
+      if (text == "true" || (text == "1" && digit_booleans.count(name)))
         v.flag = true;
-      else if (text == "false")
+      else if (text == "false" || (text == "0" && digit_booleans.count(name)))
         v.flag = false;
       else
         throw fail();

@@ -415,23 +415,37 @@ TEST_CASE("a leaf whose waiting sources pass max_sources stops, says why, and re
 }
 
 TEST_CASE("a checkpoint whose --set gave a boolean as 1 or 0 still resumes", "[cli][checkpoint]") {
-  // --set output.obj=0 was taken (as false) before December 2026 and kept in the checkpoint; --set now
-  // takes only true or false, and the checkpoint's overrides are read back as --set texts
+  // --set petiole.fixed=1 was taken (as true) before December 2026 and kept in the checkpoint and run.json;
+  // --set now takes only true or false. The checkpoint's own texts still read, as they are (the earlier
+  // frames, which run.json's overrides must match, stay), while a params knob named like a field keeps its
+  // text, and a 1 given to the resume is refused.
   TempDir t("cli-old-boolean");
-  const auto script = t.write("small.lua", kSmall);
+  std::string text = std::string(kSmall) + "output { every = 5 }\n";
+  text.replace(text.find("params { size = 400 }"), 21, "params { size = 400, ['cell.fixed'] = 400 }");
+  const auto script = t.write("small.lua", text);
   const fs::path out = t.path / "o";
-  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "5"}).code == 0);
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "12", "--set", "petiole.fixed=true",
+               "--set", "cell.fixed=1"})
+              .code == 0);
   const auto good = cellform::core::read_chunk_file(slurp(out / "checkpoint.cfck"), "CKPT", 1, "test");
   auto meta = nlohmann::json::parse(good.chunks.at("meta"));
-  meta["overrides"]["output.obj"] = "0";
+  meta["overrides"]["petiole.fixed"] = "1";
   auto forged = good.chunks;
   forged["meta"] = meta.dump();
-  fs::create_directories(t.path / "old");
-  const auto ck = t.path / "old" / "checkpoint.cfck";
-  std::ofstream(ck, std::ios::binary) << cellform::core::write_chunk_file("CKPT", 1, forged);
-  const auto r = cli({"resume", ck.string(), "--quiet", "--steps", "8"});
+  std::ofstream(out / "checkpoint.cfck", std::ios::binary) << cellform::core::write_chunk_file("CKPT", 1, forged);
+  auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  run["overrides"]["petiole.fixed"] = "1";
+  std::ofstream(out / "run.json") << run.dump(2);
+  auto r = cli({"resume", (out / "checkpoint.cfck").string(), "--quiet", "--steps", "20", "--set", "output.obj=0"});
+  CHECK(r.code == 2);  // given now: true or false only
+  CHECK_THAT(r.err, Contains("output.obj must be true or false"));
+  r = cli({"resume", (out / "checkpoint.cfck").string(), "--quiet", "--steps", "20"});
   INFO(r.err);
-  CHECK(r.code == 0);
-  CHECK(fs::exists(t.path / "old" / "cells.ply"));
-  CHECK(!fs::exists(t.path / "old" / "cells.obj"));  // output.obj = false
+  REQUIRE(r.code == 0);
+  for (const char* f :
+       {"cells_000000.ply", "cells_000005.ply", "cells_000010.ply", "cells_000015.ply", "cells_000020.ply"})
+    CHECK(fs::exists(out / "frames" / f));
+  const auto after = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(after["overrides"]["cell.fixed"] == "1");  // the knob's text, unchanged
+  CHECK(after["parameters"]["params"]["cell.fixed"] == 1);
 }
