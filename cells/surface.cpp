@@ -194,12 +194,12 @@ std::vector<std::array<Index, 2>> close_quads(const std::vector<Vec3>& pos,
   }
   std::sort(quads.begin(), quads.end());
   quads.erase(std::unique(quads.begin(), quads.end()), quads.end());
-  double links = 0;  // the typical side where there are no triangles yet (a sheet of quads)
+  double links = 0;  // the typical side: the mean link (a few small triangles must not make all others long)
   std::size_t counted = 0;
   for (const auto& [a, b] : edges)
     if (const double l = (pos[a] - pos[b]).norm(); std::isfinite(l)) links += l, ++counted;
   // nor may the quads' triangles lie over a triangle round a corner, nor cross one
-  detail::SheetIndex sheet(pos, tris, counted > 0 ? links / static_cast<double>(counted) : 1.0);
+  detail::SheetIndex sheet(pos, tris, counted > 0 ? links / static_cast<double>(counted) : 0.0);
   // A new triangle has the quad's diagonal, which is no link, as a side: it can only repeat a triangle of
   // another quad on the same diagonal, which `diagonals` prevents.
   std::set<std::array<Index, 2>> diagonals;  // closing diagonals used so far

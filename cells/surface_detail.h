@@ -55,9 +55,9 @@ class CornerIndex {
 class SheetIndex {
  public:
   static constexpr double kLongSides = 4;
-  /// `pos` is kept by reference; `tris`: the sheet now. `no_sides`: the typical side (model units) when
-  /// `tris` has none (a sheet of quads only: the mean link), else 1.
-  SheetIndex(const std::vector<Vec3>& pos, const std::vector<std::array<Index, 3>>& tris, double no_sides = 1.0);
+  /// `pos` is kept by reference; `tris`: the sheet now. `typical_side`: the typical side (model units; 0: the mean
+  /// side of `tris`, or 1 if it has none). Only the cost depends on it, never an answer.
+  SheetIndex(const std::vector<Vec3>& pos, const std::vector<std::array<Index, 3>>& tris, double typical_side = 0);
   void add(const std::array<Index, 3>& t);
   /// Whether `t` lies over a triangle of the sheet round a corner they share (CornerIndex::stacks).
   bool stacks(const std::array<Index, 3>& t) const { return corners_.stacks(pos_, t); }

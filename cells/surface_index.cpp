@@ -122,7 +122,7 @@ bool CornerIndex::crosses_at_corner(const std::vector<Vec3>& pos, const std::arr
   return false;
 }
 
-SheetIndex::SheetIndex(const std::vector<Vec3>& pos, const std::vector<std::array<Index, 3>>& tris, double no_sides)
+SheetIndex::SheetIndex(const std::vector<Vec3>& pos, const std::vector<std::array<Index, 3>>& tris, double typical_side)
     : pos_(pos), corners_(pos.size(), {}, tris) {
   double total = 0;
   std::size_t counted = 0;
@@ -131,9 +131,10 @@ SheetIndex::SheetIndex(const std::vector<Vec3>& pos, const std::vector<std::arra
       const double side = (pos[t[k]] - pos[t[(k + 1) % 3]]).norm();
       if (std::isfinite(side)) total += side, ++counted;
     }
-  const double typical = counted > 0 ? total / static_cast<double>(counted) : 0.0;
-  const double fallback = no_sides > 0 && std::isfinite(no_sides) ? no_sides : 1.0;
-  reach_ = kLongSides * (typical > 0 && std::isfinite(typical) ? typical : fallback);
+  const double typical = typical_side > 0 && std::isfinite(typical_side) ? typical_side
+                         : counted > 0                                   ? total / static_cast<double>(counted)
+                                                                         : 0.0;
+  reach_ = kLongSides * (typical > 0 && std::isfinite(typical) ? typical : 1.0);
   for (const auto& t : tris) note_long(t);
 }
 
