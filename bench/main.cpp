@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "bench/bench.h"
 #include "core/atomic_file.h"
@@ -97,13 +99,22 @@ int main(int argc, char** argv) {
     namespace fs = std::filesystem;
     std::error_code ec;
     const fs::path parent = json_path.empty() ? fs::path() : fs::absolute(json_path, ec).parent_path();
-    const fs::path probe = parent / (".cellform-bench-probe-" + std::to_string(::getpid()));
+    // a file of our own, made anew (never one that is there, nor through a link), then removed
+    auto can_make_file = [&] {
+      const std::string probe = (parent / ".cellform-bench-probe-XXXXXX").string();
+      std::vector<char> name(probe.begin(), probe.end());
+      name.push_back('\0');
+      const int fd = ::mkstemp(name.data());
+      if (fd < 0) return false;
+      ::close(fd);
+      ::unlink(name.data());
+      return true;
+    };
     const char* problem = json_path.empty()                 ? "is empty"
                           : fs::is_directory(json_path, ec) ? "is a folder"
                           : !fs::is_directory(parent, ec)   ? "is in a folder that does not exist"
-                          : !std::ofstream(probe).good()    ? "is in a folder where no file can be made"
+                          : !can_make_file()                ? "is in a folder where no file can be made"
                                                             : nullptr;
-    fs::remove(probe, ec);
     if (problem) {
       std::cerr << "cellform-bench: --json '" << json_path << "' " << problem << "\n";
       return 2;
