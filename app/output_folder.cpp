@@ -183,7 +183,7 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, fs::
     }
   }
   // staging folders (".partial-PID" or ".partial-PID-K") and half-written checkpoints and run.json files
-  // ("checkpoint.cfck.tmp-PID", "run.json.tmp-PID") of runs that were killed (a second Ctrl-C, SIGKILL):
+  // ("checkpoint.cfck.tmp-PID-K", "run.json.tmp-PID-K") of runs that were killed (a second Ctrl-C, SIGKILL):
   // with the folder locked no other run writes there, so all of them, whatever runs under those process
   // ids now; unlocked (a file system without locks), those whose process is gone
   std::error_code ec;
@@ -233,7 +233,7 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, fs::
     staging = dir / (".partial-" + std::to_string(::getpid()) + "-" + std::to_string(k));  // run with our pid
   // the longest path a run writes (a frame written aside in the staging folder) must fit the system's
   // limit, else the run would fail only at its end
-  const std::string longest = (staging / "frames" / "cells_000000000000000000.ply.tmp-4294967295").string();
+  const std::string longest = (staging / "frames" / "cells_000000000000000000.ply.tmp-4294967295-99").string();
   if (longest.size() >= PATH_MAX)
     throw FolderRefused("the --out folder's path is too long: its files' paths would pass the system's limit of " +
                         std::to_string(PATH_MAX) + " bytes ('" + dir.string().substr(0, 60) + "...')");

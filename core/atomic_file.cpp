@@ -41,8 +41,20 @@ void write_file_atomically(const fs::path& path, const std::function<void(std::o
   if (!fs::is_directory(dir, ec))
     throw FileError("cannot write '" + path.string() + "': '" + dir.string() + "' is not a directory");
   if (fs::is_directory(path, ec)) throw FileError("cannot write '" + path.string() + "': it is a directory");
-  fs::path tmp = path;
-  tmp += ".tmp-" + std::to_string(::getpid());
+  // a temporary of our own, made anew beside the file (O_EXCL: never a file or link that is there already,
+  // which another user could have put in a shared folder), then written and renamed over the file
+  fs::path tmp;
+  for (int attempt = 0;; ++attempt) {
+    tmp = path;
+    tmp += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(attempt);
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+      ::close(fd);
+      break;
+    }
+    if (errno != EEXIST || attempt == 99)
+      throw FileError("cannot write '" + path.string() + "': " + std::strerror(errno));
+  }
   try {
     {
       std::ofstream out(tmp, std::ios::binary | std::ios::trunc);

@@ -60,6 +60,21 @@ TEST_CASE("a failing writer leaves the old file and no temporary", "[core][files
   CHECK(entries(d.path) == 1);
 }
 
+TEST_CASE("the temporary is a new file: a link at its name is neither followed nor removed", "[core][files]") {
+  // the temporary's name was path.tmp-PID, opened to truncate: a link put there (in a shared folder)
+  // truncated its target, and the write replaced the link
+  Dir d;
+  const fs::path f = d.path / "a.txt", victim = d.path / "victim.txt";
+  { std::ofstream(victim) << "keep me"; }
+  const fs::path trap = d.path / ("a.txt.tmp-" + std::to_string(::getpid()) + "-0");
+  fs::create_symlink(victim, trap);
+  cellform::core::write_file_atomically(f, [](std::ostream& os) { os << "written"; });
+  CHECK(slurp(f) == "written");
+  CHECK(slurp(victim) == "keep me");
+  CHECK(fs::is_symlink(trap));
+  CHECK(entries(d.path) == 3);  // the file, the victim, the link: no temporary left
+}
+
 TEST_CASE("unwritable places are reported with the path", "[core][files]") {
   Dir d;
   CHECK_THROWS_WITH(cellform::core::write_file_atomically(d.path / "no" / "such" / "dir.txt", [](std::ostream&) {}),
