@@ -160,6 +160,12 @@ Bvh build_bvh(const PrintableMesh& m) {
   return b;
 }
 
+bool shares_vertex(const std::array<std::uint32_t, 3>& a, const std::array<std::uint32_t, 3>& b) {
+  for (std::uint32_t i : a)
+    if (i == b[0] || i == b[1] || i == b[2]) return true;
+  return false;
+}
+
 /// Entry parameter of the ray into the box within [0, t_max], or infinity if it misses.
 double enter_box(const Vec3& o, const Vec3& inv, const Vec3& lo, const Vec3& hi, double t_max) {
   double t0 = 0, t1 = t_max;
@@ -229,9 +235,7 @@ double cast(const Bvh& bvh, const PrintableMesh& m, const Vec3& o, const Vec3& d
     for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) {
       const std::uint32_t u = bvh.tri[bvh.order[k]];  // a piece's triangle: tested whole
       const auto& h = m.triangles[u];
-      if (own[0] == h[0] || own[0] == h[1] || own[0] == h[2] || own[1] == h[0] || own[1] == h[1] || own[1] == h[2] ||
-          own[2] == h[0] || own[2] == h[1] || own[2] == h[2])
-        continue;  // itself, or a neighbour
+      if (shares_vertex(own, h)) continue;  // itself, or a neighbour
       const double s = ray_triangle(o, d, m.vertices[h[0]], m.vertices[h[1]], m.vertices[h[2]]);
       if (s > eps && (s < best || (s == best && u < best_tri))) {
         best = s;
