@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "tests/venation/leaf_fixtures.h"
 
 using namespace cellform;
@@ -24,6 +26,12 @@ namespace v = cellform::venation;
 using namespace cellform::test;
 
 namespace {
+
+/// A folder of this test process's own: ctest runs the test cases as processes side by side, and two
+/// of them sharing a fixed name would remove each other's files.
+std::filesystem::path scratch_dir(const std::string& name) {
+  return std::filesystem::temp_directory_path() / (name + "-" + std::to_string(::getpid()));
+}
 
 std::string read_text(const std::filesystem::path& p) {
   std::stringstream s;
@@ -50,7 +58,7 @@ TEST_CASE("the SVG is drawn in millimetres at svg size", "[vein_io]") {
   t.positions = {Vec3(0, 0, 0), Vec3(0, 5, 0), Vec3(10, 8, 0)};
   t.parent = {kNoIndex, 0, 1};
   t.radius = {0.5, 0.5, 0.01};
-  const auto dir = std::filesystem::temp_directory_path() / "cellform_vein_io_test";
+  const auto dir = scratch_dir("cellform_vein_io_test");
   std::filesystem::create_directories(dir);
   v::SvgParams sp;
   sp.size = 120;  // mm for the 40 units: 3 mm per unit
@@ -89,7 +97,7 @@ TEST_CASE("the SVG is drawn in millimetres at svg size", "[vein_io]") {
 
   // a given scale (a print's, mm per model unit) replaces the size
   sp.scale = 2;
-  const auto dir2 = std::filesystem::temp_directory_path() / "cellform_vein_io_test2";
+  const auto dir2 = scratch_dir("cellform_vein_io_test2");
   std::filesystem::create_directories(dir2);
   v::write_svg(dir2 / "leaf.svg", t, outline, sp);
   const std::string scaled = read_text(dir2 / "leaf.svg");
@@ -109,7 +117,7 @@ std::vector<std::string> hand_tree_paths(bool join_veins) {
   t.parent = {kNoIndex, 0, 1, 2, 3, 1};
   t.radius = {0.5, 0.5, 0.5, 0.5, 0.25, 0.5};
   t.anastomoses = {{4, 5}};
-  const auto dir = std::filesystem::temp_directory_path() / "cellform_vein_io_paths";
+  const auto dir = scratch_dir("cellform_vein_io_paths");
   std::filesystem::create_directories(dir);
   v::SvgParams sp;
   sp.scale = 1;
@@ -156,7 +164,7 @@ TEST_CASE("the SVG has a layer per vein order, each path in the layer of its seg
   REQUIRE(!t.anastomoses.empty());
   const std::uint32_t top = *std::max_element(t.order.begin(), t.order.end());
   REQUIRE(top >= 3);
-  const auto dir = std::filesystem::temp_directory_path() / "cellform_vein_io_layers";
+  const auto dir = scratch_dir("cellform_vein_io_layers");
   std::filesystem::create_directories(dir);
   v::SvgParams sp;
   sp.scale = 10;
@@ -261,7 +269,7 @@ TEST_CASE("the SVG's finest orders share the last layer colour, never the midvei
   }
   v::Outline outline;
   outline.points = {{-1, -1}, {15, -1}, {15, 2}, {-1, 2}};
-  const auto dir = std::filesystem::temp_directory_path() / "cellform_vein_io_colours";
+  const auto dir = scratch_dir("cellform_vein_io_colours");
   std::filesystem::create_directories(dir);
   v::write_svg(dir / "leaf.svg", t, outline);
   const std::string svg = read_text(dir / "leaf.svg");
@@ -287,7 +295,7 @@ TEST_CASE("the SVG's finest orders share the last layer colour, never the midvei
 TEST_CASE("SVG, PLY and OBJ output", "[colonisation]") {
   auto [t, rep] = v::colonise(ellipse_leaf(30, 20), params(v::VenationType::closed, 1));
   v::compute_widths(t, {});
-  const auto dir = std::filesystem::temp_directory_path() / "cellform_colonisation_test";
+  const auto dir = scratch_dir("cellform_colonisation_test");
   std::filesystem::create_directories(dir);
   v::write_svg(dir / "leaf.svg", t, ellipse_leaf(30, 20).outline);
   v::write_vein_ply(dir / "veins.ply", t);
