@@ -205,44 +205,52 @@ using Stack = std::vector<std::pair<std::uint32_t, double>>;
 
 /// The ray from `o` (on triangle `self`) along the unit vector `d` to the first triangle it meets farther
 /// than `eps` that shares no corner with self (neighbours meet it only at folds of a crease or of a fine
-/// mesh, not across the wall): the distance if the ray leaves the solid there (that triangle faces along
-/// d), a negative number if it meets none or enters the solid first, kGivenUp past kMaxVisits boxes.
+/// mesh, not across the wall), or, if it meets none such, to the first other triangle (a coarse solid
+/// whose faces all share corners, a tetrahedron; `through_neighbour` says so): the distance if the ray
+/// leaves the solid there (that triangle faces along d), a negative number if it meets none or enters the
+/// solid first, kGivenUp past kMaxVisits boxes.
 double cast(const Bvh& bvh, const PrintableMesh& m, const Vec3& o, const Vec3& d, std::uint32_t self, double eps,
-            Stack& stack) {
+            Stack& stack, bool* through_neighbour) {
   const auto& own = m.triangles[self];
   const Vec3 inv = d.cwiseInverse();
   double best = std::numeric_limits<double>::infinity();
   std::uint32_t best_tri = 0;
-  // depth first, nearer child first, each entry kept with the distance at which the ray enters it
-  stack.clear();
-  if (std::isfinite(enter_box(o, inv, bvh.nodes[0].lo, bvh.nodes[0].hi, best))) stack.push_back({0, 0.0});
   std::size_t visits = 0;
-  while (!stack.empty()) {
-    const auto [id, enter] = stack.back();
-    stack.pop_back();
-    if (enter > best) continue;
-    if (++visits > kMaxVisits) return kGivenUp;
-    const Bvh::Node& nd = bvh.nodes[id];
-    if (nd.count == 0) {
-      const Bvh::Node &l = bvh.nodes[nd.left], &r = bvh.nodes[nd.right];
-      const double tl = enter_box(o, inv, l.lo, l.hi, best), tr = enter_box(o, inv, r.lo, r.hi, best);
-      const bool left_first = tl <= tr;
-      const double t_far = left_first ? tr : tl, t_near = left_first ? tl : tr;
-      if (std::isfinite(t_far)) stack.push_back({left_first ? nd.right : nd.left, t_far});
-      if (std::isfinite(t_near)) stack.push_back({left_first ? nd.left : nd.right, t_near});
-      continue;
-    }
-    for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) {
-      const std::uint32_t u = bvh.tri[bvh.order[k]];  // a piece's triangle: tested whole
-      const auto& h = m.triangles[u];
-      if (shares_vertex(own, h)) continue;  // itself, or a neighbour
-      const double s = ray_triangle(o, d, m.vertices[h[0]], m.vertices[h[1]], m.vertices[h[2]]);
-      if (s > eps && (s < best || (s == best && u < best_tri))) {
-        best = s;
-        best_tri = u;
+  // depth first, nearer child first, each entry kept with the distance at which the ray enters it
+  auto search = [&](bool neighbours) {
+    stack.clear();
+    if (std::isfinite(enter_box(o, inv, bvh.nodes[0].lo, bvh.nodes[0].hi, best))) stack.push_back({0, 0.0});
+    while (!stack.empty()) {
+      const auto [id, enter] = stack.back();
+      stack.pop_back();
+      if (enter > best) continue;
+      if (++visits > kMaxVisits) return false;
+      const Bvh::Node& nd = bvh.nodes[id];
+      if (nd.count == 0) {
+        const Bvh::Node &l = bvh.nodes[nd.left], &r = bvh.nodes[nd.right];
+        const double tl = enter_box(o, inv, l.lo, l.hi, best), tr = enter_box(o, inv, r.lo, r.hi, best);
+        const bool left_first = tl <= tr;
+        const double t_far = left_first ? tr : tl, t_near = left_first ? tl : tr;
+        if (std::isfinite(t_far)) stack.push_back({left_first ? nd.right : nd.left, t_far});
+        if (std::isfinite(t_near)) stack.push_back({left_first ? nd.left : nd.right, t_near});
+        continue;
+      }
+      for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) {
+        const std::uint32_t u = bvh.tri[bvh.order[k]];  // a piece's triangle: tested whole
+        const auto& h = m.triangles[u];
+        if (neighbours ? u == self : shares_vertex(own, h)) continue;
+        const double s = ray_triangle(o, d, m.vertices[h[0]], m.vertices[h[1]], m.vertices[h[2]]);
+        if (s > eps && (s < best || (s == best && u < best_tri))) {
+          best = s;
+          best_tri = u;
+        }
       }
     }
-  }
+    return true;
+  };
+  if (!search(false)) return kGivenUp;
+  *through_neighbour = !std::isfinite(best);
+  if (*through_neighbour && !search(true)) return kGivenUp;
   if (!std::isfinite(best)) return -1;
   const auto& h = m.triangles[best_tri];
   const Vec3 hn = (m.vertices[h[1]] - m.vertices[h[0]]).cross(m.vertices[h[2]] - m.vertices[h[0]]);
@@ -263,9 +271,11 @@ double longest_side(const PrintableMesh& m, std::size_t t) {
   return std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
 }
 
-/// Rays from the centroids (see triangle_thickness).
-std::vector<double> centroid_rays(const PrintableMesh& m, const Bvh& bvh, double eps, int threads) {
+/// Rays from the centroids (see triangle_thickness); `neighbour[t]` = 1 where t's ray met only neighbours.
+std::vector<double> centroid_rays(const PrintableMesh& m, const Bvh& bvh, double eps, int threads,
+                                  std::vector<std::uint8_t>& neighbour) {
   std::vector<double> out(m.triangles.size(), -1.0);
+  neighbour.assign(m.triangles.size(), 0);
   core::parallel_for(
       m.triangles.size(), threads,
       [&](std::size_t begin, std::size_t end) {
@@ -275,7 +285,9 @@ std::vector<double> centroid_rays(const PrintableMesh& m, const Bvh& bvh, double
           if (d == Vec3::Zero()) continue;
           const auto& tri = m.triangles[t];
           const Vec3 o = (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3;
-          out[t] = cast(bvh, m, o, d, static_cast<std::uint32_t>(t), eps, stack);
+          bool through = false;
+          out[t] = cast(bvh, m, o, d, static_cast<std::uint32_t>(t), eps, stack, &through);
+          neighbour[t] = through;
         }
       },
       1024);
@@ -299,7 +311,8 @@ std::array<double, 2> sub_centroid(int level, int k) {
 std::vector<double> triangle_thickness(const PrintableMesh& m, int threads) {
   if (m.triangles.empty()) return {};
   const Bvh bvh = build_bvh(m);
-  return centroid_rays(m, bvh, 1e-9 * (bvh.nodes[0].hi - bvh.nodes[0].lo).norm(), threads);
+  std::vector<std::uint8_t> neighbour;
+  return centroid_rays(m, bvh, 1e-9 * (bvh.nodes[0].hi - bvh.nodes[0].lo).norm(), threads, neighbour);
 }
 
 ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
@@ -308,7 +321,8 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
   if (n == 0) return r;
   const Bvh bvh = build_bvh(m);
   const double eps = 1e-9 * (bvh.nodes[0].hi - bvh.nodes[0].lo).norm();  // closer hits: the ray's own start
-  const std::vector<double> th = centroid_rays(m, bvh, eps, threads);
+  std::vector<std::uint8_t> th_neighbour;  // the centroid's ray met only neighbours of its triangle
+  const std::vector<double> th = centroid_rays(m, bvh, eps, threads, th_neighbour);
   std::vector<double> areas(n), longest(n);
   for (std::size_t t = 0; t < n; ++t) {
     const auto& tri = m.triangles[t];
@@ -346,35 +360,40 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
     return Vec3(a + u * (m.vertices[tri[1]] - a) + v * (m.vertices[tri[2]] - a));
   };
   std::vector<double> sub(first[n], -1.0);
+  std::vector<std::uint8_t> sub_neighbour(first[n], 0);
   core::parallel_for(
       n, threads,
       [&](std::size_t begin, std::size_t end) {
         Stack stack;
         for (std::size_t t = begin; t < end; ++t)
-          for (int k = 0; k < (level[t] > 1 ? level[t] * level[t] : 0); ++k)
-            sub[first[t] + static_cast<std::size_t>(k)] =
-                cast(bvh, m, origin(t, k), inward(m, t), static_cast<std::uint32_t>(t), eps, stack);
+          for (int k = 0; k < (level[t] > 1 ? level[t] * level[t] : 0); ++k) {
+            const std::size_t i = first[t] + static_cast<std::size_t>(k);
+            bool through = false;
+            sub[i] = cast(bvh, m, origin(t, k), inward(m, t), static_cast<std::uint32_t>(t), eps, stack, &through);
+            sub_neighbour[i] = through;
+          }
       },
       256);
 
-  // the shortest ray leaves out slivers (a mesher's micrometre triangles at a voxel corner): the ray along
-  // their noisy normal meets a neighbour of theirs, not the far wall
+  // the shortest ray leaves out slivers (a mesher's micrometre triangles at a voxel corner: the ray along
+  // their noisy normal meets a neighbour of theirs, not the far wall) and rays that met only neighbours
+  // (where a fine mesh folds over at a ridge, a ray can leave through a neighbour within a hair of its start)
   std::vector<double> sorted = areas;
   std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
   const double sliver = kSliverArea * sorted[sorted.size() / 2];
   std::vector<std::pair<double, double>> samples;  // (thickness, area)
   double total = 0;
   bool min_found = false;
-  double any_min = 0;  // the shortest ray of all, for a mesh of slivers only
+  double any_min = 0;  // the shortest ray of all, for a mesh of slivers (or of neighbours' rays) only
   Vec3 any_at = Vec3::Zero();
-  auto sample = [&](std::size_t t, double value, double area, const Vec3& at) {
+  auto sample = [&](std::size_t t, double value, double area, const Vec3& at, bool through_neighbour) {
     samples.emplace_back(value, area);
     total += area;
     if (samples.size() == 1 || value < any_min) {
       any_min = value;
       any_at = at;
     }
-    if (areas[t] >= sliver && (!min_found || value < r.min)) {
+    if (areas[t] >= sliver && !through_neighbour && (!min_found || value < r.min)) {
       min_found = true;
       r.min = value;
       r.min_at = at;
@@ -393,23 +412,24 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
     ++r.samples;
     if (level[t] == 1) {
       const auto& tri = m.triangles[t];
-      sample(t, th[t], areas[t], (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3);
+      sample(t, th[t], areas[t], (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3, th_neighbour[t]);
       continue;
     }
-    // a sub-ray that finds no wall (it leaves through a neighbour, or is given up) leaves its part of the
+    // a sub-ray that finds no wall (it enters the solid again first, or is given up; or it met only
+    // neighbours where the centroid's ray did not) leaves its part of the
     // area to the centroid's value, so the triangle weighs its whole area as before
     const double part = areas[t] / static_cast<double>(level[t] * level[t]);
     double unmeasured = 0;
     for (int k = 0; k < level[t] * level[t]; ++k) {
-      const double v = sub[first[t] + static_cast<std::size_t>(k)];
-      if (v >= 0)
-        sample(t, v, part, origin(t, k));
+      const std::size_t i = first[t] + static_cast<std::size_t>(k);
+      if (sub[i] >= 0 && (th_neighbour[t] || !sub_neighbour[i]))
+        sample(t, sub[i], part, origin(t, k), th_neighbour[t]);
       else
         unmeasured += part;
     }
     if (unmeasured > 0) {
       const auto& tri = m.triangles[t];
-      sample(t, th[t], unmeasured, (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3);
+      sample(t, th[t], unmeasured, (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3, th_neighbour[t]);
     }
   }
   if (samples.empty()) return r;

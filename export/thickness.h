@@ -11,20 +11,22 @@ namespace cellform::exporters {
 
 /// Local wall thickness by the ray method of print-preparation tools: from the centroid of each
 /// triangle a ray goes along the inward normal to the first triangle it meets that shares no vertex
-/// with it (neighbours only meet it at folds of a crease, not across the wall; so a solid whose faces
-/// all share corners, a tetrahedron, is not measured); if that triangle faces away from the ray (the ray
-/// leaves the solid there) the distance is the wall thickness at that triangle. A triangle at least
-/// twice as long as that thickness gets more rays, from the centroids of its regular subdivision (see
-/// wall_thickness), so the large faces of a coarse mesh show where their wall thins. For a tapered
-/// capsule this is its local diameter, for a shell its wall. Lengths are in the mesh's units (mm for
-/// cellform output). The mesh must be wound outward (positive volume).
+/// with it (neighbours mostly meet it at folds of a crease or of a fine mesh, not across the wall), or,
+/// if it meets none such, to the first other triangle (a coarse solid whose faces all share corners, a
+/// tetrahedron or a pyramid); if that triangle faces away from the ray (the ray leaves the solid there)
+/// the distance is the wall thickness at that triangle. A triangle at least twice as long as that
+/// thickness gets more rays, from the centroids of its regular subdivision (see wall_thickness), so the
+/// large faces of a coarse mesh show where their wall thins. For a tapered capsule this is its local
+/// diameter, for a shell its wall. Lengths are in the mesh's units (mm for cellform output). The mesh
+/// must be wound outward (positive volume).
 struct ThicknessReport {
   std::size_t samples = 0;   ///< triangles whose ray left the solid through another triangle
   std::size_t missed = 0;    ///< rays that met nothing or entered the solid (open, inverted or creased spots)
-  std::size_t given_up = 0;  ///< rays given up among too many overlapping boxes (where very many triangles meet)
-  double min = 0;  ///< thinnest sample of a triangle not under kSliverArea times the median triangle area (0 if
-                   ///< there is none); single rays in the crotch of a junction can cut a corner, so p01 is
-                   ///< the robust figure
+  std::size_t given_up = 0;  ///< centroid rays given up among too many overlapping boxes (where very many
+                             ///< triangles meet; an extra ray given up leaves its area to its centroid's value)
+  double min = 0;  ///< thinnest sample of a triangle not under kSliverArea times the median triangle area whose
+                   ///< ray met a triangle sharing no corner with it (else the thinnest of all; 0 if none);
+                   ///< single rays in the crotch of a junction can cut a corner, so p01 is the robust figure
   core::Vec3 min_at = core::Vec3::Zero();  ///< where the ray of the thinnest sample starts
   double p01 = 0;                          ///< 1st percentile of the samples, by area: 1% of the surface is thinner
   double median = 0;                       ///< median of the samples, by area

@@ -67,7 +67,8 @@ PrintableMesh icosphere(double r, int levels) {
   return m;
 }
 
-// The same rays as triangle_thickness, against every triangle.
+// The same rays as triangle_thickness, against every triangle: the first that shares no corner with the
+// ray's own, or if there is none such, the first other one.
 std::vector<double> brute_force(const PrintableMesh& m) {
   std::vector<double> out(m.triangles.size(), -1.0);
   Vec3 lo = m.vertices[0], hi = lo;
@@ -84,25 +85,26 @@ std::vector<double> brute_force(const PrintableMesh& m) {
     const Vec3 d = -n / n.norm(), o = (a + b + c) / 3;
     double best = std::numeric_limits<double>::infinity();
     std::size_t best_u = 0;
-    for (std::size_t u = 0; u < m.triangles.size(); ++u) {
-      const auto& h = m.triangles[u];
-      bool shared = false;
-      for (std::uint32_t i : f) shared = shared || i == h[0] || i == h[1] || i == h[2];
-      if (shared) continue;
-      const Vec3 e1 = m.vertices[h[1]] - m.vertices[h[0]], e2 = m.vertices[h[2]] - m.vertices[h[0]];
-      const Vec3 p = d.cross(e2);
-      const double det = e1.dot(p);
-      if (std::abs(det) < 1e-300) continue;
-      const double inv = 1 / det;  // the same arithmetic as the library, so the values agree exactly
-      const Vec3 s = o - m.vertices[h[0]], q = s.cross(e1);
-      const double uu = s.dot(p) * inv, vv = d.dot(q) * inv;
-      if (uu < 0 || uu > 1 || vv < 0 || uu + vv > 1) continue;
-      const double dist = e2.dot(q) * inv;
-      if (dist > eps && dist < best) {
-        best = dist;
-        best_u = u;
+    for (std::size_t pass = 0; pass < 2 && !std::isfinite(best); ++pass)
+      for (std::size_t u = 0; u < m.triangles.size(); ++u) {
+        const auto& h = m.triangles[u];
+        bool shared = false;
+        for (std::uint32_t i : f) shared = shared || i == h[0] || i == h[1] || i == h[2];
+        if (pass == 0 ? shared : u == t) continue;
+        const Vec3 e1 = m.vertices[h[1]] - m.vertices[h[0]], e2 = m.vertices[h[2]] - m.vertices[h[0]];
+        const Vec3 p = d.cross(e2);
+        const double det = e1.dot(p);
+        if (std::abs(det) < 1e-300) continue;
+        const double inv = 1 / det;  // the same arithmetic as the library, so the values agree exactly
+        const Vec3 s = o - m.vertices[h[0]], q = s.cross(e1);
+        const double uu = s.dot(p) * inv, vv = d.dot(q) * inv;
+        if (uu < 0 || uu > 1 || vv < 0 || uu + vv > 1) continue;
+        const double dist = e2.dot(q) * inv;
+        if (dist > eps && dist < best) {
+          best = dist;
+          best_u = u;
+        }
       }
-    }
     if (!std::isfinite(best)) continue;
     const auto& h = m.triangles[best_u];
     if ((m.vertices[h[1]] - m.vertices[h[0]]).cross(m.vertices[h[2]] - m.vertices[h[0]]).dot(d) > 0) out[t] = best;
@@ -244,18 +246,21 @@ TEST_CASE("a finely divided cone is measured, and rays through a pile of triangl
   CHECK(r.given_up == 0);
   CHECK(r.samples + r.missed == cone.triangles.size());
   // a side sliver's ray starts at its centroid, (r, z) = (10/3, 10/3), and goes in along the normal
-  // (-2, -1) / sqrt(5) to the base: 10 sqrt(5) / 3 (a base sliver's ray meets the side sliver sharing its
-  // rim edge, which is skipped as a crease: missed)
-  CHECK(r.samples == static_cast<std::size_t>(n));
+  // (-2, -1) / sqrt(5) to the base: 10 sqrt(5) / 3. A base sliver's ray goes up from r = 10/3 and meets
+  // only the side sliver sharing its rim edge, at the height 10/3 (a neighbour: it counts, but not for the
+  // shortest ray)
+  CHECK(r.samples == 2 * static_cast<std::size_t>(n));
   const auto th = exporters::triangle_thickness(cone);
-  for (std::size_t t = 0; t < th.size(); t += 2) {
-    if (th[t] == Approx(10 * std::sqrt(5.0) / 3).epsilon(1e-6)) continue;
-    FAIL_CHECK("side sliver " << t << ": " << th[t]);
+  for (std::size_t t = 0; t < th.size(); ++t) {
+    if (th[t] == Approx(t % 2 == 0 ? 10 * std::sqrt(5.0) / 3 : 10.0 / 3).epsilon(1e-6)) continue;
+    FAIL_CHECK((t % 2 == 0 ? "side" : "base") << " sliver " << t << ": " << th[t]);
     break;
   }
-  // (the side slivers, 11.2 long, are not twice as long as that: one ray each)
+  // (the side slivers, 11.2 long, are not twice as long as that: one ray each; nor are the base's)
   CHECK(r.min == Approx(10 * std::sqrt(5.0) / 3).epsilon(1e-6));
+  // by area the side (pi 5 sqrt(125) = 176) outweighs the base (pi 25 = 79)
   CHECK(r.median == Approx(10 * std::sqrt(5.0) / 3).epsilon(1e-6));
+  CHECK(r.p01 == Approx(10.0 / 3).epsilon(1e-6));
   // 20,000 copies of one small triangle at the centre of a sphere, whose rays all pass there: a ray
   // enters every box of the pile and is given up
   PrintableMesh pile = icosphere(1.0, 3);
@@ -285,29 +290,63 @@ TEST_CASE("a coarse mesh shows where its walls thin: a wedge of two triangles a 
   w.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
                  {3, 7, 6}, {3, 6, 2}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
   const auto r = exporters::wall_thickness(w);
-  CHECK(r.samples == 11);  // the ray of {0, 5, 4} leaves through the top's {4, 5, 6}, a neighbour: skipped
-  CHECK(r.missed == 1);
+  // the ray of {0, 5, 4} leaves through the top's {4, 5, 6}, a neighbour, and meets nothing else: it counts,
+  // but not for the shortest ray
+  CHECK(r.samples == 12);
+  CHECK(r.missed == 0);
   CHECK(r.min == Approx(0.275).epsilon(1e-9));
   CHECK(r.min_at.y() > 9.5);
   CHECK(r.p01 < 0.35);
   // by area: the top and bottom (2016 of 2258) run evenly from 0.2 to 2, the sides are thicker: the median
   // is at 0.56 of the way, about 1.21
   CHECK(r.median == Approx(1.21).margin(0.06));
-  // a tetrahedron is not measured: every ray leaves through a face that shares corners with its own, and
-  // such neighbours are skipped (at the folds and creases of a fine mesh they are no wall)
+}
+
+TEST_CASE("a solid whose faces all share corners is measured through its neighbours", "[thickness]") {
+  // a tetrahedron's every face shares corners with every other: each ray leaves through a neighbour of
+  // its triangle, which counts when the ray meets nothing else (it was "not measured" before)
   PrintableMesh tet;
   tet.vertices = {Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(0, 12, 0), Vec3(0, 0, 14)};
   tet.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  const auto th = exporters::triangle_thickness(tet);
+  // from the centroid of a face on a coordinate plane, inward along that axis to the slanted face
+  // x / 10 + y / 12 + z / 14 = 1, a third of the corner's extent along the axis
+  CHECK(th[0] == Approx(14.0 / 3));
+  CHECK(th[1] == Approx(12.0 / 3));
+  CHECK(th[2] == Approx(10.0 / 3));
+  // from the slanted face's centroid along its inward normal, to the first of the three planes: x = 0
+  const Vec3 normal = Vec3(1.0 / 10, 1.0 / 12, 1.0 / 14).normalized();
+  CHECK(th[3] == Approx((10.0 / 3) / normal.x()));
+  CHECK(th == brute_force(tet));
   const auto q = exporters::wall_thickness(tet);
-  CHECK(q.samples == 0);
-  CHECK(q.missed == 4);
+  CHECK(q.samples == 4);
+  CHECK(q.missed == 0);
+  // the large faces get sub-rays, thinner towards the edges; the shortest is one of them
+  CHECK(q.min > 0);
+  CHECK(q.min < 10.0 / 3);
+  CHECK(q.p01 <= q.median);
+  CHECK(q.median < 14.0 / 3 + 1e-9);
+
+  // such rays count in p01 and the median, but not in the shortest ray when others measured the mesh:
+  // where a fine mesh folds over at a ridge, a ray can leave through a neighbour within a hair of its start
+  PrintableMesh both;
+  add_box(both, Vec3(0, 0, 0), Vec3(3, 5, 2));
+  const auto small = static_cast<std::uint32_t>(both.vertices.size());
+  for (const Vec3& v : tet.vertices) both.vertices.push_back(Vec3(20, 20, 20) + v / 10);  // corner 1.0 x 1.2 x 1.4
+  for (const auto& f : tet.triangles) both.triangles.push_back({f[0] + small, f[1] + small, f[2] + small});
+  const auto b = exporters::wall_thickness(both);
+  CHECK(b.samples == 16);
+  CHECK(b.min == Approx(2));  // the box's: the small tetrahedron's rays, 0.33 to 0.49 and less, are left out
+  CHECK(b.min_at.x() < 3);
 }
 
 TEST_CASE("a large triangle whose extra rays find no wall keeps its centroid's value", "[thickness]") {
   // a frustum: a top of side 10 and a tiny downward tip 2.5 to 3.1 below its centroid (review, December
   // 2026): the top's centroid ray meets the tip at about 3.07, so the top (10 long) gets 3 x 3 rays, which
   // all leave through the sides, neighbours of the top; it counted as a sample with no area, and with
-  // every other ray missed too the check said "thinner than 0, median 0, shortest ray 0 near (0, 0, 0)"
+  // every other ray missed too the check said "thinner than 0, median 0, shortest ray 0 near (0, 0, 0)".
+  // (The sides' rays now count through their neighbours, as the centroid's ray of each met only
+  // neighbours; the top's met a wall across, so its extra rays through neighbours still do not.)
   PrintableMesh m;
   const double s = 10, r = 0.15, depth = 2.5;
   const Vec3 a(0, 0, 0), b(s, 0, 0), c(s / 2, s * std::sqrt(3.0) / 2, 0);
@@ -321,10 +360,11 @@ TEST_CASE("a large triangle whose extra rays find no wall keeps its centroid's v
   const auto th = exporters::triangle_thickness(m);
   REQUIRE(th[0] > 2.5);
   REQUIRE(th[0] < 3.2);
+  for (std::size_t t = 4; t < th.size(); ++t) CHECK(th[t] > 1);  // the sides, across the frustum
   const auto rep = exporters::wall_thickness(m);
-  REQUIRE(rep.samples >= 1);
-  CHECK(rep.min == th[0]);
-  CHECK(rep.median == th[0]);
-  CHECK(rep.p01 == th[0]);
+  CHECK(rep.samples == 10);
+  CHECK(rep.min == th[0]);  // the sides' rays met only neighbours; the tip's three triangles are slivers
   CHECK((rep.min_at - g).norm() < 1e-12);
+  CHECK(rep.p01 < 0.5);  // the sides' extra rays find where the frustum narrows
+  CHECK(rep.median > 1);
 }
