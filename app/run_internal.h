@@ -53,6 +53,8 @@ struct Start {
   std::string checkpoint_script_hash;
   Overrides checkpoint_sets;
   std::set<std::string> digit_booleans;  // the checkpoint's overrides given as 1 or 0 (see accept_digit_booleans)
+                                         // and not given otherwise on this command line
+  std::set<std::string> checkpoint_digit_booleans;  // all of the checkpoint's, for reloading its own script
   // resume --script: the checkpoint's script was replaced by `source` (its path was replaced_path)
   bool script_replaced = false;
   std::string replaced_path;

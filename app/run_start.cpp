@@ -151,6 +151,7 @@ Start start_from(const RunOptions& o) {
         // --set took a boolean field as 1 or 0 before December 2026: the checkpoint's own such texts still read
         for (const auto& [key, text] : s.sets)
           if (text == "1" || text == "0") s.digit_booleans.insert(key);
+        s.checkpoint_digit_booleans = s.digit_booleans;
         // counts must be whole numbers >= 0 (a negative one would wrap round to a huge step)
         for (const char* key : {"seed", "target_steps", "step"})
           if (!meta.at(key).is_number_unsigned())
@@ -288,8 +289,9 @@ Start start_from(const RunOptions& o) {
         if (k == "colonisation.max_steps" && !s.colonisation_bytes.empty() && !s.sheet_partial &&
             (saved_value == s.sets.end() || saved_value->second != v))
           s.max_steps_changed = true;
+        // given now, and otherwise than saved: as --set takes it now (restating the saved 1 keeps it)
+        if (saved_value == s.sets.end() || saved_value->second != v) s.digit_booleans.erase(k);
         s.sets[k] = v;
-        s.digit_booleans.erase(k);  // given now: as --set takes it now
       }
       return s;
     }
@@ -405,7 +407,7 @@ void adopt_edited_script(Start& s, const RunOptions& o, const SceneConfig& cfg, 
 std::optional<SceneConfig> load_run_script(const Start& s, const ScriptLimits& limits, std::string& why) {
   try {
     ScriptHost old(limits);
-    old.accept_digit_booleans(s.digit_booleans);
+    old.accept_digit_booleans(s.checkpoint_digit_booleans);  // it loads the checkpoint's own --set texts
     return old.load(s.checkpoint_source, s.replaced_path, s.checkpoint_sets);
   } catch (const core::InvalidInput& e) {
     if (g_interrupt.load()) throw;  // a Ctrl-C while it was read stops the resume, as in the first reading
