@@ -6,6 +6,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <ext/stdio_filebuf.h>
 #include <fstream>
 #include <sstream>
 
@@ -44,21 +45,23 @@ void write_file_atomically(const fs::path& path, const std::function<void(std::o
   // a temporary of our own, made anew beside the file (O_EXCL: never a file or link that is there already,
   // which another user could have put in a shared folder), then written and renamed over the file
   fs::path tmp;
+  int fd = -1;
   for (int attempt = 0;; ++attempt) {
     tmp = path;
     tmp += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(attempt);
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
-    if (fd >= 0) {
-      ::close(fd);
-      break;
-    }
-    if (errno != EEXIST || attempt == 99)
-      throw FileError("cannot write '" + path.string() + "': " + std::strerror(errno));
+    fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd >= 0) break;
+    if (errno != EEXIST) throw FileError("cannot write '" + path.string() + "': " + std::strerror(errno));
+    if (attempt == 99)
+      throw FileError("cannot write '" + path.string() + "': the temporary names beside it (" +
+                      path.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-0 to -99) are all taken");
   }
   try {
     {
-      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-      if (!out) throw FileError("cannot write '" + path.string() + "': " + std::strerror(errno));
+      // written and synced through the descriptor just made: the name is never opened again, so nothing
+      // put in its place meanwhile is written to (the buffer closes the descriptor)
+      __gnu_cxx::stdio_filebuf<char> buf(fd, std::ios::out | std::ios::binary, 1 << 16);
+      std::ostream out(&buf);
       errno = 0;
       write(out);
       out.flush();
@@ -68,13 +71,7 @@ void write_file_atomically(const fs::path& path, const std::function<void(std::o
                         (err == EFBIG    ? "the file is larger than this process may write (ulimit -f)"
                          : err == ENOSPC ? "the disk is full"
                                          : "write failed (disk full?)"));
-    }
-    const int fd = ::open(tmp.c_str(), O_RDONLY);
-    if (fd >= 0) {
-      const int rc = ::fsync(fd);
-      const int err = errno;
-      ::close(fd);
-      if (rc != 0) throw FileError("cannot write '" + path.string() + "': " + std::strerror(err));
+      if (::fsync(fd) != 0) throw FileError("cannot write '" + path.string() + "': " + std::strerror(errno));
     }
     fs::rename(tmp, path, ec);
     if (ec) throw FileError("cannot write '" + path.string() + "': " + ec.message());

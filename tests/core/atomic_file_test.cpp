@@ -75,6 +75,23 @@ TEST_CASE("the temporary is a new file: a link at its name is neither followed n
   CHECK(entries(d.path) == 3);  // the file, the victim, the link: no temporary left
 }
 
+TEST_CASE("the temporary is written through the descriptor that made it, not opened again by name", "[core][files]") {
+  // the temporary was closed once made and opened again by name to write and to sync (review, December
+  // 2026). The moment between those two cannot be reached from here; this holds the write to what it is
+  // now: a link put at the name while the writer runs is not what gets the bytes
+  Dir d;
+  const fs::path f = d.path / "a.txt", victim = d.path / "victim.txt";
+  { std::ofstream(victim) << "keep me"; }
+  const fs::path tmp = d.path / ("a.txt.tmp-" + std::to_string(::getpid()) + "-0");
+  cellform::core::write_file_atomically(f, [&](std::ostream& os) {
+    REQUIRE(fs::is_regular_file(tmp));
+    fs::remove(tmp);
+    fs::create_symlink(victim, tmp);  // the name now leads elsewhere
+    os << "written";
+  });
+  CHECK(slurp(victim) == "keep me");
+}
+
 TEST_CASE("unwritable places are reported with the path", "[core][files]") {
   Dir d;
   CHECK_THROWS_WITH(cellform::core::write_file_atomically(d.path / "no" / "such" / "dir.txt", [](std::ostream&) {}),
