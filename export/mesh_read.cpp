@@ -19,7 +19,8 @@ namespace cellform::exporters {
 using core::Vec3;
 using Tri = std::array<std::uint32_t, 3>;
 
-// binary PLY and STL are little-endian; the writers and readers copy values in host order
+// binary STL and cellform's binary PLY are little-endian: the writers and readers copy values in host order
+// (a big-endian PLY's values are byte-swapped as they are read)
 static_assert(std::endian::native == std::endian::little, "cellform's binary files need a little-endian host");
 
 namespace {
