@@ -7,10 +7,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <span>
 #include <sstream>
+#include <vector>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/polygon.h"
 #include "export/mesh_check.h"
 #include "forms/mesh_io.h"
 
@@ -51,6 +54,26 @@ PrintableMesh weld_soup(std::vector<Vec3> corners) {  // 3 corners per triangle 
   for (std::size_t t = 0; t < m.triangles.size(); ++t)
     m.triangles[t] = {index[3 * t], index[3 * t + 1], index[3 * t + 2]};
   return m;
+}
+
+/// Appends the triangles of a face (corners: indices into m.vertices, all in range): fanned if it is
+/// convex, else cut by ear clipping in its plane, as an L-shaped n-gon needs; `where` names it in the error
+/// for a concave face too large to cut.
+void add_face(PrintableMesh& m, std::span<const std::uint32_t> face, const std::filesystem::path& path,
+              const std::string& where) {
+  if (face.size() == 3) {
+    m.triangles.push_back({face[0], face[1], face[2]});
+    return;
+  }
+  std::vector<Vec3> corners(face.size());
+  for (std::size_t k = 0; k < face.size(); ++k) corners[k] = m.vertices[face[k]];
+  bool too_large = false;
+  const auto tris = core::triangulate_polygon(corners, &too_large);
+  if (too_large)
+    malformed(path, where + ": a face of " + std::to_string(face.size()) + " corners that is not convex (over " +
+                        std::to_string(core::kMaxConcaveCorners) +
+                        " such corners are not cut into triangles here); triangulate it in the modeller");
+  for (const auto& t : tris) m.triangles.push_back({face[t[0]], face[t[1]], face[t[2]]});
 }
 
 template <class T>
@@ -139,7 +162,7 @@ PrintableMesh read_obj(const std::filesystem::path& path, const std::string& s) 
         }
       }
       if (poly.size() < 3) malformed(path, "line " + std::to_string(line_no) + ": a face needs three vertices");
-      for (std::size_t k = 1; k + 1 < poly.size(); ++k) m.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+      add_face(m, poly, path, "line " + std::to_string(line_no));
     }
   }
   if (m.triangles.empty()) malformed(path, "no faces in the OBJ file");
@@ -266,6 +289,8 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
     if (e.name == "vertex") vertex_total += e.count;
   PrintableMesh m;
   std::vector<double> list;
+  std::vector<std::uint32_t> faces;  // every face's corners in turn, face f ending at face_end[f]
+  std::vector<std::size_t> face_end;
   for (const Element& e : elements)
     for (std::size_t i = 0; i < e.count; ++i) {
       elem = &e.name;
@@ -303,8 +328,9 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
               malformed(path, "PLY face index " + std::to_string(static_cast<std::uint32_t>(x)) + " out of range (" +
                                   std::to_string(vertex_total) + " vertices)" + in());
           }
-          for (std::size_t k = 1; k + 1 < list.size(); ++k)
-            m.triangles.push_back({std::uint32_t(list[0]), std::uint32_t(list[k]), std::uint32_t(list[k + 1])});
+          // split once every vertex is read (a file may list its faces first)
+          for (double x : list) faces.push_back(static_cast<std::uint32_t>(x));
+          face_end.push_back(faces.size());
         }
       }
       if (e.name == "vertex") m.vertices.push_back(p);
@@ -322,9 +348,12 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
   if (s.find_first_not_of(" \t\r\n", rest_from) != std::string::npos)
     malformed(path, "PLY data goes on after the elements the header declares (" + std::to_string(s.size() - rest_from) +
                         " bytes more); are the header's counts wrong?");
-  for (const Tri& t : m.triangles)
-    for (std::uint32_t i : t)
-      if (i >= m.vertices.size()) malformed(path, "PLY face index " + std::to_string(i) + " out of range");
+  for (const std::uint32_t i : faces)
+    if (i >= m.vertices.size()) malformed(path, "PLY face index " + std::to_string(i) + " out of range");
+  m.triangles.reserve(faces.size() - 2 * face_end.size());
+  for (std::size_t f = 0, from = 0; f < face_end.size(); from = face_end[f++])
+    add_face(m, std::span<const std::uint32_t>(faces).subspan(from, face_end[f] - from), path,
+             "PLY face " + std::to_string(f + 1));
   if (m.triangles.empty()) {
     const bool edges =
         std::any_of(elements.begin(), elements.end(), [](const Element& e) { return e.name == "edge" && e.count > 0; });

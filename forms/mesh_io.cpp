@@ -22,6 +22,7 @@
 #include <string>
 
 #include "core/errors.h"
+#include "core/polygon.h"
 #include "forms/obstacles.h"
 
 namespace cellform::forms {
@@ -37,6 +38,8 @@ class SoupImporter final : public om::IO::BaseImporter {
  public:
   TriangleMesh mesh;
   bool bad_index = false;
+  std::vector<Index> faces;  // every face's corners in turn, face f ending at face_end[f]
+  std::vector<std::size_t> face_end;
 
   om::VertexHandle add_vertex(const om::Vec3f& p) override { return push(Vec3(p[0], p[1], p[2])); }
   om::VertexHandle add_vertex(const om::Vec3d& p) override { return push(Vec3(p[0], p[1], p[2])); }
@@ -50,11 +53,27 @@ class SoupImporter final : public om::IO::BaseImporter {
         return om::FaceHandle();
       }
     }
-    const int first = static_cast<int>(mesh.triangles.size());
-    for (std::size_t k = 1; k + 1 < ids.size(); ++k)  // fan
-      mesh.triangles.push_back(
-          {static_cast<Index>(ids[0].idx()), static_cast<Index>(ids[k].idx()), static_cast<Index>(ids[k + 1].idx())});
-    return om::FaceHandle(first);
+    for (const om::VertexHandle& vh : ids) faces.push_back(static_cast<Index>(vh.idx()));
+    face_end.push_back(faces.size());
+    return om::FaceHandle(static_cast<int>(face_end.size() - 1));
+  }
+
+  /// The faces as triangles, once every point is set: fanned if convex, else cut by ear clipping in
+  /// their plane (an L-shaped n-gon). InvalidInput naming the mesh for a concave face too large to cut.
+  void split_faces(const std::string& name) {
+    std::vector<Vec3> corners;
+    for (std::size_t f = 0, from = 0; f < face_end.size(); from = face_end[f++]) {
+      corners.clear();
+      for (std::size_t k = from; k < face_end[f]; ++k) corners.push_back(mesh.vertices[faces[k]]);
+      bool too_large = false;
+      const auto tris = core::triangulate_polygon(corners, &too_large);
+      if (too_large)
+        throw core::InvalidInput("mesh " + name + ": face " + std::to_string(f + 1) + " has " +
+                                 std::to_string(corners.size()) + " corners and is not convex (over " +
+                                 std::to_string(core::kMaxConcaveCorners) +
+                                 " such corners are not cut into triangles here); triangulate it in the modeller");
+      for (const auto& t : tris) mesh.triangles.push_back({faces[from + t[0]], faces[from + t[1]], faces[from + t[2]]});
+    }
   }
 
   void set_point(om::VertexHandle vh, const om::Vec3f& p) override {
@@ -68,7 +87,7 @@ class SoupImporter final : public om::IO::BaseImporter {
     mesh.triangles.reserve(std::min(nf, 1u << 26));
   }
   std::size_t n_vertices() const override { return mesh.vertices.size(); }
-  std::size_t n_faces() const override { return mesh.triangles.size(); }
+  std::size_t n_faces() const override { return face_end.size(); }
   std::size_t n_edges() const override { return 0; }
 
   // Everything else a reader may report (normals, colours, texture data, half-edge wiring) is not needed.
@@ -457,6 +476,7 @@ TriangleMesh load_mesh(const fs::path& path) {
                              " vertex lines ('v x y z') are not three numbers (NaN and infinity are not allowed)");
   if (importer.bad_index)
     throw core::InvalidInput("mesh " + name + " is malformed: a face uses a vertex that does not exist");
+  importer.split_faces(name);
   return checked(std::move(importer.mesh), name);
 }
 

@@ -118,9 +118,10 @@ void apply_obstacles(cells::Cells& cells, const std::vector<Vec3>& previous_posi
                      double margin, int threads = 0);
 
 /// Reads a triangle mesh from STL (ASCII or binary) or OBJ, chosen by the file extension. Polygons are
-/// split into triangle fans; non-manifold and open meshes are kept as they are. Throws core::FileError for a
-/// missing or unreadable file, core::InvalidInput for an unsupported extension, a malformed file, a file
-/// without triangles ("not a mesh") or non-finite coordinates; every message names the file. ASCII STL is read
+/// split into triangles where they lie (core::triangulate_polygon: a concave n-gon is ear-clipped, and
+/// one of over core::kMaxConcaveCorners corners is refused); non-manifold and open meshes are kept as they are. Throws
+/// core::FileError for a missing or unreadable file, core::InvalidInput for an unsupported extension, a malformed file,
+/// a file without triangles ("not a mesh") or non-finite coordinates; every message names the file. ASCII STL is read
 /// by parse_ascii_stl (forms/mesh_io.h), so a damaged or cut-short one is refused naming the line.
 TriangleMesh load_mesh(const std::filesystem::path& path);
 

@@ -248,6 +248,59 @@ TEST_CASE("read_mesh reads what the writers wrote, and welds STL soups", "[mesh_
   fs::remove_all(dir);
 }
 
+TEST_CASE("read_mesh cuts a concave n-gon where it lies: an L-shaped prism is printable", "[mesh_check][files]") {
+  // an L (10 x 10, 3 wide) extruded 5 high, its top and bottom one six-cornered face each, as Blender and
+  // Rhino export n-gons (audit, December 2026): fanned from the first corner, the faces covered the notch,
+  // and the check said "self-intersecting" with an area of 351
+  const fs::path dir = temp_dir("ngon");
+  std::string obj;
+  const double l[6][2] = {{0, 0}, {10, 0}, {10, 3}, {3, 3}, {3, 10}, {0, 10}};
+  for (const double z : {0.0, 5.0})
+    for (const auto& c : l)
+      obj += "v " + std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(z) + "\n";
+  std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 12\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 8\nproperty list uchar int vertex_indices\nend_header\n";
+  for (std::size_t k = 0; k < obj.size();) {  // the same vertices, as PLY rows
+    const std::size_t e = obj.find('\n', k);
+    ply += obj.substr(k + 2, e - k - 2) + "\n";
+    k = e + 1;
+  }
+  // for each face, which corner it starts at: every start gives the same solid
+  for (int first = 0; first < 6; ++first) {
+    std::string faces_obj = "f", faces_ply = "6";
+    std::string top_obj = "f", top_ply = "6";
+    for (int k = 0; k < 6; ++k) {
+      const int bottom = (first + 6 - k) % 6, top = (first + k) % 6;  // the bottom wound downward
+      faces_obj += " " + std::to_string(bottom + 1);
+      faces_ply += " " + std::to_string(bottom);
+      top_obj += " " + std::to_string(top + 7);
+      top_ply += " " + std::to_string(top + 6);
+    }
+    std::string sides_obj, sides_ply;
+    for (int k = 0; k < 6; ++k) {
+      const int a = k, b = (k + 1) % 6;
+      sides_obj += "f " + std::to_string(a + 1) + " " + std::to_string(b + 1) + " " + std::to_string(b + 7) + " " +
+                   std::to_string(a + 7) + "\n";
+      sides_ply += "4 " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(b + 6) + " " +
+                   std::to_string(a + 6) + "\n";
+    }
+    std::ofstream(dir / "l.obj") << obj << faces_obj << "\n" << top_obj << "\n" << sides_obj;
+    std::ofstream(dir / "l.ply") << ply << faces_ply << "\n" << top_ply << "\n" << sides_ply;
+    for (const char* name : {"l.obj", "l.ply"}) {
+      INFO(name << ", faces from corner " << first);
+      const auto m = exporters::read_mesh(dir / name);
+      CHECK(m.triangles.size() == 2 * 4 + 6 * 2);
+      const auto r = exporters::check_mesh(m);
+      CHECK(r.printable());
+      CHECK(r.self_intersections == 0);
+      CHECK(r.area == Approx(2 * 51 + 5 * 40));  // the L's area twice, its perimeter times the height
+      CHECK(r.volume == Approx(51 * 5));
+    }
+  }
+  fs::remove_all(dir);
+}
+
 TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
   const fs::path dir = temp_dir("bad");
   CHECK_THROWS_AS(exporters::read_mesh(dir / "missing.stl"), core::FileError);

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "core/errors.h"
+#include "core/polygon.h"
 #include "forms/obstacles.h"
 
 using namespace cellform;
@@ -166,6 +167,37 @@ TEST_CASE("load_mesh reads ASCII STL, binary STL and OBJ", "[forms][mesh_io]") {
   }
   CHECK(area == Approx(6.0));
   CHECK(q.triangles[2] == std::array<core::Index, 3>{0, 1, 4});
+  fs::remove_all(dir);
+}
+
+TEST_CASE("load_mesh cuts a concave n-gon where it lies, and nowhere else", "[forms][mesh_io]") {
+  // an L-shaped plate, one six-cornered face: fanned from its first corner, it covered the notch, so cells
+  // came to rest on a wall that is not there (audit, December 2026)
+  const fs::path dir = temp_dir("ngon");
+  write_text(dir / "l.obj", "v 0 0 0\nv 10 0 0\nv 10 3 0\nv 3 3 0\nv 3 10 0\nv 0 10 0\nf 1 2 3 4 5 6\n");
+  const forms::TriangleMesh m = forms::load_mesh(dir / "l.obj");
+  REQUIRE(m.triangles.size() == 4);
+  double area = 0;
+  for (const auto& t : m.triangles)
+    area += 0.5 * (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).z();
+  CHECK(area == Approx(51));  // every triangle wound as the face (+z), together the L
+  // a cell falling onto the notch passes; onto the L it stops
+  forms::Obstacles o;
+  o.meshes.push_back(m);
+  cells::Cells cells;
+  cells::add_cell(cells, Vec3(7, 7, -1));
+  cells::add_cell(cells, Vec3(1, 7, -1));
+  forms::apply_obstacles(cells, {Vec3(7, 7, 1), Vec3(1, 7, 1)}, o, 0.01);
+  CHECK(cells.position[0].z() == Approx(-1));
+  CHECK(cells.position[1].z() > 0);
+  // a concave face of more corners than ear clipping takes is refused, naming the face
+  std::string comb;
+  const std::size_t teeth = core::kMaxConcaveCorners;
+  for (std::size_t i = 0; i <= teeth; ++i) comb += "v " + std::to_string(i) + (i % 2 ? " 1 0\n" : " 3 0\n");
+  comb += "v " + std::to_string(teeth) + " 0 0\nv 0 0 0\nf";
+  for (std::size_t i = 1; i <= teeth + 3; ++i) comb += " " + std::to_string(i);
+  write_text(dir / "comb.obj", comb + "\n");
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "comb.obj"), Contains("face 1 has 1027 corners and is not convex"));
   fs::remove_all(dir);
 }
 

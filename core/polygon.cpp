@@ -1,0 +1,97 @@
+// Ear clipping of polygon faces in their best-fit plane.
+#include "core/polygon.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cellform::core {
+
+namespace {
+
+using P2 = std::array<double, 2>;
+
+double cross(const P2& a, const P2& b, const P2& c) {
+  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+/// Whether p lies in the closed triangle abc (counter-clockwise).
+bool in_triangle(const P2& p, const P2& a, const P2& b, const P2& c) {
+  return cross(a, b, p) >= 0 && cross(b, c, p) >= 0 && cross(c, a, p) >= 0;
+}
+
+}  // namespace
+
+std::vector<std::array<std::uint32_t, 3>> triangulate_polygon(std::span<const Vec3> corners, bool* concave_too_large) {
+  if (concave_too_large) *concave_too_large = false;
+  std::vector<std::array<std::uint32_t, 3>> out;
+  const std::size_t n = corners.size();
+  if (n < 3) return out;
+  auto fan = [&](const std::vector<std::uint32_t>& ring) {
+    for (std::size_t k = 1; k + 1 < ring.size(); ++k) out.push_back({ring[0], ring[k], ring[k + 1]});
+  };
+  std::vector<std::uint32_t> ring(n);
+  for (std::size_t i = 0; i < n; ++i) ring[i] = static_cast<std::uint32_t>(i);
+  if (n == 3) {
+    fan(ring);
+    return out;
+  }
+  // the plane: drop the axis along which the Newell normal is largest; the 2-D corners then run
+  // counter-clockwise when the normal's component there is positive, else they are mirrored
+  Vec3 normal = Vec3::Zero();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 &a = corners[i], &b = corners[(i + 1) % n];
+    normal +=
+        Vec3((a.y() - b.y()) * (a.z() + b.z()), (a.z() - b.z()) * (a.x() + b.x()), (a.x() - b.x()) * (a.y() + b.y()));
+  }
+  int axis = 0;
+  normal.cwiseAbs().maxCoeff(&axis);
+  if (!(normal[axis] != 0)) {  // no area (or not finite): nothing to cut by
+    fan(ring);
+    return out;
+  }
+  const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+  const bool mirror = normal[axis] < 0;
+  std::vector<P2> q(n);
+  for (std::size_t i = 0; i < n; ++i) q[i] = {corners[i][u], mirror ? -corners[i][v] : corners[i][v]};
+  bool convex = true;
+  for (std::size_t i = 0; i < n && convex; ++i) convex = cross(q[(i + n - 1) % n], q[i], q[(i + 1) % n]) >= 0;
+  if (convex) {
+    fan(ring);
+    return out;
+  }
+  if (n > kMaxConcaveCorners) {
+    if (concave_too_large) *concave_too_large = true;
+    return out;
+  }
+  // ear clipping: a convex corner whose triangle holds no other corner of the rest is cut off; the scan
+  // goes on from the corner after it
+  std::size_t at = 0, misses = 0;
+  while (ring.size() > 3) {
+    const std::size_t m = ring.size();
+    const std::size_t ip = (at + m - 1) % m, in = (at + 1) % m;
+    const P2 &a = q[ring[ip]], &b = q[ring[at]], &c = q[ring[in]];
+    bool ear = cross(a, b, c) > 0;
+    for (std::size_t k = 0; ear && k < m; ++k) {
+      if (k == ip || k == at || k == in) continue;
+      const P2& p = q[ring[k]];
+      if (p == a || p == b || p == c) continue;  // a corner repeated at the same place
+      ear = !in_triangle(p, a, b, c);
+    }
+    if (ear) {
+      out.push_back({ring[ip], ring[at], ring[in]});
+      ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(at));
+      at = at % ring.size();
+      misses = 0;
+    } else if (++misses == m) {  // no ear anywhere: it crosses itself, or is flat along a line
+      std::rotate(ring.begin(), ring.begin() + static_cast<std::ptrdiff_t>(at), ring.end());
+      fan(ring);
+      return out;
+    } else {
+      at = (at + 1) % m;
+    }
+  }
+  out.push_back({ring[0], ring[1], ring[2]});
+  return out;
+}
+
+}  // namespace cellform::core
