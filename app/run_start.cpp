@@ -55,6 +55,21 @@ std::string checkpoint_mark(const std::string& bytes) {
   return "fnv1a64:" + core::hex64(core::fnv1a64(bytes.data(), bytes.size()));
 }
 
+std::vector<std::string> mesh_fingerprints(const forms::Obstacles& obstacles) {
+  std::vector<std::string> out;
+  for (const forms::TriangleMesh& m : obstacles.meshes) {
+    const std::uint64_t counts[2] = {m.vertices.size(), m.triangles.size()};
+    std::uint64_t h = core::fnv1a64(counts, sizeof counts);
+    for (const core::Vec3& v : m.vertices) {
+      const double xyz[3] = {v.x(), v.y(), v.z()};
+      h = core::fnv1a64(xyz, sizeof xyz, h);
+    }
+    for (const auto& t : m.triangles) h = core::fnv1a64(t.data(), sizeof t, h);
+    out.push_back("fnv1a64:" + core::hex64(h));
+  }
+  return out;
+}
+
 std::string script_hash(const std::string& source) {
   return "fnv1a64:" + core::hex64(core::fnv1a64(source.data(), source.size()));
 }
@@ -108,6 +123,7 @@ json checkpoint_meta(const Start& s, std::uint64_t seed, std::uint64_t target, s
                {"step", step},
                {"out", absolute_path_text(s.out_dir)},
                {"replaced_scripts", s.replaced}};
+  if (s.obstacle_meshes) meta["obstacle_meshes"] = *s.obstacle_meshes;
   // a script path that is not UTF-8 (which JSON holds with U+FFFD) also as its bytes: a resume finds the
   // script's files (a mesh, an outline) beside it
   const std::string path = absolute_path_text(s.script_path);
@@ -189,6 +205,13 @@ Start start_from(const RunOptions& o) {
                                 " is corrupt (metadata 'physics' holds a value that is no number, boolean or text)");
         if (meta.contains("veins") && !meta["veins"].is_object())
           throw core::FileError(what + " is corrupt (metadata 'veins')");
+        if (meta.contains("obstacle_meshes")) {  // older checkpoints: not recorded
+          bool listed = meta["obstacle_meshes"].is_array();
+          if (listed)
+            for (const json& h : meta["obstacle_meshes"]) listed = listed && h.is_string();
+          if (!listed) throw core::FileError(what + " is corrupt (metadata 'obstacle_meshes')");
+          s.obstacle_meshes = meta["obstacle_meshes"].get<std::vector<std::string>>();
+        }
         const std::string mode = meta.value("mode", std::string("cells"));
         if (mode != "cells" && mode != "colonisation" && mode != "sheet")
           throw core::FileError(what + " is corrupt (unknown run mode '" + mode.substr(0, 40) + "')");

@@ -3,6 +3,7 @@
 // run resumed past its max_sources.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
+#include <regex>
 
 #include "app/run_internal.h"
 #include "core/chunk_file.h"
@@ -463,4 +464,39 @@ TEST_CASE("a checkpoint whose --set gave a boolean as 1 or 0 still resumes", "[c
   const auto after = nlohmann::json::parse(slurp(out / "run.json"));
   CHECK(after["overrides"]["cell.fixed"] == "1");  // the knob's text, unchanged
   CHECK(after["parameters"]["params"]["cell.fixed"] == 1);
+}
+
+TEST_CASE("a cell run's checkpoint refuses to go on against a mesh{} file that changed", "[cli][checkpoint]") {
+  // the resume read mould.obj again as it was now and went on against the new walls, saying nothing: cells
+  // grown in one mould continued in another (audit, December 2026); a space-colonisation run refused so
+  TempDir t("cli-mesh-changed");
+  const std::string cube =
+      "v -5 -5 -5\nv 5 -5 -5\nv 5 5 -5\nv -5 5 -5\nv -5 -5 5\nv 5 -5 5\nv 5 5 5\nv -5 5 5\n"
+      "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+  t.write("mould.obj", cube);
+  const auto script = t.write("grow.lua", std::string(kSmall) + "mesh { file = 'mould.obj' }\n");
+  const fs::path out = t.path / "o";
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "12"}).code == 0);
+  const fs::path kept = t.path / "at12.cfck";
+  fs::copy_file(out / "checkpoint.cfck", kept);
+  // the same file (written anew, same content): it goes on
+  t.write("mould.obj", cube);
+  auto r = cli({"resume", (out / "checkpoint.cfck").string(), "--quiet", "--steps", "20"});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  // a smaller mould: refused, naming the file, and the checkpoint is left as it was
+  t.write("mould.obj", std::regex_replace(cube, std::regex("5"), "4"));
+  const std::string before = slurp(kept);
+  r = cli({"resume", kept.string(), "--out", (t.path / "o2").string(), "--quiet", "--steps", "20"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("grew against other mesh{} obstacles: 'mould.obj' changed since it was saved"));
+  CHECK(slurp(kept) == before);
+  CHECK_FALSE(fs::exists(t.path / "o2" / "run.json"));
+  // with an edited script the files are taken as they are now, and said so
+  const auto edited = t.write("edited.lua", std::string(kSmall) + "mesh { file = 'mould.obj' }\n-- smaller mould\n");
+  r = cli({"resume", kept.string(), "--out", (t.path / "o3").string(), "--quiet", "--steps", "20", "--script",
+           edited.string()});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("the mesh{} obstacles differ from those the checkpoint grew against ('mould.obj')"));
 }
