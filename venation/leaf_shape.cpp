@@ -394,7 +394,7 @@ Outline parse_outline(const std::string& text, const std::string& source) {
   if (gap > 1e-6 * size)
     throw InvalidInput(source + ":" + std::to_string(last_line) +
                        ": the outline is open: its last vertex must repeat the first one to close it (they are " +
-                       core::number_text(gap) + " apart)");
+                       core::number_text((o.points.back() - o.points.front()).norm()) + " apart)");
   o.points.back() = o.points.front();
   o.points.pop_back();
   lines.line.pop_back();

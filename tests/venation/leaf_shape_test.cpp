@@ -109,6 +109,8 @@ TEST_CASE("outline files: closed polygons parse, open, malformed and self-inters
   CHECK(venation::parse_outline("0 0\n0 1\n1 1\n1 0\n0 1e-9\n", "near.txt").points == sq.points);
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n0 1\n1 1\n1 0\n0 0.01\n", "gap.txt"),
                     Contains("gap.txt:5") && Contains("open") && Contains("0.01 apart"));
+  CHECK_THROWS_WITH(venation::parse_outline("0 0\n0 1\n1 1\n1 0\n0.03 0.04\n", "gap2.txt"),
+                    Contains("0.05 apart"));  // the distance, not the larger of the axes' gaps (0.04; audit)
   // a binary file is named as such, its bytes are not echoed to the terminal
   CHECK_THROWS_WITH(venation::parse_outline(std::string("\x7f"
                                                         "ELF\x02\x01\x01\n",
