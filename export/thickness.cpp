@@ -39,6 +39,7 @@ constexpr int kMaxPieces = 64;
 constexpr std::size_t kMaxBoxesPerTriangle = 8;  // boxes in the tree per triangle of the mesh, at most
 constexpr int kMaxLevel = 8;                     // a large triangle gets at most kMaxLevel^2 rays
 constexpr std::size_t kSubRayBudget = 1 << 20;   // sub-rays of a check, at least (4 per triangle if more)
+constexpr std::size_t kCoarseRays = 1 << 12;     // a mesh of few triangles gets about this many rays in all
 
 /// How many pieces triangle T would be cut into (1: its own box).
 int pieces_wanted(const Vec3* T) {
@@ -334,11 +335,18 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
   // its regular subdivision (level = longest side / thickness at its centroid, rounded down, at most
   // kMaxLevel): one ray from the centroid would miss how the wall changes across it (the large faces of a
   // coarse mesh: a wedge of two triangles a side). Each ray weighs its sub-triangle's area. A budget of
-  // sub-rays keeps a check linear: over it, the largest level comes down until it fits.
+  // sub-rays keeps a check linear: over it, the largest level comes down until it fits. A mesh of few
+  // triangles (a modeller's tetrahedron, prism or star) gets about kCoarseRays on its measured triangles
+  // whatever their length: one ray per face would say a tetrahedron is as thick everywhere as at the
+  // centres of its faces.
+  const int coarse = static_cast<int>(
+      std::min<double>(kMaxLevel, std::floor(std::sqrt(static_cast<double>(kCoarseRays) / static_cast<double>(n)))));
   std::vector<int> level(n, 1);
   auto wanted = [&](std::size_t t, int cap) {
-    if (!(th[t] > 0) || !(longest[t] >= 2 * th[t])) return 1;
-    return static_cast<int>(std::min(static_cast<double>(cap), std::floor(longest[t] / th[t])));
+    if (!(th[t] > 0)) return 1;
+    const int by_length =
+        longest[t] >= 2 * th[t] ? static_cast<int>(std::min<double>(kMaxLevel, std::floor(longest[t] / th[t]))) : 1;
+    return std::min(cap, std::max(by_length, coarse));
   };
   const std::size_t budget = std::max<std::size_t>(kSubRayBudget, 4 * n);
   int cap = kMaxLevel;
@@ -382,22 +390,24 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
   std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
   const double sliver = kSliverArea * sorted[sorted.size() / 2];
   std::vector<std::pair<double, double>> samples;  // (thickness, area)
-  double total = 0;
-  bool min_found = false;
-  double any_min = 0;  // the shortest ray of all, for a mesh of slivers (or of neighbours' rays) only
-  Vec3 any_at = Vec3::Zero();
+  double total = 0, neighbours_area = 0;
+  // the shortest ray of the non-slivers, with and without the rays that met only neighbours, and of all
+  struct Shortest {
+    bool found = false;
+    double value = 0;
+    Vec3 at = Vec3::Zero();
+    void offer(double v, const Vec3& where) {
+      if (!found || v < value) found = true, value = v, at = where;
+    }
+  } across, with_neighbours, any;
   auto sample = [&](std::size_t t, double value, double area, const Vec3& at, bool through_neighbour) {
     samples.emplace_back(value, area);
     total += area;
-    if (samples.size() == 1 || value < any_min) {
-      any_min = value;
-      any_at = at;
-    }
-    if (areas[t] >= sliver && !through_neighbour && (!min_found || value < r.min)) {
-      min_found = true;
-      r.min = value;
-      r.min_at = at;
-    }
+    if (through_neighbour) neighbours_area += area;
+    any.offer(value, at);
+    if (areas[t] < sliver) return;
+    with_neighbours.offer(value, at);
+    if (!through_neighbour) across.offer(value, at);
   };
   for (std::size_t t = 0; t < n; ++t) {
     if (!(areas[t] > 0)) continue;
@@ -415,15 +425,15 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
       sample(t, th[t], areas[t], (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3, th_neighbour[t]);
       continue;
     }
-    // a sub-ray that finds no wall (it enters the solid again first, or is given up; or it met only
-    // neighbours where the centroid's ray did not) leaves its part of the
+    // a sub-ray that finds no wall (it enters the solid again first, or is given up; or, in a mesh of many
+    // triangles, it met only neighbours where the centroid's ray did not) leaves its part of the
     // area to the centroid's value, so the triangle weighs its whole area as before
     const double part = areas[t] / static_cast<double>(level[t] * level[t]);
     double unmeasured = 0;
     for (int k = 0; k < level[t] * level[t]; ++k) {
       const std::size_t i = first[t] + static_cast<std::size_t>(k);
-      if (sub[i] >= 0 && (th_neighbour[t] || !sub_neighbour[i]))
-        sample(t, sub[i], part, origin(t, k), th_neighbour[t]);
+      if (sub[i] >= 0 && (th_neighbour[t] || !sub_neighbour[i] || coarse > 1))
+        sample(t, sub[i], part, origin(t, k), th_neighbour[t] || sub_neighbour[i]);  // a fold's, if th's was
       else
         unmeasured += part;
     }
@@ -433,10 +443,14 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
     }
   }
   if (samples.empty()) return r;
-  if (!min_found) {
-    r.min = any_min;
-    r.min_at = any_at;
-  }
+  // rays that met only neighbours are left out of the shortest where they are a fine mesh's odd folds (under
+  // 1% of the measured surface, so p01 lies among the others); where they are more, a coarse solid's
+  // thin parts (a prism's, a wedge's), they count
+  const Shortest& shortest = !across.found                    ? (with_neighbours.found ? with_neighbours : any)
+                             : neighbours_area < 0.01 * total ? across
+                                                              : with_neighbours;
+  r.min = shortest.value;
+  r.min_at = shortest.at;
   std::sort(samples.begin(), samples.end());
   auto quantile = [&](double q) {
     double acc = 0;
