@@ -8,9 +8,11 @@
 namespace cellform::exporters {
 
 /// Reads a triangle soup from STL (binary or ASCII; vertices welded at exactly equal positions), OBJ
-/// (v and f lines; polygons fanned into triangles) or PLY (ASCII, binary little-endian or binary
-/// big-endian; polygons fanned). Nothing is dropped or repaired, so non-manifold files come back as they are.
-/// Throws core::FileError naming the file for a missing file, an unknown extension or malformed content.
+/// (v and f lines) or PLY (ASCII, binary little-endian or binary big-endian); polygons are split into
+/// triangles where they lie (core::triangulate_polygon: convex ones fanned, concave ones ear-clipped). Nothing
+/// is dropped or repaired, so non-manifold files come back as they are. Throws core::FileError naming the
+/// file for a missing file, an unknown extension or malformed content (a concave face of more than
+/// core::kMaxConcaveCorners corners, too).
 PrintableMesh read_mesh(const std::filesystem::path& path);
 
 }  // namespace cellform::exporters

@@ -93,6 +93,24 @@ TEST_CASE("an L-shaped face is covered where it is and nowhere else", "[polygon]
   }
 }
 
+TEST_CASE("a corner repeated at the notch, or a spike, does not make a face look convex", "[polygon]") {
+  // every corner's turn was tested >= 0: two corners at one place turn by 0 there, so an L with its inner
+  // corner twice was fanned over the notch from 4 of its 7 starts (review, December 2026)
+  const std::vector<std::array<double, 2>> l{{0, 0}, {10, 0}, {10, 3}, {3, 3}, {3, 3}, {3, 10}, {0, 10}};
+  for (std::size_t turn = 0; turn < l.size(); ++turn) {
+    std::vector<std::array<double, 2>> f(l.begin() + static_cast<std::ptrdiff_t>(turn), l.end());
+    f.insert(f.end(), l.begin(), l.begin() + static_cast<std::ptrdiff_t>(turn));
+    const auto p = place(f, Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY());
+    INFO("turn " << turn);
+    check_cover(p, f, Vec3::UnitZ(), core::triangulate_polygon(p));
+  }
+  // a pentagram turns left at every corner but goes round twice: not fanned as convex (nor can it be cut:
+  // it crosses itself), and its square, convex once round, is fanned
+  std::vector<Vec3> star;
+  for (int k = 0; k < 5; ++k) star.push_back(Vec3(std::cos(4 * M_PI * k / 5), std::sin(4 * M_PI * k / 5), 0));
+  CHECK(core::triangulate_polygon(star).size() == 3);
+}
+
 TEST_CASE("random star-shaped polygons are covered exactly", "[polygon]") {
   core::Rng rng(7);
   for (int trial = 0; trial < 300; ++trial) {
@@ -127,10 +145,12 @@ TEST_CASE("a polygon that cannot be cut still gives its triangles; a huge concav
   bool too_large = false;
   CHECK(core::triangulate_polygon(comb, &too_large).empty());
   CHECK(too_large);
-  comb.resize(20);  // a small comb is clipped
+  comb.resize(20);  // a small comb is clipped, and covered exactly
   comb.push_back(Vec3(19, 0, 0));
   comb.push_back(Vec3(0, 0, 0));
   too_large = true;
-  CHECK(core::triangulate_polygon(comb, &too_large).size() == comb.size() - 2);
+  std::vector<std::array<double, 2>> flat;
+  for (const Vec3& c : comb) flat.push_back({c.x(), c.y()});
+  check_cover(comb, flat, -Vec3::UnitZ(), core::triangulate_polygon(comb, &too_large));  // clockwise
   CHECK(!too_large);
 }

@@ -174,7 +174,8 @@ TEST_CASE("load_mesh cuts a concave n-gon where it lies, and nowhere else", "[fo
   // an L-shaped plate, one six-cornered face: fanned from its first corner, it covered the notch, so cells
   // came to rest on a wall that is not there (audit, December 2026)
   const fs::path dir = temp_dir("ngon");
-  write_text(dir / "l.obj", "v 0 0 0\nv 10 0 0\nv 10 3 0\nv 3 3 0\nv 3 10 0\nv 0 10 0\nf 1 2 3 4 5 6\n");
+  // (from its corner (10, 3): a fan from (0, 0) would have been right, the L being star-shaped from there)
+  write_text(dir / "l.obj", "v 0 0 0\nv 10 0 0\nv 10 3 0\nv 3 3 0\nv 3 10 0\nv 0 10 0\nf 3 4 5 6 1 2\n");
   const forms::TriangleMesh m = forms::load_mesh(dir / "l.obj");
   REQUIRE(m.triangles.size() == 4);
   double area = 0;
