@@ -228,23 +228,21 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                                (cfg.colonisation ? "space-colonisation" : "cell") + " run");
     // a cell run (or a sheet still growing) reads its mesh{} files again: they must be the ones it grew
     // against, or its cells would go on against walls that were not there (an edited script may change them)
-    const std::vector<std::string> meshes = mesh_fingerprints(cfg.scene.obstacles);
+    std::vector<std::string> meshes;
+    for (const auto& [path, hash] : cfg.mesh_files) meshes.push_back(hash);
     if (s.resume && (!cfg.colonisation || s.sheet_partial) && s.obstacle_meshes && *s.obstacle_meshes != meshes) {
-      std::vector<std::string> files;  // the script's mesh{} files, in order
-      for (const json& c : cfg.resolved.value("constraints", json::array()))
-        if (c.value("kind", "") == "mesh") files.push_back(c.value("file", std::string("?")));
       std::string changed;
       for (std::size_t k = 0; k < meshes.size(); ++k)
         if (k >= s.obstacle_meshes->size() || (*s.obstacle_meshes)[k] != meshes[k])
-          changed += (changed.empty() ? "'" : ", '") + (k < files.size() ? files[k] : std::string("?")) + "'";
-      if (changed.empty()) changed = "fewer meshes";  // (an edited script's)
+          changed += (changed.empty() ? "'" : ", '") + cfg.mesh_files[k].first.string() + "'";
       if (!s.script_replaced)
-        throw InputError("checkpoint '" + o.checkpoint.string() + "' grew against other mesh{} obstacles: " + changed +
-                         " changed since it was saved (relative to " + s.script_path.parent_path().string() +
-                         "); put back the file it was grown with, or start a new run (resume --script with an "
-                         "edited script takes the files as they are now)");
-      err << "cellform: note: the mesh{} obstacles differ from those the checkpoint grew against (" << changed
-          << "); the run goes on against them as they are now\n";
+        throw InputError("checkpoint '" + o.checkpoint.string() + "' grew against other mesh{} obstacles: " +
+                         (changed.empty() ? std::string("a file") : changed) +
+                         " changed since it was saved; put back the file it was grown with, or start a new run "
+                         "(resume --script with an edited script takes the files as they are now)");
+      err << "cellform: note: the mesh{} obstacles differ from those the checkpoint grew against"
+          << (changed.empty() ? std::string(" (fewer of them)") : " (" + changed + " changed)")
+          << "; the run goes on against them as they are now\n";
     }
     s.obstacle_meshes = meshes;
     seed = s.seed ? *s.seed : cfg.seed;

@@ -19,7 +19,6 @@
 #include "cells/cells.h"
 #include "core/errors.h"
 #include "export/printable.h"
-#include "forms/obstacles.h"
 
 namespace cellform::app {
 
@@ -74,14 +73,11 @@ struct Start {
   bool max_steps_changed = false;
   std::string checkpoint_mark;  // resume only: checkpoint_mark of the checkpoint resumed
   nlohmann::json vein_summary;  // resume only: run.json's "veins" at the checkpoint (null = not kept)
-  // fingerprints of the mesh{} obstacles, as mesh_fingerprints gives them: on a resume first the
-  // checkpoint's (none: an older cellform did not record them), then this run's, which its checkpoints keep
+  // "fnv1a64:<hex>" of each mesh{} obstacle's file, in script order (SceneConfig::mesh_files): on a resume
+  // first the checkpoint's (none: an older cellform did not record them), then this run's, which its
+  // checkpoints keep
   std::optional<std::vector<std::string>> obstacle_meshes;
 };
-
-/// "fnv1a64:<hex>" of each obstacle mesh (its vertices, as scaled, and triangles), in script order: a
-/// resumed cell run reads its mesh{} files again and must find what it grew against.
-std::vector<std::string> mesh_fingerprints(const forms::Obstacles& obstacles);
 
 /// "fnv1a64:<hex>" of a script's text, as run.json and the checkpoints name it.
 std::string script_hash(const std::string& source);

@@ -55,21 +55,6 @@ std::string checkpoint_mark(const std::string& bytes) {
   return "fnv1a64:" + core::hex64(core::fnv1a64(bytes.data(), bytes.size()));
 }
 
-std::vector<std::string> mesh_fingerprints(const forms::Obstacles& obstacles) {
-  std::vector<std::string> out;
-  for (const forms::TriangleMesh& m : obstacles.meshes) {
-    const std::uint64_t counts[2] = {m.vertices.size(), m.triangles.size()};
-    std::uint64_t h = core::fnv1a64(counts, sizeof counts);
-    for (const core::Vec3& v : m.vertices) {
-      const double xyz[3] = {v.x(), v.y(), v.z()};
-      h = core::fnv1a64(xyz, sizeof xyz, h);
-    }
-    for (const auto& t : m.triangles) h = core::fnv1a64(t.data(), sizeof t, h);
-    out.push_back("fnv1a64:" + core::hex64(h));
-  }
-  return out;
-}
-
 std::string script_hash(const std::string& source) {
   return "fnv1a64:" + core::hex64(core::fnv1a64(source.data(), source.size()));
 }

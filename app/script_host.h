@@ -99,6 +99,8 @@ struct SceneConfig {
   nlohmann::json resolved = nlohmann::json::object();  ///< every resolved parameter, by section
   /// what the script sets that has no effect in this run, said before it starts ("file:line: print.x ...")
   std::vector<std::string> notes;
+  /// each mesh{} obstacle's file, in script order: its path as read, and "fnv1a64:<hex>" of its bytes
+  std::vector<std::pair<std::filesystem::path, std::string>> mesh_files;
 };
 
 /// --set overrides: "name" for params{} knobs, "section.name" for script functions' parameters.

@@ -4,6 +4,8 @@
 #include <cctype>
 
 #include "app/script_impl.h"
+#include "core/atomic_file.h"
+#include "core/chunk_file.h"
 #include "forms/obstacles.h"
 #include "forms/shapes.h"
 
@@ -317,6 +319,8 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
     forms::TriangleMesh mesh;
     try {
       mesh = forms::load_mesh(file);
+      const std::string bytes = core::read_file(file);  // its fingerprint, for a resume to compare
+      I.cfg->mesh_files.emplace_back(file, "fnv1a64:" + core::hex64(core::fnv1a64(bytes.data(), bytes.size())));
     } catch (const std::exception& e) {
       throw InvalidInput(at + "mesh: " + core::error_text(e));
     }

@@ -3,7 +3,6 @@
 // run resumed past its max_sources.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
-#include <regex>
 
 #include "app/run_internal.h"
 #include "core/chunk_file.h"
@@ -470,9 +469,14 @@ TEST_CASE("a cell run's checkpoint refuses to go on against a mesh{} file that c
   // the resume read mould.obj again as it was now and went on against the new walls, saying nothing: cells
   // grown in one mould continued in another (audit, December 2026); a space-colonisation run refused so
   TempDir t("cli-mesh-changed");
-  const std::string cube =
-      "v -5 -5 -5\nv 5 -5 -5\nv 5 5 -5\nv -5 5 -5\nv -5 -5 5\nv 5 -5 5\nv 5 5 5\nv -5 5 5\n"
-      "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+  auto mould = [](int h) {  // a cube from -h to h
+    std::string v;
+    for (int k = 0; k < 8; ++k)
+      v += "v " + std::to_string(k == 0 || k == 3 || k == 4 || k == 7 ? -h : h) + " " +
+           std::to_string(k % 4 < 2 ? -h : h) + " " + std::to_string(k < 4 ? -h : h) + "\n";
+    return v + "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+  };
+  const std::string cube = mould(5);
   t.write("mould.obj", cube);
   const auto script = t.write("grow.lua", std::string(kSmall) + "mesh { file = 'mould.obj' }\n");
   const fs::path out = t.path / "o";
@@ -485,11 +489,12 @@ TEST_CASE("a cell run's checkpoint refuses to go on against a mesh{} file that c
   INFO(r.err);
   CHECK(r.code == 0);
   // a smaller mould: refused, naming the file, and the checkpoint is left as it was
-  t.write("mould.obj", std::regex_replace(cube, std::regex("5"), "4"));
+  t.write("mould.obj", mould(4));
   const std::string before = slurp(kept);
   r = cli({"resume", kept.string(), "--out", (t.path / "o2").string(), "--quiet", "--steps", "20"});
   CHECK(r.code == 2);
-  CHECK_THAT(r.err, Contains("grew against other mesh{} obstacles: 'mould.obj' changed since it was saved"));
+  CHECK_THAT(r.err, Contains("grew against other mesh{} obstacles: '" + (t.path / "mould.obj").string() +
+                             "' changed since it was saved"));
   CHECK(slurp(kept) == before);
   CHECK_FALSE(fs::exists(t.path / "o2" / "run.json"));
   // with an edited script the files are taken as they are now, and said so
@@ -498,5 +503,17 @@ TEST_CASE("a cell run's checkpoint refuses to go on against a mesh{} file that c
            edited.string()});
   INFO(r.err);
   CHECK(r.code == 0);
-  CHECK_THAT(r.err, Contains("the mesh{} obstacles differ from those the checkpoint grew against ('mould.obj')"));
+  CHECK_THAT(r.err, Contains("the mesh{} obstacles differ from those the checkpoint grew against ('" +
+                             (t.path / "mould.obj").string() + "' changed)"));
+  // a checkpoint of an older cellform, which kept no fingerprints, resumes as it did
+  const auto saved = cellform::core::read_chunk_file(before, "CKPT", 1, "test");
+  auto meta = nlohmann::json::parse(saved.chunks.at("meta"));
+  REQUIRE(meta.contains("obstacle_meshes"));
+  meta.erase("obstacle_meshes");
+  auto older = saved.chunks;
+  older["meta"] = meta.dump();
+  const auto old_path = t.write("older.cfck", cellform::core::write_chunk_file("CKPT", 1, older));
+  r = cli({"resume", old_path.string(), "--out", (t.path / "o4").string(), "--quiet", "--steps", "20"});
+  INFO(r.err);
+  CHECK(r.code == 0);
 }
