@@ -2,6 +2,7 @@
 #include "core/atomic_file.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -56,11 +57,16 @@ void write_file_atomically(const fs::path& path, const std::function<void(std::o
       throw FileError("cannot write '" + path.string() + "': the temporary names beside it (" +
                       path.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-0 to -99) are all taken");
   }
+  struct stat made {};
   try {
     {
       // written and synced through the descriptor just made: the name is never opened again, so nothing
       // put in its place meanwhile is written to (the buffer closes the descriptor)
       __gnu_cxx::stdio_filebuf<char> buf(fd, std::ios::out | std::ios::binary, 1 << 16);
+      if (!buf.is_open()) {
+        ::close(fd);
+        throw FileError("cannot write '" + path.string() + "': out of memory");
+      }
       std::ostream out(&buf);
       errno = 0;
       write(out);
@@ -71,8 +77,15 @@ void write_file_atomically(const fs::path& path, const std::function<void(std::o
                         (err == EFBIG    ? "the file is larger than this process may write (ulimit -f)"
                          : err == ENOSPC ? "the disk is full"
                                          : "write failed (disk full?)"));
-      if (::fsync(fd) != 0) throw FileError("cannot write '" + path.string() + "': " + std::strerror(errno));
+      if (::fsync(fd) != 0 || ::fstat(fd, &made) != 0)
+        throw FileError("cannot write '" + path.string() + "': " + std::strerror(errno));
     }
+    // the name still leads to the file written (in a folder others may write to, it could have been
+    // replaced meanwhile, and the rename would put that in the file's place)
+    struct stat named {};
+    if (::lstat(tmp.c_str(), &named) != 0 || named.st_dev != made.st_dev || named.st_ino != made.st_ino)
+      throw FileError("cannot write '" + path.string() + "': its temporary " + tmp.filename().string() +
+                      " was replaced while it was written (is the folder writable by others?)");
     fs::rename(tmp, path, ec);
     if (ec) throw FileError("cannot write '" + path.string() + "': " + ec.message());
   } catch (...) {

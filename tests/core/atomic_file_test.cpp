@@ -75,21 +75,25 @@ TEST_CASE("the temporary is a new file: a link at its name is neither followed n
   CHECK(entries(d.path) == 3);  // the file, the victim, the link: no temporary left
 }
 
-TEST_CASE("the temporary is written through the descriptor that made it, not opened again by name", "[core][files]") {
-  // the temporary was closed once made and opened again by name to write and to sync (review, December
-  // 2026). The moment between those two cannot be reached from here; this holds the write to what it is
-  // now: a link put at the name while the writer runs is not what gets the bytes
+TEST_CASE("a temporary replaced while it is written is neither written to nor put in the file's place",
+          "[core][files]") {
+  // the temporary was closed once made and opened again by name to write and to sync, and renamed by name
+  // (review, December 2026): in a folder others may write to, a link put at its name had its target
+  // written, or was renamed over the file. Here the name is swapped for a link while the writer runs
   Dir d;
   const fs::path f = d.path / "a.txt", victim = d.path / "victim.txt";
   { std::ofstream(victim) << "keep me"; }
   const fs::path tmp = d.path / ("a.txt.tmp-" + std::to_string(::getpid()) + "-0");
-  cellform::core::write_file_atomically(f, [&](std::ostream& os) {
-    REQUIRE(fs::is_regular_file(tmp));
-    fs::remove(tmp);
-    fs::create_symlink(victim, tmp);  // the name now leads elsewhere
-    os << "written";
-  });
+  CHECK_THROWS_WITH(cellform::core::write_file_atomically(f,
+                                                          [&](std::ostream& os) {
+                                                            REQUIRE(fs::is_regular_file(tmp));
+                                                            fs::remove(tmp);
+                                                            fs::create_symlink(victim, tmp);
+                                                            os << "written";
+                                                          }),
+                    Contains("was replaced while it was written"));
   CHECK(slurp(victim) == "keep me");
+  CHECK_FALSE(fs::exists(fs::symlink_status(f)));  // nothing was put in the file's place
 }
 
 TEST_CASE("unwritable places are reported with the path", "[core][files]") {
