@@ -343,6 +343,7 @@ Report run(Cells& c, const Params& p, const Source& src, bool uniform, Workspace
     else
       w.vein_order.push_back(static_cast<Index>(a));  // roots, ascending
   }
+  const std::size_t roots = w.vein_order.size();  // (promotion below may hang a root on a new vein cell)
   // breadth-first from the roots gives parents before children
   for (std::size_t h = 0; h < w.vein_order.size(); ++h) {
     const Index a = w.vein_order[h];
@@ -354,23 +355,6 @@ Report run(Cells& c, const Params& p, const Source& src, bool uniform, Workspace
     if (par != kNoIndex) flow[par] += flow[v];
   }
 
-  // orders: roots' children are primary; the largest-flow child continues its parent's order
-  for (std::size_t a = 0; a < veins; ++a) order[vnode[a]] = 0;
-  for (const Index a : w.vein_order) {
-    const Index v = vnode[a];
-    const bool root = vein_parent(v) == kNoIndex;
-    if (root) order[v] = 1;
-    Index main = kNoIndex;
-    for (Index s = w.vein_start[a]; s < w.vein_start[a + 1]; ++s) {
-      const Index ch = vnode[w.vein_child[s]];
-      if (main == kNoIndex || flow[ch] > flow[main]) main = ch;
-    }
-    for (Index s = w.vein_start[a]; s < w.vein_start[a + 1]; ++s) {
-      const Index ch = vnode[w.vein_child[s]];
-      order[ch] = root ? 1 : (ch == main ? order[v] : order[v] + 1);
-    }
-  }
-
   // Per cell: flow direction and radius of the state before promotion; then promotion of the cells
   // next to a vein (layer 1) whose flow passes the threshold. Each cell writes only its own slots and
   // reads vein nodes, which this pass does not change.
@@ -380,6 +364,7 @@ Report run(Cells& c, const Params& p, const Source& src, bool uniform, Workspace
         for (std::size_t ch = b; ch < e; ++ch) {
           Workspace::Chunk& out = w.chunks[ch];
           out.promoted = out.vein_cells = out.unconnected = 0;
+          out.promoted_cells.clear();
           const std::size_t end = std::min(n, (ch + 1) * kChunk);
           for (std::size_t i = ch * kChunk; i < end; ++i) {
             const bool vein = is_vein_node(c.type[i]);
@@ -406,7 +391,7 @@ Report run(Cells& c, const Params& p, const Source& src, bool uniform, Workspace
             c.type[i] = CellType::vein;
             c.vein_parent[i] = w.downstream[i];
             radius[i] = murray_radius(flow[i], p);
-            order[i] = order[w.downstream[i]] > 0 ? order[w.downstream[i]] : 1;
+            out.promoted_cells.push_back(static_cast<Index>(i));
             ++out.promoted;
             ++out.vein_cells;
           }
@@ -417,6 +402,34 @@ Report run(Cells& c, const Params& p, const Source& src, bool uniform, Workspace
     report.promoted += ch.promoted;
     report.vein_cells += ch.vein_cells;
     report.unconnected += ch.unconnected;
+  }
+
+  // Orders of the forest as it is now, the cells just promoted being new leaves of it: the roots' children
+  // are primary; at every other vein node the child of the largest flow (ties: the smaller index) continues
+  // its order and the others start the next. (Ordered before promotion, a promoted cell took its parent's
+  // order, though a child of larger flow had it: two primaries at one fork until the next step.)
+  w.promoted_start.assign(veins + 1, 0);
+  for (const Workspace::Chunk& ch : w.chunks)
+    for (const Index x : ch.promoted_cells) ++w.promoted_start[w.vein_id[c.vein_parent[x]] + 1];
+  for (std::size_t a = 0; a < veins; ++a) w.promoted_start[a + 1] += w.promoted_start[a];
+  w.promoted_child.resize(w.promoted_start[veins]);
+  w.vein_fill.assign(w.promoted_start.begin(), w.promoted_start.end() - 1);
+  for (const Workspace::Chunk& ch : w.chunks)  // chunks in order, cells ascending: children come out sorted
+    for (const Index x : ch.promoted_cells) w.promoted_child[w.vein_fill[w.vein_id[c.vein_parent[x]]]++] = x;
+  for (std::size_t a = 0; a < veins; ++a) order[vnode[a]] = 0;
+  for (std::size_t h = 0; h < w.vein_order.size(); ++h) {
+    const Index a = w.vein_order[h], v = vnode[a];
+    const bool root = h < roots;
+    if (root) order[v] = 1;
+    Index main = kNoIndex;
+    auto consider = [&](Index ch) {
+      if (main == kNoIndex || flow[ch] > flow[main] || (flow[ch] == flow[main] && ch < main)) main = ch;
+    };
+    for (Index s = w.vein_start[a]; s < w.vein_start[a + 1]; ++s) consider(vnode[w.vein_child[s]]);
+    for (Index s = w.promoted_start[a]; s < w.promoted_start[a + 1]; ++s) consider(w.promoted_child[s]);
+    auto assign = [&](Index ch) { order[ch] = root ? 1 : (ch == main ? order[v] : order[v] + 1); };
+    for (Index s = w.vein_start[a]; s < w.vein_start[a + 1]; ++s) assign(vnode[w.vein_child[s]]);
+    for (Index s = w.promoted_start[a]; s < w.promoted_start[a + 1]; ++s) assign(w.promoted_child[s]);
   }
 
   // report: conservation at the petioles, summed in index order

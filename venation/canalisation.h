@@ -50,6 +50,7 @@ struct Workspace {
   struct Chunk {
     std::vector<std::array<Index, 2>> extra;  // (target, source) of one-way links from this chunk
     std::vector<Index> veins;                 // vein nodes of this chunk, ascending
+    std::vector<Index> promoted_cells;        // cells of this chunk promoted this step, ascending
     std::size_t promoted = 0, vein_cells = 0, unconnected = 0;
   };
   std::vector<Chunk> chunks;        // fixed cell ranges, independent of the thread count
@@ -59,6 +60,7 @@ struct Workspace {
   std::vector<double> source, key;
   std::vector<Index> downstream;  // chosen downstream neighbour of each reached non-vein cell
   std::vector<Index> vein_id, vein_start, vein_child, vein_order, vein_fill;  // the vein forest
+  std::vector<Index> promoted_start, promoted_child;  // the cells promoted this step, by vein parent
 };
 
 /// Names of the per-cell attributes canalisation maintains in Cells::attributes.
@@ -78,7 +80,10 @@ inline constexpr const char* kFlowZ = "flow_dz";
 ///     that neighbour and, transitively, to everything downstream.
 ///  2. Through the veins: flows accumulate from the vein tips to the petioles.
 /// Then every cell adjacent to a vein whose flow exceeds the threshold becomes a vein cell whose vein
-/// parent is its downstream vein cell. Petiole cells are the sinks and roots of the vein forest.
+/// parent is its downstream vein cell. Petiole cells are the sinks and roots of the vein forest. Orders
+/// are found last, on the forest with the new vein cells: the roots' children are primary; at any other
+/// vein node the child of the largest flow (ties: the smaller index) keeps its order, the others take the
+/// next.
 /// Writes the attributes above. Throws core::InvalidInput if there is no petiole, or a source rule
 /// returns a negative or non-finite value (naming the cell id). The per-cell passes run on up to
 /// `threads` threads (0 = all cores, 1 = serial; the source rule is always called serially, in index

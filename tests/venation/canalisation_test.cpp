@@ -235,6 +235,41 @@ TEST_CASE("vein orders: the main path is primary, branches are of higher order",
   CHECK(g.edges.size() + 1 == g.cell.size());  // one petiole: a tree
 }
 
+TEST_CASE("vein orders hold at every fork after every step, the cells just promoted too", "[venation]") {
+  // a cell promoted took its parent's order, though a child of larger flow had it already: two primaries
+  // at one fork in the files of the last step (audit, December 2026)
+  cells::Cells c = leaf(30, 30);
+  venation::Params p;
+  p.threshold = 10;
+  venation::Workspace ws;
+  std::size_t forks = 0, promoted = 0;
+  for (int step = 0; step < 150; ++step) {
+    promoted += venation::canalise(c, p, {}, ws, 2).promoted;
+    const auto g = venation::vein_graph(c);
+    std::vector<std::vector<std::uint32_t>> children(g.cell.size());
+    std::vector<bool> has_parent(g.cell.size(), false);
+    for (const auto& e : g.edges) {
+      children[e[1]].push_back(e[0]);
+      has_parent[e[0]] = true;
+    }
+    for (std::uint32_t v = 0; v < g.cell.size(); ++v) {
+      if (children[v].empty()) continue;
+      forks += children[v].size() > 1;
+      std::uint32_t main = children[v][0];
+      for (const std::uint32_t ch : children[v])  // the largest flow, ties to the smaller cell index
+        if (g.flow[ch] > g.flow[main] || (g.flow[ch] == g.flow[main] && g.cell[ch] < g.cell[main])) main = ch;
+      for (const std::uint32_t ch : children[v]) {
+        const int want = !has_parent[v] ? 1 : ch == main ? g.order[v] : g.order[v] + 1;
+        if (g.order[ch] != want)
+          FAIL("step " << step << ": cell " << g.cell[ch] << " of order " << g.order[ch] << " under cell " << g.cell[v]
+                       << " of order " << g.order[v] << ", want " << want);
+      }
+    }
+  }
+  CHECK(promoted > 20);
+  CHECK(forks > 5);
+}
+
 TEST_CASE("bad input is refused with a clear message", "[venation]") {
   venation::Params p;
   p.threshold = 0;
@@ -391,23 +426,8 @@ Result canalise(cells::Cells& c, const venation::Params& p, const venation::Sour
     const Index par = c.vein_parent[*it];
     if (par != kNoIndex && is_vein_node(c.type[par])) flow[par] += flow[*it];
   }
-  for (std::size_t i = 0; i < n; ++i) order[i] = 0;
-  for (const Index v : vorder) {
-    const Index par = c.vein_parent[v];
-    const bool root = par == kNoIndex || !is_vein_node(c.type[par]);
-    if (root) order[v] = 1;
-    Index main = kNoIndex;
-    for (Index s = children.start[v]; s < children.start[v + 1]; ++s) {
-      const Index ch = children.child[s];
-      if (!is_vein_node(c.type[ch])) continue;
-      if (main == kNoIndex || flow[ch] > flow[main]) main = ch;
-    }
-    for (Index s = children.start[v]; s < children.start[v + 1]; ++s) {
-      const Index ch = children.child[s];
-      if (!is_vein_node(c.type[ch])) continue;
-      order[ch] = root ? 1 : (ch == main ? order[v] : order[v] + 1);
-    }
-  }
+  std::vector<bool> is_root(n, false);
+  for (const Index v : vorder) is_root[v] = c.vein_parent[v] == kNoIndex || !is_vein_node(c.type[c.vein_parent[v]]);
   for (std::size_t i = 0; i < n; ++i) {
     const Index d = is_vein_node(c.type[i]) ? c.vein_parent[i] : downstream[i];
     core::Vec3 dir = core::Vec3::Zero();
@@ -434,9 +454,28 @@ Result canalise(cells::Cells& c, const venation::Params& p, const venation::Sour
     c.type[i] = CellType::vein;
     c.vein_parent[i] = downstream[i];
     radius[i] = venation::murray_radius(flow[i], p);
-    order[i] = order[downstream[i]] > 0 ? order[downstream[i]] : 1;
     ++report.promoted;
   }
+  // orders on the forest with the promoted cells as new leaves (the roots and the order of visits as
+  // before promotion, as the leaves were added to it)
+  const cells::VeinChildren now = cells::vein_children(c);
+  for (std::size_t i = 0; i < n; ++i) order[i] = 0;
+  for (const Index v : vorder) {
+    const bool root = is_root[v];
+    if (root) order[v] = 1;
+    Index main = kNoIndex;
+    for (Index s = now.start[v]; s < now.start[v + 1]; ++s) {
+      const Index ch = now.child[s];
+      if (!is_vein_node(c.type[ch])) continue;
+      if (main == kNoIndex || flow[ch] > flow[main]) main = ch;
+    }
+    for (Index s = now.start[v]; s < now.start[v + 1]; ++s) {
+      const Index ch = now.child[s];
+      if (!is_vein_node(c.type[ch])) continue;
+      order[ch] = root ? 1 : (ch == main ? order[v] : order[v] + 1);
+    }
+  }
+
   for (std::size_t i = 0; i < n; ++i) report.vein_cells += c.type[i] == CellType::vein ? 1 : 0;
   return result;
 }
