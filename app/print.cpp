@@ -102,6 +102,8 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
              {"above min_radius", "above print.min_radius"},
              {"a smaller scale or size", "a smaller print.size (or print.scale)"},
              {"a smaller scale", "a smaller print.size (or print.scale)"},
+             {"use a larger scale", "use a larger print.scale"},
+             {"2 min_radius", "2 print.min_radius"},
              {"raise the memory limit", "raise print.max_memory"}})
       for (std::size_t at = m.find(from); at != std::string::npos; at = m.find(from, at + to.size()))
         m.replace(at, from.size(), to);

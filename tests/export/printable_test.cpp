@@ -308,6 +308,13 @@ TEST_CASE("bad input is refused with a message a user can act on", "[printable]"
   ThickenParams coarse;
   coarse.voxel_size = 1;  // coarser than min_radius 0.4
   CHECK_THROWS_WITH(exporters::thicken(y_tree(), {}, coarse), Catch::Contains("min_radius"));
+  // a scale that makes the veins span no more than the thinnest vein is thick: a 0.8 mm ball was printed
+  // for a leaf at print.scale = 1e-9 (audit, December 2026), while print.size = 0.001 was refused
+  ThickenParams tiny;
+  tiny.scale = 1e-9;
+  CHECK_THROWS_WITH(exporters::thicken(y_tree(), {}, tiny), Catch::Contains("the veins would be larger than the form"));
+  tiny.scale = 0.7 / 18;  // the tree spans 18 units along y: 0.7 mm, less than a vein is thick (0.8)
+  CHECK_THROWS_WITH(exporters::thicken(y_tree(), {}, tiny), Catch::Contains("use a larger scale"));
 }
 
 TEST_CASE("the memory estimate refuses and suggests a voxel size that fits", "[printable]") {
