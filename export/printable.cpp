@@ -275,7 +275,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
       c_hi = c_hi.cwiseMax(s.a).cwiseMax(s.b);
     }
     const double across = (c_hi - c_lo).maxCoeff() * scale;
-    if (!(across > 2 * params.min_radius))
+    if (across > 0 && !(across > 2 * params.min_radius))  // (a form of one point is a ball, whatever the scale)
       throw core::InvalidInput(
           "thicken: at a scale of " + fmt("%.3g", scale) + " mm per model unit the veins span " + fmt("%.3g", across) +
           " mm, not more than the thinnest vein (2 min_radius = " + fmt("%.3g", 2 * params.min_radius) +
