@@ -117,8 +117,19 @@ cells::StepReport Scene::step() {
         if (has_obstacles) obstacles_.apply(c, previous_, margin, threads);
       });
   apply_petioles(sim_.step_count());
-  if (desc_.venation && sim_.step_count() % desc_.venation->every == 0)
+  if (desc_.venation && sim_.step_count() % desc_.venation->every == 0) {
     vein_report_ = venation::canalise(sim_.cells(), *desc_.venation, source_rule_, vein_ws_, threads);
+  } else if (desc_.venation && report.divisions > 0) {
+    // between passes (venation.every > 1) a vein cell's daughter, a general cell, copied its mother's vein
+    // radius and order: a general cell has neither
+    cells::Cells& c = sim_.cells();
+    const auto radius = c.attributes.find(venation::kRadius), order = c.attributes.find(venation::kOrder);
+    for (std::size_t i = 0; i < c.size(); ++i)
+      if (c.type[i] == cells::CellType::general) {
+        if (radius != c.attributes.end()) radius->second[i] = 0;
+        if (order != c.attributes.end()) order->second[i] = 0;
+      }
+  }
   return report;
 }
 

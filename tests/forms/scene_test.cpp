@@ -7,6 +7,7 @@
 #include "cells/cells.h"
 #include "core/errors.h"
 #include "forms/shapes.h"
+#include "venation/canalisation.h"
 
 using namespace cellform;
 using Catch::Contains;
@@ -126,4 +127,38 @@ TEST_CASE("cells growing round a box in a mesh mould stay above its floor and ou
   CHECK(on_floor > 100);  // the sheet reached the floor round the box
   CHECK(below == 0);      // cell-steps below the floor
   CHECK(in_box == 0);
+}
+
+TEST_CASE("between canalisation passes a vein cell's daughter carries no vein radius or order", "[forms][scene]") {
+  // with venation.every = 7, a general daughter copied its vein mother's radius and order until the next
+  // pass, and a run's files showed general cells with vein radii (audit, December 2026)
+  forms::SceneDescription d;
+  d.cells.division.division_age = 6;
+  d.cells.division.min_age = 3;
+  d.cells.division.max_cells = 600;
+  venation::Params v;
+  v.threshold = 8;
+  v.every = 7;
+  d.venation = v;
+  d.petioles.push_back({Vec3(0, 0, 0), true, 0, ""});
+  forms::Scene scene(d, 3);
+  for (const Vec3& p : forms::hex_disc(Vec3::Zero(), Vec3::UnitZ(), 4.0, 1.0))
+    cells::add_cell(scene.simulation().cells(), p);
+  scene.start();
+  std::size_t veins = 0, divided_between = 0;
+  for (int step = 0; step < 60; ++step) {
+    const cells::StepReport r = scene.step();
+    const cells::Cells& c = scene.simulation().cells();
+    if (scene.simulation().step_count() % 7 != 0) divided_between += r.divisions;
+    if (!c.attributes.count(venation::kRadius)) continue;  // before the first pass
+    const auto& radius = c.attributes.at(venation::kRadius);
+    const auto& order = c.attributes.at(venation::kOrder);
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      veins += c.type[i] == cells::CellType::vein;
+      if (c.type[i] == cells::CellType::general && (radius[i] != 0 || order[i] != 0))
+        FAIL("step " << step << ": general cell " << c.id[i] << " has radius " << radius[i] << ", order " << order[i]);
+    }
+  }
+  CHECK(veins > 0);
+  CHECK(divided_between > 10);
 }
