@@ -584,7 +584,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
           << "cellform: printing interrupted: no printable files (the other outputs and the checkpoint are written)\n";
     if (!checkpoint_error.empty()) {
       err << "cellform: " << checkpoint_error
-          << "\n  (the other outputs are written, but this run cannot be resumed)\n";
+          << (saved ? "\n  (the other outputs are written; the run can be resumed from its last periodic checkpoint, " +
+                          checkpoint.string() + ", of step " + std::to_string(saved_step) + ")\n"
+                    : std::string("\n  (the other outputs are written, but this run cannot be resumed)\n"));
       code = failure;
     }
     if (!o.quiet || code != ok) {
