@@ -2,9 +2,10 @@
 // ground{}, print{}, ...): each reads its table against the schema and fills the scene configuration.
 // The colonisation sections are in script_colonisation.cpp.
 #include <cctype>
+#include <fstream>
+#include <vector>
 
 #include "app/script_impl.h"
-#include "core/atomic_file.h"
 #include "core/chunk_file.h"
 #include "forms/obstacles.h"
 #include "forms/shapes.h"
@@ -281,6 +282,19 @@ void section_shape(Impl& I, const std::string& kind, const std::string& at) {
 
 namespace {
 
+/// "fnv1a64:<hex>" of a file's bytes, read in blocks; "" if it cannot be read (load_mesh says why).
+std::string file_fingerprint(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "";
+  std::uint64_t h = core::fnv1a64(nullptr, 0);
+  std::vector<char> block(1 << 20);
+  while (in) {
+    in.read(block.data(), static_cast<std::streamsize>(block.size()));
+    h = core::fnv1a64(block.data(), static_cast<std::size_t>(in.gcount()), h);
+  }
+  return in.bad() ? "" : "fnv1a64:" + core::hex64(h);
+}
+
 /// The unit vector along `n`; a zero vector has no direction and is refused naming the parameter.
 Vec3 unit_vector(const Vec3& n, const std::string& name) {
   if (!(n.norm() > 0)) throw InvalidInput(name + " must be a non-zero vector (a direction), got {0, 0, 0}");
@@ -318,9 +332,12 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
     if (file.is_relative()) file = I.script_dir / file;
     forms::TriangleMesh mesh;
     try {
+      // its fingerprint, for a resume to compare: the same before and after reading it, or it changed meanwhile
+      const std::string before = file_fingerprint(file);
       mesh = forms::load_mesh(file);
-      const std::string bytes = core::read_file(file);  // its fingerprint, for a resume to compare
-      I.cfg->mesh_files.emplace_back(file, "fnv1a64:" + core::hex64(core::fnv1a64(bytes.data(), bytes.size())));
+      if (file_fingerprint(file) != before)
+        throw core::FileError(file.string() + " changed while it was read; run again once it is written");
+      I.cfg->mesh_files.emplace_back(file, before);
     } catch (const std::exception& e) {
       throw InvalidInput(at + "mesh: " + core::error_text(e));
     }
