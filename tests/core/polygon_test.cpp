@@ -106,9 +106,34 @@ TEST_CASE("a corner repeated at the notch, or a spike, does not make a face look
   }
   // a pentagram turns left at every corner but goes round twice: not fanned as convex (nor can it be cut:
   // it crosses itself), and its square, convex once round, is fanned
-  std::vector<Vec3> star;
+  std::vector<Vec3> star, square;
   for (int k = 0; k < 5; ++k) star.push_back(Vec3(std::cos(4 * M_PI * k / 5), std::sin(4 * M_PI * k / 5), 0));
-  CHECK(core::triangulate_polygon(star).size() == 3);
+  const Tris fan{{0, 1, 2}, {0, 2, 3}, {0, 3, 4}};
+  const Tris cut = core::triangulate_polygon(star);
+  CHECK(cut.size() == 3);
+  CHECK(cut != fan);
+  for (int k = 0; k < 5; ++k) square.push_back(Vec3(k == 1 || k == 2 ? 1 : 0, k >= 2 ? 1 : 0, 0));  // and a corner
+  square[4] = Vec3(0, 0.5, 0);  // in line on its left side: convex still, fanned
+  CHECK(core::triangulate_polygon(square) == fan);
+}
+
+TEST_CASE("a convex face of many corners in line along its sides is fanned, not refused", "[polygon]") {
+  // a square of 300 corners a side: every corner but four turns by 0; it was taken for concave, and over
+  // kMaxConcaveCorners refused (review, December 2026)
+  std::vector<std::array<double, 2>> flat;
+  for (int side = 0; side < 4; ++side)
+    for (int k = 0; k < 300; ++k) {
+      const double t = k / 300.0;
+      flat.push_back(side == 0   ? std::array<double, 2>{t, 0}
+                     : side == 1 ? std::array<double, 2>{1, t}
+                     : side == 2 ? std::array<double, 2>{1 - t, 1}
+                                 : std::array<double, 2>{0, 1 - t});
+    }
+  const auto p = place(flat, Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY());
+  bool too_large = true;
+  const auto tris = core::triangulate_polygon(p, &too_large);
+  CHECK(!too_large);
+  check_cover(p, flat, Vec3::UnitZ(), tris);
 }
 
 TEST_CASE("random star-shaped polygons are covered exactly", "[polygon]") {
