@@ -268,7 +268,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   double voxel = params.voxel_size > 0 ? params.voxel_size : params.min_radius / 2;  // auto: may be raised below
   // a scale given (not found from auto_extent, which is checked against min_radius before a run): as for a
   // size, veins at least 2 min_radius thick must be thinner than the form they make
-  if (params.scale > 0 && !segments.empty()) {
+  if (params.scale > 0 && !segments.empty() && shell.empty()) {  // (a sheet printed too is the form)
     Vec3 c_lo = Vec3::Constant(std::numeric_limits<double>::infinity()), c_hi = -c_lo;
     for (const Segment& s : segments) {
       c_lo = c_lo.cwiseMin(s.a).cwiseMin(s.b);

@@ -315,6 +315,9 @@ TEST_CASE("bad input is refused with a message a user can act on", "[printable]"
   CHECK_THROWS_WITH(exporters::thicken(y_tree(), {}, tiny), Catch::Contains("the veins would be larger than the form"));
   tiny.scale = 0.7 / 18;  // the tree spans 18 units along y: 0.7 mm, less than a vein is thick (0.8)
   CHECK_THROWS_WITH(exporters::thicken(y_tree(), {}, tiny), Catch::Contains("use a larger scale"));
+  // with a sheet printed too, the sheet is the form (review: a sheet with its first vein cells was refused)
+  const std::vector<std::array<Vec3, 3>> sheet{{Vec3(-100, -100, 0), Vec3(100, -100, 0), Vec3(0, 100, 0)}};
+  CHECK_NOTHROW(exporters::thicken(y_tree(), sheet, tiny));
 }
 
 TEST_CASE("the memory estimate refuses and suggests a voxel size that fits", "[printable]") {
