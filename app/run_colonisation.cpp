@@ -456,9 +456,13 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
           << "cellform: printing interrupted: no printable files (the vein files are written)\n";
     if (!checkpoint_error.empty()) {
       err << "cellform: " << checkpoint_error
-          << (saved ? "\n  (the other outputs are written; the run can be resumed from its last periodic checkpoint, " +
-                          checkpoint.string() + ", of step " + std::to_string(saved_step) + ")\n"
-                    : std::string("\n  (the other outputs are written, but this run cannot be resumed)\n"));
+          << (saved || sheet_checkpointed
+                  ? "\n  (the other outputs are written; the run can be resumed from its last periodic checkpoint, " +
+                        checkpoint.string() +
+                        (saved ? ", of step " + std::to_string(saved_step)
+                               : std::string(", taken while the sheet grew")) +
+                        ")\n"
+                  : std::string("\n  (the other outputs are written, but this run cannot be resumed)\n"));
       code = failure;
     }
     std::ostream& where = code == ok ? out : err;
