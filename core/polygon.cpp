@@ -53,8 +53,8 @@ std::vector<std::array<std::uint32_t, 3>> triangulate_polygon(std::span<const Ve
   const bool mirror = normal[axis] < 0;
   std::vector<P2> q(n);
   for (std::size_t i = 0; i < n; ++i) q[i] = {corners[i][u], mirror ? -corners[i][v] : corners[i][v]};
-  // convex: no corner turns right, at least three turn left, and once round in all (a pentagram turns left
-  // at every corner, twice round; a spike doubling back turns by pi; a corner repeated at a right turn
+  // convex: no corner turns right or back, at least three turn left, and once round in all (a pentagram
+  // turns left at every corner, twice round; a corner repeated at a right turn
   // hides that turn, so the rest add up to more than once round). Corners in line turn by 0: fanned, they
   // give triangles of no area along that side.
   bool convex = true;
@@ -62,10 +62,10 @@ std::vector<std::array<std::uint32_t, 3>> triangulate_polygon(std::span<const Ve
   double turning = 0;
   for (std::size_t i = 0; i < n && convex; ++i) {
     const P2 &a = q[(i + n - 1) % n], &b = q[i], &c = q[(i + 1) % n];
-    const double turn = cross(a, b, c);
-    convex = turn >= 0;
+    const double turn = cross(a, b, c), ahead = (b[0] - a[0]) * (c[0] - b[0]) + (b[1] - a[1]) * (c[1] - b[1]);
+    convex = turn > 0 || (turn == 0 && ahead >= 0);  // (a spike doubling back: turn 0, going back)
     left += turn > 0;
-    turning += std::atan2(turn, (b[0] - a[0]) * (c[0] - b[0]) + (b[1] - a[1]) * (c[1] - b[1]));
+    turning += std::atan2(turn, ahead);
   }
   if (convex && left >= 3 && std::abs(turning - 2 * M_PI) < 1e-6) {
     fan(ring);

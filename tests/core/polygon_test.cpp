@@ -115,6 +115,11 @@ TEST_CASE("a corner repeated at the notch, or a spike, does not make a face look
   for (int k = 0; k < 5; ++k) square.push_back(Vec3(k == 1 || k == 2 ? 1 : 0, k >= 2 ? 1 : 0, 0));  // and a corner
   square[4] = Vec3(0, 0.5, 0);  // in line on its left side: convex still, fanned
   CHECK(core::triangulate_polygon(square) == fan);
+  // a slit into a square (a spike doubling back: at its tip the turn is 0, going back): no triangle is
+  // wound backwards (a fan from the first corner would lay one back over another)
+  const std::vector<std::array<double, 2>> slit{{0, 0}, {0.5, 0}, {0.5, 0.5}, {0.5, 0}, {1, 0}, {1, 1}, {0, 1}};
+  const auto sp = place(slit, Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY());
+  for (const auto& t : core::triangulate_polygon(sp)) CHECK(area_vector(sp, t).z() > -1e-12);
 }
 
 TEST_CASE("a convex face of many corners in line along its sides is fanned, not refused", "[polygon]") {
