@@ -226,25 +226,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                                                   : std::string(" run, but its script with these --set overrides now "
                                                                 "describes a ")) +
                                (cfg.colonisation ? "space-colonisation" : "cell") + " run");
-    // a cell run (or a sheet still growing) reads its mesh{} files again: they must be the ones it grew
-    // against, or its cells would go on against walls that were not there (an edited script may change them)
-    std::vector<std::string> meshes;
-    for (const auto& [path, hash] : cfg.mesh_files) meshes.push_back(hash);
-    if (s.resume && (!cfg.colonisation || s.sheet_partial) && s.obstacle_meshes && *s.obstacle_meshes != meshes) {
-      std::string changed;
-      for (std::size_t k = 0; k < meshes.size(); ++k)
-        if (k >= s.obstacle_meshes->size() || (*s.obstacle_meshes)[k] != meshes[k])
-          changed += (changed.empty() ? "'" : ", '") + cfg.mesh_files[k].first.string() + "'";
-      if (!s.script_replaced)
-        throw InputError("checkpoint '" + o.checkpoint.string() + "' grew against other mesh{} obstacles: " +
-                         (changed.empty() ? std::string("a file") : changed) +
-                         " changed since it was saved; put back the file it was grown with, or start a new run "
-                         "(resume --script with an edited script takes the files as they are now)");
-      err << "cellform: note: the mesh{} obstacles differ from those the checkpoint grew against"
-          << (changed.empty() ? std::string(" (fewer of them)") : " (" + changed + " changed)")
-          << "; the run goes on against them as they are now\n";
-    }
-    s.obstacle_meshes = meshes;
+    adopt_mesh_files(s, o, cfg, err);
     seed = s.seed ? *s.seed : cfg.seed;
     host.set_seed(seed);  // math.random in rules: from the seed and the step
     if (cfg.resolved.contains("run")) cfg.resolved["run"]["seed"] = seed;  // run.json: the seed used (--seed too)

@@ -103,6 +103,12 @@ void apply_checkpoint_every(std::optional<std::uint64_t> every, OutputSpec* outp
 
 /// A resume of a space-colonisation run whose --set or edited script changed colonisation.max_steps: that is
 /// the run's step limit now, unless --steps gives one. Throws InputError for a limit below the checkpoint's step.
+/// A cell run (or a sheet still growing) reads its mesh{} files again: on a resume they must be the ones it
+/// grew against (InputError naming those that changed), or its cells would go on against walls that were not
+/// there; an edited script (resume --script) takes them as they are, with a note on `err`. Then records this
+/// run's fingerprints in `s` for its checkpoints.
+void adopt_mesh_files(Start& s, const RunOptions& o, const SceneConfig& cfg, std::ostream& err);
+
 void adopt_max_steps(Start& s, const RunOptions& o, const SceneConfig& cfg);
 
 /// resume --script, once the edited script is read into `cfg`: reads the run's own script again to record

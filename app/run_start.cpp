@@ -365,6 +365,26 @@ void apply_checkpoint_every(std::optional<std::uint64_t> every, OutputSpec* outp
   }
 }
 
+void adopt_mesh_files(Start& s, const RunOptions& o, const SceneConfig& cfg, std::ostream& err) {
+  std::vector<std::string> meshes;
+  for (const auto& [path, hash] : cfg.mesh_files) meshes.push_back(hash);
+  if (s.resume && (!cfg.colonisation || s.sheet_partial) && s.obstacle_meshes && *s.obstacle_meshes != meshes) {
+    std::string changed;
+    for (std::size_t k = 0; k < meshes.size(); ++k)
+      if (k >= s.obstacle_meshes->size() || (*s.obstacle_meshes)[k] != meshes[k])
+        changed += (changed.empty() ? "'" : ", '") + cfg.mesh_files[k].first.string() + "'";
+    if (!s.script_replaced)
+      throw InputError("checkpoint '" + o.checkpoint.string() +
+                       "' grew against other mesh{} obstacles: " + (changed.empty() ? std::string("a file") : changed) +
+                       " changed since it was saved; put back the file it was grown with, or start a new run "
+                       "(resume --script with an edited script takes the files as they are now)");
+    err << "cellform: note: the mesh{} obstacles differ from those the checkpoint grew against"
+        << (changed.empty() ? std::string(" (fewer of them)") : " (" + changed + " changed)")
+        << "; the run goes on against them as they are now\n";
+  }
+  s.obstacle_meshes = meshes;
+}
+
 void adopt_max_steps(Start& s, const RunOptions& o, const SceneConfig& cfg) {
   if (!s.max_steps_changed || o.steps || !cfg.colonisation) return;  // --steps wins
   const std::uint64_t limit = cfg.colonisation->params.max_steps;

@@ -57,10 +57,10 @@ PrintableMesh weld_soup(std::vector<Vec3> corners) {  // 3 corners per triangle 
 }
 
 /// Appends the triangles of a face (corners: indices into m.vertices, all in range): fanned if it is
-/// convex, else cut by ear clipping in its plane, as an L-shaped n-gon needs; `where` names it in the error
-/// for a concave face too large to cut.
+/// convex, else cut by ear clipping in its plane, as an L-shaped n-gon needs; `where` and `number` ("line",
+/// 12) name it in the error for a concave face too large to cut.
 void add_face(PrintableMesh& m, std::span<const std::uint32_t> face, const std::filesystem::path& path,
-              const std::string& where) {
+              const char* where, std::size_t number) {
   if (face.size() == 3) {
     m.triangles.push_back({face[0], face[1], face[2]});
     return;
@@ -70,8 +70,8 @@ void add_face(PrintableMesh& m, std::span<const std::uint32_t> face, const std::
   bool too_large = false;
   const auto tris = core::triangulate_polygon(corners, &too_large);
   if (too_large)
-    malformed(path, where + ": a face of " + std::to_string(face.size()) + " corners that is not convex (over " +
-                        std::to_string(core::kMaxConcaveCorners) +
+    malformed(path, where + (" " + std::to_string(number)) + ": a face of " + std::to_string(face.size()) +
+                        " corners that is not convex (over " + std::to_string(core::kMaxConcaveCorners) +
                         " such corners are not cut into triangles here); triangulate it in the modeller");
   for (const auto& t : tris) m.triangles.push_back({face[t[0]], face[t[1]], face[t[2]]});
 }
@@ -162,7 +162,7 @@ PrintableMesh read_obj(const std::filesystem::path& path, const std::string& s) 
         }
       }
       if (poly.size() < 3) malformed(path, "line " + std::to_string(line_no) + ": a face needs three vertices");
-      add_face(m, poly, path, "line " + std::to_string(line_no));
+      add_face(m, poly, path, "line", static_cast<std::size_t>(line_no));
     }
   }
   if (m.triangles.empty()) malformed(path, "no faces in the OBJ file");
@@ -352,8 +352,7 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
     if (i >= m.vertices.size()) malformed(path, "PLY face index " + std::to_string(i) + " out of range");
   m.triangles.reserve(faces.size() - 2 * face_end.size());
   for (std::size_t f = 0, from = 0; f < face_end.size(); from = face_end[f++])
-    add_face(m, std::span<const std::uint32_t>(faces).subspan(from, face_end[f] - from), path,
-             "PLY face " + std::to_string(f + 1));
+    add_face(m, std::span<const std::uint32_t>(faces).subspan(from, face_end[f] - from), path, "PLY face", f + 1);
   if (m.triangles.empty()) {
     const bool edges =
         std::any_of(elements.begin(), elements.end(), [](const Element& e) { return e.name == "edge" && e.count > 0; });

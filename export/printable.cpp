@@ -266,21 +266,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
                                                      params.auto_extent / extent)
                                         : 1.0;
   double voxel = params.voxel_size > 0 ? params.voxel_size : params.min_radius / 2;  // auto: may be raised below
-  // a scale given (not found from auto_extent, which is checked against min_radius before a run): as for a
-  // size, veins at least 2 min_radius thick must be thinner than the form they make
-  if (params.scale > 0 && !segments.empty() && shell.empty()) {  // (a sheet printed too is the form)
-    Vec3 c_lo = Vec3::Constant(std::numeric_limits<double>::infinity()), c_hi = -c_lo;
-    for (const Segment& s : segments) {
-      c_lo = c_lo.cwiseMin(s.a).cwiseMin(s.b);
-      c_hi = c_hi.cwiseMax(s.a).cwiseMax(s.b);
-    }
-    const double across = (c_hi - c_lo).maxCoeff() * scale;
-    if (across > 0 && !(across > 2 * params.min_radius))  // (a form of one point is a ball, whatever the scale)
-      throw core::InvalidInput(
-          "thicken: at a scale of " + fmt("%.3g", scale) + " mm per model unit the veins span " + fmt("%.3g", across) +
-          " mm, not more than the thinnest vein (2 min_radius = " + fmt("%.3g", 2 * params.min_radius) +
-          " mm): the veins would be larger than the form; use a larger scale");
-  }
+  detail::check_given_scale(segments, shell, params, scale);
 
   // Primitives in mm, with radii raised to the printable minimum.
   std::vector<Capsule> caps;

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <mutex>
 #include <string>
 
@@ -54,6 +55,26 @@ void check_params(const ThickenParams& p) {
     bad("close_holes_max must be >= 0 mm (0 = no cap), got " + fmt("%g", p.close_holes_max));
   if (!(std::isfinite(p.flat_base) && p.flat_base >= 0))
     bad("flat_base must be >= 0 mm (0 = no cut), got " + fmt("%g", p.flat_base));
+}
+
+/// A scale given (not found from auto_extent, which is checked against min_radius before a run): as for a
+/// size, veins at least 2 min_radius thick must be thinner than the form they make, when they are printed
+/// alone (with a sheet printed too, the sheet is the form).
+void check_given_scale(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell,
+                       const ThickenParams& params, double scale) {
+  if (params.scale > 0 && !segments.empty() && shell.empty()) {  // (a sheet printed too is the form)
+    Vec3 c_lo = Vec3::Constant(std::numeric_limits<double>::infinity()), c_hi = -c_lo;
+    for (const Segment& s : segments) {
+      c_lo = c_lo.cwiseMin(s.a).cwiseMin(s.b);
+      c_hi = c_hi.cwiseMax(s.a).cwiseMax(s.b);
+    }
+    const double across = (c_hi - c_lo).maxCoeff() * scale;
+    if (across > 0 && !(across > 2 * params.min_radius))  // (a form of one point is a ball, whatever the scale)
+      throw core::InvalidInput(
+          "thicken: at a scale of " + fmt("%.3g", scale) + " mm per model unit the veins span " + fmt("%.3g", across) +
+          " mm, not more than the thinnest vein (2 min_radius = " + fmt("%.3g", 2 * params.min_radius) +
+          " mm): the veins would be larger than the form; use a larger scale");
+  }
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t) {

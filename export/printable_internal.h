@@ -4,9 +4,11 @@
 
 #include <openvdb/openvdb.h>
 
+#include <array>
 #include <chrono>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "export/printable.h"
 
@@ -28,6 +30,10 @@ std::string fmt(const char* f, double x);
 void init_openvdb();
 /// Throws core::InvalidInput naming the first ThickenParams field out of range.
 void check_params(const ThickenParams& p);
+/// InvalidInput for a given scale (mm per model unit) at which veins printed alone span no more than
+/// 2 min_radius.
+void check_given_scale(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell,
+                       const ThickenParams& params, double scale);
 double seconds_since(std::chrono::steady_clock::time_point t);
 /// Calls params.progress (if any); throws core::Cancelled when it asks to stop.
 void report_progress(const ThickenParams& params, double fraction);

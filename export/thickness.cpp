@@ -266,6 +266,11 @@ Vec3 inward(const PrintableMesh& m, std::size_t t) {
   return len > 0 ? Vec3(-normal / len) : Vec3::Zero();
 }
 
+Vec3 centroid(const PrintableMesh& m, std::size_t t) {
+  const auto& tri = m.triangles[t];
+  return (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3;
+}
+
 double longest_side(const PrintableMesh& m, std::size_t t) {
   const auto& tri = m.triangles[t];
   const Vec3 &a = m.vertices[tri[0]], &b = m.vertices[tri[1]], &c = m.vertices[tri[2]];
@@ -284,10 +289,8 @@ std::vector<double> centroid_rays(const PrintableMesh& m, const Bvh& bvh, double
         for (std::size_t t = begin; t < end; ++t) {
           const Vec3 d = inward(m, t);
           if (d == Vec3::Zero()) continue;
-          const auto& tri = m.triangles[t];
-          const Vec3 o = (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3;
           bool through = false;
-          out[t] = cast(bvh, m, o, d, static_cast<std::uint32_t>(t), eps, stack, &through);
+          out[t] = cast(bvh, m, centroid(m, t), d, static_cast<std::uint32_t>(t), eps, stack, &through);
           neighbour[t] = through;
         }
       },
@@ -421,8 +424,7 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
     }
     ++r.samples;
     if (level[t] == 1) {
-      const auto& tri = m.triangles[t];
-      sample(t, th[t], areas[t], (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3, th_neighbour[t]);
+      sample(t, th[t], areas[t], centroid(m, t), th_neighbour[t]);
       continue;
     }
     // a sub-ray that finds no wall (it enters the solid again first, or is given up; or, in a mesh of many
@@ -438,8 +440,7 @@ ThicknessReport wall_thickness(const PrintableMesh& m, int threads) {
         unmeasured += part;
     }
     if (unmeasured > 0) {
-      const auto& tri = m.triangles[t];
-      sample(t, th[t], unmeasured, (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3, th_neighbour[t]);
+      sample(t, th[t], unmeasured, centroid(m, t), th_neighbour[t]);
     }
   }
   if (samples.empty()) return r;

@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "core/errors.h"
+#include "core/polygon.h"
 #include "export/mesh_files.h"
 #include "tests/export/mesh_fixtures.h"
 
@@ -298,6 +299,19 @@ TEST_CASE("read_mesh cuts a concave n-gon where it lies: an L-shaped prism is pr
       CHECK(r.volume == Approx(51 * 5));
     }
   }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("read_mesh refuses a concave face too large to cut, naming its line", "[mesh_check][files]") {
+  const fs::path dir = temp_dir("comb");
+  std::string comb;
+  const std::size_t teeth = core::kMaxConcaveCorners;
+  for (std::size_t i = 0; i <= teeth; ++i) comb += "v " + std::to_string(i) + (i % 2 ? " 1 0\n" : " 3 0\n");
+  comb += "v " + std::to_string(teeth) + " 0 0\nv 0 0 0\nf";
+  for (std::size_t i = 1; i <= teeth + 3; ++i) comb += " " + std::to_string(i);
+  std::ofstream(dir / "comb.obj") << comb << "\n";
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "comb.obj"),
+                    Catch::Contains("comb.obj: line 1028: a face of 1027 corners that is not convex"));
   fs::remove_all(dir);
 }
 
