@@ -55,8 +55,9 @@ std::vector<Field> build() {
   f.push_back(num("cells", "spring", "1", 0, kInf, false, "1/time^2", "weight of the spring force (Eq. 2)"));
   f.push_back(num("cells", "planar", "0.5", 0, kInf, false, "1/time^2",
                   "weight of planarisation towards the plane of the 3 closest (Eq. 3)"));
-  f.push_back(
-      num("cells", "cohesion", "0", 0, kInf, false, "units^2/time^2", "weight of cohesion to the neighbours (Eq. 4)"));
+  f.push_back(num("cells", "cohesion", "0", 0, kInf, false, "units^2/time^2",
+                  "weight of cohesion to the neighbours (Eq. 4; closer than a rest length the pull weakens in "
+                  "proportion to the distance, so the spring keeps the cells it draws together apart)"));
   f.push_back(num("cells", "separation", "0", 0, kInf, false, "units^2/time^2",
                   "weight of separation from neighbours of neighbours (Eq. 5)"));
   f.push_back(vec("cells", "unary", "{0, 0, 0}", -kFar, kFar, "units/time^2",

@@ -50,14 +50,15 @@ Vec3 planar_kernel(const Vec3& c, const Vec3& p1, const Vec3& p2, const Vec3& p3
   return -((c - p1).dot(normal) / n2) * normal;
 }
 
-Vec3 cohesion_kernel(std::span<const Vec3> positions, Index self, std::span<const Index> neighbours) {
+Vec3 cohesion_kernel(std::span<const Vec3> positions, Index self, std::span<const Index> neighbours, double near) {
   if (neighbours.empty()) return Vec3::Zero();
   const Vec3& c = positions[self];
+  const double near2 = near * near;
   Vec3 sum = Vec3::Zero();
   for (const Index r : neighbours) {
     const Vec3 delta = positions[r] - c;
     const double d2 = delta.squaredNorm();
-    if (d2 > 0) sum += delta / d2;
+    if (d2 > 0) sum += delta / std::max(d2, near2);
   }
   return sum / static_cast<double>(neighbours.size());
 }
@@ -166,7 +167,7 @@ Vec3 cell_acceleration(const Cells& cells, const Params& params, const VeinChild
     if (cells.link_stride >= 3 && links[0] != kNoIndex && links[1] != kNoIndex && links[2] != kNoIndex)
       a += w.planar * planar_kernel(pos[i], pos[links[0]], pos[links[1]], pos[links[2]]);
   }
-  if (w.cohesion != 0) a += w.cohesion * cohesion_kernel(pos, i, s.direct);
+  if (w.cohesion != 0) a += w.cohesion * cohesion_kernel(pos, i, s.direct, kCohesionNear * params.rest_length);
   if (w.separation != 0) {
     // s.ring only grows, so no element is initialised per cell
     const std::size_t room = s.direct.size() * static_cast<std::size_t>(cells.link_stride);
@@ -181,7 +182,7 @@ Vec3 cell_acceleration(const Cells& cells, const Params& params, const VeinChild
       s.vein.clear();
       if (cells.vein_parent[i] != kNoIndex && cells.vein_parent[i] != i) s.vein.push_back(cells.vein_parent[i]);
       for (const Index c : children_of(children, i)) s.vein.push_back(c);
-      a += vc * cohesion_kernel(pos, i, s.vein);
+      a += vc * cohesion_kernel(pos, i, s.vein, kCohesionNear * params.rest_length);
     }
     const double vs = w.separation * params.vein_separation_factor;
     if (vs != 0) {

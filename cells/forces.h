@@ -21,9 +21,17 @@ Vec3 spring_kernel(std::span<const Vec3> positions, Index self, std::span<const 
 /// (u its unit normal). Zero when the three points are (nearly) collinear or coincident.
 Vec3 planar_kernel(const Vec3& c, const Vec3& p1, const Vec3& p2, const Vec3& p3);
 
-/// Eq. 4, cohesion, unweighted: (1/n) sum_r (P_r - C) / |P_r - C|^2. Coincident neighbours are skipped
-/// (they still count in n). Units: 1 / model unit.
-Vec3 cohesion_kernel(std::span<const Vec3> positions, Index self, std::span<const Index> neighbours);
+/// Eq. 4, cohesion, unweighted: (1/n) sum_r (P_r - C) / max(|P_r - C|, near)^2. Coincident neighbours are
+/// skipped (they still count in n). Units: 1 / model unit. `near` (model units) departs from the printed
+/// formula: closer than that, the pull weakens in proportion to the distance instead of growing as
+/// 1 / distance, so the spring, which the paper says keeps attracted cells apart, can: without it a
+/// vein cell pulled by cohesion towards its vein parent could overcome the spring's bounded push,
+/// collapse onto the parent and then be thrown off by the singular pull. 0 = the formula as printed.
+Vec3 cohesion_kernel(std::span<const Vec3> positions, Index self, std::span<const Index> neighbours, double near = 0);
+
+/// `near` of the cohesion kernel in the cell step, in rest lengths: no healthy link is this short (a
+/// daughter starts half a rest length from its mother).
+inline constexpr double kCohesionNear = 1.0;
 
 /// Eq. 5, separation, unweighted: (1/m) sum_r (C - P_r) / |C - P_r|^2 over `others`. Coincident ones are
 /// skipped (they still count in m). Units: 1 / model unit.

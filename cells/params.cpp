@@ -40,7 +40,8 @@ const char* const kTypeNames[3] = {"general", "petiole", "vein"};
 
 // The Gershgorin bound of one cell type's linearised force field (1/time^2), and the script's name of its
 // largest term. A spring or planar weight w contributes at most 2w (the cell and its neighbours moving in
-// opposition); the 1/r kernels (cohesion, separation) have stiffness w / r^2, bounded at r = rest length.
+// opposition); cohesion has stiffness w / r^2 beyond a rest length and w / rest^2 within it (it is linear
+// there), separation w / r^2, counted at r = rest length (it acts on the second ring, farther away).
 // Cells in a vein tree add the straightening terms (counted for every type: scripts may set types), when
 // vein trees can form.
 struct Stiffness {

@@ -89,6 +89,18 @@ TEST_CASE("cohesion and separation: closed form, equal and opposite for two cell
   REQUIRE((s0 + c0).norm() == 0.0);
 }
 
+TEST_CASE("cohesion closer than `near` weakens with the distance, continuously", "[forces]") {
+  for (const double d : {0.0, 0.25, 0.5, 0.999, 1.0, 1.5, 3.0}) {
+    const std::vector<Vec3> pos = {Vec3(0, 0, 0), Vec3(d, 0, 0)};
+    const Vec3 f = cohesion_kernel(pos, 0, kOne, 1.0);
+    INFO("distance " << d);
+    CHECK(f.y() == 0.0);
+    CHECK(f.z() == 0.0);
+    CHECK(f.x() == Approx(d < 1.0 ? d : 1.0 / d));  // d / near^2 within near, the printed 1 / d beyond
+    if (d >= 1.0) CHECK(f.x() == cohesion_kernel(pos, 0, kOne).x());
+  }
+}
+
 TEST_CASE("second ring excludes the cell and its direct neighbours, without duplicates", "[forces]") {
   Cells c = cellform::testing::hex_sheet(7, 7);
   cellform::testing::link_lattice(c);
