@@ -2,9 +2,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <csignal>
 #include <cstddef>
 #include <cstring>
+#include <ctime>
 #include <iostream>
 #include <streambuf>
 #include <string>
@@ -19,10 +21,29 @@ void say(const char* text, std::size_t size) {
   (void)written;
 }
 
-void on_interrupt(int sig) {
+// The sender of the first stop signal, and when it came: GNU timeout (and `kill 0`, a signal to a process
+// group) sends one stop twice, to the process and to its group, from one process at once.
+std::atomic<pid_t> g_first_sender{0};
+std::atomic<long long> g_first_ns{0};
+
+long long monotonic_ns() {
+  timespec t{};
+  clock_gettime(CLOCK_MONOTONIC, &t);  // async-signal-safe
+  return static_cast<long long>(t.tv_sec) * 1000000000LL + t.tv_nsec;
+}
+
+void on_interrupt(int sig, siginfo_t* info, void*) {
   using namespace cellform::app;
+  // sent by a process (not typed at the terminal, which the kernel sends with no sender)
+  const pid_t sender = info && info->si_code == SI_USER ? info->si_pid : 0;
   int none = 0;
-  g_interrupt_signal.compare_exchange_strong(none, sig);
+  if (g_interrupt_signal.compare_exchange_strong(none, sig)) {
+    g_first_sender.store(sender);
+    g_first_ns.store(monotonic_ns());
+  } else if (sender != 0 && sender == g_first_sender.load() && sig == g_interrupt_signal.load() &&
+             monotonic_ns() - g_first_ns.load() < 250000000LL) {
+    return;  // the same stop again, from the same process within a quarter second: not a second Ctrl-C
+  }
   if (g_interrupt.exchange(true)) {
     // a print the first Ctrl-C asked for: this one cancels it, keeping the other outputs
     if (g_print_after_interrupt.load() && !g_print_cancel.exchange(true)) {
@@ -95,8 +116,12 @@ class EscapingBuf : public std::streambuf {
 };
 
 int main(int argc, char** argv) {
-  std::signal(SIGINT, on_interrupt);
-  std::signal(SIGTERM, on_interrupt);
+  struct sigaction stop {};
+  stop.sa_sigaction = on_interrupt;
+  stop.sa_flags = SA_SIGINFO | SA_RESTART;
+  sigemptyset(&stop.sa_mask);
+  sigaction(SIGINT, &stop, nullptr);
+  sigaction(SIGTERM, &stop, nullptr);
   // a closed terminal or a dropped ssh: stop as after one Ctrl-C, with a checkpoint (however often it
   // comes); under nohup, which ignores it, go on
   if (std::signal(SIGHUP, SIG_IGN) != SIG_IGN) std::signal(SIGHUP, on_hangup);

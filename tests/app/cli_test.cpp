@@ -357,7 +357,7 @@ TEST_CASE("after a first Ctrl-C, a second during the print skips only the print"
   }
   REQUIRE(printing);
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  kill(pid, SIGINT);  // the second: skips the print
+  kill_from_another_process(pid, SIGINT);  // the second: skips the print
   const int code = wait_exit(pid);
   INFO(slurp(log));
   CHECK(code == 130);

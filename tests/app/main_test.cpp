@@ -5,6 +5,7 @@
 
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <cstring>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -16,6 +17,25 @@ namespace fs = std::filesystem;
 
 namespace {
 const char* const kLong = "division { trigger = 'none' }\nrun { steps = 1000000 }\ndisc { radius = 20 }\n";
+}  // namespace
+
+TEST_CASE("one stop sent twice at once by one process (GNU timeout: to the process and its group) is one Ctrl-C",
+          "[cli][signal]") {
+  TempDir t("cli-timeout");
+  const auto script = t.write("long.lua", kLong);
+  for (const int sig : {SIGINT, SIGTERM}) {
+    INFO(strsignal(sig));
+    const fs::path out = t.path / ("o" + std::to_string(sig)), log = t.path / ("err" + std::to_string(sig));
+    const pid_t pid = spawn_cellform_logged({"run", script.string(), "--out", out.string(), "--quiet"}, log);
+    REQUIRE(pid > 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+    kill(pid, sig);
+    kill(pid, sig);
+    CHECK(wait_exit(pid) == 130);
+    CHECK_THAT(slurp(log), !Contains("quit:"));
+    CHECK(fs::exists(out / "checkpoint.cfck"));
+    CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "interrupted");
+  }
 }
 
 TEST_CASE("a Ctrl-C stops a shell loop of runs, not only the run it came in", "[cli][signal]") {
@@ -77,7 +97,7 @@ TEST_CASE("a second Ctrl-C quits at once, says what the folder keeps, and the ne
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   kill(pid, SIGINT);
   std::this_thread::sleep_for(std::chrono::milliseconds(5));  // delivered apart, within the step and the writing
-  kill(pid, SIGINT);
+  kill_from_another_process(pid, SIGINT);                     // (a second from this process would be the same stop)
   CHECK(wait_exit(pid) == 130);
   CHECK_THAT(slurp(log), Contains("quit: the output folder keeps its last checkpoint, if one was written"));
   CHECK_FALSE(fs::exists(out / "run.json"));

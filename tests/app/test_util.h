@@ -95,6 +95,19 @@ inline pid_t spawn_cellform_logged(const std::vector<std::string>& args, const s
   return pid;
 }
 
+/// Sends `sig` to `pid` from a child process of its own, as a second terminal or `kill` command would (the
+/// same signal again from this process within a quarter second is taken as one stop sent twice, as GNU
+/// timeout sends it).
+inline void kill_from_another_process(pid_t pid, int sig) {
+  const pid_t sender = fork();
+  if (sender == 0) _exit(kill(pid, sig) == 0 ? 0 : 1);
+  REQUIRE(sender > 0);
+  int status = 0;
+  REQUIRE(waitpid(sender, &status, 0) == sender);
+  REQUIRE(WIFEXITED(status));
+  REQUIRE(WEXITSTATUS(status) == 0);
+}
+
 /// A child's wait status as a shell's $? gives it: the exit code, or 128 + the signal that ended it
 /// (a Ctrl-C ends cellform by SIGINT: 130, as exit(130) would).
 inline int shell_status(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status); }
