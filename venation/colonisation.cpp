@@ -70,10 +70,10 @@ Colonisation::Impl::Impl(const Domain& d, const ColonisationParams& params)
   rep.nodes = nodes.size();
 }
 
-bool Colonisation::Impl::place_3d(Index v, Vec3& q, double D) const {
+bool Colonisation::Impl::place_3d(Index v, Vec3& q, double D, bool cancelled) const {
   const Vec3& from = nodes.point(v);
-  q = region->project(q);
-  if (retraces(v, q)) {
+  if (!cancelled) q = region->project(q);
+  if (cancelled || retraces(v, q)) {
     Index best = kNoIndex;
     double best_d2 = 0;
     for (std::size_t a = 0; a < active.size(); ++a) {
@@ -403,16 +403,30 @@ void Colonisation::Impl::step() {
   child.resize(nodes.size(), kNoIndex);
   seen.resize(nodes.size(), 0);
   touched.clear();
-  // sums in source order (the same bits for any thread count); each node listed once, then sorted
-  for (std::size_t k2 = 0; k2 < infl.size(); ++k2) {
-    const Index v = infl[k2];
-    if (std::isnan(infl_dir[k2].x())) continue;  // the source sits on the node: no direction
-    if (!seen[v]) {
-      seen[v] = 1;
-      touched.push_back(v);
-    }
-    acc[v] += infl_dir[k2];
+  // sums in source order (the same bits for any thread count); each node listed once, then sorted. A leaf
+  // also keeps each node's nearest influencing source (ties: the first in source order), for a node that
+  // Eq. 1 cannot move (below)
+  if (!region) {
+    pull_source.resize(nodes.size(), kNoIndex);
+    pull_d2.resize(nodes.size(), 0.0);
   }
+  for (std::size_t a = 0; a < active.size(); ++a)
+    for (Index k2 = infl_start[a]; k2 < infl_start[a + 1]; ++k2) {
+      const Index v = infl[k2];
+      if (std::isnan(infl_dir[k2].x())) continue;  // the source sits on the node: no direction
+      if (!seen[v]) {
+        seen[v] = 1;
+        touched.push_back(v);
+      }
+      acc[v] += infl_dir[k2];
+      if (!region) {
+        const double d2 = (src[active[a]] - nodes.point(v)).squaredNorm();
+        if (pull_source[v] == kNoIndex || d2 < pull_d2[v]) {
+          pull_source[v] = active[a];
+          pull_d2[v] = d2;
+        }
+      }
+    }
   std::sort(touched.begin(), touched.end());
   for (Index v : touched) seen[v] = 0;
   // leaves: the new nodes enter the tree in one batch (nothing below queries it before the batch is in;
@@ -425,13 +439,27 @@ void Colonisation::Impl::step() {
     const Vec3 n = acc[v];
     acc[v].setZero();
     const double len = n.norm();
-    if (!(len > 1e-9)) continue;  // opposite sources cancel: no direction (Eq. 1 undefined)
     Vec3 q = nodes.point(v) + D * n / len;
-    if (region && !place_3d(v, q, D)) continue;
-    if (retraces(v, q)) continue;
-    // marginal growth scales the margin, not the veins: an outline not star-shaped about the petiole (a
-    // lobe's sinus, a barb) leaves part of a young blade outside the grown one; no vein goes there
-    if (marginal && !in_final_blade(q)) continue;
+    if (region) {
+      if (!place_3d(v, q, D, !(len > 1e-9))) continue;
+      if (retraces(v, q)) continue;
+    } else {
+      const Index s = pull_source[v];
+      pull_source[v] = kNoIndex;
+      // A node stays in the blade: sources on both sides of a sinus (a lobed or toothed outline) pull a
+      // node between them out of it (a laser would cut the vein through the outline). Marginal growth
+      // scales the margin, not the veins: an outline not star-shaped about the petiole (a lobe's sinus, a
+      // barb) leaves part of a young blade outside the grown one, and no vein goes there either.
+      auto fits = [&](const Vec3& x) { return !retraces(v, x) && (marginal ? in_final_blade(x) : in_blade(x)); };
+      // Sources that cancel (Eq. 1 undefined), pull v back along one of its segments (usually its Eq. 1
+      // child again, which is farther from each of them than v) or out of the blade: v grows towards its
+      // nearest influencing source alone, which splits the set (Figure 6k). Without it such pairs wait for
+      // ever and the run stalls with sources left, as in 3-D (place_3d)
+      if (!(len > 1e-9) || !fits(q)) {
+        q = nodes.point(v) + D * (src[s] - nodes.point(v)) / std::sqrt(pull_d2[v]);
+        if (!fits(q)) continue;
+      }
+    }
     if (region) {
       child[v] = add_node(q, v, step_no);
     } else {

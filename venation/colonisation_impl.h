@@ -204,6 +204,8 @@ struct Colonisation::Impl {
   std::vector<char> seen;                      // per node: already in `touched` this step
   std::vector<Index> nb, infl_start, infl, touched, child;
   std::vector<Vec3> acc;
+  std::vector<Index> pull_source;  // per node (leaf): its nearest influencing source this step (kNoIndex: none)
+  std::vector<double> pull_d2;     // its squared distance
 
   // 3-D domains (domain.h): darts from the domain, nodes kept in it, neighbourhoods found in 3-D
   std::optional<PreparedDomain> region;
@@ -231,12 +233,12 @@ struct Colonisation::Impl {
     if (closed) nodes.relative_neighbourhood(src[s], out, scratch);
   }
 
-  /// 3-D: moves the Eq. 1 node q of v into the domain. Where that node retraces one of v's segments
-  /// (retraces(): usually sources pulling v apart made that node already, its child there is farther from
-  /// each of them than v, so v stays their nearest node and the step would only repeat), v grows towards
-  /// its nearest influencing source alone, which splits the set as in Figure 6k. False if v cannot
-  /// advance (the projection undoes the step).
-  bool place_3d(Index v, Vec3& q, double D) const;
+  /// 3-D: moves the Eq. 1 node q of v into the domain. Where the pulls on v cancel (`cancelled`: Eq. 1 has
+  /// no direction) or that node retraces one of v's segments (retraces(): usually sources pulling v apart
+  /// made that node already, its child there is farther from each of them than v, so v stays their nearest
+  /// node and the step would only repeat), v grows towards its nearest influencing source alone, which
+  /// splits the set as in Figure 6k. False if v cannot advance (the projection undoes the step).
+  bool place_3d(Index v, Vec3& q, double D, bool cancelled) const;
 
   /// Eq. 4 at t = grown: y_t(y_0) by the trapezoid rule from 0 (the petiole), on 4097 heights.
   void make_table();
