@@ -280,8 +280,8 @@ TEST_CASE("veins stay in a lobed blade: sources across a sinus do not pull a nod
       p.darts_per_area = 0.01;
       v::Colonisation sim(leaf, p);
       sim.run();
-      INFO("growth " << static_cast<int>(g) << ", type " << static_cast<int>(type) << ", steps "
-                     << sim.report().steps << ", sources left " << sim.report().sources);
+      INFO("growth " << static_cast<int>(g) << ", type " << static_cast<int>(type) << ", steps " << sim.report().steps
+                     << ", sources left " << sim.report().sources);
       const v::VeinTree t = sim.tree();
       CHECK(t.size() > 500);
       const v::OutlineIndex blade(sim.outline());
