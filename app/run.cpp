@@ -6,9 +6,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iomanip>
 #include <iostream>
 #include <optional>
 #include <set>
+#include <sstream>
 
 #include "app/progress.h"
 #include "cells/serialize.h"
@@ -107,6 +109,28 @@ json vein_summary(const cells::Cells& c, const venation::Report& last, const jso
       inflow += flow->second[i];
   }
   return {{"vein_cells", veins}, {"petiole_inflow", inflow}, {"unconnected_cells", nullptr}};
+}
+
+/// Notes each petiole (a root of the vein forest) that grew no vein: its catchment, the cells nearer to it
+/// than to any vein, carried too little auxin.
+void say_veinless_petioles(std::ostream& err, const cells::Cells& c, const venation::Params& p) {
+  const std::size_t n = c.size();
+  std::vector<char> has_child(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (c.vein_parent[i] < n) has_child[c.vein_parent[i]] = 1;
+  const auto flow = c.attributes.find(venation::kFlow);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (c.type[i] != cells::CellType::petiole || c.vein_parent[i] != core::kNoIndex || has_child[i]) continue;
+    const core::Vec3& q = c.position[i];
+    std::ostringstream at;
+    at << std::setprecision(3) << "{" << q.x() << ", " << q.y() << ", " << q.z() << "}";
+    err << "cellform: note: the petiole at " << at.str() << " (cell " << c.id[i]
+        << ") grew no vein: the auxin reaching it ("
+        << core::number_text(flow != c.attributes.end() ? flow->second[i] : 0.0)
+        << " in all) never passed venation.threshold (" << core::number_text(p.threshold)
+        << ") in one cell beside it. A petiole collects only the cells nearer to it than to any vein: one placed (or "
+           "added at a step) where veins already run gets few\n";
+  }
 }
 
 /// The start of a cell run's run.json: what ran, with which seed and threads, and how it ended.
@@ -509,6 +533,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
           << " cells have no path through the links to a petiole: their auxin reaches no petiole and no vein grows "
              "there (a part of the form apart from every petiole, or a petiole off the sheet: place a petiole{at = "
              "...} on that part, on a cell)\n";
+    if (cfg.scene.venation && scene->venation_report().cells > 0 && !o.quiet)
+      say_veinless_petioles(err, sim.cells(), *cfg.scene.venation);
     const auto b = std::chrono::steady_clock::now();
     // the checkpoint first: outputs that then fail to write leave it to resume from; and a checkpoint that
     // cannot be written (a full disk) still leaves the outputs

@@ -31,6 +31,9 @@ venation { threshold = P.vein_spacing }
 rectangle { width = 14, height = 5 }
 petiole { at = {-7, 0, 0} }
 petiole { at = {7, 0, 0} }
-petiole { at = {0, 2, 0}, step = 600 }   -- a new sink appears in the middle of the grown blade
+-- a new sink appears in the middle of the growing blade; it collects the cells nearer to it than to any vein,
+-- so it must come before the veins of the other two fill the middle (at step 600 it would get about 30 cells' auxin and
+-- grow no vein: the run says so)
+petiole { at = {0, 2, 0}, step = 140 }
 
 print { formats = "stl", pieces = "any" }   -- one vein tree per petiole: separate pieces are expected

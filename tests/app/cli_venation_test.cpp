@@ -129,3 +129,25 @@ TEST_CASE("every frame of a run with venation has the same properties, the first
   CHECK(first == properties(slurp(t.path / "o" / "frames/cells_000010.ply")));
   CHECK(first == properties(slurp(t.path / "o" / "cells.ply")));
 }
+
+TEST_CASE("a petiole that grew no vein is noted, with where it is and why", "[cli][venation]") {
+  TempDir t("cli-veinless");
+  // the second petiole comes at step 110 onto the vein the first one has grown along the strip: it
+  // collects only the cells nearer to it than to that vein
+  const auto late = t.write("late.lua",
+                            "division { trigger = 'none' }\nrun { steps = 120 }\nvenation { threshold = 12 }\n"
+                            "rectangle { width = 16, height = 4 }\npetiole { at = {-8, 0, 0} }\n"
+                            "petiole { at = {2, 0, 0}, step = 110 }\n");
+  auto r = cli({"run", late.string(), "--out", (t.path / "a").string()});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("note: the petiole at {2") && Contains("grew no vein") &&
+                        Contains("venation.threshold (12)") && !Contains("the petiole at {-8"));
+  // placed at the start, it collects its own half of the strip and grows veins: nothing is said
+  const auto early = t.write("early.lua",
+                             "division { trigger = 'none' }\nrun { steps = 120 }\nvenation { threshold = 12 }\n"
+                             "rectangle { width = 16, height = 4 }\npetiole { at = {-8, 0, 0} }\n"
+                             "petiole { at = {8, 0, 0} }\n");
+  r = cli({"run", early.string(), "--out", (t.path / "b").string()});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, !Contains("grew no vein"));
+}
