@@ -353,6 +353,13 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       err << "cellform: warning: no auxin source was placed in " << rep.steps
           << " steps, so no vein grew (raise colonisation.darts, lower colonisation.birth_distance or "
              "vein_birth_distance, or give the leaf room to grow)\n";
+    else if (code == ok && rep.sources_born > 0 &&
+             std::none_of(tree.parent.begin(), tree.parent.end(), [](core::Index q) { return q != core::kNoIndex; }))
+      err << "cellform: warning: " << rep.sources_born
+          << " auxin sources were placed, but no vein grew: each was within colonisation.kill_distance ("
+          << core::number_text(spec.params.kill_distance) << ") of the veins when it came, so it went at once "
+          << "(sources come at least vein_birth_distance, " << core::number_text(spec.params.vein_birth_distance)
+          << ", from the veins: make kill_distance smaller than that)\n";
     double leaf_length = rep.scale;  // the outline is 1 long at scale 1; nonuniform growth reports steps
     if (nonuniform) {
       const venation::Outline grown = col.outline();

@@ -333,7 +333,7 @@ void Colonisation::Impl::step() {
   const double bs2 = bs * bs, bv2 = std::pow(p.vein_birth_distance * sc, 2), dk2 = std::pow(p.kill_distance * sc, 2);
   const double D = p.node_distance * sc;
   step_D = D;
-  const std::size_t born_before = rep.sources_born, removed_before = rep.sources_removed, nodes_before = nodes.size();
+  const std::size_t active_before = active.size(), nodes_before = nodes.size();
 
   if (marginal)
     reveal_sources(bs2, bv2);
@@ -505,8 +505,11 @@ void Colonisation::Impl::step() {
   rep.scale = nonuniform ? static_cast<double>(grown) : sigma;
   rep.nodes = nodes.size();
   rep.sources = active.size();
-  const bool changed =
-      rep.sources_born != born_before || rep.sources_removed != removed_before || nodes.size() != nodes_before;
+  // Progress is a new node, or sources waiting that were not (or no longer waiting). A source born where
+  // the veins already reach it (kill_distance at or beyond vein_birth_distance) goes in the same step and
+  // grows nothing: darts that keep landing so would otherwise keep a pattern with nothing to grow running
+  // to max_steps, holding every source it ever made.
+  const bool changed = nodes.size() != nodes_before || active.size() != active_before;
   quiet = (growth_over() && !changed) ? quiet + 1 : 0;
   if (quiet >= p.settle_steps) {
     if (active.empty())

@@ -77,7 +77,8 @@ struct ColonisationParams {
   std::size_t max_sources = 5000000;  ///< stop (report.hit_max_sources) after a step that leaves this many
                                       ///< auxin sources waiting (a leaf growing faster than its veins fill it)
   std::size_t settle_steps = 5;       ///< after growth ends: stop when this many steps in a row added no
-                                      ///< node and no source (finished if no source is left, else stalled)
+                                      ///< node and left as many sources waiting (a source born within reach of
+                                      ///< the veins goes at once) (finished if no source is left, else stalled)
   /// Closed, exact, planar, nodes that never move (not nonuniform growth): a source whose nearest node
   /// provably excludes every other node from V(s) follows only that node until the proof runs out,
   /// instead of updating its six sector bests every step. The same result either way (false: to test

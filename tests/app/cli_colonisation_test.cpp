@@ -32,6 +32,16 @@ TEST_CASE("a colonisation that never places a source says so", "[cli][colonisati
   r = cli({"run", dense.string(), "--out", (t.path / "d").string(), "--quiet"});
   CHECK(r.code == 0);
   CHECK(r.err.find("no auxin source") == std::string::npos);
+  CHECK(r.err.find("no vein grew") == std::string::npos);
+  // sources placed, but all within the kill distance when they came: said, naming both distances
+  const auto reached = t.write("reached.lua",
+                               "leaf { shape = 'ovate' }\ncolonisation { type = 'closed', growth = 'none', "
+                               "initial_length = 60, darts = 2000, kill_distance = 1000 }\n");
+  r = cli({"run", reached.string(), "--out", (t.path / "k").string(), "--quiet"});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("auxin sources were placed, but no vein grew") &&
+                        Contains("colonisation.kill_distance (1000)") && Contains("vein_birth_distance, 10,"));
+  CHECK(nlohmann::json::parse(slurp(t.path / "k" / "run.json"))["status"] == "complete");
   // a parameter only the steps can find wrong is named with the line of colonisation{...}
   const auto flood = t.write("flood.lua",
                              "leaf { shape = 'ellipse' }\n"

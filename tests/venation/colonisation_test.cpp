@@ -399,6 +399,26 @@ TEST_CASE("pulls that cancel: the node grows towards its nearest influencing sou
   }
 }
 
+TEST_CASE("sources born within the kill distance go at once: the pattern ends instead of running to max_steps",
+          "[colonisation]") {
+  // closed, kill distance beyond the vein birth distance: every dart that lands is already reached, and a
+  // reached vein is not pulled. Such steps used to count as progress (a source born, one removed), so the
+  // run went on to max_steps (100,000 in the audit, with every source ever made kept: 700 MB). (An open
+  // source pulls its nearest node once, as in the paper's loop, and goes when the new node is within d_k.)
+  {
+    v::ColonisationParams p = params(v::VenationType::closed, 1000, 3);
+    p.darts_per_area = 0.05;
+    p.max_steps = 1000;
+    v::Colonisation c(ellipse_leaf(40, 30), p);
+    while (!c.done()) c.step();
+    INFO("steps " << c.report().steps << ", sources born " << c.report().sources_born);
+    CHECK(c.report().finished);
+    CHECK(c.report().steps == p.settle_steps);
+    CHECK(c.report().sources_born > 0);
+    CHECK(c.tree().size() == 1);
+  }
+}
+
 TEST_CASE("a pattern that cannot grow ends with the stalled flag", "[colonisation]") {
   // two parallel sheets 5 apart; the seed is on the lower, a source right above it on the upper. The
   // node's step towards it projects back onto the lower sheet at the node itself: it cannot advance.
