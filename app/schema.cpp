@@ -68,7 +68,8 @@ std::vector<Field> build() {
                   "factor on the vein cells' cohesion towards their vein parent and children (straightening)"));
   f.push_back(num("cells", "vein_separation", "4", 0, kInf, false, "factor",
                   "factor on the vein cells' separation from their grandparent and grandchildren (straightening)"));
-  f.push_back(num("cells", "max_speed", "1e6", 0, kInf, true, "units/time", "a faster cell stops the run as diverged"));
+  f.push_back(num("cells", "max_speed", "1e6 * cells.rest_length", 0, kInf, true, "units/time",
+                  "a faster cell stops the run as diverged (the default scales with the form)"));
   f.push_back(Field{"cells", "petiole", Kind::table, "{}", 0, 0, false, "", "",
                     "force weights of petiole cells: {spring=, planar=, cohesion=, separation=}"});
   f.push_back(Field{"cells", "vein", Kind::table, "{}", 0, 0, false, "", "",

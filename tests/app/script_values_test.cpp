@@ -104,3 +104,17 @@ TEST_CASE("a boolean is true or false alike in a script, a knob and --set", "[sc
              {{"print.shell", "false"}})
             .resolved["print"]["shell"] == false);
 }
+
+TEST_CASE("the speed limit scales with the rest length unless given", "[script]") {
+  // a form modelled at rest length 1e7 moves about 1e6 units per time unit: the fixed limit of 1e6 stopped
+  // it as diverged (with advice about the time step that did not apply)
+  for (const double rest : {1.0, 25.0, 1e7}) {
+    const auto cfg = load("cells { rest_length = " + std::to_string(rest) +
+                          " }\ndisc { radius = " + std::to_string(3 * rest) + " }\n");
+    CHECK(cfg.scene.cells.max_speed == 1e6 * cfg.scene.cells.rest_length);
+    CHECK(cfg.resolved["cells"]["max_speed"] == cfg.scene.cells.max_speed);
+  }
+  const auto given = load("cells { rest_length = 1e7, max_speed = 5 }\ndisc { radius = 3e7 }\n");
+  CHECK(given.scene.cells.max_speed == 5);
+  CHECK(load("disc { radius = 3 }\n", {{"cells.max_speed", "7"}}).scene.cells.max_speed == 7);
+}
