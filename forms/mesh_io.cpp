@@ -13,9 +13,11 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -258,6 +260,21 @@ std::size_t check_obj_lines(std::istream& in, const std::string& name) {
     if (!(words >> tag)) continue;
     if (tag == "v") {
       ++count;
+      // OpenMesh reads 32-bit floats and drops a vertex it cannot read: said here with its line
+      double xyz[3];
+      std::string word;
+      bool good = true;
+      for (double& c : xyz) {
+        good = good && static_cast<bool>(words >> word);
+        if (!good) break;
+        char* end = nullptr;
+        c = std::strtod(word.c_str(), &end);
+        good = *end == '\0' && std::isfinite(c) && std::abs(c) <= std::numeric_limits<float>::max();
+      }
+      if (!good)
+        throw core::InvalidInput("mesh " + name + " is malformed: line " + std::to_string(line_no) + ": '" +
+                                 core::printable(line.substr(0, 60)) + (line.size() > 60 ? "..." : "") +
+                                 "' is not a vertex of three finite numbers within +-3.4e38 ('v x y z')");
     } else if (tag == "f") {
       std::string token;
       std::size_t corners = 0;
@@ -437,6 +454,8 @@ std::vector<Vec3> parse_ascii_stl(std::string_view text) {
 TriangleMesh load_mesh(const fs::path& path) {
   const std::string name = std::string(1, '\'').append(path.string()).append(1, '\'');
   const std::string ext = lower(path.extension().string());
+  if (std::error_code dir; fs::is_directory(path, dir))
+    throw core::FileError("mesh " + name + " is a directory, not a file");
   if (ext != ".stl" && ext != ".obj")
     throw core::InvalidInput("mesh " + name + ": unsupported format '" + path.extension().string() +
                              "'; allowed: .stl (ASCII or binary), .obj");
