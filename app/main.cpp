@@ -5,6 +5,7 @@
 #include <atomic>
 #include <csignal>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <ctime>
 #include <iostream>
@@ -21,9 +22,10 @@ void say(const char* text, std::size_t size) {
   (void)written;
 }
 
-// The sender of the first stop signal, and when it came: GNU timeout (and `kill 0`, a signal to a process
-// group) sends one stop twice, to the process and to its group, from one process at once.
-std::atomic<pid_t> g_first_sender{0};
+// The first stop signal and its sender, claimed in one step (the two copies GNU timeout sends, to the process
+// and to its group, from one process at once, can reach two threads at once), and when it came (0 until
+// stored: a copy that finds 0 came with it).
+std::atomic<std::uint64_t> g_first_stop{0};
 std::atomic<long long> g_first_ns{0};
 
 long long monotonic_ns() {
@@ -34,16 +36,20 @@ long long monotonic_ns() {
 
 void on_interrupt(int sig, siginfo_t* info, void*) {
   using namespace cellform::app;
+  const long long now = monotonic_ns();
   // sent by a process (not typed at the terminal, which the kernel sends with no sender)
   const pid_t sender = info && info->si_code == SI_USER ? info->si_pid : 0;
-  int none = 0;
-  if (g_interrupt_signal.compare_exchange_strong(none, sig)) {
-    g_first_sender.store(sender);
-    g_first_ns.store(monotonic_ns());
-  } else if (sender != 0 && sender == g_first_sender.load() && sig == g_interrupt_signal.load() &&
-             monotonic_ns() - g_first_ns.load() < 250000000LL) {
-    return;  // the same stop again, from the same process within a quarter second: not a second Ctrl-C
+  const std::uint64_t stop =
+      static_cast<std::uint64_t>(static_cast<std::uint32_t>(sender)) << 8 | static_cast<std::uint8_t>(sig);
+  std::uint64_t first = 0;
+  if (g_first_stop.compare_exchange_strong(first, stop)) {
+    g_first_ns.store(now);
+  } else if (sender != 0 && first == stop) {
+    const long long at = g_first_ns.load();
+    if (at == 0 || now - at < 250000000LL) return;  // the same stop again, from the same process: not a second
   }
+  int none = 0;
+  g_interrupt_signal.compare_exchange_strong(none, sig);
   if (g_interrupt.exchange(true)) {
     // a print the first Ctrl-C asked for: this one cancels it, keeping the other outputs
     if (g_print_after_interrupt.load() && !g_print_cancel.exchange(true)) {
@@ -119,7 +125,9 @@ int main(int argc, char** argv) {
   struct sigaction stop {};
   stop.sa_sigaction = on_interrupt;
   stop.sa_flags = SA_SIGINFO | SA_RESTART;
-  sigemptyset(&stop.sa_mask);
+  sigemptyset(&stop.sa_mask);  // one stop handler at a time on a thread
+  sigaddset(&stop.sa_mask, SIGINT);
+  sigaddset(&stop.sa_mask, SIGTERM);
   sigaction(SIGINT, &stop, nullptr);
   sigaction(SIGTERM, &stop, nullptr);
   // a closed terminal or a dropped ssh: stop as after one Ctrl-C, with a checkpoint (however often it

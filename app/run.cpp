@@ -533,7 +533,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
           << " cells have no path through the links to a petiole: their auxin reaches no petiole and no vein grows "
              "there (a part of the form apart from every petiole, or a petiole off the sheet: place a petiole{at = "
              "...} on that part, on a cell)\n";
-    if (cfg.scene.venation && scene->venation_report().cells > 0 && !o.quiet)
+    if (cfg.scene.venation && scene->venation_report().cells > 0 && !o.quiet && !g_interrupt.load())  // (not yet)
       say_veinless_petioles(err, sim.cells(), *cfg.scene.venation);
     const auto b = std::chrono::steady_clock::now();
     // the checkpoint first: outputs that then fail to write leave it to resume from; and a checkpoint that

@@ -353,7 +353,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       err << "cellform: warning: no auxin source was placed in " << rep.steps
           << " steps, so no vein grew (raise colonisation.darts, lower colonisation.birth_distance or "
              "vein_birth_distance, or give the leaf room to grow)\n";
-    else if (code == ok && rep.sources_born > 0 &&
+    else if (code == ok && rep.finished && spec.params.type == venation::VenationType::closed &&
+             spec.params.kill_distance >= spec.params.vein_birth_distance &&
              std::none_of(tree.parent.begin(), tree.parent.end(), [](core::Index q) { return q != core::kNoIndex; }))
       err << "cellform: warning: " << rep.sources_born
           << " auxin sources were placed, but no vein grew: each was within colonisation.kill_distance ("

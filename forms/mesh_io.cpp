@@ -269,7 +269,8 @@ std::size_t check_obj_lines(std::istream& in, const std::string& name) {
         if (!good) break;
         char* end = nullptr;
         c = std::strtod(word.c_str(), &end);
-        good = *end == '\0' && std::isfinite(c) && std::abs(c) <= std::numeric_limits<float>::max();
+        good = (*end == '\0' || (&c == &xyz[2] && *end == '#')) && std::isfinite(c) &&  // "v 0 0 0#note"
+               std::abs(c) <= std::numeric_limits<float>::max();
       }
       if (!good)
         throw core::InvalidInput("mesh " + name + " is malformed: line " + std::to_string(line_no) + ": '" +

@@ -79,7 +79,7 @@ bool Colonisation::Impl::place_3d(Index v, Vec3& q, double D, bool cancelled) co
     for (std::size_t a = 0; a < active.size(); ++a) {
       const Index s = active[a];
       const double d2 = (src[s] - from).squaredNorm();
-      if (influenced_by(a, v) && (best == kNoIndex || d2 < best_d2)) {
+      if (d2 > 0 && influenced_by(a, v) && (best == kNoIndex || d2 < best_d2)) {  // (one on v gives no way)
         best = s;
         best_d2 = d2;
       }

@@ -39,12 +39,11 @@ enum class DomainKind {
 ///   stay in the shell (segments between nodes are straight chords; sheets closer than D apart may be
 ///   bridged; a node the projection brings back within D / 10 of its parent is not added, as the vein
 ///   cannot advance there);
-/// - where the pulls on a node cancel, or sources pulling it apart would only retrace one of its segments (within 5
-/// degrees,
-///   Colonisation::step(): usually its existing Eq. 1 child, which is farther from each of them than the
-///   node, so the node stays their nearest), the node grows towards its nearest influencing source
-///   alone (unless that retraces a segment too); in 3-D such pairs are common and would otherwise stall
-///   the pattern with many sources left;
+/// - where the pulls on a node cancel, or sources pulling it apart would only retrace one of its
+///   segments (within 5 degrees, Colonisation::step(): usually its existing Eq. 1 child, which is farther
+///   from each of them than the node, so the node stays their nearest), the node grows towards its
+///   nearest influencing source alone (unless that retraces a segment too); in 3-D such pairs are common
+///   and would otherwise stall the pattern with many sources left (a leaf does the same);
 /// - no blade growth (ColonisationParams::growth must be none, initial_scale 1) and, for closed patterns,
 ///   the exact 3-D relative neighbourhood only (Urquhart's approximation is planar).
 struct Domain {

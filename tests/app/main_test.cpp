@@ -30,9 +30,15 @@ TEST_CASE("one stop sent twice at once by one process (GNU timeout: to the proce
     REQUIRE(pid > 0);
     std::this_thread::sleep_for(std::chrono::milliseconds(1000));
     kill(pid, sig);
+    // apart, so the second is not merged with the first while pending (timeout's two come microseconds apart)
+    std::this_thread::sleep_for(std::chrono::milliseconds(30));
     kill(pid, sig);
     CHECK(wait_exit(pid) == 130);
-    CHECK_THAT(slurp(log), !Contains("quit:"));
+    const std::string said = slurp(log);
+    CHECK_THAT(said, !Contains("quit:"));
+    const std::string stop = "the steps stop after the current one";
+    CHECK(said.find(stop) != std::string::npos);
+    CHECK(said.find(stop) == said.rfind(stop));  // said once: one stop
     CHECK(fs::exists(out / "checkpoint.cfck"));
     CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "interrupted");
   }

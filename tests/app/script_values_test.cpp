@@ -112,7 +112,7 @@ TEST_CASE("the speed limit scales with the rest length unless given", "[script]"
     const auto cfg = load("cells { rest_length = " + std::to_string(rest) +
                           " }\ndisc { radius = " + std::to_string(3 * rest) + " }\n");
     CHECK(cfg.scene.cells.max_speed == 1e6 * cfg.scene.cells.rest_length);
-    CHECK(cfg.resolved["cells"]["max_speed"] == cfg.scene.cells.max_speed);
+    CHECK_FALSE(cfg.resolved["cells"].contains("max_speed"));  // re-derived from the rest length on a resume
   }
   const auto given = load("cells { rest_length = 1e7, max_speed = 5 }\ndisc { radius = 3e7 }\n");
   CHECK(given.scene.cells.max_speed == 5);

@@ -286,6 +286,8 @@ TEST_CASE("load_mesh errors name the file and the problem", "[forms][mesh_io]") 
   CHECK_THROWS_WITH(forms::load_mesh(dir / "short.obj"), Catch::Contains("line 2: 'v 1 0'"));
   write_text(dir / "colours.obj", "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n");  // x y z r g b
   CHECK(forms::load_mesh(dir / "colours.obj").triangles.size() == 1);
+  write_text(dir / "spelt.obj", "v\t+0 0.0 0e0#a\r\nv 1E0 0 0 # b\r\nv 0 1 0 1.0\r\nf 1 2 3\r\n");  // tab, CRLF, w
+  CHECK(forms::load_mesh(dir / "spelt.obj").triangles.size() == 1);
 
   std::string truncated =
       binary_stl({{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}});
