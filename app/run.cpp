@@ -6,11 +6,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <iomanip>
 #include <iostream>
 #include <optional>
 #include <set>
-#include <sstream>
 
 #include "app/progress.h"
 #include "cells/serialize.h"
@@ -90,48 +88,6 @@ bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, 
 }
 
 namespace {
-
-/// run.json's "veins": the last canalisation's figures. Its report when one ran in this process (Report::cells
-/// counts the cells it saw); else those the checkpoint kept (`saved`: a resume that reached no canalisation
-/// yet); else what the cells' saved attributes tell (an older checkpoint: cells with no path to a petiole: null).
-json vein_summary(const cells::Cells& c, const venation::Report& last, const json& saved) {
-  if (last.cells == 0 && saved.is_object()) return saved;
-  if (last.cells > 0)
-    return {{"vein_cells", last.vein_cells},
-            {"petiole_inflow", last.petiole_inflow},
-            {"unconnected_cells", last.unconnected}};
-  std::size_t veins = 0;
-  double inflow = 0;
-  const auto flow = c.attributes.find(venation::kFlow);
-  for (std::size_t i = 0; i < c.size(); ++i) {
-    veins += c.type[i] == cells::CellType::vein;
-    if (c.type[i] == cells::CellType::petiole && c.vein_parent[i] == core::kNoIndex && flow != c.attributes.end())
-      inflow += flow->second[i];
-  }
-  return {{"vein_cells", veins}, {"petiole_inflow", inflow}, {"unconnected_cells", nullptr}};
-}
-
-/// Notes each petiole (a root of the vein forest) that grew no vein: its catchment, the cells nearer to it
-/// than to any vein, carried too little auxin.
-void say_veinless_petioles(std::ostream& err, const cells::Cells& c, const venation::Params& p) {
-  const std::size_t n = c.size();
-  std::vector<char> has_child(n, 0);
-  for (std::size_t i = 0; i < n; ++i)
-    if (c.vein_parent[i] < n) has_child[c.vein_parent[i]] = 1;
-  const auto flow = c.attributes.find(venation::kFlow);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (c.type[i] != cells::CellType::petiole || c.vein_parent[i] != core::kNoIndex || has_child[i]) continue;
-    const core::Vec3& q = c.position[i];
-    std::ostringstream at;
-    at << std::setprecision(3) << "{" << q.x() << ", " << q.y() << ", " << q.z() << "}";
-    err << "cellform: note: the petiole at " << at.str() << " (cell " << c.id[i]
-        << ") grew no vein: the auxin reaching it ("
-        << core::number_text(flow != c.attributes.end() ? flow->second[i] : 0.0)
-        << " in all) never passed venation.threshold (" << core::number_text(p.threshold)
-        << ") in one cell beside it. A petiole collects only the cells nearer to it than to any vein: one placed (or "
-           "added at a step) where veins already run gets few\n";
-  }
-}
 
 /// The start of a cell run's run.json: what ran, with which seed and threads, and how it ended.
 json run_head(const Start& s, std::uint64_t seed, int threads, const std::string& status) {
@@ -528,13 +484,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     if (full_at > 0 && full_at <= target && !o.quiet)  // divisions, and the rules that decide them, stopped there
       err << "cellform: note: the cells reached division.max_cells = " << sim.params().division.max_cells << " at step "
           << full_at << "; no cell divided after it (raise division.max_cells to grow on)\n";
-    if (const std::size_t lost = scene->venation_report().unconnected; lost > 0 && sim.step_count() > first)
-      err << "cellform: warning: " << lost << " of " << scene->venation_report().cells  // at its last canalisation
-          << " cells have no path through the links to a petiole: their auxin reaches no petiole and no vein grows "
-             "there (a part of the form apart from every petiole, or a petiole off the sheet: place a petiole{at = "
-             "...} on that part, on a cell)\n";
-    if (cfg.scene.venation && scene->venation_report().cells > 0 && !o.quiet && !g_interrupt.load())  // (not yet)
-      say_veinless_petioles(err, sim.cells(), *cfg.scene.venation);
+    if (cfg.scene.venation && sim.step_count() > first)  // the notes wait for a finished run (not yet: not news)
+      say_vein_findings(err, sim.cells(), scene->venation_report(), *cfg.scene.venation,
+                        !o.quiet && !g_interrupt.load());
     const auto b = std::chrono::steady_clock::now();
     // the checkpoint first: outputs that then fail to write leave it to resume from; and a checkpoint that
     // cannot be written (a full disk) still leaves the outputs

@@ -19,12 +19,23 @@
 #include "cells/cells.h"
 #include "core/errors.h"
 #include "export/printable.h"
+#include "venation/canalisation.h"
 
 namespace cellform::app {
 
 constexpr std::uint32_t kCheckpointVersion = 1;
 constexpr const char* kCheckpointKind = "CKPT";
 constexpr const char* kCheckpointName = "checkpoint.cfck";
+
+/// run.json's "veins": the last canalisation's figures. Its report when one ran in this process (Report::cells
+/// counts the cells it saw); else those the checkpoint kept (`saved`: a resume that reached no canalisation
+/// yet); else what the cells' saved attributes tell (an older checkpoint: cells with no path to a petiole: null).
+nlohmann::json vein_summary(const cells::Cells& cells, const venation::Report& last, const nlohmann::json& saved);
+
+/// At the end of a cell run whose last canalisation (`last`) ran in this process: a warning of the cells
+/// that drain to no petiole; with `notes`, a note for each petiole that grew no vein (where, its auxin, why).
+void say_vein_findings(std::ostream& err, const cells::Cells& cells, const venation::Report& last,
+                       const venation::Params& params, bool notes);
 
 /// An input problem (bad script, parameter or input file): exit code 2.
 struct InputError : std::runtime_error {

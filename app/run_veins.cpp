@@ -1,0 +1,66 @@
+// What a cell run tells of its veins: run.json's "veins", and the warnings and notes at its end.
+#include <iomanip>
+#include <sstream>
+#include <vector>
+
+#include "app/run_internal.h"
+
+namespace cellform::app {
+
+using nlohmann::json;
+
+namespace {
+
+/// Notes each petiole (a root of the vein forest) that grew no vein: its catchment, the cells nearer to it
+/// than to any vein, carried too little auxin.
+void say_veinless_petioles(std::ostream& err, const cells::Cells& c, const venation::Params& p) {
+  const std::size_t n = c.size();
+  std::vector<char> has_child(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (c.vein_parent[i] < n) has_child[c.vein_parent[i]] = 1;
+  const auto flow = c.attributes.find(venation::kFlow);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (c.type[i] != cells::CellType::petiole || c.vein_parent[i] != core::kNoIndex || has_child[i]) continue;
+    const core::Vec3& q = c.position[i];
+    std::ostringstream at;
+    at << std::setprecision(3) << "{" << q.x() << ", " << q.y() << ", " << q.z() << "}";
+    err << "cellform: note: the petiole at " << at.str() << " (cell " << c.id[i]
+        << ") grew no vein: the auxin reaching it ("
+        << core::number_text(flow != c.attributes.end() ? flow->second[i] : 0.0)
+        << " in all) never passed venation.threshold (" << core::number_text(p.threshold)
+        << ") in one cell beside it. A petiole collects only the cells nearer to it than to any vein: one placed (or "
+           "added at a step) where veins already run gets few\n";
+  }
+}
+
+}  // namespace
+
+json vein_summary(const cells::Cells& c, const venation::Report& last, const json& saved) {
+  if (last.cells == 0 && saved.is_object()) return saved;
+  if (last.cells > 0)
+    return {{"vein_cells", last.vein_cells},
+            {"petiole_inflow", last.petiole_inflow},
+            {"unconnected_cells", last.unconnected}};
+  std::size_t veins = 0;
+  double inflow = 0;
+  const auto flow = c.attributes.find(venation::kFlow);
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    veins += c.type[i] == cells::CellType::vein;
+    if (c.type[i] == cells::CellType::petiole && c.vein_parent[i] == core::kNoIndex && flow != c.attributes.end())
+      inflow += flow->second[i];
+  }
+  return {{"vein_cells", veins}, {"petiole_inflow", inflow}, {"unconnected_cells", nullptr}};
+}
+
+void say_vein_findings(std::ostream& err, const cells::Cells& c, const venation::Report& last,
+                       const venation::Params& p, bool notes) {
+  if (last.cells == 0) return;  // no canalisation ran in this process
+  if (last.unconnected > 0)
+    err << "cellform: warning: " << last.unconnected << " of " << last.cells  // at its last canalisation
+        << " cells have no path through the links to a petiole: their auxin reaches no petiole and no vein grows "
+           "there (a part of the form apart from every petiole, or a petiole off the sheet: place a petiole{at = "
+           "...} on that part, on a cell)\n";
+  if (notes) say_veinless_petioles(err, c, p);
+}
+
+}  // namespace cellform::app
