@@ -191,10 +191,10 @@ Start start_from(const RunOptions& o) {
         if (meta.contains("veins") && !meta["veins"].is_object())
           throw core::FileError(what + " is corrupt (metadata 'veins')");
         if (meta.contains("obstacle_meshes")) {  // older checkpoints: not recorded
-          bool listed = meta["obstacle_meshes"].is_array();
-          if (listed)
-            for (const json& h : meta["obstacle_meshes"]) listed = listed && h.is_string();
-          if (!listed) throw core::FileError(what + " is corrupt (metadata 'obstacle_meshes')");
+          bool hashes = meta["obstacle_meshes"].is_array();
+          if (hashes)
+            for (const json& h : meta["obstacle_meshes"]) hashes = hashes && h.is_string();
+          if (!hashes) throw core::FileError(what + " is corrupt (metadata 'obstacle_meshes')");
           s.obstacle_meshes = meta["obstacle_meshes"].get<std::vector<std::string>>();
         }
         const std::string mode = meta.value("mode", std::string("cells"));
