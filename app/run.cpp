@@ -87,6 +87,17 @@ bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, 
   }
 }
 
+void record_checkpoint(json& run, const std::string& error, bool earlier_saved,
+                       std::optional<std::uint64_t> earlier_step) {
+  if (error.empty()) {
+    run["checkpoint"] = kCheckpointName;
+    return;
+  }
+  run["checkpoint"] = earlier_saved ? json(kCheckpointName) : json(nullptr);
+  if (earlier_saved && earlier_step) run["checkpoint_step"] = *earlier_step;
+  run["checkpoint_error"] = error;
+}
+
 namespace {
 
 /// The start of a cell run's run.json: what ran, with which seed and threads, and how it ended.
@@ -535,8 +546,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                  {{"total_s", total},
                   {"simulation_s", sim_seconds},
                   {"output_s", output_seconds},
-                  {"steps_per_s", sim_seconds > 0 ? static_cast<double>(done) / sim_seconds : 0.0}}},
-                {"checkpoint", checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr)}});
+                  {"steps_per_s", sim_seconds > 0 ? static_cast<double>(done) / sim_seconds : 0.0}}}});
+    record_checkpoint(run, checkpoint_error, saved, saved_step);
     if (cfg.print) run["print"] = printed;
     commit_run(run, outputs, s, first, seed, staging, dir);
     if (print_cancelled)

@@ -243,7 +243,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                           {"steps", grown.step},
                           {"target", grown.target}};
           run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
-          run["checkpoint"] = grown.checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr);
+          record_checkpoint(run, grown.checkpoint_error, grown.checkpointed, std::nullopt);
           outputs.push_back("run.json");
           run["outputs"] = outputs;
           write_run_json(staging / "run.json", run);
@@ -451,7 +451,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
                       {"simulation_s", seconds}};
     if (sheet_seconds > 0) run["timings"]["sheet_s"] = sheet_seconds;  // the cells grown first, in this command
-    run["checkpoint"] = checkpoint_error.empty() ? json(kCheckpointName) : json(nullptr);
+    record_checkpoint(run, checkpoint_error, saved || sheet_checkpointed,
+                      saved ? std::optional<std::uint64_t>(saved_step) : std::nullopt);
     if (cfg.print) run["print"] = printed;
     if (planar) run["veins"]["leaf_length"] = leaf_length;
     if (sheet) run["cells"] = {{"initial", sheet_initial}, {"final", sheet->size()}};

@@ -304,6 +304,13 @@ nlohmann::json thicken_and_write(const std::filesystem::path& dir, const PrintSp
 /// (`warned`) and the run goes on, to try again at the next one; returns whether it was written.
 bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, bool& warned);
 
+/// run.json's checkpoint fields: "checkpoint" names the file a resume starts from, or is null when there
+/// is none; when the final checkpoint failed, "checkpoint_error" says why and, if an earlier (periodic)
+/// checkpoint of this run is in the folder, "checkpoint" still names it and "checkpoint_step" gives its
+/// step (absent for one taken while a colonisation's cell sheet grew).
+void record_checkpoint(nlohmann::json& run, const std::string& error, bool earlier_saved,
+                       std::optional<std::uint64_t> earlier_step);
+
 /// The line a finished print says: "printable solid: T triangles, P part(s), C closed cavities, scale ...".
 void say_printed(std::ostream& err, const nlohmann::json& printed);
 

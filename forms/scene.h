@@ -37,7 +37,8 @@ struct SceneDescription {
 /// Throws core::InvalidInput naming the parameter for anything out of range.
 void validate(const SceneDescription& description);
 
-/// Turns the cell nearest to `at` into a petiole (fixed if asked) and makes it a root of the veins.
+/// Turns the cell nearest to `at` into a petiole (fixed if asked; a cell that was fixed stays fixed) and
+/// makes it a root of the veins.
 /// Adds a new cell there if there are no cells or the nearest is farther than half a rest length;
 /// throws core::InvalidInput if the nearest is farther than three rest lengths (not on the form).
 core::Index make_petiole(cells::Cells& cells, const Vec3& at, bool fixed, double rest_length);

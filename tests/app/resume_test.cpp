@@ -202,9 +202,27 @@ TEST_CASE("a checkpoint that cannot be written still leaves the outputs, and say
     CHECK(r.err.find(goes_on) == r.err.rfind(goes_on));
     const auto run = nlohmann::json::parse(slurp(out / "run.json"));
     CHECK(run["checkpoint"].is_null());
+    CHECK_THAT(run["checkpoint_error"].get<std::string>(), Contains("checkpoint.cfck"));
+    CHECK(!run.contains("checkpoint_step"));
     for (const auto& name : run["outputs"]) CHECK(fs::is_regular_file(out / name.get<std::string>()));
     CHECK(run["outputs"].size() >= 3);
   }
+}
+
+TEST_CASE("run.json names the checkpoint a resume starts from, the last periodic one when the final failed",
+          "[cli][checkpoint]") {
+  nlohmann::json run;
+  cellform::app::record_checkpoint(run, "", true, 40);
+  CHECK(run == nlohmann::json{{"checkpoint", "checkpoint.cfck"}});
+  run = {};
+  cellform::app::record_checkpoint(run, "disk full", true, 40);
+  CHECK(run == nlohmann::json{{"checkpoint", "checkpoint.cfck"}, {"checkpoint_step", 40}, {"checkpoint_error", "disk full"}});
+  run = {};
+  cellform::app::record_checkpoint(run, "disk full", true, std::nullopt);  // taken while a sheet grew
+  CHECK(run == nlohmann::json{{"checkpoint", "checkpoint.cfck"}, {"checkpoint_error", "disk full"}});
+  run = {};
+  cellform::app::record_checkpoint(run, "disk full", false, std::nullopt);
+  CHECK(run == nlohmann::json{{"checkpoint", nullptr}, {"checkpoint_error", "disk full"}});
 }
 
 TEST_CASE("a checkpoint resumes from any working directory (script, files beside it and outputs stay put)",

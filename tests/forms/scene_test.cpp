@@ -162,3 +162,24 @@ TEST_CASE("between canalisation passes a vein cell's daughter carries no vein ra
   CHECK(veins > 0);
   CHECK(divided_between > 10);
 }
+
+TEST_CASE("a petiole made on a cell joins it to the veins' roots and keeps a fixed cell fixed", "[forms][scene]") {
+  cells::Cells c;
+  cells::add_cell(c, Vec3(0, 0, 0), cells::CellType::general, true);  // fixed by the script
+  cells::add_cell(c, Vec3(1, 0, 0));
+  c.vein_parent[0] = 1;
+  // fixed = false on the petiole does not free the cell the script fixed
+  CHECK(forms::make_petiole(c, Vec3(0.1, 0, 0), false, 1.0) == 0);
+  CHECK(c.type[0] == cells::CellType::petiole);
+  CHECK(c.fixed[0] == 1);
+  CHECK(c.vein_parent[0] == core::kNoIndex);
+  // fixed = true fixes a free cell; fixed = false leaves a free one free
+  CHECK(forms::make_petiole(c, Vec3(1, 0.2, 0), false, 1.0) == 1);
+  CHECK(c.fixed[1] == 0);
+  CHECK(forms::make_petiole(c, Vec3(1, 0.2, 0), true, 1.0) == 1);
+  CHECK(c.fixed[1] == 1);
+  // farther than half a rest length: a new cell; farther than three: refused
+  CHECK(forms::make_petiole(c, Vec3(2, 0, 0), false, 1.0) == 2);
+  CHECK(c.size() == 3);
+  CHECK_THROWS_WITH(forms::make_petiole(c, Vec3(9, 0, 0), true, 1.0), Contains("within 3 rest lengths"));
+}
