@@ -43,7 +43,7 @@ core::Index make_petiole(cells::Cells& cells, const Vec3& at, bool fixed, double
   if (best == core::kNoIndex || best_d2 > 0.25 * rest_length * rest_length)
     return cells::add_cell(cells, at, cells::CellType::petiole, fixed);
   cells.type[best] = cells::CellType::petiole;
-  if (fixed) cells.fixed[best] = 1;  // fixed = false does not free a cell a script fixed (cell{fixed = true})
+  if (fixed) cells.fixed[best] = 1;          // fixed = false does not free a cell a script fixed (cell{fixed = true})
   cells.vein_parent[best] = core::kNoIndex;  // a new sink roots the veins that drain into it
   return best;
 }

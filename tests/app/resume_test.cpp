@@ -216,7 +216,8 @@ TEST_CASE("run.json names the checkpoint a resume starts from, the last periodic
   CHECK(run == nlohmann::json{{"checkpoint", "checkpoint.cfck"}});
   run = {};
   cellform::app::record_checkpoint(run, "disk full", true, 40);
-  CHECK(run == nlohmann::json{{"checkpoint", "checkpoint.cfck"}, {"checkpoint_step", 40}, {"checkpoint_error", "disk full"}});
+  CHECK(run ==
+        nlohmann::json{{"checkpoint", "checkpoint.cfck"}, {"checkpoint_step", 40}, {"checkpoint_error", "disk full"}});
   run = {};
   cellform::app::record_checkpoint(run, "disk full", true, std::nullopt);  // taken while a sheet grew
   CHECK(run == nlohmann::json{{"checkpoint", "checkpoint.cfck"}, {"checkpoint_error", "disk full"}});
