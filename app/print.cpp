@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <array>
+#include <iomanip>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -115,6 +117,18 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
         << " mm (set print.voxel_size, or raise print.max_memory, for a finer surface)\n";
   tp.progress = stage_progress("meshing");
   const exporters::PrintableMesh mesh = exporters::mesh_level_set(level_set, tp, &rep);
+  if (mesh.triangles.empty()) {  // a file of no facets is no print: said, not written
+    std::ostringstream m;
+    m << std::setprecision(4) << "print: the printable solid is empty";
+    if (spec.flat_base > 0)
+      m << ": print.flat_base (" << spec.flat_base << " mm) leaves " << std::max(rep.height - spec.flat_base, 0.0)
+        << " mm of the form's " << rep.height << " mm height, too thin for the print's " << rep.voxel_size
+        << " mm voxels; lower print.flat_base";
+    else
+      m << " (the form is thinner than the print's " << rep.voxel_size
+        << " mm voxels); use a smaller print.voxel_size or a larger print.min_radius";
+    throw core::InvalidInput(m.str());
+  }
   // separate vein trees (several petioles, seeds) join through the sheet they grew in
   const bool join_by_shell = sheet && !spec.shell;
   if (rep.pieces > 1 && spec.pieces == "one")
@@ -149,7 +163,8 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
                   {"parts", rep.pieces},
                   {"cavities", rep.cavities},
                   {"filled_cavities", rep.filled_cavities},
-                  {"self_intersections", rep.self_intersections},
+                  // adaptivity 0 skips the search (uniform meshing makes no crossings in any test): not counted
+                  {"self_intersections", spec.adaptivity > 0 ? json(rep.self_intersections) : json(nullptr)},
                   {"volume_mm3", rep.volume},
                   {"area_mm2", rep.area},
                   {"seconds", rep.voxelise_seconds + rep.mesh_seconds}};

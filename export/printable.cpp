@@ -383,6 +383,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     report->shell_triangles = slabs.size();
     report->raised_radii = raised;
     report->base_z = base_z;
+    report->height = top - bottom;
     report->estimated_bytes = estimate;
   }
   const double band = kHalfWidth * voxel;  // mm, also the grid's background value

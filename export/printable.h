@@ -66,6 +66,7 @@ struct ThickenReport {
   std::size_t shell_triangles = 0;  ///< shell triangles voxelised
   std::size_t raised_radii = 0;     ///< segment end radii raised to min_radius
   double base_z = 0;                ///< mm: height of the flat base's plane (flat_base > 0), else the lowest z
+  double height = 0;                ///< mm: height of the form before any cut (lowest to highest z)
   std::size_t active_voxels = 0;    ///< narrow-band voxels of the level set
   double estimated_bytes = 0;       ///< memory estimate the refusal check used
   std::size_t triangles = 0;        ///< triangles of the output mesh

@@ -6,6 +6,7 @@
 
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -478,6 +479,28 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
     CHECK_THAT(r.err, Contains("a smaller print.size (or print.scale)") && Contains("raise print.max_memory") &&
                           Contains("above print.min_radius"));
     CHECK_FALSE(nlohmann::json::parse(slurp(out / "run.json"))["print"].contains("base_z_mm"));  // no cut asked
+  }
+
+  SECTION("a flat base that leaves less than a voxel of the form is an error, not an empty file") {
+    // the height, from the refusal of a cut above it
+    r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.flat_base=500"});
+    const std::string said = "the height of the printed form (";
+    const std::size_t at = r.err.find(said);
+    REQUIRE(at != std::string::npos);
+    const double height = std::stod(r.err.substr(at + said.size()));
+    // an empty printable.stl was written and the run said it was done (exit 0)
+    char cut[64];
+    std::snprintf(cut, sizeof cut, "print.flat_base=%.4f", height - 0.02);
+    r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", cut});
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Contains("print: the printable solid is empty: print.flat_base (") &&
+                          Contains("too thin for the print's") && Contains("lower print.flat_base"));
+    CHECK_FALSE(fs::exists(out / "printable.stl"));
+    CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "print failed");
+    // uniform meshing (adaptivity 0) skips the crossing check: not counted as none
+    r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.adaptivity=0"});
+    REQUIRE(r.code == 0);
+    CHECK(nlohmann::json::parse(slurp(out / "run.json"))["print"]["self_intersections"].is_null());
   }
 
   SECTION("a form that falls apart is an error when one piece is required") {
