@@ -22,8 +22,9 @@ bool walled(const exporters::MeshReport& r) {
 int check_command(const std::filesystem::path& file, bool json, std::ostream& out, std::ostream& err) {
   exporters::MeshReport r;
   exporters::ThicknessReport th;
+  exporters::MeshFileNotes notes;
   try {
-    const exporters::PrintableMesh mesh = exporters::read_mesh(file);
+    const exporters::PrintableMesh mesh = exporters::read_mesh(file, notes);
     r = exporters::check_mesh(mesh);
     // a wall has an inside only where the surfaces are closed and face one way (an open sheet's rays
     // cross its folds); two solids that touch at a corner still have walls
@@ -64,6 +65,8 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
         {"misoriented_shells", r.misnested_parts},
         {"self_intersections", r.intersections_tested ? nlohmann::json(r.self_intersections) : nlohmann::json(nullptr)},
         {"degenerate_triangles", r.degenerate_triangles},
+        // STL only: stored facet normals against the winding (the verdict goes by the winding, as slicers do)
+        {"stl_normals_against_winding", notes.normals_against_winding},
         {"volume_mm3", solid ? nlohmann::json(r.volume) : nlohmann::json(nullptr)},
         {"area_mm2", r.area},
         {"bbox_min_mm", {r.bbox_min.x(), r.bbox_min.y(), r.bbox_min.z()}},
@@ -98,6 +101,10 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
       out << "wall thickness: not measurable (no ray from the surface left the solid through another wall)\n";
     if (th.given_up > 0)
       out << "  (" << th.given_up << " of the rays were given up where very many triangles meet at one spot)\n";
+    if (notes.normals_against_winding > 0)
+      out << "warning: " << notes.normals_against_winding << " of the " << notes.stored_normals
+          << " stored facet normals point against their triangle's winding (the check, and most slicers, go by the "
+             "winding; a tool that trusts the stored normals sees those facets inside out)\n";
   }
   return r.printable() ? ok : failure;
 }

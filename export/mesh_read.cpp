@@ -94,7 +94,37 @@ T get_ordered(const std::string& s, std::size_t at, bool big) {
   return v;
 }
 
-PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s) {
+// Counts the stored facet normals of an STL (binary: `stored`, one per facet, else the ASCII "facet normal"
+// lines in order) that are non-zero and point against their facet's winding normal.
+void count_stored_normals(const std::vector<Vec3>& corners, const std::vector<Vec3>& stored, MeshFileNotes& notes) {
+  if (stored.size() * 3 != corners.size()) return;  // not one per facet: nothing to pair
+  for (std::size_t t = 0; t < stored.size(); ++t) {
+    const Vec3& n = stored[t];
+    if (!n.allFinite() || n.squaredNorm() == 0) continue;
+    ++notes.stored_normals;
+    const Vec3 w = (corners[3 * t + 1] - corners[3 * t]).cross(corners[3 * t + 2] - corners[3 * t]);
+    if (n.dot(w) < 0) ++notes.normals_against_winding;
+  }
+}
+
+// The normals of the ASCII STL's "facet normal x y z" lines, in order (a line that does not parse: NaN).
+std::vector<Vec3> ascii_stl_normals(const std::string& s) {
+  std::vector<Vec3> out;
+  std::istringstream in(s);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    std::string facet, normal;
+    ls >> facet >> normal;
+    if (facet != "facet") continue;
+    double x = NAN, y = NAN, z = NAN;
+    if (normal != "normal" || !(ls >> x >> y >> z)) x = y = z = NAN;
+    out.emplace_back(x, y, z);
+  }
+  return out;
+}
+
+PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s, MeshFileNotes* notes) {
   if (s.size() >= 84) {
     const std::uint32_t n = get<std::uint32_t>(s, 80);
     if (s.size() == 84 + 50 * std::size_t{n}) {
@@ -105,6 +135,12 @@ PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s) 
           corners[3 * t + k] = Vec3(get<float>(s, at), get<float>(s, at + 4), get<float>(s, at + 8));
         }
       if (n == 0) malformed(path, "no facets in the STL file");  // as for an empty ASCII STL
+      if (notes) {
+        std::vector<Vec3> stored(n);
+        for (std::size_t t = 0; t < n; ++t)
+          stored[t] = Vec3(get<float>(s, 84 + 50 * t), get<float>(s, 84 + 50 * t + 4), get<float>(s, 84 + 50 * t + 8));
+        count_stored_normals(corners, stored, *notes);
+      }
       return weld_soup(std::move(corners));
     }
   }
@@ -124,6 +160,7 @@ PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s) 
     malformed(path, std::string("malformed ASCII STL: ") + e.what());
   }
   if (corners.empty()) malformed(path, "no facets in the STL file");
+  if (notes) count_stored_normals(corners, ascii_stl_normals(s), *notes);
   return weld_soup(std::move(corners));
 }
 
@@ -179,7 +216,8 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
     std::vector<Property> props;
   };
   std::size_t end = s.find("end_header");
-  if (s.rfind("ply", 0) != 0 || end == std::string::npos) malformed(path, "not a PLY file");
+  if (s.rfind("ply", 0) != 0) malformed(path, "not a PLY file (it does not start with 'ply')");
+  if (end == std::string::npos) malformed(path, "a PLY header with no 'end_header' line (a damaged or cut-off file)");
   std::istringstream head(s.substr(0, end));
   std::string line, format, format_version;
   std::vector<Element> elements;
@@ -366,6 +404,12 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
 }  // namespace
 
 PrintableMesh read_mesh(const std::filesystem::path& path) {
+  MeshFileNotes notes;
+  return read_mesh(path, notes);
+}
+
+PrintableMesh read_mesh(const std::filesystem::path& path, MeshFileNotes& notes) {
+  notes = {};
   std::string ext = path.extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   // read first: a missing file, a folder or a device is said as such (read_file reads regular files only)
@@ -374,7 +418,7 @@ PrintableMesh read_mesh(const std::filesystem::path& path) {
     throw core::FileError(path.string() +
                           (ext.empty() ? ": no file extension" : ": unknown mesh format '" + ext + "'") +
                           " (use .stl, .obj or .ply)");
-  PrintableMesh m = ext == ".stl" ? read_stl(path, s) : ext == ".obj" ? read_obj(path, s) : read_ply(path, s);
+  PrintableMesh m = ext == ".stl" ? read_stl(path, s, &notes) : ext == ".obj" ? read_obj(path, s) : read_ply(path, s);
   for (std::size_t i = 0; i < m.vertices.size(); ++i)  // unreadable input, not an unprintable shape
     if (!m.vertices[i].allFinite())
       malformed(path, "vertex " + std::to_string(i + 1) + " has a coordinate that is NaN or infinite");

@@ -15,4 +15,14 @@ namespace cellform::exporters {
 /// core::kMaxConcaveCorners corners, too).
 PrintableMesh read_mesh(const std::filesystem::path& path);
 
+/// What a mesh file says beyond its triangles.
+struct MeshFileNotes {
+  std::size_t stored_normals = 0;           ///< STL: facets whose stored normal is not zero
+  std::size_t normals_against_winding = 0;  ///< STL: of those, the facets whose stored normal points against
+                                            ///< the normal of their corners' winding (right-hand rule)
+};
+
+/// As read_mesh(path), also filling `notes` (STL facet normals are otherwise ignored: the winding decides).
+PrintableMesh read_mesh(const std::filesystem::path& path, MeshFileNotes& notes);
+
 }  // namespace cellform::exporters

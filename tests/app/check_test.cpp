@@ -1,6 +1,8 @@
 // Tests of app/check.cpp: `cellform check` on broken and unreadable meshes, as text and as JSON.
 #include <catch2/catch.hpp>
+#include <cstdint>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "tests/app/test_util.h"
 
@@ -54,4 +56,54 @@ TEST_CASE("cellform check reports broken and unreadable meshes", "[cli][check]")
   CHECK_THAT(j["error"].get<std::string>(), Contains("garbage.stl"));
   CHECK(cli({"check"}).code == 2);
   CHECK(cli({"check", (t.path / "none.stl").string()}).code == 2);
+}
+
+TEST_CASE("cellform check warns of STL facet normals that point against the winding", "[cli][check]") {
+  TempDir t("cli-check-normals");
+  // the closed tetrahedron, wound outward; facet normals stored as given
+  const float v[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const int f[4][3] = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  auto stl = [&](float sign, bool zero_first) {
+    std::string b(80, ' ');
+    const std::uint32_t n = 4;
+    b.append(reinterpret_cast<const char*>(&n), 4);
+    for (int k = 0; k < 4; ++k) {
+      const float* a = v[f[k][0]];
+      const float* c = v[f[k][1]];
+      const float* d = v[f[k][2]];
+      const float u[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]}, w[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+      float nrm[3] = {sign * (u[1] * w[2] - u[2] * w[1]), sign * (u[2] * w[0] - u[0] * w[2]),
+                      sign * (u[0] * w[1] - u[1] * w[0])};
+      if (zero_first && k == 0) nrm[0] = nrm[1] = nrm[2] = 0;  // a zero normal says nothing: not counted
+      b.append(reinterpret_cast<const char*>(nrm), 12);
+      for (int i = 0; i < 3; ++i) b.append(reinterpret_cast<const char*>(v[f[k][i]]), 12);
+      b.append(2, '\0');
+    }
+    return b;
+  };
+  auto r = cli({"check", t.write("right.stl", stl(1, false)).string()});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.out, !Contains("stored facet normals"));
+  r = cli({"check", t.write("flipped.stl", stl(-1, true)).string()});
+  CHECK(r.code == 0);  // the verdict goes by the winding, which is right
+  CHECK_THAT(r.out, Contains("warning: 3 of the 3 stored facet normals point against their triangle's winding"));
+  r = cli({"check", (t.path / "flipped.stl").string(), "--json"});
+  CHECK(nlohmann::json::parse(r.out)["stl_normals_against_winding"] == 3);
+  // ASCII: the same from the "facet normal" lines
+  const auto ascii =
+      t.write("flipped_ascii.stl",
+              "solid t\n"
+              "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\nendloop\nendfacet\n"
+              "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\nendloop\nendfacet\n"
+              "facet normal -1 -1 -1\nouter loop\nvertex 1 0 0\nvertex 0 1 0\nvertex 0 0 1\nendloop\nendfacet\n"
+              "facet normal -1 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 0 1 0\nendloop\nendfacet\n"
+              "endsolid t\n");
+  r = cli({"check", ascii.string()});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.out, Contains("warning: 2 of the 3 stored facet normals point against"));
+  // a PLY header cut before its end says so
+  const auto cut = t.write("cut.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
+  r = cli({"check", cut.string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("cut.ply") && Contains("no 'end_header' line"));
 }
