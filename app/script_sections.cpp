@@ -286,6 +286,8 @@ namespace {
 
 /// "fnv1a64:<hex>" of a file's bytes, read in blocks; "" if it cannot be read (load_mesh says why).
 std::string file_fingerprint(const std::filesystem::path& path) {
+  // a pipe would block and a device such as /dev/zero never ends: only a regular file is read
+  if (std::error_code ec; !std::filesystem::is_regular_file(path, ec)) return "";
   std::ifstream in(path, std::ios::binary);
   if (!in) return "";
   std::uint64_t h = core::fnv1a64(nullptr, 0);

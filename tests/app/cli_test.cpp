@@ -1,6 +1,7 @@
 // Tests of the cellform command line: exit codes, help, outputs, run.json, Ctrl-C and printing (check: check_test.cpp).
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -167,6 +168,14 @@ TEST_CASE("bad shapes, obstacle meshes and obstacles around the cells exit with 
   r = run("flat.lua", "disc { radius = 2 }\nmesh { file = 'flat.obj' }\n");
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("flat.lua:2: mesh: every triangle of flat.obj is degenerate"));
+  // a pipe or a device as the mesh: refused, not read for ever (its fingerprint was taken before load_mesh looked)
+  REQUIRE(::mkfifo((t.path / "fifo.stl").c_str(), 0600) == 0);
+  fs::create_symlink("/dev/zero", t.path / "zero.obj");
+  for (const char* file : {"fifo.stl", "zero.obj"}) {
+    r = run("pipe.lua", "disc { radius = 2 }\nmesh { file = '" + std::string(file) + "' }\n");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains("pipe.lua:2: mesh") && Contains(file) && Contains("is not a regular file"));
+  }
   // touching obstacles and a ground below the cells are fine
   r = run("fine.lua",
           "disc { radius = 2, centre = {0, 0, 0.5} }\nground {}\nball { centre = {0, 0, 1.5}, radius = 1 }\n"
