@@ -69,15 +69,35 @@ std::vector<Vec3> hex_lattice(const Vec3& centre, const Vec3& normal, double wid
 }
 }  // namespace
 
+double hex_rectangle_cells(double width, double height, double spacing) {
+  const double row = spacing * std::sqrt(3.0) / 2.0;
+  const double half_columns = std::floor(width / 2 / spacing) + 1, half_rows = std::floor(height / 2 / row);
+  return (2 * half_columns + 1) * (2 * half_rows + 1);
+}
+
+double hex_disc_cells(double radius, double spacing) {
+  // the disc's own count: its area over a lattice cell's (the lattice square around it is not built
+  // when the disc is refused, and holds 4 / pi times as many points)
+  const double ratio = radius / spacing;  // squared after dividing: a tiny spacing cannot underflow to 0 first
+  return std::numbers::pi * ratio * ratio / (std::sqrt(3.0) / 2) + 1;
+}
+
+double sphere_cells(double radius, double spacing) {
+  const double ratio = radius / spacing;  // squared after dividing: a tiny spacing cannot underflow to 0 first
+  return std::max(4.0, std::round(4 * std::numbers::pi * ratio * ratio / (std::sqrt(3.0) / 2)));
+}
+
+double line_cells(const Vec3& from, const Vec3& to, double spacing) {
+  return std::ceil((to - from).norm() / spacing) + 1;
+}
+
 std::vector<Vec3> hex_rectangle(const Vec3& centre, const Vec3& normal, double width, double height, double spacing) {
   check_positive(width, "width");
   check_positive(height, "height");
   check_positive(spacing, "spacing");
   unit_normal(normal);
-  const double row = spacing * std::sqrt(3.0) / 2.0;
-  const double half_columns = std::floor(width / 2 / spacing) + 1, half_rows = std::floor(height / 2 / row);
-  check_cell_count((2 * half_columns + 1) * (2 * half_rows + 1), "width " + core::number_text(width) + " x height " +
-                                                                     core::number_text(height) + at_spacing(spacing));
+  check_cell_count(hex_rectangle_cells(width, height, spacing), "width " + core::number_text(width) + " x height " +
+                                                                    core::number_text(height) + at_spacing(spacing));
   return hex_lattice(centre, normal, width, height, spacing, [](const Vec3&) { return true; });
 }
 
@@ -85,11 +105,7 @@ std::vector<Vec3> hex_disc(const Vec3& centre, const Vec3& normal, double radius
   check_positive(radius, "radius");
   check_positive(spacing, "spacing");
   unit_normal(normal);
-  // the disc's own count: its area over a lattice cell's (the lattice square around it is not built
-  // when the disc is refused, and holds 4 / pi times as many points)
-  const double ratio = radius / spacing;  // squared after dividing: a tiny spacing cannot underflow to 0 first
-  check_cell_count(std::numbers::pi * ratio * ratio / (std::sqrt(3.0) / 2) + 1,
-                   "radius " + core::number_text(radius) + at_spacing(spacing));
+  check_cell_count(hex_disc_cells(radius, spacing), "radius " + core::number_text(radius) + at_spacing(spacing));
   const double side = 2 * radius + 2 * spacing;
   return hex_lattice(centre, normal, side, side, spacing,
                      [&](const Vec3& p) { return (p - centre).norm() <= radius + 1e-9; });
@@ -98,8 +114,7 @@ std::vector<Vec3> hex_disc(const Vec3& centre, const Vec3& normal, double radius
 std::vector<Vec3> sphere_points(const Vec3& centre, double radius, double spacing) {
   check_positive(radius, "radius");
   check_positive(spacing, "spacing");
-  const double ratio = radius / spacing;  // squared after dividing: a tiny spacing cannot underflow to 0 first
-  const double count = std::max(4.0, std::round(4 * std::numbers::pi * ratio * ratio / (std::sqrt(3.0) / 2)));
+  const double count = sphere_cells(radius, spacing);
   check_cell_count(count, "radius " + core::number_text(radius) + at_spacing(spacing));
   const auto n = static_cast<long>(count);
   std::vector<Vec3> out;
@@ -117,8 +132,7 @@ std::vector<Vec3> sphere_points(const Vec3& centre, double radius, double spacin
 std::vector<Vec3> line_points(const Vec3& from, const Vec3& to, double spacing) {
   check_positive(spacing, "spacing");
   if (!from.allFinite() || !to.allFinite()) throw core::InvalidInput("line from and to must be finite positions");
-  const double len = (to - from).norm();
-  const double count = std::ceil(len / spacing) + 1;
+  const double count = line_cells(from, to, spacing);
   check_cell_count(count, "length " + core::number_text((to - from).stableNorm()) + at_spacing(spacing));
   const auto n = static_cast<long>(count) - 1;
   std::vector<Vec3> out;

@@ -25,6 +25,13 @@ std::vector<Vec3> sphere_points(const Vec3& centre, double radius, double spacin
 /// Points from `from` to `to` inclusive, at most `spacing` apart.
 std::vector<Vec3> line_points(const Vec3& from, const Vec3& to, double spacing);
 
+/// About how many cells each shape above makes (the count their 50-million check uses), found without
+/// building it, for a caller's own limit; NaN or infinite for sizes the shapes refuse.
+double hex_disc_cells(double radius, double spacing);
+double hex_rectangle_cells(double width, double height, double spacing);
+double sphere_cells(double radius, double spacing);
+double line_cells(const Vec3& from, const Vec3& to, double spacing);
+
 /// Two unit vectors spanning the plane orthogonal to unit vector `normal`, chosen deterministically.
 void plane_basis(const Vec3& normal, Vec3& u, Vec3& v);
 

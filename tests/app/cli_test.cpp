@@ -142,6 +142,24 @@ TEST_CASE("bad shapes, obstacle meshes and obstacles around the cells exit with 
     const auto need = r.err.find("would need");  // and no negative count
     CHECK((need != std::string::npos && r.err.find('-', need) == std::string::npos));
   }
+  // shapes far beyond division.max_cells are refused before they are built (a disc of radius 3000 was
+  // 32 million cells, 2 GB and 13 s before the refusal); near the limit the exact count decides
+  for (const char* shapes :
+       {"disc { radius = 2 }\ndisc { radius = 3000 }", "disc { radius = 2 }\nsphere { radius = 1000 }",
+        "disc { radius = 2 }\nrectangle { width = 3000, height = 3000 }",
+        "disc { radius = 2 }\nline { from = {0, 0, 0}, to = {1e7, 0, 0} }"}) {
+    INFO(shapes);
+    const auto r = run("many.lua", std::string(shapes) + "\n");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains("many.lua:2:") && Contains("the initial shapes would make about") &&
+                          Contains("more than division.max_cells = 100000"));
+  }
+  {
+    const auto r = run("limit.lua", "division { max_cells = 100 }\ndisc { radius = 5.6 }\n");  // about 115
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains("limit.lua:2: disc: the initial shapes make 1") &&
+                          Contains("cells, more than division.max_cells = 100"));
+  }
   // an ASCII STL obstacle cut in the middle of a facet
   t.write("cut.stl", "solid t\nfacet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n");
   auto r = run("cut.lua", "disc { radius = 2 }\nmesh { file = 'cut.stl' }\n");
