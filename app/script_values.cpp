@@ -209,6 +209,17 @@ Value ScriptHost::Impl::from_text(const Field& f, const std::string& text, const
   return v;
 }
 
+namespace {
+/// A number as a refusal quotes it: 15 digits, enough to show why 3.0000000001 is not whole or why
+/// 1.0000001 is above 1; NaN as "NaN" (the stream writes "-nan" for 0/0).
+std::string got_text(double x) {
+  if (std::isnan(x)) return "NaN";
+  std::ostringstream g;
+  g << std::setprecision(15) << x;
+  return g.str();
+}
+}  // namespace
+
 void ScriptHost::Impl::check_range(const Field& f, Value& v, const std::string& at) {
   if (!v.present) return;
   const std::string name = f.section + "." + f.name;
@@ -222,16 +233,12 @@ void ScriptHost::Impl::check_range(const Field& f, Value& v, const std::string& 
                         ", got " + got);
   };
   if (f.kind == Kind::number || f.kind == Kind::integer || (f.kind == Kind::number_or_function && v.ref == LUA_NOREF)) {
-    std::ostringstream g;
-    g << std::setprecision(15) << v.num;  // enough to show why 3.0000000001 is not whole
-    if (bad(v.num)) throw fail(g.str());
-    if (f.kind == Kind::integer && v.num != std::floor(v.num)) throw fail(g.str());
+    if (bad(v.num)) throw fail(got_text(v.num));
+    if (f.kind == Kind::integer && v.num != std::floor(v.num)) throw fail(got_text(v.num));
   } else if (f.kind == Kind::vec3) {
-    for (int i = 0; i < 3; ++i) {
-      std::ostringstream g;
-      g << "{" << v.vec.x() << ", " << v.vec.y() << ", " << v.vec.z() << "}";
-      if (bad(v.vec[i])) throw fail(g.str());
-    }
+    for (int i = 0; i < 3; ++i)
+      if (bad(v.vec[i]))
+        throw fail("{" + got_text(v.vec.x()) + ", " + got_text(v.vec.y()) + ", " + got_text(v.vec.z()) + "}");
   } else if ((f.kind == Kind::choice || f.kind == Kind::choice_or_function) && v.ref == LUA_NOREF) {
     if (!is_choice(f.choices, v.str)) {
       std::vector<std::string> options;

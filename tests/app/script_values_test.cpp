@@ -84,6 +84,11 @@ TEST_CASE("numbers are taken exactly or refused: no NaN knob, no rounded seed", 
   CHECK_THAT(load_error("run { steps = 1 }\ndisc { radius = 2 }\n", {{"run.seed", "9007199254740993"}}),
              Contains("--set run.seed=9007199254740993: run.seed must be a whole number of at most 2^53"));
   CHECK_THAT(load_error("run { seed = math.maxinteger }\ndisc { radius = 2 }\n"), Contains("run.seed must be"));
+  // a refusal quotes the value as given: 0/0 was "-nan", and 1.0000001 read as the allowed 1
+  CHECK_THAT(load_error("disc { radius = 0/0 }\n"), Contains("disc.radius must be a number > 0, got NaN"));
+  CHECK_THAT(load_error("disc { radius = 2 }\ncells { drag = {1, 1, 1.0000001} }\n"),
+             Contains("cells.drag must be {x, y, z} with each from 0 to 1, got {1, 1, 1.0000001}"));
+  CHECK_THAT(load_error("disc { radius = 2 }\ncells { drag = {1, 0/0, 1} }\n"), Contains("got {1, NaN, 1}"));
   // --set of a whole knob is taken exactly, beyond 2^53 too
   const auto cfg = load("local P = params { n = 3 }\ndisc { radius = 2 }\n", {{"n", "9007199254740993"}});
   CHECK(cfg.resolved["params"]["n"].get<std::int64_t>() == 9007199254740993LL);
