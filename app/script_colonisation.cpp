@@ -172,7 +172,8 @@ void section_domain(Impl& I, const std::string& section, const std::string& at) 
     d.kind = venation::DomainKind::surface;
     spec.on_cells = v["cells"].flag;
     if (file == spec.on_cells)
-      throw InvalidInput(at + "surface{...} needs either file = \"shape.obj\" or cells = true (the grown cell sheet)");
+      throw InvalidInput(at + "surface{...} needs either file = \"shape.obj\" or cells = true (the grown cell sheet)" +
+                         (file ? ", not both" : ""));
     if (file) {
       d.mesh = read_domain_mesh(I, section, v, at);
       if (seeds.empty())

@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -107,8 +108,9 @@ inline void check_darts_per_step(double expected, const char* what, std::size_t 
     throw core::InvalidInput(std::string("colonisation.darts: rho x ") + what +
                              (step ? " at step " + std::to_string(step) : std::string()) + " = " +
                              core::number_text(expected) +
-                             " darts in one step, more than 2 x 10^7; use fewer darts (rho x 10^6 per unit area) or a "
-                             "smaller domain");
+                             " darts in one step, more than 2 x 10^7; use fewer darts (rho x 10^6 per unit " +
+                             (std::string_view(what).find("volume") != std::string_view::npos ? "volume" : "area") +
+                             ") or a smaller domain");
 }
 
 }  // namespace detail

@@ -27,6 +27,9 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
   CHECK(cfg.colonisation->leaf.outline.points.size() > 16);
   CHECK_THAT(load_error("leaf {}\ndisc { radius = 2 }\n"), Contains("needs colonisation{...}"));
   CHECK_THAT(load_error("colonisation {}\ndisc { radius = 2 }\n"), Contains("cannot be combined"));
+  CHECK_THAT(
+      load_error("surface { cells = true, file = 'cube.obj' }\ncolonisation {}\ndisc { radius = 2 }\n"),
+      Contains("surface{...} needs either file = \"shape.obj\" or cells = true (the grown cell sheet), not both"));
   CHECK_THAT(load_error("leaf { file = 'nothere.txt' }\ncolonisation {}\n"), Contains("nothere.txt"));
   CHECK_THAT(load_error("colonisation { kill_distance = 0.2 }\n"), Contains("kill_distance"));
   CHECK_THAT(load_error("leaf { shape = 'ovat' }\ncolonisation {}\n"), Contains("did you mean \"ovate\""));

@@ -400,7 +400,9 @@ TEST_CASE("bad 3-D domains and parameters name what is wrong", "[domain]") {
 
   v::ColonisationParams dense = ok;  // more darts in one step than memory holds
   dense.darts_per_area = 1e9;
-  REQUIRE_THROWS_WITH(v::Colonisation(d, dense), Contains("colonisation.darts") && Contains("2 x 10^7"));
+  REQUIRE_THROWS_WITH(v::Colonisation(d, dense), Contains("colonisation.darts") && Contains("2 x 10^7") &&
+                                                     Contains("per unit volume"));  // a volume's darts
+  REQUIRE_THROWS_WITH(v::Colonisation(as_surface, dense), Contains("per unit area"));
 
   v::Domain outside = d;
   outside.initial_nodes.push_back(Vec3(1.5, 1.5, 0));  // |x| + |y| = 3 > 2
