@@ -184,10 +184,12 @@ std::vector<Field> build() {
   f.push_back(num("leaf", "lobe_depth", "0.35", 0, 0.99, false, "fraction", "cut between lobes, of the radius"));
   f.push_back(integer("leaf", "teeth", "0", 0, 2000, "", "teeth along the margin (0 = entire margin)"));
   f.push_back(num("leaf", "tooth_depth", "0.02", 0, 1, false, "leaf lengths", "height of the teeth"));
-  f.push_back(text("leaf", "file", "(none)",
-                   "outline file (one 'x y' per line, closed, petiole at (0, 0), any unit: scaled so its tip, the "
-                   "highest y (at least half the farthest vertex's distance), is one leaf length; relative to "
-                   "the script) instead of a shape"));
+  f.push_back(
+      text("leaf", "file", "(none)",
+           "outline file (one 'x y' per line, '#' starts a comment, closed: the first point repeated last; petiole "
+           "at (0, 0), any unit: scaled so its tip, the "
+           "highest y (at least half the farthest vertex's distance), is one leaf length; relative to "
+           "the script) instead of a shape"));
   f.push_back(integer("leaf", "seeds", "1", 1, 10000, "",
                       "initial vein nodes spread along the base (several: grass-like parallel veins)"));
   f.push_back(
@@ -293,8 +295,8 @@ std::vector<Field> build() {
       boolean("output", "ply", "true", "write cells.ply (cells, triangles, links, per-cell attributes) and veins.ply"));
   f.push_back(boolean("output", "obj", "true", "write cells.obj (the cell surface) and veins.obj"));
   f.push_back(integer("output", "every", "0", 0, 1e9, "steps",
-                      "cell runs: also write frames/cells_NNNNNN.ply of the cells as placed (step 0) and every this "
-                      "many steps (0 = none)"));
+                      "cell runs: also write frames/cells_NNNNNN.ply (the step, in six digits, more from step "
+                      "1,000,000) of the cells as placed (step 0) and every this many steps (0 = none)"));
   f.push_back(integer("output", "checkpoint_every", "1000", 0, 1e9, "steps",
                       "write checkpoint.cfck every this many steps (0 = only at the end)"));
   f.push_back(num("output", "checkpoint_seconds", "60", 0, 1e9, false, "s",
