@@ -147,11 +147,25 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
     RunOptions o;
     std::vector<std::string> positional;
     std::map<std::string, std::string> once;  // option -> value: one value each (--set: one per name)
+    // --steps=5 as --steps 5 (GNU style), for the options that take a value
+    std::vector<std::string> opts{args.front()};
     for (std::size_t i = 1; i < args.size(); ++i) {
       const std::string& a = args[i];
+      const std::size_t eq = a.find('=');
+      const std::string name = a.substr(0, eq);
+      if (a.rfind("--", 0) == 0 && eq != std::string::npos && name != "--quiet" && name != "--help" &&
+          std::find(kRunOptions.begin(), kRunOptions.end(), name) != kRunOptions.end()) {
+        opts.push_back(name);
+        opts.push_back(a.substr(eq + 1));
+      } else {
+        opts.push_back(a);
+      }
+    }
+    for (std::size_t i = 1; i < opts.size(); ++i) {
+      const std::string& a = opts[i];
       auto value = [&]() -> const std::string& {
-        if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
-        const std::string& next = args[i + 1];
+        if (i + 1 >= opts.size()) throw UsageError(a + " needs a value");
+        const std::string& next = opts[i + 1];
         if (next == "-q" || next == "-h" ||
             std::find(kRunOptions.begin(), kRunOptions.end(), next) != kRunOptions.end())
           throw UsageError(a + " needs a value, got the option " + next +
@@ -161,7 +175,7 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
           if (!first && it->second != next)
             throw UsageError(a + " is given twice (" + it->second + " and " + next + "); give it once");
         }
-        return args[++i];
+        return opts[++i];
       };
       if (a == "-h" || a == "--help") {
         out << kRunUsage;

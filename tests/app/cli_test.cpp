@@ -39,6 +39,11 @@ TEST_CASE("help, version and usage errors", "[cli]") {
   r = cli({"run", "x.lua", "--sed", "3"});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("did you mean '--seed'"));
+  // --option=value is --option value (it was an unknown option '--steps=many')
+  r = cli({"run", "x.lua", "--steps=many"});
+  CHECK_THAT(r.err, Contains("--steps takes a whole number") && Contains("got 'many'"));
+  r = cli({"run", "x.lua", "--quiet=yes"});  // a flag takes no value
+  CHECK_THAT(r.err, Contains("unknown option '--quiet=yes'"));
   r = cli({"run", "x.lua", "--lua-memory", "0"});  // the range given is the range checked
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("--lua-memory takes a whole number from 1 to 65536, got '0'"));
@@ -241,9 +246,10 @@ TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {
 
   SECTION("the same inputs and seed give identical outputs; a re-run replaces the old outputs") {
     const fs::path out2 = t.path / "out2";
-    REQUIRE(cli({"run", script.string(), "--out", out2.string(), "--quiet", "--seed", "4", "--set", "size=300",
-                 "--threads", "1"})
-                .code == 0);
+    // (given as --option=value)
+    REQUIRE(
+        cli({"run", script.string(), "--out=" + out2.string(), "--quiet", "--seed=4", "--set=size=300", "--threads=1"})
+            .code == 0);
     CHECK(slurp(out / "cells.ply") == slurp(out2 / "cells.ply"));
     CHECK(slurp(out / "cells.obj") == slurp(out2 / "cells.obj"));
     REQUIRE(cli({"run", script.string(), "--out", out2.string(), "--quiet", "--seed", "5", "--set", "size=300"}).code ==
