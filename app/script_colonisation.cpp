@@ -224,6 +224,15 @@ void section_leaf(Impl& I, const std::string& at) {
   venation::Leaf& leaf = I.cfg->colonisation->leaf;
   try {
     if (!v["file"].str.empty()) {
+      // the built-in outlines' values do not shape a drawn one: said if given, and not recorded as used
+      for (const char* k : {"shape", "width", "lobes", "lobe_depth", "teeth", "tooth_depth"}) {
+        if (v[k].present)
+          throw InvalidInput(std::string("leaf.") + k +
+                             " shapes the built-in outlines; an outline file (leaf.file) is used as drawn: leave "
+                             "leaf." +
+                             k + " out");
+        I.cfg->resolved["leaf"].erase(k);
+      }
       std::filesystem::path file = v["file"].str;
       if (file.is_relative()) file = I.script_dir / file;
       leaf.outline = venation::read_outline(file);

@@ -123,6 +123,18 @@ TEST_CASE("volume{} and surface{} give space colonisation a 3-D domain", "[scrip
              Contains("test/leaf.lua:1: surface.file: with scale = 1e+300") && Contains("lies beyond 1e+09"));
   CHECK_THAT(load_error("volume { ball = { radius = 1e300 } }\ncolonisation {}\n"),
              Contains("volume.ball.radius must be a number from 0 (exclusive) to 1e+09"));
+  // an outline file is used as drawn: the built-in outlines' values are refused beside it, and not recorded
+  std::ofstream(dir / "fan.txt") << "0 0\n1 1\n0 2\n-1 1\n0 0\n";
+  const std::string fan = (dir / "fan.txt").string();
+  cfg = load("leaf { file = '" + fan + "' }\ncolonisation {}\n");
+  CHECK(cfg.resolved["leaf"]["file"] == fan);
+  for (const char* k : {"shape", "width", "teeth", "tooth_depth", "lobes", "lobe_depth"})
+    CHECK_FALSE(cfg.resolved["leaf"].contains(k));
+  CHECK_THAT(load_error("leaf { file = '" + fan + "', teeth = 20 }\ncolonisation {}\n"),
+             Contains("test/leaf.lua:1:") && Contains("leaf.teeth shapes the built-in outlines") &&
+                 Contains("leave leaf.teeth out"));
+  CHECK_THAT(load_error("leaf { file = '" + fan + "' }\ncolonisation {}\n", {{"leaf.shape", "cordate"}}),
+             Contains("leaf.shape shapes the built-in outlines"));
   std::filesystem::remove_all(dir);
 
   CHECK_THAT(load_error("volume { box = { min = {0, 0, 0}, max = {1, 1, 1} }, seeds = {{0, 0, 2}} }\n"
