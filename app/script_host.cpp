@@ -438,10 +438,10 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
                        "output.every writes frames of a cell run; a space-colonisation run writes its veins at the "
                        "end (and output.checkpoint_every sets how often it saves a checkpoint)");
   if (cfg.scene.split_along_auxin && !cfg.scene.venation)  // there would be no flow to split along
-    throw InvalidInput(I.sections_seen["division"] +
+    throw InvalidInput(I.value_at("division.direction", I.sections_seen["division"]) +
                        "division.direction = \"auxin\" splits cells along the auxin flow, which needs venation{...}");
   if (cfg.output.png && !cfg.colonisation)
-    throw InvalidInput(I.sections_seen["output"] +
+    throw InvalidInput(I.value_at("output.png", I.sections_seen["output"]) +
                        "output{png = true} draws space-colonisation veins; it needs colonisation{...}");
   if (cfg.print && cfg.print->veins && !cfg.print->shell && !cfg.scene.venation && !cfg.colonisation)
     throw InvalidInput(I.sections_seen["print"] +

@@ -206,6 +206,12 @@ void section_print(Impl& I, const std::string& at) {
         core::number_text(p.size) +
         " mm, the whole print across): the walls would be thicker than the form; use a thinner shell "
         "or a larger size");
+  if (p.scale == 0 && p.flat_base > 0 && p.flat_base >= p.size)  // the height is at most the largest extent
+    throw InvalidInput(
+        I.value_at(I.overrides && I.overrides->count("print.size") ? "print.size" : "print.flat_base", at) +
+        "print.flat_base (" + core::number_text(p.flat_base) + " mm) is not less than print.size (" +
+        core::number_text(p.size) +
+        " mm, the largest extent of the print): it would cut the whole form away; use a smaller flat_base");
   if (p.veins && p.scale == 0 && 2 * p.min_radius >= p.size)
     throw InvalidInput(
         I.value_at(I.overrides && I.overrides->count("print.size") ? "print.size" : "print.min_radius", at) +

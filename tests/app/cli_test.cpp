@@ -504,9 +504,9 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
   }
 
   SECTION("print errors name the script's parameters") {
-    r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.flat_base=500"});
+    r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.flat_base=110"});
     CHECK(r.code == 1);
-    CHECK_THAT(r.err, Contains("print: print.flat_base (500 mm) must be less than the height"));
+    CHECK_THAT(r.err, Contains("print: print.flat_base (110 mm) must be less than the height"));
     r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.max_memory=1"});
     CHECK(r.code == 1);
     CHECK_THAT(r.err, Contains("a smaller print.size (or print.scale)") && Contains("raise print.max_memory") &&
@@ -516,7 +516,7 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
 
   SECTION("a flat base that leaves less than a voxel of the form is an error, not an empty file") {
     // the height, from the refusal of a cut above it
-    r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.flat_base=500"});
+    r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.flat_base=110"});
     const std::string said = "the height of the printed form (";
     const std::size_t at = r.err.find(said);
     REQUIRE(at != std::string::npos);

@@ -31,6 +31,9 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
       load_error("surface { cells = true, file = 'cube.obj' }\ncolonisation {}\ndisc { radius = 2 }\n"),
       Contains("surface{...} needs either file = \"shape.obj\" or cells = true (the grown cell sheet), not both"));
   CHECK_THAT(load_error("leaf { file = 'nothere.txt' }\ncolonisation {}\n"), Contains("nothere.txt"));
+  // a value given by --set that needs another section is named as given (it had no place, and a knob hint)
+  CHECK_THAT(load_error("disc { radius = 2 }\n", {{"output.png", "true"}}),
+             Contains("--set output.png=true: output{png = true} draws space-colonisation veins"));
   CHECK_THAT(load_error("colonisation { kill_distance = 0.2 }\n"), Contains("kill_distance"));
   CHECK_THAT(load_error("leaf { shape = 'ovat' }\ncolonisation {}\n"), Contains("did you mean \"ovate\""));
   // a blade narrower than a hundredth of its length said only that its outline crossed itself; 10,000

@@ -25,6 +25,12 @@ TEST_CASE("print values that contradict each other are refused before the run: v
   CHECK_THAT(load_error("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { size = 20, min_radius = 10 }\n"),
              Contains(":4: print.min_radius (10 mm) makes every vein at least 20 mm thick, not less than print.size"));
   CHECK_NOTHROW(load("disc { radius = 3 }\nprint { shell = true, scale = 1, shell_thickness = 30 }\n"));
+  // a cut at least the print's largest extent leaves nothing (said after the whole run before)
+  CHECK_THAT(load_error("disc { radius = 3 }\nprint { shell = true, flat_base = 120 }\n"),
+             Contains(":2: print.flat_base (120 mm) is not less than print.size (120 mm") &&
+                 Contains("would cut the whole form away"));
+  CHECK_NOTHROW(load("disc { radius = 3 }\nprint { shell = true, flat_base = 119 }\n"));  // the height decides
+  CHECK_NOTHROW(load("disc { radius = 3 }\nprint { shell = true, scale = 1, flat_base = 500 }\n"));
   CHECK_NOTHROW(
       load("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { size = 20, shell_thickness = 30 }\n"));  // no shell
 }
