@@ -109,6 +109,30 @@ void mark_superseded(const fs::path& dir) {
   write_run_json(file, j);
 }
 
+bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, bool& warned) {
+  try {
+    write();
+    return true;
+  } catch (const core::FileError& e) {
+    if (!warned)
+      err << "\ncellform: warning: " << e.what()
+          << "\n  (the run goes on, and tries again at the next periodic checkpoint and at the end)\n";
+    warned = true;
+    return false;
+  }
+}
+
+void record_checkpoint(json& run, const std::string& error, bool earlier_saved,
+                       std::optional<std::uint64_t> earlier_step) {
+  if (error.empty()) {
+    run["checkpoint"] = kCheckpointName;
+    return;
+  }
+  run["checkpoint"] = earlier_saved ? json(kCheckpointName) : json(nullptr);
+  if (earlier_saved && earlier_step) run["checkpoint_step"] = *earlier_step;
+  run["checkpoint_error"] = error;
+}
+
 void write_checkpoint(const fs::path& path, const std::string& bytes) {
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
   std::string before;  // the earlier run's run.json, put back if the checkpoint is not written after all

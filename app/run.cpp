@@ -74,30 +74,6 @@ std::vector<std::string> write_outputs(const fs::path& dir, const OutputSpec& sp
   return names;
 }
 
-bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, bool& warned) {
-  try {
-    write();
-    return true;
-  } catch (const core::FileError& e) {
-    if (!warned)
-      err << "\ncellform: warning: " << e.what()
-          << "\n  (the run goes on, and tries again at the next periodic checkpoint and at the end)\n";
-    warned = true;
-    return false;
-  }
-}
-
-void record_checkpoint(json& run, const std::string& error, bool earlier_saved,
-                       std::optional<std::uint64_t> earlier_step) {
-  if (error.empty()) {
-    run["checkpoint"] = kCheckpointName;
-    return;
-  }
-  run["checkpoint"] = earlier_saved ? json(kCheckpointName) : json(nullptr);
-  if (earlier_saved && earlier_step) run["checkpoint_step"] = *earlier_step;
-  run["checkpoint_error"] = error;
-}
-
 namespace {
 
 /// The start of a cell run's run.json: what ran, with which seed and threads, and how it ended.
@@ -499,6 +475,30 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       say_vein_findings(err, sim.cells(), scene->venation_report(), *cfg.scene.venation,
                         !o.quiet && !g_interrupt.load());
     const auto b = std::chrono::steady_clock::now();
+    json printed;
+    bool print_cancelled = false, printed_first = false;
+    std::vector<std::string> print_names;
+    if (cfg.print && s.resume && first >= target) {
+      // no step ran: the outputs are made again for another print. The print first, so that one that
+      // fails (too fine a voxel for the memory, say) leaves the folder as it was, its earlier print too.
+      try {
+        printed = write_printable(staging, *cfg.print, sim.cells(), cfg.scene.venation.has_value(), o.threads,
+                                  print_names, err, o.quiet);
+        if (!o.quiet) say_printed(err, printed);
+      } catch (const core::Cancelled&) {
+        print_cancelled = true;
+        printed = {{"error", "interrupted"}};
+        status = "interrupted";
+        code = interrupted;
+      } catch (const std::exception& e) {
+        err << "cellform: " << core::error_text(e) << "\n  (nothing in " << dir.string()
+            << "/ changed: its outputs, printable files and checkpoint are as they were)\n";
+        std::error_code ec;
+        fs::remove_all(staging, ec);
+        return failure;
+      }
+      printed_first = true;
+    }
     // the checkpoint first: outputs that then fail to write leave it to resume from; and a checkpoint that
     // cannot be written (a full disk) still leaves the outputs
     try {
@@ -509,9 +509,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     }
     for (const std::string& n : write_outputs(staging, cfg.output, sim.cells(), cfg.scene.venation.has_value()))
       outputs.push_back(n);
-    json printed;
-    bool print_cancelled = false;
-    if (cfg.print) {
+    outputs.insert(outputs.end(), print_names.begin(), print_names.end());
+    if (cfg.print && !printed_first) {
       try {
         printed = write_printable(staging, *cfg.print, sim.cells(), cfg.scene.venation.has_value(), o.threads, outputs,
                                   err, o.quiet);

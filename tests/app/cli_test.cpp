@@ -514,6 +514,25 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
     CHECK_FALSE(nlohmann::json::parse(slurp(out / "run.json"))["print"].contains("base_z_mm"));  // no cut asked
   }
 
+  SECTION("printing again with other values: a print that fails leaves the folder as it was") {
+    // it removed the good printable files, and its checkpoint kept the bad value for the next resume
+    const std::string stl = slurp(out / "printable.stl"), json_before = slurp(out / "run.json"),
+                      checkpoint = slurp(out / "checkpoint.cfck");
+    r = cli({"resume", out.string(), "--quiet", "--set", "print.max_memory=1"});
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Contains("raise print.max_memory") && Contains("nothing in " + out.string() + "/ changed"));
+    CHECK(slurp(out / "printable.stl") == stl);
+    CHECK(slurp(out / "run.json") == json_before);
+    CHECK(slurp(out / "checkpoint.cfck") == checkpoint);
+    for (const auto& e : fs::directory_iterator(out))  // no staging folder left
+      CHECK(e.path().filename().string().find("partial") == std::string::npos);
+    // one that works replaces them
+    r = cli({"resume", out.string(), "--quiet", "--set", "print.size=80"});
+    REQUIRE(r.code == 0);
+    CHECK(slurp(out / "printable.stl") != stl);
+    CHECK(nlohmann::json::parse(slurp(out / "run.json"))["overrides"]["print.size"] == "80");
+  }
+
   SECTION("a flat base that leaves less than a voxel of the form is an error, not an empty file") {
     // the height, from the refusal of a cut above it
     r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.flat_base=110"});
