@@ -28,6 +28,7 @@ Progress::Progress(std::ostream& out, bool terminal, bool quiet, std::uint64_t f
 
 void Progress::update(std::uint64_t step, std::size_t cells) {
   if (quiet_) return;
+  cell_steps_ += static_cast<double>(cells);
   const auto now = std::chrono::steady_clock::now();
   const double since = std::chrono::duration<double>(now - last_print_).count();
   if (since < (terminal_ ? 0.1 : 5.0) && step != last_) return;
@@ -35,7 +36,9 @@ void Progress::update(std::uint64_t step, std::size_t cells) {
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   const double done = static_cast<double>(step - first_);
   const double rate = elapsed > 0 ? done / elapsed : 0;
-  const double left = rate > 0 ? static_cast<double>(last_ - step) / rate : NAN;
+  const double left = cell_steps_ > 0 && elapsed > 0
+                          ? static_cast<double>(last_ - step) * static_cast<double>(cells) * elapsed / cell_steps_
+                          : NAN;
   // of the whole run, as "step N/last" beside it reads (a resume starts part of the way)
   const double frac = last_ > 0 ? static_cast<double>(step) / static_cast<double>(last_) : 1.0;
   char buf[160];

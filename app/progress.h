@@ -11,6 +11,8 @@ namespace cellform::app {
 class Progress {
  public:
   Progress(std::ostream& out, bool terminal, bool quiet, std::uint64_t first_step, std::uint64_t last_step);
+  /// Called after every step with the cells then: the time left assumes a cell costs what it did so far,
+  /// and at least as many cells as now (a growing form slows down; a step rate alone said "0s left").
   void update(std::uint64_t step, std::size_t cells);
   void finish();
 
@@ -21,6 +23,7 @@ class Progress {
   std::uint64_t first_, last_;
   std::chrono::steady_clock::time_point start_, last_print_;
   bool printed_ = false;
+  double cell_steps_ = 0;  // cells summed over the steps reported: time left scales with the cells
 };
 
 }  // namespace cellform::app

@@ -22,3 +22,24 @@ TEST_CASE("progress is of the whole run, also when a resume starts part of the w
   silent.update(10, 1);
   CHECK(quiet.str().empty());
 }
+
+TEST_CASE("the time left of a growing form counts its cells, not only the steps", "[cli]") {
+  // 20 steps of one cell, then 1,000 cells: the remaining 79 steps cost about 1,000 times a step so far
+  std::ostringstream bar;
+  cellform::app::Progress growing(bar, true, false, 0, 100);
+  for (std::uint64_t step = 1; step <= 20; ++step) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    growing.update(step, 1);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(110));
+  bar.str("");
+  growing.update(21, 1000);
+  const std::string line = bar.str();
+  INFO(line);
+  // at least 79 * 1000 * 0.31 s / 1020 cell-steps = 24 s (the step rate said 79 / (21 / 0.31 s) = 1 s)
+  const std::size_t at = line.find("steps/s  ");
+  REQUIRE(at != std::string::npos);
+  const std::string left = line.substr(at + 9);
+  const bool minutes = left.find('m') < left.find(' ');
+  CHECK((minutes || std::stod(left) >= 20));
+}
