@@ -66,7 +66,8 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
         {"self_intersections", r.intersections_tested ? nlohmann::json(r.self_intersections) : nlohmann::json(nullptr)},
         {"degenerate_triangles", r.degenerate_triangles},
         // STL only: stored facet normals against the winding (the verdict goes by the winding, as slicers do)
-        {"stl_normals_against_winding", notes.normals_against_winding},
+        {"stl_normals_against_winding",
+         notes.normals_checked ? nlohmann::json(notes.normals_against_winding) : nlohmann::json(nullptr)},
         {"volume_mm3", solid ? nlohmann::json(r.volume) : nlohmann::json(nullptr)},
         {"area_mm2", r.area},
         {"bbox_min_mm", {r.bbox_min.x(), r.bbox_min.y(), r.bbox_min.z()}},

@@ -476,7 +476,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                         !o.quiet && !g_interrupt.load());
     const auto b = std::chrono::steady_clock::now();
     json printed;
-    bool print_cancelled = false, printed_first = false;
+    bool print_cancelled = false, printed_first = false;  // (a Ctrl-C of the early print ends the run)
     std::vector<std::string> print_names;
     if (cfg.print && s.resume && first >= target) {
       // no step ran: the outputs are made again for another print. The print first, so that one that
@@ -485,17 +485,16 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         printed = write_printable(staging, *cfg.print, sim.cells(), cfg.scene.venation.has_value(), o.threads,
                                   print_names, err, o.quiet);
         if (!o.quiet) say_printed(err, printed);
-      } catch (const core::Cancelled&) {
-        print_cancelled = true;
-        printed = {{"error", "interrupted"}};
-        status = "interrupted";
-        code = interrupted;
-      } catch (const std::exception& e) {
-        err << "cellform: " << core::error_text(e) << "\n  (nothing in " << dir.string()
+      } catch (const std::exception& e) {  // a Ctrl-C (core::Cancelled) too: the print was all this run made
+        const bool cancelled = dynamic_cast<const core::Cancelled*>(&e) != nullptr;
+        err << (cancelled ? std::string(o.quiet ? "" : "\n") + "cellform: printing interrupted"
+                          : "cellform: " + core::error_text(e))
+            << "\n  (nothing in " << dir.string()
             << "/ changed: its outputs, printable files and checkpoint are as they were)\n";
         std::error_code ec;
         fs::remove_all(staging, ec);
-        return failure;
+        remove_empty_up_to(dir, created);
+        return cancelled ? interrupted : failure;
       }
       printed_first = true;
     }

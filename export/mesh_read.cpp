@@ -98,6 +98,7 @@ T get_ordered(const std::string& s, std::size_t at, bool big) {
 // lines in order) that are non-zero and point against their facet's winding normal.
 void count_stored_normals(const std::vector<Vec3>& corners, const std::vector<Vec3>& stored, MeshFileNotes& notes) {
   if (stored.size() * 3 != corners.size()) return;  // not one per facet: nothing to pair
+  notes.normals_checked = true;
   for (std::size_t t = 0; t < stored.size(); ++t) {
     const Vec3& n = stored[t];
     if (!n.allFinite() || n.squaredNorm() == 0) continue;
@@ -116,6 +117,8 @@ std::vector<Vec3> ascii_stl_normals(const std::string& s) {
     std::istringstream ls(line);
     std::string facet, normal;
     ls >> facet >> normal;
+    for (std::string* w : {&facet, &normal})  // keywords in any case, as the corners are read
+      for (char& c : *w) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     if (facet != "facet") continue;
     double x = NAN, y = NAN, z = NAN;
     if (normal != "normal" || !(ls >> x >> y >> z)) x = y = z = NAN;

@@ -17,6 +17,7 @@ PrintableMesh read_mesh(const std::filesystem::path& path);
 
 /// What a mesh file says beyond its triangles.
 struct MeshFileNotes {
+  bool normals_checked = false;             ///< an STL whose stored normals were paired with its facets
   std::size_t stored_normals = 0;           ///< STL: facets whose stored normal is not zero
   std::size_t normals_against_winding = 0;  ///< STL: of those, the facets whose stored normal points against
                                             ///< the normal of their corners' winding (right-hand rule)

@@ -70,9 +70,12 @@ std::vector<Vec3> hex_lattice(const Vec3& centre, const Vec3& normal, double wid
 }  // namespace
 
 double hex_rectangle_cells(double width, double height, double spacing) {
+  // as hex_lattice places them: rows j = -ny..ny; a row's points x = i spacing (+ spacing / 2 on odd rows)
+  // with |x| <= width / 2
   const double row = spacing * std::sqrt(3.0) / 2.0;
-  const double half_columns = std::floor(width / 2 / spacing) + 1, half_rows = std::floor(height / 2 / row);
-  return (2 * half_columns + 1) * (2 * half_rows + 1);
+  const double ny = std::floor(height / 2 / row), half = (width / 2 + 1e-9) / spacing;
+  const double even_rows = 2 * std::floor(ny / 2) + 1, odd_rows = 2 * ny + 1 - even_rows;
+  return even_rows * (2 * std::floor(half) + 1) + odd_rows * 2 * std::floor(half + 0.5);
 }
 
 double hex_disc_cells(double radius, double spacing) {

@@ -25,8 +25,10 @@ std::vector<Vec3> sphere_points(const Vec3& centre, double radius, double spacin
 /// Points from `from` to `to` inclusive, at most `spacing` apart.
 std::vector<Vec3> line_points(const Vec3& from, const Vec3& to, double spacing);
 
-/// About how many cells each shape above makes (the count their 50-million check uses), found without
-/// building it, for a caller's own limit; NaN or infinite for sizes the shapes refuse.
+/// How many cells each shape above makes (the count their 50-million check uses), found without
+/// building it, for a caller's own limit: exact for a rectangle, a sphere and a line (but for rounding at
+/// the edges), within about the disc's rim for a disc. Meaningless (NaN, infinite or any number) for sizes
+/// the shapes refuse.
 double hex_disc_cells(double radius, double spacing);
 double hex_rectangle_cells(double width, double height, double spacing);
 double sphere_cells(double radius, double spacing);

@@ -1,5 +1,6 @@
 // Tests of app/check.cpp: `cellform check` on broken and unreadable meshes, as text and as JSON.
 #include <catch2/catch.hpp>
+#include <cctype>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -84,6 +85,8 @@ TEST_CASE("cellform check warns of STL facet normals that point against the wind
   auto r = cli({"check", t.write("right.stl", stl(1, false)).string()});
   CHECK(r.code == 0);
   CHECK_THAT(r.out, !Contains("stored facet normals"));
+  CHECK(nlohmann::json::parse(
+            cli({"check", (t.path / "right.stl").string(), "--json"}).out)["stl_normals_against_winding"] == 0);
   r = cli({"check", t.write("flipped.stl", stl(-1, true)).string()});
   CHECK(r.code == 0);  // the verdict goes by the winding, which is right
   CHECK_THAT(r.out, Contains("warning: 3 of the 3 stored facet normals point against their triangle's winding"));
@@ -101,6 +104,13 @@ TEST_CASE("cellform check warns of STL facet normals that point against the wind
   r = cli({"check", ascii.string()});
   CHECK(r.code == 0);
   CHECK_THAT(r.out, Contains("warning: 2 of the 3 stored facet normals point against"));
+  std::string upper = slurp(ascii);  // keywords in capitals, as some CAD exports write them
+  for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  r = cli({"check", t.write("upper.stl", upper).string()});
+  CHECK_THAT(r.out, Contains("warning: 2 of the 3 stored facet normals point against"));
+  // no stored normals to check in an OBJ: null, not 0
+  const auto obj = t.write("t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n");
+  CHECK(nlohmann::json::parse(cli({"check", obj.string(), "--json"}).out)["stl_normals_against_winding"].is_null());
   // a PLY header cut before its end says so
   const auto cut = t.write("cut.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
   r = cli({"check", cut.string()});

@@ -196,7 +196,7 @@ TEST_CASE("load_mesh cuts a concave n-gon where it lies, and nowhere else", "[fo
   const std::size_t teeth = core::kMaxConcaveCorners;
   for (std::size_t i = 0; i <= teeth; ++i) comb += "v " + std::to_string(i) + (i % 2 ? " 1 0\n" : " 3 0\n");
   comb += "v " + std::to_string(teeth) + " 0 0\nv 0 0 0\nf";
-  for (std::size_t i = 1; i <= teeth + 3; ++i) comb += " " + std::to_string(i);
+  for (std::size_t i = 1; i <= teeth + 3; ++i) comb.append(" ").append(std::to_string(i));  // (GCC 12 -Wrestrict)
   write_text(dir / "comb.obj", comb + "\n");
   CHECK_THROWS_WITH(forms::load_mesh(dir / "comb.obj"), Contains("face 1 has 1027 corners and is not convex"));
   fs::remove_all(dir);

@@ -79,3 +79,23 @@ TEST_CASE("a disc too large to build names its own cell count, not its bounding 
     CHECK(n == Approx(std::numbers::pi * radius * radius / (std::sqrt(3.0) / 2)).epsilon(2.5 / radius));
   }
 }
+
+TEST_CASE("the cell counts found without building a shape agree with the shapes built", "[forms][shapes]") {
+  // a caller refuses shapes beyond its own limit from these before building them
+  for (const double spacing : {0.3, 1.0, 1.7})
+    for (const double w : {0.2, 0.9, 1.0, 1.5, 2.0, 3.3, 10.0, 41.0})
+      for (const double h : {0.1, 1.0, 2.6, 7.0, 30.0}) {
+        CAPTURE(spacing, w, h);
+        CHECK(forms::hex_rectangle_cells(w, h, spacing) ==
+              static_cast<double>(forms::hex_rectangle(kO, kZ, w, h, spacing).size()));
+      }
+  for (const double r : {0.5, 1.0, 2.5, 7.0, 20.0}) {
+    CAPTURE(r);
+    CHECK(forms::sphere_cells(r, 0.7) == static_cast<double>(forms::sphere_points(kO, r, 0.7).size()));
+    CHECK(forms::line_cells(kO, Vec3(r, r, 0), 0.7) ==
+          static_cast<double>(forms::line_points(kO, Vec3(r, r, 0), 0.7).size()));
+    // a disc's count is its area over a lattice cell's: off by at most about its rim
+    const double disc = static_cast<double>(forms::hex_disc(kO, kZ, r, 0.7).size());
+    CHECK(std::abs(forms::hex_disc_cells(r, 0.7) - disc) <= 2 * std::numbers::pi * r / 0.7 + 2);
+  }
+}
