@@ -6,6 +6,7 @@
 #include <charconv>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <string_view>
 
 #include "app/check.h"
@@ -39,11 +40,11 @@ const char* const kRunUsage =
     "usage: cellform run SCRIPT [options]\n"
     "       cellform resume CHECKPOINT [options]\n"
     "\n"
-    "options:\n"
+    "options (also as --option=VALUE):\n"
     "  --out DIR               output directory (default out/<script name>/; resume: the checkpoint's folder)\n"
     "  --seed N                seed of every random choice (default: run.seed of the script, 1)\n"
     "  --steps N               steps to run (resume: the total to reach)\n"
-    "  --threads N             worker threads, 0 = all cores (results are identical for any N)\n"
+    "  --threads N             worker threads, 0 = all cores (the results are identical for any N)\n"
     "  --set NAME=VALUE        override a script parameter: a params{} knob or section.name,\n"
     "                          e.g. --set cells.spring=2 --set division.max_cells=5000 (repeatable)\n"
     "  --checkpoint-every N    write a checkpoint every N steps, exactly (default: output.checkpoint_every,\n"
@@ -149,6 +150,7 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
     std::map<std::string, std::string> once;  // option -> value: one value each (--set: one per name)
     // --steps=5 as --steps 5 (GNU style), for the options that take a value
     std::vector<std::string> opts{args.front()};
+    std::set<std::size_t> bound;  // indices in opts of values given after '=': values, whatever they look like
     for (std::size_t i = 1; i < args.size(); ++i) {
       const std::string& a = args[i];
       const std::size_t eq = a.find('=');
@@ -156,6 +158,7 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       if (a.rfind("--", 0) == 0 && eq != std::string::npos && name != "--quiet" && name != "--help" &&
           std::find(kRunOptions.begin(), kRunOptions.end(), name) != kRunOptions.end()) {
         opts.push_back(name);
+        bound.insert(opts.size());
         opts.push_back(a.substr(eq + 1));
       } else {
         opts.push_back(a);
@@ -166,8 +169,8 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       auto value = [&]() -> const std::string& {
         if (i + 1 >= opts.size()) throw UsageError(a + " needs a value");
         const std::string& next = opts[i + 1];
-        if (next == "-q" || next == "-h" ||
-            std::find(kRunOptions.begin(), kRunOptions.end(), next) != kRunOptions.end())
+        if (!bound.count(i + 1) && (next == "-q" || next == "-h" ||
+                                    std::find(kRunOptions.begin(), kRunOptions.end(), next) != kRunOptions.end()))
           throw UsageError(a + " needs a value, got the option " + next +
                            (a == "--out" || a == "--script" ? " (a file or folder so named is ./" + next + ")" : ""));
         if (a != "--set") {  // the last of two would win unsaid: which one was meant?
@@ -226,6 +229,8 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
         if (o.replace_script->empty()) throw UsageError("--script needs a file name, got an empty one");
       } else if (a == "--quiet" || a == "-q") {
         o.quiet = true;
+      } else if (a.rfind("--quiet=", 0) == 0 || a.rfind("--help=", 0) == 0) {
+        throw UsageError(a.substr(0, a.find('=')) + " takes no value, got '" + a + "'");
       } else if (a.size() > 1 && a[0] == '-') {
         const std::string near =
             core::closest_name(a, std::vector<std::string>(kRunOptions.begin(), kRunOptions.end()));

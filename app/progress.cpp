@@ -1,6 +1,7 @@
 // Progress bar and periodic progress lines.
 #include "app/progress.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -11,6 +12,7 @@ namespace {
 std::string duration(double s) {
   char buf[32];
   if (!std::isfinite(s) || s < 0) return "?";
+  if (s >= 3.6e8) return ">99999h";  // (and an int holds the hours)
   if (s < 60)
     std::snprintf(buf, sizeof buf, "%.0fs", s);
   else if (s < 3600)
@@ -28,7 +30,7 @@ Progress::Progress(std::ostream& out, bool terminal, bool quiet, std::uint64_t f
 
 void Progress::update(std::uint64_t step, std::size_t cells) {
   if (quiet_) return;
-  cell_steps_ += static_cast<double>(cells);
+  cell_steps_ += static_cast<double>(std::max<std::size_t>(cells, 1));
   const auto now = std::chrono::steady_clock::now();
   const double since = std::chrono::duration<double>(now - last_print_).count();
   if (since < (terminal_ ? 0.1 : 5.0) && step != last_) return;
@@ -36,8 +38,10 @@ void Progress::update(std::uint64_t step, std::size_t cells) {
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   const double done = static_cast<double>(step - first_);
   const double rate = elapsed > 0 ? done / elapsed : 0;
+  // (at least one cell: a form that lost all its cells still has its steps to go)
   const double left = cell_steps_ > 0 && elapsed > 0
-                          ? static_cast<double>(last_ - step) * static_cast<double>(cells) * elapsed / cell_steps_
+                          ? static_cast<double>(last_ - step) * static_cast<double>(std::max<std::size_t>(cells, 1)) *
+                                elapsed / cell_steps_
                           : NAN;
   // of the whole run, as "step N/last" beside it reads (a resume starts part of the way)
   const double frac = last_ > 0 ? static_cast<double>(step) / static_cast<double>(last_) : 1.0;

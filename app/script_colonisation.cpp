@@ -224,13 +224,13 @@ void section_leaf(Impl& I, const std::string& at) {
   venation::Leaf& leaf = I.cfg->colonisation->leaf;
   try {
     if (!v["file"].str.empty()) {
-      // the built-in outlines' values do not shape a drawn one: said if given, and not recorded as used
+      // the built-in outlines' values do not shape a drawn one: said if given (a note: a run that gave them
+      // once, when they went unsaid, still resumes), and not recorded as used
       for (const char* k : {"shape", "width", "lobes", "lobe_depth", "teeth", "tooth_depth"}) {
         if (v[k].present)
-          throw InvalidInput(std::string("leaf.") + k +
-                             " shapes the built-in outlines; an outline file (leaf.file) is used as drawn: leave "
-                             "leaf." +
-                             k + " out");
+          I.cfg->notes.push_back(I.value_at(std::string("leaf.") + k, at) + "leaf." + k +
+                                 " has no effect beside leaf.file: it shapes the built-in outlines, and an outline "
+                                 "file is used as drawn");
         I.cfg->resolved["leaf"].erase(k);
       }
       std::filesystem::path file = v["file"].str;
