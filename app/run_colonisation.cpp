@@ -332,14 +332,20 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     // before the outputs: a failure writing them leaves the checkpoint; and a checkpoint that cannot be
     // written (a full disk) still leaves the outputs
     std::string checkpoint_error;
-    try {
-      save();
-      saved = true;
-    } catch (const std::exception& e) {
-      checkpoint_error = core::error_text(e);
-    }
-    resumable = saved;
-    checkpoint_failure = checkpoint_error;
+    const auto save_final = [&] {
+      try {
+        save();
+        saved = true;
+      } catch (const std::exception& e) {
+        checkpoint_error = core::error_text(e);
+      }
+      resumable = saved;
+      checkpoint_failure = checkpoint_error;
+    };
+    // no step ran: the outputs are made again for another print. The checkpoint after the print, so that
+    // one that fails (too fine a voxel for the memory, say) leaves the folder as it was, its earlier print too.
+    const bool reprint = !fresh && col.report().steps == first && cfg.print.has_value();
+    if (!reprint) save_final();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
     venation::VeinTree tree = col.tree();
     // petiole cells the grown sheet left off its surface (the veins started at the nearest point of it): a
@@ -389,6 +395,14 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       for (const std::string& n : write_outputs(staging, cfg.output, *sheet, false)) outputs.push_back(n);
     json printed;
     bool print_failed = false, print_cancelled = false;
+    const auto discard_reprint = [&](const std::string& said, int exit_code) {  // the print was all it made
+      err << (exit_code == interrupted && !o.quiet ? "\n" : "") << said << "\n  (nothing in " << dir.string()
+          << "/ changed: its outputs, printable files and checkpoint are as they were)\n";
+      std::error_code ec;
+      fs::remove_all(staging, ec);
+      remove_empty_up_to(dir, created);
+      return exit_code;
+    };
     if (cfg.print) {
       try {
         std::vector<exporters::Segment> segments;
@@ -408,10 +422,12 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                                     sheet.has_value());
         if (!o.quiet) say_printed(err, printed);
       } catch (const core::Cancelled&) {  // said once the other files are in (another Ctrl-C quits before)
+        if (reprint) return discard_reprint("cellform: printing interrupted", interrupted);
         print_cancelled = true;
         printed = {{"error", "interrupted"}};
         code = interrupted;
       } catch (const std::exception& e) {
+        if (reprint) return discard_reprint("cellform: " + core::error_text(e), failure);
         err << "cellform: " << core::error_text(e) << "\n";
         if (saved && !dynamic_cast<const NothingToPrint*>(&e))  // a retry need not grow the veins again
           err << "  to print again with other print.* values: cellform resume " << shell_word(checkpoint.string())
@@ -423,7 +439,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         }
       }
     }
-    if (planar) {  // a drawing of the leaf; a 3-D pattern has no one plane to draw it in
+    if (reprint) save_final();  // the print worked (or was cut short by a Ctrl-C already counted)
+    if (planar) {               // a drawing of the leaf; a 3-D pattern has no one plane to draw it in
       venation::SvgParams svg;
       svg.size = cfg.output.svg_size > 0 ? cfg.output.svg_size : 200;
       // svg_size 0: at the print's scale, so that a cut outline fits the printed veins

@@ -2,6 +2,7 @@
 // 3-D domains, resume, step and node limits.
 #include <signal.h>
 
+#include <array>
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <nlohmann/json.hpp>
@@ -292,6 +293,14 @@ TEST_CASE("with print{}, veins.svg is drawn at the print's scale, so a cut outli
   CHECK(drawn >= printed_width - 2 * 0.4 * 2);             // veins inside the outline, radii at least min_radius
   CHECK(drawn == Approx(30 * 0.5 * scale).epsilon(0.35));  // about the ellipse's width at that scale
   CHECK(scale > 0);
+  // printed again with a value that fails: the folder stays as it was (its print went, as did the checkpoint)
+  const std::array<const char*, 4> kept = {"printable.stl", "run.json", "checkpoint.cfck", "veins.svg"};
+  std::vector<std::string> before;
+  for (const char* f : kept) before.push_back(slurp(out / f));
+  const auto again = cli({"resume", out.string(), "--quiet", "--set", "print.voxel_size=0.001"});
+  CHECK(again.code == 1);
+  CHECK_THAT(again.err, Contains("nothing in " + out.string() + "/ changed"));
+  for (std::size_t k = 0; k < kept.size(); ++k) CHECK(slurp(out / kept[k]) == before[k]);
 }
 
 TEST_CASE("a colonisation checkpoint whose run set cells.* (once ignored, now refused) still resumes",
