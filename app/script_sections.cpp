@@ -375,21 +375,21 @@ void build_shapes(Impl& I) {
     auto spacing = [&]() { return v["spacing"].present ? v["spacing"].num : rest; };
     nlohmann::json r = {{"kind", s.kind}};
     std::vector<Vec3> points;
-    // a shape far beyond division.max_cells is refused before it is built (gigabytes and seconds for
-    // nothing); the estimate is close, not exact, so a shape near the limit is built and counted below
-    const double estimate = s.kind == "disc" ? forms::hex_disc_cells(v["radius"].num, spacing())
-                            : s.kind == "rectangle"
-                                ? forms::hex_rectangle_cells(v["width"].num, v["height"].num, spacing())
-                            : s.kind == "sphere" ? forms::sphere_cells(v["radius"].num, spacing())
-                            : s.kind == "line"   ? forms::line_cells(v["from"].vec, v["to"].vec, spacing())
-                                                 : 0.0;
-    const double max_cells = static_cast<double>(cfg.scene.cells.division.max_cells);
-    const double placed = static_cast<double>(cfg.initial_cells.size());
-    if (estimate <= 5e7 && placed + estimate > 1.1 * max_cells + 100)
-      throw InvalidInput(s.where + s.kind + ": the initial shapes would make about " +
-                         core::number_text(std::round(placed + estimate)) + " cells, more than division.max_cells = " +
-                         std::to_string(cfg.scene.cells.division.max_cells));
     try {
+      // a shape far beyond division.max_cells is refused before it is built (gigabytes and seconds for
+      // nothing); the estimate is close, not exact, so a shape near the limit is built and counted below
+      const double estimate = s.kind == "disc" ? forms::hex_disc_cells(v["radius"].num, spacing())
+                              : s.kind == "rectangle"
+                                  ? forms::hex_rectangle_cells(v["width"].num, v["height"].num, spacing())
+                              : s.kind == "sphere" ? forms::sphere_cells(v["radius"].num, spacing())
+                              : s.kind == "line"   ? forms::line_cells(v["from"].vec, v["to"].vec, spacing())
+                                                   : 0.0;
+      const double max_cells = static_cast<double>(cfg.scene.cells.division.max_cells);
+      const double placed = static_cast<double>(cfg.initial_cells.size());
+      if (estimate <= 5e7 && placed + estimate > 1.1 * max_cells + 100)
+        throw InvalidInput(
+            "the initial shapes would make about " + core::number_text(std::round(placed + estimate)) +
+            " cells, more than division.max_cells = " + std::to_string(cfg.scene.cells.division.max_cells));
       auto xyz = [](const Vec3& p) { return nlohmann::json::array({p.x(), p.y(), p.z()}); };
       if (s.kind == "disc") {
         points = forms::hex_disc(v["centre"].vec, unit_vector(v["normal"].vec, "normal"), v["radius"].num, spacing());
