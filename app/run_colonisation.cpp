@@ -439,7 +439,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         }
       }
     }
-    if (reprint) save_final();  // the print worked (or was cut short by a Ctrl-C already counted)
+    if (reprint) save_final();  // the print worked
     if (planar) {               // a drawing of the leaf; a 3-D pattern has no one plane to draw it in
       venation::SvgParams svg;
       svg.size = cfg.output.svg_size > 0 ? cfg.output.svg_size : 200;
