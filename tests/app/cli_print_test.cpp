@@ -1,0 +1,175 @@
+// Tests of the cellform command line's printing (app/print.cpp through run and resume): the printable
+// solid and its checks, print errors, printing again, and prints of a sheet.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "tests/app/test_util.h"
+
+using namespace cellform::test;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli][print]") {
+  TempDir t("cli-print");
+  const auto script = t.write("print.lua",
+                              "cells { time_step = 0.2, separation = 0.05, drag = {0.8, 0.8, 0.3} }\n"
+                              "division { trigger = 'age', age = 6, min_age = 3, probability = 0.5, max_cells = 600 }\n"
+                              "venation { threshold = 15 }\n"
+                              "run { steps = 80 }\n"
+                              "disc { radius = 4 }\n"
+                              "petiole { at = {0, -4, 0} }\n"
+                              "print { formats = 'stl,obj,ply,scad' }\n");
+  const fs::path out = t.path / "o";
+  auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  for (const char* f : {"printable.stl", "printable.obj", "printable.ply", "printable.scad"})
+    CHECK(fs::exists(out / f));
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["print"]["parts"] == 1);
+  CHECK(run["print"]["volume_mm3"].get<double>() > 0);
+  for (const char* f : {"printable.stl", "printable.obj", "printable.ply"}) {
+    r = cli({"check", (out / f).string()});
+    INFO(f << ": " << r.out << r.err);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.out, Contains("printable"));
+  }
+  r = cli({"check", (out / "printable.stl").string(), "--json"});
+  const auto checked = nlohmann::json::parse(r.out);
+  CHECK(checked["printable"] == true);
+  CHECK(checked["parts"] == run["print"]["parts"]);  // solid pieces in both
+  CHECK(checked["surfaces"].get<int>() == run["print"]["parts"].get<int>() + run["print"]["cavities"].get<int>());
+  // veins are raised to print.min_radius = 0.4 mm: about 0.8 mm through, less a voxel or two (0.2 mm)
+  const auto& wall = checked["wall_thickness_mm"];
+  INFO(wall.dump());
+  CHECK(wall["p01"].get<double>() > 0.6);
+  CHECK(wall["min"].get<double>() > 0.1);  // single rays at the crotch of a junction can be short
+  CHECK(wall["missed"].get<std::size_t>() * 20 < wall["samples"].get<std::size_t>());
+
+  SECTION("a format named twice is written once, and the re-run replaces the earlier outputs") {
+    // 'stl, stl' made the output commit fail half way, leaving new and old files mixed
+    const std::string text = slurp(script);
+    t.write("print.lua", text.substr(0, text.find("print {")) + "print { formats = 'stl, stl' }\n");
+    r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(fs::exists(out / "printable.stl"));
+    CHECK_FALSE(fs::exists(out / "printable.obj"));  // the earlier run's, not written again
+    const auto outputs = nlohmann::json::parse(slurp(out / "run.json"))["outputs"];
+    CHECK(std::count(outputs.begin(), outputs.end(), "printable.stl") == 1);
+  }
+
+  SECTION("print errors name the script's parameters") {
+    r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.flat_base=110"});
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Contains("print: print.flat_base (110 mm) must be less than the height"));
+    r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.max_memory=1"});
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Contains("a smaller print.size (or print.scale)") && Contains("raise print.max_memory") &&
+                          Contains("above print.min_radius"));
+    CHECK_FALSE(nlohmann::json::parse(slurp(out / "run.json"))["print"].contains("base_z_mm"));  // no cut asked
+  }
+
+  SECTION("printing again with other values: a print that fails leaves the folder as it was") {
+    // it removed the good printable files, and its checkpoint kept the bad value for the next resume
+    const std::string stl = slurp(out / "printable.stl"), json_before = slurp(out / "run.json"),
+                      checkpoint = slurp(out / "checkpoint.cfck");
+    r = cli({"resume", out.string(), "--quiet", "--set", "print.max_memory=1"});
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Contains("raise print.max_memory") && Contains("nothing in " + out.string() + "/ changed"));
+    CHECK(slurp(out / "printable.stl") == stl);
+    CHECK(slurp(out / "run.json") == json_before);
+    CHECK(slurp(out / "checkpoint.cfck") == checkpoint);
+    for (const auto& e : fs::directory_iterator(out))  // no staging folder left
+      CHECK(e.path().filename().string().find("partial") == std::string::npos);
+    // one that works replaces them
+    r = cli({"resume", out.string(), "--quiet", "--set", "print.size=80"});
+    REQUIRE(r.code == 0);
+    CHECK(slurp(out / "printable.stl") != stl);
+    CHECK(nlohmann::json::parse(slurp(out / "run.json"))["overrides"]["print.size"] == "80");
+  }
+
+  SECTION("a flat base that leaves less than a voxel of the form is an error, not an empty file") {
+    // the height, from the refusal of a cut above it
+    r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.flat_base=110"});
+    const std::string said = "the height of the printed form (";
+    const std::size_t at = r.err.find(said);
+    REQUIRE(at != std::string::npos);
+    const double height = std::stod(r.err.substr(at + said.size()));
+    // an empty printable.stl was written and the run said it was done (exit 0)
+    char cut[64];
+    std::snprintf(cut, sizeof cut, "print.flat_base=%.4f", height - 0.02);
+    r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", cut});
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Contains("print: the printable solid is empty: print.flat_base (") &&
+                          Contains("too thin for the print's") && Contains("lower print.flat_base"));
+    CHECK_FALSE(fs::exists(out / "printable.stl"));
+    CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "print failed");
+    // uniform meshing (adaptivity 0) skips the crossing check: not counted as none
+    r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.adaptivity=0"});
+    REQUIRE(r.code == 0);
+    CHECK(nlohmann::json::parse(slurp(out / "run.json"))["print"]["self_intersections"].is_null());
+  }
+
+  SECTION("a form that falls apart is an error when one piece is required") {
+    const auto two = t.write("two.lua",
+                             "cells { time_step = 0.2, drag = {0.8, 0.8, 0.3} }\n"
+                             "division { trigger = 'none' }\n"
+                             "venation { threshold = 6 }\n"
+                             "run { steps = 40 }\n"
+                             "line { from = {-30, 0, 0}, to = {-20, 0, 0} }\n"
+                             "line { from = {20, 0, 0}, to = {30, 0, 0} }\n"
+                             "petiole { at = {-30, 0, 0} }\n"
+                             "petiole { at = {30, 0, 0} }\n"
+                             "print { pieces = 'one' }\n");
+    r = cli({"run", two.string(), "--out", (t.path / "two").string(), "--quiet"});
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Contains("falls apart into 2 parts (print.shell = true adds the cell sheet"));
+    CHECK(fs::exists(t.path / "two" / "checkpoint.cfck"));  // nothing else is lost
+    // and another try of the print needs no growth again: said how
+    CHECK_THAT(r.err, Contains("to print again with other print.* values: cellform resume " +
+                               (t.path / "two" / "checkpoint.cfck").string() + " --set print.NAME=VALUE"));
+    CHECK(fs::exists(t.path / "two" / "cells.ply"));
+    const auto failed = nlohmann::json::parse(slurp(t.path / "two" / "run.json"));
+    CHECK(failed["status"] == "print failed");  // it said "complete"
+    CHECK_THAT(failed["print"]["error"].get<std::string>(), Contains("falls apart"));
+    CHECK_THAT(r.err, Contains("stopped with an error at step 40"));
+  }
+}
+
+TEST_CASE("print with no vein grown, or no sheet to thicken, says so instead of printing a ball", "[cli][print]") {
+  TempDir t("cli-noprint");
+  const auto none = t.write("none.lua",
+                            "run { steps = 10 }\ndisc { radius = 3 }\npetiole { at = {0, -3, 0} }\n"
+                            "venation { threshold = 1e9 }\nprint {}\n");
+  auto r = cli({"run", none.string(), "--out", (t.path / "a").string(), "--quiet"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("nothing to print yet (no vein has grown"));
+  CHECK_FALSE(fs::exists(t.path / "a" / "printable.stl"));
+  CHECK(fs::exists(t.path / "a" / "cells.ply"));  // the other outputs are kept
+  const auto line = t.write("line.lua",
+                            "run { steps = 5 }\nline { from = {0, 0, 0}, to = {5, 0, 0} }\n"
+                            "print { veins = false, shell = true }\n");
+  r = cli({"run", line.string(), "--out", (t.path / "b").string(), "--quiet"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("no sheet of triangles") && !Contains("use shell = true"));
+}
+
+TEST_CASE("a run of no steps writes the surface and prints the sheet the shapes placed", "[cli]") {
+  TempDir t("cli-no-steps");
+  const auto script = t.write("s0.lua",
+                              "run { steps = 0 }\ndisc { radius = 3 }\n"
+                              "print { veins = false, shell = true, size = 30 }\n");
+  const auto r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  // the links the first step would make: a disc of 37 cells on a unit lattice has 54 triangles
+  const std::string obj = slurp(t.path / "o" / "cells.obj");
+  std::size_t faces = 0;
+  for (std::size_t at = obj.find("\nf "); at != std::string::npos; at = obj.find("\nf ", at + 1)) ++faces;
+  CHECK(faces == 54);
+  const auto check = cli({"check", (t.path / "o" / "printable.stl").string(), "--json"});
+  CHECK(nlohmann::json::parse(check.out)["printable"] == true);
+}
