@@ -95,7 +95,8 @@ T get_ordered(const std::string& s, std::size_t at, bool big) {
 }
 
 // Counts the stored facet normals of an STL (binary: `stored`, one per facet, else the ASCII "facet normal"
-// lines in order) that are non-zero and point against their facet's winding normal.
+// lines in order, as forms::parse_ascii_stl reads them) that are non-zero and point against their facet's winding
+// normal.
 void count_stored_normals(const std::vector<Vec3>& corners, const std::vector<Vec3>& stored, MeshFileNotes& notes) {
   if (stored.size() * 3 != corners.size()) return;  // not one per facet: nothing to pair
   notes.normals_checked = true;
@@ -106,25 +107,6 @@ void count_stored_normals(const std::vector<Vec3>& corners, const std::vector<Ve
     const Vec3 w = (corners[3 * t + 1] - corners[3 * t]).cross(corners[3 * t + 2] - corners[3 * t]);
     if (n.dot(w) < 0) ++notes.normals_against_winding;
   }
-}
-
-// The normals of the ASCII STL's "facet normal x y z" lines, in order (a line that does not parse: NaN).
-std::vector<Vec3> ascii_stl_normals(const std::string& s) {
-  std::vector<Vec3> out;
-  std::istringstream in(s);
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream ls(line);
-    std::string facet, normal;
-    ls >> facet >> normal;
-    for (std::string* w : {&facet, &normal})  // keywords in any case, as the corners are read
-      for (char& c : *w) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (facet != "facet") continue;
-    double x = NAN, y = NAN, z = NAN;
-    if (normal != "normal" || !(ls >> x >> y >> z)) x = y = z = NAN;
-    out.emplace_back(x, y, z);
-  }
-  return out;
 }
 
 PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s, MeshFileNotes* notes) {
@@ -156,14 +138,14 @@ PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s, 
     }
     malformed(path, "not an STL file (neither binary nor ASCII 'solid')");
   }
-  std::vector<Vec3> corners;
+  std::vector<Vec3> corners, stored;
   try {
-    corners = forms::parse_ascii_stl(s);
+    corners = forms::parse_ascii_stl(s, notes ? &stored : nullptr);
   } catch (const core::InvalidInput& e) {
     malformed(path, std::string("malformed ASCII STL: ") + e.what());
   }
   if (corners.empty()) malformed(path, "no facets in the STL file");
-  if (notes) count_stored_normals(corners, ascii_stl_normals(s), *notes);
+  if (notes) count_stored_normals(corners, stored, *notes);
   return weld_soup(std::move(corners));
 }
 

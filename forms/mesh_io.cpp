@@ -346,7 +346,7 @@ bool starts_like_ascii_stl(std::string_view head) {
   return head.size() == 5 || std::isspace(static_cast<unsigned char>(head[5]));
 }
 
-std::vector<Vec3> parse_ascii_stl(std::string_view text) {
+std::vector<Vec3> parse_ascii_stl(std::string_view text, std::vector<Vec3>* normals) {
   if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);    // a UTF-8 byte-order mark
   enum class Expect { solid, facet, outer, vertex, endfacet, end };  // what the next line may be
   Expect expect = Expect::solid;
@@ -403,10 +403,11 @@ std::vector<Vec3> parse_ascii_stl(std::string_view text) {
         }
         if (!is(0, "facet")) throw fail("expected 'facet normal nx ny nz' or 'endsolid'");
         {
-          double n = 0;
-          if (!is(1, "normal") || words.size() != 5 || !number(words[2], n) || !number(words[3], n) ||
-              !number(words[4], n))
+          Vec3 n;
+          if (!is(1, "normal") || words.size() != 5 || !number(words[2], n.x()) || !number(words[3], n.y()) ||
+              !number(words[4], n.z()))
             throw fail("a facet starts with 'facet normal' and three numbers");
+          if (normals) normals->push_back(n);
         }
         facet_line = line_no;
         expect = Expect::outer;
@@ -463,7 +464,6 @@ TriangleMesh load_mesh(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec))  // a name too long or a loop of links is not "missing"
     throw core::FileError("mesh " + name + (ec ? " cannot be read: " + ec.message() : std::string(" does not exist")));
-  if (fs::is_directory(path, ec)) throw core::FileError("mesh " + name + " is a directory, not a file");
   // a pipe would block the run for good, a device such as /dev/zero never ends: only regular files are read
   if (!fs::is_regular_file(path, ec))
     throw core::FileError("mesh " + name + " is not a regular file (a pipe, socket or device cannot be read)");

@@ -16,8 +16,9 @@ namespace cellform::forms {
 /// allowed), and a vertex is three finite numbers. Throws core::InvalidInput "line N: ..." saying what was
 /// wrong, the caller adds the file name; a file cut short ends inside a facet or before "endsolid" and is
 /// refused too. A solid without facets gives no corners.
-/// A UTF-8 byte-order mark before the first line is skipped.
-std::vector<core::Vec3> parse_ascii_stl(std::string_view text);
+/// A UTF-8 byte-order mark before the first line is skipped. `normals`, if given, gets each facet's stored
+/// normal, in order (the corners' winding is what the callers go by).
+std::vector<core::Vec3> parse_ascii_stl(std::string_view text, std::vector<core::Vec3>* normals = nullptr);
 
 /// One corner of an OBJ face line: "v", "v/vt", "v//vn" or "v/vt/vn" with whole numbers (negative counts
 /// back from the last vertex read). Returns the vertex index from 0, given the `vertices` read before the

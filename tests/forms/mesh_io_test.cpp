@@ -76,6 +76,13 @@ TEST_CASE("parse_ascii_stl reads facets in file order, in the spellings real fil
   CHECK(corners[2] == Vec3(1e-3, 0.5, 7));
   CHECK(corners[5] == Vec3(0, 1, 1));
   CHECK(forms::parse_ascii_stl("solid empty\nendsolid empty").empty());
+  // the stored normals, one per facet in order, when asked for (cellform check compares them with the winding)
+  std::vector<Vec3> normals;
+  CHECK(forms::parse_ascii_stl(text, &normals).size() == 6);
+  REQUIRE(normals.size() == 2);
+  CHECK(std::isnan(normals[0].x()));
+  CHECK(normals[0].tail<2>() == Eigen::Vector2d(0, 1));
+  CHECK(normals[1] == Vec3(0, 0, 1));
 }
 
 TEST_CASE("parse_ascii_stl refuses anything else, saying the line", "[forms][mesh_io]") {
