@@ -423,6 +423,17 @@ Surface triangulate(const Cells& cells, bool one_layer) {
       }
     }
   };
+  // the boundary's loops of a piece, by union-find over their corners (kNoIndex: not met yet)
+  std::vector<Index> loop_of, touched;
+  std::vector<double> loop_length;
+  auto loop_root = [&](Index x) {
+    if (loop_of[x] == kNoIndex) {
+      loop_of[x] = x;
+      touched.push_back(x);
+    }
+    while (loop_of[x] != x) x = loop_of[x] = loop_of[loop_of[x]];
+    return x;
+  };
   for (std::size_t seed = 0; seed < tris.size(); ++seed) {
     if (seen[seed]) continue;
     seen[seed] = 1;
@@ -448,15 +459,19 @@ Surface triangulate(const Cells& cells, bool one_layer) {
     }
     // Which side faces out: a piece that encloses a volume (closed, or nearly: small holes, filled below)
     // outward, by its signed volume about its centroid; an open sheet up (+z, then +y, then +x), by its
-    // area vector, so a leaf's normals point to the sky. Enclosing: its boundary is short for its area,
-    // length^2 < 3 area (a sphere without a cap of 0.3 of its radius: 1.3; a hemisphere: 2 pi; a disc,
-    // however ruffled: at least 4 pi).
+    // area vector, so a leaf's normals point to the sky. Enclosing: each of its holes is small for its area,
+    // length^2 < 3 area for every loop of its boundary (a sphere without a cap of 0.3 of its radius: 1.3;
+    // a hemisphere: 2 pi; a disc, however ruffled or holed, round its outline: at least 4 pi; a blob with
+    // pinholes: small, though their lengths added up are not).
     Vec3 centre = Vec3::Zero();
     for (const std::size_t t : component)
       centre += cells.position[tris[t][0]] + cells.position[tris[t][1]] + cells.position[tris[t][2]];
     centre /= 3.0 * static_cast<double>(component.size());
-    double volume = 0, area = 0, boundary = 0;
+    double volume = 0, area = 0;
     Vec3 area_vector = Vec3::Zero();
+    loop_of.resize(cells.size(), kNoIndex);
+    loop_length.resize(cells.size(), 0.0);
+    touched.clear();
     for (const std::size_t t : component) {
       const Vec3 a = cells.position[tris[t][0]] - centre, b = cells.position[tris[t][1]] - centre,
                  c = cells.position[tris[t][2]] - centre;
@@ -466,12 +481,26 @@ Surface triangulate(const Cells& cells, bool one_layer) {
       area += normal.norm() / 2;
       for (int k = 0; k < 3; ++k) {
         const std::size_t e = edge_index(tris[t][k], tris[t][(k + 1) % 3]);
-        if (inc_start[e + 1] - inc_start[e] == 1)
-          boundary += (cells.position[tris[t][k]] - cells.position[tris[t][(k + 1) % 3]]).norm();
+        if (inc_start[e + 1] - inc_start[e] != 1) continue;
+        const Index u = loop_root(tris[t][k]), v = loop_root(tris[t][(k + 1) % 3]);
+        if (u != v) {  // joins two loops (or starts one): the larger index hangs below the smaller
+          loop_of[std::max(u, v)] = std::min(u, v);
+          loop_length[std::min(u, v)] += loop_length[std::max(u, v)];
+        }
+        loop_length[std::min(u, v)] += (cells.position[tris[t][k]] - cells.position[tris[t][(k + 1) % 3]]).norm();
       }
     }
+    double longest_loop = 0;  // of the boundary's loops (connected pieces)
+    for (const Index x : touched) {
+      if (loop_of[x] == x) longest_loop = std::max(longest_loop, loop_length[x]);
+      loop_of[x] = kNoIndex;
+      loop_length[x] = 0;
+    }
     bool flip = false;
-    if (boundary * boundary < 3 * area)
+    // (and a blob whose holes run together a little: its area vector is a small part of its area, not half
+    // as for a hemisphere or all of it as for a disc; an egg crate's, as small, has a much longer outline)
+    const double loop2 = longest_loop * longest_loop;
+    if (loop2 < 3 * area || (loop2 < 6 * area && area_vector.norm() / 2 < 0.25 * area))
       flip = volume < 0;
     else
       for (int axis : {2, 1, 0})

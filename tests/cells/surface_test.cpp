@@ -521,6 +521,27 @@ TEST_CASE("a closed sheet faces outward, an open one up", "[surface]") {
     const auto [holed, hs] = sphere_surface([gone](int i, const Vec3&) { return i == gone; });
     CHECK(signed_volume(holed, hs) > 0.8 * ball);
   }
+  // many small holes (a grown blob's pinholes): each is short for the area, though together they are not
+  // (at the 12 corners of an icosahedron, the cells within one rest length)
+  const double g = (1 + std::sqrt(5.0)) / 2;
+  std::vector<Vec3> corners;
+  for (const double a : {-1.0, 1.0})
+    for (const double b : {-g, g})
+      for (const Vec3& q : {Vec3(0, a, b), Vec3(a, b, 0), Vec3(b, 0, a)}) corners.push_back(q.normalized() * r);
+  const auto [pinholed, ps] = sphere_surface([&](int, const Vec3& q) {
+    return std::any_of(corners.begin(), corners.end(), [&](const Vec3& k) { return (q - k).norm() < 1.0; });
+  });
+  CHECK(pinholed.size() < 363 - 24);
+  CHECK(signed_volume(pinholed, ps) > 0.7 * ball);
+  // a barrel (both caps gone; its holes are too large for the first test, but it has no area vector to
+  // face up by) faces outward: each cone from the centre to a triangle counts positive
+  for (const double bottom : {0.7, 0.75}) {
+    INFO("barrel from z = -" << bottom << " r to 0.7 r");
+    const auto [barrel, bs] =
+        sphere_surface([&](int, const Vec3& q) { return q.z() > 0.7 * r || q.z() < -bottom * r; });
+    for (const auto& t : bs.triangles)
+      CHECK(barrel.position[t[0]].dot(barrel.position[t[1]].cross(barrel.position[t[2]])) > 0);
+  }
   for (const double cut : {0.8, -0.8}) {
     INFO("cap beyond z = " << cut << " r left out");
     const auto [capped, cs] =
