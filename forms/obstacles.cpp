@@ -415,10 +415,14 @@ void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& position
     if (count == 0) return;
     const std::string name = index < given.size() ? given[index] : std::string(kind) + " " + std::to_string(index);
     const Vec3& p = positions[first];
-    throw InvalidInput(name + ": " + std::to_string(count) + " of the " + std::to_string(positions.size()) +
-                       (count == 1 ? " cells lies " : " cells lie ") + where + " (the first at {" +
-                       core::number_text(p.x()) + ", " + core::number_text(p.y()) + ", " + core::number_text(p.z()) +
-                       "}); obstacles must start outside the cells (touching them is fine)");
+    std::string at = "{";  // (appended, not "{" + ...: GCC 12 warns falsely of an overlapping copy)
+    at += core::number_text(p.x()) + ", " + core::number_text(p.y()) + ", " + core::number_text(p.z()) + "}";
+    throw InvalidInput(name + ": " +
+                       (positions.size() == 1 ? "the cell at " + at + " lies " + where
+                                              : std::to_string(count) + " of the " + std::to_string(positions.size()) +
+                                                    (count == 1 ? " cells lies " : " cells lie ") + where +
+                                                    " (the first at " + at + ")") +
+                       "; obstacles must start outside the cells (touching them is fine)");
   };
   for (std::size_t i = 0; i < obstacles.half_spaces.size(); ++i) {
     HalfSpace h = obstacles.half_spaces[i];

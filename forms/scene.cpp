@@ -85,7 +85,11 @@ Scene::Scene(SceneDescription description, std::uint64_t seed)
 void Scene::apply_petioles(std::uint64_t step) {
   for (const PetioleSpec& p : desc_.petioles)
     if (p.step == step) try {
-        make_petiole(sim_.cells(), p.at, p.fixed, desc_.cells.rest_length);
+        const std::size_t before = sim_.cells().size();
+        const core::Index i = make_petiole(sim_.cells(), p.at, p.fixed, desc_.cells.rest_length);
+        // a new cell inside a solid would stay there (and its daughters): obstacles only stop crossings
+        if (sim_.cells().size() > before)
+          check_outside(desc_.obstacles, {sim_.cells().position[i]}, desc_.obstacle_names);
       } catch (const core::InvalidInput& e) {
         throw core::InvalidInput(p.origin + "petiole (step " + std::to_string(step) + "): " + e.what());
       }

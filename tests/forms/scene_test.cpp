@@ -54,6 +54,35 @@ TEST_CASE("a scene does not start with cells inside an obstacle", "[forms][scene
   CHECK_NOTHROW(start_disc(fine));
 }
 
+TEST_CASE("a petiole that appears during the run does not start inside an obstacle", "[forms][scene]") {
+  // a disc at z = 0.5 on a ground at z = 0 with a ball beside it; petioles due at step 3, each a new cell
+  auto run = [](const Vec3& at) {
+    forms::SceneDescription d;
+    d.obstacles.half_spaces.push_back({Vec3(0, 0, 0), Vec3::UnitZ()});
+    d.obstacles.spheres.push_back({Vec3(0, -6, 0.5), 1.5});
+    d.obstacle_names.spheres.push_back("leaf.lua:3: ball{...}");
+    d.petioles.push_back({Vec3(0, 0, 0.5), true, 0, ""});
+    d.petioles.push_back({at, true, 3, "leaf.lua:5: "});
+    forms::Scene scene(d, 1);
+    for (const Vec3& p : forms::hex_disc(Vec3(0, 0, 0.5), Vec3::UnitZ(), 4.0, 1.0))
+      cells::add_cell(scene.simulation().cells(), p);
+    scene.start();
+    for (int i = 0; i < 5; ++i) scene.step();
+    return scene.simulation().cells().size();
+  };
+  CHECK_THROWS_WITH(run(Vec3(0, -5.5, 0.5)),
+                    Contains("leaf.lua:5: petiole (step 3): leaf.lua:3: ball{...}: the cell at "
+                             "{0, -5.5, 0.5} lies inside it; obstacles must start outside"));
+  CHECK_THROWS_WITH(run(Vec3(0, 4, -1.5)),
+                    Contains("leaf.lua:5: petiole (step 3): ground 0: the cell at {0, 4, -1.5}"));
+  // beside the disc, outside both: a new cell, and the run goes on
+  const std::size_t cells_before = [] {
+    forms::SceneDescription d;
+    return forms::hex_disc(Vec3(0, 0, 0.5), Vec3::UnitZ(), 4.0, 1.0).size();
+  }();
+  CHECK(run(Vec3(0, 4.6, 0.5)) == cells_before + 1);
+}
+
 TEST_CASE("daughters are not placed across a mesh obstacle", "[forms][scene]") {
   // a disc just above a plane given as a mesh (two triangles at z = 0), dividing in random directions: a
   // mesh only stops moves, so a daughter put half a rest length below it stayed below for good
