@@ -264,6 +264,10 @@ void section_leaf(Impl& I, const std::string& at) {
       leaf.outline = venation::make_outline(sp);
     }
     const int seeds = static_cast<int>(v["seeds"].num);
+    if (seeds > 1 && v["seed_spread"].num == 0)
+      throw InvalidInput("leaf.seed_spread = 0 puts the " + std::to_string(seeds) +
+                         " seeds on one point, where they cannot grow apart; give a seed_spread > 0 (leaf lengths), "
+                         "or seeds = 1");
     leaf.initial_nodes.clear();
     for (int i = 0; i < seeds && seeds > 1; ++i) {
       const double spread = v["seed_spread"].num;
@@ -277,7 +281,7 @@ void section_leaf(Impl& I, const std::string& at) {
         throw InvalidInput("leaf.file: the point (0, 0) of " + v["file"].str +
                            ", where the blade attaches to its petiole, lies outside the outline; the outline must "
                            "have (0, 0) inside it or on it");
-      if (seeds <= 1 || m.rfind("leaf.initial_nodes[", 0) != 0) throw;
+      if (seeds <= 1 || m.rfind("leaf.initial_nodes[", 0) != 0 || m.find("outside") == std::string::npos) throw;
       const std::string nth = m.substr(19, m.find(']') - 19);
       throw InvalidInput(
           "leaf.seeds: seed " + nth + " of " + std::to_string(seeds) +

@@ -439,6 +439,10 @@ PreparedDomain::PreparedDomain(const Domain& domain) {
   };
   check(domain.initial_nodes, "initial_nodes");
   check(domain.initial_sources, "initial_sources");
+  if (const auto r = first_repeat(domain.initial_nodes))
+    throw InvalidInput("domain.initial_nodes[" + std::to_string(r->second + 1) + "] " +
+                       point_text(domain.initial_nodes[r->second]) + " repeats domain.initial_nodes[" +
+                       std::to_string(r->first + 1) + "]: seed vein nodes must be distinct points");
 }
 PreparedDomain::~PreparedDomain() = default;
 PreparedDomain::PreparedDomain(PreparedDomain&&) noexcept = default;

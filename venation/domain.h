@@ -1,8 +1,12 @@
 // Where space colonisation throws its darts: a planar leaf blade, a 3-D volume, or a triangle surface.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <memory>
+#include <numeric>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include "core/random.h"
@@ -112,5 +116,29 @@ class PreparedDomain {
 
 /// The point of triangle (a, b, c) closest to p (Ericson, Real-Time Collision Detection, 5.1.5).
 Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+/// The first point of `points` (in order) equal to an earlier one, bit for bit in every coordinate, as the
+/// 0-based indices (earlier, later); none if all differ. Seed vein nodes on one point cannot grow apart:
+/// every source pulls them alike. O(n log n).
+template <class Point>
+std::optional<std::pair<std::size_t, std::size_t>> first_repeat(const std::vector<Point>& points) {
+  std::vector<std::size_t> order(points.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  auto less = [&](std::size_t a, std::size_t b) {
+    for (int k = 0; k < points[a].size(); ++k)
+      if (points[a][k] != points[b][k]) return points[a][k] < points[b][k];
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::optional<std::pair<std::size_t, std::size_t>> best;
+  for (std::size_t k = 1; k < order.size(); ++k) {
+    const std::size_t a = order[k - 1], b = order[k];
+    if (points[a] != points[b]) continue;
+    std::size_t first = a;  // the group's earliest point: walk back over equal ones
+    for (std::size_t j = k - 1; j > 0 && points[order[j - 1]] == points[b]; --j) first = order[j - 1];
+    if (!best || b < best->second) best = std::pair{first, b};
+  }
+  return best;
+}
 
 }  // namespace cellform::venation

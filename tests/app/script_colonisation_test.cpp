@@ -70,6 +70,12 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
              Contains("colonisation.final_length") && Contains("colonisation.initial_length"));
   CHECK_THAT(load_error("leaf { shape = 'ellipse', seeds = 3, seed_spread = 5 }\ncolonisation {}\n"),
              Contains("leaf.seeds: seed 1 of 3 lies outside the blade") && Contains("seed_spread = 5"));
+  // seeds on one point never grow apart (a closed pattern stalled at once): refused
+  CHECK_THAT(load_error("leaf { seeds = 3, seed_spread = 0 }\ncolonisation {}\n"),
+             Contains(":1: leaf: leaf.seed_spread = 0 puts the 3 seeds on one point"));
+  CHECK(load("leaf { seeds = 1, seed_spread = 0 }\ncolonisation {}\n").colonisation.has_value());
+  CHECK_THAT(load_error("volume { ball = { radius = 10 }, seeds = {{0, 0, 5}, {0, 0, 5}} }\ncolonisation {}\n"),
+             Contains("volume.seeds[2] (0, 0, 5) repeats volume.seeds[1]"));
   // settings the run would ignore
   CHECK_THAT(load_error("leaf {}\ncolonisation { type = 'open', neighbourhood = 'urquhart' }\n"),
              Contains(":2: colonisation.neighbourhood"));

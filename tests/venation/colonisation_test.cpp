@@ -373,6 +373,10 @@ TEST_CASE("bad input names the parameter", "[colonisation]") {
   v::Leaf seed_out = leaf;
   seed_out.initial_nodes = {{0, 1}, {50, 50}};
   CHECK_THROWS_WITH(v::Colonisation(seed_out, params(v::VenationType::open, 1)), Contains("leaf.initial_nodes[2]"));
+  v::Leaf seeds_twice = leaf;
+  seeds_twice.initial_nodes = {{0, 1}, {0.1, 1}, {0, 1}};
+  CHECK_THROWS_WITH(v::Colonisation(seeds_twice, params(v::VenationType::closed, 1)),
+                    Contains("leaf.initial_nodes[3] repeats leaf.initial_nodes[1]"));
   v::Leaf bow;
   bow.outline.points = {{0, 0}, {2, 2}, {2, 0}, {0, 1}};
   CHECK_THROWS_WITH(v::Colonisation(bow, params(v::VenationType::open, 1)),
