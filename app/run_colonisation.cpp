@@ -355,7 +355,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       tree = venation::with_stems(tree, petioles, 1e-9);
     venation::compute_widths(tree, spec.widths);
     const venation::ColonisationReport rep = col.report();
-    if (rep.sources_born == 0 && code == ok)  // nothing to grow towards: say why instead of a bare seed node
+    // stopped by max_sources before a step it would not take: the stop says why nothing grew
+    const bool stopped_before_step = rep.hit_max_sources && rep.sources_wanted > 0;
+    if (rep.sources_born == 0 && code == ok && !stopped_before_step)  // nothing to grow towards: say why
       err << "cellform: warning: no auxin source was placed in " << rep.steps
           << " steps, so no vein grew (raise colonisation.darts, lower colonisation.birth_distance or "
              "vein_birth_distance, or give the leaf room to grow)\n";
@@ -411,16 +413,22 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         std::vector<std::array<core::Vec3, 3>> shell;
         if (cfg.print->shell && sheet)
           shell = exporters::shell_triangles(*sheet, cells::Surface{cells::covering_triangles(*sheet), {}});
-        if (segments.empty() && shell.empty())
+        if (segments.empty() && shell.empty() && stopped_before_step && code == ok) {
+          err << "cellform: print: skipped: nothing grew before colonisation.max_sources stopped the run (a "
+                 "resume with a higher limit prints)\n";
+          printed = {{"error", "nothing to print: stopped at colonisation.max_sources before anything grew"}};
+        } else if (segments.empty() && shell.empty()) {
           throw NothingToPrint(
               code == interrupted
                   ? "print: nothing to print: the run was interrupted before anything printable grew"
                   : "print: nothing to print: no vein grew (run longer, raise colonisation.darts, or lower "
                     "colonisation.birth_distance)");
-        printed = thicken_and_write(staging, *cfg.print, segments, shell, o.threads, outputs, err, o.quiet,
-                                    cfg.print->shell && sheet ? shell_closing(*sheet, cfg.print->close_holes) : 0.0,
-                                    sheet.has_value());
-        if (!o.quiet) say_printed(err, printed);
+        } else {
+          printed = thicken_and_write(staging, *cfg.print, segments, shell, o.threads, outputs, err, o.quiet,
+                                      cfg.print->shell && sheet ? shell_closing(*sheet, cfg.print->close_holes) : 0.0,
+                                      sheet.has_value());
+          if (!o.quiet) say_printed(err, printed);
+        }
       } catch (const core::Cancelled&) {  // said once the other files are in (another Ctrl-C quits before)
         if (reprint) return discard_reprint("cellform: printing interrupted", interrupted);
         print_cancelled = true;
@@ -498,6 +506,13 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                 : rep.finished      ? "done"
                 : rep.stalled       ? "done (stalled: some sources can no longer be reached)"
                 : rep.hit_max_nodes ? "stopped at colonisation.max_nodes"
+                : rep.hit_max_sources && rep.sources_wanted > 0
+                    ? "stopped at colonisation.max_sources (" + std::to_string(spec.params.max_sources) +
+                          ") before step " + std::to_string(rep.steps + 1) + ", whose darts would make up to " +
+                          std::to_string(rep.sources_wanted) +
+                          " auxin sources wait (each holds about a kilobyte); it was not taken. Raise the limit to "
+                          "take it, or throw fewer darts (colonisation.darts, or a smaller blade) or grow the leaf "
+                          "less"
                 : rep.hit_max_sources
                     ? "stopped at colonisation.max_sources (" + std::to_string(rep.sources) +
                           " auxin sources wait for veins; the limit keeps a leaf that outgrows its veins from running "
@@ -514,7 +529,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       where << "continue with: cellform resume " << shell_word(checkpoint.string());
       if (rep.hit_max_nodes) where << " --set colonisation.max_nodes=" << twice(spec.params.max_nodes, rep.nodes);
       if (rep.hit_max_sources)
-        where << " --set colonisation.max_sources=" << twice(spec.params.max_sources, rep.sources);
+        where << " --set colonisation.max_sources="
+              << twice(spec.params.max_sources, std::max(rep.sources, rep.sources_wanted));
       if (rep.hit_max_steps) where << " --steps " << twice(spec.params.max_steps, rep.steps);
       where << "\n";
     }

@@ -242,8 +242,9 @@ std::vector<Field> build() {
   f.push_back(integer("colonisation", "max_nodes", "2000000", 1, 1e9, "nodes",
                       "stop after the step that reaches this many vein nodes"));
   f.push_back(integer("colonisation", "max_sources", "2000000", 1, 1e9, "sources",
-                      "stop after a step that leaves this many auxin sources waiting: a leaf growing faster than its "
-                      "veins fill it (each waiting source holds about a kilobyte)"));
+                      "stop after a step that leaves this many auxin sources waiting (a leaf growing faster than its "
+                      "veins fill it), or before a step whose darts would make more wait, which is not taken (a large "
+                      "blade that does not grow); each waiting source holds about a kilobyte"));
   f.push_back(
       num("colonisation", "murray_exponent", "2", 1, 4, false, "", "n of r_parent^n = sum r_child^n (Table 1: 2)"));
   f.push_back(num("colonisation", "tip_radius", "0.15", 0, 1000, true, "vein segments", "radius of a free vein end"));

@@ -335,10 +335,12 @@ void Colonisation::Impl::step() {
   step_D = D;
   const std::size_t active_before = active.size(), nodes_before = nodes.size();
 
-  if (marginal)
+  if (marginal) {
     reveal_sources(bs2, bv2);
-  else
-    throw_darts(bs2, bv2);
+  } else if (!throw_darts(bs2, bv2)) {
+    rep.hit_max_sources = true;  // before this step, which is not taken
+    return;
+  }
 
   // influence: S(v) for every vein node (Eq. 1 input); open: nearest node; closed: V(s), Eq. 2 and 3
   const bool closed = p.type == VenationType::closed;

@@ -75,7 +75,8 @@ struct ColonisationParams {
   std::size_t max_steps = 100000;     ///< stop (report.hit_max_steps) after this many steps
   std::size_t max_nodes = 5000000;    ///< stop (report.hit_max_nodes) once this many vein nodes exist
   std::size_t max_sources = 5000000;  ///< stop (report.hit_max_sources) after a step that leaves this many
-                                      ///< auxin sources waiting (a leaf growing faster than its veins fill it)
+                                      ///< auxin sources waiting (a leaf growing faster than its veins fill it),
+                                      ///< or before a step whose darts would make more wait (not taken)
   std::size_t settle_steps = 5;       ///< after growth ends: stop when this many steps in a row added no
                                       ///< node and left as many sources waiting (a source born within reach of
                                       ///< the veins goes at once) (finished if no source is left, else stalled)
@@ -139,6 +140,11 @@ struct ColonisationReport {
   bool hit_max_steps = false;       ///< stopped by max_steps
   bool hit_max_nodes = false;       ///< stopped by max_nodes
   bool hit_max_sources = false;     ///< stopped by max_sources
+  /// With hit_max_sources: the darts of the step after `steps` would have made more than max_sources wait,
+  /// so it was not taken (nothing of it kept; a higher limit takes it as it would have been). At most this
+  /// many sources would have waited after it (the waiting ones and the darts that passed the distance
+  /// tests). 0: the limit stopped the run after a step. Not saved in checkpoints.
+  std::size_t sources_wanted = 0;
 };
 
 /// Progress callback: (steps so far, vein nodes); return false to cancel (core::Cancelled).

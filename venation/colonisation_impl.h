@@ -318,8 +318,11 @@ struct Colonisation::Impl {
 
   /// Darts of this step (Section 3.1): drawn from the RNG in order, tested against the blade and the
   /// vein nodes in parallel (independent per dart), then against the sources one by one in draw order,
-  /// so that a dart sees the darts accepted before it. Same bits for any thread count.
-  void throw_darts(double bs2, double bv2);
+  /// so that a dart sees the darts accepted before it. Same bits for any thread count. False, with nothing
+  /// changed (the RNG and the report as before), if more than max_sources would wait: each source holds
+  /// about a kilobyte by the end of a step, and one step of a large blade that does not grow can accept
+  /// millions of darts.
+  bool throw_darts(double bs2, double bv2);
 
   /// Lays the witness grid out anew (cells of 0.7 b_v, all nodes offered in index order) when it is
   /// missing, does not cover the blade (with a margin of b_v) or its cells are coarser than b_v (isogonic

@@ -20,7 +20,9 @@ Vec3 box_dart(core::Rng& rng, const Vec3& lo, const Vec3& hi) {
 
 }  // namespace
 
-void Colonisation::Impl::throw_darts(double bs2, double bv2) {
+bool Colonisation::Impl::throw_darts(double bs2, double bv2) {
+  const core::Rng rng_before = rng;
+  const std::size_t darts_before = rep.darts;
   darts.clear();
   if (region)
     region->throw_darts(p.darts_per_area, rng, darts);
@@ -38,13 +40,35 @@ void Colonisation::Impl::throw_darts(double bs2, double bv2) {
                        !nodes.any_within(darts[d], bv2);
       },
       256);
-  const std::size_t sources_before = src.size();
+  const std::size_t sources_before = src.size(), active_before = active.size();
   for (std::size_t d = 0; d < darts.size(); ++d) {
     ++rep.darts;
     // a survivor can only be too close to a dart accepted earlier in this step
     if (!dart_ok[d] || (src.size() > sources_before && grid.any_within(darts[d], bs2, src))) continue;
+    if (active.size() >= p.max_sources) {  // one more would pass the limit: the step is not taken
+      rep.sources_wanted = active_before + static_cast<std::size_t>(std::count(dart_ok.begin(), dart_ok.end(), 1));
+      for (std::size_t s = sources_before; s < src.size(); ++s) grid.erase(static_cast<Index>(s), src[s]);
+      rep.sources_born -= src.size() - sources_before;
+      src.resize(sources_before);
+      if (nonuniform) src_mat.resize(sources_before);
+      alive.resize(sources_before);
+      tagged.resize(sources_before);
+      near.resize(sources_before);
+      near_d2.resize(sources_before);
+      sectors.resize(sources_before);
+      if (urquhart()) urq.resize(sources_before);
+      if (p.type == VenationType::closed) {
+        tags.resize(sources_before);
+        reached.resize(sources_before);
+      }
+      active.resize(active_before);
+      rng = rng_before;
+      rep.darts = darts_before;
+      return false;
+    }
     add_source(darts[d]);
   }
+  return true;
 }
 
 void Colonisation::Impl::update_witness(double bv) {

@@ -274,14 +274,54 @@ TEST_CASE("a leaf outgrowing its veins stops at max_sources and goes on under a 
   }
   REQUIRE(first.report().hit_max_sources);
   CHECK_FALSE(first.report().hit_max_steps);
-  CHECK(first.report().sources >= cut.max_sources);
+  // stopped after a step that left the limit waiting, or before one whose darts would pass it (not taken)
+  if (first.report().sources_wanted == 0) {
+    CHECK(first.report().sources >= cut.max_sources);
+  } else {
+    CHECK(first.report().sources < cut.max_sources);
+    CHECK(first.report().sources_wanted > cut.max_sources);
+  }
   CHECK(first.report().sources == first.sources().size());
   v::Colonisation second = v::Colonisation::load(leaf, p, first.save());
   CHECK_FALSE(second.done());
   second.run();
   require_same(whole, second);
   CHECK_FALSE(second.report().hit_max_sources);
-  CHECK(v::Colonisation::load(leaf, cut, first.save()).done());
+  // loaded under the same small limit, it goes no further
+  v::Colonisation again = v::Colonisation::load(leaf, cut, first.save());
+  again.step();
+  CHECK(again.done());
+  CHECK(again.report().steps == first.report().steps);
+  CHECK(again.report().nodes == first.report().nodes);
+}
+
+TEST_CASE("a step whose darts would make more than max_sources wait is not taken, and a larger limit takes it",
+          "[checkpoint]") {
+  // a blade that does not grow gets all its sources in the first step
+  const v::Leaf leaf = ovate_leaf(60, 40);
+  v::ColonisationParams p = leaf_params(v::VenationType::closed, 1, 2);
+  p.growth = v::GrowthMode::none;
+  p.darts_per_area = 0.2;
+  v::Colonisation whole(leaf, p);
+  const std::size_t first_step = whole.step().sources;
+  REQUIRE(first_step > 40);
+  while (!whole.done()) whole.step();
+  v::ColonisationParams cut = p;
+  cut.max_sources = first_step / 2;
+  v::Colonisation first(leaf, cut);
+  const v::ColonisationReport& r = first.step();
+  REQUIRE(first.done());
+  CHECK(r.hit_max_sources);
+  CHECK(r.steps == 0);  // nothing of the step kept: no source, no dart counted, one seed node
+  CHECK(r.sources == 0);
+  CHECK(first.sources().empty());
+  CHECK(r.sources_born == 0);
+  CHECK(r.darts == 0);
+  CHECK(first.tree().size() == 1);
+  CHECK(r.sources_wanted >= first_step);  // an upper bound of what the step would have made wait
+  v::Colonisation second = v::Colonisation::load(leaf, p, first.save());
+  second.run();
+  require_same(whole, second);
 }
 
 TEST_CASE("states refuse other parameters or domains, and corrupt bytes", "[checkpoint]") {
