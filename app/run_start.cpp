@@ -254,6 +254,7 @@ Start start_from(const RunOptions& o) {
                          std::to_string(*s.seed) + "); start a new run to use another seed");
       // a cell run resumed with --script: the edited script's run.steps if it changed it (see run_command)
       if (o.replace_script && s.colonisation_bytes.empty() && !s.sheet_partial) s.has_target = false;
+      s.checkpoint_target = s.target_steps;  // the run's own, before this resume's --steps
       if (o.steps) {
         s.target_steps = *o.steps;
         s.has_target = true;
@@ -267,7 +268,6 @@ Start start_from(const RunOptions& o) {
       if (meta.contains("checkpoint_every") && meta["checkpoint_every"].is_number_unsigned())
         s.checkpoint_every = meta["checkpoint_every"].get<std::uint64_t>();
       s.checkpoint_every_of_run = s.checkpoint_every;
-      s.checkpoint_target = s.target_steps;
       if (o.checkpoint_every) s.checkpoint_every = o.checkpoint_every;
       for (const auto& [k, v] : o.sets) {
         // a cell run continues bit-identically only with the physics it was saved with; what it writes may

@@ -126,6 +126,17 @@ TEST_CASE("a run stopped by a script error goes on from its checkpoint with the 
   CHECK_THAT(r.err, Contains("is the script the checkpoint keeps, unchanged: this is a plain resume"));
   CHECK_FALSE(fs::exists(out / "checkpoint-step45.cfck"));
   CHECK(nlohmann::json::parse(slurp(out / "run.json"))["script"]["replaces"] == run["script"]["replaces"]);
+  CHECK(replaced["parameters"]["run"]["steps"] == 40);
+  // with --steps too: the replaced run's values are still its own (its 40 steps, not this resume's 50)
+  const fs::path other = t.path / "other";
+  r = cli({"resume", (out / "checkpoint-step20.cfck").string(), "--out", other.string(), "--script", fixed.string(),
+           "--steps", "50", "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const auto other_run = nlohmann::json::parse(slurp(other / "run.json"));
+  CHECK(other_run["steps"]["completed"] == 50);
+  CHECK(other_run["script"]["replaces"][0]["parameters"]["run"]["steps"] == 40);
+  CHECK(other_run["script"]["replaces"][0]["until_step"] == 20);
 }
 
 TEST_CASE("resume --script is refused clearly where it cannot apply", "[cli][checkpoint]") {
