@@ -55,17 +55,20 @@ void Progress::update(std::uint64_t step, std::size_t cells) {
                   static_cast<unsigned long long>(step), static_cast<unsigned long long>(last_), cells, rate,
                   duration(left).c_str());
     out_ << buf << std::flush;
+    open_ = true;
   } else {
     std::snprintf(buf, sizeof buf, "step %llu/%llu (%.0f%%), %zu cells, %.1f steps/s, %s left\n",
                   static_cast<unsigned long long>(step), static_cast<unsigned long long>(last_), 100 * frac, cells,
                   rate, duration(left).c_str());
     out_ << buf << std::flush;
   }
-  printed_ = true;
 }
 
-void Progress::finish() {
-  if (!quiet_ && terminal_ && printed_) out_ << "\n" << std::flush;
+void Progress::finish() { break_line(); }
+
+void Progress::break_line() {
+  if (open_) out_ << "\n" << std::flush;
+  open_ = false;
 }
 
 }  // namespace cellform::app

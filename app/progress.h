@@ -15,6 +15,9 @@ class Progress {
   /// and at least as many cells as now (a growing form slows down; a step rate alone said "0s left").
   void update(std::uint64_t step, std::size_t cells);
   void finish();
+  /// Ends the bar's line in a terminal (before another line is written there); the next update draws the bar
+  /// anew below it.
+  void break_line();
 
  private:
   std::ostream& out_;
@@ -22,7 +25,7 @@ class Progress {
   bool quiet_;
   std::uint64_t first_, last_;
   std::chrono::steady_clock::time_point start_, last_print_;
-  bool printed_ = false;
+  bool open_ = false;      // a terminal bar is on the current line
   double cell_steps_ = 0;  // cells summed over the steps reported: time left scales with the cells
 };
 

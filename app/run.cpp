@@ -112,7 +112,11 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   Start s;
   SceneConfig cfg;
   ScriptHost host(o.limits);
-  const auto show_print = [&err](const std::string& line) { err << "script: " << line << "\n"; };
+  Progress* bar = nullptr;  // the steps' progress bar, while it is drawn: a script's line goes below it
+  const auto show_print = [&err, &bar](const std::string& line) {
+    if (bar) bar->break_line();
+    err << "script: " << line << "\n";
+  };
   host.set_print(show_print);
   std::unique_ptr<forms::Scene> scene;
   std::uint64_t seed = 0, target = 0;
@@ -295,6 +299,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
           << " comes after the run's last step (" << target
           << "), so it never appears; run{steps = N} or --steps N reaches it\n";
   Progress progress(err, ::isatty(2) != 0, o.quiet, first, target);
+  bar = &progress;
   CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
   std::vector<std::string> outputs;
   const fs::path checkpoint = dir / kCheckpointName;

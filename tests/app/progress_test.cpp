@@ -1,6 +1,7 @@
 // Tests of the progress bar and lines (app/progress.cpp).
 #include "app/progress.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <sstream>
 #include <thread>
@@ -42,4 +43,26 @@ TEST_CASE("the time left of a growing form counts its cells, not only the steps"
   const std::string left = line.substr(at + 9);
   const bool minutes = left.find('m') < left.find(' ');
   CHECK((minutes || std::stod(left) >= 20));
+}
+
+TEST_CASE("a line written beside the terminal bar starts on a line of its own, the bar drawn again below", "[cli]") {
+  std::ostringstream err;
+  cellform::app::Progress bar(err, true, false, 0, 10);
+  bar.update(10, 5);  // the last step is always drawn
+  REQUIRE(err.str().back() != '\n');
+  bar.break_line();
+  err << "script: at step 10\n";
+  CHECK(err.str().find("left   \nscript: at step 10\n") != std::string::npos);
+  bar.break_line();  // nothing drawn since: no empty line
+  bar.finish();
+  CHECK(err.str().substr(err.str().size() - 20) == "\nscript: at step 10\n");
+  // not on a terminal the progress lines end themselves
+  std::ostringstream log;
+  cellform::app::Progress lines(log, false, false, 0, 10);
+  lines.update(10, 5);
+  lines.break_line();
+  lines.finish();
+  const std::string said = log.str();
+  CHECK(said.rfind("step 10/10 (100%), 5 cells, ", 0) == 0);
+  CHECK(std::count(said.begin(), said.end(), '\n') == 1);
 }
