@@ -136,12 +136,27 @@ int api_setmetatable(lua_State* L) {
   return call_library(L, "setmetatable", 1);
 }
 
-/// rawset(t, k, v), except a new field of the cell table (an existing one is overwritten for each cell).
+/// rawset(t, k, v), except a new field of the cell table (an existing one is overwritten for each cell) or of
+/// the knobs (params{}: read-only; a change to one is found after the step).
 int api_rawset(lua_State* L) {
   lua_settop(L, 3);
   lua_rawgeti(L, LUA_REGISTRYINDEX, self_of(L)->cell_table_ref);
   const bool cell = lua_rawequal(L, 1, -1);
   lua_pop(L, 1);
+  bool knobs = false;
+  if (self_of(L)->params_ref != LUA_NOREF) {
+    lua_rawgeti(L, LUA_REGISTRYINDEX, self_of(L)->params_ref);
+    knobs = lua_rawequal(L, 1, -1);
+    lua_pop(L, 1);
+  }
+  if (knobs && !lua_isnil(L, 2)) {
+    lua_pushvalue(L, 2);
+    const bool absent = lua_rawget(L, 1) == LUA_TNIL;
+    lua_pop(L, 1);
+    if (absent)
+      return luaL_error(L, "rawset(params, %s, ...): the knobs are read-only; declare it in params{...}",
+                        lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : luaL_typename(L, 2));
+  }
   if (cell && !lua_isnil(L, 2)) {
     lua_pushvalue(L, 2);
     const bool absent = lua_rawget(L, 1) == LUA_TNIL;

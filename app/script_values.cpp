@@ -370,6 +370,19 @@ std::string knob_line(lua_State* L, const Impl& I, int index) {
 }
 
 /// __tostring of the table params{} returns: tostring(P), print("knobs:", P).
+/// P.name = value for a name params{...} did not declare (a declared one is checked after the step).
+int params_assign_new(lua_State* L) {
+  return guarded(L, [L](Impl& I) {
+    const std::string at = I.where(1);
+    const std::string key = lua_type(L, 2) == LUA_TSTRING ? "'" + core::printable(lua_tostring(L, 2)) + "'"
+                                                          : std::string("at a ") + luaL_typename(L, 2) + " key";
+    throw InvalidInput(at + "params: the knobs are read-only, and a new one " + key +
+                       " cannot be added: declare it in params{...} (a value computed from the knobs, or kept "
+                       "between rule calls, goes in a local variable)");
+    return 0;
+  });
+}
+
 int params_tostring(lua_State* L) {
   return guarded(L, [L](Impl& I) {
     const std::string line = knob_line(L, I, 1);
@@ -468,6 +481,8 @@ int api_params(lua_State* L) {
     lua_setfield(L, -2, "__index");
     lua_pushcfunction(L, params_tostring);
     lua_setfield(L, -2, "__tostring");
+    lua_pushcfunction(L, params_assign_new);
+    lua_setfield(L, -2, "__newindex");
     lua_pushliteral(L, "params are read-only");
     lua_setfield(L, -2, "__metatable");  // setmetatable(P, ...) is refused
     lua_pushvalue(L, -1);

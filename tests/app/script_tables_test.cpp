@@ -56,9 +56,14 @@ TEST_CASE("params{} knobs are read-only, iterate with pairs, next and rawget, an
   CHECK_THAT(load_error("local P = params { n = 3 }\nrawset(P, 'n', 9)\n"), Contains("knob n from 3 to 9"));
   CHECK_THAT(load_error("local P = params { n = 3 }\nP.n = nil\n"), Contains("knob n from 3 to \"nil\""));
   CHECK_THAT(load_error("local P = params { size = 500 }\nsetmetatable(P, nil)\n"), Contains("protected metatable"));
-  // a value set back and a field of the script's own are no change (a NaN knob is refused: run.json kept null)
+  // a value set back is no change (a NaN knob is refused: run.json kept null)
   CHECK_NOTHROW(load("local P = params { n = 3 }\nP.n = 4\nP.n = 3\n"));
-  CHECK_NOTHROW(load("local P = params { size = 500 }\nP.other = P.size + 1\nP.other = P.other + 1\n"));
+  // a new field is refused at once, where it is written (a misspelt assignment passed unseen, and run.json
+  // and print(P) did not show it), by rawset too
+  CHECK_THAT(load_error("local P = params { vein_spacing = 10 }\n\nP.vein_spacin = 20\n"),
+             Contains("test/leaf.lua:3: params: the knobs are read-only, and a new one 'vein_spacin' cannot be added"));
+  CHECK_THAT(load_error("local P = params { n = 3 }\nrawset(P, 'm', 9)\n"),
+             Contains(":2: rawset(params, m, ...): the knobs are read-only"));
   CHECK_THAT(load_error("local P = params { bad = 0/0 }\n"), Contains("a knob is a finite number"));
   // a rule function that changes a knob is stopped after its step, naming the knob and the step (a resume
   // would start again from the knob as made)
@@ -80,6 +85,17 @@ TEST_CASE("params{} knobs are read-only, iterate with pairs, next and rawget, an
                                                     "to 4 by the end of step 7") &&
                                                Contains("the knobs are read-only"));
   }
+  {  // nor can a rule function keep state in a new knob
+    cellform::cells::Cells c;
+    cellform::cells::add_cell(c, {1, 0, 0});
+    ScriptHost host;
+    host.load(
+        "local P = params { n = 3 }\ndisc { radius = 2 }\n"
+        "division { rule = function(cell) P.q = cell.id return false end }\n",
+        "knob.lua", {});
+    auto rules = host.rules();
+    CHECK_THROWS_WITH(rules.divides(c, 0), Contains("knob.lua:3:") && Contains("a new one 'q' cannot be added"));
+  }
   // a misspelt knob is still named
   CHECK_THAT(load_error("local P = params { size = 500 }\ndisc { radius = P.sise }\n"),
              Contains(":2: params has no knob 'sise'; did you mean 'size'?"));
@@ -99,7 +115,7 @@ TEST_CASE("params{} knobs are read-only, iterate with pairs, next and rawget, an
   ScriptHost host;
   host.set_print([&](const std::string& line) { lines.push_back(line); });
   host.load(
-      "local P = params { size = 300, vein_spacing = 20, name = 'leaf', flat = true }\nP.own = 1\nprint(P)\n"
+      "local P = params { size = 300, vein_spacing = 20, name = 'leaf', flat = true }\nprint(P)\n"
       "disc { radius = 2 }\n",
       "p.lua", {});
   REQUIRE(lines.size() == 1);
