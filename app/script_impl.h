@@ -448,8 +448,13 @@ struct ScriptHost::Impl {
       throw InvalidInput(at + section +
                          "{...} describes the scene and can only be called at the top level of the script, not "
                          "inside " +
-                         (sampling.empty() ? std::string("a rule function") : sampling));
+                         (sampling.empty() ? std::string("a rule function") : sampling) +
+                         (section == "print" ? std::string(kPrintTableHint) : std::string()));
   }
+  /// print(t) of one table is print{...}; what to write instead to show a table's values.
+  static constexpr const char* kPrintTableHint =
+      " (print with one table is the print{...} section; to show a table, print its fields: for k, v in "
+      "pairs(t) do print(k, v) end)";
   /// Set while a function given to a section is called as the script loads (colonisation.growth_x, ...).
   std::string sampling;
 };

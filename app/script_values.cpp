@@ -264,7 +264,8 @@ Values ScriptHost::Impl::read_section(const std::string& section, int idx, const
     while (lua_next(L, idx) != 0) {
       if (lua_type(L, -2) != LUA_TSTRING) {
         lua_pop(L, 2);
-        throw InvalidInput(at + section + "{...}: parameters are named (name = value); got a value without a name");
+        throw InvalidInput(at + section + "{...}: parameters are named (name = value); got a value without a name" +
+                           (section == "print" ? kPrintTableHint : ""));
       }
       const std::string key = lua_tostring(L, -2);
       const Field* f = find_field(section, key);

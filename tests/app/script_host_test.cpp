@@ -422,6 +422,14 @@ TEST_CASE("print writes a line, print{} is the print section, and no section run
                                "{...} describes the scene and can only be called at the top "
                                "level of the script, not inside a rule function"));
   }
+  {  // print(t) to look at a table is print{...}: the message says how to show one
+    ScriptHost late;
+    late.load("disc { radius = 2 }\ndivision { rule = function(cell)\n  print(cell)\n  return false end }\n",
+              "late.lua", {});
+    CHECK_THROWS_WITH(late.rules().divides(c, 0), Contains("for k, v in pairs(t) do print(k, v) end"));
+    CHECK_THAT(load_error("disc { radius = 2 }\nprint({1, 2, 3})\n"),
+               Contains(":2: print{...}: parameters are named") && Contains("pairs(t)"));
+  }
   CHECK(load_error("run { steps = 2 }\nrun { steps = 3 }\n") ==
         "test/leaf.lua:2: run{...} is given twice (first at test/leaf.lua:1)");
   // a string with a NUL byte is refused (the file name was cut there: "x.stl\0abc" read x.stl)
