@@ -121,11 +121,13 @@ void section_division(Impl& I, const std::string& at) {
     throw InvalidInput(at + "division.axis must be a non-zero vector for direction = \"" + dir.str + "\"");
   if (v["rule"].ref != LUA_NOREF) {
     // the rule replaces the trigger and its settings: refuse them rather than drop them unseen
-    for (const char* f : {"trigger", "age", "radius", "min_neighbours"})
-      if (v[f].present)
-        throw InvalidInput(at + "division." + f +
-                           " has no effect with division.rule, which decides alone when a cell " +
-                           "divides; remove one of them");
+    for (const char* f : {"trigger", "age", "radius", "min_neighbours"}) {
+      if (!v[f].present) continue;
+      const std::string text =
+          "division." + std::string(f) + " has no effect with division.rule, which decides alone when a cell divides";
+      if (v[f].set_by.empty()) throw InvalidInput(at + text + "; remove one of them");
+      I.cfg->notes.push_back(v[f].set_by + ": " + text);  // a --set: said, and the run goes on
+    }
     I.divides_ref = v["rule"].ref;
     I.divides_at = I.function_at(v["rule"].ref, at);
     // run.json: the trigger settings did not apply
@@ -135,10 +137,16 @@ void section_division(Impl& I, const std::string& at) {
     const std::string trigger = v["trigger"].str;
     for (const char* f : {"age", "radius", "min_neighbours"}) {
       const bool used = std::string(f) == "age" ? trigger == "age" : trigger == "neighbours";
-      if (v[f].present && !used)
-        throw InvalidInput(at + "division." + f + " has no effect with trigger = \"" + trigger + "\" (it belongs to " +
-                           (std::string(f) == "age" ? "trigger = \"age\"" : "trigger = \"neighbours\"") +
-                           "); remove it, or choose that trigger");
+      if (!v[f].present || used) continue;
+      const std::string text = "division." + std::string(f) + " has no effect with trigger = \"" + trigger +
+                               "\" (it belongs to " +
+                               (std::string(f) == "age" ? "trigger = \"age\"" : "trigger = \"neighbours\"") + ")";
+      // as for the direction: a --set that chose the trigger (or gave the field) is noted, not refused, since
+      // it cannot remove the script's field
+      if (v["trigger"].set_by.empty() && v[f].set_by.empty())
+        throw InvalidInput(at + text + "; remove it, or choose that trigger");
+      I.cfg->notes.push_back((v["trigger"].set_by.empty() ? v[f].set_by : v["trigger"].set_by) + ": " + text);
+      I.cfg->resolved["division"].erase(f);  // run.json: it did not apply
     }
   }
 }

@@ -516,6 +516,23 @@ TEST_CASE("settings without effect in this run (a shell's without a shell, svg_s
   CHECK(load("leaf {}\ncolonisation {}\noutput { svg_size = 1 }\n").output.svg_size == 1);
 }
 
+TEST_CASE("a setting of another trigger is refused in the script, and noted when a --set chose the trigger",
+          "[script]") {
+  const std::string src = "disc { radius = 2 }\ndivision { trigger = 'neighbours', radius = 2, min_neighbours = 5 }\n";
+  CHECK_THAT(load_error("disc { radius = 2 }\ndivision { trigger = 'age', radius = 2 }\n"),
+             Contains(":2: division.radius has no effect with trigger = \"age\""));
+  // the script's line was blamed for the --set (a sweep over triggers could not run)
+  const auto set = load(src, {{"division.trigger", "age"}});
+  CHECK(set.scene.cells.division.trigger == cellform::cells::DivisionTrigger::age);
+  REQUIRE(set.notes.size() == 2);
+  CHECK_THAT(set.notes[0], StartsWith("--set division.trigger=age: division.radius has no effect with trigger"));
+  CHECK_FALSE(set.resolved["division"].contains("radius"));  // run.json: not applied
+  CHECK(set.resolved["division"]["trigger"] == "age");
+  const auto rule = load(src, {{"division.age", "7"}});  // a field of the unused trigger by --set: noted
+  REQUIRE(rule.notes.size() == 1);
+  CHECK_THAT(rule.notes[0], StartsWith("--set division.age=7: division.age has no effect"));
+}
+
 TEST_CASE("a field of another split direction is refused, not dropped unseen", "[script]") {
   CHECK_THAT(load_error("disc { radius = 2 }\ndivision { direction = 'random', axis = {0, 1, 0} }\n"),
              Contains(":2: division.axis has no effect with direction = \"random\""));
