@@ -396,7 +396,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   // a script stuck in one library call ends the process from the watchdog's thread; this thread is
   // inside that call, in a rule of the step being computed, and touches none of what this reads
   const StuckHandler on_stuck(host, [&](const std::string& error) {
-    if (stepping > 0) err << "  (in step " << stepping << ")\n";
+    if (stepping > 0 && error.find(" at step ") == std::string::npos) err << "  (in step " << stepping << ")\n";
     explain_failure(error);
     std::error_code ec;
     fs::remove_all(staging, ec);

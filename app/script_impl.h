@@ -88,6 +88,10 @@ struct ScriptHost::Impl {
   // set by the watchdog before it ends the process: the script's thread, should the stuck call end after
   // all, waits here for the end instead of going on beside the watchdog's handler
   std::atomic<bool> dying{false};
+  // the rule call in progress (none: nullptr), for the watchdog's message: the step and cell id are stored
+  // before the rule's name (release), read after it (acquire)
+  std::atomic<const char*> call_rule{nullptr};
+  std::atomic<std::uint64_t> call_step{0}, call_cell{0};
   void wait_if_dying() const {
     while (dying.load(std::memory_order_acquire)) ::pause();
   }

@@ -61,6 +61,26 @@ void fill_cell_table(Impl& I, const cells::Cells& c, core::Index i, std::uint64_
 
 }  // namespace
 
+namespace {
+
+/// Marks a rule call in progress for the watchdog (ScriptHost::Watchdog), which names it if the call is stuck.
+class RuleCall {
+ public:
+  RuleCall(Impl& I, const char* rule, std::uint64_t step, std::uint64_t cell) : I_(I) {
+    I.call_step.store(step, std::memory_order_relaxed);
+    I.call_cell.store(cell, std::memory_order_relaxed);
+    I.call_rule.store(rule, std::memory_order_release);
+  }
+  ~RuleCall() { I_.call_rule.store(nullptr, std::memory_order_release); }
+  RuleCall(const RuleCall&) = delete;
+  RuleCall& operator=(const RuleCall&) = delete;
+
+ private:
+  Impl& I_;
+};
+
+}  // namespace
+
 cells::Rules ScriptHost::rules() {
   cells::Rules r;
   Impl* I = impl_.get();
@@ -73,7 +93,11 @@ cells::Rules ScriptHost::rules() {
       lua_State* L = I->L;
       lua_rawgeti(L, LUA_REGISTRYINDEX, I->divides_ref);
       fill_cell_table(*I, c, i, step_);
-      const std::string err = I->protected_call(1, 1, I->limits.rule_instructions, true);
+      std::string err;
+      {
+        const RuleCall call(*I, "division.rule", step_, c.id[i]);
+        err = I->protected_call(1, 1, I->limits.rule_instructions, true);
+      }
       if (!err.empty()) throw fail("division.rule", err, c, i);
       if (lua_type(L, -1) != LUA_TBOOLEAN) {
         const std::string got = luaL_typename(L, -1);
@@ -90,7 +114,11 @@ cells::Rules ScriptHost::rules() {
       lua_State* L = I->L;
       lua_rawgeti(L, LUA_REGISTRYINDEX, I->direction_ref);
       fill_cell_table(*I, c, i, step_);
-      const std::string err = I->protected_call(1, 3, I->limits.rule_instructions, true);
+      std::string err;
+      {
+        const RuleCall call(*I, "division.direction", step_, c.id[i]);
+        err = I->protected_call(1, 3, I->limits.rule_instructions, true);
+      }
       if (!err.empty()) throw fail("division.direction", err, c, i);
       Vec3 d;
       bool ok = true;
@@ -138,7 +166,11 @@ venation::SourceRule ScriptHost::source_rule() {
     lua_State* L = I->L;
     lua_rawgeti(L, LUA_REGISTRYINDEX, I->source_ref);
     fill_cell_table(*I, c, i, step_);
-    const std::string err = I->protected_call(1, 1, I->limits.rule_instructions, true);
+    std::string err;
+    {
+      const RuleCall call(*I, "venation.source", step_, c.id[i]);
+      err = I->protected_call(1, 1, I->limits.rule_instructions, true);
+    }
     auto where = [&] {
       return " (in venation.source at step " + std::to_string(step_) + " for cell " + std::to_string(c.id[i]) + ")";
     };

@@ -94,9 +94,17 @@ class ScriptHost::Watchdog {
       if (stuck >= i_.limits.library_seconds)
         die(2,
             script_ + ": the script spent more than " + core::number_text(i_.limits.library_seconds) +
-                " s in one call of a Lua library function (a string pattern that backtracks?) and was stopped",
+                " s in one call of a Lua library function (a string pattern that backtracks?) and was stopped" +
+                rule_in_progress(),
             "; raise the limit with --lua-seconds");
     }
+  }
+  /// " (in RULE at step S for cell C)" while a rule function runs, else empty.
+  std::string rule_in_progress() const {
+    const char* rule = i_.call_rule.load(std::memory_order_acquire);
+    if (!rule) return {};
+    return std::string(" (in ") + rule + " at step " + std::to_string(i_.call_step.load(std::memory_order_relaxed)) +
+           " for cell " + std::to_string(i_.call_cell.load(std::memory_order_relaxed)) + ")";
   }
   /// Ends the process (m_ held): the message, then what the run's handler has to say and do.
   [[noreturn]] void die(int code, const std::string& what, const std::string& advice) {

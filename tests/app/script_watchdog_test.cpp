@@ -35,7 +35,7 @@ TEST_CASE("a rule stuck in one library call leaves the folder as a rule error do
   REQUIRE(pid > 0);
   CHECK(exit_within(pid, 30) == 2);
   const std::string said = slurp(log);
-  CHECK_THAT(said, Contains("--lua-seconds") && Contains("(in step 1") &&
+  CHECK_THAT(said, Contains("--lua-seconds") && Contains("(in division.rule at step 1") && Contains(" for cell ") &&
                        Contains("the last checkpoint is " + (out / "checkpoint.cfck").string()) &&
                        Contains("cellform resume"));
   // the first run's outputs are gone, the second's frames up to its checkpoint (step 10) and run.json stay
