@@ -180,7 +180,7 @@ std::vector<Field> build() {
   f.push_back(choice("leaf", "shape", Kind::choice, "ovate", "ellipse|ovate|cordate|lobed|palmate",
                      "blade outline, petiole at the origin, tip along +y"));
   f.push_back(num("leaf", "width", "0.6", 0.01, 10, false, "leaf lengths", "widest extent across the blade"));
-  f.push_back(integer("leaf", "lobes", "5", 1, 100, "", "lobed: lobes per side; palmate: lobes in all"));
+  f.push_back(integer("leaf", "lobes", "5", 1, 100, "", "lobed: lobes per side; palmate: lobes in all (at least 2)"));
   f.push_back(num("leaf", "lobe_depth", "0.35", 0, 0.99, false, "fraction", "cut between lobes, of the radius"));
   f.push_back(integer("leaf", "teeth", "0", 0, 2000, "", "teeth along the margin (0 = entire margin)"));
   f.push_back(num("leaf", "tooth_depth", "0.02", 0, 1, false, "leaf lengths", "height of the teeth"));

@@ -256,6 +256,16 @@ void section_leaf(Impl& I, const std::string& at) {
                 : k == "lobed"   ? venation::ShapeKind::lobed
                 : k == "palmate" ? venation::ShapeKind::palmate
                                  : venation::ShapeKind::ovate;
+      // values of the other outlines are said, as beside a file, and not recorded as used
+      auto unused = [&](const char* name, const std::string& why) {
+        if (!v[name].present) return;
+        I.cfg->notes.push_back(I.value_at(std::string("leaf.") + name, at) + "leaf." + name + " has no effect " + why);
+        I.cfg->resolved["leaf"].erase(name);
+      };
+      if (sp.kind != venation::ShapeKind::lobed && sp.kind != venation::ShapeKind::palmate)
+        for (const char* name : {"lobes", "lobe_depth"})
+          unused(name, "with shape = \"" + k + "\": it shapes the lobed and palmate outlines");
+      if (v["teeth"].num == 0) unused("tooth_depth", "without teeth (leaf.teeth = 0: an entire margin)");
       sp.length = 1;
       sp.width = v["width"].num;
       sp.lobes = static_cast<int>(v["lobes"].num);

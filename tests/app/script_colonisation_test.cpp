@@ -148,6 +148,18 @@ TEST_CASE("volume{} and surface{} give space colonisation a 3-D domain", "[scrip
   CHECK_THAT(cfg.notes[0], Contains("--set leaf.shape=cordate: leaf.shape has no effect beside leaf.file"));
   CHECK_FALSE(cfg.resolved["leaf"].contains("shape"));
   std::filesystem::remove_all(dir);
+  // so are the lobes of an outline without lobes, and a tooth depth without teeth
+  cfg = load("leaf { shape = 'ovate', lobes = 2,\n lobe_depth = 0.9, tooth_depth = 0.1 }\ncolonisation {}\n");
+  REQUIRE(cfg.notes.size() == 3);
+  CHECK_THAT(cfg.notes[0], Contains("test/leaf.lua:1: leaf.lobes has no effect with shape = \"ovate\""));
+  CHECK_THAT(cfg.notes[1], Contains("leaf.lobe_depth has no effect with shape = \"ovate\""));
+  CHECK_THAT(cfg.notes[2], Contains("leaf.tooth_depth has no effect without teeth"));
+  CHECK_FALSE(cfg.resolved["leaf"].contains("lobe_depth"));
+  CHECK(load("leaf { shape = 'palmate', lobes = 3, lobe_depth = 0.5, teeth = 9, tooth_depth = 0.01 }\ncolonisation {}\n")
+            .notes.empty());
+  cfg = load("leaf { shape = 'lobed', lobes = 3 }\ncolonisation {}\n", {{"leaf.shape", "cordate"}});
+  REQUIRE(cfg.notes.size() == 1);
+  CHECK_THAT(cfg.notes[0], Contains("leaf.lobes has no effect with shape = \"cordate\""));
 
   CHECK_THAT(load_error("volume { box = { min = {0, 0, 0}, max = {1, 1, 1} }, seeds = {{0, 0, 2}} }\n"
                         "colonisation {}\n"),
