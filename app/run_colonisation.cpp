@@ -542,6 +542,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     const std::string m = input ? e.what() : core::error_text(e);
     // a parameter the steps found wrong: where the script sets it
     err << "cellform: " << (input && m.rfind("colonisation.", 0) == 0 ? spec.where : std::string()) << m << "\n";
+    if (input && !g_interrupt.load()) err << knob_recall(s.sets, m);  // a value a --set knob sized
     code = input ? usage : failure;
     fs::path last;
     if (failed.checkpointed) {  // a step failed after this run wrote a checkpoint

@@ -7,7 +7,8 @@
 -- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
 -- 1 / scale^2): the default, scale = 0.03, grows the leaf from 0.3 to 1500 (about 2.5 s here, print included; 0.05:
 -- about 12 s). The paper's size, `--set scale=1`, would precompute about 4.5 x 10^9 darts (rho for each
--- of the 3,300 steps over the final blade's box), more than the 10^9 allowed.
+-- of the 3,300 steps over the final blade's box), more than the 10^9 allowed; the sources precomputed
+-- from them are held to 5 x 10^7, so the largest scale that runs is about 0.1 (0.11 is refused).
 -- One departure: b_v = d_k = 100 instead of 1. Sources appear at the growing margin (precomputed, as in
 -- the paper), but rho darts per unit area for each of the 3,300 steps make about one dart per unit area,
 -- nearly a b_s = 1 packing: with b_v = 1 each of the many sources the margin uncovers within d_k of a

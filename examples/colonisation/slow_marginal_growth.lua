@@ -8,7 +8,9 @@
 -- 1 / scale^2): the default, scale = 0.02, grows the leaf from 90 to 2240 (about 5 s here, print included). From
 -- scale = 0.03 the leaf tip moves more than a vein segment per step (34 x 0.03 > 1): sources pile up
 -- ahead of the veins (0.03: about 8 s). The paper's size, `--set scale=1`, would precompute about
--- 7 x 10^9 darts (rho for each of the 3,160 steps over the final blade's box), more than the 10^9 allowed.
+-- 7 x 10^9 darts (rho for each of the 3,160 steps over the final blade's box), more than the 10^9 allowed;
+-- the sources precomputed from them are held to 5 x 10^7, so the largest scale that runs is about 0.08
+-- (0.09 is refused).
 -- One departure: b_v = d_k = 40 instead of 1. Sources appear at the growing margin (precomputed, as in
 -- the paper), but rho darts per unit area for each of the 3,160 steps make about one dart per unit area,
 -- nearly a b_s = 1 packing: with b_v = 1 each of the many sources the margin uncovers within d_k of a

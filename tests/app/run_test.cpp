@@ -45,3 +45,16 @@ TEST_CASE("a refused parameter recalls the knobs the run set, which it may come 
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("cells.time_step") && !Contains("knobs"));
 }
+
+TEST_CASE("a colonisation value refused when the veins start recalls the knobs too", "[cli][colonisation]") {
+  // marginal growth precomputes its sources over the final blade: too many is found when the run starts
+  TempDir t("cli-knob-hint-veins");
+  const auto script = t.write("m.lua",
+                              "local P = params { scale = 1 }\nleaf {}\n"
+                              "colonisation { type = 'open', growth = 'marginal', birth_distance = 1, darts = 300,\n"
+                              "  initial_length = 10, length_step = 10, final_length = 3000 * P.scale }\n");
+  const auto r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--set", "scale=10"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("more than 5 x 10^7") && Contains("this run sets the script's knobs scale=10"));
+  CHECK_FALSE(std::filesystem::exists(t.path / "o"));
+}
