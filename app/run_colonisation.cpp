@@ -271,9 +271,18 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       } catch (const core::FileError& e) {  // a damaged checkpoint is bad input (exit 2), as for a cell run
         throw core::InvalidInput(e.what());
       } catch (const core::InvalidInput& e) {
+        const std::string what = e.what();
+        if (what.find("another source domain") != std::string::npos) {  // not the files: the script's values
+          const std::string domain = changed_domain_values(s, cfg);
+          if (!domain.empty())
+            throw core::InvalidInput("checkpoint '" + o.checkpoint.string() +
+                                     "' grew its veins in another source domain: changed: " + domain +
+                                     "; a resume goes on in the blade, volume or surface it started in (start a "
+                                     "new run for another)");
+        }
         const std::string changed = changed_colonisation_values(s, cfg);
-        if (changed.empty() || std::string(e.what()).find("other colonisation parameters") == std::string::npos) throw;
-        throw core::InvalidInput(std::string(e.what()) + "; changed: " + changed);
+        if (changed.empty() || what.find("other colonisation parameters") == std::string::npos) throw;
+        throw core::InvalidInput(what + "; changed: " + changed);
       }
     }();
     const std::size_t first = col.report().steps;

@@ -160,6 +160,9 @@ std::string sets_carry_over(const Overrides& sets);
 nlohmann::json script_record(const Start& s);
 /// What a resume changes of a colonisation run's own values, in words (see run_start.cpp).
 std::string changed_colonisation_values(const Start& s, const SceneConfig& cfg);
+/// What a resume changes of the source domain (leaf{}, volume{}, surface{}) a colonisation run grew in, in
+/// words ("leaf.width = 0.7 (was 0.6)"): --set overrides and, with --script, the edited script's values.
+std::string changed_domain_values(const Start& s, const SceneConfig& cfg);
 
 /// The scalar values of `resolved`'s cells, division and venation sections (rule functions left out): what
 /// a cell checkpoint keeps, so that a resume steps with the values the run was saved with even when

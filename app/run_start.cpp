@@ -535,4 +535,31 @@ std::string changed_colonisation_values(const Start& s, const SceneConfig& cfg) 
   return text;
 }
 
+std::string changed_domain_values(const Start& s, const SceneConfig& cfg) {
+  std::vector<std::string> changed;
+  const char* const sections[] = {"leaf", "volume", "surface"};
+  auto of_domain = [&](const std::string& key) {
+    return std::any_of(std::begin(sections), std::end(sections),
+                       [&](const char* d) { return key.rfind(std::string(d) + ".", 0) == 0; });
+  };
+  for (const auto& [k, v] : s.sets) {
+    const auto was = s.checkpoint_sets.find(k);
+    if (of_domain(k) && (was == s.checkpoint_sets.end() || was->second != v)) changed.push_back("--set " + k + "=" + v);
+  }
+  for (const char* d : sections) {
+    const json before = s.replaced_parameters.is_object() ? s.replaced_parameters.value(d, json()) : json();
+    const json now = cfg.resolved.value(d, json());
+    if (!before.is_object() || !now.is_object()) continue;
+    for (const auto& [k, v] : now.items())
+      if (!before.contains(k) || before[k] != v)
+        changed.push_back(std::string(d) + "." + k + " = " + v.dump() + " (was " +
+                          (before.contains(k) ? before[k].dump() : std::string("not given")) + ")");
+    for (const auto& [k, v] : before.items())
+      if (!now.contains(k)) changed.push_back(std::string(d) + "." + k + " not given (was " + v.dump() + ")");
+  }
+  std::string text;
+  for (std::size_t i = 0; i < changed.size(); ++i) text += (i ? ", " : "") + changed[i];
+  return text;
+}
+
 }  // namespace cellform::app

@@ -423,3 +423,23 @@ TEST_CASE("resume --script copies the checkpoint it resumed only when it first r
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("corrupt (metadata 'replaced_scripts')"));
 }
+
+TEST_CASE("a colonisation resume whose leaf changed names the change, not the files or the build",
+          "[cli][checkpoint]") {
+  TempDir t("cli-resume-leaf");
+  const std::string tail =
+      " }\ncolonisation { type = 'open', kill_distance = 1, birth_distance = 4, darts = 2000, growth = 'none',"
+      " initial_length = 100 }\n";
+  const auto leaf = t.write("leaf.lua", "leaf { shape = 'ovate', width = 0.6" + tail);
+  const auto wider = t.write("wider.lua", "leaf { shape = 'ovate', width = 0.7" + tail);
+  const fs::path out = t.path / "o";
+  REQUIRE(cli({"run", leaf.string(), "--out", out.string(), "--steps", "20", "--quiet"}).code == 0);
+  auto r = cli({"resume", out.string(), "--script", wider.string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("grew its veins in another source domain: changed: leaf.width = 0.7 (was 0.6)") &&
+                        !Contains("files changed"));
+  r = cli({"resume", out.string(), "--set", "leaf.width=0.7", "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("changed: --set leaf.width=0.7"));
+  CHECK(cli({"resume", out.string(), "--steps", "25", "--quiet"}).code == 0);  // the checkpoint is as it was
+}
