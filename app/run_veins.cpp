@@ -1,4 +1,5 @@
 // What a cell run tells of its veins: run.json's "veins", and the warnings and notes at its end.
+#include <algorithm>
 #include <iomanip>
 #include <sstream>
 #include <vector>
@@ -18,12 +19,26 @@ void say_veinless_petioles(std::ostream& err, const cells::Cells& c, const venat
   std::vector<char> has_child(n, 0);
   for (std::size_t i = 0; i < n; ++i)
     if (c.vein_parent[i] < n) has_child[c.vein_parent[i]] = 1;
+  // linked cells (either way): a petiole without links gets no auxin at all
+  const auto stride = static_cast<std::size_t>(std::max(c.link_stride, 0));
+  std::vector<char> linked(n, 0);
+  for (std::size_t i = 0; i < n && c.links.size() == n * stride; ++i)
+    for (std::size_t k = 0; k < stride; ++k) {
+      const core::Index j = c.links[i * stride + k];
+      if (j < n && j != i) linked[i] = linked[j] = 1;
+    }
   const auto flow = c.attributes.find(venation::kFlow);
   for (std::size_t i = 0; i < n; ++i) {
     if (c.type[i] != cells::CellType::petiole || c.vein_parent[i] != core::kNoIndex || has_child[i]) continue;
     const core::Vec3& q = c.position[i];
     std::ostringstream at;
     at << std::setprecision(3) << "{" << q.x() << ", " << q.y() << ", " << q.z() << "}";
+    if (!linked[i]) {
+      err << "cellform: note: the petiole at " << at.str() << " (cell " << c.id[i]
+          << ") grew no vein: it is linked to no cell (every cell is farther from it than cells.link_range), so no "
+             "auxin reaches it; place it nearer the form, within link_range of a cell\n";
+      continue;
+    }
     err << "cellform: note: the petiole at " << at.str() << " (cell " << c.id[i]
         << ") grew no vein: the auxin reaching it ("
         << core::number_text(flow != c.attributes.end() ? flow->second[i] : 0.0)

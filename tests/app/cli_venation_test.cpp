@@ -150,4 +150,18 @@ TEST_CASE("a petiole that grew no vein is noted, with where it is and why", "[cl
   r = cli({"run", early.string(), "--out", (t.path / "b").string()});
   REQUIRE(r.code == 0);
   CHECK_THAT(r.err, !Contains("grew no vein"));
+  // beyond link_range from every cell (though within the 3 rest lengths a petiole may be placed at): no
+  // link at all, which is said instead of the veins it did not meet
+  const auto apart = t.write("apart.lua",
+                             "division { trigger = 'none' }
+run { steps = 20 }
+venation { threshold = 5 }
+"
+                             "disc { radius = 3 }
+petiole { at = {0, -5.5, 0} }
+");
+  r = cli({"run", apart.string(), "--out", (t.path / "c").string()});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("note: the petiole at {0, -5.5, 0}") && Contains("it is linked to no cell") &&
+                        !Contains("where veins already run"));
 }
