@@ -153,13 +153,8 @@ TEST_CASE("a petiole that grew no vein is noted, with where it is and why", "[cl
   // beyond link_range from every cell (though within the 3 rest lengths a petiole may be placed at): no
   // link at all, which is said instead of the veins it did not meet
   const auto apart = t.write("apart.lua",
-                             "division { trigger = 'none' }
-run { steps = 20 }
-venation { threshold = 5 }
-"
-                             "disc { radius = 3 }
-petiole { at = {0, -5.5, 0} }
-");
+                             "division { trigger = 'none' }\nrun { steps = 20 }\nvenation { threshold = 5 }\n"
+                             "disc { radius = 3 }\npetiole { at = {0, -5.5, 0} }\n");
   r = cli({"run", apart.string(), "--out", (t.path / "c").string()});
   REQUIRE(r.code == 0);
   CHECK_THAT(r.err, Contains("note: the petiole at {0, -5.5, 0}") && Contains("it is linked to no cell") &&
