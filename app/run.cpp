@@ -49,10 +49,11 @@ std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t t
 }  // namespace
 
 /// Writes the cell outputs of the current state into `dir`; returns their names.
-std::vector<std::string> write_outputs(const fs::path& dir, const OutputSpec& spec, const cells::Cells& c, bool veins) {
+std::vector<std::string> write_outputs(const fs::path& dir, const OutputSpec& spec, const cells::Cells& c,
+                                       const venation::Params* veins) {
   std::vector<std::string> names;
   if (veins) {
-    const venation::VeinGraph g = venation::vein_graph(c);
+    const venation::VeinGraph g = venation::vein_graph(c, veins);
     if (spec.ply) {
       exporters::write_veins_ply(dir / "veins.ply", g, c);
       names.push_back("veins.ply");
@@ -511,7 +512,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     } catch (const std::exception& e) {
       checkpoint_error = core::error_text(e);
     }
-    for (const std::string& n : write_outputs(staging, cfg.output, sim.cells(), cfg.scene.venation.has_value()))
+    for (const std::string& n :
+         write_outputs(staging, cfg.output, sim.cells(), cfg.scene.venation ? &*cfg.scene.venation : nullptr))
       outputs.push_back(n);
     outputs.insert(outputs.end(), print_names.begin(), print_names.end());
     if (cfg.print && !printed_first) {

@@ -233,7 +233,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         sheet_initial = grown.initial;
         sheet_checkpointed = grown.checkpointed;
         if (!grown.complete) {  // Ctrl-C: the sheet so far, and its checkpoint to finish it from
-          std::vector<std::string> outputs = write_outputs(staging, cfg.output, grown.cells, false);
+          std::vector<std::string> outputs = write_outputs(staging, cfg.output, grown.cells, nullptr);
           json run = run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
           run["status"] = "interrupted";
           run["phase"] = "cells";  // the veins have not started
@@ -403,7 +403,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       outputs.push_back("veins.png");
     }
     if (sheet)
-      for (const std::string& n : write_outputs(staging, cfg.output, *sheet, false)) outputs.push_back(n);
+      for (const std::string& n : write_outputs(staging, cfg.output, *sheet, nullptr)) outputs.push_back(n);
     json printed;
     bool print_failed = false, print_cancelled = false;
     const auto discard_reprint = [&](const std::string& said, int exit_code) {  // the print was all it made

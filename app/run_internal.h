@@ -219,9 +219,10 @@ class CheckpointClock {
   std::chrono::steady_clock::time_point last_;
 };
 
-/// Writes the cell outputs (cells.ply/obj, and the vein graph if `veins`) of `c` into `dir`; returns their names.
+/// Writes the cell outputs (cells.ply/obj, and the vein graph with `veins`, the run's canalisation) of `c` into
+/// `dir`; returns their names.
 std::vector<std::string> write_outputs(const std::filesystem::path& dir, const OutputSpec& spec, const cells::Cells& c,
-                                       bool veins);
+                                       const venation::Params* veins);
 
 /// The output folder is locked by another run: the caller must leave the folder alone (even an empty one
 /// it made a moment ago: the other run may be about to write into it).

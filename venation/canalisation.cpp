@@ -498,7 +498,7 @@ Report canalise(Cells& c, const Params& p, const SourceRule& source_rule, Worksp
       c, p, [s](std::size_t i) { return s[i]; }, false, w, threads);
 }
 
-VeinGraph vein_graph(const Cells& c) {
+VeinGraph vein_graph(const Cells& c, const Params* params) {
   VeinGraph g;
   const std::size_t n = c.size();
   std::vector<std::uint32_t> node(n, 0xffffffffu);
@@ -515,8 +515,10 @@ VeinGraph vein_graph(const Cells& c) {
     g.cell.push_back(static_cast<Index>(i));
     g.position.push_back(c.position[i]);
     g.flow.push_back(flow ? (*flow)[i] : 0.0);
-    g.radius.push_back(radius ? (*radius)[i] : 0.0);
-    g.order.push_back(order ? static_cast<int>((*order)[i]) : 0);
+    g.radius.push_back(radius ? (*radius)[i] : params ? murray_radius(0.0, *params) : 0.0);
+    const Index par = c.vein_parent[i];
+    const bool root = par == kNoIndex || par >= n || !is_vein_node(c.type[par]);
+    g.order.push_back(order ? static_cast<int>((*order)[i]) : root ? 1 : 0);
   }
   for (std::size_t i = 0; i < n; ++i) {
     const Index par = c.vein_parent[i];

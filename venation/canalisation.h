@@ -102,6 +102,9 @@ struct VeinGraph {
   std::vector<int> order;
   std::vector<std::array<std::uint32_t, 2>> edges;  ///< (child node, parent node)
 };
-VeinGraph vein_graph(const Cells& cells);
+/// Flow, radius and order come from the attributes canalise() writes. Before any pass (no such attributes)
+/// every node has flow 0, the radius of that flow (murray_radius with `params`; 0 without them) and, as a
+/// pass would give a petiole that roots no vein, order 1 for a root.
+VeinGraph vein_graph(const Cells& cells, const Params* params = nullptr);
 
 }  // namespace cellform::venation

@@ -236,6 +236,24 @@ TEST_CASE("vein orders: the main path is primary, branches are of higher order",
   CHECK(g.edges.size() + 1 == g.cell.size());  // one petiole: a tree
 }
 
+TEST_CASE("a vein graph before any canalisation pass says of a petiole what a pass would", "[venation]") {
+  cells::Cells c = leaf(10, 10);
+  venation::Params p;
+  p.threshold = 1e9;  // no vein: the petiole stays a root without children
+  p.min_radius = 0.1;
+  const auto before = venation::vein_graph(c, &p);  // no pass yet: no flow, radius or order attributes
+  REQUIRE(before.cell.size() == 1);
+  venation::Workspace w;
+  venation::canalise(c, p, {}, w, 1);
+  const auto after = venation::vein_graph(c, &p);
+  REQUIRE(after.cell.size() == 1);
+  CHECK(before.order[0] == after.order[0]);
+  CHECK(before.order[0] == 1);
+  CHECK(before.radius[0] == venation::murray_radius(0.0, p));
+  CHECK(before.radius[0] == 0.1);
+  CHECK(after.radius[0] >= 0.1);  // the flow it collected since
+}
+
 TEST_CASE("vein orders hold at every fork after every step, the cells just promoted too", "[venation]") {
   // a cell promoted took its parent's order, though a child of larger flow had it already: two primaries
   // at one fork in the files of the last step (audit, December 2026)
