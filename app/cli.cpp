@@ -102,6 +102,9 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
     }
     const std::string& cmd = args[0];
     if (cmd == "-h" || cmd == "--help" || cmd == "help") {
+      // cellform --help run (or help check): that command's help
+      if (args.size() == 2 && (args[1] == "run" || args[1] == "resume" || args[1] == "check" || args[1] == "params"))
+        return cli_main({args[1], "--help"}, out, err);
       out << kUsage;
       return ok;
     }
@@ -232,8 +235,13 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       } else if (a.rfind("--quiet=", 0) == 0 || a.rfind("--help=", 0) == 0) {
         throw UsageError(a.substr(0, a.find('=')) + " takes no value, got '" + a + "'");
       } else if (a.size() > 1 && a[0] == '-') {
+        // an option cut short (--ste) is the one it begins, if only one does; else the closest by spelling
+        std::vector<std::string> begun;
+        for (const std::string_view name : kRunOptions)
+          if (a.size() > 3 && name.substr(0, a.size()) == a) begun.emplace_back(name);
         const std::string near =
-            core::closest_name(a, std::vector<std::string>(kRunOptions.begin(), kRunOptions.end()));
+            begun.size() == 1 ? begun[0]
+                              : core::closest_name(a, std::vector<std::string>(kRunOptions.begin(), kRunOptions.end()));
         throw UsageError("unknown option '" + a + "'" + (near.empty() ? "" : "; did you mean '" + near + "'?"));
       } else {
         positional.push_back(a);

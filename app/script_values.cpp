@@ -215,7 +215,11 @@ namespace {
 std::string got_text(double x) {
   if (std::isnan(x)) return "NaN";
   std::ostringstream g;
-  g << std::setprecision(15) << x;
+  // a whole number beyond 15 digits in full (2^53 + 2 read as 9.00719925474099e+15 looked like the limit)
+  if (x == std::floor(x) && std::abs(x) >= 1e15 && std::abs(x) < 0x1p63)
+    g << static_cast<long long>(x);
+  else
+    g << std::setprecision(15) << x;
   return g.str();
 }
 }  // namespace

@@ -168,7 +168,9 @@ void write_cells_obj(const std::filesystem::path& path, const Cells& cells, cons
 
   std::string text;
   text.reserve(n * 40 + surface.triangles.size() * 24 + lines.size() * 16);
-  text += "# cellform cell sheet, in model units (printable.* is in mm: run.json gives print.scale_mm_per_unit)\n";
+  text +=
+      "# cellform cell sheet, in model units (a print{...} writes printable.* in mm, and run.json gives "
+      "print.scale_mm_per_unit)\n";
   text += "# " + std::to_string(n) + " vertices, " + std::to_string(surface.triangles.size()) + " faces, " +
           std::to_string(lines.size()) + " lines\n";
   for (std::size_t i = 0; i < n; ++i) {  // "v %.9g %.9g %.9g"

@@ -59,7 +59,8 @@ void write_veins_ply(const std::filesystem::path& path, const venation::VeinGrap
 void write_veins_obj(const std::filesystem::path& path, const venation::VeinGraph& g) {
   core::write_file_atomically(path, [&](std::ostream& os) {
     os << "# cellform vein graph: " << g.cell.size() << " nodes, " << g.edges.size()
-       << " segments, in model units (printable.* is in mm: run.json gives print.scale_mm_per_unit)\n"
+       << " segments, in model units (a print{...} writes printable.* in mm, and run.json gives "
+          "print.scale_mm_per_unit)\n"
        << "# per vertex: '#a flow radius order' follows its 'v' line\no veins\n";
     std::string out;
     for (std::size_t i = 0; i < g.cell.size(); ++i) {  // "v %.9g %.9g %.9g\n#a %.9g %.9g %d"

@@ -266,7 +266,7 @@ void write_vein_obj(const std::filesystem::path& path, const VeinTree& tree) {
     std::string out = "# cellform space-colonisation veins: ";
     core::append_integer(out, tree.size());
     out +=
-        " nodes, in model units (printable.* is in mm: run.json gives print.scale_mm_per_unit)\n"
+        " nodes, in model units (a print{...} writes printable.* in mm, and run.json gives print.scale_mm_per_unit)\n"
         "# per vertex: '#a flow radius order' follows its 'v' line\no veins\n";
     for (Index i = 0; i < tree.size(); ++i) {  // numbers as "%.9g"
       const Vec3& q = tree.positions[i];

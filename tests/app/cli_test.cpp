@@ -39,6 +39,14 @@ TEST_CASE("help, version and usage errors", "[cli]") {
   r = cli({"run", "x.lua", "--sed", "3"});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("did you mean '--seed'"));
+  // an option cut short is the one it begins (--set is nearer by spelling)
+  CHECK_THAT(cli({"run", "x.lua", "--ste", "3"}).err, Contains("did you mean '--steps'"));
+  CHECK_THAT(cli({"run", "x.lua", "--checkpoint", "3"}).err, Contains("did you mean '--checkpoint-every'"));
+  // cellform --help run is cellform run --help
+  r = cli({"--help", "run"});
+  CHECK(r.code == 0);
+  CHECK(r.out == cli({"run", "--help"}).out);
+  CHECK(cli({"help", "check"}).out == cli({"check", "--help"}).out);
   // --option=value is --option value (it was an unknown option '--steps=many')
   r = cli({"run", "x.lua", "--steps=many"});
   CHECK_THAT(r.err, Contains("--steps takes a whole number") && Contains("got 'many'"));

@@ -84,6 +84,9 @@ TEST_CASE("numbers are taken exactly or refused: no NaN knob, no rounded seed", 
   CHECK_THAT(load_error("run { steps = 1 }\ndisc { radius = 2 }\n", {{"run.seed", "9007199254740993"}}),
              Contains("--set run.seed=9007199254740993: run.seed must be a whole number of at most 2^53"));
   CHECK_THAT(load_error("run { seed = math.maxinteger }\ndisc { radius = 2 }\n"), Contains("run.seed must be"));
+  // a float just past the limit is quoted in full (9.00719925474099e+15 looked like the limit itself)
+  CHECK_THAT(load_error("run { seed = 2^53 + 2 }\ndisc { radius = 2 }\n"),
+             Contains("from 0 to 9007199254740992, got 9007199254740994"));
   // a refusal quotes the value as given: 0/0 was "-nan", and 1.0000001 read as the allowed 1
   CHECK_THAT(load_error("disc { radius = 0/0 }\n"), Contains("disc.radius must be a number > 0, got NaN"));
   CHECK_THAT(load_error("disc { radius = 2 }\ncells { drag = {1, 1, 1.0000001} }\n"),
