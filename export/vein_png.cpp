@@ -97,8 +97,6 @@ void write_vein_png(const std::filesystem::path& path, const VeinTree& tree, con
   set_rgb(c, params.vein);
   cairo_set_line_cap(c, CAIRO_LINE_CAP_ROUND);
   const bool widths = tree.radius.size() == tree.size();
-  double tip = 0;
-  if (widths && !tree.radius.empty()) tip = *std::min_element(tree.radius.begin(), tree.radius.end());
   auto segment = [&](Index a, Index b, double r) {
     // no wider than the image: a wider stroke draws nothing more, and Cairo would take minutes over it
     cairo_set_line_width(c, std::min(std::max(params.min_stroke, 2 * r * f.scale), 2.0 * (f.width + f.height)));
@@ -108,7 +106,8 @@ void write_vein_png(const std::filesystem::path& path, const VeinTree& tree, con
   };
   for (Index i = 0; i < tree.size(); ++i)
     if (tree.parent[i] != kNoIndex) segment(tree.parent[i], i, widths ? tree.radius[i] : 0.0);
-  for (const auto& [a, b] : tree.anastomoses) segment(a, b, tip);
+  // a loop's closing segment: the width of the finer vein it joins (as veins.svg and the print)
+  for (const auto& [a, b] : tree.anastomoses) segment(a, b, widths ? std::min(tree.radius[a], tree.radius[b]) : 0.0);
   cairo_surface_flush(surface.get());
   if (cairo_status(c) != CAIRO_STATUS_SUCCESS)
     throw core::FileError("cannot draw '" + path.string() + "': " + cairo_status_to_string(cairo_status(c)));

@@ -62,9 +62,6 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
   const double w = (hi.x() - lo.x()) * s + 2 * sp.margin, h = (hi.y() - lo.y()) * s + 2 * sp.margin;
   auto X = [&](double x) { return (x - lo.x()) * s + sp.margin; };
   auto Y = [&](double y) { return (hi.y() - y) * s + sp.margin; };
-  double tip = 0;
-  if (tree.radius.size() == tree.size() && !tree.radius.empty())
-    tip = *std::min_element(tree.radius.begin(), tree.radius.end());
 
   // Veins as polylines, so a plotter draws a vein without lifting its pen at every node: a path runs on
   // through a node with one child while the width stays the same (between branch points it does).
@@ -124,10 +121,10 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
       stroke_order.push_back(order_of(i));
     }
   }
-  for (const auto& [a, b] : tree.anastomoses) {  // a loop joins the finer of the veins it closes
+  for (const auto& [a, b] : tree.anastomoses) {  // a loop's closing segment: the width of the finer vein it joins
     stroke_node.insert(stroke_node.end(), {a, b});
     stroke_start.push_back(static_cast<Index>(stroke_node.size()));
-    stroke_width.push_back(std::max(sp.min_stroke, 2 * tip * s));
+    stroke_width.push_back(std::min(width(a), width(b)));
     stroke_order.push_back(std::max(order_of(a), order_of(b)));
   }
   std::vector<std::uint32_t> layers = stroke_order;

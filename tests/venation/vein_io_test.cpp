@@ -109,14 +109,14 @@ namespace {
 /// "width: d" of each path of the SVG of a hand-made tree, in order (the veins', then the outline's):
 /// 0 - 1 - 2 - 3 - 4 in a line, all 0.5 wide but the last segment; a branch 1 - 5 of the same width; an
 /// anastomosis 4 - 5. Drawn at 1 mm per unit: x -> 6 + x, y -> 5 + (5 - y).
-std::vector<std::string> hand_tree_paths(bool join_veins) {
+std::vector<std::string> hand_tree_paths(bool join_veins, std::pair<Index, Index> loop = {4, 5}) {
   v::Outline outline;
   outline.points = {{-1, -1}, {10, -1}, {10, 5}, {-1, 5}};
   v::VeinTree t;
   t.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0), Vec3(4, 0, 0), Vec3(1, 2, 0)};
   t.parent = {kNoIndex, 0, 1, 2, 3, 1};
   t.radius = {0.5, 0.5, 0.5, 0.5, 0.25, 0.5};
-  t.anastomoses = {{4, 5}};
+  t.anastomoses = {loop};
   const auto dir = scratch_dir("cellform_vein_io_paths");
   std::filesystem::create_directories(dir);
   v::SvgParams sp;
@@ -145,6 +145,14 @@ TEST_CASE("the SVG draws a vein as one path between branch points and width chan
                                           "0.500: M10.000 10.000 L7.000 8.000",  // the tip radius, 0.25
                                           "0.200: M5.000 11.000 L16.000 11.000 L16.000 5.000 L5.000 5.000 Z"};
   CHECK(hand_tree_paths(false) == expected);
+}
+
+TEST_CASE("a loop's closing segment is drawn at the width of the finer vein it joins", "[vein_io]") {
+  // 2 - 5 joins two veins 1 mm wide (the finest vein, 3 - 4, is 0.5 mm): 1 mm, not the finest width
+  const auto paths = hand_tree_paths(false, {2, 5});
+  CHECK(std::count(paths.begin(), paths.end(), "1.000: M7.000 8.000 L8.000 10.000") +
+            std::count(paths.begin(), paths.end(), "1.000: M8.000 10.000 L7.000 8.000") ==
+        1);
 }
 
 TEST_CASE("joined, the SVG draws each vein as one path at its length-weighted mean width", "[vein_io]") {
