@@ -63,7 +63,18 @@ venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cel
   if (seeds.empty()) throw core::InvalidInput(kNoSheetSeeds);
   d.initial_nodes = {d.mesh.vertices[d.mesh.triangles[0][0]]};
   const venation::PreparedDomain sheet_surface(d);
+  const std::vector<core::Vec3> asked = seeds;
+  auto point_text = [](const core::Vec3& q) {
+    return "{" + core::number_text(q.x()) + ", " + core::number_text(q.y()) + ", " + core::number_text(q.z()) + "}";
+  };
   for (core::Vec3& p : seeds) p = sheet_surface.closest_point(p);
+  if (const auto r = venation::first_repeat(seeds);
+      r && spec.domain.initial_nodes.empty() && spec.params.type == venation::VenationType::closed)
+    throw core::InvalidInput("surface{cells = true}: the petioles at " + point_text(asked[r->first]) + " and " +
+                             point_text(asked[r->second]) + " rest on the same point of the grown sheet, " +
+                             point_text(seeds[r->first]) +
+                             ", where a closed pattern's veins would start twice and never grow apart; place them "
+                             "apart, or give surface.seeds");
   d.initial_nodes = seeds;
   return make(d);
 }

@@ -212,7 +212,8 @@ void finish_colonisation(Impl& I) {
   try {
     venation::validate(spec.domain, p);
   } catch (const std::exception& e) {
-    throw InvalidInput(at + script_colonisation_message(core::error_text(e)));
+    const char* section = spec.domain.kind == venation::DomainKind::surface ? "surface" : "volume";
+    throw InvalidInput(at + script_domain_message(script_colonisation_message(core::error_text(e)), section));
   }
 }
 

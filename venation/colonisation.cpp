@@ -529,6 +529,7 @@ void Colonisation::Impl::step() {
 Colonisation::Colonisation(const Leaf& leaf, const ColonisationParams& params) {
   validate(params);
   validate(leaf);
+  validate(leaf, params);
   impl_ = std::make_unique<Impl>(leaf, params);
 }
 Colonisation::Colonisation(const Domain& domain, const ColonisationParams& params) {

@@ -84,9 +84,6 @@ void validate(const Leaf& leaf) {
   for (std::size_t i = 0; i < leaf.initial_nodes.size(); ++i)
     if (!leaf.initial_nodes[i].allFinite() || !inside(leaf.initial_nodes[i]))
       throw InvalidInput("leaf.initial_nodes[" + std::to_string(i + 1) + "] lies outside the blade outline");
-  if (const auto r = first_repeat(leaf.initial_nodes))
-    throw InvalidInput("leaf.initial_nodes[" + std::to_string(r->second + 1) + "] repeats leaf.initial_nodes[" +
-                       std::to_string(r->first + 1) + "]: seed vein nodes must be distinct points");
   for (std::size_t i = 0; i < leaf.initial_sources.size(); ++i)
     if (!leaf.initial_sources[i].allFinite() || !inside(leaf.initial_sources[i]))
       throw InvalidInput("leaf.initial_sources[" + std::to_string(i + 1) + "] lies outside the blade outline");

@@ -168,7 +168,27 @@ void validate(const Domain& d) {
   PreparedDomain prepared(d);  // validates shape, seeds and sources
 }
 
+void validate(const Leaf& leaf, const ColonisationParams& p) {
+  // closed: seeds on one point never grow apart (a source between them keeps both its nearest, alike), and
+  // the pattern stalls at once; open ones grow from the first and leave the others alone, harmlessly
+  if (p.type != VenationType::closed) return;
+  if (const auto r = first_repeat(leaf.initial_nodes))
+    throw InvalidInput("leaf.initial_nodes[" + std::to_string(r->second + 1) + "] repeats leaf.initial_nodes[" +
+                       std::to_string(r->first + 1) +
+                       "]: the seed vein nodes of a closed pattern must be distinct "
+                       "points");
+}
+
 void validate(const Domain& d, const ColonisationParams& p) {
+  if (d.kind == DomainKind::leaf) {
+    validate(d.leaf, p);
+  } else if (p.type == VenationType::closed) {  // as for a leaf
+    if (const auto r = first_repeat(d.initial_nodes))
+      throw InvalidInput("domain.initial_nodes[" + std::to_string(r->second + 1) + "] " +
+                         point_text(d.initial_nodes[r->second]) + " repeats domain.initial_nodes[" +
+                         std::to_string(r->first + 1) +
+                         "]: the seed vein nodes of a closed pattern must be distinct points");
+  }
   if (!is_3d(d.kind)) return;
   const std::string where = std::string("a ") + kind_name(d.kind) + " domain";
   if (p.growth != GrowthMode::none)
@@ -439,10 +459,6 @@ PreparedDomain::PreparedDomain(const Domain& domain) {
   };
   check(domain.initial_nodes, "initial_nodes");
   check(domain.initial_sources, "initial_sources");
-  if (const auto r = first_repeat(domain.initial_nodes))
-    throw InvalidInput("domain.initial_nodes[" + std::to_string(r->second + 1) + "] " +
-                       point_text(domain.initial_nodes[r->second]) + " repeats domain.initial_nodes[" +
-                       std::to_string(r->first + 1) + "]: seed vein nodes must be distinct points");
 }
 PreparedDomain::~PreparedDomain() = default;
 PreparedDomain::PreparedDomain(PreparedDomain&&) noexcept = default;

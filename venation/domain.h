@@ -71,8 +71,11 @@ void validate(const Domain& domain);
 
 /// Throws core::InvalidInput naming the colonisation parameter when `params` cannot be used with the
 /// domain's kind: a 3-D domain needs growth none, initial_scale 1 and, for closed venation, the exact
-/// neighbourhood.
+/// neighbourhood and distinct seed vein nodes.
 void validate(const Domain& domain, const ColonisationParams& params);
+/// The same for a leaf: a closed pattern's seed vein nodes must be distinct points (seeds on one point never
+/// grow apart; an open pattern grows from the first of them).
+void validate(const Leaf& leaf, const ColonisationParams& params);
 
 /// A 3-D domain prepared for repeated queries: dart throwing, inside tests and closest points (a
 /// bounding-volume hierarchy over the triangles; a uniform xy grid for the inside test of a mesh).

@@ -58,3 +58,22 @@ TEST_CASE("a colonisation value refused when the veins start recalls the knobs t
   CHECK_THAT(r.err, Contains("more than 5 x 10^7") && Contains("this run sets the script's knobs scale=10"));
   CHECK_FALSE(std::filesystem::exists(t.path / "o"));
 }
+
+TEST_CASE("petioles resting on one point of a grown sheet are refused for closed veins, accepted for open",
+          "[cli][colonisation]") {
+  // both petioles stand beyond the disc's edge in one line: the nearest point of the sheet is the same
+  TempDir t("cli-sheet-seeds");
+  const std::string head =
+      "division { trigger = 'none' }\nrun { steps = 5, seed = 1 }\ndisc { radius = 3 }\n"
+      "petiole { at = {0, -5, 0} }\npetiole { at = {0, -5.6, 0} }\nsurface { cells = true }\n"
+      "colonisation { kill_distance = 1, birth_distance = 2, darts = 20000, type = ";
+  const auto closed = t.write("closed.lua", head + "'closed' }\n");
+  auto r = cli({"run", closed.string(), "--out", (t.path / "c").string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("the petioles at {0, -5, 0} and {0, -5.6, 0} rest on the same point of the grown sheet"));
+  const auto open = t.write("open.lua", head + "'open' }\n");
+  r = cli({"run", open.string(), "--out", (t.path / "o").string(), "--quiet"});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  CHECK(std::filesystem::exists(t.path / "o" / "veins.ply"));
+}

@@ -74,8 +74,12 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
   CHECK_THAT(load_error("leaf { seeds = 3, seed_spread = 0 }\ncolonisation {}\n"),
              Contains(":1: leaf: leaf.seed_spread = 0 puts the 3 seeds on one point"));
   CHECK(load("leaf { seeds = 1, seed_spread = 0 }\ncolonisation {}\n").colonisation.has_value());
-  CHECK_THAT(load_error("volume { ball = { radius = 10 }, seeds = {{0, 0, 5}, {0, 0, 5}} }\ncolonisation {}\n"),
-             Contains("volume.seeds[2] (0, 0, 5) repeats volume.seeds[1]"));
+  CHECK_THAT(load_error("volume { ball = { radius = 10 }, seeds = {{0, 0, 5}, {0, 0, 5}} }\n"
+                        "colonisation { type = 'closed' }\n"),
+             Contains(":2: volume.seeds[2] (0, 0, 5) repeats volume.seeds[1]"));
+  // an open pattern grows from the first and leaves the other alone: accepted
+  CHECK(load("volume { ball = { radius = 10 }, seeds = {{0, 0, 5}, {0, 0, 5}} }\ncolonisation {}\n")
+            .colonisation.has_value());
   // settings the run would ignore
   CHECK_THAT(load_error("leaf {}\ncolonisation { type = 'open', neighbourhood = 'urquhart' }\n"),
              Contains(":2: colonisation.neighbourhood"));
@@ -155,8 +159,9 @@ TEST_CASE("volume{} and surface{} give space colonisation a 3-D domain", "[scrip
   CHECK_THAT(cfg.notes[1], Contains("leaf.lobe_depth has no effect with shape = \"ovate\""));
   CHECK_THAT(cfg.notes[2], Contains("leaf.tooth_depth has no effect without teeth"));
   CHECK_FALSE(cfg.resolved["leaf"].contains("lobe_depth"));
-  CHECK(load("leaf { shape = 'palmate', lobes = 3, lobe_depth = 0.5, teeth = 9, tooth_depth = 0.01 }\ncolonisation {}\n")
-            .notes.empty());
+  CHECK(
+      load("leaf { shape = 'palmate', lobes = 3, lobe_depth = 0.5, teeth = 9, tooth_depth = 0.01 }\ncolonisation {}\n")
+          .notes.empty());
   cfg = load("leaf { shape = 'lobed', lobes = 3 }\ncolonisation {}\n", {{"leaf.shape", "cordate"}});
   REQUIRE(cfg.notes.size() == 1);
   CHECK_THAT(cfg.notes[0], Contains("leaf.lobes has no effect with shape = \"cordate\""));

@@ -421,6 +421,9 @@ TEST_CASE("bad 3-D domains and parameters name what is wrong", "[domain]") {
   twice.initial_nodes[3] = Vec3(0, 0, 1e-12);  // near is fine
   REQUIRE_THROWS_WITH(v::Colonisation(twice, ok),
                       Contains("domain.initial_nodes[5]") && Contains("repeats") && Contains("initial_nodes[1]"));
+  v::ColonisationParams open = ok;  // an open pattern grows from the first and leaves the other alone
+  open.type = v::VenationType::open;
+  REQUIRE_NOTHROW(v::Colonisation(twice, open));
   twice.initial_nodes.pop_back();
   REQUIRE_NOTHROW(v::Colonisation(twice, ok));
   v::Domain no_seed = d;
