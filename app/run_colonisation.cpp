@@ -444,7 +444,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         if (segments.empty() && shell.empty() && stopped_before_step && code == ok) {
           err << "cellform: print: skipped: nothing grew before colonisation.max_sources stopped the run (a "
                  "resume with a higher limit prints)\n";
-          printed = {{"error", "nothing to print: stopped at colonisation.max_sources before anything grew"}};
+          printed = {{"skipped", "nothing to print: stopped at colonisation.max_sources before anything grew"}};
         } else if (segments.empty() && shell.empty()) {
           throw NothingToPrint(
               code == interrupted
@@ -536,11 +536,14 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                 : rep.hit_max_nodes ? "stopped at colonisation.max_nodes"
                 : rep.hit_max_sources && rep.sources_wanted > 0
                     ? "stopped at colonisation.max_sources (" + std::to_string(spec.params.max_sources) +
-                          ") before step " + std::to_string(rep.steps + 1) + ", whose darts would make up to " +
-                          std::to_string(rep.sources_wanted) +
-                          " auxin sources wait (each holds about a kilobyte); it was not taken. Raise the limit to "
-                          "take it, or throw fewer darts (colonisation.darts, or a smaller blade) or grow the leaf "
-                          "less"
+                          ") before step " + std::to_string(rep.steps + 1) +
+                          ", whose darts would make more auxin sources than that wait at once; it was not taken. "
+                          "Raise the limit to take it (each waiting source holds about a kilobyte), or throw fewer "
+                          "darts (colonisation.darts" +
+                          (planar                                              ? std::string(", or a smaller blade")
+                           : spec.domain.kind == venation::DomainKind::surface ? std::string(", or a smaller surface")
+                                                                               : std::string(", or a smaller volume")) +
+                          (spec.params.growth != venation::GrowthMode::none ? ") or grow the leaf less" : ")")
                 : rep.hit_max_sources
                     ? "stopped at colonisation.max_sources (" + std::to_string(rep.sources) +
                           " auxin sources wait for veins; the limit keeps a leaf that outgrows its veins from running "

@@ -497,10 +497,14 @@ Surface triangulate(const Cells& cells, bool one_layer) {
       loop_length[x] = 0;
     }
     bool flip = false;
-    // (and a blob whose holes run together a little: its area vector is a small part of its area, not half
-    // as for a hemisphere or all of it as for a disc; an egg crate's, as small, has a much longer outline)
-    const double loop2 = longest_loop * longest_loop;
-    if (loop2 < 3 * area || (loop2 < 6 * area && area_vector.norm() / 2 < 0.25 * area))
+    // Both tests also need the area vector a small part of the area (under a quarter; half for a hemisphere,
+    // all of it for a disc), so that an outline broken into arcs (its sides shared by three triangles, in
+    // two layers) never makes an open sheet enclosing. A blob whose holes run together a little (a loop up
+    // to length^2 < 6 area) counts if it holds a volume, as a ball does (V > 0.04 A^1.5: a ball's is 0.094,
+    // an egg crate's, as small an area vector, about none).
+    const double loop2 = longest_loop * longest_loop, enclosed = std::abs(volume) / 6;
+    const bool small_area_vector = area_vector.norm() / 2 < 0.25 * area;
+    if (small_area_vector && (loop2 < 3 * area || (loop2 < 6 * area && enclosed > 0.04 * std::pow(area, 1.5))))
       flip = volume < 0;
     else
       for (int axis : {2, 1, 0})

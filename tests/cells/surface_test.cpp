@@ -565,6 +565,22 @@ TEST_CASE("a closed sheet faces outward, an open one up", "[surface]") {
     CHECK(up.z() > 0);
     if (amplitude == 6.0) CHECK(up.norm() < 0.25 * total);  // where the area-vector test took it for closed
   }
+  // the same cut along its nodal lines (a flat outline, short for the area), at amplitudes where its area
+  // vector is a small part of its area: it holds no volume, so it faces up too
+  for (const double amplitude : {2.0, 4.0, 8.0}) {
+    INFO("nodal-line crate " << amplitude);
+    Cells crate = cellform::testing::hex_sheet(12, 12);
+    cellform::testing::link_lattice(crate);
+    Vec3 lo = crate.position[0], hi = crate.position[0];
+    for (const Vec3& q : crate.position) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+    for (Vec3& q : crate.position)
+      q.z() = amplitude * std::sin(4 * M_PI * (q.x() - lo.x()) / (hi.x() - lo.x())) *
+              std::sin(4 * M_PI * (q.y() - lo.y()) / (hi.y() - lo.y()));
+    Vec3 up = Vec3::Zero();
+    for (const auto& t : triangulate(crate).triangles)
+      up += (crate.position[t[1]] - crate.position[t[0]]).cross(crate.position[t[2]] - crate.position[t[0]]);
+    CHECK(up.z() > 0);
+  }
   // an open sheet, mirrored so that its lattice order would face down: its normals point up (+z)
   Cells sheet = cellform::testing::hex_sheet(6, 7);
   for (Vec3& q : sheet.position) q.x() = -q.x();
