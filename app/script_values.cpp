@@ -378,6 +378,11 @@ std::string knob_line(lua_State* L, const Impl& I, int index) {
 /// P.name = value for a name params{...} did not declare (a declared one is checked after the step).
 int params_assign_new(lua_State* L) {
   return guarded(L, [L](Impl& I) {
+    if (lua_type(L, 2) == LUA_TSTRING && I.knobs.contains(lua_tostring(L, 2))) {
+      lua_settop(L, 3);  // a declared knob set to nil before: set again (a change is found after the step)
+      lua_rawset(L, 1);
+      return 0;
+    }
     const std::string at = I.where(1);
     const std::string key = lua_type(L, 2) == LUA_TSTRING ? "'" + core::printable(lua_tostring(L, 2)) + "'"
                                                           : std::string("at a ") + luaL_typename(L, 2) + " key";

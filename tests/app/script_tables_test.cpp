@@ -56,8 +56,9 @@ TEST_CASE("params{} knobs are read-only, iterate with pairs, next and rawget, an
   CHECK_THAT(load_error("local P = params { n = 3 }\nrawset(P, 'n', 9)\n"), Contains("knob n from 3 to 9"));
   CHECK_THAT(load_error("local P = params { n = 3 }\nP.n = nil\n"), Contains("knob n from 3 to \"nil\""));
   CHECK_THAT(load_error("local P = params { size = 500 }\nsetmetatable(P, nil)\n"), Contains("protected metatable"));
-  // a value set back is no change (a NaN knob is refused: run.json kept null)
+  // a value set back is no change (a NaN knob is refused: run.json kept null), through nil too
   CHECK_NOTHROW(load("local P = params { n = 3 }\nP.n = 4\nP.n = 3\n"));
+  CHECK_NOTHROW(load("local P = params { n = 3 }\nP.n = nil\nP.n = 3\n"));
   // a new field is refused at once, where it is written (a misspelt assignment passed unseen, and run.json
   // and print(P) did not show it), by rawset too
   CHECK_THAT(load_error("local P = params { vein_spacing = 10 }\n\nP.vein_spacin = 20\n"),
