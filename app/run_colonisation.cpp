@@ -27,58 +27,6 @@ using nlohmann::json;
 
 namespace {
 
-constexpr const char* kNoSheetSeeds =
-    "surface{cells = true} needs seeds = {{x, y, z}, ...} or a petiole{...} cell where the veins start";
-
-/// The petiole cells of a grown sheet, in order: the default seeds of surface{cells = true}.
-std::vector<core::Vec3> sheet_petioles(const cells::Cells& sheet) {
-  std::vector<core::Vec3> out;
-  for (std::size_t i = 0; i < sheet.size(); ++i)
-    if (sheet.type[i] == cells::CellType::petiole) out.push_back(sheet.position[i]);
-  return out;
-}
-
-/// The colonisation of the spec's domain; for surface{cells = true} the sheet of `sheet`, with the seeds
-/// (default: the petiole cells) moved onto it. With `state` (resume), from that Colonisation::save() state.
-venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cells::Cells* sheet,
-                                         const std::string* state = nullptr, const std::string& what = "") {
-  auto make = [&](const auto& domain) {
-    try {
-      return state ? venation::Colonisation::load(domain, spec.params, *state, what)
-                   : venation::Colonisation(domain, spec.params);
-    } catch (const core::InvalidInput& e) {  // in the script's terms
-      throw core::InvalidInput(script_colonisation_message(e.what()));
-    }
-  };
-  if (spec.domain.kind == venation::DomainKind::leaf) return make(spec.leaf);
-  if (!sheet) return make(spec.domain);
-  venation::Domain d = spec.domain;
-  d.mesh.vertices = sheet->position;
-  d.mesh.triangles = cells::triangulate(*sheet, false).triangles;  // as before one-layer files: no gaps
-  if (d.mesh.triangles.empty())
-    throw core::InvalidInput(
-        "surface{cells = true}: the grown cells form no triangles to grow veins on (place a "
-        "sheet such as disc{...} and grow it longer)");
-  std::vector<core::Vec3> seeds = d.initial_nodes.empty() ? sheet_petioles(*sheet) : d.initial_nodes;
-  if (seeds.empty()) throw core::InvalidInput(kNoSheetSeeds);
-  d.initial_nodes = {d.mesh.vertices[d.mesh.triangles[0][0]]};
-  const venation::PreparedDomain sheet_surface(d);
-  const std::vector<core::Vec3> asked = seeds;
-  auto point_text = [](const core::Vec3& q) {
-    return "{" + core::number_text(q.x()) + ", " + core::number_text(q.y()) + ", " + core::number_text(q.z()) + "}";
-  };
-  for (core::Vec3& p : seeds) p = sheet_surface.closest_point(p);
-  if (const auto r = venation::first_repeat(seeds);
-      r && spec.domain.initial_nodes.empty() && spec.params.type == venation::VenationType::closed)
-    throw core::InvalidInput("surface{cells = true}: the petioles at " + point_text(asked[r->first]) + " and " +
-                             point_text(asked[r->second]) + " rest on the same point of the grown sheet, " +
-                             point_text(seeds[r->first]) +
-                             ", where a closed pattern's veins would start twice and never grow apart; place them "
-                             "apart, or give surface.seeds");
-  d.initial_nodes = seeds;
-  return make(d);
-}
-
 /// A colonisation checkpoint: the script, what resume needs to rebuild the same setup (seed, --set
 /// overrides, the step limit, for surface{cells = true} the grown sheet) and the colonisation state.
 std::string colonisation_checkpoint_bytes(const Start& s, std::uint64_t seed, const venation::ColonisationParams& p,

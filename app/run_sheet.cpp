@@ -4,9 +4,11 @@
 
 #include "app/progress.h"
 #include "cells/serialize.h"
+#include "cells/surface.h"
 #include "core/chunk_file.h"
 #include "core/errors.h"
 #include "forms/scene.h"
+#include "venation/domain.h"
 
 namespace cellform::app {
 
@@ -116,6 +118,52 @@ Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHo
   out.step = sim.step_count();
   out.cells = std::move(sim.cells());
   return out;
+}
+
+std::vector<core::Vec3> sheet_petioles(const cells::Cells& sheet) {
+  std::vector<core::Vec3> out;
+  for (std::size_t i = 0; i < sheet.size(); ++i)
+    if (sheet.type[i] == cells::CellType::petiole) out.push_back(sheet.position[i]);
+  return out;
+}
+
+venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cells::Cells* sheet,
+                                         const std::string* state, const std::string& what) {
+  auto make = [&](const auto& domain) {
+    try {
+      return state ? venation::Colonisation::load(domain, spec.params, *state, what)
+                   : venation::Colonisation(domain, spec.params);
+    } catch (const core::InvalidInput& e) {  // in the script's terms
+      throw core::InvalidInput(script_colonisation_message(e.what()));
+    }
+  };
+  if (spec.domain.kind == venation::DomainKind::leaf) return make(spec.leaf);
+  if (!sheet) return make(spec.domain);
+  venation::Domain d = spec.domain;
+  d.mesh.vertices = sheet->position;
+  d.mesh.triangles = cells::triangulate(*sheet, false).triangles;  // as before one-layer files: no gaps
+  if (d.mesh.triangles.empty())
+    throw core::InvalidInput(
+        "surface{cells = true}: the grown cells form no triangles to grow veins on (place a "
+        "sheet such as disc{...} and grow it longer)");
+  std::vector<core::Vec3> seeds = d.initial_nodes.empty() ? sheet_petioles(*sheet) : d.initial_nodes;
+  if (seeds.empty()) throw core::InvalidInput(kNoSheetSeeds);
+  d.initial_nodes = {d.mesh.vertices[d.mesh.triangles[0][0]]};
+  const venation::PreparedDomain sheet_surface(d);
+  const std::vector<core::Vec3> asked = seeds;
+  auto point_text = [](const core::Vec3& q) {
+    return "{" + core::number_text(q.x()) + ", " + core::number_text(q.y()) + ", " + core::number_text(q.z()) + "}";
+  };
+  for (core::Vec3& p : seeds) p = sheet_surface.closest_point(p);
+  if (const auto r = venation::first_repeat(seeds);
+      r && spec.domain.initial_nodes.empty() && spec.params.type == venation::VenationType::closed)
+    throw core::InvalidInput("surface{cells = true}: the petioles at " + point_text(asked[r->first]) + " and " +
+                             point_text(asked[r->second]) + " rest on the same point of the grown sheet, " +
+                             point_text(seeds[r->first]) +
+                             ", where a closed pattern's veins would start twice and never grow apart; place them "
+                             "apart, or give surface.seeds");
+  d.initial_nodes = seeds;
+  return make(d);
 }
 
 }  // namespace cellform::app

@@ -1,16 +1,19 @@
 // Internal to app/: the cell sheet that surface{cells = true} grows before space colonisation puts veins on
-// it (run_sheet.cpp), and what a colonisation run that failed has left (run_colonisation.cpp).
+// it (run_sheet.cpp), the colonisation made on it or in any domain, and what a colonisation run that failed has
+// left (run_colonisation.cpp).
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "app/run_internal.h"
 #include "cells/cells.h"
+#include "venation/colonisation.h"
 
 namespace cellform::app {
 
@@ -49,5 +52,17 @@ struct FailedRun {
 /// `checkpoint` as output.checkpoint_every asks and when a Ctrl-C ends the growth early.
 Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
                  const std::filesystem::path& checkpoint, std::ostream& err, FailedRun& failed);
+
+/// Said when surface{cells = true} has no seed: none given and no petiole cell in the grown sheet.
+inline constexpr const char* kNoSheetSeeds =
+    "surface{cells = true} needs seeds = {{x, y, z}, ...} or a petiole{...} cell where the veins start";
+
+/// The petiole cells of a grown sheet, in order: the default seeds of surface{cells = true}.
+std::vector<core::Vec3> sheet_petioles(const cells::Cells& sheet);
+
+/// The colonisation of the spec's domain; for surface{cells = true} the sheet of `sheet`, with the seeds
+/// (default: the petiole cells) moved onto it. With `state` (resume), from that Colonisation::save() state.
+venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cells::Cells* sheet,
+                                         const std::string* state = nullptr, const std::string& what = "");
 
 }  // namespace cellform::app
