@@ -25,7 +25,8 @@ TEST_CASE("one stop sent twice at once by one process (GNU timeout: to the proce
   const auto script = t.write("long.lua", kLong);
   for (const int sig : {SIGINT, SIGTERM}) {
     INFO(strsignal(sig));
-    const fs::path out = t.path / ("o" + std::to_string(sig)), log = t.path / ("err" + std::to_string(sig));
+    const std::string n = std::to_string(sig);  // (not "o" + std::to_string(sig): a false GCC 12 warning)
+    const fs::path out = t.path / ("o" + n), log = t.path / ("err" + n);
     const pid_t pid = spawn_cellform_logged({"run", script.string(), "--out", out.string(), "--quiet"}, log);
     REQUIRE(pid > 0);
     std::this_thread::sleep_for(std::chrono::milliseconds(1000));
