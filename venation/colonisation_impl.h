@@ -344,6 +344,9 @@ struct Colonisation::Impl {
   void reveal_sources(double bs2, double bv2);
 
   void add_source(const Vec3& q);
+  /// Undoes add_source() for the sources from index `first` on (the last ones added, still alive): their
+  /// state, grid entries and count born; `active` goes back to its first `active_before` entries.
+  void drop_sources_from(std::size_t first, std::size_t active_before);
 
   bool urquhart() const { return p.type == VenationType::closed && p.neighbourhood == Neighbourhood::urquhart; }
 

@@ -47,21 +47,7 @@ bool Colonisation::Impl::throw_darts(double bs2, double bv2) {
     if (!dart_ok[d] || (src.size() > sources_before && grid.any_within(darts[d], bs2, src))) continue;
     if (active.size() >= p.max_sources) {  // one more would pass the limit: the step is not taken
       rep.sources_wanted = active_before + static_cast<std::size_t>(std::count(dart_ok.begin(), dart_ok.end(), 1));
-      for (std::size_t s = sources_before; s < src.size(); ++s) grid.erase(static_cast<Index>(s), src[s]);
-      rep.sources_born -= src.size() - sources_before;
-      src.resize(sources_before);
-      if (nonuniform) src_mat.resize(sources_before);
-      alive.resize(sources_before);
-      tagged.resize(sources_before);
-      near.resize(sources_before);
-      near_d2.resize(sources_before);
-      sectors.resize(sources_before);
-      if (urquhart()) urq.resize(sources_before);
-      if (p.type == VenationType::closed) {
-        tags.resize(sources_before);
-        reached.resize(sources_before);
-      }
-      active.resize(active_before);
+      drop_sources_from(sources_before, active_before);
       rng = rng_before;
       rep.darts = darts_before;
       return false;
@@ -149,6 +135,24 @@ void Colonisation::Impl::reveal_sources(double bs2, double bv2) {
     ++rep.darts;
     if (dart_ok[d]) add_source(darts[d]);
   }
+}
+
+void Colonisation::Impl::drop_sources_from(std::size_t first, std::size_t active_before) {
+  for (std::size_t s = first; s < src.size(); ++s) grid.erase(static_cast<Index>(s), src[s]);
+  rep.sources_born -= src.size() - first;
+  src.resize(first);
+  if (nonuniform) src_mat.resize(first);
+  alive.resize(first);
+  tagged.resize(first);
+  near.resize(first);
+  near_d2.resize(first);
+  sectors.resize(first);
+  if (urquhart()) urq.resize(first);
+  if (p.type == VenationType::closed) {
+    tags.resize(first);
+    reached.resize(first);
+  }
+  active.resize(active_before);
 }
 
 void Colonisation::Impl::add_source(const Vec3& q) {

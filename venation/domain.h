@@ -120,9 +120,9 @@ class PreparedDomain {
 /// The point of triangle (a, b, c) closest to p (Ericson, Real-Time Collision Detection, 5.1.5).
 Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
-/// The first point of `points` (in order) equal to an earlier one, bit for bit in every coordinate, as the
-/// 0-based indices (earlier, later); none if all differ. Seed vein nodes on one point cannot grow apart:
-/// every source pulls them alike. O(n log n).
+/// The first point of `points` (in order) equal to an earlier one (== in every coordinate), as the 0-based
+/// indices (earlier, later); none if all differ. Seed vein nodes on one point cannot grow apart: every
+/// source pulls them alike. O(n log n).
 template <class Point>
 std::optional<std::pair<std::size_t, std::size_t>> first_repeat(const std::vector<Point>& points) {
   std::vector<std::size_t> order(points.size());
@@ -133,14 +133,12 @@ std::optional<std::pair<std::size_t, std::size_t>> first_repeat(const std::vecto
     return a < b;
   };
   std::sort(order.begin(), order.end(), less);
+  // equal points are together, in index order: each group's first two are its earliest repeat
   std::optional<std::pair<std::size_t, std::size_t>> best;
-  for (std::size_t k = 1; k < order.size(); ++k) {
-    const std::size_t a = order[k - 1], b = order[k];
-    if (points[a] != points[b]) continue;
-    std::size_t first = a;  // the group's earliest point: walk back over equal ones
-    for (std::size_t j = k - 1; j > 0 && points[order[j - 1]] == points[b]; --j) first = order[j - 1];
-    if (!best || b < best->second) best = std::pair{first, b};
-  }
+  for (std::size_t k = 1; k < order.size(); ++k)
+    if (points[order[k - 1]] == points[order[k]] && (k < 2 || points[order[k - 2]] != points[order[k]]) &&
+        (!best || order[k] < best->second))
+      best = std::pair{order[k - 1], order[k]};
   return best;
 }
 

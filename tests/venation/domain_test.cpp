@@ -426,6 +426,12 @@ TEST_CASE("bad 3-D domains and parameters name what is wrong", "[domain]") {
   REQUIRE_NOTHROW(v::Colonisation(twice, open));
   twice.initial_nodes.pop_back();
   REQUIRE_NOTHROW(v::Colonisation(twice, ok));
+  // the earliest repeat of any group, with a group of three: (1, 2), not (0, 3) or (2, 4)
+  const std::vector<Vec3> three = {Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(2, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)};
+  const auto r = v::first_repeat(three);
+  REQUIRE(r.has_value());
+  CHECK(*r == std::pair<std::size_t, std::size_t>{1, 2});
+  CHECK_FALSE(v::first_repeat(std::vector<Vec3>{Vec3(0, 0, 0), Vec3(0, 0, 1e-300)}).has_value());
   v::Domain no_seed = d;
   no_seed.initial_nodes.clear();
   REQUIRE_THROWS_WITH(v::Colonisation(no_seed, ok), Contains("domain.initial_nodes"));
