@@ -306,10 +306,10 @@ std::vector<Field> build() {
   f.push_back(boolean("output", "png", "false",
                       "space colonisation: also write veins.png, a raster preview of veins and outline"));
   f.push_back(integer("output", "png_size", "1024", 16, 20000, "pixels", "longer side of veins.png"));
-  f.push_back(num(
-      "output", "svg_size", "0", 0, 1e5, false, "mm",
-      "longer side of the leaf (outline and veins) in veins.svg, at least 1, drawn in mm with a 5 mm margin; 0 = at "
-      "the print's scale with print{...} (the outline fits the printed veins), else 200"));
+  f.push_back(num("output", "svg_size", "0", 0, 1e5, false, "mm",
+                  "longer side of the leaf (outline and veins) in veins.svg, drawn in mm with a 5 mm margin; 0 = at "
+                  "the print's scale with print{...} (the outline fits the printed veins), else 200"));
+  f.back().nonzero_min = 1;  // strokes are at least 0.1 mm: a smaller drawing is a blot
   f.push_back(choice("output", "svg_paths", Kind::choice, "widths", "widths|veins",
                      "veins.svg: widths = a path runs between branch points and width changes, each at its width; "
                      "veins = a path per vein, from its parent vein to its tip at its mean width (about half the "
@@ -355,8 +355,10 @@ std::string allowed_text(const Field& f) {
       const std::string what = f.kind == Kind::integer ? "a whole number"
                                : f.kind == Kind::vec3  ? "{x, y, z} with each"
                                                        : "a number";
-      s << what;
-      if (lo && hi)
+      s << (f.nonzero_min > 0 ? "0, or " : "") << what;
+      if (f.nonzero_min > 0)
+        s << " from " << number(f.nonzero_min) << " to " << number(f.max);
+      else if (lo && hi)
         s << " from " << number(f.min) << (f.min_exclusive ? " (exclusive)" : "") << " to " << number(f.max);
       else if (lo)
         s << (f.min_exclusive ? " > " : " >= ") << number(f.min);

@@ -33,6 +33,7 @@ struct Field {
   std::string choices;         ///< allowed names for choice kinds, separated by '|'
   std::string unit;            ///< unit or role, e.g. "model units"
   std::string doc;             ///< one line
+  double nonzero_min = 0;      ///< > 0: besides 0 (an automatic value), nothing below this is allowed
   /// A function or table: leaving it out is no error, whatever default_text says.
   bool structured() const { return kind == Kind::function || kind == Kind::table || kind == Kind::table_or_function; }
 };

@@ -273,10 +273,9 @@ void section_output(Impl& I, const std::string& at) {
   I.cfg->output.png_size = static_cast<int>(v["png_size"].num);
   I.cfg->output.svg_size = v["svg_size"].num;
   if (v["svg_size"].present) I.cfg->output.svg_size_at = I.value_at("output.svg_size", at);
-  if (I.cfg->output.svg_size > 0 && I.cfg->output.svg_size < 1)  // strokes are at least 0.1 mm: a blot
-    throw InvalidInput(I.value_at("output.svg_size", at) +
-                       "output.svg_size must be 0 (the print's scale, or 200 mm) "
-                       "or from 1 to 100000 (mm), got " +
+  if (I.cfg->output.svg_size > 0 && I.cfg->output.svg_size < 1)
+    throw InvalidInput(I.value_at("output.svg_size", at) + "output.svg_size must be " +
+                       allowed_text(*find_field("output", "svg_size")) + " (0: the print's scale, or 200 mm), got " +
                        core::number_text(I.cfg->output.svg_size));
   I.cfg->output.svg_join_veins = v["svg_paths"].str == "veins";
   if (v["svg_paths"].present) I.cfg->output.svg_paths_at = I.value_at("output.svg_paths", at);
