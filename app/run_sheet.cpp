@@ -10,6 +10,8 @@
 #include "forms/scene.h"
 #include "venation/domain.h"
 
+#include <functional>
+
 namespace cellform::app {
 
 namespace fs = std::filesystem;
@@ -69,6 +71,17 @@ Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHo
   bool warned = false;
   const std::uint64_t first = sim.step_count();
   Progress progress(err, ::isatty(2) != 0, o.quiet, sim.step_count(), out.target);
+  // a script's print() while the bar is drawn goes on a line of its own (as in cell runs)
+  const std::function<void(const std::string&)> outer_print = host.print_function();
+  host.set_print([&progress, &outer_print](const std::string& line) {
+    progress.break_line();
+    if (outer_print) outer_print(line);
+  });
+  struct RestorePrint {
+    ScriptHost& host;
+    const std::function<void(const std::string&)>& print;
+    ~RestorePrint() { host.set_print(print); }
+  } restore_print{host, outer_print};
   failed.sheet_first = first;
   failed.sheet_growing = true;
   try {

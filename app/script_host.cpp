@@ -263,6 +263,7 @@ void ScriptHost::set_step(std::uint64_t step) {
 void ScriptHost::check_knobs(std::uint64_t step) { check_knobs_unchanged(*impl_, step); }
 
 void ScriptHost::set_print(std::function<void(const std::string&)> print) { impl_->print = std::move(print); }
+const std::function<void(const std::string&)>& ScriptHost::print_function() const { return impl_->print; }
 
 void ScriptHost::set_on_stuck(std::function<void(const std::string&)> handler) {
   watchdog_->set_on_stuck(std::move(handler));

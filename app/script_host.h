@@ -152,6 +152,8 @@ class ScriptHost {
 
   /// Where print() in a script goes (default: nowhere).
   void set_print(std::function<void(const std::string&)> print);
+  /// The function set_print gave (empty before it).
+  const std::function<void(const std::string&)>& print_function() const;
 
   /// What to do when the script is stuck in one call of a library function (ScriptLimits::library_seconds)
   /// and the process must end: called on the watchdog's thread with the message (no "cellform: " in
