@@ -72,7 +72,8 @@ class ScriptHost::Watchdog {
         die(interrupted ? 130 : 2,
             script_ +
                 ": the script did not stop when it was stopped (an xpcall message handler or a __close handler "
-                "that loops runs beyond Lua's hook); stopped",
+                "that loops runs beyond Lua's hook)" +
+                rule_in_progress() + "; stopped",
             "");
       const std::uint64_t beats = i_.beats.load(std::memory_order_relaxed);
       if (!i_.in_script.load(std::memory_order_acquire) || beats != last) {
@@ -88,8 +89,10 @@ class ScriptHost::Watchdog {
           interrupted ? std::chrono::duration<double>(clock::now() - *interrupted).count() : 0.0;
       if (interrupted && std::min(stuck, since_interrupt) >= 2)
         die(130,
-            "interrupted, but the script is inside one call of a Lua library function (a string pattern that "
-            "backtracks?) that cannot stop cleanly: stopped",
+            "interrupted, but " + script_ +
+                " is inside one call of a Lua library function (a string pattern that backtracks?) that cannot stop "
+                "cleanly" +
+                rule_in_progress() + ": stopped",
             "");
       if (stuck >= i_.limits.library_seconds)
         die(2,

@@ -125,6 +125,14 @@ TEST_CASE("a script stuck inside one library call is stopped by its time limit, 
   CHECK(exit_within(pid, 20) == 2);
   CHECK_THAT(slurp(log), Contains("rule.lua") && Contains("--lua-seconds"));
   CHECK_FALSE(fs::exists(out / "cells.ply"));
+  // and stopped by a Ctrl-C: the message names the rule too
+  pid = spawn_cellform_logged({"run", rule.string(), "--out", out.string()}, log);
+  REQUIRE(pid > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  kill(pid, SIGINT);
+  CHECK(exit_within(pid, 20) == 130);
+  CHECK_THAT(slurp(log), Contains("cannot stop cleanly (in division.rule at step 5 for cell ") &&
+                             Contains("rule.lua is inside one call"));
   // one call that calls back (gsub's replacement) is one call: its callbacks do not restart the clock, and a
   // Ctrl-C acts at them
   const auto callback = t.write("callback.lua",
