@@ -164,9 +164,7 @@ venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cel
   d.initial_nodes = {d.mesh.vertices[d.mesh.triangles[0][0]]};
   const venation::PreparedDomain sheet_surface(d);
   const std::vector<core::Vec3> asked = seeds;
-  auto point_text = [](const core::Vec3& q) {
-    return "{" + core::number_text(q.x()) + ", " + core::number_text(q.y()) + ", " + core::number_text(q.z()) + "}";
-  };
+  auto point_text = [](const core::Vec3& q) { return core::point_text(q.x(), q.y(), q.z()); };
   for (core::Vec3& p : seeds) p = sheet_surface.closest_point(p);
   if (const auto r = venation::first_repeat(seeds);
       r && spec.domain.initial_nodes.empty() && spec.params.type == venation::VenationType::closed)

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <utility>
 
@@ -14,19 +13,9 @@ namespace cellform::cells {
 
 namespace {
 
-std::string str(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
+std::string str(double v) { return core::number_text(v); }
 
-std::string str(const Vec3& v) {
-  std::ostringstream s;  // not "(" + ...: GCC 12 warns falsely (-Wrestrict) on that concatenation
-  s.precision(6);
-  s << '(' << v.x() << ", " << v.y() << ", " << v.z() << ')';
-  return s.str();
-}
+std::string str(const Vec3& v) { return core::point_text(v.x(), v.y(), v.z()); }
 
 [[noreturn]] void fail(const std::string& name, const std::string& allowed, const std::string& got) {
   throw core::InvalidInput(name + " must be " + allowed + ", got " + got);

@@ -24,6 +24,12 @@ std::string number_text(double x) {
   return o.str();
 }
 
+std::string point_text(double x, double y, double z) {
+  std::string s = "{";  // (appended: GCC 12 warns falsely of an overlapping copy in "{" + std::string)
+  s += number_text(x) + ", " + number_text(y) + ", " + number_text(z) + "}";
+  return s;
+}
+
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   // optimal string alignment: insertions, deletions, substitutions and swaps of neighbours cost 1 each
   const std::size_t m = b.size();

@@ -36,6 +36,9 @@ class Cancelled : public std::runtime_error {
 /// print 300 digits, or 0.000000).
 std::string number_text(double x);
 
+/// A point for a message, as a script writes it: "{x, y, z}" with number_text's numbers.
+std::string point_text(double x, double y, double z);
+
 /// What went wrong, for a message: e.what(), but an allocation that failed (std::bad_alloc, whose what()
 /// says only "std::bad_alloc") is said in words.
 std::string error_text(const std::exception& e);

@@ -415,8 +415,7 @@ void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& position
     if (count == 0) return;
     const std::string name = index < given.size() ? given[index] : std::string(kind) + " " + std::to_string(index);
     const Vec3& p = positions[first];
-    std::string at = "{";  // (appended, not "{" + ...: GCC 12 warns falsely of an overlapping copy)
-    at += core::number_text(p.x()) + ", " + core::number_text(p.y()) + ", " + core::number_text(p.z()) + "}";
+    const std::string at = core::point_text(p.x(), p.y(), p.z());
     throw InvalidInput(name + ": " +
                        (positions.size() == 1 ? "the cell at " + at + " lies " + where
                                               : std::to_string(count) + " of the " + std::to_string(positions.size()) +

@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include "core/errors.h"
 #include "core/random.h"
@@ -33,12 +32,11 @@ core::Index make_petiole(cells::Cells& cells, const Vec3& at, bool fixed, double
     }
   }
   if (best != core::kNoIndex && best_d2 > 9 * rest_length * rest_length) {
-    std::ostringstream s;
     const Vec3& near = cells.position[best];
-    s << "petiole at {" << at.x() << ", " << at.y() << ", " << at.z() << "} is " << std::sqrt(best_d2)
-      << " model units from the nearest cell, at {" << near.x() << ", " << near.y() << ", " << near.z()
-      << "}; a petiole must be a cell of the form (within 3 rest lengths of one)";
-    throw core::InvalidInput(s.str());
+    throw core::InvalidInput("petiole at " + core::point_text(at.x(), at.y(), at.z()) + " is " +
+                             core::number_text(std::sqrt(best_d2)) + " model units from the nearest cell, at " +
+                             core::point_text(near.x(), near.y(), near.z()) +
+                             "; a petiole must be a cell of the form (within 3 rest lengths of one)");
   }
   if (best == core::kNoIndex || best_d2 > 0.25 * rest_length * rest_length)
     return cells::add_cell(cells, at, cells::CellType::petiole, fixed);

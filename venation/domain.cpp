@@ -17,9 +17,7 @@ namespace {
 
 using core::number_text;
 
-std::string point_text(const Vec3& p) {
-  return "(" + number_text(p.x()) + ", " + number_text(p.y()) + ", " + number_text(p.z()) + ")";
-}
+std::string point_text(const Vec3& p) { return core::point_text(p.x(), p.y(), p.z()); }
 
 bool is_3d(DomainKind k) { return k != DomainKind::leaf; }
 

@@ -76,7 +76,7 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
   CHECK(load("leaf { seeds = 1, seed_spread = 0 }\ncolonisation {}\n").colonisation.has_value());
   CHECK_THAT(load_error("volume { ball = { radius = 10 }, seeds = {{0, 0, 5}, {0, 0, 5}} }\n"
                         "colonisation { type = 'closed' }\n"),
-             Contains(":2: volume.seeds[2] (0, 0, 5) repeats volume.seeds[1]"));
+             Contains(":2: volume.seeds[2] {0, 0, 5} repeats volume.seeds[1]"));
   // an open pattern grows from the first and leaves the other alone: accepted
   CHECK(load("volume { ball = { radius = 10 }, seeds = {{0, 0, 5}, {0, 0, 5}} }\ncolonisation {}\n")
             .colonisation.has_value());

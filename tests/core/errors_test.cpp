@@ -17,6 +17,7 @@ TEST_CASE("error_text says a failed allocation in words, and other errors as the
 TEST_CASE("number_text keeps messages short", "[core]") {
   CHECK(cellform::core::number_text(1e300) == "1e+300");
   CHECK(cellform::core::number_text(0.5) == "0.5");
+  CHECK(cellform::core::point_text(0.5, -2, 1e300) == "{0.5, -2, 1e+300}");
 }
 
 TEST_CASE("is_utf8 accepts well-formed UTF-8 (as JSON does) and nothing else", "[core]") {

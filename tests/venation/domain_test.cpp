@@ -417,7 +417,7 @@ TEST_CASE("bad 3-D domains and parameters name what is wrong", "[domain]") {
   v::Domain twice = d;  // seeds on one point cannot grow apart: refused, naming the later one
   twice.initial_nodes = {Vec3(0.5, 0, 0), Vec3::Zero(), Vec3(0, 0.5, 0), Vec3::Zero(), Vec3(0.5, 0, 0)};
   REQUIRE_THROWS_WITH(v::Colonisation(twice, ok),
-                      Contains("domain.initial_nodes[4] (0, 0, 0) repeats domain.initial_nodes[2]"));
+                      Contains("domain.initial_nodes[4] {0, 0, 0} repeats domain.initial_nodes[2]"));
   twice.initial_nodes[3] = Vec3(0, 0, 1e-12);  // near is fine
   REQUIRE_THROWS_WITH(v::Colonisation(twice, ok),
                       Contains("domain.initial_nodes[5]") && Contains("repeats") && Contains("initial_nodes[1]"));
