@@ -253,7 +253,7 @@ Start start_from(const RunOptions& o) {
         throw InputError("--seed " + std::to_string(*o.seed) + ": a resumed run keeps the seed of " + what + " (" +
                          std::to_string(*s.seed) + "); start a new run to use another seed");
       // a cell run resumed with --script: the edited script's run.steps if it changed it (see run_command)
-      if (o.replace_script && s.colonisation_bytes.empty() && !s.sheet_partial) s.has_target = false;
+      if (s.script_replaced && s.colonisation_bytes.empty() && !s.sheet_partial) s.has_target = false;
       s.checkpoint_target = s.target_steps;  // the run's own, before this resume's --steps
       if (o.steps) {
         s.target_steps = *o.steps;

@@ -120,7 +120,12 @@ TEST_CASE("a run stopped by a script error goes on from its checkpoint with the 
   r = cli({"resume", checkpoint.string(), "--steps", "45", "--quiet"});
   CHECK(r.code == 0);
   CHECK(nlohmann::json::parse(slurp(out / "run.json"))["script"]["replaces"] == run["script"]["replaces"]);
-  // the same script again is a plain resume: no copy, and nothing more in replaces
+  // the same script again is a plain resume: it keeps the step count the run was going to (45, its --steps;
+  // it went on to the script's run.steps), makes no copy and adds nothing to replaces
+  r = cli({"resume", checkpoint.string(), "--script", fixed.string()});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("at its run's last step (45): no step runs"));
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["steps"]["completed"] == 45);
   r = cli({"resume", checkpoint.string(), "--steps", "46", "--script", fixed.string(), "--quiet"});
   CHECK(r.code == 0);
   CHECK_THAT(r.err, Contains("is the script the checkpoint keeps, unchanged: this is a plain resume"));
