@@ -585,8 +585,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     err << "cellform: " << core::error_text(e) << "\n";
     // the outputs failed (a full disk): what is left to continue from
     if (!checkpoint_error.empty()) err << "cellform: the final checkpoint failed too: " << checkpoint_error << "\n";
-    if (saved && fs::exists(checkpoint))
+    if (saved && fs::exists(checkpoint)) {
       err << "  (the last checkpoint written is " << checkpoint.string() << "; cellform resume continues from it)\n";
+      keep_failed_run(core::error_text(e));  // its frames stay, as after a script error: a resume cannot remake them
+    }
     code = failure;
   }
   std::error_code ec;

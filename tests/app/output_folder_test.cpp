@@ -2,6 +2,7 @@
 // outputs, what a killed or failed run leaves in its folder.
 
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <catch2/catch.hpp>
@@ -9,6 +10,7 @@
 
 #include <chrono>
 #include <climits>
+#include <csignal>
 #include <set>
 #include <thread>
 
@@ -431,4 +433,46 @@ TEST_CASE("a checkpoint that cannot be written leaves the earlier run's run.json
   fs::remove_all(out / "checkpoint.cfck");  // written: the earlier run is superseded
   cellform::app::write_checkpoint(out / "checkpoint.cfck", "bytes");
   CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "superseded");
+}
+
+TEST_CASE("a full disk keeps the frames up to the last checkpoint, as a script error does", "[cli][files]") {
+  TempDir t("full-disk-frames");
+  const auto script = t.write("small.lua", kSmall);
+  const fs::path out = t.path / "o";
+  // RLIMIT_FSIZE fails writes past 12,000 bytes as a full disk would (EFBIG; SIGXFSZ ignored): the checkpoints
+  // of steps 5 and 10 fit and the one of step 15 does not (a warning, the run goes on); frame 15 fits, frame 20
+  // does not, and stops the run
+  rlimit old{};
+  getrlimit(RLIMIT_FSIZE, &old);
+  auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit small = old;
+  small.rlim_cur = 12000;
+  setrlimit(RLIMIT_FSIZE, &small);
+  const auto r = cli(
+      {"run", script.string(), "--out", out.string(), "--set", "output.every=5", "--checkpoint-every", "5", "--quiet"});
+  setrlimit(RLIMIT_FSIZE, &old);
+  std::signal(SIGXFSZ, old_handler);
+  INFO(r.err);
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("cells_000020.ply") && Contains("cellform resume continues from it"));
+  // the frames the checkpoint of step 10 needs stay, with a run.json that says so (they were deleted)
+  for (const char* f : {"frames/cells_000000.ply", "frames/cells_000005.ply", "frames/cells_000010.ply"})
+    CHECK(fs::exists(out / f));
+  CHECK_FALSE(fs::exists(out / "frames/cells_000015.ply"));  // after the checkpoint: a resume writes it again
+  const auto run = nlohmann::json::parse(slurp(out / "run.json"));
+  CHECK(run["status"] == "failed");
+  CHECK(run["steps"]["completed"] == 10);
+  // and the resume with room again writes the frames from there on, as an unbroken run does
+  const auto resumed = cli({"resume", (out / "checkpoint.cfck").string(), "--quiet"});
+  INFO(resumed.err);
+  REQUIRE(resumed.code == 0);
+  const fs::path fresh = t.path / "fresh";
+  REQUIRE(cli({"run", script.string(), "--out", fresh.string(), "--set", "output.every=5", "--checkpoint-every", "5",
+               "--quiet"})
+              .code == 0);
+  for (const char* f : {"frames/cells_000000.ply", "frames/cells_000010.ply", "frames/cells_000015.ply",
+                        "frames/cells_000030.ply", "cells.ply"}) {
+    INFO(f);
+    CHECK(slurp(out / f) == slurp(fresh / f));
+  }
 }
