@@ -49,12 +49,16 @@ int main(int argc, char** argv) {
   using namespace cellform::bench;
   std::vector<std::string> names;
   std::string json_path;
-  bool json_given = false;
+  bool json_given = false, list = false;
   int reps_override = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if ((a == "--json" || a == "--repetitions") && i + 1 >= argc) {
       std::cerr << "cellform-bench: " << a << " needs a value\n";
+      return 2;
+    }
+    if ((a == "--json" && json_given) || (a == "--repetitions" && reps_override > 0)) {
+      std::cerr << "cellform-bench: " << a << " is given twice; give it once\n";
       return 2;
     }
     if (a == "--json") {
@@ -70,16 +74,21 @@ int main(int argc, char** argv) {
       }
       reps_override = static_cast<int>(n);
     } else if (a == "--list") {
-      for (const Benchmark& b : registry()) std::cout << b.name << "\t" << b.unit << "\t" << b.doc << "\n";
-      return 0;
+      list = true;
     } else if (a == "-h" || a == "--help") {
       std::cout << "usage: cellform-bench [NAME-PREFIX...] [--json FILE] [--repetitions N] [--list]\n"
                    "Runs the benchmarks whose names start with a given prefix (all if none), prints the\n"
-                   "median, min and max of several repetitions, and writes them as JSON. A name ending in\n"
-                   "'$' must match whole (venation.colonisation.poplar.0.7$ runs that one alone).\n";
+                   "median, min and max of several repetitions, and writes them as JSON (after each\n"
+                   "benchmark, so that an interrupted or failed sweep keeps those that finished). A name\n"
+                   "ending in '$' must match whole (venation.colonisation.poplar.0.7$ runs that one alone).\n"
+                   "--list lists the benchmarks the prefixes choose, without running them.\n";
       return 0;
     } else if (!a.empty() && a[0] == '-') {
       std::cerr << "cellform-bench: unknown option '" << a << "'\n";
+      return 2;
+    } else if (a.empty() || a == "$") {  // "$NAME" with NAME unset would run every benchmark, for hours
+      std::cerr << "cellform-bench: an empty NAME-PREFIX ('" << a
+                << "') matches every benchmark; give none to run them all\n";
       return 2;
     } else
       names.push_back(a);
@@ -94,6 +103,10 @@ int main(int argc, char** argv) {
   if (chosen.empty()) {
     std::cerr << "cellform-bench: no benchmark matches; see cellform-bench --list\n";
     return 2;
+  }
+  if (list) {
+    for (const Benchmark* b : chosen) std::cout << b->name << "\t" << b->unit << "\t" << b->doc << "\n";
+    return 0;
   }
   if (json_given) {  // before the benchmarks, which may take many minutes: a file can be made there
     namespace fs = std::filesystem;
@@ -121,6 +134,18 @@ int main(int argc, char** argv) {
     }
   }
   nlohmann::json results = nlohmann::json::array();
+  auto write_json = [&] {  // the results so far, replacing the file whole
+    if (!json_given) return true;
+    try {
+      cellform::core::write_file_atomically(json_path, [&](std::ostream& os) {
+        os << nlohmann::json{{"results", results}}.dump(2) << "\n";
+      });
+      return true;
+    } catch (const std::exception& e) {
+      std::cerr << "cellform-bench: " << e.what() << "\n";
+      return false;
+    }
+  };
   std::printf("%-34s %14s %14s %14s  %s\n", "benchmark", "median", "min", "max", "unit");
   for (const Benchmark* b : chosen) {
     const int reps = reps_override > 0 ? reps_override : b->repetitions;
@@ -141,16 +166,7 @@ int main(int argc, char** argv) {
                        {"min", v.front()},
                        {"max", v.back()},
                        {"repetitions", reps}});
-  }
-  if (json_given) {
-    try {
-      cellform::core::write_file_atomically(json_path, [&](std::ostream& os) {
-        os << nlohmann::json{{"results", results}}.dump(2) << "\n";
-      });
-    } catch (const std::exception& e) {
-      std::cerr << "cellform-bench: " << e.what() << "\n";
-      return 1;
-    }
+    if (!write_json()) return 1;
   }
   return 0;
 }

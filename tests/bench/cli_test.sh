@@ -29,5 +29,16 @@ expect 2 "--json '' is empty" "$one" --json ''
 expect 2 "--json '/proc/x.json' is in a folder where no file can be made" "$one" --json /proc/x.json
 expect 2 "unknown option '--fast'" "$one" --fast
 expect 2 "no benchmark matches" no.such.benchmark
+expect 2 "--json is given twice" "$one" --json a.json --json b.json
+expect 2 "--repetitions is given twice" "$one" --repetitions 1 --repetitions 2
+expect 2 "an empty NAME-PREFIX ('') matches every benchmark" ''
+expect 2 "an empty NAME-PREFIX ('\$') matches every benchmark" '$'
 expect 0 "cells.step.1m.t1" --list
+# --list lists what the prefixes choose
+listed=$("$bench" --list cells.step.1m)
+if ! printf '%s\n' "$listed" | grep -q "^cells.step.1m.t1" || printf '%s\n' "$listed" | grep -qv "^cells.step.1m"; then
+  echo "FAIL: cellform-bench --list cells.step.1m listed: $listed"
+  fail=1
+fi
+expect 2 "no benchmark matches" --list no.such.benchmark
 exit $fail
