@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -33,6 +34,34 @@ double shell_closing(const cells::Cells& c, double close_holes) {
   std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
   return 0.5 * close_holes * lengths[lengths.size() / 2];
 }
+
+namespace {
+
+/// Model units: the centre of the bounding box of what is printed when the form lies more than 16 times its own
+/// size from the origin (site coordinates, say), else zero. Far out, the mesher's 32-bit coordinates are coarser
+/// than the voxels: a form 196 m out in mm got ten times the triangles, crossing and zero-area ones (and so are
+/// STL's coordinates).
+core::Vec3 far_centre(const std::vector<exporters::Segment>& segments,
+                      const std::vector<std::array<core::Vec3, 3>>& shell) {
+  core::Vec3 lo = core::Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  double radius = 0;
+  for (const exporters::Segment& s : segments) {
+    lo = lo.cwiseMin(s.a).cwiseMin(s.b);
+    hi = hi.cwiseMax(s.a).cwiseMax(s.b);
+    radius = std::max({radius, s.ra, s.rb});
+  }
+  for (const auto& t : shell)
+    for (const core::Vec3& p : t) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  if (!lo.allFinite() || !hi.allFinite()) return core::Vec3::Zero();
+  const double size = (hi - lo).maxCoeff() + 2 * radius;
+  const double reach = lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).maxCoeff();
+  return reach > 16 * size ? core::Vec3(0.5 * (lo + hi)) : core::Vec3::Zero();
+}
+
+}  // namespace
 
 /// Thickens vein segments (model units, Murray radii) and shell triangles into a printable solid and
 /// writes the requested formats into `dir`. Appends the file names to `names`; returns what run.json
@@ -91,8 +120,23 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   exporters::ThickenReport rep;
   tp.progress = stage_progress("voxelising");
   exporters::LevelSet level_set;
+  // a form far from the origin is printed about its own centre (run.json's print.origin_mm places it back)
+  const core::Vec3 centre = far_centre(segments, shell);
+  std::vector<exporters::Segment> moved_segments;
+  std::vector<std::array<core::Vec3, 3>> moved_shell;
+  if (centre != core::Vec3::Zero()) {
+    moved_segments = segments;
+    for (exporters::Segment& s : moved_segments) {
+      s.a -= centre;
+      s.b -= centre;
+    }
+    moved_shell = shell;
+    for (auto& t : moved_shell)
+      for (core::Vec3& p : t) p -= centre;
+  }
+  const bool moved = centre != core::Vec3::Zero();
   try {
-    level_set = exporters::voxelise(segments, shell, tp, &rep);
+    level_set = exporters::voxelise(moved ? moved_segments : segments, moved ? moved_shell : shell, tp, &rep);
   } catch (const core::InvalidInput& e) {  // the library's names for what the script calls print.*
     std::string m = e.what();
     for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
@@ -169,6 +213,15 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
                   {"area_mm2", rep.area},
                   {"seconds", rep.voxelise_seconds + rep.mesh_seconds}};
   if (spec.flat_base > 0) printed["base_z_mm"] = rep.base_z;
+  if (moved) {
+    const core::Vec3 origin = centre * rep.scale;
+    printed["origin_mm"] = {origin.x(), origin.y(), origin.z()};
+    err << "cellform: note: print: the form lies " << core::number_text(origin.norm() / 1000)
+        << " m from the origin in the print's millimetres, too far for 32-bit coordinates (the mesher's, STL's) at "
+        << core::number_text(rep.voxel_size) << " mm voxels; printable.* are written about the form's centre, "
+        << core::point_text(origin.x(), origin.y(), origin.z())
+        << " mm (run.json's print.origin_mm: add it to lay them over cells.obj and veins.obj times the scale)\n";
+  }
   return printed;
 }
 

@@ -173,3 +173,48 @@ TEST_CASE("a run of no steps writes the surface and prints the sheet the shapes 
   const auto check = cli({"check", (t.path / "o" / "printable.stl").string(), "--json"});
   CHECK(nlohmann::json::parse(check.out)["printable"] == true);
 }
+
+TEST_CASE("a form far from the origin is printed about its own centre, as cleanly as at the origin", "[cli][print]") {
+  // 30,000 model units out, at the automatic scale, the print lay 196 m from the origin in mm: the mesher's and
+  // STL's 32-bit coordinates there are coarser than the voxels (10 times the triangles, crossing and zero-area)
+  TempDir t("cli-print-far");
+  const auto at = [&](const std::string& x) {
+    const auto script = t.write("far" + x + ".lua",
+                                "cells { time_step = 0.2, separation = 0.05, drag = {0.8, 0.8, 0.3} }\n"
+                                "division { trigger = 'age', age = 6, min_age = 3, probability = 0.5, "
+                                "max_cells = 300 }\n"
+                                "venation { threshold = 15 }\n"
+                                "run { steps = 60 }\n"
+                                "disc { radius = 4, centre = {" +
+                                    x + ", 0, 0} }\n" + "petiole { at = {" + x +
+                                    ", -4, 0} }\n"
+                                    "print { shell = true, size = 60 }\n");
+    const fs::path out = t.path / ("o" + x);
+    const auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    return std::pair{nlohmann::json::parse(slurp(out / "run.json"))["print"],
+                     r.err + "|" + (out / "printable.stl").string()};
+  };
+  const auto [near, near_err] = at("0");
+  const auto [far, far_err] = at("30000");
+  CHECK_FALSE(near.contains("origin_mm"));
+  CHECK_THAT(far_err, Contains("printable.* are written about the form's centre"));
+  const double scale = far["scale_mm_per_unit"].get<double>();
+  REQUIRE(far.contains("origin_mm"));
+  CHECK(std::abs(far["origin_mm"][0].get<double>() - 30000 * scale) < 8 * scale);  // the disc's centre, about
+  CHECK(std::abs(far["origin_mm"][2].get<double>()) < 8 * scale);
+  // as clean as the same form at the origin: about as many triangles, and cellform check accepts it
+  CHECK(far["self_intersections"] == 0);
+  const double ratio = far["triangles"].get<double>() / near["triangles"].get<double>();
+  CHECK(ratio > 0.8);
+  CHECK(ratio < 1.25);
+  const std::string stl = far_err.substr(far_err.rfind('|') + 1);
+  const auto r = cli({"check", stl, "--json"});
+  const auto checked = nlohmann::json::parse(r.out);
+  CHECK(checked["printable"] == true);
+  for (int k = 0; k < 3; ++k) {  // about the form's centre: within the 60 mm print
+    CHECK(std::abs(checked["bbox_min_mm"][k].get<double>()) < 60);
+    CHECK(std::abs(checked["bbox_max_mm"][k].get<double>()) < 60);
+  }
+}
