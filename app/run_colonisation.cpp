@@ -31,10 +31,11 @@ namespace {
 /// overrides, the step limit, for surface{cells = true} the grown sheet) and the colonisation state.
 std::string colonisation_checkpoint_bytes(const Start& s, std::uint64_t seed, const venation::ColonisationParams& p,
                                           const venation::Colonisation& col, const cells::Cells* sheet,
-                                          std::size_t sheet_initial) {
+                                          std::size_t sheet_initial, std::optional<std::uint64_t> sheet_steps) {
   json meta = checkpoint_meta(s, seed, p.max_steps, col.report().steps);
   meta["mode"] = "colonisation";
   if (sheet) meta["initial_cells"] = sheet_initial;
+  if (sheet && sheet_steps) meta["sheet_steps"] = *sheet_steps;
   std::map<std::string, std::string> chunks{
       {"meta", checkpoint_meta_text(meta)}, {"script", s.source}, {"colonisation", col.save()}};
   if (sheet) chunks["cells"] = cells::save(*sheet);
@@ -158,6 +159,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     std::optional<cells::Cells> sheet;
     // cells when the sheet began to grow, for run.json (a checkpoint that does not say: the script's shapes)
     std::size_t sheet_initial = s.initial_cells > 0 ? s.initial_cells : cfg.initial_cells.size();
+    std::optional<std::uint64_t> sheet_steps = s.sheet_partial ? std::nullopt : s.sheet_steps;  // as grown
     double sheet_seconds = 0;         // growing surface{cells = true}'s sheet in this command
     bool sheet_checkpointed = false;  // a checkpoint written while the sheet grew is in the folder
     if (s.sheet_partial && !spec.on_cells)
@@ -185,11 +187,18 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                                  "' holds no grown cells, but the script grows veins on cells (surface{cells = true})");
       if (s.resume && !s.sheet_partial) {
         sheet = cells::load(s.cells_bytes, "checkpoint '" + o.checkpoint.string() + "'");
+        // a sheet cut short by the first run's --steps is not grown further: said, as a resume's --steps (the
+        // veins' limit now) might be taken for the sheet's
+        if (sheet_steps && *sheet_steps < cfg.steps)
+          err << "cellform: note: the sheet grew " << *sheet_steps << " steps (the first run's --steps; the script's "
+              << "run.steps is " << cfg.steps << "); a resume goes on with the veins on that sheet, and a new run "
+              << "grows the whole sheet\n";
       } else {
         const auto grow_start = std::chrono::steady_clock::now();
         Sheet grown = grow_sheet(o, s, cfg, host, seed, checkpoint, err, failed);
         sheet_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - grow_start).count();
         sheet_initial = grown.initial;
+        sheet_steps = grown.step;
         sheet_checkpointed = grown.checkpointed;
         if (!grown.complete) {  // Ctrl-C: the sheet so far, and its checkpoint to finish it from
           std::vector<std::string> outputs = write_outputs(staging, cfg.output, grown.cells, nullptr);
@@ -248,7 +257,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     auto save = [&] {
       keep_resumed_checkpoint(s, dir, err);  // resume --script: the checkpoint resumed is replaced now
       write_checkpoint(checkpoint, colonisation_checkpoint_bytes(s, seed, spec.params, col, sheet ? &*sheet : nullptr,
-                                                                 sheet_initial));
+                                                                 sheet_initial, sheet_steps));
       if (!kept_staging.empty()) {
         std::error_code ec;
         fs::remove_all(kept_staging, ec);
@@ -457,6 +466,11 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     if (cfg.print) run["print"] = printed;
     if (planar) run["veins"]["leaf_length"] = leaf_length;
     if (sheet) run["cells"] = {{"initial", sheet_initial}, {"final", sheet->size()}};
+    if (sheet && sheet_steps) {  // the steps the sheet grew (--steps too), as run.steps would give them again
+      run["cells"]["steps"] = *sheet_steps;
+      if (run.contains("parameters") && run["parameters"].contains("run"))
+        run["parameters"]["run"]["steps"] = *sheet_steps;
+    }
     outputs.push_back("run.json");
     run["outputs"] = outputs;
     write_run_json(staging / "run.json", run);

@@ -51,11 +51,12 @@ struct Start {
   std::uint64_t target_steps = 0;
   bool has_target = false;
   std::filesystem::path out_dir;
-  std::string cells_bytes;         // resume only: the cells (colonisation on cells: the grown sheet)
-  std::string colonisation_bytes;  // resume only: a space-colonisation state (Colonisation::save)
-  std::uint64_t step = 0;          // resume only
-  bool sheet_partial = false;      // resume only: a checkpoint taken while surface{cells = true}'s sheet grew
-  std::size_t initial_cells = 0;   // cells when the run (not this resume) started; 0 = not known yet
+  std::string cells_bytes;                   // resume only: the cells (colonisation on cells: the grown sheet)
+  std::string colonisation_bytes;            // resume only: a space-colonisation state (Colonisation::save)
+  std::uint64_t step = 0;                    // resume only
+  bool sheet_partial = false;                // resume only: a checkpoint taken while surface{cells = true}'s sheet grew
+  std::size_t initial_cells = 0;             // cells when the run (not this resume) started; 0 = not known yet
+  std::optional<std::uint64_t> sheet_steps;  // surface{cells = true}: the steps its sheet grew (older: not known)
   bool resume = false;
   std::optional<std::uint64_t> checkpoint_every;  // --checkpoint-every of the run (kept by its checkpoints)
   nlohmann::json physics;  // the run's cell, division and venation values (physics_of); resume: as saved, or null

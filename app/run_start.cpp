@@ -175,7 +175,9 @@ Start start_from(const RunOptions& o) {
         if (meta.contains("initial_cells") && !meta["initial_cells"].is_number_unsigned())
           throw core::FileError(what + " is corrupt (metadata 'initial_cells' is not a whole number >= 0)");
         s.initial_cells = meta.value("initial_cells", std::size_t{0});  // older checkpoints: unknown
-        s.physics = meta.value("physics", json());                      // older checkpoints: not recorded
+        if (meta.contains("sheet_steps") && meta["sheet_steps"].is_number_unsigned())
+          s.sheet_steps = meta["sheet_steps"].get<std::uint64_t>();
+        s.physics = meta.value("physics", json());  // older checkpoints: not recorded
         // sections of values as physics_of makes them (they are read back as --set texts)
         bool physics_ok = s.physics.is_null() || s.physics.is_object();
         if (s.physics.is_object())
