@@ -451,6 +451,14 @@ void section_colonisation(Impl& I, const std::string& at) {
   const bool fixed_size = g == "none" || g == "nonuniform";
   p.final_scale = fixed_size ? p.initial_scale : v["final_length"].num;
   p.scale_step = fixed_size ? 0 : v["length_step"].num;
+  if (fixed_size)  // noted, as other settings without effect: the blade keeps initial_length (nonuniform: scaled)
+    for (const char* name : {"final_length", "length_step"})
+      if (v[name].present) {
+        I.cfg->notes.push_back(I.value_at(std::string("colonisation.") + name, at) + "colonisation." + name +
+                               " has no effect with growth = \"" + g +
+                               "\" (it belongs to \"marginal\" and \"isogonic\")");
+        I.cfg->resolved["colonisation"].erase(name);  // run.json: it did not apply
+      }
   read_nonuniform_growth(I, v, at, p);
   p.max_steps = static_cast<std::size_t>(v["max_steps"].num);
   p.max_nodes = static_cast<std::size_t>(v["max_nodes"].num);

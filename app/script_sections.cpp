@@ -227,6 +227,9 @@ void section_print(Impl& I, const std::string& at) {
         core::number_text(2 * p.min_radius) + " mm thick, not less than print.size (" + core::number_text(p.size) +
         " mm, the whole print across): the veins would be larger than the form; use a smaller "
         "min_radius or a larger size");
+  if (p.scale > 0 && v["size"].present)  // noted, as below: a --set print.scale may override a script's size
+    I.cfg->notes.push_back(I.value_at("print.size", at) +
+                           "print.size has no effect: print.scale is set (size sets the scale when scale = 0)");
   if (!p.shell)  // noted, not refused: --set print.shell=false may turn off a shell the script sets up
     for (const char* f : {"shell_thickness", "close_holes", "close_holes_max"})
       if (v[f].present)

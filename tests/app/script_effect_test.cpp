@@ -36,6 +36,21 @@ TEST_CASE("settings without effect in this run (a shell's without a shell, svg_s
   REQUIRE(set.notes.size() == 1);
   CHECK_THAT(set.notes[0], Contains("print.shell_thickness has no effect"));
   CHECK(load("disc { radius = 2 }\nprint { shell = true, shell_thickness = 2 }\n").notes.empty());
+  // print.size sets the scale only when scale = 0 (a print 7 times smaller than asked went unsaid)
+  const auto scaled = load("disc { radius = 2 }\nvenation {}\nprint { scale = 2, size = 80 }\n");
+  REQUIRE(scaled.notes.size() == 1);
+  CHECK_THAT(scaled.notes[0], Contains(":3: print.size has no effect: print.scale is set"));
+  const auto scale_set = load("disc { radius = 2 }\nvenation {}\nprint { size = 80 }\n", {{"print.scale", "2"}});
+  REQUIRE(scale_set.notes.size() == 1);
+  CHECK_THAT(scale_set.notes[0], Contains("print.size has no effect"));
+  CHECK(load("disc { radius = 2 }\nvenation {}\nprint { scale = 2 }\n").notes.empty());
+  // a blade that does not grow keeps its initial length
+  const auto fixed = load("leaf {}\ncolonisation { growth = 'none', final_length = 500, length_step = 5 }\n");
+  REQUIRE(fixed.notes.size() == 2);
+  CHECK_THAT(fixed.notes[0], Contains(":2: colonisation.final_length has no effect with growth = \"none\""));
+  CHECK_THAT(fixed.notes[1], Contains("colonisation.length_step has no effect"));
+  CHECK_FALSE(fixed.resolved["colonisation"].contains("final_length"));
+  CHECK(load("leaf {}\ncolonisation { growth = 'marginal', final_length = 500 }\n").notes.empty());
   // veins.svg comes only from space colonisation in a leaf
   const auto cells_run = load("disc { radius = 2 }\noutput { svg_size = 50 }\n");
   REQUIRE(cells_run.notes.size() == 1);
