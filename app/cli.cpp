@@ -105,6 +105,9 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       // cellform --help run (or help check): that command's help
       if (args.size() == 2 && (args[1] == "run" || args[1] == "resume" || args[1] == "check" || args[1] == "params"))
         return cli_main({args[1], "--help"}, out, err);
+      if (args.size() >= 2)  // "cellform help foo" said the general help, exit 0, as if foo were known
+        throw UsageError("no help for '" + args[1] + "': the commands are run, resume, check and params (cellform " +
+                         cmd + " COMMAND)");
       out << kUsage;
       return ok;
     }

@@ -404,7 +404,8 @@ void build_shapes(Impl& I) {
       if (estimate <= 5e7 && placed + estimate > 1.1 * max_cells + 100)
         throw InvalidInput(
             "the initial shapes would make about " + core::number_text(std::round(placed + estimate)) +
-            " cells, more than division.max_cells = " + std::to_string(cfg.scene.cells.division.max_cells));
+            " cells, more than division.max_cells = " + std::to_string(cfg.scene.cells.division.max_cells) +
+            ", which also caps the cells placed (raise it, or place fewer)");
       auto xyz = [](const Vec3& p) { return nlohmann::json::array({p.x(), p.y(), p.z()}); };
       if (s.kind == "disc") {
         points = forms::hex_disc(v["centre"].vec, unit_vector(v["normal"].vec, "normal"), v["radius"].num, spacing());
@@ -450,7 +451,8 @@ void build_shapes(Impl& I) {
     if (cfg.initial_cells.size() > cfg.scene.cells.division.max_cells)
       throw InvalidInput(
           s.where + s.kind + ": the initial shapes make " + std::to_string(cfg.initial_cells.size()) +
-          " cells, more than division.max_cells = " + std::to_string(cfg.scene.cells.division.max_cells));
+          " cells, more than division.max_cells = " + std::to_string(cfg.scene.cells.division.max_cells) +
+          ", which also caps the cells placed (raise it, or place fewer)");
     // run.json lists the first shape calls; a script placing a point cloud cell by cell (250,000 cell{} calls)
     // made a 40 MB run.json: the rest are counted (the script, whose hash run.json keeps, makes them again)
     constexpr std::size_t kListed = 1000;

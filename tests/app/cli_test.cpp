@@ -47,6 +47,9 @@ TEST_CASE("help, version and usage errors", "[cli]") {
   CHECK(r.code == 0);
   CHECK(r.out == cli({"run", "--help"}).out);
   CHECK(cli({"help", "check"}).out == cli({"check", "--help"}).out);
+  const auto unknown = cli({"help", "foo"});  // it gave the general help, exit 0
+  CHECK(unknown.code == 2);
+  CHECK_THAT(unknown.err, Contains("no help for 'foo'"));
   // --option=value is --option value (it was an unknown option '--steps=many')
   r = cli({"run", "x.lua", "--steps=many"});
   CHECK_THAT(r.err, Contains("--steps takes a whole number") && Contains("got 'many'"));
@@ -173,7 +176,8 @@ TEST_CASE("bad shapes, obstacle meshes and obstacles around the cells exit with 
     const auto r = run("limit.lua", "division { max_cells = 100 }\ndisc { radius = 5.6 }\n");  // about 115
     CHECK(r.code == 2);
     CHECK_THAT(r.err, Contains("limit.lua:2: disc: the initial shapes make 1") &&
-                          Contains("cells, more than division.max_cells = 100"));
+                          Contains("cells, more than division.max_cells = 100, which also caps the cells placed "
+                                   "(raise it, or place fewer)"));
   }
   // an ASCII STL obstacle cut in the middle of a facet
   t.write("cut.stl", "solid t\nfacet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n");
