@@ -450,7 +450,7 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
                        "print{shell = true} thickens a cell sheet; this space-colonisation run grows none (use "
                        "surface{cells = true}, or shell = false)");
   if (cfg.colonisation && cfg.output.every > 0)  // frames are snapshots of a cell run
-    throw InvalidInput(I.sections_seen["output"] +
+    throw InvalidInput(I.value_at("output.every", I.sections_seen["output"]) +
                        "output.every writes frames of a cell run; a space-colonisation run writes its veins at the "
                        "end (and output.checkpoint_every sets how often it saves a checkpoint)");
   if (cfg.scene.split_along_auxin && !cfg.scene.venation)  // there would be no flow to split along

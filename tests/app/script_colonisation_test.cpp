@@ -256,3 +256,13 @@ TEST_CASE("output{png = true} needs a space-colonisation run", "[script][png]") 
   CHECK_THAT(load_error("disc { radius = 2 }\noutput { png = true }\n"), Contains("it needs colonisation{...}"));
   CHECK_THAT(load_error("colonisation {}\noutput { png_size = 4 }\n"), Contains("output.png_size"));
 }
+
+TEST_CASE("output.every (frames of a cell run) is refused in a space-colonisation run, naming where it is set",
+          "[script][colonisation]") {
+  CHECK_THAT(load_error("colonisation {}\noutput { every = 5 }\n"), Contains(":2: output.every writes frames"));
+  // from the command line: the --set is named (the script's output{} line, or none, was)
+  CHECK_THAT(load_error("colonisation {}\noutput { ply = true }\n", {{"output.every", "5"}}),
+             Contains("--set output.every=5: output.every writes frames"));
+  CHECK_THAT(load_error("colonisation {}\n", {{"output.every", "5"}}),
+             Contains("--set output.every=5: output.every writes frames"));
+}
