@@ -185,6 +185,12 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
     err << "cellform: warning: the printable form has " << rep.pieces << " separate parts"
         << (join_by_shell ? " (print.shell = true adds the cell sheet, which joins the trees it connects)" : "")
         << "\n";
+  if (rep.cavities > 0 && !spec.fill_cavities)  // said even when quiet, as the parts: a print problem
+    err << "cellform: warning: the printable solid has " << rep.cavities
+        << (rep.cavities == 1 ? " closed cavity (a sealed pocket inside it, which traps"
+                              : " closed cavities (sealed pockets inside it, which trap")
+        << " resin or powder in resin and powder printing); print.fill_cavities = true fills "
+        << (rep.cavities == 1 ? "it" : "them") << "\n";
   if (rep.self_intersections > 0)  // none left in any case tested: said if it happens
     err << "cellform: warning: printable solid: " << rep.self_intersections
         << " pairs of triangles still cross after meshing without merging around them (cellform check FILE "
@@ -242,7 +248,7 @@ void say_printed(std::ostream& err, const nlohmann::json& printed) {
   err << "printable solid: " << printed["triangles"] << " triangles, " << printed["parts"] << " part(s), "
       << printed["cavities"]
       << (printed["filled_cavities"] > 0 ? " closed cavities (filled), scale " : " closed cavities, scale ")
-      << printed["scale_mm_per_unit"] << " mm per model unit\n";
+      << core::number_text(printed["scale_mm_per_unit"].get<double>()) << " mm per model unit\n";
 }
 
 }  // namespace cellform::app

@@ -278,7 +278,8 @@ std::vector<Field> build() {
                   "automatic one is coarsened to fit, up to min_radius"));
   f.push_back(text("print", "formats", "stl", "comma-separated: stl, obj, ply, scad, vdb"));
   f.push_back(boolean("print", "fill_cavities", "false",
-                      "fill closed pockets inside the solid (a shell around a closed sheet becomes solid)"));
+                      "fill closed pockets inside the solid (a shell around a closed sheet becomes solid; so do "
+                      "pockets between crowded cells, which a run warns of)"));
   f.push_back(num("print", "close_holes", "1", 0, 10, false, "cell spacings",
                   "shell: fill holes in the printed sheet by a closing of radius r = half this many cell spacings; it "
                   "spans gaps up to 2 sqrt(h^2 + 2 h r) across (h = shell_thickness / 2), and joins folds of the "

@@ -218,3 +218,20 @@ TEST_CASE("a form far from the origin is printed about its own centre, as cleanl
     CHECK(std::abs(checked["bbox_max_mm"][k].get<double>()) < 60);
   }
 }
+
+TEST_CASE("a printed solid with a sealed cavity is warned of, and fill_cavities fills it", "[cli][print]") {
+  TempDir t("cli-print-cavity");
+  // a closed sheet printed as a shell: hollow inside
+  const std::string sphere = "run { steps = 0 }\nsphere { radius = 3 }\nprint { shell = true, veins = false, size = 40";
+  const auto hollow = t.write("hollow.lua", sphere + " }\n");
+  auto r = cli({"run", hollow.string(), "--out", (t.path / "h").string(), "--quiet"});
+  REQUIRE(r.code == 0);
+  CHECK(nlohmann::json::parse(slurp(t.path / "h" / "run.json"))["print"]["cavities"] == 1);
+  CHECK_THAT(r.err, Contains("warning: the printable solid has 1 closed cavity") &&
+                        Contains("print.fill_cavities = true fills it"));
+  const auto filled = t.write("filled.lua", sphere + ", fill_cavities = true }\n");
+  r = cli({"run", filled.string(), "--out", (t.path / "f").string(), "--quiet"});
+  REQUIRE(r.code == 0);
+  CHECK(nlohmann::json::parse(slurp(t.path / "f" / "run.json"))["print"]["filled_cavities"] == 1);
+  CHECK_THAT(r.err, !Contains("closed cavit"));
+}
