@@ -34,9 +34,15 @@ void say_veinless_petioles(std::ostream& err, const cells::Cells& c, const venat
     std::ostringstream at;
     at << std::setprecision(3) << "{" << q.x() << ", " << q.y() << ", " << q.z() << "}";
     if (!linked[i]) {
+      double nearest = std::numeric_limits<double>::infinity();
+      for (std::size_t j = 0; j < n; ++j)
+        if (j != i) nearest = std::min(nearest, (c.position[j] - q).norm());
       err << "cellform: note: the petiole at " << at.str() << " (cell " << c.id[i]
-          << ") grew no vein: it is linked to no cell (every cell is farther from it than cells.link_range), so no "
-             "auxin reaches it; place it nearer the form, within link_range of a cell\n";
+          << ") grew no vein: it is linked to no cell, so no auxin reaches it"
+          << (std::isfinite(nearest) ? " (the nearest cell is " + core::number_text(nearest) + " model units away)"
+                                     : std::string())
+          << ". A petiole due at the run's last step is linked only in the next step (run longer); one farther "
+             "than cells.link_range from every cell never is (place it nearer the form)\n";
       continue;
     }
     err << "cellform: note: the petiole at " << at.str() << " (cell " << c.id[i]

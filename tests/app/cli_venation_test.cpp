@@ -158,5 +158,14 @@ TEST_CASE("a petiole that grew no vein is noted, with where it is and why", "[cl
   r = cli({"run", apart.string(), "--out", (t.path / "c").string()});
   REQUIRE(r.code == 0);
   CHECK_THAT(r.err, Contains("note: the petiole at {0, -5.5, 0}") && Contains("it is linked to no cell") &&
-                        !Contains("where veins already run"));
+                        Contains("(the nearest cell is 2.") && !Contains("where veins already run"));
+  // added at the run's last step, next to a cell: not linked yet, which the note says (it blamed the distance)
+  const auto last =
+      t.write("last.lua",
+              "division { trigger = 'none' }\nrun { steps = 20 }\nvenation { threshold = 5 }\n"
+              "disc { radius = 3 }\npetiole { at = {0, -3, 0} }\npetiole { at = {0, 3.4, 0}, step = 20 }\n");
+  r = cli({"run", last.string(), "--out", (t.path / "d").string()});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("note: the petiole at {0, 3.4, 0}") && Contains("it is linked to no cell") &&
+                        Contains("A petiole due at the run's last step is linked only in the next step"));
 }
