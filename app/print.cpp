@@ -22,7 +22,9 @@ namespace cellform::app {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-double shell_closing(const cells::Cells& c, double close_holes) {
+double shell_closing(const cells::Cells& c, double close_holes) { return 0.5 * close_holes * median_link_length(c); }
+
+double median_link_length(const cells::Cells& c) {
   std::vector<double> lengths;
   const std::size_t stride = static_cast<std::size_t>(std::max(c.link_stride, 0));
   for (std::size_t i = 0; i < c.size(); ++i)
@@ -32,7 +34,7 @@ double shell_closing(const cells::Cells& c, double close_holes) {
     }
   if (lengths.empty()) return 0;
   std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
-  return 0.5 * close_holes * lengths[lengths.size() / 2];
+  return lengths[lengths.size() / 2];
 }
 
 namespace {

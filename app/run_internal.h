@@ -328,6 +328,9 @@ nlohmann::json write_printable(const std::filesystem::path& dir, const PrintSpec
 /// median link lengths, model units (0 without links).
 double shell_closing(const cells::Cells& cells, double close_holes);
 
+/// The median length of the cells' links, model units (0 without links): the sheet's cell spacing.
+double median_link_length(const cells::Cells& cells);
+
 /// The highest of `dir` and its parents that does not exist yet (absolute), or empty when `dir` exists.
 std::filesystem::path first_missing(const std::filesystem::path& dir);
 

@@ -216,7 +216,7 @@ std::vector<Field> build() {
                       "grow the script's cells first (cells{}, division{}, run{}, shapes); veins grow on their sheet"));
   f.push_back(Field{"surface", "seeds", Kind::table, "(auto)", 0, 0, false, "", "model units",
                     "seed vein nodes {{x, y, z}, ...}; file: on the surface; cells: moved to the nearest point of "
-                    "the grown sheet (default: the petiole cells)"});
+                    "the grown sheet, from at most 3 cell spacings away (default: the petiole cells)"});
   f.push_back(choice("colonisation", "type", Kind::choice, "open", "open|closed",
                      "open: trees; closed: veins join into loops"));
   f.push_back(choice("colonisation", "neighbourhood", Kind::choice, "exact", "exact|urquhart",

@@ -48,3 +48,21 @@ TEST_CASE("surface{cells = true}: the steps the sheet grew are recorded, and a r
   REQUIRE(r.code == 0);
   CHECK_THAT(r.err, !Contains("the sheet grew"));
 }
+
+TEST_CASE("surface{cells = true}: a seed far off the grown sheet is refused, a near one moves onto it", "[cli]") {
+  TempDir t("sheet-seeds");
+  const auto run = [&](const std::string& seed) {
+    const auto script = t.write("seed.lua", std::string(kSmall) + "surface { cells = true, seeds = {" + seed +
+                                                "} }\ncolonisation { birth_distance = 1, kill_distance = 0.5, "
+                                                "darts = 1e6, max_steps = 10 }\n");
+    return cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet"});
+  };
+  // 50 units out from a sheet about 8 across: moved there without a word
+  const auto far = run("{50, 0, 0}");
+  CHECK(far.code == 2);
+  CHECK_THAT(far.err, Contains("surface.seeds[1] {50, 0, 0} is 4") && Contains("model units from the grown sheet") &&
+                          Contains("at most 3 cell spacings"));
+  const auto near = run("{0, 0, 0.5}");  // half a spacing above the sheet
+  INFO(near.err);
+  CHECK(near.code == 0);
+}
