@@ -156,7 +156,9 @@ std::vector<Field> build() {
   f.push_back(num("venation", "min_radius", "0.05", 0, std::numeric_limits<float>::max(), false, "model units",
                   "no vein is thinner (the files keep radii as 32-bit numbers)"));
   f.push_back(integer("venation", "every", "1", 1, 1e6, "steps",
-                      "run canalisation every this many steps (auxin is slower than mechanics)"));
+                      "run canalisation every this many steps (auxin is slower than mechanics); the outputs then "
+                      "show the last pass's flows (end a run on a multiple of it for those of the final cells: "
+                      "cells born since carry their mother's)"));
 
   // constraints
   f.push_back(num("ground", "height", "0", -kFar, kFar, false, "model units", "cells stay above the plane z = height"));
