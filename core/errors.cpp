@@ -30,6 +30,12 @@ std::string point_text(double x, double y, double z) {
   return s;
 }
 
+std::string lower_case(std::string text) {
+  for (char& c : text)
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  return text;
+}
+
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   // optimal string alignment: insertions, deletions, substitutions and swaps of neighbours cost 1 each
   const std::size_t m = b.size();

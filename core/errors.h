@@ -56,19 +56,30 @@ bool is_utf8(std::string_view text);
 /// string alignment); used to suggest the closest valid name for a misspelt one.
 std::size_t edit_distance(const std::string& a, const std::string& b);
 
-/// The candidate closest to `name` by edit distance, or "" if none is reasonably close: at most a third of
-/// `name`'s letters changed, and one at least ("nope" is not a misspelt "type").
+/// `text` in lower case (ASCII letters).
+std::string lower_case(std::string text);
+
+/// The candidate closest to `name`, or "" if none is reasonably close: letter case aside, at most a third of
+/// `name`'s letters changed, and one at least ("nope" is not a misspelt "type"); else the shortest candidate
+/// that begins `name` or that `name` begins, of 4 letters or more ("printing" for "print").
 template <class Range>
 std::string closest_name(const std::string& name, const Range& candidates) {
+  const std::string key = lower_case(name);
   std::string best;
   std::size_t best_d = std::max<std::size_t>(name.size() / 3, 1) + 1;
   for (const auto& c : candidates) {
     std::string s(c);
-    const std::size_t d = edit_distance(name, s);
-    if (d < best_d) {
+    const std::size_t d = edit_distance(key, lower_case(s));
+    if (d < best_d || (d == best_d && d == 0 && s == name)) {  // the very name before one in other letters
       best_d = d;
       best = s;
     }
+  }
+  if (!best.empty()) return best;
+  for (const auto& c : candidates) {
+    const std::string s(c), l = lower_case(s);
+    const std::size_t common = std::min(l.size(), key.size());
+    if (common >= 4 && l.compare(0, common, key, 0, common) == 0 && (best.empty() || s.size() < best.size())) best = s;
   }
   return best;
 }

@@ -70,4 +70,16 @@ TEST_CASE("misspelt names are matched by edits and swaps; a name with nothing cl
   CHECK(closest_name("nope", fields).empty());  // two of four letters changed: no "did you mean 'type'?"
   CHECK(closest_name("rnu", std::vector<std::string>{"run", "resume", "params", "check"}) == "run");
   CHECK(closest_name("seperation", std::vector<std::string>{"separation", "spring"}) == "separation");
+  // letter case aside (PNG for png had no suggestion), and a name that begins another or that another begins
+  const std::vector<std::string> output{"png", "png_size", "ply", "obj"};
+  CHECK(closest_name("PNG", output) == "png");
+  CHECK(closest_name("Png_Size", output) == "png_size");
+  CHECK(closest_name("png", output) == "png");  // the name itself (as a name set to nil is recognised)
+  const std::vector<std::string> sections{"print", "venation", "cells", "division", "output"};
+  CHECK(closest_name("printing", sections) == "print");
+  CHECK(closest_name("venationx", sections) == "venation");
+  CHECK(closest_name("divisions", sections) == "division");
+  CHECK(closest_name("pri", sections).empty());  // three letters are too few to go on
+  CHECK(closest_name("outputting", sections) == "output");
+  CHECK(closest_name("zzz", sections).empty());
 }
