@@ -11,6 +11,7 @@
 
 #include "app/check.h"
 #include "app/run.h"
+#include "app/run_internal.h"
 #include "app/schema.h"
 #include "core/errors.h"
 
@@ -257,6 +258,17 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       o.script = positional[0];
     else
       o.checkpoint = positional[0];
+    // the other command's file: said so, as a script given to resume is (a checkpoint read as Lua said
+    // "syntax error", run.json "not a cellform file")
+    if (cmd == "run" && o.script.extension() == ".cfck")
+      throw UsageError("'" + o.script.string() +
+                       "' is a checkpoint, not a script: continue its run with cellform resume " +
+                       shell_word(o.script.string()));
+    if (cmd == "resume" && o.checkpoint.filename() == "run.json")
+      throw UsageError(
+          "'" + o.checkpoint.string() + "' is the record of a run, not its checkpoint: resume the run's " +
+          "folder, cellform resume " +
+          shell_word(o.checkpoint.parent_path().empty() ? std::string(".") : o.checkpoint.parent_path().string()));
     // a run's folder: the checkpoint in it (a folder without one is refused when the checkpoint is read)
     std::error_code ec;
     if (cmd == "resume" && std::filesystem::is_directory(o.checkpoint, ec) &&

@@ -126,6 +126,15 @@ TEST_CASE("corrupt, foreign and truncated checkpoints are refused clearly", "[cl
   r = cli({"resume", script.string()});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("is a script, not a checkpoint: run it with cellform run"));
+  // the other way round, and a run's record for its checkpoint
+  r = cli({"run", t.write("kept.cfck", "CFCK").string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("is a checkpoint, not a script: continue its run with cellform resume"));
+  fs::create_directories(t.path / "r");
+  r = cli({"resume", t.write("r/run.json", "{}").string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("is the record of a run, not its checkpoint: resume the run's folder, cellform resume") &&
+                        Contains("/r"));
   r = cli({"resume", t.write("notes.txt", "some text").string()});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("not a cellform file"));
