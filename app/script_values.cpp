@@ -107,6 +107,16 @@ Value ScriptHost::Impl::from_lua(const Field& f, int idx, const std::string& at)
       break;
     case Kind::vec3: {
       if (t != LUA_TTABLE || lua_rawlen(L, idx) != 3) throw fail(t == LUA_TTABLE ? "a table without 3 numbers" : got);
+      {  // {x, y, z} and nothing else: {0.5, 0.5, 0.5, [10] = 1} dropped its extra entry unseen
+        const int table = lua_absindex(L, idx);
+        int entries = 0;
+        lua_pushnil(L);
+        while (lua_next(L, table) != 0) {
+          ++entries;
+          lua_pop(L, 1);
+        }
+        if (entries != 3) throw fail("a table of " + std::to_string(entries) + " entries");
+      }
       for (int i = 0; i < 3; ++i) {
         lua_rawgeti(L, idx, i + 1);
         if (lua_type(L, -1) != LUA_TNUMBER) {
