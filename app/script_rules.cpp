@@ -139,14 +139,15 @@ cells::Rules ScriptHost::rules() {
       if (!ok || !d.allFinite())
         throw fail("division.direction",
                    I->direction_at + "division.direction must return {x, y, z} (or x, y, z) of finite numbers", c, i);
-      // the split plane needs a length to normalise: not zero, and not so large that its square overflows
-      const double n = d.norm();
-      if (!(n > 0) || !std::isfinite(n)) {
+      // the split plane needs a length to normalise: a vector whose square underflows or overflows ({0, 0,
+      // 1e-300}, {1e300, 1e300, 0}) is scaled first (its direction is all that counts); only zero is refused
+      if (const double n = d.norm(); !(n > 0) || !std::isfinite(n)) d /= d.cwiseAbs().maxCoeff();
+      if (!(d.norm() > 0)) {
         const auto flow = c.attributes.find(venation::kFlowX);
         const bool no_flow = flow != c.attributes.end() && flow->second[i] == 0 &&
                              c.attributes.at(venation::kFlowY)[i] == 0 && c.attributes.at(venation::kFlowZ)[i] == 0;
         throw fail("division.direction",
-                   I->direction_at + "division.direction returned a zero vector or one too long to normalise" +
+                   I->direction_at + "division.direction returned a zero vector" +
                        (no_flow ? std::string(" (this cell's flow_dx, flow_dy, flow_dz are all 0: a petiole, or a "
                                               "cell no flow reaches, has no flow direction; return another one there)")
                                 : std::string()),

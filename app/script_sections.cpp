@@ -322,8 +322,10 @@ std::string file_fingerprint(const std::filesystem::path& path) {
 
 /// The unit vector along `n`; a zero vector has no direction and is refused naming the parameter.
 Vec3 unit_vector(const Vec3& n, const std::string& name) {
-  if (!(n.norm() > 0)) throw InvalidInput(name + " must be a non-zero vector (a direction), got {0, 0, 0}");
-  return n.normalized();
+  const double m = n.cwiseAbs().maxCoeff();
+  if (!(m > 0)) throw InvalidInput(name + " must be a non-zero vector (a direction), got {0, 0, 0}");
+  // a vector whose square underflows ({0, 0, 1e-300}) or overflows is scaled first: its direction counts
+  return n.norm() > 0 && std::isfinite(n.norm()) ? n.normalized() : Vec3(n / m).normalized();
 }
 
 }  // namespace

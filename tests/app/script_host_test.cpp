@@ -322,18 +322,23 @@ TEST_CASE("rule functions run per cell and report errors with step and cell", "[
   CHECK_FALSE(ruled.resolved["division"].contains("age"));
   CHECK(ruled.resolved["division"].contains("min_age"));
 
-  // a direction the split cannot normalise names the section's line, not only the script
+  // a zero direction names the section's line, not only the script; one whose square overflows or underflows
+  // is a direction all the same (it was refused as "too long to normalise")
   ScriptHost dir;
   dir.load(
       "disc { radius = 2 }\ndivision { direction = function(cell)\n"
-      "  if cell.id == 0 then return {1e300, 1e300, 0} end\n  return 0, 0, 0 end }\n",
+      "  if cell.id == 0 then return {1e300, 1e300, 0} end\n"
+      "  if cell.id == 2 then return {0, 0, 1e-300} end\n  return 0, 0, 0 end }\n",
       "dir.lua", {});
   auto r3 = dir.rules();
-  CHECK_THROWS_WITH(r3.split_direction(c, 0),
-                    Contains("dir.lua:2: division.direction returned a zero vector or one too "
-                             "long") &&
-                        Contains("cell 0"));
-  CHECK_THROWS_WITH(r3.split_direction(c, 1), Contains("dir.lua:2: division.direction returned a zero vector"));
+  cellform::cells::Cells three = c;
+  cellform::cells::add_cell(three, {0, 1, 0});
+  const cellform::core::Vec3 big = r3.split_direction(three, 0);
+  CHECK(big.y() == big.x());
+  CHECK(big.z() == 0);
+  CHECK(r3.split_direction(three, 2).normalized().isApprox(cellform::core::Vec3(0, 0, 1)));
+  CHECK_THROWS_WITH(r3.split_direction(three, 1),
+                    Contains("dir.lua:2: division.direction returned a zero vector") && Contains("cell 1"));
   ScriptLimits tight;
   tight.rule_instructions = 10000;
   ScriptHost loop(tight);

@@ -22,6 +22,9 @@ TEST_CASE("positions beyond 1e9 model units are refused (their squares would ove
 TEST_CASE("directions that mean nothing are refused, not replaced", "[script]") {
   CHECK_THAT(load_error("disc { radius = 2, normal = {0, 0, 0} }\n"), Contains(":1: disc: normal must be a non-zero"));
   CHECK_THAT(load_error("rectangle { width = 2, height = 2, normal = {0, 0, 0} }\n"), Contains("rectangle: normal"));
+  // a tiny vector is a direction all the same (its square underflowed: "got {0, 0, 0}")
+  CHECK(load("disc { radius = 2, normal = {0, 0, 1e-300} }\n").initial_cells.size() ==
+        load("disc { radius = 2 }\n").initial_cells.size());
   CHECK_THAT(load_error("disc { radius = 2 }\nhalf_space { normal = {0, 0, 0} }\n"),
              Contains(":2: half_space.normal must be a non-zero vector"));
   CHECK_THAT(load_error("disc { radius = 2 }\ndivision { direction = 'auxin' }\n"),
