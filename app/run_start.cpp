@@ -130,10 +130,19 @@ Start start_from(const RunOptions& o) {
     if (!o.checkpoint.empty()) {
       const std::string what = "checkpoint '" + o.checkpoint.string() + "'";
       std::error_code ec;
-      if (fs::is_directory(o.checkpoint, ec))
+      if (fs::is_directory(o.checkpoint, ec)) {
+        std::string busy;  // a run still writing there has not written its checkpoint yet: said
+        try {
+          const FolderLock probe(o.checkpoint);
+        } catch (const FolderBusy& e) {
+          busy = std::string("; ") + e.what();
+        } catch (const core::FileError&) {  // not readable: the message below says enough
+        }
         throw core::FileError(what +
                               " is a folder with no checkpoint.cfck in it (a run writes one into its output "
-                              "folder when it ends, is stopped or fails)");
+                              "folder when it ends, is stopped or fails)" +
+                              busy);
+      }
       if (o.checkpoint.extension() == ".lua")  // a script given to resume: say how to run it
         throw core::FileError(what + " is a script, not a checkpoint: run it with cellform run " +
                               o.checkpoint.string() + ", or resume its run's checkpoint.cfck");

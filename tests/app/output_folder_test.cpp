@@ -240,6 +240,11 @@ TEST_CASE("two runs never write into one folder at once", "[cli]") {
     CHECK(r.code == 1);
     CHECK_THAT(r.err, Contains("another cellform run") && Contains("is writing to"));
     CHECK(fs::is_empty(dir));  // no staging folder, no outputs
+    // a resume of that folder before the run wrote its checkpoint says that a run is writing there
+    const auto resumed = cli({"resume", dir.string()});
+    CHECK(resumed.code != 0);
+    CHECK_THAT(resumed.err, Contains("is a folder with no checkpoint.cfck in it") &&
+                                Contains("; another cellform run") && Contains("is writing to"));
   }
   CHECK(cli({"run", script.string(), "--out", dir.string(), "--quiet", "--steps", "2"}).code == 0);  // released
 }
