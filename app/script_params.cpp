@@ -71,8 +71,9 @@ int params_assign_new(lua_State* L) {
       return 0;
     }
     const std::string at = I.where(1);
-    const std::string key = lua_type(L, 2) == LUA_TSTRING ? "'" + core::printable(lua_tostring(L, 2)) + "'"
-                                                          : std::string("at a ") + luaL_typename(L, 2) + " key";
+    std::string key = lua_type(L, 2) == LUA_TSTRING ? "'" : "at a ";  // appended: GCC 12 warns falsely of
+    key += lua_type(L, 2) == LUA_TSTRING ? core::printable(lua_tostring(L, 2)) + "'"  // "'" + string&&
+                                         : std::string(luaL_typename(L, 2)) + " key";
     throw InvalidInput(at + "params: the knobs are read-only, and a new one " + key +
                        " cannot be added: declare it in params{...} (a value computed from the knobs, or kept "
                        "between rule calls, goes in a local variable)");
