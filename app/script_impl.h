@@ -275,9 +275,26 @@ struct ScriptHost::Impl {
     lua_sethook(L, &Impl::hook, kHookMask, 1);
   }
 
+  /// `text` with the script's path whole where Lua shortened it ("..." and its last 56 bytes: LUA_IDSIZE),
+  /// so that a long path in a message can be copied.
+  std::string whole_path(std::string text) const {
+    for (std::size_t at = text.find("..."); at != std::string::npos; at = text.find("...", at + 3)) {
+      const std::size_t colon = text.find(':', at + 3);
+      if (colon == std::string::npos) break;
+      const std::size_t tail = colon - at - 3;
+      if (tail >= 20 && script_name.size() > tail &&
+          script_name.compare(script_name.size() - tail, tail, text, at + 3, tail) == 0) {
+        text.replace(at, colon - at, script_name);
+        at += script_name.size() - 3;
+      }
+    }
+    return text;
+  }
+
   /// Turns a Lua error message into one line that names the script; adds the memory-limit hint. A message
   /// longer than 4,000 bytes is cut there (error(string.rep("x", 1e8)) wrote 100 MB to the terminal).
-  std::string describe(const std::string& lua_message) const {
+  std::string describe(const std::string& message) const {
+    const std::string lua_message = whole_path(message);
     constexpr std::size_t kLongest = 4000;
     if (lua_message.size() > kLongest) {
       std::size_t cut = kLongest;  // not inside a UTF-8 sequence
@@ -397,7 +414,7 @@ struct ScriptHost::Impl {
     lua_Debug ar;
     for (int l = level; w.empty() && l < level + 8 && lua_getstack(L, l, &ar); ++l) {
       luaL_where(L, l);
-      w = lua_tostring(L, -1);
+      w = whole_path(lua_tostring(L, -1));
       lua_pop(L, 1);
     }
     if (w.empty()) w = script_name + ": ";

@@ -472,3 +472,21 @@ TEST_CASE("errors without a message, runaway loops and file headers name the lin
              Contains("venation.threshold must be a number > 0 and at most 1e+300, got 1e+308"));
   CHECK_THAT(load_error("cells { neighbours = 3.0000000001 }\n"), Contains("got 3.0000000001"));
 }
+
+TEST_CASE("a long script path is said whole in messages, where Lua shortens it", "[script]") {
+  // Lua keeps 60 bytes of a chunk's name: "...ud10/repo/examples/colonisation/slow_marginal_growth.lua:28:"
+  const std::string path = "/tmp/a-folder-with-a-long-name/another-long-folder-name/and-a-third-one/leaf.lua";
+  const auto error_of = [&](const std::string& source) {
+    ScriptHost host;
+    try {
+      host.load(source, path, {});
+    } catch (const cellform::core::InvalidInput& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK_THAT(error_of("disc { radius = 2 }\nlocal x = = 1\n"), Contains(path + ":2:"));         // syntax
+  CHECK_THAT(error_of("disc { radius = 2 }\nlocal x = nil + 1\n"), Contains(path + ":2:"));     // runtime
+  CHECK_THAT(error_of("disc { radius = 2 }\ndisc { radius = -1 }\n"), Contains(path + ":2:"));  // a section's
+  CHECK_THAT(error_of("disc { radius = 2 }\nlocal x = nil + 1\n"), !Contains("..."));
+}
