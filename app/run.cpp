@@ -587,7 +587,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     if (!checkpoint_error.empty()) err << "cellform: the final checkpoint failed too: " << checkpoint_error << "\n";
     if (saved && fs::exists(checkpoint)) {
       err << "  (the last checkpoint written is " << checkpoint.string() << "; cellform resume continues from it)\n";
-      keep_failed_run(core::error_text(e));  // its frames stay, as after a script error: a resume cannot remake them
+      // its frames stay, as after a script error; with none (no step ran, say) the folder stays as it was
+      if (std::any_of(frame_steps.begin(), frame_steps.end(), [&](std::uint64_t f) { return f <= saved_step; }))
+        keep_failed_run(core::error_text(e));
     }
     code = failure;
   }

@@ -480,4 +480,17 @@ TEST_CASE("a full disk keeps the frames up to the last checkpoint, as a script e
     INFO(f);
     CHECK(slurp(out / f) == slurp(fresh / f));
   }
+  // a resume that runs no step and cannot write its outputs leaves the finished run as it was (here its
+  // checkpoint does not fit either; on a small tmpfs where it did, a failed run.json replaced the outputs)
+  const std::string cells = slurp(out / "cells.ply");
+  getrlimit(RLIMIT_FSIZE, &old);
+  old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  setrlimit(RLIMIT_FSIZE, &small);
+  const auto again = cli({"resume", (out / "checkpoint.cfck").string(), "--quiet"});
+  setrlimit(RLIMIT_FSIZE, &old);
+  std::signal(SIGXFSZ, old_handler);
+  CHECK(again.code == 1);
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "complete");
+  CHECK(slurp(out / "cells.ply") == cells);
+  CHECK(fs::exists(out / "frames/cells_000030.ply"));
 }
