@@ -310,12 +310,8 @@ Values ScriptHost::Impl::read_section(const std::string& section, int idx, const
       auto it = overrides->find(key);
       if (it != overrides->end()) {
         value_at = "--set " + key + "=" + it->second + ": ";
-        const Value script = values[f->name];
-        Value& given = values[f->name] = from_text(*f, it->second, value_at);
-        // a --set restating the script's value changes nothing: what that value causes stays the script's
-        const bool restated = script.present && script.ref == LUA_NOREF && script.str == given.str &&
-                              script.num == given.num && script.vec == given.vec && script.flag == given.flag;
-        if (!restated) given.set_by = "--set " + key + "=" + it->second;
+        values[f->name] = from_text(*f, it->second, value_at);
+        values[f->name].set_by = "--set " + key + "=" + it->second;
         used_overrides.insert(key);
       }
     }

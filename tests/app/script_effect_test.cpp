@@ -90,13 +90,6 @@ TEST_CASE("a setting of another trigger is refused in the script, and noted when
   const auto rule = load(src, {{"division.age", "7"}});  // a field of the unused trigger by --set: noted
   REQUIRE(rule.notes.size() == 1);
   CHECK_THAT(rule.notes[0], StartsWith("--set division.age=7: division.age has no effect"));
-  // a --set restating the script's own trigger or field changes nothing: the script's error stays its own
-  const std::string own = "disc { radius = 2 }\ndivision { trigger = 'age', radius = 2 }\n";
-  CHECK_THAT(load_error(own, {{"division.trigger", "age"}}), Contains(":2: division.radius has no effect"));
-  CHECK_THAT(load_error(own, {{"division.radius", "2.0"}}), Contains(":2: division.radius has no effect"));
-  CHECK_THAT(load_error("disc { radius = 2 }\ndivision { direction = 'random', axis = {0, 1, 0} }\n",
-                        {{"division.direction", "random"}}),
-             Contains(":2: division.axis has no effect"));
 }
 
 TEST_CASE("a field of another split direction is refused, not dropped unseen", "[script]") {
