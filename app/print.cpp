@@ -39,12 +39,13 @@ double median_link_length(const cells::Cells& c) {
 
 namespace {
 
-/// Model units: the centre of the bounding box of what is printed when the form lies more than 16 times its own
-/// size from the origin (site coordinates, say), else zero. Far out, the mesher's 32-bit coordinates are coarser
-/// than the voxels: a form 196 m out in mm got ten times the triangles, crossing and zero-area ones (and so are
-/// STL's coordinates).
+/// Model units: the centre of the bounding box of what is printed when the print would reach more than 2^17
+/// voxels from the origin (a form at site coordinates, say), else zero. There a 32-bit coordinate (the mesher's,
+/// STL's) is coarser than 1/64 of a voxel: a form 196 m out in mm at 0.2 mm voxels (a 32-bit step of 1/13
+/// voxel) got ten times the triangles, crossing and zero-area ones. The scale and voxel size are estimated as
+/// the print takes them (an automatic voxel size only grows, which moves less).
 core::Vec3 far_centre(const std::vector<exporters::Segment>& segments,
-                      const std::vector<std::array<core::Vec3, 3>>& shell) {
+                      const std::vector<std::array<core::Vec3, 3>>& shell, const PrintSpec& spec) {
   core::Vec3 lo = core::Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   double radius = 0;
   for (const exporters::Segment& s : segments) {
@@ -60,7 +61,9 @@ core::Vec3 far_centre(const std::vector<exporters::Segment>& segments,
   if (!lo.allFinite() || !hi.allFinite()) return core::Vec3::Zero();
   const double size = (hi - lo).maxCoeff() + 2 * radius;
   const double reach = lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).maxCoeff();
-  return reach > 16 * size ? core::Vec3(0.5 * (lo + hi)) : core::Vec3::Zero();
+  const double scale = spec.scale > 0 ? spec.scale : size > 0 ? spec.size / size : 0;  // mm per model unit
+  const double voxel = spec.voxel_size > 0 ? spec.voxel_size : spec.min_radius / 2;    // mm
+  return reach * scale > 0x1p17 * voxel ? core::Vec3(0.5 * (lo + hi)) : core::Vec3::Zero();
 }
 
 }  // namespace
@@ -123,7 +126,7 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   tp.progress = stage_progress("voxelising");
   exporters::LevelSet level_set;
   // a form far from the origin is printed about its own centre (run.json's print.origin_mm places it back)
-  const core::Vec3 centre = far_centre(segments, shell);
+  const core::Vec3 centre = far_centre(segments, shell, spec);
   std::vector<exporters::Segment> moved_segments;
   std::vector<std::array<core::Vec3, 3>> moved_shell;
   if (centre != core::Vec3::Zero()) {
@@ -225,7 +228,8 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
     const core::Vec3 origin = centre * rep.scale;
     printed["origin_mm"] = {origin.x(), origin.y(), origin.z()};
     err << "cellform: note: print: the form lies " << core::number_text(origin.norm() / 1000)
-        << " m from the origin in the print's millimetres, too far for 32-bit coordinates (the mesher's, STL's) at "
+        << " m from the origin in the print's millimetres, where 32-bit coordinates (the mesher's, STL's) are "
+           "coarser than 1/64 of its "
         << core::number_text(rep.voxel_size) << " mm voxels; printable.* are written about the form's centre, "
         << core::point_text(origin.x(), origin.y(), origin.z())
         << " mm (run.json's print.origin_mm: add it to lay them over cells.obj and veins.obj times the scale)\n";

@@ -199,6 +199,8 @@ TEST_CASE("a form far from the origin is printed about its own centre, as cleanl
   const auto [near, near_err] = at("0");
   const auto [far, far_err] = at("30000");
   CHECK_FALSE(near.contains("origin_mm"));
+  // 300 units out, about 2.3 m in the print's mm: 32-bit coordinates there are fine at its 0.2 mm voxels
+  CHECK_FALSE(at("300").first.contains("origin_mm"));
   CHECK_THAT(far_err, Contains("printable.* are written about the form's centre"));
   const double scale = far["scale_mm_per_unit"].get<double>();
   REQUIRE(far.contains("origin_mm"));
