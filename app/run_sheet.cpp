@@ -166,16 +166,23 @@ venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cel
   const std::vector<core::Vec3> asked = seeds;
   auto point_text = [](const core::Vec3& q) { return core::point_text(q.x(), q.y(), q.z()); };
   for (core::Vec3& p : seeds) p = sheet_surface.closest_point(p);
-  // a seed given far off the sheet is a slip (a unit, a sign): refused as a petiole that far from the cells is
-  const double spacing = median_link_length(*sheet);
-  if (!spec.domain.initial_nodes.empty() && spacing > 0)
+  // a seed given far off the sheet is a slip (a unit, a sign): farther than half the sheet's size (a seed at
+  // the foot of a vault lies below its crown) and 3 cell spacings, refused (not on resume: the run took it)
+  core::Vec3 lo = sheet->position.empty() ? core::Vec3::Zero() : sheet->position[0], hi = lo;
+  for (const core::Vec3& p : sheet->position) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double reach = std::max(3 * median_link_length(*sheet), 0.5 * (hi - lo).norm());
+  if (!spec.domain.initial_nodes.empty() && !state)
     for (std::size_t k = 0; k < seeds.size(); ++k)
-      if (const double off = (seeds[k] - asked[k]).norm(); off > 3 * spacing)
+      if (const double off = (seeds[k] - asked[k]).norm(); off > reach)
         throw core::InvalidInput("surface{cells = true}: surface.seeds[" + std::to_string(k + 1) + "] " +
                                  point_text(asked[k]) + " is " + core::number_text(off) +
                                  " model units from the grown sheet (its nearest point is " + point_text(seeds[k]) +
-                                 "); a seed moves onto the sheet from at most 3 cell spacings (" +
-                                 core::number_text(3 * spacing) + ") away");
+                                 "); a seed moves onto the sheet from at most half the sheet's size or 3 cell "
+                                 "spacings away (" +
+                                 core::number_text(reach) + " here)");
   if (const auto r = venation::first_repeat(seeds);
       r && spec.domain.initial_nodes.empty() && spec.params.type == venation::VenationType::closed)
     throw core::InvalidInput("surface{cells = true}: the petioles at " + point_text(asked[r->first]) + " and " +

@@ -216,9 +216,10 @@ std::vector<Field> build() {
   f.push_back(num("surface", "scale", "1", 0, kInf, true, "factor", "file: scales the mesh's coordinates"));
   f.push_back(boolean("surface", "cells", "false",
                       "grow the script's cells first (cells{}, division{}, run{}, shapes); veins grow on their sheet"));
-  f.push_back(Field{"surface", "seeds", Kind::table, "(auto)", 0, 0, false, "", "model units",
-                    "seed vein nodes {{x, y, z}, ...}; file: on the surface; cells: moved to the nearest point of "
-                    "the grown sheet, from at most 3 cell spacings away (default: the petiole cells)"});
+  f.push_back(
+      Field{"surface", "seeds", Kind::table, "(auto)", 0, 0, false, "", "model units",
+            "seed vein nodes {{x, y, z}, ...}; file: on the surface; cells: moved to the nearest point of "
+            "the grown sheet, from at most half its size or 3 cell spacings away (default: the petiole cells)"});
   f.push_back(choice("colonisation", "type", Kind::choice, "open", "open|closed",
                      "open: trees; closed: veins join into loops"));
   f.push_back(choice("colonisation", "neighbourhood", Kind::choice, "exact", "exact|urquhart",

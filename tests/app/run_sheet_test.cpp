@@ -61,7 +61,7 @@ TEST_CASE("surface{cells = true}: a seed far off the grown sheet is refused, a n
   const auto far = run("{50, 0, 0}");
   CHECK(far.code == 2);
   CHECK_THAT(far.err, Contains("surface.seeds[1] {50, 0, 0} is 4") && Contains("model units from the grown sheet") &&
-                          Contains("at most 3 cell spacings"));
+                          Contains("at most half the sheet's size or 3 cell spacings away"));
   const auto near = run("{0, 0, 0.5}");  // half a spacing above the sheet
   INFO(near.err);
   CHECK(near.code == 0);
