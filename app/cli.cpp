@@ -106,7 +106,10 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       // cellform --help run (or help check): that command's help
       if (args.size() == 2 && (args[1] == "run" || args[1] == "resume" || args[1] == "check" || args[1] == "params"))
         return cli_main({args[1], "--help"}, out, err);
-      if (args.size() >= 2)  // "cellform help foo" said the general help, exit 0, as if foo were known
+      if (args.size() > 2)
+        throw UsageError("cellform " + cmd + " takes one COMMAND (run, resume, check or params), got '" + args[2] +
+                         "' too");
+      if (args.size() == 2)  // "cellform help foo" said the general help, exit 0, as if foo were known
         throw UsageError("no help for '" + args[1] + "': the commands are run, resume, check and params (cellform " +
                          cmd + " COMMAND)");
       out << kUsage;

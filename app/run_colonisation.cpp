@@ -187,12 +187,12 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                                  "' holds no grown cells, but the script grows veins on cells (surface{cells = true})");
       if (s.resume && !s.sheet_partial) {
         sheet = cells::load(s.cells_bytes, "checkpoint '" + o.checkpoint.string() + "'");
-        // a sheet cut short by the first run's --steps is not grown further: said, as a resume's --steps (the
-        // veins' limit now) might be taken for the sheet's
+        // a sheet grown shorter than run.steps now asks (the first run's --steps, an edited script) is not
+        // grown further: said, as a resume's --steps (the veins' limit now) might be taken for the sheet's
         if (sheet_steps && *sheet_steps < cfg.steps)
-          err << "cellform: note: the sheet grew " << *sheet_steps << " steps (the first run's --steps; the script's "
-              << "run.steps is " << cfg.steps << "); a resume goes on with the veins on that sheet, and a new run "
-              << "grows the whole sheet\n";
+          err << "cellform: note: the sheet grew " << *sheet_steps << " steps (the script's run.steps is now "
+              << cfg.steps << "); a resume goes on with the veins on that sheet, and a new run grows the whole "
+              << "sheet\n";
       } else {
         const auto grow_start = std::chrono::steady_clock::now();
         Sheet grown = grow_sheet(o, s, cfg, host, seed, checkpoint, err, failed);

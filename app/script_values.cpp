@@ -110,13 +110,19 @@ Value ScriptHost::Impl::from_lua(const Field& f, int idx, const std::string& at)
       if (t != LUA_TTABLE || lua_rawlen(L, idx) != 3) throw fail(t == LUA_TTABLE ? "a table without 3 numbers" : got);
       {  // {x, y, z} and nothing else: {0.5, 0.5, 0.5, [10] = 1} dropped its extra entry unseen
         const int table = lua_absindex(L, idx);
-        int entries = 0;
+        std::string extra;  // the first key beside 1, 2, 3: 'n' of table.pack(x, y, z), say
         lua_pushnil(L);
         while (lua_next(L, table) != 0) {
-          ++entries;
           lua_pop(L, 1);
+          const bool xyz = lua_isinteger(L, -1) && lua_tointeger(L, -1) >= 1 && lua_tointeger(L, -1) <= 3;
+          if (!xyz && extra.empty() && lua_type(L, -1) == LUA_TSTRING) {
+            extra = "'" + core::printable(lua_tostring(L, -1)) + "'";
+          } else if (!xyz && extra.empty()) {
+            extra = "[" + std::string(luaL_tolstring(L, -1, nullptr)) + "]";
+            lua_pop(L, 1);  // luaL_tolstring's text (the key stays for lua_next)
+          }
         }
-        if (entries != 3) throw fail("a table of " + std::to_string(entries) + " entries");
+        if (!extra.empty()) throw fail("a table with an entry beside x, y and z (key " + extra + ")");
       }
       for (int i = 0; i < 3; ++i) {
         lua_rawgeti(L, idx, i + 1);

@@ -138,7 +138,8 @@ int main(int argc, char** argv) {
     if (!json_given) return true;
     try {
       cellform::core::write_file_atomically(json_path, [&](std::ostream& os) {
-        os << nlohmann::json{{"results", results}}.dump(2) << "\n";
+        // complete: false while benchmarks chosen are still to run (an interrupted sweep's file says so)
+        os << nlohmann::json{{"results", results}, {"complete", results.size() == chosen.size()}}.dump(2) << "\n";
       });
       return true;
     } catch (const std::exception& e) {

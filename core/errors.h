@@ -60,8 +60,9 @@ std::size_t edit_distance(const std::string& a, const std::string& b);
 std::string lower_case(std::string text);
 
 /// The candidate closest to `name`, or "" if none is reasonably close: letter case aside, at most a third of
-/// `name`'s letters changed, and one at least ("nope" is not a misspelt "type"); else the shortest candidate
-/// that begins `name` or that `name` begins, of 4 letters or more ("printing" for "print").
+/// `name`'s letters changed, and one at least ("nope" is not a misspelt "type"); else the one candidate that
+/// begins `name` or that `name` begins, of 4 letters or more and at least 0.6 of the longer ("printing" for
+/// "print", not "checkpoint" for "check"; none when several do: "--lua" begins three options).
 template <class Range>
 std::string closest_name(const std::string& name, const Range& candidates) {
   const std::string key = lower_case(name);
@@ -76,12 +77,16 @@ std::string closest_name(const std::string& name, const Range& candidates) {
     }
   }
   if (!best.empty()) return best;
+  std::size_t found = 0;
   for (const auto& c : candidates) {
     const std::string s(c), l = lower_case(s);
     const std::size_t common = std::min(l.size(), key.size());
-    if (common >= 4 && l.compare(0, common, key, 0, common) == 0 && (best.empty() || s.size() < best.size())) best = s;
+    if (common >= 4 && 5 * common >= 3 * std::max(l.size(), key.size()) && l.compare(0, common, key, 0, common) == 0) {
+      best = s;
+      ++found;
+    }
   }
-  return best;
+  return found == 1 ? best : std::string();
 }
 
 }  // namespace cellform::core

@@ -50,6 +50,7 @@ TEST_CASE("help, version and usage errors", "[cli]") {
   const auto unknown = cli({"help", "foo"});  // it gave the general help, exit 0
   CHECK(unknown.code == 2);
   CHECK_THAT(unknown.err, Contains("no help for 'foo'"));
+  CHECK_THAT(cli({"help", "run", "--x"}).err, Contains("cellform help takes one COMMAND") && Contains("got '--x' too"));
   // --option=value is --option value (it was an unknown option '--steps=many')
   r = cli({"run", "x.lua", "--steps=many"});
   CHECK_THAT(r.err, Contains("--steps takes a whole number") && Contains("got 'many'"));

@@ -82,4 +82,7 @@ TEST_CASE("misspelt names are matched by edits and swaps; a name with nothing cl
   CHECK(closest_name("pri", sections).empty());  // three letters are too few to go on
   CHECK(closest_name("outputting", sections) == "output");
   CHECK(closest_name("zzz", sections).empty());
+  CHECK(closest_name("checkpoint", std::vector<std::string>{"run", "check"}).empty());  // half of it: no
+  const std::vector<std::string> options{"--lua-instructions", "--lua-memory", "--lua-seconds"};
+  CHECK(closest_name("--lua", options).empty());  // begins three: none picked
 }
