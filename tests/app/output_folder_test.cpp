@@ -2,7 +2,6 @@
 // outputs, what a killed or failed run leaves in its folder.
 
 #include <signal.h>
-#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <catch2/catch.hpp>
@@ -10,7 +9,6 @@
 
 #include <chrono>
 #include <climits>
-#include <csignal>
 #include <set>
 #include <thread>
 
@@ -447,16 +445,11 @@ TEST_CASE("a full disk keeps the frames up to the last checkpoint, as a script e
   // RLIMIT_FSIZE fails writes past 12,000 bytes as a full disk would (EFBIG; SIGXFSZ ignored): the checkpoints
   // of steps 5 and 10 fit and the one of step 15 does not (a warning, the run goes on); frame 15 fits, frame 20
   // does not, and stops the run
-  rlimit old{};
-  getrlimit(RLIMIT_FSIZE, &old);
-  auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
-  rlimit small = old;
-  small.rlim_cur = 12000;
-  setrlimit(RLIMIT_FSIZE, &small);
-  const auto r = cli(
-      {"run", script.string(), "--out", out.string(), "--set", "output.every=5", "--checkpoint-every", "5", "--quiet"});
-  setrlimit(RLIMIT_FSIZE, &old);
-  std::signal(SIGXFSZ, old_handler);
+  const auto r = [&] {
+    const FileSizeLimit limit(12000);
+    return cli({"run", script.string(), "--out", out.string(), "--set", "output.every=5", "--checkpoint-every", "5",
+                "--quiet"});
+  }();
   INFO(r.err);
   CHECK(r.code == 1);
   CHECK_THAT(r.err, Contains("cells_000020.ply") && Contains("cellform resume continues from it"));
@@ -483,12 +476,10 @@ TEST_CASE("a full disk keeps the frames up to the last checkpoint, as a script e
   // a resume that runs no step and cannot write its outputs leaves the finished run as it was (here its
   // checkpoint does not fit either; on a small tmpfs where it did, a failed run.json replaced the outputs)
   const std::string cells = slurp(out / "cells.ply");
-  getrlimit(RLIMIT_FSIZE, &old);
-  old_handler = std::signal(SIGXFSZ, SIG_IGN);
-  setrlimit(RLIMIT_FSIZE, &small);
-  const auto again = cli({"resume", (out / "checkpoint.cfck").string(), "--quiet"});
-  setrlimit(RLIMIT_FSIZE, &old);
-  std::signal(SIGXFSZ, old_handler);
+  const auto again = [&] {
+    const FileSizeLimit limit(12000);
+    return cli({"resume", (out / "checkpoint.cfck").string(), "--quiet"});
+  }();
   CHECK(again.code == 1);
   CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "complete");
   CHECK(slurp(out / "cells.ply") == cells);

@@ -18,17 +18,13 @@ namespace {
 
 /// Runs the built cellform with `args` on a new pseudo-terminal; returns all it wrote there.
 std::string run_on_terminal(const std::vector<std::string>& args) {
-  const std::string exe = std::string(CELLFORM_BINARY_DIR) + "/bin/cellform";
-  std::vector<std::string> all{exe};
-  all.insert(all.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& a : all) argv.push_back(a.data());
-  argv.push_back(nullptr);
+  std::vector<std::string> storage;
+  std::vector<char*> argv = cellform::test::cellform_argv(args, storage);
   int master = -1;
   const pid_t pid = forkpty(&master, nullptr, nullptr, nullptr);
   REQUIRE(pid >= 0);
   if (pid == 0) {
-    execv(exe.c_str(), argv.data());
+    execv(argv[0], argv.data());
     _exit(99);
   }
   std::string text;

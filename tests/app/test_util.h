@@ -3,10 +3,12 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -63,16 +65,41 @@ inline CliResult cli(const std::vector<std::string>& args) {
   return {code, out.str(), err.str()};
 }
 
+/// The built cellform binary's path and `args`, as execv takes them (`storage` keeps the strings).
+inline std::vector<char*> cellform_argv(const std::vector<std::string>& args, std::vector<std::string>& storage) {
+  storage = {std::string(CELLFORM_BINARY_DIR) + "/bin/cellform"};
+  storage.insert(storage.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : storage) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  return argv;
+}
+
+/// While it lives, writes past `bytes` fail as on a full disk (RLIMIT_FSIZE: EFBIG, SIGXFSZ ignored).
+struct FileSizeLimit {
+  rlimit old{};
+  void (*old_handler)(int) = nullptr;
+  explicit FileSizeLimit(rlim_t bytes) {
+    getrlimit(RLIMIT_FSIZE, &old);
+    old_handler = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit small = old;
+    small.rlim_cur = bytes;
+    setrlimit(RLIMIT_FSIZE, &small);
+  }
+  ~FileSizeLimit() {
+    setrlimit(RLIMIT_FSIZE, &old);
+    std::signal(SIGXFSZ, old_handler);
+  }
+  FileSizeLimit(const FileSizeLimit&) = delete;
+  FileSizeLimit& operator=(const FileSizeLimit&) = delete;
+};
+
 /// Starts the built cellform binary with `args` as a child process, for tests that send it signals.
 /// SIGHUP is at its default, as from a terminal (ctest may run under nohup); stdout and stderr go to
 /// `output` when it is a descriptor (>= 0). Returns the child's pid.
 inline pid_t spawn_cellform(const std::vector<std::string>& args, int output = -1) {
-  const std::string exe = std::string(CELLFORM_BINARY_DIR) + "/bin/cellform";
-  std::vector<std::string> all{exe};
-  all.insert(all.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& a : all) argv.push_back(a.data());
-  argv.push_back(nullptr);
+  std::vector<std::string> storage;
+  std::vector<char*> argv = cellform_argv(args, storage);
   const pid_t pid = fork();
   if (pid == 0) {
     signal(SIGHUP, SIG_DFL);
@@ -80,7 +107,7 @@ inline pid_t spawn_cellform(const std::vector<std::string>& args, int output = -
       dup2(output, 1);
       dup2(output, 2);
     }
-    execv(exe.c_str(), argv.data());
+    execv(argv[0], argv.data());
     _exit(99);
   }
   return pid;
