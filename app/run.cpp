@@ -346,8 +346,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       }
     }
   };
-  // a run that an error stops after it wrote a checkpoint: the folder then shows it as far as that
-  // checkpoint, with its frames up to it and a run.json that says it failed
+  // a run an error stops after a checkpoint: the folder shows it so far, frames too, with a failed run.json
   auto keep_failed_run = [&](const std::string& error) {
     try {
       std::vector<std::string> names;
@@ -504,8 +503,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       }
       printed_first = true;
     }
-    // the checkpoint first: outputs that then fail to write leave it to resume from; and a checkpoint that
-    // cannot be written (a full disk) still leaves the outputs
+    // the checkpoint first: outputs failing after it leave it to resume from; one that fails leaves the outputs
     try {
       checkpoint_now();
       saved = true;
@@ -583,11 +581,11 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   } catch (const std::exception& e) {
     progress.finish();
     err << "cellform: " << core::error_text(e) << "\n";
-    // the outputs failed (a full disk): what is left to continue from
+    // the outputs failed (a full disk): what is left to continue from; its frames stay, as after a script
+    // error (with none, as when no step ran, the folder stays as it was)
     if (!checkpoint_error.empty()) err << "cellform: the final checkpoint failed too: " << checkpoint_error << "\n";
     if (saved && fs::exists(checkpoint)) {
       err << "  (the last checkpoint written is " << checkpoint.string() << "; cellform resume continues from it)\n";
-      // its frames stay, as after a script error; with none (no step ran, say) the folder stays as it was
       if (std::any_of(frame_steps.begin(), frame_steps.end(), [&](std::uint64_t f) { return f <= saved_step; }))
         keep_failed_run(core::error_text(e));
     }
