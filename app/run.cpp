@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <iostream>
 #include <optional>
 #include <set>
 
@@ -114,10 +113,11 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   SceneConfig cfg;
   ScriptHost host(o.limits);
   Progress* bar = nullptr;  // the steps' progress bar, while it is drawn: a script's line goes below it
-  const auto show_print = [&err, &bar](const std::string& line) {
+  const auto show_line = [&err, &bar](const char* who, const std::string& line) {
     if (bar) bar->break_line();
-    err << "script: " << line << "\n";
+    err << who << line << "\n";
   };
+  const auto show_print = [&show_line](const std::string& line) { show_line("script: ", line); };
   host.set_print(show_print);
   std::unique_ptr<forms::Scene> scene;
   std::uint64_t seed = 0, target = 0;
@@ -135,8 +135,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       if (s.script_replaced)
         for (const auto& [k, v] : s.checkpoint_sets)
           if (!o.sets.count(k)) may_go_unused.insert(k);
-      // a space-colonisation checkpoint of a run that set cells.* or division.* (which such a run now
-      // refuses, and once ignored): those go unused
+      // a colonisation checkpoint of a run that set cells.* or division.* (now refused, once ignored): unused
       if (colonisation_checkpoint)
         for (const auto& [k, v] : s.checkpoint_sets)
           if ((k.rfind("cells.", 0) == 0 || k.rfind("division.", 0) == 0) && !o.sets.count(k)) may_go_unused.insert(k);
@@ -225,6 +224,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     s.physics = physics_of(cfg.resolved);
     apply_checkpoint_every(s.checkpoint_every, &cfg.output, cfg.resolved);
     scene = std::make_unique<forms::Scene>(cfg.scene, seed);
+    scene->set_note([&show_line](const std::string& n) { show_line("cellform: note: ", n); });
     cells::Simulation& sim = scene->simulation();
     sim.set_threads(o.threads);
     if (s.resume) {

@@ -41,6 +41,11 @@ std::string sheet_checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint
 Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
                  const fs::path& checkpoint, std::ostream& err, FailedRun& failed) {
   forms::Scene scene(cfg.scene, seed);
+  Progress* bar = nullptr;
+  scene.set_note([&bar, &err](const std::string& n) {
+    if (bar) bar->break_line();
+    err << "cellform: note: " << n << "\n";
+  });
   cells::Simulation& sim = scene.simulation();
   sim.set_threads(o.threads);
   if (s.resume) {
@@ -71,6 +76,7 @@ Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHo
   bool warned = false;
   const std::uint64_t first = sim.step_count();
   Progress progress(err, ::isatty(2) != 0, o.quiet, sim.step_count(), out.target);
+  bar = &progress;
   // a script's print() while the bar is drawn goes on a line of its own (as in cell runs)
   const std::function<void(const std::string&)> outer_print = host.print_function();
   host.set_print([&progress, &outer_print](const std::string& line) {

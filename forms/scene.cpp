@@ -1,6 +1,7 @@
 // Scene stepping: forces, attractors, integration, obstacles, division, petioles, canalisation.
 #include "forms/scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -84,7 +85,18 @@ void Scene::apply_petioles(std::uint64_t step) {
   for (const PetioleSpec& p : desc_.petioles)
     if (p.step == step) try {
         const std::size_t before = sim_.cells().size();
+        const cells::Cells& c = sim_.cells();
+        const std::size_t was_petioles =
+            static_cast<std::size_t>(std::count(c.type.begin(), c.type.end(), cells::CellType::petiole));
         const core::Index i = make_petiole(sim_.cells(), p.at, p.fixed, desc_.cells.rest_length);
+        if (note_ && c.size() == before &&
+            static_cast<std::size_t>(std::count(c.type.begin(), c.type.end(), cells::CellType::petiole)) ==
+                was_petioles)
+          note_(p.origin + "the petiole at " + core::point_text(p.at.x(), p.at.y(), p.at.z()) + " (step " +
+                std::to_string(step) + ") fell on the cell at " +
+                core::point_text(c.position[i].x(), c.position[i].y(), c.position[i].z()) +
+                ", which is a petiole already (its nearest cell, within half a rest length): the two are one sink; "
+                "place petioles at least a rest length apart for two");
         // a new cell inside a solid would stay there (and its daughters): obstacles only stop crossings
         if (sim_.cells().size() > before)
           check_outside(desc_.obstacles, {sim_.cells().position[i]}, desc_.obstacle_names);

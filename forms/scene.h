@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -67,6 +68,10 @@ class Scene {
   /// One step of everything; throws core::SimulationDiverged (state is then that of the last good step).
   cells::StepReport step();
 
+  /// Receives what the user should hear of but that stops nothing: a petiole{} that landed on a cell that
+  /// is already a petiole (the two are one sink). None by default.
+  void set_note(std::function<void(const std::string&)> note) { note_ = std::move(note); }
+
   /// What canalisation did in the last step.
   const venation::Report& venation_report() const { return vein_report_; }
 
@@ -81,6 +86,7 @@ class Scene {
   venation::SourceRule source_rule_;
   venation::Workspace vein_ws_;
   venation::Report vein_report_;
+  std::function<void(const std::string&)> note_;
 };
 
 }  // namespace cellform::forms

@@ -1,8 +1,10 @@
 // Tests of forms/scene.h: a scene refuses to start with cells inside an obstacle.
 #include "forms/scene.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <string>
+#include <vector>
 
 #include "cells/cells.h"
 #include "core/errors.h"
@@ -211,4 +213,28 @@ TEST_CASE("a petiole made on a cell joins it to the veins' roots and keeps a fix
   CHECK(forms::make_petiole(c, Vec3(2, 0, 0), false, 1.0) == 2);
   CHECK(c.size() == 3);
   CHECK_THROWS_WITH(forms::make_petiole(c, Vec3(9, 0, 0), true, 1.0), Contains("within 3 rest lengths"));
+}
+
+TEST_CASE("a petiole that falls on a petiole cell is noted: the two are one sink", "[forms][scene]") {
+  forms::SceneDescription d;
+  d.petioles.push_back({Vec3(0, 0, 0), true, 0, "leaf.lua:3: "});
+  d.petioles.push_back({Vec3(0.3, 0, 0), true, 0, "leaf.lua:4: "});  // nearest cell: the one line 3 added
+  d.petioles.push_back({Vec3(2, 0, 0), true, 0, "leaf.lua:5: "});    // its own cell
+  d.petioles.push_back({Vec3(2, 0.1, 0), true, 2, "leaf.lua:6: "});  // later, on line 5's petiole
+  forms::Scene scene(d, 1);
+  std::vector<std::string> notes;
+  scene.set_note([&notes](const std::string& n) { notes.push_back(n); });
+  for (int x = -2; x <= 4; ++x) cells::add_cell(scene.simulation().cells(), Vec3(x, 1, 0));  // none within 0.5
+  scene.start();
+  const cells::Cells& c = scene.simulation().cells();
+  CHECK(std::count(c.type.begin(), c.type.end(), cells::CellType::petiole) == 2);
+  REQUIRE(notes.size() == 1);
+  CHECK_THAT(notes[0], Contains("leaf.lua:4: the petiole at {0.3, 0, 0} (step 0) fell on the cell at {0, 0, 0}") &&
+                           Contains("one sink"));
+  scene.step();
+  CHECK(notes.size() == 1);
+  scene.step();
+  REQUIRE(notes.size() == 2);
+  CHECK_THAT(notes[1], Contains("leaf.lua:6: ") && Contains("(step 2)"));
+  CHECK(std::count(c.type.begin(), c.type.end(), cells::CellType::petiole) == 2);
 }
