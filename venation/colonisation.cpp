@@ -73,7 +73,9 @@ Colonisation::Impl::Impl(const Domain& d, const ColonisationParams& params)
 bool Colonisation::Impl::place_3d(Index v, Vec3& q, double D, bool cancelled) const {
   const Vec3& from = nodes.point(v);
   if (!cancelled) q = region->project(q);
-  if (cancelled || retraces(v, q)) {
+  // a pull along the surface's normal (sources all round v, as about a face's centre on a closed mesh) projects
+  // back next to v: as for pulls that cancel, v grows towards its nearest influencing source
+  if (cancelled || (q - from).squaredNorm() < 0.01 * D * D || retraces(v, q)) {
     Index best = kNoIndex;
     double best_d2 = 0;
     for (std::size_t a = 0; a < active.size(); ++a) {
@@ -405,9 +407,8 @@ void Colonisation::Impl::step() {
   child.resize(nodes.size(), kNoIndex);
   seen.resize(nodes.size(), 0);
   touched.clear();
-  // sums in source order (the same bits for any thread count); each node listed once, then sorted. A leaf
-  // also keeps each node's nearest influencing source (ties: the first in source order), for a node that
-  // Eq. 1 cannot move (below)
+  // sums in source order (the same bits for any thread count); each node listed once, then sorted. A leaf also
+  // keeps each node's nearest influencing source (ties: the first in source order), for one Eq. 1 cannot move
   if (!region) {
     pull_source.resize(nodes.size(), kNoIndex);
     pull_d2.resize(nodes.size(), 0.0);

@@ -86,6 +86,35 @@ TEST_CASE("pulls that cancel: the node grows towards its nearest influencing sou
   }
 }
 
+TEST_CASE("a pull along a closed surface's normal: the node grows towards its nearest source", "[colonisation]") {
+  // a 10-unit cube; the seed at the centre of its floor, sources round it on the floor (they cancel) and on
+  // the walls and ceiling (they pull it inwards, along the normal): the step projected back onto the floor
+  // was shorter than a tenth of a segment, so the node never grew and the run stalled with its seed alone
+  v::Domain d;
+  d.kind = v::DomainKind::surface;
+  d.mesh.vertices = {Vec3(0, 0, 0),  Vec3(10, 0, 0),  Vec3(10, 10, 0),  Vec3(0, 10, 0),
+                     Vec3(0, 0, 10), Vec3(10, 0, 10), Vec3(10, 10, 10), Vec3(0, 10, 10)};
+  d.mesh.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                      {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  d.initial_nodes = {Vec3(5, 5, 0)};
+  d.initial_sources = {Vec3(2, 5, 0), Vec3(8, 5, 0),  Vec3(5, 2, 0), Vec3(5, 8, 0), Vec3(5, 5, 10),
+                       Vec3(0, 5, 5), Vec3(10, 5, 5), Vec3(5, 0, 5), Vec3(5, 10, 5)};
+  for (const v::VenationType type : {v::VenationType::open, v::VenationType::closed}) {
+    INFO((type == v::VenationType::open ? "open" : "closed"));
+    v::ColonisationParams p = params(type, 1);
+    p.darts_per_area = 0;
+    v::Colonisation c(d, p);
+    c.step();
+    v::VeinTree t = c.tree();
+    REQUIRE(t.size() == 2);
+    CHECK((t.positions[1] - Vec3(4, 5, 0)).norm() < 1e-9);  // towards the first of the four nearest
+    while (!c.done()) c.step();
+    CHECK(c.report().finished);
+    CHECK(!c.report().stalled);
+    CHECK(c.sources().empty());
+  }
+}
+
 TEST_CASE("sources born within the kill distance go at once: the pattern ends instead of running to max_steps",
           "[colonisation]") {
   // closed, kill distance beyond the vein birth distance: every dart that lands is already reached, and a
