@@ -55,8 +55,9 @@ std::vector<std::array<std::uint32_t, 3>> triangulate_polygon(std::span<const Ve
   for (std::size_t i = 0; i < n; ++i) q[i] = {corners[i][u], mirror ? -corners[i][v] : corners[i][v]};
   // convex: no corner turns right or back, at least three turn left, and once round in all (a pentagram
   // turns left at every corner, twice round; a corner repeated at a right turn
-  // hides that turn, so the rest add up to more than once round). Corners in line turn by 0: fanned, they
-  // give triangles of no area along that side.
+  // hides that turn, so the rest add up to more than once round). Corners in line turn by 0: a fan from
+  // corner 0 gives a triangle of no area when corner 1 or n - 1 is one (a vertex a modeller put on an
+  // edge), so such a polygon is cut by ear clipping, which never cuts at them.
   bool convex = true;
   int left = 0;
   double turning = 0;
@@ -67,7 +68,8 @@ std::vector<std::array<std::uint32_t, 3>> triangulate_polygon(std::span<const Ve
     left += turn > 0;
     turning += std::atan2(turn, ahead);
   }
-  if (convex && left >= 3 && std::abs(turning - 2 * M_PI) < 1e-6) {
+  if (convex && left >= 3 && std::abs(turning - 2 * M_PI) < 1e-6 &&
+      (left == static_cast<int>(n) || n > kMaxConcaveCorners)) {
     fan(ring);
     return out;
   }

@@ -129,19 +129,22 @@ PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s, 
       return weld_soup(std::move(corners));
     }
   }
+  const auto damaged_binary = [&](const char* header) {  // a triangle count that does not fit: truncated or padded
+    const std::size_t n = get<std::uint32_t>(s, 80);
+    malformed(path, "a damaged binary STL" + std::string(header) + ": its header announces " + std::to_string(n) +
+                        " triangles (" + std::to_string(84 + 50 * n) + " bytes), but the file has " +
+                        std::to_string(s.size()) + " bytes");
+  };
   if (!forms::starts_like_ascii_stl(std::string_view(s).substr(0, 84))) {
-    if (s.size() >= 84) {  // a binary header whose triangle count does not fit the file: truncated or padded
-      const std::size_t n = get<std::uint32_t>(s, 80);
-      malformed(path, "a damaged binary STL: its header announces " + std::to_string(n) + " triangles (" +
-                          std::to_string(84 + 50 * n) + " bytes), but the file has " + std::to_string(s.size()) +
-                          " bytes");
-    }
+    if (s.size() >= 84) damaged_binary("");
     malformed(path, "not an STL file (neither binary nor ASCII 'solid')");
   }
   std::vector<Vec3> corners, stored;
   try {
     corners = forms::parse_ascii_stl(s, notes ? &stored : nullptr);
   } catch (const core::InvalidInput& e) {
+    // a binary file whose 80-byte header begins with "solid" (as some exporters write it): text has no NUL
+    if (s.size() >= 84 && s.find('\0', 84) != std::string::npos) damaged_binary(" (its header begins with 'solid')");
     malformed(path, std::string("malformed ASCII STL: ") + e.what());
   }
   if (corners.empty()) malformed(path, "no facets in the STL file");
@@ -151,10 +154,11 @@ PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s, 
 
 PrintableMesh read_obj(const std::filesystem::path& path, const std::string& s) {
   PrintableMesh m;
-  std::istringstream in(s);
+  std::istringstream in(s.rfind("\xEF\xBB\xBF", 0) == 0 ? s.substr(3) : s);  // a UTF-8 byte-order mark
   std::string line;
   std::size_t line_no = 0;
   std::vector<std::uint32_t> poly;
+  bool lines = false;
   while (std::getline(in, line)) {
     ++line_no;
     std::istringstream ls(line);
@@ -185,9 +189,14 @@ PrintableMesh read_obj(const std::filesystem::path& path, const std::string& s) 
       }
       if (poly.size() < 3) malformed(path, "line " + std::to_string(line_no) + ": a face needs three vertices");
       add_face(m, poly, path, "line", static_cast<std::size_t>(line_no));
+    } else if (tag == "l") {
+      lines = true;
     }
   }
-  if (m.triangles.empty()) malformed(path, "no faces in the OBJ file");
+  if (m.triangles.empty())
+    malformed(path, lines ? "no faces in the OBJ file, only lines ('l'): a polyline graph such as veins.obj, not a "
+                            "surface (check the printable.stl made from it)"
+                          : "no faces in the OBJ file");
   return m;
 }
 
@@ -200,7 +209,10 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
     std::size_t count = 0;
     std::vector<Property> props;
   };
-  std::size_t end = s.find("end_header");
+  std::size_t end = s.find("end_header");  // the line that is exactly that (a comment may name it)
+  while (end != std::string::npos &&
+         ((end > 0 && s[end - 1] != '\n') || (end + 10 < s.size() && s[end + 10] != '\n' && s[end + 10] != '\r')))
+    end = s.find("end_header", end + 1);
   if (s.rfind("ply", 0) != 0) malformed(path, "not a PLY file (it does not start with 'ply')");
   if (end == std::string::npos) malformed(path, "a PLY header with no 'end_header' line (a damaged or cut-off file)");
   std::istringstream head(s.substr(0, end));

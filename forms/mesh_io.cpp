@@ -254,7 +254,7 @@ std::size_t check_obj_lines(std::istream& in, const std::string& name) {
   std::size_t count = 0, line_no = 0;
   std::string line;
   while (std::getline(in, line)) {
-    ++line_no;
+    if (++line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte-order mark
     std::istringstream words(line);
     std::string tag;
     if (!(words >> tag)) continue;
@@ -475,6 +475,11 @@ TriangleMesh load_mesh(const fs::path& path) {
   if (ext == ".stl" && !is_binary_stl(probe, size, name)) return checked(read_ascii_stl(probe, name), name);
   if (ext == ".stl") check_binary_stl_corners(probe, size, name);  // OpenMesh drops such triangles unsaid
   const std::size_t vertex_lines = ext == ".obj" ? check_obj_lines(probe, name) : 0;
+  // OpenMesh takes an OBJ's first line after a UTF-8 byte-order mark for an unknown keyword (a vertex gone,
+  // every face shifted): such a file is read without its mark
+  std::string text;
+  if (char mark[3] = {}; ext == ".obj" && probe.read(mark, 3) && std::string_view(mark, 3) == "\xEF\xBB\xBF")
+    text.assign(std::istreambuf_iterator<char>(probe), std::istreambuf_iterator<char>());
   probe.close();
 
   SoupImporter importer;
@@ -483,7 +488,9 @@ TriangleMesh load_mesh(const fs::path& path) {
     MuteOpenMesh mute;
     om::IO::Options options;
     try {
-      ok = om::IO::IOManager().read(path.string(), importer, options);
+      std::istringstream in(text);
+      ok = text.empty() ? om::IO::IOManager().read(path.string(), importer, options)
+                        : om::IO::IOManager().read(in, "obj", importer, options);
     } catch (const std::exception& e) {
       throw core::InvalidInput("mesh " + name + " could not be read: " + e.what());
     }

@@ -113,8 +113,8 @@ TEST_CASE("a corner repeated at the notch, or a spike, does not make a face look
   CHECK(cut.size() == 3);
   CHECK(cut != fan);
   for (int k = 0; k < 5; ++k) square.push_back(Vec3(k == 1 || k == 2 ? 1 : 0, k >= 2 ? 1 : 0, 0));  // and a corner
-  square[4] = Vec3(0, 0.5, 0);  // in line on its left side: convex still, fanned
-  CHECK(core::triangulate_polygon(square) == fan);
+  square[4] = Vec3(0, 0.5, 0);  // in line on its left side: convex still, but a fan would be flat at (0, 3, 4)
+  CHECK(core::triangulate_polygon(square) != fan);
   // a slit into a square (a spike doubling back: at its tip the turn is 0, going back): no triangle is
   // wound backwards (a fan from the first corner would lay one back over another)
   const std::vector<std::array<double, 2>> slit{{0, 0}, {0.5, 0}, {0.5, 0.5}, {0.5, 0}, {1, 0}, {1, 1}, {0, 1}};
@@ -139,6 +139,27 @@ TEST_CASE("a convex face of many corners in line along its sides is fanned, not 
   const auto tris = core::triangulate_polygon(p, &too_large);
   CHECK(!too_large);
   check_cover(p, flat, Vec3::UnitZ(), tris);
+}
+
+TEST_CASE("a convex face with corners in line has no triangle of zero area, whichever corner comes first",
+          "[polygon]") {
+  // a vertex a modeller put on an edge (two on one side, one on another): fanned from a corner next to it, the
+  // face gave a flat triangle, and `cellform check` called a closed cube not printable from some starts only
+  const std::vector<std::array<double, 2>> sq{{0, 0}, {1, 0}, {2, 0}, {3, 0}, {3, 3}, {3, 1.5}, {0, 3}};
+  std::vector<std::array<double, 2>> shape = sq;
+  std::swap(shape[4], shape[5]);  // (3, 1.5) on the right side, before (3, 3)
+  for (std::size_t turn = 0; turn < shape.size(); ++turn)
+    for (const bool reversed : {false, true}) {
+      std::vector<std::array<double, 2>> f(shape.begin() + static_cast<std::ptrdiff_t>(turn), shape.end());
+      f.insert(f.end(), shape.begin(), shape.begin() + static_cast<std::ptrdiff_t>(turn));
+      if (reversed) std::reverse(f.begin(), f.end());
+      const auto p = place(f, Vec3(1, 2, 3), Vec3::UnitY(), Vec3::UnitZ());
+      const Vec3 n = reversed ? Vec3(-Vec3::UnitX()) : Vec3(Vec3::UnitX());
+      const auto tris = core::triangulate_polygon(p);
+      INFO("turn " << turn << (reversed ? " reversed" : ""));
+      check_cover(p, f, n, tris);
+      for (const auto& t : tris) CHECK(area_vector(p, t).dot(n) > 1e-9);
+    }
 }
 
 TEST_CASE("random star-shaped polygons are covered exactly", "[polygon]") {

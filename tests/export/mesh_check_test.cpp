@@ -492,3 +492,50 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
                     Catch::Contains("xlist.ply") && Catch::Contains("'x' is a list, not one number"));
   fs::remove_all(dir);
 }
+
+TEST_CASE("read_mesh reads files as CAD programs write them: a mark, a comment, a vertex on an edge",
+          "[mesh_check][files]") {
+  const fs::path dir = temp_dir("cad");
+  // a 10 mm cube with a vertex (9) on the edge between its top and front faces, both pentagons; written with
+  // each corner of the two first (a fan from a corner next to vertex 9 was a flat triangle: "not printable")
+  const std::string vertices =
+      "v 0 0 0\nv 10 0 0\nv 10 10 0\nv 0 10 0\nv 0 0 10\nv 10 0 10\nv 10 10 10\nv 0 10 10\n"
+      "v 5 0 10\nf 1 4 3 2\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+  const std::vector<int> top{5, 9, 6, 7, 8}, front{1, 2, 6, 9, 5};
+  for (std::size_t turn = 0; turn < 5; ++turn) {
+    std::string faces = "f", faces2 = "f";
+    for (std::size_t k = 0; k < 5; ++k) {
+      faces.append(" ").append(std::to_string(top[(k + turn) % 5]));
+      faces2.append(" ").append(std::to_string(front[(k + turn) % 5]));
+    }
+    std::ofstream(dir / "cube.obj") << vertices << faces << "\n" << faces2 << "\n";
+    const auto r = exporters::check_mesh(exporters::read_mesh(dir / "cube.obj"));
+    INFO("first corners " << top[turn] << ", " << front[turn]);
+    CHECK(r.printable());
+    CHECK(r.degenerate_triangles == 0);
+    CHECK(r.volume == Approx(1000));
+  }
+  // after a UTF-8 byte-order mark: the first vertex was lost and every face shifted (volume 666.7, "printable")
+  std::ofstream(dir / "bom.obj") << "\xEF\xBB\xBF" << vertices << "f 5 9 6 7 8\nf 1 2 6 9 5\n";
+  CHECK(exporters::check_mesh(exporters::read_mesh(dir / "bom.obj")).volume == Approx(1000));
+  // a PLY header comment that names end_header
+  std::ofstream(dir / "c.ply") << "ply\nformat ascii 1.0\ncomment see end_header below\nelement vertex 4\n"
+                                  "property float x\nproperty float y\nproperty float z\nelement face 4\n"
+                                  "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                                  "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  CHECK(exporters::check_mesh(exporters::read_mesh(dir / "c.ply")).printable());
+  // a vein graph as OBJ lines is said to be one, as the PLY is
+  std::ofstream(dir / "veins.obj") << "v 0 0 0\nv 1 0 0\nl 1 2\n";
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "veins.obj"), Catch::Contains("only lines ('l'): a polyline graph"));
+  // a cut-off binary STL whose header begins with "solid" (as some exporters write it) is a damaged binary
+  // STL, not a broken ASCII one
+  std::string stl(80, ' ');
+  stl.replace(0, 10, "solid part");
+  const std::uint32_t two = 2;
+  stl.append(reinterpret_cast<const char*>(&two), 4).append(50, '\0');
+  std::ofstream(dir / "cut.stl", std::ios::binary) << stl;
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "cut.stl"),
+                    Catch::Contains("damaged binary STL (its header begins with 'solid')") &&
+                        Catch::Contains("announces 2 triangles (184 bytes), but the file has 134 bytes"));
+  fs::remove_all(dir);
+}

@@ -174,6 +174,12 @@ TEST_CASE("load_mesh reads ASCII STL, binary STL and OBJ", "[forms][mesh_io]") {
   }
   CHECK(area == Approx(6.0));
   CHECK(q.triangles[2] == std::array<core::Index, 3>{0, 1, 4});
+  // after a UTF-8 byte-order mark: the same mesh (OpenMesh took the first line for an unknown keyword and
+  // lost its vertex, shifting every face)
+  write_text(dir / "quad_bom.obj", "\xEF\xBB\xBFv 0 0 0\nv 2 0 0\nv 2 3 0\nv 0 3 0\nv 1 1 5\nf 1 2 3 4\nf -5 -4 -1\n");
+  const forms::TriangleMesh bom = forms::load_mesh(dir / "quad_bom.obj");
+  CHECK(bom.vertices == q.vertices);
+  CHECK(bom.triangles == q.triangles);
   fs::remove_all(dir);
 }
 
