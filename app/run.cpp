@@ -291,14 +291,14 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   if (!o.quiet)
     err << (s.resume ? "resuming " : "running ") << s.script_path.string() << " from step " << first << " to " << target
         << " (" << initial_cells << " cells, seed " << seed << ")\n";
-  if (!o.quiet && s.resume && first >= target && !o.steps)
+  if (s.resume && first >= target && !o.steps)  // notes are said with --quiet too: it stills the progress alone
     err << "cellform: note: the checkpoint is at its run's last step (" << target << "): no step runs, the outputs"
         << (cfg.print ? " and the printable solid" : "") << " are made again; give --steps N to continue to step N\n";
   for (const forms::PetioleSpec& p : cfg.scene.petioles)  // said now, not found missing at the end
     if (p.step > target && p.step > first)
       err << "cellform: note: " << p.origin << "the petiole due at step " << p.step
           << " comes after the run's last step (" << target
-          << "), so it never appears; run{steps = N} or --steps N reaches it\n";
+          << "), so this run does not place it; run{steps = N}, --steps N or a resume with --steps N reaches it\n";
   Progress progress(err, ::isatty(2) != 0, o.quiet, first, target);
   bar = &progress;
   CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
@@ -473,12 +473,11 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         saved = periodic_checkpoint(checkpoint_now, err, checkpoint_warned) || saved;
     }
     progress.finish();
-    if (full_at > 0 && full_at <= target && !o.quiet)  // divisions, and the rules that decide them, stopped there
+    if (full_at > 0 && full_at <= target)  // divisions, and the rules that decide them, stopped there
       err << "cellform: note: the cells reached division.max_cells = " << sim.params().division.max_cells << " at step "
           << full_at << "; no cell divided after it (raise division.max_cells to grow on)\n";
     if (cfg.scene.venation && sim.step_count() > first)  // the notes wait for a finished run (not yet: not news)
-      say_vein_findings(err, sim.cells(), scene->venation_report(), *cfg.scene.venation,
-                        !o.quiet && !g_interrupt.load());
+      say_vein_findings(err, sim.cells(), scene->venation_report(), *cfg.scene.venation, !g_interrupt.load());
     const auto b = std::chrono::steady_clock::now();
     json printed;
     bool print_cancelled = false, printed_first = false;  // (a Ctrl-C of the early print ends the run)

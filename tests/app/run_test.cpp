@@ -10,7 +10,7 @@ TEST_CASE("a run whose cells reach division.max_cells says when, once", "[cli]")
   TempDir t("cli-max-cells");
   const auto script = t.write(
       "full.lua", "run { steps = 60 }\ndivision { trigger = 'age', age = 3, max_cells = 50 }\ndisc { radius = 2 }\n");
-  auto r = cli({"run", script.string(), "--out", (t.path / "o").string()});
+  auto r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet"});  // notes: not progress
   REQUIRE(r.code == 0);
   CHECK_THAT(r.err, Contains("note: the cells reached division.max_cells = 50 at step "));
   // resumed full: nothing new to say
@@ -18,7 +18,7 @@ TEST_CASE("a run whose cells reach division.max_cells says when, once", "[cli]")
   REQUIRE(r.code == 0);
   CHECK_THAT(r.err, !Contains("max_cells"));
   // resumed at its last step: what that does is said (a print made again, say), and how to go on
-  r = cli({"resume", (t.path / "o").string()});
+  r = cli({"resume", (t.path / "o").string(), "--quiet"});
   REQUIRE(r.code == 0);
   CHECK_THAT(r.err, Contains("at its run's last step (70): no step runs, the outputs are made again; give --steps N"));
   // under the limit: nothing said
