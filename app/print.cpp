@@ -90,6 +90,7 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   // Ctrl-C stops the thickening at the next block; on a terminal the stage shows its percentage. A Ctrl-C
   // that stopped the steps before printing began asked for the outputs, the solid included: it is not one.
   const bool tty = !quiet && ::isatty(2) != 0;
+  tp.note = [&err, tty](const std::string& n) { err << (tty ? "\n" : "") << "cellform: note: print: " << n << "\n"; };
   const bool stopped_before = g_interrupt.load();
   g_print_cancel = false;
   g_print_after_interrupt = stopped_before;

@@ -275,7 +275,10 @@ std::vector<Field> build() {
   f.push_back(num("print", "voxel_size", "0", 0, 1e3, false, "mm",
                   "level-set resolution, at most min_radius; 0 = min_radius / 2, raised (up to min_radius) if that "
                   "would need more than max_memory"));
-  f.push_back(num("print", "adaptivity", "0.2", 0, 1, false, "0..1", "mesh simplification of flat areas (OpenVDB)"));
+  f.push_back(
+      num("print", "adaptivity", "0.2", 0, 1, false, "0..1",
+          "mesh simplification (OpenVDB): fewer triangles where the surface is flat; above the default it thins round "
+          "veins by more than a voxel in places (at 1, the thinnest by about half; noted); 0 = uniform"));
   f.push_back(num("print", "max_memory", "2000", 1, 1e6, false, "MB",
                   "memory limit of the printable grid: an explicit voxel_size that needs more is refused; the "
                   "automatic one is coarsened to fit, up to min_radius"));

@@ -36,9 +36,11 @@
 namespace cellform::exporters {
 
 using detail::arena_threads;
+using detail::closing_radius;
 using detail::check_params;
 using detail::fmt;
 using detail::init_openvdb;
+using detail::note_long_closing;
 using detail::report_progress;
 using detail::seconds_since;
 
@@ -49,12 +51,6 @@ double LevelSet::scale() const { return impl_ ? impl_->scale : 0.0; }
 std::size_t LevelSet::active_voxels() const { return impl_ ? impl_->active_voxels : 0; }
 
 namespace {
-
-/// mm: the radius of the shell's closing, close_holes at the scale, capped by close_holes_max.
-double closing_radius(const ThickenParams& p, double scale) {
-  const double r = p.close_holes * scale;
-  return p.close_holes_max > 0 ? std::min(r, p.close_holes_max) : r;
-}
 
 constexpr int kHalfWidth = 3;  // narrow band half width in voxels (OpenVDB's LEVEL_SET_HALF_WIDTH)
 constexpr int kLeafLog2 = 3;   // 8^3 voxels per leaf
@@ -517,6 +513,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   init_openvdb();
   openvdb::FloatGrid::Ptr grid;
   const double close = closing_radius(params, scale);  // mm: radius of the shell's closing
+  if (!slabs.empty()) note_long_closing(params, close, voxel);
   if (close > 0 && !slabs.empty()) {
     // The shell closed (dilated by `close`, then eroded by it). The dilated slabs' grid is made exact by
     // fast sweeping from its surface, on a band widened inward past `close`; its level set at -close is

@@ -55,6 +55,9 @@ struct ThickenParams {
   /// non-decreasing within voxelise() and within mesh_level_set()); return false to stop, which throws
   /// core::Cancelled (OpenVDB's interrupter idea). Empty = never stops. Does not change the output.
   std::function<bool(double)> progress;
+  /// Called on the calling thread, before it starts, with a word on a stage that will take long: a shell's closing
+  /// of many voxels' radius (minutes where the default takes seconds). Empty = not said. Does not change the output.
+  std::function<void(const std::string&)> note;
 };
 
 /// What thicken() did.

@@ -91,6 +91,21 @@ int arena_threads(int threads) {
   return threads > 0 ? std::min(threads, core::hardware_threads()) : tbb::task_arena::automatic;
 }
 
+double closing_radius(const ThickenParams& p, double scale) {
+  const double r = p.close_holes * scale;
+  return p.close_holes_max > 0 ? std::min(r, p.close_holes_max) : r;
+}
+
+void note_long_closing(const ThickenParams& params, double close, double voxel) {
+  if (!(close > 25 * voxel) || !params.note) return;
+  params.note("the shell's closing radius is " + core::number_text(close) + " mm, " +
+              core::number_text(std::round(close / voxel)) + " voxels of " + core::number_text(voxel) +
+              " mm: the closing fills all the space within that of the sheet, which may take many minutes (" +
+              (params.close_holes_max > 0 ? "close_holes_max caps the radius, in mm"
+                                          : "close_holes_max = 0 leaves the radius uncapped") +
+              "; close_holes sets it in cell spacings)");
+}
+
 }  // namespace detail
 
 }  // namespace cellform::exporters

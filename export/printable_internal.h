@@ -40,6 +40,11 @@ void report_progress(const ThickenParams& params, double fraction);
 /// The TBB arena size for `threads` (0 = all cores): more threads than cores cannot help, and TBB warns
 /// on stderr when asked for them.
 int arena_threads(int threads);
+/// mm: the radius of the shell's closing, close_holes at the scale, capped by close_holes_max.
+double closing_radius(const ThickenParams& p, double scale);
+/// Tells params.note of a closing of more than 25 voxels' radius (`close` mm, `voxel` mm), which may take minutes
+/// (the default caps it at 10).
+void note_long_closing(const ThickenParams& params, double close, double voxel);
 
 }  // namespace detail
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -178,7 +179,12 @@ TEST_CASE("a closing that joins two sheets into one thick solid leaves no false 
   p.min_radius = 0.4;
   p.shell_thickness = 0.6;
   p.close_holes = 6.0;
+  std::vector<std::string> notes;  // a radius of 30 voxels: the closing may take long, and it is said before it
+  p.note = [&notes](const std::string& n) { notes.push_back(n); };
   const auto r = require_printable(exporters::thicken({}, sheets, p));
+  REQUIRE(notes.size() == 1);
+  CHECK_THAT(notes[0], Catch::Matchers::Contains("closing radius is 6 mm, 30 voxels of 0.2 mm") &&
+                           Catch::Matchers::Contains("close_holes_max = 0 leaves the radius uncapped"));
   CHECK(r.parts == 1);
   CHECK(r.genus == std::vector<int>{0});
   CHECK(r.volume > 12 * 12 * 4.7);  // solid between the sheets
@@ -186,6 +192,7 @@ TEST_CASE("a closing that joins two sheets into one thick solid leaves no false 
   // 0.6 mm plates, each about its own volume
   p.close_holes_max = 2.0;
   const auto capped = require_printable(exporters::thicken({}, sheets, p));
+  CHECK(notes.size() == 1);  // 10 voxels: not noted
   CHECK(capped.parts == 2);
   CHECK(capped.volume == Approx(2 * 12.6 * 12.6 * 0.6).epsilon(0.03));  // rims 0.3 round the 12 x 12
   p.close_holes_max = -1;
