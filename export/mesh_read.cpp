@@ -359,6 +359,8 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
           if (list.size() < 3) malformed(path, "PLY face with fewer than three vertices" + in());
           for (double x : list) {
             if (!(x >= 0 && x < 4294967295.0)) malformed(path, "PLY face index out of range" + in());
+            if (x != std::floor(x))  // an index stored as a float type: not read as the vertex below it
+              malformed(path, "PLY face index " + core::number_text(x) + " is not a whole number" + in());
             if (x >= static_cast<double>(vertex_total))
               malformed(path, "PLY face index " + std::to_string(static_cast<std::uint32_t>(x)) + " out of range (" +
                                   std::to_string(vertex_total) + " vertices)" + in());

@@ -524,6 +524,11 @@ TEST_CASE("read_mesh reads files as CAD programs write them: a mark, a comment, 
                                   "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
                                   "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
   CHECK(exporters::check_mesh(exporters::read_mesh(dir / "c.ply")).printable());
+  // face indices stored as floats are whole numbers, or refused (1.5 was read as 1)
+  std::ofstream(dir / "f.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                  "property float z\nelement face 1\nproperty list uchar float vertex_indices\n"
+                                  "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n";
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "f.ply"), Catch::Contains("PLY face index 1.5 is not a whole number"));
   // a vein graph as OBJ lines is said to be one, as the PLY is
   std::ofstream(dir / "veins.obj") << "v 0 0 0\nv 1 0 0\nl 1 2\n";
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "veins.obj"), Catch::Contains("only lines ('l'): a polyline graph"));
