@@ -2,6 +2,8 @@
 #include "app/check.h"
 
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "app/run.h"
 #include "core/errors.h"
@@ -19,7 +21,7 @@ bool walled(const exporters::MeshReport& r) {
 
 }  // namespace
 
-int check_command(const std::filesystem::path& file, bool json, std::ostream& out, std::ostream& err) {
+int check_command(const std::filesystem::path& file, bool json, double min_wall, std::ostream& out, std::ostream& err) {
   exporters::MeshReport r;
   exporters::ThicknessReport th;
   exporters::MeshFileNotes notes;
@@ -39,6 +41,17 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
   }
   // pieces, pockets, a volume and walls mean something only where the surfaces bound a solid the right way round
   const bool solid = r.closed_manifold() && r.consistently_oriented && r.misnested_parts == 0;
+  // --min-wall: the 1st percentile by area (single rays can cut a junction's corner), measured
+  const bool thin = min_wall > 0 && !(th.samples > 0 && th.p01 >= min_wall);
+  const std::string thin_text =
+      !thin ? ""
+      : th.samples > 0
+          ? "walls thinner than --min-wall " + core::number_text(min_wall) +
+                " over more than 1% of the surface (1% of it is thinner than " + core::number_text(th.p01) + ")"
+          : "walls not measured, so not known to be at least --min-wall " + core::number_text(min_wall);
+  const bool printable = r.printable() && !thin;
+  std::vector<std::string> problems = r.problems();
+  if (thin) problems.push_back(thin_text);
   if (json) {
     // a thickness no ray measured is null, not 0
     auto measured = [&](double x) { return th.samples > 0 ? nlohmann::json(x) : nlohmann::json(nullptr); };
@@ -46,11 +59,12 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
     for (const int g : r.genus) genus.push_back(g < 0 ? nlohmann::json(nullptr) : nlohmann::json(g));
     nlohmann::json j = {
         {"file", file.string()},
-        {"printable", r.printable()},
+        {"printable", printable},
+        {"min_wall", min_wall > 0 ? nlohmann::json(min_wall) : nlohmann::json(nullptr)},
         // the keys say mm, as cellform's printable files are; a mesh in other units (cells.ply is in
         // model units) keeps them
         {"units", "the file's own: the *_mm fields are millimetres for cellform's printable.* files"},
-        {"problems", r.problems()},
+        {"problems", problems},
         {"triangles", r.triangles},
         {"vertices", r.vertices},
         // as run.json's print.parts: solid pieces, each with the cavities inside it; a surface's volume
@@ -89,7 +103,10 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
     // the verdict, with its reasons, heads the report (summary() ends with it)
     const std::string summary = r.summary();
     const std::size_t last = summary.rfind('\n', summary.size() - 2) + 1;
-    out << file.string() << ": " << summary.substr(last) << summary.substr(0, last);
+    out << file.string() << ": "
+        << (thin && r.printable() ? "NOT printable: " + thin_text + "\n" : summary.substr(last))
+        << summary.substr(0, last);
+    if (thin && !r.printable()) out << "also: " << thin_text << "\n";
     if (th.samples > 0)
       out << "wall thickness (in the file's units; cellform prints are in mm): 1% of the surface is thinner than "
           << th.p01 << ", median " << th.median << "; shortest ray " << th.min << " near (" << th.min_at.x() << ", "
@@ -107,7 +124,7 @@ int check_command(const std::filesystem::path& file, bool json, std::ostream& ou
           << " stored facet normals point against their triangle's winding (the check, and most slicers, go by the "
              "winding; a tool that trusts the stored normals sees those facets inside out)\n";
   }
-  return r.printable() ? ok : failure;
+  return printable ? ok : failure;
 }
 
 }  // namespace cellform::app

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <charconv>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -131,16 +132,28 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
     }
     if (cmd == "check") {
       bool json = false;
+      double min_wall = 0;
       std::vector<std::string> files;
       for (std::size_t i = 1; i < args.size(); ++i) {
-        if (args[i] == "--json")
+        if (args[i] == "--json") {
           json = true;
-        else if (args[i] == "-h" || args[i] == "--help") {
-          out << "usage: cellform check FILE [--json]\n"
+        } else if (args[i] == "--min-wall" || args[i].rfind("--min-wall=", 0) == 0) {
+          const bool joined = args[i].size() > 10;
+          if (!joined && i + 1 == args.size()) throw UsageError("--min-wall needs a thickness (file units, mm)");
+          const std::string v = joined ? args[i].substr(11) : args[++i];
+          char* end = nullptr;
+          min_wall = std::strtod(v.c_str(), &end);
+          if (v.empty() || *end != '\0' || !(min_wall > 0 && min_wall <= 1e6))
+            throw UsageError("--min-wall must be a thickness > 0 and at most 1e6 (the file's units, mm), got '" + v +
+                             "'");
+        } else if (args[i] == "-h" || args[i] == "--help") {
+          out << "usage: cellform check FILE [--json] [--min-wall T]\n"
                  "Reports triangles, vertices, parts, holes (boundary edges), non-manifold edges and vertices,\n"
-                 "orientation, self-intersections, volume, bounding box and genus of an STL, OBJ or PLY mesh.\n"
-                 "Exit code 0: printable (watertight, 2-manifold, oriented outward, no self-intersections);\n"
-                 "1: not printable; 2: the file cannot be read.\n";
+                 "orientation, self-intersections, volume, bounding box, genus and wall thickness of an STL, OBJ\n"
+                 "or PLY mesh. Exit code 0: printable (watertight, 2-manifold, oriented outward, no\n"
+                 "self-intersections; with --min-wall T also no more than 1% of the surface over walls thinner\n"
+                 "than T, in the file's units: mm for cellform's prints); 1: not printable; 2: the file cannot\n"
+                 "be read.\n";
           return ok;
         } else if (!args[i].empty() && args[i][0] == '-')
           throw UsageError("unknown option '" + args[i] + "' for check");
@@ -148,7 +161,7 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
           files.push_back(args[i]);
       }
       if (files.size() != 1) throw UsageError("cellform check takes one FILE (see cellform check --help)");
-      return check_command(files[0], json, out, err);
+      return check_command(files[0], json, min_wall, out, err);
     }
     if (cmd != "run" && cmd != "resume") {
       const std::string near = core::closest_name(cmd, std::vector<std::string>{"run", "resume", "params", "check"});

@@ -117,3 +117,38 @@ TEST_CASE("cellform check warns of STL facet normals that point against the wind
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("cut.ply") && Contains("no 'end_header' line"));
 }
+
+TEST_CASE("cellform check --min-wall judges the walls too", "[cli][check]") {
+  TempDir t("cli-check-wall");
+  // a 10 x 10 plate 0.05 thick: closed and oriented, so printable by its surfaces alone
+  const auto plate = t.write("plate.obj",
+                             "v 0 0 0\nv 10 0 0\nv 10 10 0\nv 0 10 0\nv 0 0 0.05\nv 10 0 0.05\nv 10 10 0.05\n"
+                             "v 0 10 0.05\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
+  auto r = cli({"check", plate.string()});
+  CHECK(r.code == 0);
+  r = cli({"check", plate.string(), "--min-wall", "0.8"});
+  CHECK(r.code == 1);
+  CHECK(r.out.rfind(plate.string() + ": NOT printable: walls thinner than --min-wall 0.8 over more than 1% of the "
+                                     "surface (1% of it is thinner than 0.05)\n",
+                    0) == 0);
+  r = cli({"check", plate.string(), "--min-wall=0.04", "--json"});
+  CHECK(r.code == 0);
+  auto j = nlohmann::json::parse(r.out);
+  CHECK(j["printable"] == true);
+  CHECK(j["min_wall"] == 0.04);
+  r = cli({"check", plate.string(), "--json", "--min-wall", "0.8"});
+  j = nlohmann::json::parse(r.out);
+  CHECK(j["printable"] == false);
+  CHECK_THAT(j["problems"].back().get<std::string>(), Contains("walls thinner than --min-wall 0.8"));
+  // an open surface has no walls to measure: not known to be thick enough
+  const auto open = t.write("open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\n");
+  r = cli({"check", open.string(), "--min-wall", "0.1"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.out, Contains("also: walls not measured"));
+  for (const char* bad : {"0", "-1", "x", "1e7", "nan"}) {
+    r = cli({"check", plate.string(), "--min-wall", bad});
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains("--min-wall must be a thickness > 0"));
+  }
+  CHECK(cli({"check", plate.string(), "--min-wall"}).code == 2);
+}
