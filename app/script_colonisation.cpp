@@ -440,6 +440,7 @@ void section_colonisation(Impl& I, const std::string& at) {
   p.kill_distance = v["kill_distance"].num;
   p.source_birth_distance = v["birth_distance"].num;
   p.vein_birth_distance = v["vein_birth_distance"].num > 0 ? v["vein_birth_distance"].num : v["birth_distance"].num;
+  I.cfg->resolved["colonisation"]["vein_birth_distance"] = p.vein_birth_distance;  // run.json: the value used
   p.node_distance = 1;
   p.darts_per_area = v["darts"].num * 1e-6;
   const std::string g = v["growth"].str;
@@ -457,8 +458,9 @@ void section_colonisation(Impl& I, const std::string& at) {
         I.cfg->notes.push_back(I.value_at(std::string("colonisation.") + name, at) + "colonisation." + name +
                                " has no effect with growth = \"" + g +
                                "\" (it belongs to \"marginal\" and \"isogonic\")");
-        I.cfg->resolved["colonisation"].erase(name);  // run.json: it did not apply
       }
+  if (fixed_size)  // run.json: they do not apply, given or not
+    for (const char* name : {"final_length", "length_step"}) I.cfg->resolved["colonisation"].erase(name);
   read_nonuniform_growth(I, v, at, p);
   p.max_steps = static_cast<std::size_t>(v["max_steps"].num);
   p.max_nodes = static_cast<std::size_t>(v["max_nodes"].num);

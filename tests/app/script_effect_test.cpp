@@ -56,6 +56,9 @@ TEST_CASE("settings without effect in this run (a shell's without a shell, svg_s
   CHECK_THAT(fixed.notes[1], Contains("colonisation.length_step has no effect"));
   CHECK_FALSE(fixed.resolved["colonisation"].contains("final_length"));
   CHECK(load("leaf {}\ncolonisation { growth = 'marginal', final_length = 500 }\n").notes.empty());
+  // run.json gives the values used: no final length for a blade that keeps its size, given or not, and b_v
+  CHECK_FALSE(load("leaf {}\ncolonisation { growth = 'none' }\n").resolved["colonisation"].contains("final_length"));
+  CHECK(load("leaf {}\ncolonisation { birth_distance = 3 }\n").resolved["colonisation"]["vein_birth_distance"] == 3);
   // veins.svg comes only from space colonisation in a leaf
   const auto cells_run = load("disc { radius = 2 }\noutput { svg_size = 50 }\n");
   REQUIRE(cells_run.notes.size() == 1);
