@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -21,6 +22,8 @@ namespace cellform::app {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+
+constexpr std::chrono::seconds kQuietStage{10};  // a print stage not on a terminal says its quarters after this
 
 double shell_closing(const cells::Cells& c, double close_holes) { return 0.5 * close_holes * median_link_length(c); }
 
@@ -97,13 +100,18 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   struct PrintDone {
     ~PrintDone() { g_print_after_interrupt = false; }
   } print_done;
-  auto stage_progress = [&err, tty, stopped_before](const char* stage) {
-    return [&err, tty, stopped_before, stage, shown = -1](double f) mutable {
+  // not on a terminal (a log), a stage still running after 10 s says each quarter it passes on a line of its own
+  auto stage_progress = [&err, tty, quiet, stopped_before](const char* stage) {
+    return [&err, tty, quiet, stopped_before, stage, shown = -1,
+            began = std::chrono::steady_clock::now()](double f) mutable {
       const int pct = static_cast<int>(f * 100);
       if (tty && pct != shown) {
         shown = pct;
         err << "\r" << stage << " " << pct << "%" << std::flush;
         if (pct == 100) err << "\n";
+      } else if (!tty && !quiet && pct / 25 > shown / 25 && std::chrono::steady_clock::now() - began > kQuietStage) {
+        shown = pct;
+        err << stage << " " << pct / 25 * 25 << "%\n";
       }
       return stopped_before ? !g_print_cancel.load() : !g_interrupt.load();
     };
