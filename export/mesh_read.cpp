@@ -9,6 +9,8 @@
 #include <cstring>
 #include <span>
 #include <sstream>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/atomic_file.h"
@@ -143,8 +145,9 @@ PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s, 
   try {
     corners = forms::parse_ascii_stl(s, notes ? &stored : nullptr);
   } catch (const core::InvalidInput& e) {
-    // a binary file whose 80-byte header begins with "solid" (as some exporters write it): text has no NUL
-    if (s.size() >= 84 && s.find('\0', 84) != std::string::npos) damaged_binary(" (its header begins with 'solid')");
+    // a binary file whose 80-byte header begins with "solid" (as some exporters write it): a NUL among its first
+    // 84 bytes (a triangle count under 2^24 has one in byte 83), which text has not
+    if (s.size() >= 84 && s.find('\0') < 84) damaged_binary(" (its header begins with 'solid')");
     malformed(path, std::string("malformed ASCII STL: ") + e.what());
   }
   if (corners.empty()) malformed(path, "no facets in the STL file");
@@ -209,10 +212,16 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
     std::size_t count = 0;
     std::vector<Property> props;
   };
-  std::size_t end = s.find("end_header");  // the line that is exactly that (a comment may name it)
-  while (end != std::string::npos &&
-         ((end > 0 && s[end - 1] != '\n') || (end + 10 < s.size() && s[end + 10] != '\n' && s[end + 10] != '\r')))
-    end = s.find("end_header", end + 1);
+  // where the line that holds the word end_header alone (spaces around it allowed) starts: a comment may name it
+  std::size_t end = std::string::npos;
+  for (std::size_t line = 0; line < s.size() && end == std::string::npos;) {
+    const std::size_t next = std::min(s.find('\n', line), s.size());
+    std::string_view words(s.data() + line, next - line);
+    words.remove_prefix(std::min(words.find_first_not_of(" \t\r"), words.size()));
+    words.remove_suffix(words.size() - std::min(words.find_last_not_of(" \t\r") + 1, words.size()));
+    if (words == "end_header") end = line;
+    line = next + 1;
+  }
   if (s.rfind("ply", 0) != 0) malformed(path, "not a PLY file (it does not start with 'ply')");
   if (end == std::string::npos) malformed(path, "a PLY header with no 'end_header' line (a damaged or cut-off file)");
   std::istringstream head(s.substr(0, end));

@@ -524,6 +524,14 @@ TEST_CASE("read_mesh reads files as CAD programs write them: a mark, a comment, 
                                   "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
                                   "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
   CHECK(exporters::check_mesh(exporters::read_mesh(dir / "c.ply")).printable());
+  for (const char* spaced : {"end_header \n", "\tend_header\t\r\n"}) {  // spaces round the word, as before
+    std::stringstream in;
+    in << std::ifstream(dir / "c.ply").rdbuf();
+    std::string text = in.str();
+    text.replace(text.find("end_header\n"), 11, spaced);
+    std::ofstream(dir / "s.ply") << text;
+    CHECK(exporters::check_mesh(exporters::read_mesh(dir / "s.ply")).printable());
+  }
   // face indices stored as floats are whole numbers, or refused (1.5 was read as 1)
   std::ofstream(dir / "f.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                                   "property float z\nelement face 1\nproperty list uchar float vertex_indices\n"
@@ -539,6 +547,13 @@ TEST_CASE("read_mesh reads files as CAD programs write them: a mark, a comment, 
   const std::uint32_t two = 2;
   stl.append(reinterpret_cast<const char*>(&two), 4).append(50, '\0');
   std::ofstream(dir / "cut.stl", std::ios::binary) << stl;
+  // an ASCII STL padded with NULs after its end is a malformed ASCII STL, not a binary one
+  std::ofstream(dir / "pad.stl", std::ios::binary)
+      << "solid t\nfacet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 0 1 0\n endloop\n"
+         "endfacet\nendsolid t\n"
+      << std::string(100, '\0');
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "pad.stl"),
+                    Catch::Contains("malformed ASCII STL") && !Catch::Contains("binary"));
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "cut.stl"),
                     Catch::Contains("damaged binary STL (its header begins with 'solid')") &&
                         Catch::Contains("announces 2 triangles (184 bytes), but the file has 134 bytes"));
