@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "core/errors.h"
 #include "core/random.h"
@@ -82,21 +85,24 @@ Scene::Scene(SceneDescription description, std::uint64_t seed)
 }
 
 void Scene::apply_petioles(std::uint64_t step) {
+  std::vector<std::pair<core::Index, const PetioleSpec*>> made;  // this step's: two on one cell are one sink
   for (const PetioleSpec& p : desc_.petioles)
     if (p.step == step) try {
         const std::size_t before = sim_.cells().size();
-        const cells::Cells& c = sim_.cells();
-        const std::size_t was_petioles =
-            static_cast<std::size_t>(std::count(c.type.begin(), c.type.end(), cells::CellType::petiole));
         const core::Index i = make_petiole(sim_.cells(), p.at, p.fixed, desc_.cells.rest_length);
-        if (note_ && c.size() == before &&
-            static_cast<std::size_t>(std::count(c.type.begin(), c.type.end(), cells::CellType::petiole)) ==
-                was_petioles)
+        const auto same = std::find_if(made.begin(), made.end(), [i](const auto& m) { return m.first == i; });
+        if (same != made.end() && note_) {
+          const Vec3& at = sim_.cells().position[i];
+          std::string other = same->second->origin;  // "leaf.lua:3: " -> "leaf.lua:3"
+          while (!other.empty() && (other.back() == ' ' || other.back() == ':')) other.pop_back();
           note_(p.origin + "the petiole at " + core::point_text(p.at.x(), p.at.y(), p.at.z()) + " (step " +
-                std::to_string(step) + ") fell on the cell at " +
-                core::point_text(c.position[i].x(), c.position[i].y(), c.position[i].z()) +
-                ", which is a petiole already (its nearest cell, within half a rest length): the two are one sink; "
-                "place petioles at least a rest length apart for two");
+                std::to_string(step) + ") fell on the cell of " +
+                (other.empty() ? std::string("an earlier petiole") : "the petiole of " + other) + ", at " +
+                core::point_text(at.x(), at.y(), at.z()) +
+                " (the nearest cell, within half a rest length): the two are one sink; place petioles at least a "
+                "rest length apart for two");
+        }
+        made.emplace_back(i, &p);
         // a new cell inside a solid would stay there (and its daughters): obstacles only stop crossings
         if (sim_.cells().size() > before)
           check_outside(desc_.obstacles, {sim_.cells().position[i]}, desc_.obstacle_names);

@@ -68,8 +68,8 @@ class Scene {
   /// One step of everything; throws core::SimulationDiverged (state is then that of the last good step).
   cells::StepReport step();
 
-  /// Receives what the user should hear of but that stops nothing: a petiole{} that landed on a cell that
-  /// is already a petiole (the two are one sink). None by default.
+  /// Receives what the user should hear of but that stops nothing: two petiole{} of one step that landed on
+  /// one cell (the two are one sink). None by default.
   void set_note(std::function<void(const std::string&)> note) { note_ = std::move(note); }
 
   /// What canalisation did in the last step.
