@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <array>
 #include <charconv>
-#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -141,9 +140,8 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
           const bool joined = args[i].size() > 10;
           if (!joined && i + 1 == args.size()) throw UsageError("--min-wall needs a thickness (file units, mm)");
           const std::string v = joined ? args[i].substr(11) : args[++i];
-          char* end = nullptr;
-          min_wall = std::strtod(v.c_str(), &end);
-          if (v.empty() || *end != '\0' || !(min_wall > 0 && min_wall <= 1e6))
+          const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), min_wall);  // no spaces, no hex
+          if (ec != std::errc() || end != v.data() + v.size() || !(min_wall > 0 && min_wall <= 1e6))
             throw UsageError("--min-wall must be a thickness > 0 and at most 1e6 (the file's units, mm), got '" + v +
                              "'");
         } else if (args[i] == "-h" || args[i] == "--help") {

@@ -535,11 +535,8 @@ std::string changed_colonisation_values(const Start& s, const SceneConfig& cfg) 
         k.rfind("print.", 0) != 0)
       changed.push_back("--set " + k + "=" + v);
   }
-  json before = s.replaced_parameters.is_object() ? s.replaced_parameters.value("colonisation", json()) : json();
+  const json before = s.replaced_parameters.is_object() ? s.replaced_parameters.value("colonisation", json()) : json();
   const json now = cfg.resolved.value("colonisation", json());
-  // a run saved before run.json resolved b_v kept 0 ("= birth_distance"): the same value
-  if (before.is_object() && before.value("vein_birth_distance", json()) == 0 && before.contains("birth_distance"))
-    before["vein_birth_distance"] = before["birth_distance"];
   if (before.is_object() && now.is_object())
     for (const auto& [k, v] : now.items())
       if (!may_change(k) && before.contains(k) && before[k] != v)

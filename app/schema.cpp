@@ -224,8 +224,9 @@ std::vector<Field> build() {
                      "open: trees; closed: veins join into loops"));
   f.push_back(choice(
       "colonisation", "neighbourhood", Kind::choice, "exact", "exact|urquhart",
-      "closed: relative neighbourhood (Eq. 2) or its Urquhart approximation (leaf only; 5 to 8 times slower here, as "
-      "exact keeps each source's sector bests from step to step, so the paper's speed-up does not apply)"));
+      "closed: relative neighbourhood (Eq. 2) or its Urquhart approximation (leaf only; slower here, 2 to 8 times in "
+      "the presets and more in larger leaves, as exact keeps each source's sector bests from step to step: the "
+      "paper's speed-up does not apply)"));
   f.push_back(num("colonisation", "kill_distance", "1", 0.5, kInf, false, "vein segments",
                   "d_k: a vein node this close reaches (open: removes) a source"));
   f.push_back(num("colonisation", "birth_distance", "10", 0, kInf, true, "vein segments",

@@ -230,9 +230,9 @@ void section_print(Impl& I, const std::string& at) {
   if (p.adaptivity > 0.2)  // the default keeps the round members within a voxel of their radius
     I.cfg->notes.push_back(I.value_at("print.adaptivity", at) +
                            "print.adaptivity = " + core::number_text(p.adaptivity) +
-                           " simplifies the round veins too, not only flat areas: they come out thinner than "
-                           "2 x min_radius by more than a voxel in places (at 1, the thinnest by about half); the "
-                           "default 0.2 keeps them within a voxel");
+                           " simplifies curved surfaces too, not only flat areas: veins and walls come out thinner "
+                           "by more than a voxel in places (at 1, the thinnest by about half); the default 0.2 keeps "
+                           "them within a voxel");
   if (p.scale > 0 && v["size"].present)  // noted, as below: a --set print.scale may override a script's size
     I.cfg->notes.push_back(I.value_at("print.size", at) +
                            "print.size has no effect: print.scale is set (size sets the scale when scale = 0)");

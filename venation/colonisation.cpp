@@ -73,8 +73,8 @@ Colonisation::Impl::Impl(const Domain& d, const ColonisationParams& params)
 bool Colonisation::Impl::place_3d(Index v, Vec3& q, double D, bool cancelled) const {
   const Vec3& from = nodes.point(v);
   if (!cancelled) q = region->project(q);
-  // a pull along the surface's normal (sources all round v, as about a face's centre on a closed mesh) projects
-  // back next to v: as for pulls that cancel, v grows towards its nearest influencing source
+  // a pull along the normal (sources all round v, as at a closed mesh's face centre) projects back next to v: as for
+  // pulls that cancel, v tries its nearest influencing source (one across a thin shell projects back too: v waits)
   if (cancelled || (q - from).squaredNorm() < 0.01 * D * D || retraces(v, q)) {
     Index best = kNoIndex;
     double best_d2 = 0;

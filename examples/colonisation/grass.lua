@@ -8,7 +8,7 @@
 -- 3900 long (about 5 s here, print included); `--set scale=1` gives the paper's size.
 
 local P = params {
-  neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (5 to 8 times slower here: exact keeps sector bests from step to step)
+  neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (slower here, 2 to 8 times and more in larger leaves: exact keeps sector bests)
   scale = 0.3,  -- fraction of Table 1's leaf size (1 = the paper's)
   veins = 0,     -- initial vein nodes along the base (0 = one per b_s of base width: parallel veins)
 }

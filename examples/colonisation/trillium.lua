@@ -7,7 +7,7 @@
 -- 2700 long (about 4 s here, print included); `--set scale=1` gives the paper's size.
 
 local P = params {
-  neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (5 to 8 times slower here: exact keeps sector bests from step to step)
+  neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (slower here, 2 to 8 times and more in larger leaves: exact keeps sector bests)
   scale = 0.6,  -- fraction of Table 1's leaf size (1 = the paper's)
 }
 

@@ -145,7 +145,7 @@ TEST_CASE("cellform check --min-wall judges the walls too", "[cli][check]") {
   r = cli({"check", open.string(), "--min-wall", "0.1"});
   CHECK(r.code == 1);
   CHECK_THAT(r.out, Contains("also: walls not measured"));
-  for (const char* bad : {"0", "-1", "x", "1e7", "nan"}) {
+  for (const char* bad : {"0", "-1", "x", "1e7", "nan", "inf", " 1", "0x1p-1", ""}) {
     r = cli({"check", plate.string(), "--min-wall", bad});
     CHECK(r.code == 2);
     CHECK_THAT(r.err, Contains("--min-wall must be a thickness > 0"));

@@ -34,16 +34,6 @@ TEST_CASE("resume --script names the petioles it changes, not those it only reor
   CHECK(app::unplaced_changes(s, before, now).empty());  // due after the checkpoint: placed as the run goes on
 }
 
-TEST_CASE("run.json's resolved b_v of 0 in a run saved before it was resolved is not a change", "[cli][checkpoint]") {
-  app::Start s;
-  s.replaced_parameters = {{"colonisation", {{"birth_distance", 3.0}, {"vein_birth_distance", 0.0}}}};
-  app::SceneConfig now;
-  now.resolved = {{"colonisation", {{"birth_distance", 3.0}, {"vein_birth_distance", 3.0}}}};
-  CHECK(app::changed_colonisation_values(s, now).empty());
-  now.resolved["colonisation"]["vein_birth_distance"] = 4.0;
-  CHECK(app::changed_colonisation_values(s, now) == "colonisation.vein_birth_distance = 4.0 (was 3.0)");
-}
-
 namespace fs = std::filesystem;
 using namespace cellform::test;
 

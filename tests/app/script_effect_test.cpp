@@ -47,7 +47,7 @@ TEST_CASE("settings without effect in this run (a shell's without a shell, svg_s
   // adaptivity above the default thins the round veins too (by about half at 1)
   const auto adaptive = load("disc { radius = 2 }\nvenation {}\nprint { adaptivity = 0.6 }\n");
   REQUIRE(adaptive.notes.size() == 1);
-  CHECK_THAT(adaptive.notes[0], Contains(":3: print.adaptivity = 0.6 simplifies the round veins too"));
+  CHECK_THAT(adaptive.notes[0], Contains(":3: print.adaptivity = 0.6 simplifies curved surfaces too"));
   CHECK(load("disc { radius = 2 }\nvenation {}\nprint { adaptivity = 0.2 }\n").notes.empty());
   // a blade that does not grow keeps its initial length
   const auto fixed = load("leaf {}\ncolonisation { growth = 'none', final_length = 500, length_step = 5 }\n");
