@@ -306,8 +306,13 @@ TEST_CASE("load_mesh errors name the file and the problem", "[forms][mesh_io]") 
       binary_stl({{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}});
   truncated.resize(truncated.size() - 20);
   write_text(dir / "truncated.stl", truncated);
-  CHECK_THROWS_WITH(forms::load_mesh(dir / "truncated.stl"),
-                    Catch::Contains("truncated.stl") && Catch::Contains("damaged binary STL"));
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "truncated.stl"), Catch::Contains("truncated.stl") &&
+                                                                 Catch::Contains("damaged binary STL") &&
+                                                                 !Catch::Contains("solid"));
+  truncated.replace(0, 10, "solid part");  // a binary header that begins as ASCII does (it was read as ASCII)
+  write_text(dir / "solid.stl", truncated);
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "solid.stl"),
+                    Catch::Contains("damaged binary STL (its header begins with 'solid')"));
 
   write_text(dir / "mesh.ply", "ply\n");
   CHECK_THROWS_WITH(forms::load_mesh(dir / "mesh.ply"), Catch::Contains("mesh.ply") && Catch::Contains(".obj"));
