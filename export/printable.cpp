@@ -36,8 +36,8 @@
 namespace cellform::exporters {
 
 using detail::arena_threads;
-using detail::closing_radius;
 using detail::check_params;
+using detail::closing_radius;
 using detail::fmt;
 using detail::init_openvdb;
 using detail::note_long_closing;
