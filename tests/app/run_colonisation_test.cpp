@@ -1,0 +1,44 @@
+// Tests of what a space-colonisation run says at its end (app/run_colonisation.cpp).
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "tests/app/test_util.h"
+
+using namespace cellform::test;
+using Catch::Matchers::Contains;
+
+namespace {
+// a closed box 20 x 20 x `thick` (model units), its top at z = thick
+std::string slab(double thick) {
+  const std::string t = std::to_string(thick);
+  return "v -10 -10 0\nv 10 -10 0\nv 10 10 0\nv -10 10 0\nv -10 -10 " + t + "\nv 10 -10 " + t + "\nv 10 10 " + t +
+         "\nv -10 10 " + t +
+         "\nf 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 "
+         "8\n";
+}
+}  // namespace
+
+TEST_CASE("veins that stall behind a thin wall of a surface say why, and how to go on", "[cli][colonisation]") {
+  TempDir t("cli-thin-wall");
+  t.write("thin.obj", slab(2));
+  t.write("thick.obj", slab(8));
+  const std::string rule =
+      "colonisation { type = 'open', kill_distance = 1, birth_distance = 3, darts = 20000 }\nrun { seed = 1 }\n";
+  // 2 segments thick: a source on the floor pulls the ceiling's node straight down, and its step lands back
+  const auto thin = t.write("thin.lua", "surface { file = 'thin.obj', seeds = {{0, 0, 2}} }\n" + rule);
+  auto r = cli({"run", thin.string(), "--out", (t.path / "a").string(), "--quiet"});
+  REQUIRE(r.code == 0);
+  const auto j = nlohmann::json::parse(slurp(t.path / "a" / "run.json"));
+  CHECK(j["status"] == "stalled");
+  const std::size_t left = j["veins"]["sources_left"];
+  CHECK(left > 0);
+  CHECK_THAT(r.err, Contains("note: " + std::to_string(left) + " auxin sources are left") &&
+                        Contains("thinner than about 3 vein segments") && Contains("surface{scale = ...}"));
+  // 8 thick: the veins go round the rim, and nothing is said
+  const auto thick = t.write("thick.lua", "surface { file = 'thick.obj', seeds = {{0, 0, 8}} }\n" + rule);
+  r = cli({"run", thick.string(), "--out", (t.path / "b").string(), "--quiet"});
+  REQUIRE(r.code == 0);
+  CHECK(nlohmann::json::parse(slurp(t.path / "b" / "run.json"))["status"] == "complete");
+  CHECK_THAT(r.err, !Contains("auxin sources are left"));
+}
