@@ -13,6 +13,18 @@ using core::Vec3;
 namespace v = cellform::venation;
 using namespace cellform::test;
 
+namespace {
+/// A pattern in `where` (a leaf or a 3-D domain) with its initial sources alone (no darts), after one step.
+template <class Where>
+v::Colonisation after_one_step(const Where& where, v::VenationType type) {
+  v::ColonisationParams p = params(type, 1);
+  p.darts_per_area = 0;
+  v::Colonisation c(where, p);
+  c.step();
+  return c;
+}
+}  // namespace
+
 TEST_CASE("veins stay in a lobed blade: sources across a sinus do not pull a node out of it", "[colonisation]") {
   // Deep lobes: a node between the sources of two lobes was pulled across the sinus between them, out of
   // the outline (a laser cut the vein through it), in every growth mode but marginal (which had a check).
@@ -64,10 +76,7 @@ TEST_CASE("pulls that cancel: the node grows towards its nearest influencing sou
     v::Leaf leaf = ellipse_leaf(20, 20);
     leaf.initial_nodes = {{0, 10}};
     leaf.initial_sources = {{-5, 10}, {5, 10}};
-    v::ColonisationParams p = params(type, 1);
-    p.darts_per_area = 0;
-    v::Colonisation c(leaf, p);
-    c.step();
+    v::Colonisation c = after_one_step(leaf, type);
     v::VeinTree t = c.tree();
     REQUIRE(t.size() == 2);
     CHECK(t.positions[1].x() == -1);  // towards the first of the two, equally near
@@ -101,10 +110,7 @@ TEST_CASE("a pull along a closed surface's normal: the node grows towards its ne
                        Vec3(0, 5, 5), Vec3(10, 5, 5), Vec3(5, 0, 5), Vec3(5, 10, 5)};
   for (const v::VenationType type : {v::VenationType::open, v::VenationType::closed}) {
     INFO((type == v::VenationType::open ? "open" : "closed"));
-    v::ColonisationParams p = params(type, 1);
-    p.darts_per_area = 0;
-    v::Colonisation c(d, p);
-    c.step();
+    v::Colonisation c = after_one_step(d, type);
     v::VeinTree t = c.tree();
     REQUIRE(t.size() == 2);
     CHECK((t.positions[1] - Vec3(4, 5, 0)).norm() < 1e-9);  // towards the first of the four nearest
