@@ -84,8 +84,8 @@ std::vector<std::array<std::uint32_t, 3>> triangulate_polygon(std::span<const Ve
   // ear clipping: a convex corner whose triangle holds no other corner of the rest is cut off; the scan
   // goes on from the corner after it. (A convex polygon needs the search too: where corners in line lie on
   // the chord, a cut there would leave a triangle of no area.) Its time grows as the square of the corners:
-  // a convex polygon with corners in line is cut up to 16 times as many as a concave one
-  // the rest of the ring as a linked list (a cut is O(1))
+  // a convex polygon with corners in line is cut up to 16 times as many as a concave one. The rest of the
+  // ring is a linked list (a cut is O(1)).
   std::vector<std::uint32_t> next(n), prev(n);
   for (std::uint32_t i = 0; i < n; ++i) {
     next[i] = static_cast<std::uint32_t>((i + 1) % n);
