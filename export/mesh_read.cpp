@@ -131,23 +131,19 @@ PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s, 
       return weld_soup(std::move(corners));
     }
   }
-  const auto damaged_binary = [&](const char* header) {  // a triangle count that does not fit: truncated or padded
-    const std::size_t n = get<std::uint32_t>(s, 80);
-    malformed(path, "a damaged binary STL" + std::string(header) + ": its header announces " + std::to_string(n) +
-                        " triangles (" + std::to_string(84 + 50 * n) + " bytes), but the file has " +
-                        std::to_string(s.size()) + " bytes");
-  };
   if (!forms::starts_like_ascii_stl(std::string_view(s).substr(0, 84))) {
-    if (s.size() >= 84) damaged_binary("");
+    if (s.size() >= 84) {  // a binary header whose triangle count does not fit the file: truncated or padded
+      const std::size_t n = get<std::uint32_t>(s, 80);
+      malformed(path, "a damaged binary STL: its header announces " + std::to_string(n) + " triangles (" +
+                          std::to_string(84 + 50 * n) + " bytes), but the file has " + std::to_string(s.size()) +
+                          " bytes");
+    }
     malformed(path, "not an STL file (neither binary nor ASCII 'solid')");
   }
   std::vector<Vec3> corners, stored;
   try {
     corners = forms::parse_ascii_stl(s, notes ? &stored : nullptr);
   } catch (const core::InvalidInput& e) {
-    // a binary file whose 80-byte header begins with "solid" (as some exporters write it): a NUL among its first
-    // 84 bytes (a triangle count under 2^24 has one in byte 83), which text has not
-    if (s.size() >= 84 && s.find('\0') < 84) damaged_binary(" (its header begins with 'solid')");
     malformed(path, std::string("malformed ASCII STL: ") + e.what());
   }
   if (corners.empty()) malformed(path, "no facets in the STL file");

@@ -191,14 +191,10 @@ bool is_binary_stl(std::istream& in, std::uintmax_t size, const std::string& nam
   for (int k = 3; k >= 0; --k) n = (n << 8) | static_cast<unsigned char>(head[80 + k]);
   const std::uintmax_t expected = 84 + 50 * static_cast<std::uintmax_t>(n);
   if (size == expected) return true;
-  // a binary header may begin with "solid" too (as some exporters write it): then a NUL among the first 84
-  // bytes (a triangle count under 2^24 has one in byte 83), which text has not
-  const bool solid = starts_like_ascii_stl(std::string_view(head, got));
-  if (solid && std::find(head, head + got, '\0') == head + got) return false;
-  throw core::InvalidInput("mesh " + name + " is a damaged binary STL" +
-                           (solid ? std::string(" (its header begins with 'solid')") : std::string()) +
-                           ": its header announces " + std::to_string(n) + " triangles (" + std::to_string(expected) +
-                           " bytes) but the file has " + std::to_string(size) + " bytes");
+  if (starts_like_ascii_stl(std::string_view(head, got))) return false;
+  throw core::InvalidInput("mesh " + name + " is a damaged binary STL: its header announces " + std::to_string(n) +
+                           " triangles (" + std::to_string(expected) + " bytes) but the file has " +
+                           std::to_string(size) + " bytes");
 }
 
 // Every corner of a binary STL (`size` bytes, its layout checked) finite; names the first that is not.
@@ -342,6 +338,7 @@ std::uint32_t obj_face_vertex(std::string_view token, std::size_t vertices) {
 }
 
 bool starts_like_ascii_stl(std::string_view head) {
+  if (head.find('\0') != std::string_view::npos) return false;
   if (head.substr(0, 3) == "\xEF\xBB\xBF") head.remove_prefix(3);
   head.remove_prefix(std::min(head.find_first_not_of(" \t\r\n\f\v"), head.size()));
   if (head.size() < 5) return false;

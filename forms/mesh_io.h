@@ -25,8 +25,10 @@ std::vector<core::Vec3> parse_ascii_stl(std::string_view text, std::vector<core:
 /// face. Throws core::InvalidInput saying what is wrong with the token (the caller adds file and line).
 std::uint32_t obj_face_vertex(std::string_view token, std::size_t vertices);
 
-/// Whether `head` (the first bytes of a file) starts as an ASCII STL does: after an optional UTF-8
-/// byte-order mark and blanks, the word "solid" in any case ("SOLID" from some CAD programs).
+/// Whether `head` (the first bytes of a file, up to 84) starts as an ASCII STL does: after an optional UTF-8
+/// byte-order mark and blanks, the word "solid" in any case ("SOLID" from some CAD programs), and no NUL byte
+/// (a binary STL's 80-byte header may begin with "solid" too, but a triangle count under 2^24 has a NUL in its
+/// last byte, 83; text has none).
 bool starts_like_ascii_stl(std::string_view head);
 
 }  // namespace cellform::forms
