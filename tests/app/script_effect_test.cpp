@@ -1,6 +1,7 @@
 // Tests of the script host's checks of settings that would have no effect in the run: another trigger's or
 // split direction's fields, a shell's without a shell, an SVG's without one; and of run.json's shape records.
 #include <catch2/catch.hpp>
+#include <string>
 
 #include "app/script_host.h"
 #include "tests/app/script_test_util.h"
@@ -10,6 +11,15 @@ using Catch::Matchers::StartsWith;
 
 using cellform::test::load;
 using cellform::test::load_error;
+
+namespace {
+/// The one note that loading `script` (with the --set `sets`) gives; the test fails unless there is exactly one.
+std::string one_note(const std::string& script, const cellform::app::Overrides& sets = {}) {
+  const auto cfg = load(script, sets);
+  REQUIRE(cfg.notes.size() == 1);
+  return cfg.notes[0];
+}
+}  // namespace
 
 TEST_CASE("a setting of the other division trigger is refused, not dropped unseen", "[script]") {
   CHECK_THAT(load_error("disc { radius = 2 }\ndivision { trigger = 'neighbours', age = 5 }\n"),
@@ -31,23 +41,19 @@ TEST_CASE("settings without effect in this run (a shell's without a shell, svg_s
   CHECK_THAT(cfg.notes[0], Contains(":3: print.shell_thickness has no effect: print.shell is false"));
   CHECK_THAT(cfg.notes[1], Contains(":3: print.close_holes has no effect"));
   // turned off from the command line: the note names the option, and the run still loads
-  const auto set = load("disc { radius = 2 }\nvenation {}\nprint { shell = true, shell_thickness = 2 }\n",
-                        {{"print.shell", "false"}});
-  REQUIRE(set.notes.size() == 1);
-  CHECK_THAT(set.notes[0], Contains("print.shell_thickness has no effect"));
+  CHECK_THAT(one_note("disc { radius = 2 }\nvenation {}\nprint { shell = true, shell_thickness = 2 }\n",
+                      {{"print.shell", "false"}}),
+             Contains("print.shell_thickness has no effect"));
   CHECK(load("disc { radius = 2 }\nprint { shell = true, shell_thickness = 2 }\n").notes.empty());
   // print.size sets the scale only when scale = 0 (a print 7 times smaller than asked went unsaid)
-  const auto scaled = load("disc { radius = 2 }\nvenation {}\nprint { scale = 2, size = 80 }\n");
-  REQUIRE(scaled.notes.size() == 1);
-  CHECK_THAT(scaled.notes[0], Contains(":3: print.size has no effect: print.scale is set"));
-  const auto scale_set = load("disc { radius = 2 }\nvenation {}\nprint { size = 80 }\n", {{"print.scale", "2"}});
-  REQUIRE(scale_set.notes.size() == 1);
-  CHECK_THAT(scale_set.notes[0], Contains("print.size has no effect"));
+  CHECK_THAT(one_note("disc { radius = 2 }\nvenation {}\nprint { scale = 2, size = 80 }\n"),
+             Contains(":3: print.size has no effect: print.scale is set"));
+  CHECK_THAT(one_note("disc { radius = 2 }\nvenation {}\nprint { size = 80 }\n", {{"print.scale", "2"}}),
+             Contains("print.size has no effect"));
   CHECK(load("disc { radius = 2 }\nvenation {}\nprint { scale = 2 }\n").notes.empty());
   // adaptivity above the default thins the round veins too (by about half at 1)
-  const auto adaptive = load("disc { radius = 2 }\nvenation {}\nprint { adaptivity = 0.6 }\n");
-  REQUIRE(adaptive.notes.size() == 1);
-  CHECK_THAT(adaptive.notes[0], Contains(":3: print.adaptivity = 0.6 simplifies curved surfaces too"));
+  CHECK_THAT(one_note("disc { radius = 2 }\nvenation {}\nprint { adaptivity = 0.6 }\n"),
+             Contains(":3: print.adaptivity = 0.6 simplifies curved surfaces too"));
   CHECK(load("disc { radius = 2 }\nvenation {}\nprint { adaptivity = 0.2 }\n").notes.empty());
   // a blade that does not grow keeps its initial length
   const auto fixed = load("leaf {}\ncolonisation { growth = 'none', final_length = 500, length_step = 5 }\n");
@@ -60,9 +66,8 @@ TEST_CASE("settings without effect in this run (a shell's without a shell, svg_s
   CHECK_FALSE(load("leaf {}\ncolonisation { growth = 'none' }\n").resolved["colonisation"].contains("final_length"));
   CHECK(load("leaf {}\ncolonisation { birth_distance = 3 }\n").resolved["colonisation"]["vein_birth_distance"] == 3);
   // veins.svg comes only from space colonisation in a leaf
-  const auto cells_run = load("disc { radius = 2 }\noutput { svg_size = 50 }\n");
-  REQUIRE(cells_run.notes.size() == 1);
-  CHECK_THAT(cells_run.notes[0], Contains(":2: output.svg_size has no effect"));
+  CHECK_THAT(one_note("disc { radius = 2 }\noutput { svg_size = 50 }\n"),
+             Contains(":2: output.svg_size has no effect"));
   CHECK(load("volume { ball = { radius = 5 } }\ncolonisation {}\noutput { svg_size = 50 }\n").notes.size() == 1);
   CHECK(load("output { svg_size = 50 }\nleaf {}\ncolonisation {}\n").notes.empty());
   const auto paths = load("disc { radius = 2 }\noutput { svg_size = 50,\n  svg_paths = 'veins' }\n");
