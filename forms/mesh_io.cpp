@@ -249,9 +249,10 @@ TriangleMesh read_ascii_stl(std::istream& in, const std::string& name) {
 
 // Lines of an OBJ file that define a vertex position ("v x y z"), to notice ones the reader had to skip.
 /// The number of vertex lines of an OBJ text; refuses face lines OpenMesh would drop without a word (a
-/// bad index, fewer than three corners), naming the line.
-std::size_t check_obj_lines(std::istream& in, const std::string& name) {
+/// bad index, fewer than three corners), naming the line. `polylines`: the number of line ('l') lines.
+std::size_t check_obj_lines(std::istream& in, const std::string& name, std::size_t& polylines) {
   std::size_t count = 0, line_no = 0;
+  polylines = 0;
   std::string line;
   while (std::getline(in, line)) {
     if (++line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte-order mark
@@ -276,6 +277,8 @@ std::size_t check_obj_lines(std::istream& in, const std::string& name) {
         throw core::InvalidInput("mesh " + name + " is malformed: line " + std::to_string(line_no) + ": '" +
                                  core::printable(line.substr(0, 60)) + (line.size() > 60 ? "..." : "") +
                                  "' is not a vertex of three finite numbers within +-3.4e38 ('v x y z')");
+    } else if (tag == "l") {
+      ++polylines;
     } else if (tag == "f") {
       std::string token;
       std::size_t corners = 0;
@@ -297,8 +300,12 @@ std::size_t check_obj_lines(std::istream& in, const std::string& name) {
   return count;
 }
 
-// The mesh if it has triangles and finite vertices; names the file otherwise.
-TriangleMesh checked(TriangleMesh mesh, const std::string& name) {
+// The mesh if it has triangles and finite vertices; names the file otherwise (`polylines`: its OBJ 'l' lines).
+TriangleMesh checked(TriangleMesh mesh, const std::string& name, std::size_t polylines = 0) {
+  if (mesh.triangles.empty() && polylines > 0)
+    throw core::InvalidInput("mesh " + name +
+                             " has no triangles, only lines ('l'): a polyline graph such as veins.obj, not a surface "
+                             "(use the printable.stl made from it)");
   if (mesh.triangles.empty()) throw core::InvalidInput("mesh " + name + " has no triangles: not a mesh");
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
     if (!mesh.vertices[i].allFinite())
@@ -475,7 +482,8 @@ TriangleMesh load_mesh(const fs::path& path) {
   // OpenMesh reads ASCII STL leniently (a bad number keeps the previous one, a cut file is a smaller mesh)
   if (ext == ".stl" && !is_binary_stl(probe, size, name)) return checked(read_ascii_stl(probe, name), name);
   if (ext == ".stl") check_binary_stl_corners(probe, size, name);  // OpenMesh drops such triangles unsaid
-  const std::size_t vertex_lines = ext == ".obj" ? check_obj_lines(probe, name) : 0;
+  std::size_t polylines = 0;
+  const std::size_t vertex_lines = ext == ".obj" ? check_obj_lines(probe, name, polylines) : 0;
   // OpenMesh takes an OBJ's first line after a UTF-8 byte-order mark for an unknown keyword (a vertex gone,
   // every face shifted): such a file is read without its mark
   std::string text;
@@ -505,7 +513,7 @@ TriangleMesh load_mesh(const fs::path& path) {
   if (importer.bad_index)
     throw core::InvalidInput("mesh " + name + " is malformed: a face uses a vertex that does not exist");
   importer.split_faces(name);
-  return checked(std::move(importer.mesh), name);
+  return checked(std::move(importer.mesh), name, polylines);
 }
 
 }  // namespace cellform::forms

@@ -245,6 +245,11 @@ TEST_CASE("load_mesh errors name the file and the problem", "[forms][mesh_io]") 
   CHECK_THROWS_AS(forms::load_mesh(dir / "points.obj"), core::InvalidInput);
   CHECK_THROWS_WITH(forms::load_mesh(dir / "points.obj"),
                     Catch::Contains("points.obj") && Catch::Contains("not a mesh"));
+  // veins.obj given where a surface belongs: said to be the polyline graph it is (points alone are not)
+  write_text(dir / "veins.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\n");
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "veins.obj"),
+                    Catch::Contains("veins.obj") && Catch::Contains("only lines ('l'): a polyline graph"));
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "points.obj"), !Catch::Contains("polyline"));
 
   write_text(dir / "garbage.stl", "this is not\nan STL file at all\n\x01\x02\x03");
   CHECK_THROWS_AS(forms::load_mesh(dir / "garbage.stl"), core::InvalidInput);
