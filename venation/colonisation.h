@@ -23,9 +23,9 @@ enum class Neighbourhood {
              ///< between steps and updated with each step's new nodes only
   urquhart,  ///< Urquhart's approximation: Delaunay neighbours tested only against each other; the Delaunay
              ///< neighbours come from the source's Voronoi cell clipped by its 48 nearest nodes inside a
-             ///< square of half-side 2 (nearest distance) + 4 D. Slower than exact here (about 10 times):
-             ///< that cell is clipped anew for every source every step, while exact keeps six sector bests
-             ///< per source and merges in only the step's new nodes (no global Delaunay is maintained)
+             ///< square of half-side 2 (nearest distance) + 4 D, then kept and clipped by each step's new
+             ///< nodes. Slower than exact here (2 to 8 times in the presets): clipping a cell costs more
+             ///< than merging the new nodes into the six sector bests exact keeps per source
 };
 
 /// Leaf blade growth (Section 3.3). The growth scale sigma goes from initial_scale to final_scale by
