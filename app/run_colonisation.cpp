@@ -517,8 +517,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       err << "cellform: note: " << rep.sources
           << " auxin sources are left. Besides those on a sheet the veins do not reach, a source behind a wall or fin "
              "thinner than about 3 vein segments pulls the vein node straight across it (distances are straight), "
-             "whose step lands back where it was: the veins stay on one side. Scale such a mesh up "
-             "(surface{scale = ...}) or seed each side\n";
+             "whose step lands back where it was: the veins stay on one side. "
+          << (spec.on_cells ? "Grow such a sheet larger (cells.rest_length) or seed each side\n"
+                            : "Scale such a mesh up (surface{scale = ...}) or seed each side\n");
     if ((!o.quiet || code != ok) && code != interrupted && !rep.finished && !rep.stalled && checkpoint_error.empty()) {
       // both limits can be reached in one step; doubled, within what --steps and --set accept
       // (twice what was reached, where one step went past the limit: the resume must make room to step on)

@@ -142,6 +142,12 @@ void section_domain(Impl& I, const std::string& section, const std::string& at) 
   };
   std::vector<Vec3> seeds = read_points(I, section, at);
   const bool file = !v["file"].str.empty();
+  // scale is for a mesh file's coordinates (a mesh drawn in mm, say): elsewhere it would do nothing unsaid
+  auto no_scale = [&](const std::string& instead) {
+    if (v["scale"].present && !file)
+      throw InvalidInput(I.value_at(section + ".scale", at) + section +
+                         ".scale scales the coordinates of a mesh file (" + section + "{file = ...}); " + instead);
+  };
   if (section == "volume") {
     Values box, ball;
     const bool is_box = nested("box", box), is_ball = nested("ball", ball);
@@ -149,6 +155,7 @@ void section_domain(Impl& I, const std::string& section, const std::string& at) 
       throw InvalidInput(at +
                          "volume{...} needs exactly one of box = {min = {x, y, z}, max = {x, y, z}}, "
                          "ball = {centre = {x, y, z}, radius = r} or file = \"shape.stl\"");
+    no_scale("a box or ball is given in model units (vein segments)");
     if (is_box) {
       d.kind = venation::DomainKind::box;
       d.box_min = box["min"].vec;
@@ -174,6 +181,9 @@ void section_domain(Impl& I, const std::string& section, const std::string& at) 
     if (file == spec.on_cells)
       throw InvalidInput(at + "surface{...} needs either file = \"shape.obj\" or cells = true (the grown cell sheet)" +
                          (file ? ", not both" : ""));
+    no_scale(
+        "the grown cell sheet is in model units (vein segments): for veins finer against it, grow it larger "
+        "(cells.rest_length)");
     if (file) {
       d.mesh = read_domain_mesh(I, section, v, at);
       if (seeds.empty())

@@ -14,6 +14,7 @@
 
 using namespace cellform::test;
 using namespace cellform;
+using Catch::Matchers::Contains;
 namespace fs = std::filesystem;
 
 TEST_CASE("every example runs on small settings", "[examples]") {
@@ -282,6 +283,10 @@ TEST_CASE("the ribbed vault's veins stand on each of its six supports", "[exampl
   }
   const auto run = nlohmann::json::parse(slurp(out / "run.json"));
   CHECK(nodes.size() == run["veins"]["nodes"].get<std::size_t>() + run["veins"].value("stems", std::size_t{0}));
+  // a few sources are left behind folds of the sheet: the note's remedy is for a grown sheet, not a mesh file
+  CHECK(run["status"] == "stalled");
+  CHECK_THAT(r.err, Contains("auxin sources are left") && Contains("Grow such a sheet larger (cells.rest_length)") &&
+                        !Contains("surface{scale"));
 }
 
 TEST_CASE("the coral and the flower grow a folded sheet, not a packed foam, and print in one piece", "[examples]") {

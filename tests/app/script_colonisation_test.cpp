@@ -31,6 +31,17 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
       load_error("surface { cells = true, file = 'cube.obj' }\ncolonisation {}\ndisc { radius = 2 }\n"),
       Contains("surface{...} needs either file = \"shape.obj\" or cells = true (the grown cell sheet), not both"));
   CHECK_THAT(load_error("leaf { file = 'nothere.txt' }\ncolonisation {}\n"), Contains("nothere.txt"));
+  // scale is for a mesh file's coordinates: beside the grown sheet or a box it did nothing, unsaid
+  CHECK_THAT(load_error("disc { radius = 2 }\npetiole { at = {0, -2, 0} }\ncolonisation {}\n"
+                        "surface { cells = true,\n scale = 2 }\n"),
+             Contains(":4: surface.scale scales the coordinates of a mesh file (surface{file = ...}); the grown "
+                      "cell sheet is in model units") &&
+                 Contains("cells.rest_length"));
+  CHECK_THAT(load_error("volume { box = { min = {0, 0, 0}, max = {10, 10, 10} }, scale = 3 }\ncolonisation {}\n"),
+             Contains(":1: volume.scale scales the coordinates of a mesh file") && Contains("model units"));
+  CHECK_THAT(
+      load_error("volume { ball = { centre = {0, 0, 0}, radius = 5 } }\ncolonisation {}\n", {{"volume.scale", "10"}}),
+      Contains("--set volume.scale=10: volume.scale scales"));
   // a value given by --set that needs another section is named as given (it had no place, and a knob hint)
   CHECK_THAT(load_error("disc { radius = 2 }\n", {{"output.png", "true"}}),
              Contains("--set output.png=true: output{png = true} draws space-colonisation veins"));
