@@ -61,8 +61,9 @@ const char* const kRunUsage =
     "  --quiet                 no progress output\n"
     "\n"
     "Outputs: cells.ply, cells.obj (with venation{} also veins.ply, veins.obj; space colonisation instead\n"
-    "veins.ply, veins.obj and, in a leaf, veins.svg), printable.stl and the other formats print{} asks\n"
-    "for, run.json (everything needed to reproduce the run) and checkpoint.cfck in the output directory.\n"
+    "veins.ply, veins.obj, in a leaf veins.svg, with output{png = true} veins.png, and on the grown cell\n"
+    "sheet (surface{cells = true}) cells.ply, cells.obj too), printable.stl and the other formats print{}\n"
+    "asks for, run.json (everything needed to reproduce the run) and checkpoint.cfck in the output directory.\n"
     "Ctrl-C stops after the current step, writes the outputs and a checkpoint; `cellform resume\n"
     "DIR/checkpoint.cfck` (or `cellform resume DIR`) continues to the identical result.\n";
 

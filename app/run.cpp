@@ -524,14 +524,22 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         status = "interrupted";
         code = interrupted;
       } catch (const std::exception& e) {
-        err << "cellform: " << core::error_text(e) << "\n  (the other outputs and the checkpoint are written)\n";
-        if (saved && !dynamic_cast<const NothingToPrint*>(&e))  // a retry need not grow the cells again
-          err << "  to print again with other print.* values: cellform resume " << shell_word(checkpoint.string())
-              << " --set print.NAME=VALUE\n";
-        printed = {{"error", core::error_text(e)}};
-        if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
-          code = failure;
-          status = "print failed";  // the cells are complete; run.json's print.error says why
+        // a run cut short by --steps (a quick try of a script) has nothing printable yet: not a failure
+        if (dynamic_cast<const NothingToPrint*>(&e) && o.steps && target < cfg.steps && !g_interrupt.load()) {
+          const std::string why = "nothing to print yet at step " + std::to_string(sim.step_count()) + " (--steps " +
+                                  std::to_string(*o.steps) + "; the script runs " + std::to_string(cfg.steps) + ")";
+          err << "cellform: print: skipped: " << why << "\n";
+          printed = {{"skipped", why}};
+        } else {
+          err << "cellform: " << core::error_text(e) << "\n  (the other outputs and the checkpoint are written)\n";
+          if (saved && !dynamic_cast<const NothingToPrint*>(&e))  // a retry need not grow the cells again
+            err << "  to print again with other print.* values: cellform resume " << shell_word(checkpoint.string())
+                << " --set print.NAME=VALUE\n";
+          printed = {{"error", core::error_text(e)}};
+          if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
+            code = failure;
+            status = "print failed";  // the cells are complete; run.json's print.error says why
+          }
         }
       }
     }

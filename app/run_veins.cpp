@@ -28,6 +28,7 @@ void say_veinless_petioles(std::ostream& err, const cells::Cells& c, const venat
       if (j < n && j != i) linked[i] = linked[j] = 1;
     }
   const auto flow = c.attributes.find(venation::kFlow);
+  const bool any_vein = std::find(c.type.begin(), c.type.end(), cells::CellType::vein) != c.type.end();
   for (std::size_t i = 0; i < n; ++i) {
     if (c.type[i] != cells::CellType::petiole || c.vein_parent[i] != core::kNoIndex || has_child[i]) continue;
     const core::Vec3& q = c.position[i];
@@ -48,9 +49,11 @@ void say_veinless_petioles(std::ostream& err, const cells::Cells& c, const venat
     err << "cellform: note: the petiole at " << at.str() << " (cell " << c.id[i]
         << ") grew no vein: the auxin reaching it ("
         << core::number_text(flow != c.attributes.end() ? flow->second[i] : 0.0)
-        << " in all) never passed venation.threshold (" << core::number_text(p.threshold)
-        << ") in one cell beside it. A petiole collects only the cells nearer to it than to any vein: one placed (or "
-           "added at a step) where veins already run gets few\n";
+        << " in all) never passed venation.threshold (" << core::number_text(p.threshold) << ") in one cell beside it. "
+        << (any_vein ? "A petiole collects only the cells nearer to it than to any vein: one placed (or added at a "
+                       "step) where veins already run gets few\n"
+                     : "No vein has grown anywhere yet: run longer (more cells, more auxin) or lower "
+                       "venation.threshold\n");
   }
 }
 

@@ -170,3 +170,27 @@ TEST_CASE("a petiole that grew no vein is noted, with where it is and why", "[cl
   CHECK_THAT(r.err, Contains("note: the petiole at {0, 3.4, 0}") && Contains("it is linked to no cell") &&
                         Contains("A petiole due at the run's last step is linked only in the next step"));
 }
+
+TEST_CASE("a quick try with --steps ends before any vein: the print is skipped, and the note says why",
+          "[cli][venation]") {
+  TempDir t("cli-short-try");
+  const auto script = t.write("leaf.lua",
+                              "run { steps = 300 }\nvenation { threshold = 30 }\ndisc { radius = 3 }\n"
+                              "petiole { at = {0, -3, 0} }\nprint { size = 40 }\n");
+  auto r = cli({"run", script.string(), "--out", (t.path / "a").string(), "--steps", "5", "--quiet"});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("print: skipped: nothing to print yet at step 5 (--steps 5; the script runs 300)") &&
+                        Contains("No vein has grown anywhere yet: run longer") &&
+                        !Contains("where veins already run") && !Contains("stopped with an error"));
+  auto j = nlohmann::json::parse(slurp(t.path / "a" / "run.json"));
+  CHECK(j["status"] == "complete");
+  CHECK(j["print"].contains("skipped"));
+  CHECK(!fs::exists(t.path / "a" / "printable.stl"));
+  // the whole script with nothing to print (too high a threshold) still fails, as it asked for a print
+  r = cli(
+      {"run", script.string(), "--out", (t.path / "b").string(), "--steps", "5", "--set", "run.steps=5", "--quiet"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("print: nothing to print yet"));
+  CHECK(nlohmann::json::parse(slurp(t.path / "b" / "run.json"))["status"] == "print failed");
+}
