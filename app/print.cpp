@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -168,6 +169,24 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
       for (std::size_t at = m.find(from); at != std::string::npos; at = m.find(from, at + to.size()))
         m.replace(at, from.size(), to);
     throw core::InvalidInput(m);
+  }
+  // nearly every vein raised to the printable minimum, which is more than a segment long at this scale: dense
+  // veins (a colonisation preset printed small) fuse into a plate, which a note says before the slicer does
+  if (!segments.empty() && rep.raised_radii * 10 >= segments.size() * 2 * 9 && rep.scale > 0) {
+    std::vector<double> lengths;
+    lengths.reserve(segments.size());
+    for (const exporters::Segment& g : segments) lengths.push_back((g.b - g.a).norm());
+    const auto mid = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
+    std::nth_element(lengths.begin(), mid, lengths.end());
+    const double segments_per_radius = spec.min_radius / rep.scale / *mid;
+    if (segments_per_radius > 1)
+      err << "cellform: note: print: "
+          << core::number_text(
+                 std::round(100.0 * static_cast<double>(rep.raised_radii) / static_cast<double>(2 * segments.size())))
+          << "% of the vein radii are raised to print.min_radius (" << core::number_text(spec.min_radius) << " mm), "
+          << core::number_text(std::round(segments_per_radius * 10) / 10)
+          << " vein segments at this scale: veins closer than twice that fuse, and a dense pattern prints as a "
+             "plate (give a larger print.size, or a smaller print.min_radius if the printer allows)\n";
   }
   if (rep.voxel_raised_from > 0)  // said even when quiet: the print is coarser than the default promises
     err << "cellform: note: print: the automatic voxel size " << rep.voxel_raised_from << " mm (print.min_radius / 2) "

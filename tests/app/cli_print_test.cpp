@@ -237,3 +237,24 @@ TEST_CASE("a printed solid with a sealed cavity is warned of, and fill_cavities 
   CHECK(nlohmann::json::parse(slurp(t.path / "f" / "run.json"))["print"]["filled_cavities"] == 1);
   CHECK_THAT(r.err, !Contains("closed cavit"));
 }
+
+TEST_CASE("veins printed so small that nearly all are raised to min_radius, over a segment, are said to fuse",
+          "[cli][print]") {
+  TempDir t("cli-print-plate");
+  const auto script = t.write("leaf.lua",
+                              "leaf { shape = 'ellipse' }\ncolonisation { type = 'open', growth = 'none', "
+                              "initial_length = 30, darts = 2000 }\nprint { size = 8 }\n");
+  // 30 segments in 8 mm: 0.27 mm a segment, so the 0.4 mm minimum radius is 1.5 segments
+  auto r = cli({"run", script.string(), "--out", (t.path / "a").string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const auto run = nlohmann::json::parse(slurp(t.path / "a" / "run.json"));
+  const double per_segment = run["print"]["scale_mm_per_unit"].get<double>();
+  REQUIRE(per_segment < 0.4);
+  CHECK_THAT(r.err, Contains("of the vein radii are raised to print.min_radius (0.4 mm), 1.") &&
+                        Contains("vein segments at this scale: veins closer than twice that fuse"));
+  // printed at 100 mm the same veins keep their widths apart: nothing is said
+  r = cli({"run", script.string(), "--out", (t.path / "b").string(), "--quiet", "--set", "print.size=100"});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, !Contains("raised to print.min_radius"));
+}
