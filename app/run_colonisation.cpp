@@ -27,6 +27,28 @@ using nlohmann::json;
 
 namespace {
 
+/// A 3-D domain more than kLargeDomain vein segments across (model units: one segment each) is noted: a mesh
+/// drawn in millimetres without surface{scale = ...} grows for hours with no end in sight.
+constexpr double kLargeDomain = 1000;
+
+void say_large_domain(std::ostream& err, const venation::Domain& d, bool mesh_file) {
+  Eigen::AlignedBox3d box;
+  if (d.kind == venation::DomainKind::box) box.extend(d.box_min).extend(d.box_max);
+  if (d.kind == venation::DomainKind::ball)
+    box.extend(d.centre - core::Vec3::Constant(d.radius)).extend(d.centre + core::Vec3::Constant(d.radius));
+  if (d.kind == venation::DomainKind::volume || d.kind == venation::DomainKind::surface)
+    for (const core::Vec3& v : d.mesh.vertices) box.extend(v);
+  if (box.isEmpty()) return;
+  const double across = box.sizes().maxCoeff();
+  if (!(across > kLargeDomain)) return;
+  const std::string kind = d.kind == venation::DomainKind::surface ? "surface" : "volume";
+  err << "cellform: note: the " << kind << " is " << core::number_text(std::round(across)) << " model units across, "
+      << core::number_text(std::round(across)) << " vein segments (lengths are in vein segments): filling it with "
+      << "veins takes a very long time"
+      << (mesh_file ? ". A mesh drawn in millimetres wants " + kind + "{scale = ...}, which scales its coordinates\n"
+                    : std::string("\n"));
+}
+
 /// A colonisation checkpoint: the script, what resume needs to rebuild the same setup (seed, --set
 /// overrides, the step limit, for surface{cells = true} the grown sheet) and the colonisation state.
 std::string colonisation_checkpoint_bytes(const Start& s, std::uint64_t seed, const venation::ColonisationParams& p,
@@ -267,6 +289,10 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     if (!o.quiet)
       err << (fresh ? "growing" : "resuming") << " veins by space colonisation in " << s.script_path.string()
           << " (seed " << seed << (fresh ? std::string() : ", from step " + std::to_string(first)) << ")\n";
+    if (fresh)
+      say_large_domain(err, spec.domain,
+                       !spec.on_cells && (spec.domain.kind == venation::DomainKind::volume ||
+                                          spec.domain.kind == venation::DomainKind::surface));
     const auto a = std::chrono::steady_clock::now();
     const bool nonuniform = spec.params.growth == venation::GrowthMode::nonuniform;
     std::size_t last_print = 0;
@@ -337,7 +363,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     if (rep.sources_born == 0 && code == ok && !stopped_before_step)  // nothing to grow towards: say why
       err << "cellform: warning: no auxin source was placed in " << rep.steps
           << " steps, so no vein grew (raise colonisation.darts, lower colonisation.birth_distance or "
-             "vein_birth_distance, or give the leaf room to grow)\n";
+             "vein_birth_distance"
+          << (planar ? ", or give the leaf room to grow)\n" : ", or run more steps)\n");
     else if (code == ok && rep.finished && spec.params.type == venation::VenationType::closed &&
              spec.params.kill_distance >= spec.params.vein_birth_distance &&
              std::none_of(tree.parent.begin(), tree.parent.end(), [](core::Index q) { return q != core::kNoIndex; }))

@@ -42,3 +42,26 @@ TEST_CASE("veins that stall behind a thin wall of a surface say why, and how to 
   CHECK(nlohmann::json::parse(slurp(t.path / "b" / "run.json"))["status"] == "complete");
   CHECK_THAT(r.err, !Contains("auxin sources are left"));
 }
+
+TEST_CASE("a 3-D domain thousands of segments across, as a mesh drawn in mm gives, is noted at the start",
+          "[cli][colonisation]") {
+  TempDir t("cli-large-domain");
+  t.write("plate.obj", "v 0 0 0\nv 2000 0 0\nv 2000 2000 0\nv 0 2000 0\nf 1 2 3\nf 1 3 4\n");
+  const std::string rule = "colonisation { birth_distance = 3, kill_distance = 1, darts = 1e-5, max_steps = 2 }\n";
+  const auto mm = t.write("mm.lua", "surface { file = 'plate.obj', seeds = {{1000, 1000, 0}} }\n" + rule);
+  auto r = cli({"run", mm.string(), "--out", (t.path / "a").string(), "--quiet"});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("note: the surface is 2000 model units across, 2000 vein segments") &&
+                        Contains("wants surface{scale = ...}"));
+  // scaled to 100 segments: nothing is said
+  const auto scaled =
+      t.write("scaled.lua", "surface { file = 'plate.obj', scale = 0.05, seeds = {{50, 50, 0}} }\n" + rule);
+  r = cli({"run", scaled.string(), "--out", (t.path / "b").string(), "--quiet"});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, !Contains("model units across"));
+  // a box is given in segments: said, without the mesh's remedy
+  const auto box = t.write("box.lua", "volume { box = { min = {0, 0, 0}, max = {1500, 10, 10} } }\n" + rule);
+  r = cli({"run", box.string(), "--out", (t.path / "c").string(), "--quiet"});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("note: the volume is 1500 model units across") && !Contains("scale"));
+}
