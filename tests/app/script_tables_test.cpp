@@ -175,6 +175,20 @@ TEST_CASE("rule results out of range are stopped at the rule's line, naming the 
                       Contains("s.lua:3: venation.source must return a number from 0 to 1e30") &&
                           Contains("got 1e+31") && Contains("at step 4 for cell 0"));
   }
+  // a source that is no number: said with its type and the cell's id (not its index)
+  for (const char* value : {"nil", "'1'", "{}"}) {
+    ScriptHost host;
+    host.load("disc { radius = 2 }\npetiole { at = {0, 0, 0} }\nvenation { source = function(cell)\n  return " +
+                  std::string(value) + " end }\n",
+              "s.lua", {});
+    host.set_step(2);
+    cellform::cells::Cells d = c;
+    d.id[0] = 41;
+    const std::string type = value == std::string("nil") ? "nil" : value[0] == '\'' ? "string" : "table";
+    INFO(value);
+    CHECK_THROWS_WITH(host.source_rule()(d, 0), Contains("s.lua:3: venation.source must return a number") &&
+                                                    Contains("got " + type) && Contains("at step 2 for cell 41"));
+  }
   // a direction rule following the flow returns 0, 0, 0 where there is none (a petiole): the error says why
   ScriptHost host;
   host.load(

@@ -1,9 +1,11 @@
 // Tests of auxin canalisation: analytic flows, conservation, forest structure, Murray radii, spacing.
 #include "venation/canalisation.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <set>
 
 #include "cells/simulation.h"
@@ -134,7 +136,7 @@ TEST_CASE("flow is conserved into several petioles and the veins form a forest",
       REQUIRE(seen.insert(v).second);
       const Index par = c.vein_parent[v];
       REQUIRE(par != kNoIndex);
-      CHECK(flow[par] >= flow[v]);  // parent flow is at least each child's
+      CHECK(flow[par] >= flow[v] + p.source);  // parent flow is at least each child's and its own auxin
       v = par;
     }
     CHECK(c.type[v] == CellType::petiole);
@@ -149,6 +151,24 @@ TEST_CASE("flow is conserved into several petioles and the veins form a forest",
       roots.insert(v);
     }
   CHECK(roots.size() == 2);
+  // each petiole takes in exactly the auxin of its own basin: the cells whose path (downstream, then vein
+  // parents) ends there, counted by walking every cell's path
+  std::map<Index, double> basin;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    Index v = static_cast<Index>(i);
+    for (std::size_t hops = 0; c.type[v] != CellType::petiole; ++hops) {
+      REQUIRE(hops < c.size());
+      v = c.type[v] == CellType::vein ? c.vein_parent[v] : ws.downstream[v];
+      REQUIRE(v < c.size());
+    }
+    basin[v] += p.source;
+  }
+  REQUIRE(basin.size() == 2);
+  for (const auto& [petiole, auxin] : basin) {
+    INFO("petiole cell " << petiole);
+    CHECK(flow[petiole] == auxin);
+    CHECK(auxin > 0.2 * static_cast<double>(c.size()));  // both drain a real share of the sheet
+  }
 }
 
 TEST_CASE("negative vein flows in a state still give every cell its downstream choice", "[venation]") {
@@ -183,22 +203,32 @@ TEST_CASE("Murray radii satisfy r_parent^n = sum of r_child^n over every inflow"
     grow(c, p, 50);
     venation::Params q = p;
     q.threshold = 1e12;  // one more step without promotion so radii and flows belong to one state
-    grow(c, q, 1);
+    venation::Workspace ws;
+    venation::canalise(c, q, {}, ws);
     const auto& flow = attr(c, venation::kFlow);
     const auto& radius = attr(c, venation::kRadius);
     const cells::VeinChildren ch = cells::vein_children(c);
+    // the inflow of each cell measured apart from the flows' own sums: the general cells that chose it as
+    // their downstream cell (the veinlets draining straight in), and for a vein node its vein children
+    std::vector<double> drained(c.size(), 0.0);
+    for (std::size_t x = 0; x < c.size(); ++x)
+      if (c.type[x] == CellType::general) drained[ws.downstream[x]] += flow[x];
     int checked = 0;
     for (std::size_t v = 0; v < c.size(); ++v) {
-      if (c.type[v] == CellType::general) continue;
+      if (c.type[v] == CellType::general) {
+        CHECK(flow[v] == p.source + drained[v]);  // integers: exact
+        continue;
+      }
       double children = 0, child_flow = 0;
       for (Index s = ch.start[v]; s < ch.start[v + 1]; ++s) {
         children += std::pow(radius[ch.child[s]], n);
         child_flow += flow[ch.child[s]];
       }
-      // the cells draining straight into v are veinlets of flow (flow[v] - child_flow)
-      const double local = std::pow(p.radius_scale, n) * (flow[v] - child_flow);
+      CHECK(flow[v] == p.source + drained[v] + child_flow);
+      // Murray over every inflow: vein children, and the veinlets with the node's own auxin
+      const double local = std::pow(p.radius_scale, n) * (p.source + drained[v]);
       CHECK(std::pow(radius[v], n) == Approx(children + local).epsilon(1e-12));
-      checked += ch.start[v + 1] > ch.start[v];
+      checked += ch.start[v + 1] > ch.start[v] && drained[v] > 0;
     }
     CHECK(checked > 5);
   }
@@ -291,8 +321,10 @@ TEST_CASE("vein orders hold at every fork after every step, the cells just promo
 
 TEST_CASE("bad input is refused with a clear message", "[venation]") {
   venation::Params p;
-  p.threshold = 0;
-  CHECK_THROWS_WITH(venation::validate(p), Contains("venation.threshold"));
+  for (double t : {0.0, -1.0, std::nan(""), HUGE_VAL}) {
+    p.threshold = t;
+    CHECK_THROWS_WITH(venation::validate(p), Contains("venation.threshold must be a number > 0"));
+  }
   p = {};
   p.murray_exponent = 0;
   CHECK_THROWS_WITH(venation::validate(p), Contains("venation.murray_exponent"));
@@ -301,8 +333,11 @@ TEST_CASE("bad input is refused with a clear message", "[venation]") {
   venation::Workspace ws;
   CHECK_THROWS_WITH(venation::canalise(c, {}, {}, ws), Contains("needs at least one petiole"));
   c.type[0] = CellType::petiole;
-  const venation::SourceRule bad = [](const cells::Cells& cc, Index i) { return cc.id[i] == 3 ? -1.0 : 1.0; };
-  CHECK_THROWS_WITH(venation::canalise(c, {}, bad, ws), Contains("cell 3"));
+  for (std::size_t i = 0; i < c.size(); ++i) c.id[i] = 100 + i;  // ids, which the user sees, are not indices
+  const venation::SourceRule bad = [](const cells::Cells& cc, Index i) { return cc.id[i] == 103 ? -1.0 : 1.0; };
+  CHECK_THROWS_WITH(venation::canalise(c, {}, bad, ws), Contains("cell 103 got -1"));
+  const venation::SourceRule nan = [](const cells::Cells& cc, Index i) { return cc.id[i] == 102 ? std::nan("") : 1.0; };
+  CHECK_THROWS_WITH(venation::canalise(c, {}, nan, ws), Contains("cell 102 got NaN"));
   // finite sources whose sum overflows would write infinite flows and radii
   const venation::SourceRule huge = [](const cells::Cells&, Index) { return 1e308; };
   CHECK_THROWS_WITH(venation::canalise(c, {}, huge, ws), Contains("venation.source") && Contains("range"));
@@ -418,6 +453,24 @@ TEST_CASE("canalise matches the reference algorithm with non-integer sources", "
     return 0.1 + 0.37 * static_cast<double>(cc.id[i] % 7) + 1e-3 * cc.position[i].x() * cc.position[i].x();
   };
   run_against_oracle(c, p, 50, 2, rule);
+  CHECK(std::count(c.type.begin(), c.type.end(), CellType::vein) > 20);  // the promotions were compared too
+}
+
+TEST_CASE("a higher threshold gives fewer vein cells on grown sheets, for each seed", "[venation]") {
+  // irregular links and spacing, where ties between neighbours are rare (the hex lattice test has many)
+  for (std::uint64_t seed : {3u, 4u, 5u}) {
+    const cells::Cells sheet = grown_sheet(70, 1, seed);
+    std::size_t previous = ~std::size_t{0};
+    for (double t : {5.0, 10.0, 20.0, 40.0, 80.0}) {
+      cells::Cells c = sheet;
+      venation::Params p;
+      p.threshold = t;
+      const auto r = grow(c, p, 150);
+      INFO("seed " << seed << ", threshold " << t << ": " << r.vein_cells << " vein cells of " << c.size());
+      CHECK(r.vein_cells < previous);
+      previous = r.vein_cells;
+    }
+  }
 }
 
 TEST_CASE("canalise matches the reference algorithm with unconnected islands and odd links", "[venation][oracle]") {
