@@ -1,4 +1,5 @@
-// Tests of forms/scene.h: a scene refuses to start with cells inside an obstacle.
+// Tests of forms/scene.h: obstacles at the start and at division, petioles, canalisation between passes, and
+// division along the auxin flow.
 #include "forms/scene.h"
 
 #include <algorithm>
@@ -237,4 +238,51 @@ TEST_CASE("two petioles of one step that fall on one cell are noted: the two are
   scene.step();
   CHECK(notes.size() == 1);
   CHECK(std::count(c.type.begin(), c.type.end(), cells::CellType::petiole) == 2);
+}
+
+TEST_CASE("division along the auxin flow splits each cell along its flow direction", "[forms][scene]") {
+  // between canalisation passes (every = 10) a daughter keeps the flow direction its mother split along,
+  // so each division can be checked after the step: the daughter lies half a rest length from its mother
+  // along that direction (either way)
+  forms::SceneDescription d;
+  d.cells.division.division_age = 6;
+  d.cells.division.min_age = 3;
+  d.cells.division.max_cells = 800;
+  d.cells.division.direction = cells::SplitDirection::rule;
+  d.split_along_auxin = true;
+  venation::Params v;
+  v.threshold = 8;
+  v.every = 10;
+  d.venation = v;
+  d.petioles.push_back({Vec3(0, -4, 0), true, 0, ""});
+  forms::Scene scene(d, 5);
+  for (const Vec3& p : forms::hex_disc(Vec3::Zero(), Vec3::UnitZ(), 4.0, 1.0))
+    cells::add_cell(scene.simulation().cells(), p);
+  scene.start();
+  std::size_t along = 0, random = 0;
+  for (int step = 0; step < 80; ++step) {
+    const std::size_t before = scene.simulation().cells().size();
+    scene.step();
+    const cells::Cells& c = scene.simulation().cells();
+    if (scene.simulation().step_count() % 10 == 0 || !c.attributes.count(venation::kFlowX)) continue;
+    const auto &fx = c.attributes.at(venation::kFlowX), &fy = c.attributes.at(venation::kFlowY),
+               &fz = c.attributes.at(venation::kFlowZ);
+    for (std::size_t j = before; j < c.size(); ++j) {
+      const Vec3 f(fx[j], fy[j], fz[j]);
+      if (f.squaredNorm() <= 0.25) {  // no flow there: a seeded random direction
+        ++random;
+        continue;
+      }
+      const Vec3 offset = 0.5 * d.cells.rest_length * f.normalized();
+      bool mother = false;
+      for (std::size_t i = 0; i < before && !mother; ++i)
+        mother = (c.position[i] - (c.position[j] - offset)).norm() < 1e-9 ||
+                 (c.position[i] - (c.position[j] + offset)).norm() < 1e-9;
+      INFO("step " << step << ", daughter " << c.id[j]);
+      CHECK(mother);
+      ++along;
+    }
+  }
+  CHECK(along > 50);
+  CHECK(random > 0);
 }
