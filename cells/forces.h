@@ -18,7 +18,9 @@ namespace cellform::cells {
 Vec3 spring_kernel(std::span<const Vec3> positions, Index self, std::span<const Index> neighbours, double rest_length);
 
 /// Eq. 3, planarisation, unweighted: -((C - P1) . u) u, the vector from C to the plane through P1, P2, P3
-/// (u its unit normal). Zero when the three points are (nearly) collinear or coincident.
+/// (u its unit normal). Zero when the three points are (nearly) collinear or coincident. The printed
+/// ((C - P1) . N / |N|^2) N points from the plane to C, away from it; the sign is turned to what the text
+/// says, a force that pulls the cell towards the plane.
 Vec3 planar_kernel(const Vec3& c, const Vec3& p1, const Vec3& p2, const Vec3& p3);
 
 /// Eq. 4, cohesion, unweighted: (1/n) sum_r (P_r - C) / max(|P_r - C|, near)^2. Coincident neighbours are
