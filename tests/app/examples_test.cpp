@@ -87,6 +87,7 @@ struct Preset {
   const char* extra;       // another --set, or ""
   bool closed;
   double kill_distance, birth_distance, initial_length, darts;  // Table 1: d_k, b_s, L_i, rho x 10^6
+  double final_length, length_step;                             // Table 1: L_f, Delta L (0: no such growth)
   const char* growth;
   double murray_exponent;
   double vein_birth_distance = 0;  // b_v where a preset departs from Table 1's b_v = b_s (0: it does not)
@@ -150,20 +151,20 @@ Graph read_vein_graph(const fs::path& ply) {
 TEST_CASE("every Table 1 preset runs small and keeps the paper's parameters", "[examples][colonisation]") {
   // Runions et al. 2005, Table 1 (initial_length before `scale`)
   const std::vector<Preset> presets = {
-      {"parameter_search", "0.12", "panel=e", true, 1, 10, 270, 600, "marginal", 2},
-      {"slow_marginal_growth", "0.0015", "", false, 40, 1, 4500, 300, "marginal", 2, 40},
-      {"ginkgo", "0.004", "", false, 100, 1, 10, 300, "marginal", 2, 100},
-      {"alchemilla", "0.02", "", false, 10, 1, 3200, 200, "marginal", 2},
-      {"sweetgum", "0.01", "", false, 1, 1, 1200, 200, "marginal", 2},
-      {"toothed_margin", "0.008", "", true, 1, 10, 6600, 10, "marginal", 2},
-      {"tertiary_veins", "0.006", "", true, 1, 1, 3500, 20, "marginal", 2},
-      {"orchid", "0.02", "", true, 1, 10, 6500, 600, "none", 2},
-      {"reticulate", "0.03", "", true, 1, 15, 225, 200, "isogonic", 2},
-      {"nankin_cherry", "0.03", "", false, 30, 1, 1100, 40, "marginal", 2},
-      {"grass", "0.04", "", true, 1, 30, 13000, 100, "none", 2},
-      {"poplar", "0.01", "", true, 1, 2, 115, 200, "isogonic", 2},
-      {"developmental", "0.5", "", true, 1, 3, 23, 5000, "nonuniform", 3},
-      {"trillium", "0.06", "", true, 1, 30, 4500, 100, "none", 2},
+      {"parameter_search", "0.12", "panel=e", true, 1, 10, 270, 600, 1600, 8, "marginal", 2},
+      {"slow_marginal_growth", "0.0015", "", false, 40, 1, 4500, 300, 112000, 34, "marginal", 2, 40},
+      {"ginkgo", "0.004", "", false, 100, 1, 10, 300, 50000, 15, "marginal", 2, 100},
+      {"alchemilla", "0.02", "", false, 10, 1, 3200, 200, 4500, 9, "marginal", 2},
+      {"sweetgum", "0.01", "", false, 1, 1, 1200, 200, 6700, 7, "marginal", 2},
+      {"toothed_margin", "0.008", "", true, 1, 10, 6600, 10, 26000, 40, "marginal", 2},
+      {"tertiary_veins", "0.006", "", true, 1, 1, 3500, 20, 24000, 60, "marginal", 2},
+      {"orchid", "0.02", "", true, 1, 10, 6500, 600, 0, 0, "none", 2},
+      {"reticulate", "0.03", "", true, 1, 15, 225, 200, 4500, 40.5, "isogonic", 2},
+      {"nankin_cherry", "0.03", "", false, 30, 1, 1100, 40, 5500, 11, "marginal", 2},
+      {"grass", "0.04", "", true, 1, 30, 13000, 100, 0, 0, "none", 2},
+      {"poplar", "0.01", "", true, 1, 2, 115, 200, 3500, 9, "isogonic", 2},
+      {"developmental", "0.5", "", true, 1, 3, 23, 5000, 0, 0, "nonuniform", 3},
+      {"trillium", "0.06", "", true, 1, 30, 4500, 100, 0, 0, "none", 2},
   };
   // every preset is listed here, so none can rot untested
   std::vector<std::string> files;
@@ -208,6 +209,12 @@ TEST_CASE("every Table 1 preset runs small and keeps the paper's parameters", "[
       CHECK(c["kill_distance"].get<double>() == p.kill_distance);
       CHECK(c["darts"].get<double>() == p.darts);
       CHECK(c["initial_length"].get<double>() == Approx(p.initial_length * std::stod(p.test_scale)));
+      if (p.final_length > 0) {
+        CHECK(c["final_length"].get<double>() == Approx(p.final_length * std::stod(p.test_scale)));
+        CHECK(c["length_step"].get<double>() == Approx(p.length_step * std::stod(p.test_scale)));
+      } else {  // no growth, or growth by functions (developmental: L_f checked below)
+        CHECK(!c.contains("final_length"));
+      }
       CHECK((run["status"] == "complete" || run["status"] == "stalled"));
 
       const Graph g = read_vein_graph(out / "veins.ply");
