@@ -493,17 +493,4 @@ void PointTree::relative_neighbourhood(const Vec3& s, std::vector<Index>& out, S
   std::sort(out.begin(), out.end());
 }
 
-std::vector<Index> relative_neighbourhood_brute_force(std::span<const Vec3> points, const Vec3& s) {
-  std::vector<Index> out;
-  for (std::size_t v = 0; v < points.size(); ++v) {
-    // Eq. 2 fails for u iff max(|u - s|, |v - u|) <= |v - s|; squared, as in PointTree, so ties agree
-    const double r2 = (points[v] - s).squaredNorm();
-    bool ok = true;
-    for (std::size_t u = 0; u < points.size() && ok; ++u)
-      if (u != v && (points[u] - s).squaredNorm() <= r2 && (points[v] - points[u]).squaredNorm() <= r2) ok = false;
-    if (ok) out.push_back(static_cast<Index>(v));
-  }
-  return out;
-}
-
 }  // namespace cellform::venation

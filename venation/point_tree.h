@@ -230,7 +230,4 @@ class PointBatch {
   std::vector<Index> tmp_id_;
 };
 
-/// Eq. 2 by brute force, O(n^2): the test oracle for PointTree::relative_neighbourhood. Sorted by index.
-std::vector<Index> relative_neighbourhood_brute_force(std::span<const Vec3> points, const Vec3& s);
-
 }  // namespace cellform::venation

@@ -13,6 +13,22 @@
 
 namespace cellform::venation::testing {
 
+/// Eq. 2 by brute force, O(n^2): v is in the relative neighbourhood of s unless some other point u lies in
+/// the closed lune of s and v (|u - s| <= |v - s| and |v - u| <= |v - s|). Sorted by index.
+inline std::vector<core::Index> relative_neighbourhood_brute_force(const std::vector<core::Vec3>& points,
+                                                                   const core::Vec3& s) {
+  std::vector<core::Index> out;
+  for (std::size_t v = 0; v < points.size(); ++v) {
+    // squared, as in PointTree, so that exact ties agree
+    const double r2 = (points[v] - s).squaredNorm();
+    bool ok = true;
+    for (std::size_t u = 0; u < points.size() && ok; ++u)
+      if (u != v && (points[u] - s).squaredNorm() <= r2 && (points[v] - points[u]).squaredNorm() <= r2) ok = false;
+    if (ok) out.push_back(static_cast<core::Index>(v));
+  }
+  return out;
+}
+
 /// Brute-force Delaunay neighbourhood of s in the plane: v is one iff the part of the s-v bisector
 /// closer to s than to every other point has positive length (a Voronoi edge exists).
 inline std::vector<core::Index> delaunay_brute_force(const std::vector<core::Vec3>& pts, const core::Vec3& s) {

@@ -110,7 +110,7 @@ TEST_CASE("exact relative neighbourhood equals brute-force Eq. 2", "[point_tree]
         const Vec3 s(rng.uniform(lo, hi), rng.uniform(lo, hi), three_d ? rng.uniform(lo, hi) : 0.0);
         t.relative_neighbourhood(s, got, sc);
         INFO("seed " << seed << " 3d " << three_d << " query " << q);
-        CHECK(got == venation::relative_neighbourhood_brute_force(pts, s));
+        CHECK(got == venation::testing::relative_neighbourhood_brute_force(pts, s));
         CHECK(!got.empty());
       }
     }
@@ -126,7 +126,7 @@ TEST_CASE("exact relative neighbourhood on vein-like near-collinear nodes", "[po
   for (int q = 0; q < 100; ++q) {
     const Vec3 s(rng.uniform(-10, 210), rng.uniform(-20, 20), 0);
     t.relative_neighbourhood(s, got, sc);
-    CHECK(got == venation::relative_neighbourhood_brute_force(pts, s));
+    CHECK(got == venation::testing::relative_neighbourhood_brute_force(pts, s));
   }
 }
 
@@ -229,7 +229,7 @@ TEST_CASE("Figure 8: Urquhart keeps v that a non-Delaunay neighbour a excludes",
   CHECK(std::find(dn.begin(), dn.end(), a) == dn.end());  // a is not a Delaunay neighbour of s
   CHECK(std::find(ur.begin(), ur.end(), v) != ur.end());  // so Urquhart keeps v ...
   CHECK(std::find(rn.begin(), rn.end(), v) == rn.end());  // ... which Eq. 2 excludes (a is in the lune)
-  CHECK(rn == venation::relative_neighbourhood_brute_force(pts, s));
+  CHECK(rn == venation::testing::relative_neighbourhood_brute_force(pts, s));
   // where no such point exists they agree: w1 is in both
   CHECK(std::find(ur.begin(), ur.end(), w1) != ur.end());
   CHECK(std::find(rn.begin(), rn.end(), w1) != rn.end());
