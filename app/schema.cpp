@@ -40,6 +40,10 @@ std::vector<Field> build() {
                       "cell steps to simulate (--steps overrides); space colonisation uses colonisation.max_steps"));
   // 2^53: every whole number up to it is exact in Lua's numbers (a larger literal would round to another)
   f.push_back(integer("run", "seed", "1", 0, 9007199254740992.0, "", "seed of every random choice (--seed overrides)"));
+  f.push_back(
+      integer("run", "max_memory", "0", 0, 1e9, "MB",
+              "memory the cells may take at the peak, about 700 bytes a cell: initial shapes that need more "
+              "are refused, a division.max_cells that would is noted; 0 = three quarters of this machine's memory"));
 
   // cells{}
   f.push_back(num("cells", "rest_length", "1", 0, kFar, true, "model units",

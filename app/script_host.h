@@ -93,6 +93,7 @@ struct SceneConfig {
   std::uint64_t steps = 200;
   std::string steps_given_at;  ///< where run.steps was given ("file:line: " or "--set run.steps=N: "), or empty
   std::uint64_t seed = 1;
+  double max_memory_mb = 0;  ///< run.max_memory: MB the cells may take at the peak; 0 = three quarters of the machine's
   OutputSpec output;
   std::optional<PrintSpec> print;
   std::optional<ColonisationSpec> colonisation;        ///< set: the run grows veins by space colonisation, not cells

@@ -1,8 +1,12 @@
 // The sections of the growth-script API for the cell system and its outputs (cells{}, division{}, disc{},
 // ground{}, print{}, ...): each reads its table against the schema and fills the scene configuration.
 // The colonisation sections are in script_colonisation.cpp.
+#include <unistd.h>
+
 #include <cctype>
+#include <cmath>
 #include <fstream>
+#include <limits>
 #include <vector>
 
 #include "app/script_impl.h"
@@ -161,6 +165,7 @@ void section_run(Impl& I, const std::string& at) {
       I.cfg->steps_given_at = "--set run.steps=" + I.overrides->at("run.steps") + ": ";
   }
   I.cfg->seed = static_cast<std::uint64_t>(v["seed"].num);
+  I.cfg->max_memory_mb = v["max_memory"].num;
 }
 
 void section_venation(Impl& I, const std::string& at) {
@@ -388,11 +393,39 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
   }
 }
 
+/// Memory the cells take at the peak of a step, bytes a cell (links, grid, forces and the step's scratch:
+/// 685 measured with 2 million cells, December 2026).
+constexpr double kBytesPerCell = 700;
+
+/// The cells run.max_memory (else the machine's memory) holds, and how that budget is named in a message.
+std::pair<double, std::string> cell_budget(const SceneConfig& cfg) {
+  double mb = cfg.max_memory_mb;
+  std::string name = "run.max_memory = " + core::number_text(mb) + " MB";
+  if (!(mb > 0)) {
+    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+    if (pages <= 0 || page <= 0) return {std::numeric_limits<double>::infinity(), ""};
+    const double machine = static_cast<double>(pages) * static_cast<double>(page) / 1e6;
+    mb = 0.75 * machine;  // the rest for the outputs' buffers, the system and whatever else runs
+    name = "three quarters of this machine's " + core::number_text(std::round(machine / 100) / 10) + " GB";
+  }
+  return {mb * 1e6 / kBytesPerCell, name};
+}
+
+std::string gigabytes(double cells) { return core::number_text(std::round(cells * kBytesPerCell / 1e8) / 10) + " GB"; }
+
 void build_shapes(Impl& I) {
   SceneConfig& cfg = *I.cfg;
   const double rest = cfg.scene.cells.rest_length;
   nlohmann::json& rec = cfg.resolved["shapes"];
   rec = nlohmann::json::array();
+  const auto [budget, budget_name] = cell_budget(cfg);
+  if (!cfg.colonisation || cfg.colonisation->on_cells) {
+    const double max_cells = static_cast<double>(cfg.scene.cells.division.max_cells);
+    if (max_cells > budget)
+      cfg.notes.push_back("division.max_cells = " + std::to_string(cfg.scene.cells.division.max_cells) +
+                          " cells would take about " + gigabytes(max_cells) + " at the peak, more than " + budget_name +
+                          ": a run that grows that far fails for memory (lower division.max_cells)");
+  }
   for (ShapeCall& s : I.shapes) {
     Values& v = s.values;
     auto spacing = [&]() { return v["spacing"].present ? v["spacing"].num : rest; };
@@ -414,6 +447,12 @@ void build_shapes(Impl& I) {
             "the initial shapes would make about " + core::number_text(std::round(placed + estimate)) +
             " cells, more than division.max_cells = " + std::to_string(cfg.scene.cells.division.max_cells) +
             ", which also caps the cells placed (raise it, or place fewer)");
+      if (estimate <= 5e7 && placed + estimate > budget)
+        throw InvalidInput("the initial shapes would make about " +
+                           std::to_string(static_cast<std::uint64_t>(placed + estimate)) + " cells, which take about " +
+                           gigabytes(placed + estimate) + " at the peak, more than " + budget_name +
+                           "; place fewer (a larger spacing or a smaller shape)" +
+                           (cfg.max_memory_mb > 0 ? "" : ", or set run.max_memory (MB) if there is more to use"));
       auto xyz = [](const Vec3& p) { return nlohmann::json::array({p.x(), p.y(), p.z()}); };
       if (s.kind == "disc") {
         points = forms::hex_disc(v["centre"].vec, unit_vector(v["normal"].vec, "normal"), v["radius"].num, spacing());
