@@ -206,6 +206,16 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, fs::
                             "lists: choose another --out folder, or move that file away");
     }
   }
+  // a folder where a run writes a file would stop it only at the end, after every step (its checkpoint too:
+  // the run could not even be resumed): refused now
+  for (const char* name :
+       {kCheckpointName, "cells.ply", "cells.obj", "veins.ply", "veins.obj", "veins.svg", "veins.png", "printable.stl",
+        "printable.obj", "printable.ply", "printable.scad", "printable.vdb"}) {
+    std::error_code probe;
+    if (fs::is_directory(dir / name, probe))
+      throw FolderRefused("'" + (dir / name).string() + "' is a folder where a run writes its " + name +
+                          ": choose another --out folder, or move that folder away");
+  }
   // staging folders (".partial-PID" or ".partial-PID-K") and half-written checkpoints and run.json files
   // ("checkpoint.cfck.tmp-PID-K", "run.json.tmp-PID-K") of runs that were killed (a second Ctrl-C, SIGKILL):
   // with the folder locked no other run writes there, so all of them, whatever runs under those process

@@ -247,24 +247,28 @@ TEST_CASE("two runs never write into one folder at once", "[cli]") {
   CHECK(cli({"run", script.string(), "--out", dir.string(), "--quiet", "--steps", "2"}).code == 0);  // released
 }
 
-TEST_CASE("outputs that cannot be moved into place say where the run can continue from", "[cli]") {
+TEST_CASE("a folder where a run writes one of its files is refused before the first step", "[cli]") {
+  // found only at the end, it cost the whole run; in checkpoint.cfck's place, the run could not even resume
   TempDir t("cli-commit-fails");
   const auto script = t.write("small.lua", kSmall);
-  const fs::path dir = t.path / "out";
-  fs::create_directories(dir / "cells.ply" / "inside");  // cells.ply cannot be replaced
-  const auto r = cli({"run", script.string(), "--out", dir.string(), "--quiet", "--steps", "3"});
-  CHECK(r.code == 1);
-  CHECK_THAT(r.err, Contains("cells.ply") && Contains("the last checkpoint written is") &&
-                        Contains("checkpoint.cfck; cellform resume continues from it"));
-  CHECK(fs::exists(dir / "checkpoint.cfck"));
+  for (const char* name : {"cells.ply", "checkpoint.cfck"}) {
+    const fs::path dir = t.path / (std::string("out-") + name);
+    fs::create_directories(dir / name / "inside");
+    const auto r = cli({"run", script.string(), "--out", dir.string(), "--quiet", "--steps", "3"});
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err,
+               Contains(std::string(name) + "' is a folder where a run writes its " + name) && !Contains("step"));
+    CHECK(fs::exists(dir / name / "inside"));  // left as it was
+    CHECK(!fs::exists(dir / "run.json"));
+  }
   // and so for space colonisation
   const auto veins = t.write("veins.lua", "leaf {}\ncolonisation { initial_length = 20, final_length = 24 }\n");
   const fs::path vdir = t.path / "veins";
   fs::create_directories(vdir / "veins.svg" / "inside");
   const auto v = cli({"run", veins.string(), "--out", vdir.string(), "--quiet"});
-  CHECK(v.code == 1);
-  CHECK_THAT(v.err, Contains("veins.svg") && Contains("the last checkpoint written is"));
-  CHECK(fs::exists(vdir / "checkpoint.cfck"));
+  CHECK(v.code == 2);
+  CHECK_THAT(v.err, Contains("veins.svg' is a folder where a run writes its veins.svg"));
+  CHECK(!fs::exists(vdir / "checkpoint.cfck"));
 }
 
 TEST_CASE("an output folder given through a missing folder and back out (--out new/../z) creates only z", "[cli]") {
