@@ -234,9 +234,12 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
       std::string count;
       ls >> elements.back().name >> count;
       // a count is a whole number (a "-1" read as a size_t would be 2^64 - 1)
-      if (count.empty() || count.size() > 12 || count.find_first_not_of("0123456789") != std::string::npos)
+      if (count.empty() || count.find_first_not_of("0123456789") != std::string::npos)
         malformed(path, "PLY element '" + elements.back().name + "' has count '" + count +
                             "', which is not a whole number >= 0");
+      if (count.size() > 12)  // more than the file could hold (the counts are checked against its size later)
+        malformed(path, "PLY element '" + elements.back().name + "' has count " + count +
+                            ", too large (at most 999999999999)");
       elements.back().count = std::stoull(count);
     } else if (w == "property") {
       if (elements.empty()) malformed(path, "PLY property before any element");

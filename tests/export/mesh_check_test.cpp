@@ -445,6 +445,11 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
   std::ofstream(dir / "negative.ply") << negative << "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "negative.ply"),
                     Catch::Contains("count '-1'") && Catch::Contains("whole number"));
+  std::string huge = head;  // a whole number, but beyond any file: said to be too large, not "not a whole number"
+  huge.replace(huge.find("vertex 3"), 8, "vertex 1099511627776");
+  std::ofstream(dir / "huge.ply") << huge << "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "huge.ply"),
+                    Catch::Contains("count 1099511627776, too large") && !Catch::Contains("whole number"));
   // a version other than 1.0, and a header's bytes that are no text (escaped, as in the OBJ messages)
   std::string v2 = head;
   v2.replace(v2.find("ascii 1.0"), 9, "ascii 2.0");
