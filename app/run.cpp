@@ -588,13 +588,14 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   } catch (const std::exception& e) {
     progress.finish();
     err << "cellform: " << core::error_text(e) << "\n";
-    // the outputs failed (a full disk): what is left to continue from; its frames stay, as after a script
-    // error (with none, as when no step ran, the folder stays as it was)
+    // the outputs failed (a full disk): what is left to continue from; a run.json that says so (a few kB,
+    // which a full disk usually still has) and the frames up to it stay, as after a script error. (With no
+    // checkpoint of steps this run took, as when no step ran, the folder stays as it was: a resume that only
+    // writes the outputs again must not replace a finished run's outputs by a record of its failure.)
     if (!checkpoint_error.empty()) err << "cellform: the final checkpoint failed too: " << checkpoint_error << "\n";
     if (saved && fs::exists(checkpoint)) {
       err << "  (the last checkpoint written is " << checkpoint.string() << "; cellform resume continues from it)\n";
-      if (std::any_of(frame_steps.begin(), frame_steps.end(), [&](std::uint64_t f) { return f <= saved_step; }))
-        keep_failed_run(core::error_text(e));
+      if (saved_step > first) keep_failed_run(core::error_text(e));
     }
     code = failure;
   }
