@@ -206,11 +206,10 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, fs::
                             "lists: choose another --out folder, or move that file away");
     }
   }
-  // a folder where a run writes a file would stop it only at the end, after every step (its checkpoint too:
-  // the run could not even be resumed): refused now
-  for (const char* name :
-       {kCheckpointName, "cells.ply", "cells.obj", "veins.ply", "veins.obj", "veins.svg", "veins.png", "printable.stl",
-        "printable.obj", "printable.ply", "printable.scad", "printable.vdb"}) {
+  // a folder where a run writes an output would stop it only at the end, after every step: refused now. (One
+  // in checkpoint.cfck's place is warned of at the first checkpoint, and the outputs are still written.)
+  for (const char* name : {"cells.ply", "cells.obj", "veins.ply", "veins.obj", "veins.svg", "veins.png",
+                           "printable.stl", "printable.obj", "printable.ply", "printable.scad", "printable.vdb"}) {
     std::error_code probe;
     if (fs::is_directory(dir / name, probe))
       throw FolderRefused("'" + (dir / name).string() + "' is a folder where a run writes its " + name +

@@ -248,10 +248,10 @@ TEST_CASE("two runs never write into one folder at once", "[cli]") {
 }
 
 TEST_CASE("a folder where a run writes one of its files is refused before the first step", "[cli]") {
-  // found only at the end, it cost the whole run; in checkpoint.cfck's place, the run could not even resume
+  // found only at the end, it cost the whole run (the checkpoint was kept, to resume from once it was moved)
   TempDir t("cli-commit-fails");
   const auto script = t.write("small.lua", kSmall);
-  for (const char* name : {"cells.ply", "checkpoint.cfck"}) {
+  for (const char* name : {"cells.ply", "cells.obj"}) {
     const fs::path dir = t.path / (std::string("out-") + name);
     fs::create_directories(dir / name / "inside");
     const auto r = cli({"run", script.string(), "--out", dir.string(), "--quiet", "--steps", "3"});
