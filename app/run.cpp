@@ -47,33 +47,6 @@ std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t t
 
 }  // namespace
 
-/// Writes the cell outputs of the current state into `dir`; returns their names.
-std::vector<std::string> write_outputs(const fs::path& dir, const OutputSpec& spec, const cells::Cells& c,
-                                       const venation::Params* veins) {
-  std::vector<std::string> names;
-  if (veins) {
-    const venation::VeinGraph g = venation::vein_graph(c, veins);
-    if (spec.ply) {
-      exporters::write_veins_ply(dir / "veins.ply", g, c);
-      names.push_back("veins.ply");
-    }
-    if (spec.obj) {
-      exporters::write_veins_obj(dir / "veins.obj", g);
-      names.push_back("veins.obj");
-    }
-  }
-  const cells::Surface surface = cells::triangulate(c);
-  if (spec.ply) {
-    exporters::write_cells_ply(dir / "cells.ply", c, surface);
-    names.push_back("cells.ply");
-  }
-  if (spec.obj) {
-    exporters::write_cells_obj(dir / "cells.obj", c, surface);
-    names.push_back("cells.obj");
-  }
-  return names;
-}
-
 namespace {
 
 /// The start of a cell run's run.json: what ran, with which seed and threads, and how it ended.

@@ -1,10 +1,14 @@
-// What a cell run tells of its veins: run.json's "veins", and the warnings and notes at its end.
+// What a cell run writes and tells of its veins: the cell and vein files, run.json's "veins", and the
+// warnings and notes at its end.
 #include <algorithm>
 #include <iomanip>
 #include <sstream>
 #include <vector>
 
 #include "app/run_internal.h"
+#include "cells/surface.h"
+#include "export/cell_files.h"
+#include "export/vein_files.h"
 
 namespace cellform::app {
 
@@ -85,6 +89,33 @@ void say_vein_findings(std::ostream& err, const cells::Cells& c, const venation:
            "there (a part of the form apart from every petiole, or a petiole off the sheet: place a petiole{at = "
            "...} on that part, on a cell)\n";
   if (notes) say_veinless_petioles(err, c, p);
+}
+
+/// Writes the cell outputs of the current state into `dir`; returns their names.
+std::vector<std::string> write_outputs(const std::filesystem::path& dir, const OutputSpec& spec, const cells::Cells& c,
+                                       const venation::Params* veins) {
+  std::vector<std::string> names;
+  if (veins) {
+    const venation::VeinGraph g = venation::vein_graph(c, veins);
+    if (spec.ply) {
+      exporters::write_veins_ply(dir / "veins.ply", g, c);
+      names.push_back("veins.ply");
+    }
+    if (spec.obj) {
+      exporters::write_veins_obj(dir / "veins.obj", g);
+      names.push_back("veins.obj");
+    }
+  }
+  const cells::Surface surface = cells::triangulate(c);
+  if (spec.ply) {
+    exporters::write_cells_ply(dir / "cells.ply", c, surface);
+    names.push_back("cells.ply");
+  }
+  if (spec.obj) {
+    exporters::write_cells_obj(dir / "cells.obj", c, surface);
+    names.push_back("cells.obj");
+  }
+  return names;
 }
 
 }  // namespace cellform::app
