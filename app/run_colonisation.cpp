@@ -27,20 +27,12 @@ using nlohmann::json;
 
 namespace {
 
-/// A 3-D domain more than kLargeDomain vein segments across (model units: one segment each) is noted: a mesh
-/// drawn in millimetres without surface{scale = ...} grows for hours with no end in sight.
-constexpr double kLargeDomain = 1000;
-
+/// Notes a 3-D domain over 1,000 vein segments (model units) across: a mesh in mm without {scale} grows for hours.
 void say_large_domain(std::ostream& err, const venation::Domain& d, bool mesh_file) {
-  Eigen::AlignedBox3d box;
-  if (d.kind == venation::DomainKind::box) box.extend(d.box_min).extend(d.box_max);
-  if (d.kind == venation::DomainKind::ball)
-    box.extend(d.centre - core::Vec3::Constant(d.radius)).extend(d.centre + core::Vec3::Constant(d.radius));
-  if (d.kind == venation::DomainKind::volume || d.kind == venation::DomainKind::surface)
-    for (const core::Vec3& v : d.mesh.vertices) box.extend(v);
+  const Eigen::AlignedBox3d box = venation::bounding_box(d);
   if (box.isEmpty()) return;
   const double across = box.sizes().maxCoeff();
-  if (!(across > kLargeDomain)) return;
+  if (!(across > 1000)) return;
   const std::string kind = d.kind == venation::DomainKind::surface ? "surface" : "volume";
   err << "cellform: note: the " << kind << " is " << core::number_text(std::round(across)) << " model units across, "
       << core::number_text(std::round(across)) << " vein segments (lengths are in vein segments): filling it with "
@@ -110,6 +102,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                                    // this run replaces that checkpoint
   std::optional<FolderLock> lock;  // held until the run has written its last file
   bool resumable = false;          // a checkpoint of this run is in the folder when the outputs are written
+  json stepped;                    // run.json's steps when that checkpoint holds steps this run took, else null
   std::string checkpoint_failure;  // why the final checkpoint could not be written
   try {
     staging = make_staging(dir, lock, &kept_staging);
@@ -343,6 +336,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         checkpoint_error = core::error_text(e);
       }
       resumable = saved;
+      if (saved && col.report().steps > first) stepped = {{"first", first}, {"completed", col.report().steps}};
       checkpoint_failure = checkpoint_error;
     };
     // no step ran: the outputs are made again for another print. The checkpoint after the print, so that
@@ -582,9 +576,15 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       // the outputs failed (a full disk): what is left to continue from
       if (!checkpoint_failure.empty())
         err << "cellform: the final checkpoint failed too: " << checkpoint_failure << "\n";
-      if (resumable && fs::exists(dir / kCheckpointName))
+      // with steps in it, a run.json that says the run failed and why (as a cell run's; not for a resume
+      // that only wrote the outputs again: its folder stays as it was)
+      if (resumable && fs::exists(dir / kCheckpointName) && !stepped.is_null()) {
+        failed.steps = stepped;
+        keep_failed_run(m);
+      } else if (resumable && fs::exists(dir / kCheckpointName)) {
         err << "  (the last checkpoint written is " << (dir / kCheckpointName).string()
             << "; cellform resume continues from it)\n";
+      }
     }
     // the same script would stop there again: an edited one can go on from the checkpoint
     if (!last.empty() && (input || dynamic_cast<const core::SimulationDiverged*>(&e)))

@@ -177,6 +177,16 @@ void validate(const Leaf& leaf, const ColonisationParams& p) {
                        "points");
 }
 
+Eigen::AlignedBox3d bounding_box(const Domain& d) {
+  Eigen::AlignedBox3d box;
+  if (d.kind == DomainKind::box) box.extend(d.box_min).extend(d.box_max);
+  if (d.kind == DomainKind::ball)
+    box.extend(d.centre - Vec3::Constant(d.radius)).extend(d.centre + Vec3::Constant(d.radius));
+  if (d.kind == DomainKind::volume || d.kind == DomainKind::surface)
+    for (const Vec3& v : d.mesh.vertices) box.extend(v);
+  return box;
+}
+
 void validate(const Domain& d, const ColonisationParams& p) {
   if (d.kind == DomainKind::leaf) {
     validate(d.leaf, p);

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "core/random.h"
 #include "core/types.h"
 #include "venation/colonisation.h"
@@ -68,6 +70,10 @@ struct Domain {
 /// triangles), no seed node, or a seed node or source outside the domain (farther than 1e-6 of the
 /// bounding-box diagonal from a volume, or from a surface).
 void validate(const Domain& domain);
+
+/// Bounding box of a 3-D domain, model units: the box, the ball's box, or the mesh's vertices (empty for a leaf,
+/// whose blade grows, and for a mesh with no vertices).
+Eigen::AlignedBox3d bounding_box(const Domain& domain);
 
 /// Throws core::InvalidInput naming the colonisation parameter when `params` cannot be used with the
 /// domain's kind: a 3-D domain needs growth none, initial_scale 1 and, for closed venation, the exact

@@ -247,6 +247,25 @@ TEST_CASE("volume darts fall inside at rho per unit volume", "[domain]") {
         4 * std::sqrt(6400 * (M_PI / 6) * (1 - M_PI / 6)));
 }
 
+TEST_CASE("a domain's bounding box: the box, the ball's box, the mesh's vertices; none for a leaf", "[domain]") {
+  v::Domain d;
+  d.kind = v::DomainKind::box;
+  d.box_min = Vec3(-1, 2, 3);
+  d.box_max = Vec3(4, 5, 9);
+  CHECK(v::bounding_box(d).min() == d.box_min);
+  CHECK(v::bounding_box(d).max() == d.box_max);
+  d.kind = v::DomainKind::ball;
+  d.centre = Vec3(1, 2, 3);
+  d.radius = 2;
+  CHECK(v::bounding_box(d).min() == Vec3(-1, 0, 1));
+  CHECK(v::bounding_box(d).max() == Vec3(3, 4, 5));
+  d.kind = v::DomainKind::surface;
+  d.mesh = octahedron(1.5);
+  CHECK(v::bounding_box(d).sizes() == Vec3(3, 3, 3));
+  d.kind = v::DomainKind::leaf;
+  CHECK(v::bounding_box(d).isEmpty());
+}
+
 TEST_CASE("open colonisation in 3-D volumes grows a forest from the seeds, inside the volume",
           "[domain][colonisation]") {
   std::vector<v::Domain> domains(3);
