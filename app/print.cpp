@@ -178,15 +178,17 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
     for (const exporters::Segment& g : segments) lengths.push_back((g.b - g.a).norm());
     const auto mid = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
     std::nth_element(lengths.begin(), mid, lengths.end());
-    const double segments_per_radius = spec.min_radius / rep.scale / *mid;
+    const double segments_per_radius = *mid > 0 ? spec.min_radius / rep.scale / *mid : 0.0;
     if (segments_per_radius > 1)
       err << "cellform: note: print: "
           << core::number_text(
                  std::round(100.0 * static_cast<double>(rep.raised_radii) / static_cast<double>(2 * segments.size())))
-          << "% of the vein radii are raised to print.min_radius (" << core::number_text(spec.min_radius) << " mm), "
-          << core::number_text(std::round(segments_per_radius * 10) / 10)
-          << " vein segments at this scale: veins closer than twice that fuse, and a dense pattern prints as a "
-             "plate (give a larger print.size, or a smaller print.min_radius if the printer allows)\n";
+          << "% of the vein radii are raised to print.min_radius (" << core::number_text(spec.min_radius)
+          << " mm), which is " << core::number_text(std::round(segments_per_radius * 10) / 10)
+          << " vein segments at this scale: veins closer than twice that fuse, and closely spaced veins print as a "
+             "plate (give a larger "
+          << (spec.scale > 0 ? "print.scale" : "print.size")
+          << ", or a smaller print.min_radius if the printer allows)\n";
   }
   if (rep.voxel_raised_from > 0)  // said even when quiet: the print is coarser than the default promises
     err << "cellform: note: print: the automatic voxel size " << rep.voxel_raised_from << " mm (print.min_radius / 2) "

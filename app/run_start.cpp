@@ -132,8 +132,9 @@ Start start_from(const RunOptions& o) {
       std::error_code ec;
       if (fs::is_directory(o.checkpoint, ec)) {
         // a folder named checkpoint.cfck (given, or inside the folder given) is no checkpoint file
-        const fs::path named =
-            o.checkpoint.filename() == "checkpoint.cfck" ? o.checkpoint : o.checkpoint / "checkpoint.cfck";
+        fs::path given = o.checkpoint.lexically_normal();  // "x/checkpoint.cfck/", as a shell completes it
+        if (given.filename().empty()) given = given.parent_path();
+        const fs::path named = given.filename() == "checkpoint.cfck" ? given : given / "checkpoint.cfck";
         if (fs::is_directory(named, ec))
           throw core::FileError("checkpoint '" + named.string() +
                                 "' is a folder, not a checkpoint file (a run writes checkpoint.cfck as a file; move "

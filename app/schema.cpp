@@ -43,7 +43,8 @@ std::vector<Field> build() {
   f.push_back(
       integer("run", "max_memory", "0", 0, 1e9, "MB",
               "memory the cells may take at the peak, about 700 bytes a cell: initial shapes that need more "
-              "are refused, a division.max_cells that would is noted; 0 = three quarters of this machine's memory"));
+              "are refused, a division.max_cells that would is noted (before the steps, not while the cells grow); 0 = "
+              "three quarters of this machine's memory (or of a container's limit)"));
 
   // cells{}
   f.push_back(num("cells", "rest_length", "1", 0, kFar, true, "model units",

@@ -144,7 +144,7 @@ void section_domain(Impl& I, const std::string& section, const std::string& at) 
   const bool file = !v["file"].str.empty();
   // scale is for a mesh file's coordinates (a mesh drawn in mm, say): elsewhere it would do nothing unsaid
   auto no_scale = [&](const std::string& instead) {
-    if (v["scale"].present && !file)
+    if (v["scale"].present && v["scale"].num != 1 && !file)  // (1 changes nothing: accepted)
       throw InvalidInput(I.value_at(section + ".scale", at) + section +
                          ".scale scales the coordinates of a mesh file (" + section + "{file = ...}); " + instead);
   };

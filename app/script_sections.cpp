@@ -397,6 +397,14 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
 /// 685 measured with 2 million cells, December 2026).
 constexpr double kBytesPerCell = 700;
 
+/// `mb` megabytes, in GB from 1 GB on.
+std::string megabytes_text(double mb) {
+  return mb < 1000 ? core::number_text(std::round(mb)) + " MB" : core::number_text(std::round(mb / 100) / 10) + " GB";
+}
+
+/// The memory `cells` take at the peak.
+std::string memory_of(double cells) { return megabytes_text(cells * kBytesPerCell / 1e6); }
+
 /// The cells run.max_memory (else the machine's memory) holds, and how that budget is named in a message.
 std::pair<double, std::string> cell_budget(const SceneConfig& cfg) {
   double mb = cfg.max_memory_mb;
@@ -404,14 +412,22 @@ std::pair<double, std::string> cell_budget(const SceneConfig& cfg) {
   if (!(mb > 0)) {
     const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
     if (pages <= 0 || page <= 0) return {std::numeric_limits<double>::infinity(), ""};
-    const double machine = static_cast<double>(pages) * static_cast<double>(page) / 1e6;
+    double machine = static_cast<double>(pages) * static_cast<double>(page) / 1e6;
+    std::string what = "this machine's ";
+    // in a container (cgroup v2, then v1) the limit, where it is lower, is what the run has
+    for (const char* limit : {"/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"}) {
+      std::ifstream in(limit);
+      double bytes = 0;
+      if (in >> bytes && bytes > 0 && bytes / 1e6 < machine) {
+        machine = bytes / 1e6;
+        what = "this container's memory limit, ";
+      }
+    }
     mb = 0.75 * machine;  // the rest for the outputs' buffers, the system and whatever else runs
-    name = "three quarters of this machine's " + core::number_text(std::round(machine / 100) / 10) + " GB";
+    name = "three quarters of " + what + megabytes_text(machine);
   }
   return {mb * 1e6 / kBytesPerCell, name};
 }
-
-std::string gigabytes(double cells) { return core::number_text(std::round(cells * kBytesPerCell / 1e8) / 10) + " GB"; }
 
 void build_shapes(Impl& I) {
   SceneConfig& cfg = *I.cfg;
@@ -421,10 +437,12 @@ void build_shapes(Impl& I) {
   const auto [budget, budget_name] = cell_budget(cfg);
   if (!cfg.colonisation || cfg.colonisation->on_cells) {
     const double max_cells = static_cast<double>(cfg.scene.cells.division.max_cells);
-    if (max_cells > budget)
+    if (max_cells > budget)  // (the budget is checked here, at the start, and not while the cells grow)
       cfg.notes.push_back("division.max_cells = " + std::to_string(cfg.scene.cells.division.max_cells) +
-                          " cells would take about " + gigabytes(max_cells) + " at the peak, more than " + budget_name +
-                          ": a run that grows that far fails for memory (lower division.max_cells)");
+                          " cells would take about " + memory_of(max_cells) + " at the peak, more than " + budget_name +
+                          (cfg.max_memory_mb > 0
+                               ? " (lower division.max_cells, or raise run.max_memory)"
+                               : ": a run that grows that far runs out of memory (lower division.max_cells)"));
   }
   for (ShapeCall& s : I.shapes) {
     Values& v = s.values;
@@ -450,7 +468,7 @@ void build_shapes(Impl& I) {
       if (estimate <= 5e7 && placed + estimate > budget)
         throw InvalidInput("the initial shapes would make about " +
                            std::to_string(static_cast<std::uint64_t>(placed + estimate)) + " cells, which take about " +
-                           gigabytes(placed + estimate) + " at the peak, more than " + budget_name +
+                           memory_of(placed + estimate) + " at the peak, more than " + budget_name +
                            "; place fewer (a larger spacing or a smaller shape)" +
                            (cfg.max_memory_mb > 0 ? "" : ", or set run.max_memory (MB) if there is more to use"));
       auto xyz = [](const Vec3& p) { return nlohmann::json::array({p.x(), p.y(), p.z()}); };

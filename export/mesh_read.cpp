@@ -237,10 +237,10 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
       if (count.empty() || count.find_first_not_of("0123456789") != std::string::npos)
         malformed(path, "PLY element '" + elements.back().name + "' has count '" + count +
                             "', which is not a whole number >= 0");
-      if (count.size() > 12)  // more than the file could hold (the counts are checked against its size later)
+      if (count.size() - std::min(count.find_first_not_of('0'), count.size() - 1) > 12)  // (leading zeros aside)
         malformed(path, "PLY element '" + elements.back().name + "' has count " + count +
                             ", too large (at most 999999999999)");
-      elements.back().count = std::stoull(count);
+      elements.back().count = std::stoull(count);  // at most 12 digits: the counts are checked against the size later
     } else if (w == "property") {
       if (elements.empty()) malformed(path, "PLY property before any element");
       Property p;

@@ -251,7 +251,7 @@ TEST_CASE("veins printed so small that nearly all are raised to min_radius, over
   const auto run = nlohmann::json::parse(slurp(t.path / "a" / "run.json"));
   const double per_segment = run["print"]["scale_mm_per_unit"].get<double>();
   REQUIRE(per_segment < 0.4);
-  CHECK_THAT(r.err, Contains("of the vein radii are raised to print.min_radius (0.4 mm), 1.") &&
+  CHECK_THAT(r.err, Contains("of the vein radii are raised to print.min_radius (0.4 mm), which is 1.") &&
                         Contains("vein segments at this scale: veins closer than twice that fuse"));
   // printed at 100 mm the same veins keep their widths apart: nothing is said
   r = cli({"run", script.string(), "--out", (t.path / "b").string(), "--quiet", "--set", "print.size=100"});

@@ -185,14 +185,14 @@ TEST_CASE("bad shapes, obstacle meshes and obstacles around the cells exit with 
         run("memory.lua", "run { max_memory = 100 }\ndivision { max_cells = 1000000 }\ndisc { radius = 300 }\n");
     CHECK(r.code == 2);
     CHECK_THAT(r.err, Contains("memory.lua:3: disc: the initial shapes would make about 32") &&
-                          Contains("cells, which take about 0.2 GB at the peak, more than run.max_memory = 100 MB"));
+                          Contains("cells, which take about 229 MB at the peak, more than run.max_memory = 100 MB"));
     // a max_cells the budget cannot hold is noted before the steps (the run may stop before it)
     const auto room = t.write("room.lua",
                               "run { max_memory = 100 }\ndivision { max_cells = 1000000 }\n"
                               "disc { radius = 3 }\n");
     const auto small = cli({"run", room.string(), "--out", (t.path / "room").string(), "--quiet", "--steps", "1"});
     CHECK(small.code == 0);
-    CHECK_THAT(small.err, Contains("note: division.max_cells = 1000000 cells would take about 0.7 GB at the peak, "
+    CHECK_THAT(small.err, Contains("note: division.max_cells = 1000000 cells would take about 700 MB at the peak, "
                                    "more than run.max_memory = 100 MB"));
   }
   // an ASCII STL obstacle cut in the middle of a facet

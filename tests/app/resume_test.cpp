@@ -146,7 +146,7 @@ TEST_CASE("corrupt, foreign and truncated checkpoints are refused clearly", "[cl
   CHECK_THAT(r.err, Contains("is a folder with no checkpoint.cfck in it"));
   // a folder named checkpoint.cfck, given or inside the folder given: said to be that, not missing
   fs::create_directories(t.path / "odd" / "checkpoint.cfck");
-  for (const fs::path& given : {t.path / "odd", t.path / "odd" / "checkpoint.cfck"}) {
+  for (const fs::path& given : {t.path / "odd", t.path / "odd" / "checkpoint.cfck", t.path / "odd/checkpoint.cfck/"}) {
     r = cli({"resume", given.string()});
     CHECK(r.code == 2);
     CHECK_THAT(r.err, Contains("odd/checkpoint.cfck' is a folder, not a checkpoint file"));

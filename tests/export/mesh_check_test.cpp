@@ -450,6 +450,10 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
   std::ofstream(dir / "huge.ply") << huge << "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "huge.ply"),
                     Catch::Contains("count 1099511627776, too large") && !Catch::Contains("whole number"));
+  std::string zeros = head;  // leading zeros are no size
+  zeros.replace(zeros.find("vertex 3"), 8, "vertex 00000000000003");
+  std::ofstream(dir / "zeros.ply") << zeros << "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  CHECK(exporters::read_mesh(dir / "zeros.ply").triangles.size() == 1);
   // a version other than 1.0, and a header's bytes that are no text (escaped, as in the OBJ messages)
   std::string v2 = head;
   v2.replace(v2.find("ascii 1.0"), 9, "ascii 2.0");

@@ -212,7 +212,10 @@ TEST_CASE("Murray radii satisfy r_parent^n = sum of r_child^n over every inflow"
     // their downstream cell (the veinlets draining straight in), and for a vein node its vein children
     std::vector<double> drained(c.size(), 0.0);
     for (std::size_t x = 0; x < c.size(); ++x)
-      if (c.type[x] == CellType::general) drained[ws.downstream[x]] += flow[x];
+      if (c.type[x] == CellType::general) {
+        REQUIRE(ws.downstream[x] < c.size());  // every cell of this connected sheet drains somewhere
+        drained[ws.downstream[x]] += flow[x];
+      }
     int checked = 0;
     for (std::size_t v = 0; v < c.size(); ++v) {
       if (c.type[v] == CellType::general) {
