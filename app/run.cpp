@@ -455,6 +455,18 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     json printed;
     bool print_cancelled = false, printed_first = false;  // (a Ctrl-C of the early print ends the run)
     std::vector<std::string> print_names;
+    // a run cut short (--steps below the script's run.steps, a quick try) before any vein grew: the print is
+    // skipped, not failed (a print that growth cannot make, such as a shell of a line of cells, still fails)
+    auto skipped_print = [&](const std::exception& e) {
+      if (!dynamic_cast<const NothingToPrint*>(&e) || !cfg.print->veins || target >= cfg.steps || g_interrupt.load())
+        return false;
+      const std::string why = "nothing to print yet at step " + std::to_string(sim.step_count()) +
+                              " (no vein has grown; the run was cut short at step " + std::to_string(target) +
+                              " of the script's " + std::to_string(cfg.steps) + ")";
+      err << "cellform: print: skipped: " << why << "\n";
+      printed = {{"skipped", why}};
+      return true;
+    };
     if (cfg.print && s.resume && first >= target) {
       // no step ran: the outputs are made again for another print. The print first, so that one that
       // fails (too fine a voxel for the memory, say) leaves the folder as it was, its earlier print too.
@@ -463,15 +475,17 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                                   print_names, err, o.quiet);
         if (!o.quiet) say_printed(err, printed);
       } catch (const std::exception& e) {  // a Ctrl-C (core::Cancelled) too: the print was all this run made
-        const bool cancelled = dynamic_cast<const core::Cancelled*>(&e) != nullptr;
-        err << (cancelled ? std::string(o.quiet ? "" : "\n") + "cellform: printing interrupted"
-                          : "cellform: " + core::error_text(e))
-            << "\n  (nothing in " << dir.string()
-            << "/ changed: its outputs, printable files and checkpoint are as they were)\n";
-        std::error_code ec;
-        fs::remove_all(staging, ec);
-        remove_empty_up_to(dir, created);
-        return cancelled ? interrupted : failure;
+        if (!skipped_print(e)) {           // (skipped as by the run that wrote the checkpoint)
+          const bool cancelled = dynamic_cast<const core::Cancelled*>(&e) != nullptr;
+          err << (cancelled ? std::string(o.quiet ? "" : "\n") + "cellform: printing interrupted"
+                            : "cellform: " + core::error_text(e))
+              << "\n  (nothing in " << dir.string()
+              << "/ changed: its outputs, printable files and checkpoint are as they were)\n";
+          std::error_code ec;
+          fs::remove_all(staging, ec);
+          remove_empty_up_to(dir, created);
+          return cancelled ? interrupted : failure;
+        }
       }
       printed_first = true;
     }
@@ -497,13 +511,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         status = "interrupted";
         code = interrupted;
       } catch (const std::exception& e) {
-        // a run cut short by --steps (a quick try of a script) has nothing printable yet: not a failure
-        if (dynamic_cast<const NothingToPrint*>(&e) && o.steps && target < cfg.steps && !g_interrupt.load()) {
-          const std::string why = "nothing to print yet at step " + std::to_string(sim.step_count()) + " (--steps " +
-                                  std::to_string(*o.steps) + "; the script runs " + std::to_string(cfg.steps) + ")";
-          err << "cellform: print: skipped: " << why << "\n";
-          printed = {{"skipped", why}};
-        } else {
+        if (!skipped_print(e)) {
           err << "cellform: " << core::error_text(e) << "\n  (the other outputs and the checkpoint are written)\n";
           if (saved && !dynamic_cast<const NothingToPrint*>(&e))  // a retry need not grow the cells again
             err << "  to print again with other print.* values: cellform resume " << shell_word(checkpoint.string())

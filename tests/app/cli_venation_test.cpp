@@ -181,13 +181,25 @@ TEST_CASE("a quick try with --steps ends before any vein: the print is skipped, 
   auto r = cli({"run", script.string(), "--out", (t.path / "a").string(), "--steps", "5", "--quiet"});
   INFO(r.err);
   CHECK(r.code == 0);
-  CHECK_THAT(r.err, Contains("print: skipped: nothing to print yet at step 5 (--steps 5; the script runs 300)") &&
+  CHECK_THAT(r.err, Contains("print: skipped: nothing to print yet at step 5 (no vein has grown; the run was cut short "
+                             "at step 5 of the script's 300)") &&
                         Contains("No vein has grown anywhere yet: run longer") &&
                         !Contains("where veins already run") && !Contains("stopped with an error"));
   auto j = nlohmann::json::parse(slurp(t.path / "a" / "run.json"));
   CHECK(j["status"] == "complete");
   CHECK(j["print"].contains("skipped"));
   CHECK(!fs::exists(t.path / "a" / "printable.stl"));
+  // resuming that checkpoint, no step to run, skips it again (it failed, exit 1)
+  r = cli({"resume", (t.path / "a").string(), "--quiet"});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("print: skipped: nothing to print yet at step 5"));
+  // a print that growth cannot make (a shell of a line of cells) still fails a short try
+  const auto line = t.write("line.lua",
+                            "run { steps = 300 }\nline { from = {0, 0, 0}, to = {5, 0, 0} }\n"
+                            "print { veins = false, shell = true }\n");
+  r = cli({"run", line.string(), "--out", (t.path / "c").string(), "--steps", "5", "--quiet"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("no sheet of triangles") && !Contains("skipped"));
   // the whole script with nothing to print (too high a threshold) still fails, as it asked for a print
   r = cli(
       {"run", script.string(), "--out", (t.path / "b").string(), "--steps", "5", "--set", "run.steps=5", "--quiet"});
