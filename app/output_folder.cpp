@@ -206,15 +206,6 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, fs::
                             "lists: choose another --out folder, or move that file away");
     }
   }
-  // a folder where a run writes an output would stop it only at the end, after every step: refused now. (One
-  // in checkpoint.cfck's place is warned of at the first checkpoint, and the outputs are still written.)
-  for (const char* name : {"cells.ply", "cells.obj", "veins.ply", "veins.obj", "veins.svg", "veins.png",
-                           "printable.stl", "printable.obj", "printable.ply", "printable.scad", "printable.vdb"}) {
-    std::error_code probe;
-    if (fs::is_directory(dir / name, probe))
-      throw FolderRefused("'" + (dir / name).string() + "' is a folder where a run writes its " + name +
-                          ": choose another --out folder, or move that folder away");
-  }
   // staging folders (".partial-PID" or ".partial-PID-K") and half-written checkpoints and run.json files
   // ("checkpoint.cfck.tmp-PID-K", "run.json.tmp-PID-K") of runs that were killed (a second Ctrl-C, SIGKILL):
   // with the folder locked no other run writes there, so all of them, whatever runs under those process
@@ -412,6 +403,15 @@ std::vector<std::string> earlier_frames(const fs::path& dir, std::uint64_t up_to
     // an unreadable old run.json: its frames are not known to be this run's
   }
   return kept;
+}
+
+void check_output_places(const fs::path& dir, const std::vector<std::string>& names) {
+  for (const std::string& name : names) {
+    std::error_code probe;
+    if (fs::is_directory(dir / name, probe))
+      throw FolderRefused("'" + (dir / name).string() + "' is a folder where this run writes its " + name +
+                          ": choose another --out folder, or move that folder away");
+  }
 }
 
 void check_frames_folder(const fs::path& dir) {

@@ -235,6 +235,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   const fs::path created = first_missing(dir);  // made by this run: removed again if it stays empty
   try {
     if (cfg.output.every > 0) check_frames_folder(dir);  // before anything is made there
+    check_output_places(dir, output_names(cfg));
     staging = make_staging(dir, lock, &killed_staging, &folder_mark);
     // a resume of this folder's checkpoint read it before taking the lock: another run may have replaced it
     std::error_code same;

@@ -105,6 +105,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
   json stepped;                    // run.json's steps when that checkpoint holds steps this run took, else null
   std::string checkpoint_failure;  // why the final checkpoint could not be written
   try {
+    check_output_places(dir, output_names(cfg));
     staging = make_staging(dir, lock, &kept_staging);
     if (s.script_replaced) record_replaced_script(s, o, dir);
   } catch (const FolderBusy& e) {

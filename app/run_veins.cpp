@@ -118,4 +118,19 @@ std::vector<std::string> write_outputs(const std::filesystem::path& dir, const O
   return names;
 }
 
+std::vector<std::string> output_names(const SceneConfig& cfg) {
+  std::vector<std::string> names;
+  const bool colonisation = cfg.colonisation.has_value();
+  for (const std::string ext : {"ply", "obj"})
+    if (ext == "ply" ? cfg.output.ply : cfg.output.obj) {
+      if (!colonisation || cfg.colonisation->on_cells) names.push_back("cells." + ext);
+      if (colonisation || cfg.scene.venation) names.push_back("veins." + ext);
+    }
+  if (colonisation && cfg.colonisation->domain.kind == venation::DomainKind::leaf) names.push_back("veins.svg");
+  if (colonisation && cfg.output.png) names.push_back("veins.png");
+  if (cfg.print)
+    for (const std::string& f : cfg.print->formats) names.push_back("printable." + f);
+  return names;
+}
+
 }  // namespace cellform::app
