@@ -283,6 +283,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   int code = ok;
   bool saved = false;            // this run wrote checkpoint.cfck (an older one may be there from another run)
   std::string checkpoint_error;  // why the final checkpoint could not be written
+  std::string earlier_record;    // a resume that runs no step: the folder's run.json, put back if the outputs fail
   bool checkpoint_warned = false;
   std::uint64_t saved_step = 0;            // the step of the last checkpoint this run wrote
   std::size_t saved_cells = 0;             // and its cells
@@ -490,6 +491,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       }
       printed_first = true;
     }
+    if (first >= target) try {  // (the checkpoint marks it superseded, though it holds the same state)
+        earlier_record = core::read_file(dir / "run.json");
+      } catch (const std::exception&) {
+      }
     // the checkpoint first: outputs failing after it leave it to resume from; one that fails leaves the outputs
     try {
       checkpoint_now();
@@ -579,6 +584,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       err << "  (the last checkpoint written is " << checkpoint.string() << "; cellform resume continues from it)\n";
       if (saved_step > first) keep_failed_run(core::error_text(e));
     }
+    if (saved && saved_step == first && !earlier_record.empty()) try {
+        core::write_file_atomically(dir / "run.json", [&](std::ostream& os) { os << earlier_record; });
+      } catch (const std::exception&) {  // as full as that: the mark stays, the first error is the one said
+      }
     code = failure;
   }
   std::error_code ec;
