@@ -42,7 +42,8 @@ void write_file_atomically(const fs::path& path, const std::function<void(std::o
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
     throw FileError("cannot write '" + path.string() + "': '" + dir.string() + "' is not a directory");
-  if (fs::is_directory(path, ec)) throw FileError("cannot write '" + path.string() + "': it is a directory");
+  if (fs::is_directory(path, ec))
+    throw FileError("cannot write '" + path.string() + "': it is a folder (move that folder away)");
   // a temporary of our own, made anew beside the file (O_EXCL: never a file or link that is there already,
   // which another user could have put in a shared folder), then written and renamed over the file
   fs::path tmp;

@@ -100,7 +100,8 @@ TEST_CASE("unwritable places are reported with the path", "[core][files]") {
   Dir d;
   CHECK_THROWS_WITH(cellform::core::write_file_atomically(d.path / "no" / "such" / "dir.txt", [](std::ostream&) {}),
                     Contains("is not a directory"));
-  CHECK_THROWS_WITH(cellform::core::write_file_atomically(d.path, [](std::ostream&) {}), Contains("is a directory"));
+  CHECK_THROWS_WITH(cellform::core::write_file_atomically(d.path, [](std::ostream&) {}),
+                    Contains("it is a folder (move that folder away)"));
   std::ofstream(d.path / "file") << "x";
   CHECK_THROWS_AS(cellform::core::ensure_directory(d.path / "file"), cellform::core::FileError);
   CHECK_THROWS_WITH(cellform::core::read_file(d.path / "missing"), Contains("does not exist"));
