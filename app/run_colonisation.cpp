@@ -34,9 +34,9 @@ void say_large_domain(std::ostream& err, const venation::Domain& d, bool mesh_fi
   const double across = box.sizes().maxCoeff();
   if (!(across > 1000)) return;
   const std::string kind = d.kind == venation::DomainKind::surface ? "surface" : "volume";
-  err << "cellform: note: the " << kind << " is " << core::number_text(std::round(across)) << " model units across, "
-      << core::number_text(std::round(across)) << " vein segments (lengths are in vein segments): filling it with "
-      << "veins takes a very long time"
+  err << "cellform: note: the " << kind << " spans " << core::number_text(std::round(across))
+      << " model units at its longest, as many vein segments (lengths are in vein segments): veins that fill so "
+         "large a domain take long"
       << (mesh_file ? ". A mesh drawn in millimetres wants " + kind + "{scale = ...}, which scales its coordinates\n"
                     : std::string("\n"));
 }
