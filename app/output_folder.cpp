@@ -409,7 +409,7 @@ void check_output_places(const fs::path& dir, const std::vector<std::string>& na
   for (const std::string& name : names) {
     std::error_code probe;
     if (fs::is_directory(dir / name, probe))
-      throw FolderRefused("'" + (dir / name).string() + "' is a folder where this run writes its " + name +
+      throw FolderRefused("'" + (dir / name).string() + "' is a folder where this run may write its " + name +
                           ": choose another --out folder, or move that folder away");
   }
 }

@@ -267,7 +267,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         << " (" << initial_cells << " cells, seed " << seed << ")\n";
   if (s.resume && first >= target && !o.steps)  // notes are said with --quiet too: it stills the progress alone
     err << "cellform: note: the checkpoint is at its run's last step (" << target << "): no step runs, the outputs"
-        << (cfg.print ? " and the printable solid" : "") << " are made again; give --steps N to continue to step N\n";
+        << (cfg.print ? " (and the printable solid, if anything printable has grown)" : "")
+        << " are made again; give --steps N to continue to step N\n";
   for (const forms::PetioleSpec& p : cfg.scene.petioles)  // said now, not found missing at the end
     if (p.step > target && p.step > first)
       err << "cellform: note: " << p.origin << "the petiole due at step " << p.step
@@ -491,7 +492,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       }
       printed_first = true;
     }
-    if (first >= target) try {  // (the checkpoint marks it superseded, though it holds the same state)
+    std::error_code own;  // a no-step resume of this folder's own checkpoint: its rewrite marks run.json superseded
+    if (s.resume && first >= target && fs::equivalent(o.checkpoint, checkpoint, own)) try {
         earlier_record = core::read_file(dir / "run.json");
       } catch (const std::exception&) {
       }

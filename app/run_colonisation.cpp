@@ -35,8 +35,7 @@ void say_large_domain(std::ostream& err, const venation::Domain& d, bool mesh_fi
   if (!(across > 1000)) return;
   const std::string kind = d.kind == venation::DomainKind::surface ? "surface" : "volume";
   err << "cellform: note: the " << kind << " spans " << core::number_text(std::round(across))
-      << " model units at its longest, as many vein segments (lengths are in vein segments): veins that fill so "
-         "large a domain take long"
+      << " vein segments (model units) at its longest: veins that fill so large a domain take long"
       << (mesh_file ? ". A mesh drawn in millimetres wants " + kind + "{scale = ...}, which scales its coordinates\n"
                     : std::string("\n"));
 }
@@ -578,7 +577,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       if (!checkpoint_failure.empty())
         err << "cellform: the final checkpoint failed too: " << checkpoint_failure << "\n";
       // with steps in it, a run.json that says the run failed and why (as a cell run's; not for a resume
-      // that only wrote the outputs again: its folder stays as it was)
+      // that only wrote the outputs again, whose run.json the checkpoint marked superseded)
       if (resumable && fs::exists(dir / kCheckpointName) && !stepped.is_null()) {
         failed.steps = stepped;
         keep_failed_run(m);

@@ -414,8 +414,23 @@ std::pair<double, std::string> cell_budget(const SceneConfig& cfg) {
     if (pages <= 0 || page <= 0) return {std::numeric_limits<double>::infinity(), ""};
     double machine = static_cast<double>(pages) * static_cast<double>(page) / 1e6;
     std::string what = "this machine's ";
-    // in a container (cgroup v2, then v1) the limit, where it is lower, is what the run has
-    for (const char* limit : {"/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"}) {
+    // in a container or a job's control group (v2, or v1's memory one) the lowest limit on its way up to the
+    // root, where lower, is what the run has
+    std::vector<std::filesystem::path> limits;
+    std::ifstream groups("/proc/self/cgroup");
+    for (std::string line; std::getline(groups, line);) {  // "0::/path" (v2), "N:memory:/path" (v1)
+      const std::size_t a = line.find(':'), b = a == std::string::npos ? a : line.find(':', a + 1);
+      if (b == std::string::npos) continue;
+      const std::string controllers = line.substr(a + 1, b - a - 1);
+      if (!controllers.empty() && controllers.find("memory") == std::string::npos) continue;
+      const std::filesystem::path root = controllers.empty() ? "/sys/fs/cgroup" : "/sys/fs/cgroup/memory";
+      const char* file = controllers.empty() ? "memory.max" : "memory.limit_in_bytes";
+      for (std::filesystem::path at = line.substr(b + 1);; at = at.parent_path()) {
+        limits.push_back(root / at.relative_path() / file);
+        if (at.empty() || at == at.parent_path()) break;
+      }
+    }
+    for (const std::filesystem::path& limit : limits) {
       std::ifstream in(limit);
       double bytes = 0;
       if (in >> bytes && bytes > 0 && bytes / 1e6 < machine) {

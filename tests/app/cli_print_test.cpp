@@ -253,6 +253,11 @@ TEST_CASE("veins printed so small that nearly all are raised to min_radius, over
   REQUIRE(per_segment < 0.4);
   CHECK_THAT(r.err, Contains("of the vein radii are raised to print.min_radius (0.4 mm), which is 1.") &&
                         Contains("vein segments at this scale: veins closer than twice that fuse"));
+  CHECK_THAT(r.err, Contains("give a larger print.size"));
+  // a scale given is the one to raise
+  r = cli({"run", script.string(), "--out", (t.path / "s").string(), "--quiet", "--set", "print.scale=0.25"});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("give a larger print.scale"));
   // printed at 100 mm the same veins keep their widths apart: nothing is said
   r = cli({"run", script.string(), "--out", (t.path / "b").string(), "--quiet", "--set", "print.size=100"});
   REQUIRE(r.code == 0);

@@ -39,6 +39,8 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
                  Contains("cells.rest_length"));
   CHECK_THAT(load_error("volume { box = { min = {0, 0, 0}, max = {10, 10, 10} }, scale = 3 }\ncolonisation {}\n"),
              Contains(":1: volume.scale scales the coordinates of a mesh file") && Contains("model units"));
+  // scale = 1 changes nothing: accepted
+  CHECK_NOTHROW(load("volume { box = { min = {0, 0, 0}, max = {10, 10, 10} }, scale = 1 }\ncolonisation {}\n"));
   CHECK_THAT(
       load_error("volume { ball = { centre = {0, 0, 0}, radius = 5 } }\ncolonisation {}\n", {{"volume.scale", "10"}}),
       Contains("--set volume.scale=10: volume.scale scales"));

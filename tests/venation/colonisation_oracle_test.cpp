@@ -52,6 +52,7 @@ OracleCounts require_brute_force_steps(const v::Leaf& leaf, const v::Colonisatio
     const v::VeinTree after = c.tree();
     std::map<Index, Vec3> grown = v::testing::grown_by_parent(before, after);
     REQUIRE(grown.size() == after.size() - before.size());  // one new node per parent, each from an old node
+    for (Index i = static_cast<Index>(before.size()); i < after.size(); ++i) REQUIRE(after.parent[i] < before.size());
     for (Index u = 0; u < before.size(); ++u) {
       INFO("step " << n.steps << ", node " << u);
       if (!e.pulled[u]) {
