@@ -45,10 +45,6 @@ std::string checkpoint_bytes(const Start& s, std::uint64_t seed, std::uint64_t t
       {{"meta", checkpoint_meta_text(meta)}, {"script", s.source}, {"cells", cells::save(scene.simulation().cells())}});
 }
 
-}  // namespace
-
-namespace {
-
 /// The start of a cell run's run.json: what ran, with which seed and threads, and how it ended.
 json run_head(const Start& s, std::uint64_t seed, int threads, const std::string& status) {
   return {{"program", "cellform"},
@@ -267,7 +263,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         << " (" << initial_cells << " cells, seed " << seed << ")\n";
   if (s.resume && first >= target && !o.steps)  // notes are said with --quiet too: it stills the progress alone
     err << "cellform: note: the checkpoint is at its run's last step (" << target << "): no step runs, the outputs"
-        << (cfg.print ? " (and the printable solid, if anything printable has grown)" : "")
+        << (cfg.print ? " (and the print, if anything grew)" : "")
         << " are made again; give --steps N to continue to step N\n";
   for (const forms::PetioleSpec& p : cfg.scene.petioles)  // said now, not found missing at the end
     if (p.step > target && p.step > first)
