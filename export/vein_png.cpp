@@ -4,7 +4,9 @@
 #include <cairo.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <ostream>
 #include <string>
@@ -36,10 +38,18 @@ void set_rgb(cairo_t* c, std::uint32_t rgb) {
   cairo_set_source_rgb(c, ((rgb >> 16) & 0xff) / 255.0, ((rgb >> 8) & 0xff) / 255.0, (rgb & 0xff) / 255.0);
 }
 
+struct PngSink {
+  std::ostream* out;
+  int error = 0;  // errno of the write that failed, if the stream set it
+};
+
 cairo_status_t write_to_stream(void* closure, const unsigned char* data, unsigned int length) {
-  auto* out = static_cast<std::ostream*>(closure);
-  out->write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(length));
-  return *out ? CAIRO_STATUS_SUCCESS : CAIRO_STATUS_WRITE_ERROR;
+  auto* sink = static_cast<PngSink*>(closure);
+  errno = 0;
+  sink->out->write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(length));
+  if (*sink->out) return CAIRO_STATUS_SUCCESS;
+  sink->error = errno;
+  return CAIRO_STATUS_WRITE_ERROR;
 }
 
 }  // namespace
@@ -112,7 +122,11 @@ void write_vein_png(const std::filesystem::path& path, const VeinTree& tree, con
   if (cairo_status(c) != CAIRO_STATUS_SUCCESS)
     throw core::FileError("cannot draw '" + path.string() + "': " + cairo_status_to_string(cairo_status(c)));
   core::write_file_atomically(path, [&](std::ostream& out) {
-    const cairo_status_t st = cairo_surface_write_to_png_stream(surface.get(), write_to_stream, &out);
+    PngSink sink{&out};
+    const cairo_status_t st = cairo_surface_write_to_png_stream(surface.get(), write_to_stream, &sink);
+    if (st == CAIRO_STATUS_WRITE_ERROR)  // cairo's text ("error while writing to output stream") hides the cause
+      throw core::FileError("cannot write '" + path.string() + "': " +
+                            (sink.error != 0 ? std::string(std::strerror(sink.error)) : "write failed (disk full?)"));
     if (st != CAIRO_STATUS_SUCCESS)
       throw core::FileError("cannot write '" + path.string() + "': " + cairo_status_to_string(st));
   });
