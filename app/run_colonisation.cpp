@@ -27,19 +27,6 @@ using nlohmann::json;
 
 namespace {
 
-/// Notes a 3-D domain over 1,000 vein segments (model units) across: a mesh in mm without {scale} grows for hours.
-void say_large_domain(std::ostream& err, const venation::Domain& d, bool mesh_file) {
-  const Eigen::AlignedBox3d box = venation::bounding_box(d);
-  if (box.isEmpty()) return;
-  const double across = box.sizes().maxCoeff();
-  if (!(across > 1000)) return;
-  const std::string kind = d.kind == venation::DomainKind::surface ? "surface" : "volume";
-  err << "cellform: note: the " << kind << " spans " << core::number_text(std::round(across))
-      << " vein segments (model units) at its longest: veins that fill so large a domain take long"
-      << (mesh_file ? ". A mesh drawn in millimetres wants " + kind + "{scale = ...}, which scales its coordinates\n"
-                    : std::string("\n"));
-}
-
 /// A colonisation checkpoint: the script, what resume needs to rebuild the same setup (seed, --set
 /// overrides, the step limit, for surface{cells = true} the grown sheet) and the colonisation state.
 std::string colonisation_checkpoint_bytes(const Start& s, std::uint64_t seed, const venation::ColonisationParams& p,
@@ -122,6 +109,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
   ColonisationSpec& spec = *cfg.colonisation;
   spec.params.seed = seed;
   spec.params.threads = o.threads;
+  const std::uint64_t script_steps = spec.params.max_steps;  // the script's own limit
   if (s.has_target) spec.params.max_steps = s.target_steps;  // --steps, or the checkpoint's limit
   if (cfg.resolved.contains("colonisation"))                 // run.json: the limit this run goes to
     cfg.resolved["colonisation"]["max_steps"] = spec.params.max_steps;
@@ -423,6 +411,13 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
           err << "cellform: print: skipped: nothing grew before colonisation.max_sources stopped the run (a "
                  "resume with a higher limit prints)\n";
           printed = {{"skipped", "nothing to print: stopped at colonisation.max_sources before anything grew"}};
+        } else if (segments.empty() && shell.empty() && code == ok && rep.hit_max_steps &&
+                   spec.params.max_steps < script_steps) {  // a quick try (--steps) cut short before a vein grew
+          printed = {{"skipped", "nothing to print yet at step " + std::to_string(rep.steps) +
+                                     " (no vein has grown; the run was cut short at step " +
+                                     std::to_string(spec.params.max_steps) + " of the script's " +
+                                     std::to_string(script_steps) + ")"}};
+          err << "cellform: print: skipped: " << printed["skipped"].get<std::string>() << "\n";
         } else if (segments.empty() && shell.empty()) {
           throw NothingToPrint(
               code == interrupted

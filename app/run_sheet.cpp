@@ -10,6 +10,7 @@
 #include "forms/scene.h"
 #include "venation/domain.h"
 
+#include <cmath>
 #include <functional>
 
 namespace cellform::app {
@@ -198,6 +199,18 @@ venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cel
                              "apart, or give surface.seeds");
   d.initial_nodes = seeds;
   return make(d);
+}
+
+void say_large_domain(std::ostream& err, const venation::Domain& d, bool mesh_file) {
+  const Eigen::AlignedBox3d box = venation::bounding_box(d);
+  if (box.isEmpty()) return;
+  const double across = box.sizes().maxCoeff();
+  if (!(across > 1000)) return;
+  const std::string kind = d.kind == venation::DomainKind::surface ? "surface" : "volume";
+  err << "cellform: note: the " << kind << " spans " << core::number_text(std::round(across))
+      << " vein segments (model units) at its longest: veins that fill so large a domain take long"
+      << (mesh_file ? ". A mesh drawn in millimetres wants " + kind + "{scale = ...}, which scales its coordinates\n"
+                    : std::string("\n"));
 }
 
 }  // namespace cellform::app

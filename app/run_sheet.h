@@ -65,4 +65,7 @@ std::vector<core::Vec3> sheet_petioles(const cells::Cells& sheet);
 venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cells::Cells* sheet,
                                          const std::string* state = nullptr, const std::string& what = "");
 
+/// Notes a 3-D domain over 1,000 vein segments (model units) across: a mesh in mm without {scale} grows for hours.
+void say_large_domain(std::ostream& err, const venation::Domain& d, bool mesh_file);
+
 }  // namespace cellform::app

@@ -1,5 +1,6 @@
 // Tests of what a space-colonisation run says at its end (app/run_colonisation.cpp).
 #include <catch2/catch.hpp>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -7,6 +8,7 @@
 
 using namespace cellform::test;
 using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
 
 namespace {
 // a closed box 20 x 20 x `thick` (model units), its top at z = thick
@@ -65,4 +67,32 @@ TEST_CASE("a 3-D domain thousands of segments across, as a mesh drawn in mm give
   REQUIRE(r.code == 0);
   CHECK_THAT(r.err,
              Contains("note: the volume spans 1500 vein segments (model units) at its longest") && !Contains("scale"));
+}
+
+TEST_CASE("a colonisation quick try with --steps ends before any vein: the print is skipped, and says why",
+          "[cli][colonisation]") {
+  TempDir t("cli-col-short-try");
+  // darts land on the marginal leaf only once it has grown: none in the first 3 steps
+  const auto script = t.write("leaf.lua",
+                              "leaf { shape = 'ellipse' }\ncolonisation { type = 'open', kill_distance = 1, "
+                              "birth_distance = 1, growth = 'marginal', initial_length = 0.5, final_length = 40, "
+                              "length_step = 0.2, darts = 200, max_steps = 400 }\nprint { formats = 'stl' }\n");
+  auto r = cli({"run", script.string(), "--out", (t.path / "a").string(), "--steps", "3", "--quiet"});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("print: skipped: nothing to print yet at step 3 (no vein has grown; the run was cut "
+                             "short at step 3 of the script's 400)"));
+  auto j = nlohmann::json::parse(slurp(t.path / "a" / "run.json"));
+  CHECK(j["status"] == "stopped at max_steps");
+  CHECK(j["print"].contains("skipped"));
+  CHECK(!fs::exists(t.path / "a" / "printable.stl"));
+  // the whole script with nothing grown still fails, as it asked for a print
+  r = cli({"run", script.string(), "--out", (t.path / "b").string(), "--steps", "3", "--set",
+           "colonisation.max_steps=3", "--quiet"});
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("nothing to print: no vein grew") && !Contains("skipped"));
+  // a quick try long enough to grow veins prints them
+  r = cli({"run", script.string(), "--out", (t.path / "c").string(), "--steps", "60", "--quiet"});
+  CHECK(r.code == 0);
+  CHECK(fs::exists(t.path / "c" / "printable.stl"));
 }
