@@ -89,6 +89,16 @@ FolderLock::~FolderLock() {
   if (fd_ >= 0) ::close(fd_);  // releases the lock
 }
 
+std::optional<std::string> own_record(const fs::path& resumed, const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::equivalent(resumed, dir / kCheckpointName, ec)) return std::nullopt;
+  try {
+    return core::read_file(dir / "run.json");
+  } catch (const std::exception&) {
+    return std::string();
+  }
+}
+
 void mark_superseded(const fs::path& dir) {
   const fs::path file = dir / "run.json";
   std::error_code ec;

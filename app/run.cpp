@@ -488,11 +488,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       }
       printed_first = true;
     }
-    std::error_code own;  // a no-step resume of this folder's own checkpoint: its rewrite marks run.json superseded
-    if (s.resume && first >= target && fs::equivalent(o.checkpoint, checkpoint, own)) try {
-        earlier_record = core::read_file(dir / "run.json");
-      } catch (const std::exception&) {
-      }
+    const auto own = s.resume && first >= target ? own_record(o.checkpoint, dir) : std::nullopt;
+    const bool own_no_step = own.has_value();
+    if (own) earlier_record = *own;
     // the checkpoint first: outputs failing after it leave it to resume from; one that fails leaves the outputs
     try {
       checkpoint_now();
@@ -552,7 +550,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       err << "cellform: " << checkpoint_error
           << (saved ? "\n  (the other outputs are written; the run can be resumed from its last periodic checkpoint, " +
                           checkpoint.string() + ", of step " + std::to_string(saved_step) + ")\n"
-                    : std::string("\n  (the other outputs are written, but this run cannot be resumed)\n"));
+              : own_no_step ? "\n  (the other outputs are written; " + checkpoint.string() +
+                                  ", the checkpoint resumed, is as it was)\n"
+                            : std::string("\n  (the other outputs are written, but this run cannot be resumed)\n"));
       code = failure;
     }
     if (!o.quiet || code != ok) {

@@ -42,37 +42,6 @@ std::string colonisation_checkpoint_bytes(const Start& s, std::uint64_t seed, co
   return core::write_chunk_file(kCheckpointKind, kCheckpointVersion, chunks);
 }
 
-const char* domain_name(venation::DomainKind k) {
-  switch (k) {
-    case venation::DomainKind::leaf:
-      return "leaf";
-    case venation::DomainKind::box:
-      return "box";
-    case venation::DomainKind::ball:
-      return "ball";
-    case venation::DomainKind::volume:
-      return "volume";
-    case venation::DomainKind::surface:
-      return "surface";
-  }
-  return "?";
-}
-
-/// The parts of a colonisation run's run.json that do not depend on how it ended.
-json run_record(const Start& s, std::uint64_t seed, int threads, venation::DomainKind domain, const json& parameters) {
-  return {{"program", "cellform"},
-          {"version", version()},
-          {"command", s.resume ? "resume" : "run"},
-          {"mode", "colonisation"},
-          {"domain", domain_name(domain)},
-          {"script", script_record(s)},
-          {"seed", seed},
-          {"threads", threads},  // as asked (0 = all cores); threads_used: what that came to here
-          {"threads_used", core::effective_threads(threads)},
-          {"overrides", s.sets},
-          {"parameters", parameters}};
-}
-
 }  // namespace
 
 /// A space-colonisation run: sources and veins (Runions et al. 2005) in a leaf outline, a volume or on a
@@ -90,6 +59,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
   bool resumable = false;          // a checkpoint of this run is in the folder when the outputs are written
   json stepped;                    // run.json's steps when that checkpoint holds steps this run took, else null
   std::string checkpoint_failure;  // why the final checkpoint could not be written
+  bool own_no_step = false;        // a resume that runs no step from the folder's own checkpoint
+  std::string earlier_record;      // its run.json, put back if the outputs fail (the checkpoint's rewrite marked
+                                   // it superseded)
   try {
     check_output_places(dir, output_names(cfg));
     staging = make_staging(dir, lock, &kept_staging);
@@ -123,7 +95,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
   auto keep_failed_run = [&](const std::string& m) {
     err << "  (the last checkpoint is " << checkpoint.string() << failed.checkpoint_note << ")\n";
     try {
-      json run = run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
+      json run = colonisation_run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
       run["status"] = "failed";
       run["error"] = m;
       if (!failed.phase.empty()) run["phase"] = failed.phase;
@@ -205,7 +177,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         sheet_checkpointed = grown.checkpointed;
         if (!grown.complete) {  // Ctrl-C: the sheet so far, and its checkpoint to finish it from
           std::vector<std::string> outputs = write_outputs(staging, cfg.output, grown.cells, nullptr);
-          json run = run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
+          json run = colonisation_run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
           run["status"] = "interrupted";
           run["phase"] = "cells";  // the veins have not started
           run["steps"] = {{"first", 0}, {"completed", 0}, {"limit", spec.params.max_steps}};
@@ -317,6 +289,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     // written (a full disk) still leaves the outputs
     std::string checkpoint_error;
     const auto save_final = [&] {
+      const auto own = s.resume && col.report().steps == first ? own_record(o.checkpoint, dir) : std::nullopt;
+      own_no_step = own.has_value();
+      if (own) earlier_record = *own;
       try {
         save();
         saved = true;
@@ -459,7 +434,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       venation::write_svg(staging / "veins.svg", tree, col.outline(), svg);
       outputs.push_back("veins.svg");
     }
-    json run = run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
+    json run = colonisation_run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
     run["status"] = code == interrupted   ? "interrupted"
                     : print_failed        ? "print failed"
                     : rep.finished        ? "complete"
@@ -502,7 +477,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                         (saved ? ", of step " + std::to_string(saved_step)
                                : std::string(", taken while the sheet grew")) +
                         ")\n"
-                  : std::string("\n  (the other outputs are written, but this run cannot be resumed)\n"));
+              : own_no_step ? "\n  (the other outputs are written; " + checkpoint.string() +
+                                  ", the checkpoint resumed, is as it was)\n"
+                            : std::string("\n  (the other outputs are written, but this run cannot be resumed)\n"));
       code = failure;
     }
     std::ostream& where = code == ok ? out : err;
@@ -579,6 +556,10 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       } else if (resumable && fs::exists(dir / kCheckpointName)) {
         err << "  (the last checkpoint written is " << (dir / kCheckpointName).string()
             << "; cellform resume continues from it)\n";
+        if (!earlier_record.empty()) try {  // the folder's run.json as it was
+            core::write_file_atomically(dir / "run.json", [&](std::ostream& os) { os << earlier_record; });
+          } catch (const std::exception&) {  // as full as that: the mark stays, the first error is the one said
+          }
       }
     }
     // the same script would stop there again: an edited one can go on from the checkpoint

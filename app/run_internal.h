@@ -196,6 +196,11 @@ void write_checkpoint(const std::filesystem::path& path, const std::string& byte
 /// or it says so already.
 void mark_superseded(const std::filesystem::path& dir);
 
+/// For a resume that runs no step from `dir`'s own checkpoint (`resumed`), whose rewrite marks the folder's
+/// run.json superseded: that run.json's text, to put back if the outputs then fail ("" when unreadable);
+/// nullopt for any other run.
+std::optional<std::string> own_record(const std::filesystem::path& resumed, const std::filesystem::path& dir);
+
 /// When the periodic checkpoints of a run are due: every `every` steps (0: never), but not within
 /// `seconds` of the last one written. A large state written every 1000 steps of a fast run would otherwise
 /// cost more than the steps (a full-size poplar: 29 checkpoints of 250 MB). The first one due is always

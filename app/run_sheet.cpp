@@ -3,10 +3,12 @@
 #include "app/run_sheet.h"
 
 #include "app/progress.h"
+#include "app/run.h"
 #include "cells/serialize.h"
 #include "cells/surface.h"
 #include "core/chunk_file.h"
 #include "core/errors.h"
+#include "core/parallel.h"
 #include "forms/scene.h"
 #include "venation/domain.h"
 
@@ -211,6 +213,37 @@ void say_large_domain(std::ostream& err, const venation::Domain& d, bool mesh_fi
       << " vein segments (model units) at its longest: veins that fill so large a domain take long"
       << (mesh_file ? ". A mesh drawn in millimetres wants " + kind + "{scale = ...}, which scales its coordinates\n"
                     : std::string("\n"));
+}
+
+static const char* domain_name(venation::DomainKind k) {
+  switch (k) {
+    case venation::DomainKind::leaf:
+      return "leaf";
+    case venation::DomainKind::box:
+      return "box";
+    case venation::DomainKind::ball:
+      return "ball";
+    case venation::DomainKind::volume:
+      return "volume";
+    case venation::DomainKind::surface:
+      return "surface";
+  }
+  return "?";
+}
+
+json colonisation_run_record(const Start& s, std::uint64_t seed, int threads, venation::DomainKind domain,
+                             const json& parameters) {
+  return {{"program", "cellform"},
+          {"version", version()},
+          {"command", s.resume ? "resume" : "run"},
+          {"mode", "colonisation"},
+          {"domain", domain_name(domain)},
+          {"script", script_record(s)},
+          {"seed", seed},
+          {"threads", threads},  // as asked (0 = all cores); threads_used: what that came to here
+          {"threads_used", core::effective_threads(threads)},
+          {"overrides", s.sets},
+          {"parameters", parameters}};
 }
 
 }  // namespace cellform::app

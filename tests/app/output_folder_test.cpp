@@ -318,6 +318,24 @@ TEST_CASE("a checkpoint over an earlier run's marks that run's run.json supersed
   CHECK_FALSE(fs::exists(dir / "run.json"));
 }
 
+TEST_CASE("own_record: the run.json a no-step resume of the folder's own checkpoint puts back", "[cli]") {
+  TempDir t("cli-own-record");
+  const fs::path dir = t.path / "out", other = t.path / "other";
+  fs::create_directories(dir);
+  fs::create_directories(other);
+  t.write("out/checkpoint.cfck", "bytes");
+  t.write("other/checkpoint.cfck", "bytes");
+  t.write("out/run.json", "record");
+  using cellform::app::own_record;
+  CHECK(own_record(dir / "checkpoint.cfck", dir) == std::optional<std::string>("record"));
+  CHECK(own_record(t.path / "out" / ".." / "out" / "checkpoint.cfck", dir).has_value());  // the same file
+  CHECK_FALSE(own_record(other / "checkpoint.cfck", dir).has_value());  // another folder's: nothing to put back
+  fs::remove(dir / "run.json");
+  CHECK(own_record(dir / "checkpoint.cfck", dir) == std::optional<std::string>(""));
+  fs::remove(dir / "checkpoint.cfck");
+  CHECK_FALSE(own_record(other / "checkpoint.cfck", dir).has_value());
+}
+
 TEST_CASE("a run killed after its first checkpoint leaves the earlier run.json marked superseded", "[cli][signal]") {
   TempDir t("cli-superseded");
   const auto script =
