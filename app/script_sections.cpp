@@ -405,6 +405,29 @@ std::string megabytes_text(double mb) {
 /// The memory `cells` take at the peak.
 std::string memory_of(double cells) { return megabytes_text(cells * kBytesPerCell / 1e6); }
 
+double control_group_memory_limit(std::istream& cgroup, const std::filesystem::path& root) {
+  std::vector<std::filesystem::path> limits;
+  for (std::string line; std::getline(cgroup, line);) {  // "0::/path" (v2), "N:memory:/path" (v1)
+    const std::size_t a = line.find(':'), b = a == std::string::npos ? a : line.find(':', a + 1);
+    if (b == std::string::npos) continue;
+    const std::string controllers = line.substr(a + 1, b - a - 1);
+    if (!controllers.empty() && controllers.find("memory") == std::string::npos) continue;
+    const std::filesystem::path base = controllers.empty() ? root : root / "memory";
+    const char* file = controllers.empty() ? "memory.max" : "memory.limit_in_bytes";
+    for (std::filesystem::path at = line.substr(b + 1);; at = at.parent_path()) {
+      limits.push_back(base / at.relative_path() / file);
+      if (at.empty() || at == at.parent_path()) break;
+    }
+  }
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const std::filesystem::path& limit : limits) {
+    std::ifstream in(limit);
+    double bytes = 0;
+    if (in >> bytes && bytes > 0) lowest = std::min(lowest, bytes);  // "max" (no limit) reads as nothing
+  }
+  return lowest;
+}
+
 /// The cells run.max_memory (else the machine's memory) holds, and how that budget is named in a message.
 std::pair<double, std::string> cell_budget(const SceneConfig& cfg) {
   double mb = cfg.max_memory_mb;
@@ -414,29 +437,12 @@ std::pair<double, std::string> cell_budget(const SceneConfig& cfg) {
     if (pages <= 0 || page <= 0) return {std::numeric_limits<double>::infinity(), ""};
     double machine = static_cast<double>(pages) * static_cast<double>(page) / 1e6;
     std::string what = "this machine's ";
-    // in a container or a job's control group (v2, or v1's memory one) the lowest limit on its way up to the
-    // root, where lower, is what the run has
-    std::vector<std::filesystem::path> limits;
+    // in a container or a job's control group, the lowest limit on its way up to the root, where lower
     std::ifstream groups("/proc/self/cgroup");
-    for (std::string line; std::getline(groups, line);) {  // "0::/path" (v2), "N:memory:/path" (v1)
-      const std::size_t a = line.find(':'), b = a == std::string::npos ? a : line.find(':', a + 1);
-      if (b == std::string::npos) continue;
-      const std::string controllers = line.substr(a + 1, b - a - 1);
-      if (!controllers.empty() && controllers.find("memory") == std::string::npos) continue;
-      const std::filesystem::path root = controllers.empty() ? "/sys/fs/cgroup" : "/sys/fs/cgroup/memory";
-      const char* file = controllers.empty() ? "memory.max" : "memory.limit_in_bytes";
-      for (std::filesystem::path at = line.substr(b + 1);; at = at.parent_path()) {
-        limits.push_back(root / at.relative_path() / file);
-        if (at.empty() || at == at.parent_path()) break;
-      }
-    }
-    for (const std::filesystem::path& limit : limits) {
-      std::ifstream in(limit);
-      double bytes = 0;
-      if (in >> bytes && bytes > 0 && bytes / 1e6 < machine) {
-        machine = bytes / 1e6;
-        what = "this container's memory limit, ";
-      }
+    const double limit = control_group_memory_limit(groups, "/sys/fs/cgroup") / 1e6;
+    if (limit < machine) {
+      machine = limit;
+      what = "this container's memory limit, ";
     }
     mb = 0.75 * machine;  // the rest for the outputs' buffers, the system and whatever else runs
     name = "three quarters of " + what + megabytes_text(machine);
