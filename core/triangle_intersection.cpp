@@ -132,4 +132,21 @@ bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>
   return meet(a.data(), b.data());
 }
 
+bool triangles_cross_beyond_corner(const std::array<Vec3, 3>& a, int i, const std::array<Vec3, 3>& b, int j) {
+  // first the cheap case, most pairs round a corner of a mesh: a side wholly off the other's plane, by more
+  // than twice any rounding tolerance (8 float epsilons of the coordinates, plus 1e-9 of sides shorter than 4
+  // times them), cannot meet it
+  double scale = 0;
+  for (int k = 0; k < 3; ++k) scale = std::max({scale, a[k].cwiseAbs().maxCoeff(), b[k].cwiseAbs().maxCoeff()});
+  const double margin = 2e-6 * scale;
+  const auto off = [margin](const Vec3& p, const Vec3& q, const std::array<Vec3, 3>& t) {
+    const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]);
+    const double dp = n.dot(p - t[0]), dq = n.dot(q - t[0]), limit = margin * margin * n.squaredNorm();
+    return (dp > 0) == (dq > 0) && dp * dp > limit && dq * dq > limit;
+  };
+  const Vec3 &a1 = a[(i + 1) % 3], &a2 = a[(i + 2) % 3], &b1 = b[(j + 1) % 3], &b2 = b[(j + 2) % 3];
+  return (!off(a1, a2, b) && segment_meets_triangle(a1, a2, b)) ||
+         (!off(b1, b2, a) && segment_meets_triangle(b1, b2, a));
+}
+
 }  // namespace cellform::core

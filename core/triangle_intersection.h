@@ -11,12 +11,16 @@ namespace cellform::core {
 /// position, an edge of one crossing the other; coplanar pairs in 2-D. Points within a rounding tolerance
 /// (about 1e-6 of the largest coordinate, in the triangles' units, plus 1e-9 of the longest side) of the
 /// other's plane count as on it, so coplanar neighbours written through float or decimal files do not meet.
-/// Triangles that share a corner meet there: callers skip such pairs.
+/// Triangles that share a corner meet there: callers test such pairs with triangles_cross_beyond_corner().
 bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b);
 
 /// Does segment pq meet triangle t, with the same tolerance? For triangles that share one corner, which
 /// cross (beyond that corner) iff the side of one opposite it meets the other. A triangle of no area meets
 /// nothing.
 bool segment_meets_triangle(const Vec3& p, const Vec3& q, const std::array<Vec3, 3>& t);
+
+/// Triangles a and b that share the corner a[i] == b[j] and no other: do they meet anywhere but there? They
+/// do iff the side of one opposite that corner meets the other (segment_meets_triangle, its tolerance).
+bool triangles_cross_beyond_corner(const std::array<Vec3, 3>& a, int i, const std::array<Vec3, 3>& b, int j);
 
 }  // namespace cellform::core

@@ -57,12 +57,15 @@ struct MeshReport {
 };
 
 /// Checks a mesh for 3D printing. Self-intersections use a uniform grid over triangle bounding boxes and
-/// an orientation-predicate triangle-triangle test (in double precision), skipping pairs that share a
-/// vertex. About a second for 500k triangles. `threads`: 0 = all cores; the report does not depend on it.
+/// an orientation-predicate triangle-triangle test (in double precision); triangles round a shared corner are
+/// tested beyond it, neighbours across a side not at all. About a second for 500k triangles. `threads`: 0 = all cores;
+/// the report does not depend on it.
 MeshReport check_mesh(const PrintableMesh& mesh, int threads = 0);
 
-/// Every pair of intersecting triangles (lower index first) that share no vertex index, in a deterministic
-/// order; the test check_mesh() uses, without welding. Zero-area triangles are skipped.
+/// Every pair of intersecting triangles (lower index first), in a deterministic order: pairs that share no
+/// vertex index and meet, and pairs round one shared corner that cross beyond it (a crease folded into
+/// itself; neighbours across a side are not tested). The test check_mesh() uses, without welding.
+/// Zero-area triangles are skipped.
 std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(const PrintableMesh& mesh, int threads = 0);
 /// The same for a subset of a mesh's triangles; pairs index into `triangles`.
 std::vector<std::array<std::uint32_t, 2>> self_intersecting_pairs(

@@ -82,6 +82,48 @@ struct Budget {
   bool tested = true;     // out
 };
 
+/// A fan triangle's side opposite its hub, as directions seen from the hub: a box holding them.
+struct Arc {
+  Vec3 lo, hi;
+  std::uint32_t tri;
+};
+
+/// The pairs of a fan round `hub` (triangles [first, last)) that may cross beyond it, to `candidate`. Two
+/// triangles round one corner cross beyond it iff their sides opposite it, seen from it, share a direction:
+/// each side's directions (an arc of the unit sphere) lie in the box of its ends' unit directions grown by the
+/// arc's sagitta, and by the narrow test's rounding tolerance over the side's distance from the hub. A sweep
+/// over those boxes enumerates only the pairs whose boxes meet (a fine cone: its neighbours), not all.
+template <class Candidate>
+void fan_pairs_of(const std::vector<Vec3>& v, const std::vector<Tri>& tris, std::uint32_t hub,
+                  const std::uint32_t* first, const std::uint32_t* last, std::vector<Arc>& arcs,
+                  const Candidate& candidate) {
+  const Vec3& h = v[hub];
+  double scale = h.cwiseAbs().maxCoeff(), edge = 0;
+  for (const std::uint32_t* t = first; t != last; ++t)
+    for (int c = 0; c < 3; ++c) {
+      scale = std::max(scale, v[tris[*t][c]].cwiseAbs().maxCoeff());
+      edge = std::max(edge, (v[tris[*t][c]] - v[tris[*t][(c + 1) % 3]]).norm());
+    }
+  const double tol = 2 * (8 * std::numeric_limits<float>::epsilon() * scale + 1e-9 * edge);  // (the narrow test's)
+  arcs.clear();
+  for (const std::uint32_t* t = first; t != last; ++t) {
+    const Tri& w = tris[*t];
+    const int at = w[0] == hub ? 0 : w[1] == hub ? 1 : 2;
+    const Vec3 p = v[w[(at + 1) % 3]] - h, q = v[w[(at + 2) % 3]] - h;
+    const double side = (q - p).norm(), height = side > 0 ? p.cross(q).norm() / side : 0;  // hub to the side
+    const Vec3 a = p.normalized(), b = q.normalized();
+    const double grow = std::min(4.0, 1 - 0.5 * (a + b).norm() + (height > 0 ? tol / height : 4.0));
+    arcs.push_back({a.cwiseMin(b) - Vec3::Constant(grow), a.cwiseMax(b) + Vec3::Constant(grow), *t});
+  }
+  std::sort(arcs.begin(), arcs.end(),
+            [](const Arc& x, const Arc& y) { return x.lo.x() != y.lo.x() ? x.lo.x() < y.lo.x() : x.tri < y.tri; });
+  for (std::size_t i = 0; i < arcs.size(); ++i)
+    for (std::size_t j = i + 1; j < arcs.size() && arcs[j].lo.x() <= arcs[i].hi.x(); ++j)
+      if (!(arcs[i].lo.y() > arcs[j].hi.y() || arcs[j].lo.y() > arcs[i].hi.y() || arcs[i].lo.z() > arcs[j].hi.z() ||
+            arcs[j].lo.z() > arcs[i].hi.z()))
+        candidate(arcs[i].tri, arcs[j].tri);
+}
+
 Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tris, const std::vector<char>& skip,
                          int threads, Budget* budget = nullptr) {
   const std::size_t n = tris.size();
@@ -322,21 +364,31 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
     }
     return false;  // not reached: both are in the cell that found them
   };
-  const auto share_vertex = [&](std::uint32_t ti, std::uint32_t tj) {
+  // how many corners two triangles share, and (for one) where it is in each
+  const auto shared_corners = [&](std::uint32_t ti, std::uint32_t tj, int& at_i, int& at_j) {
     const Tri &s = tris[ti], &t = tris[tj];
+    int count = 0;
     for (int p = 0; p < 3; ++p)
       for (int q = 0; q < 3; ++q)
-        if (s[p] == t[q]) return true;
-    return false;
+        if (s[p] == t[q]) ++count, at_i = p, at_j = q;
+    return count;
+  };
+  const auto share_side = [&](std::uint32_t ti, std::uint32_t tj) {  // neighbours across a side meet only there
+    int p = 0, q = 0;
+    return shared_corners(ti, tj, p, q) >= 2;
   };
   std::vector<Pairs> found(nruns + big.size());
   std::vector<std::size_t> counted(budget ? found.size() : 0, 0);
   std::atomic<bool> gave_up{false};
   const auto stop = [&] { return budget && gave_up.load(std::memory_order_relaxed); };
   const auto test = [&](std::uint32_t ti, std::uint32_t tj, Pairs& out) {  // boxes overlap
-    if (share_vertex(ti, tj)) return;
+    int at_i = 0, at_j = 0;
+    const int shared = shared_corners(ti, tj, at_i, at_j);
+    if (shared >= 2) return;  // neighbours across a side (or a triangle repeated) meet there
     const Tri &s = tris[ti], &t = tris[tj];
-    if (!core::triangles_intersect({v[s[0]], v[s[1]], v[s[2]]}, {v[t[0]], v[t[1]], v[t[2]]})) return;
+    const std::array<Vec3, 3> S{v[s[0]], v[s[1]], v[s[2]]}, T{v[t[0]], v[t[1]], v[t[2]]};
+    // two triangles round one corner (a crease folded into itself) cross iff either's far side meets the other
+    if (shared == 1 ? !core::triangles_cross_beyond_corner(S, at_i, T, at_j) : !core::triangles_intersect(S, T)) return;
     const std::array<std::uint32_t, 2> pair{std::min(ti, tj), std::max(ti, tj)};
     if (!budget) {
       out.push_back(pair);
@@ -351,8 +403,9 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
   core::parallel_for(
       nruns, threads,
       [&](std::size_t b0, std::size_t e0) {
-        std::vector<std::uint32_t> ids, group;
+        std::vector<std::uint32_t> ids, group, hubs;
         std::vector<std::size_t> bounds;
+        std::vector<Arc> arcs;
         for (std::size_t r = b0; r < e0 && !stop(); ++r) {
           const std::uint64_t cell = refs[runs[r]].cell;
           // each pair once: in the cell of the low corner of the boxes' overlap when both are whole (both
@@ -364,7 +417,7 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
               return;
             }
             if (overlap(ti, tj) && (both_whole ? key_of(lo[ti].cwiseMax(lo[tj])) == cell
-                                               : !share_vertex(ti, tj) && first_shared_is(ti, tj, cell)))
+                                               : !share_side(ti, tj) && first_shared_is(ti, tj, cell)))
               test(std::min(ti, tj), std::max(ti, tj), found[r]);  // in index order, whatever the path
           };
           const std::size_t first = runs[r], end = runs[r + 1];
@@ -374,13 +427,14 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
                 candidate(refs[i].tri, refs[j].tri, refs[i].whole & refs[j].whole);
             continue;
           }
-          // Many triangles of one cell around one vertex (the tip of a cone, a polygon's fan): pairs that
-          // share a vertex are never tested, so those of such a fan are not even enumerated. The fans are
-          // peeled off while one vertex is in a quarter of what is left; the rest stays first.
+          // Many triangles of one cell around one vertex (the tip of a cone, a polygon's fan): the pairs of
+          // such a fan are not all enumerated (below). The fans are peeled off while one vertex is in a
+          // quarter of what is left; the rest stays first.
           group.assign(end - first, 0);
           for (std::size_t i = first; i < end; ++i) group[i - first] = refs[i].tri;
           std::size_t rest = group.size();
           bounds.assign(1, 0);
+          hubs.clear();
           while (rest > kHubRun) {
             ids.clear();
             for (std::size_t i = 0; i < rest; ++i)
@@ -401,6 +455,7 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
                                                    });
             rest = static_cast<std::size_t>(fan - group.begin());
             bounds.push_back(rest);  // the fan lies from here to the previous bound
+            hubs.push_back(hub);
           }
           // the rest with everything after it; each fan with what lies after it (its own pairs share the hub)
           for (std::size_t i = 0; i < rest && !stop(); ++i)
@@ -411,6 +466,8 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
             for (std::size_t i = bounds[k]; i < fan_end && !stop(); ++i)
               for (std::size_t j = fan_end; j < group.size(); ++j)
                 candidate(group[i], group[j], whole[group[i]] && whole[group[j]]);
+            fan_pairs_of(v, tris, hubs[k - 1], group.data() + bounds[k], group.data() + fan_end, arcs,
+                         [&](std::uint32_t ti, std::uint32_t tj) { candidate(ti, tj, whole[ti] && whole[tj]); });
           }
         }
       },

@@ -2,6 +2,8 @@
 #include "core/triangle_intersection.h"
 
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
 
 using cellform::core::triangles_intersect;
 using cellform::core::Vec3;
@@ -55,4 +57,28 @@ TEST_CASE("a segment meets a triangle it crosses, touches or lies across in its 
     CHECK_FALSE(segment_meets_triangle(Vec3(0.5, 5, 5), Vec3(0.5, 5, 6), line));
     CHECK_FALSE(segment_meets_triangle(Vec3(0.5, -1, 0), Vec3(0.5, 1, 0), line));
   }
+}
+
+TEST_CASE("triangles round a shared corner cross iff a far side meets the other, its quick rejection aside",
+          "[triangle]") {
+  using cellform::core::segment_meets_triangle;
+  using cellform::core::triangles_cross_beyond_corner;
+  // random pairs round a corner far from the origin, many nearly in one plane (within and just beyond the
+  // rounding tolerance, where the quick rejection must never decide differently from the full test)
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const Vec3 corner(300, -200, 150);
+  std::size_t crossing = 0, near_plane = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const double flat = std::pow(10.0, -8 + 8 * (u(rng) + 1) / 2);  // out-of-plane size, 1e-8 to 1e0
+    auto point = [&]() -> Vec3 { return corner + Vec3(u(rng), u(rng), flat * u(rng)); };
+    const std::array<Vec3, 3> a{corner, point(), point()}, b{point(), corner, point()};
+    const bool full =
+        segment_meets_triangle(a[1], a[2], b) || segment_meets_triangle(b[2], b[0], a);  // sides opposite it
+    CHECK(triangles_cross_beyond_corner(a, 0, b, 1) == full);
+    crossing += full;
+    near_plane += flat < 1e-4;
+  }
+  CHECK(crossing > 1000);
+  CHECK(near_plane > 5000);
 }

@@ -27,7 +27,8 @@ inline fs::path temp_dir(const std::string& name) {
   return dir;
 }
 
-/// Every pair of triangles sharing no vertex that triangles_intersect() says meet (no grid): the oracle.
+/// Every pair of triangles that meet other than along a side they share (no grid): the oracle. Pairs sharing
+/// no vertex by triangles_intersect(), pairs round one shared corner by triangles_cross_beyond_corner().
 inline std::vector<std::array<std::uint32_t, 2>> every_pair(const PrintableMesh& m) {
   std::vector<std::array<std::uint32_t, 2>> all;
   const auto corners = [&](std::uint32_t t) {
@@ -36,10 +37,14 @@ inline std::vector<std::array<std::uint32_t, 2>> every_pair(const PrintableMesh&
   };
   for (std::uint32_t i = 0; i < m.triangles.size(); ++i)
     for (std::uint32_t j = i + 1; j < m.triangles.size(); ++j) {
-      bool shared = false;
-      for (const auto a : m.triangles[i])
-        for (const auto b : m.triangles[j]) shared = shared || a == b;
-      if (!shared && core::triangles_intersect(corners(i), corners(j))) all.push_back({i, j});
+      int shared = 0, at_i = 0, at_j = 0;
+      for (int p = 0; p < 3; ++p)
+        for (int q = 0; q < 3; ++q)
+          if (m.triangles[i][p] == m.triangles[j][q]) ++shared, at_i = p, at_j = q;
+      // neighbours across a side meet only there; round one corner, they may cross beyond it
+      if (shared == 0 ? core::triangles_intersect(corners(i), corners(j))
+                      : shared == 1 && core::triangles_cross_beyond_corner(corners(i), at_i, corners(j), at_j))
+        all.push_back({i, j});
     }
   return all;
 }

@@ -147,3 +147,56 @@ TEST_CASE("self_intersecting_pairs equals testing every pair on soups of small t
   CHECK(found == all);
   CHECK(exporters::self_intersecting_pairs(m, 1) == found);
 }
+
+TEST_CASE("triangles round a shared corner that cross beyond it are found, in small cells and in large fans",
+          "[mesh_check]") {
+  // a crease folded into itself: the second triangle passes through the first beyond their shared corner
+  PrintableMesh pair;
+  pair.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0.2, -0.5}, {0.2, 0.5, 0.5}, {-1, 0.2, 0}, {-0.2, 1, 0}};
+  pair.triangles = {{0, 1, 2}, {0, 3, 4}, {0, 6, 5}};  // the third lies beside the first, in its plane: no crossing
+  CHECK(exporters::self_intersecting_pairs(pair) == std::vector<std::array<std::uint32_t, 2>>{{0, 1}});
+  CHECK(exporters::check_mesh(pair).self_intersections == 1);
+  // neighbours across a side are not tested, even folded flat onto each other
+  PrintableMesh folded;
+  folded.vertices = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, 0.5, 0}};
+  folded.triangles = {{0, 1, 2}, {1, 0, 3}};
+  CHECK(exporters::self_intersecting_pairs(folded).empty());
+  // soups over few vertices (many pairs share one), and fans of hundreds round one vertex in one grid cell
+  // (tested through their sides' directions, not pair by pair): exactly the oracle's pairs
+  const auto seed = GENERATE(1, 2, 3);
+  std::mt19937_64 rng(static_cast<std::uint64_t>(seed));
+  std::uniform_real_distribution<double> u(0, 1);
+  PrintableMesh m;
+  for (int k = 0; k < 150; ++k) m.vertices.emplace_back(u(rng), u(rng), u(rng));
+  std::uniform_int_distribution<std::uint32_t> pick(0, 149);
+  for (int t = 0; t < 400; ++t) {
+    const std::uint32_t a = pick(rng), b = pick(rng), c = pick(rng);
+    if (a != b && b != c && a != c) m.triangles.push_back({a, b, c});
+  }
+  const std::uint32_t hub = static_cast<std::uint32_t>(m.vertices.size());
+  m.vertices.emplace_back(0.5, 0.5, 0.5);
+  for (int t = 0; t < 600; ++t) {  // short triangles round the hub, all in its cell, in random directions
+    const Vec3 d = Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized();
+    const Vec3 e = d.cross(Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5)).normalized();
+    m.vertices.push_back(Vec3(0.5, 0.5, 0.5) + 0.01 * d);
+    m.vertices.push_back(Vec3(0.5, 0.5, 0.5) + 0.01 * d + 0.004 * e);
+    const auto n = static_cast<std::uint32_t>(m.vertices.size());
+    m.triangles.push_back({hub, n - 2, n - 1});
+  }
+  const auto all = every_pair(m);
+  std::size_t round_hub = 0, one_corner = 0;
+  for (const auto& [i, j] : all) {
+    int shared = 0;
+    for (const auto a : m.triangles[i])
+      for (const auto b : m.triangles[j]) shared += a == b;
+    one_corner += shared == 1;
+    round_hub += shared == 1 && m.triangles[i][0] == hub && m.triangles[j][0] == hub;
+  }
+  REQUIRE(one_corner - round_hub > 20);  // crossings round a corner of the soup
+  REQUIRE(round_hub > 20);               // and within the fan
+  const auto found = exporters::self_intersecting_pairs(m, 2);
+  CHECK(found == all);
+  CHECK(exporters::self_intersecting_pairs(m, 1) == found);
+  const auto counted = exporters::count_self_intersections(m.vertices, m.triangles, 16, 1e12);
+  CHECK(counted.count == all.size());
+}
