@@ -99,6 +99,22 @@ std::optional<std::string> own_record(const fs::path& resumed, const fs::path& d
   }
 }
 
+std::string output_error(const std::exception& e, const fs::path& staging, const fs::path& dir) {
+  std::string m = core::error_text(e);
+  if (staging.empty()) return m;
+  const std::string from = staging.string() + "/", to = (dir / "").string();
+  for (std::size_t at = m.find(from); at != std::string::npos; at = m.find(from, at + to.size()))
+    m.replace(at, from.size(), to);
+  return m;
+}
+
+void drop_earlier_checkpoint(const fs::path& dir, const json& run, const fs::path& resumed) {
+  if (!run.contains("checkpoint") || !run["checkpoint"].is_null()) return;
+  std::error_code ec;
+  if (!resumed.empty() && fs::equivalent(resumed, dir / kCheckpointName, ec)) return;
+  fs::remove(dir / kCheckpointName, ec);
+}
+
 void mark_superseded(const fs::path& dir) {
   const fs::path file = dir / "run.json";
   std::error_code ec;

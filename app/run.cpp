@@ -58,9 +58,9 @@ json run_head(const Start& s, std::uint64_t seed, int threads, const std::string
 }
 
 /// Writes `run` as run.json, listing `outputs` (files in `staging`) and, for a resumed run, its frames from
-/// before the checkpoint already in `dir`; then moves them all into `dir` (commit_outputs).
+/// before the checkpoint already in `dir`; then moves them all into `dir` (commit_outputs, drop_earlier_checkpoint).
 void commit_run(json run, std::vector<std::string> outputs, const Start& s, std::uint64_t first, std::uint64_t seed,
-                const fs::path& staging, const fs::path& dir) {
+                const fs::path& staging, const fs::path& dir, const fs::path& resumed) {
   outputs.push_back("run.json");
   // a resumed run's frames from before its checkpoint are in the folder already: still this run's outputs
   const std::vector<std::string> kept =
@@ -72,6 +72,7 @@ void commit_run(json run, std::vector<std::string> outputs, const Start& s, std:
   run["outputs"] = listed;
   write_run_json(staging / "run.json", run);
   commit_outputs(staging, dir, outputs, kept);
+  drop_earlier_checkpoint(dir, run, resumed);
 }
 
 }  // namespace
@@ -338,7 +339,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                    {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
                     {"simulation_s", sim_seconds}}},
                   {"checkpoint", kCheckpointName}});
-      commit_run(run, names, s, first, seed, staging, dir);
+      commit_run(run, names, s, first, seed, staging, dir, {});
     } catch (const std::exception& f) {
       err << "cellform: warning: the frames and run.json of the failed run could not be written: "
           << core::error_text(f) << "\n";
@@ -477,7 +478,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         if (!skipped_print(e)) {           // (skipped as by the run that wrote the checkpoint)
           const bool cancelled = dynamic_cast<const core::Cancelled*>(&e) != nullptr;
           err << (cancelled ? std::string(o.quiet ? "" : "\n") + "cellform: printing interrupted"
-                            : "cellform: " + core::error_text(e))
+                            : "cellform: " + output_error(e, staging, dir))
               << "\n  (nothing in " << dir.string()
               << "/ changed: its outputs, printable files and checkpoint are as they were)\n";
           std::error_code ec;
@@ -514,11 +515,12 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         code = interrupted;
       } catch (const std::exception& e) {
         if (!skipped_print(e)) {
-          err << "cellform: " << core::error_text(e) << "\n  (the other outputs and the checkpoint are written)\n";
+          err << "cellform: " << output_error(e, staging, dir) << "\n  (the other outputs"
+              << (checkpoint_error.empty() ? " and the checkpoint are written)\n" : " are written)\n");
           if (saved && !dynamic_cast<const NothingToPrint*>(&e))  // a retry need not grow the cells again
             err << "  to print again with other print.* values: cellform resume " << shell_word(checkpoint.string())
                 << " --set print.NAME=VALUE\n";
-          printed = {{"error", core::error_text(e)}};
+          printed = {{"error", output_error(e, staging, dir)}};
           if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
             code = failure;
             status = "print failed";  // the cells are complete; run.json's print.error says why
@@ -542,10 +544,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                   {"steps_per_s", sim_seconds > 0 ? static_cast<double>(done) / sim_seconds : 0.0}}}});
     record_checkpoint(run, checkpoint_error, saved, saved_step);
     if (cfg.print) run["print"] = printed;
-    commit_run(run, outputs, s, first, seed, staging, dir);
+    commit_run(run, outputs, s, first, seed, staging, dir, s.resume ? o.checkpoint : fs::path());
     if (print_cancelled)
-      err << (o.quiet ? "" : "\n")
-          << "cellform: printing interrupted: no printable files (the other outputs and the checkpoint are written)\n";
+      err << (o.quiet ? "" : "\n") << "cellform: printing interrupted: no printable files (the other outputs"
+          << (checkpoint_error.empty() ? " and the checkpoint are written)\n" : " are written)\n");
     if (!checkpoint_error.empty()) {
       err << "cellform: " << checkpoint_error
           << (saved ? "\n  (the other outputs are written; the run can be resumed from its last periodic checkpoint, " +
@@ -572,7 +574,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     code = usage;
   } catch (const std::exception& e) {
     progress.finish();
-    err << "cellform: " << core::error_text(e) << "\n";
+    err << "cellform: " << output_error(e, staging, dir) << "\n";
     // the outputs failed (a full disk): what is left to continue from; a run.json that says so (a few kB,
     // which a full disk usually still has) and the frames up to it stay, as after a script error. (With no
     // checkpoint of steps this run took, as when no step ran, the folder stays as it was: a resume that only
@@ -580,7 +582,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     if (!checkpoint_error.empty()) err << "cellform: the final checkpoint failed too: " << checkpoint_error << "\n";
     if (saved && fs::exists(checkpoint)) {
       err << "  (the last checkpoint written is " << checkpoint.string() << "; cellform resume continues from it)\n";
-      if (saved_step > first) keep_failed_run(core::error_text(e));
+      if (saved_step > first) keep_failed_run(output_error(e, staging, dir));
     }
     if (saved && saved_step == first && !earlier_record.empty()) try {
         core::write_file_atomically(dir / "run.json", [&](std::ostream& os) { os << earlier_record; });

@@ -191,6 +191,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
           run["outputs"] = outputs;
           write_run_json(staging / "run.json", run);
           commit_outputs(staging, dir, outputs);
+          drop_earlier_checkpoint(dir, run, s.resume ? o.checkpoint : fs::path());
           err << "interrupted while the cell sheet grew (step " << grown.step << " of " << grown.target
               << "; no veins yet): the sheet so far is in " << dir.string() << "/\n";
           if (!grown.checkpoint_error.empty()) {
@@ -411,12 +412,12 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         printed = {{"error", "interrupted"}};
         code = interrupted;
       } catch (const std::exception& e) {
-        if (reprint) return discard_reprint("cellform: " + core::error_text(e), failure);
-        err << "cellform: " << core::error_text(e) << "\n";
+        if (reprint) return discard_reprint("cellform: " + output_error(e, staging, dir), failure);
+        err << "cellform: " << output_error(e, staging, dir) << "\n";
         if (saved && !dynamic_cast<const NothingToPrint*>(&e))  // a retry need not grow the veins again
           err << "  to print again with other print.* values: cellform resume " << shell_word(checkpoint.string())
               << " --set print.NAME=VALUE\n";
-        printed = {{"error", core::error_text(e)}};
+        printed = {{"error", output_error(e, staging, dir)}};
         if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
           code = failure;
           print_failed = true;
@@ -466,6 +467,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     run["outputs"] = outputs;
     write_run_json(staging / "run.json", run);
     commit_outputs(staging, dir, outputs);
+    drop_earlier_checkpoint(dir, run, s.resume ? o.checkpoint : fs::path());
     if (print_cancelled)
       err << (o.quiet ? "" : "\n")
           << "cellform: printing interrupted: no printable files (the vein files are written)\n";
@@ -532,7 +534,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     return code;
   } catch (const std::exception& e) {
     const bool input = dynamic_cast<const core::InvalidInput*>(&e) != nullptr;
-    const std::string m = input ? e.what() : core::error_text(e);
+    const std::string m = input ? e.what() : output_error(e, staging, dir);
     // a parameter the steps found wrong: where the script sets it
     err << "cellform: " << (input && m.rfind("colonisation.", 0) == 0 ? spec.where : std::string()) << m << "\n";
     if (input && !g_interrupt.load()) err << knob_recall(s.sets, m);  // a value a --set knob sized

@@ -201,6 +201,18 @@ void mark_superseded(const std::filesystem::path& dir);
 /// nullopt for any other run.
 std::optional<std::string> own_record(const std::filesystem::path& resumed, const std::filesystem::path& dir);
 
+/// The message of an error while writing the outputs, naming the files where they go in `dir`, not in the
+/// `staging` folder they are written to first.
+std::string output_error(const std::exception& e, const std::filesystem::path& staging,
+                         const std::filesystem::path& dir);
+
+/// After a run that has no checkpoint of its own in `dir` (`run`'s "checkpoint" is null: a full disk) replaced
+/// the folder's outputs, the checkpoint an earlier run left there no longer goes with them (a resume would
+/// continue that run over these outputs): it is removed. The checkpoint this run resumed from (`resumed`), an
+/// earlier state of the same run, stays.
+void drop_earlier_checkpoint(const std::filesystem::path& dir, const nlohmann::json& run,
+                             const std::filesystem::path& resumed);
+
 /// When the periodic checkpoints of a run are due: every `every` steps (0: never), but not within
 /// `seconds` of the last one written. A large state written every 1000 steps of a fast run would otherwise
 /// cost more than the steps (a full-size poplar: 29 checkpoints of 250 MB). The first one due is always

@@ -318,6 +318,26 @@ TEST_CASE("a checkpoint over an earlier run's marks that run's run.json supersed
   CHECK_FALSE(fs::exists(dir / "run.json"));
 }
 
+TEST_CASE("a run that could write no checkpoint drops an earlier run's; errors name the files in the folder", "[cli]") {
+  TempDir t("cli-drop-checkpoint");
+  const fs::path dir = t.path / "out";
+  fs::create_directories(dir);
+  using cellform::app::drop_earlier_checkpoint;
+  const nlohmann::json none = {{"checkpoint", nullptr}}, own = {{"checkpoint", "checkpoint.cfck"}};
+  t.write("out/checkpoint.cfck", "earlier run's");
+  drop_earlier_checkpoint(dir, own, {});  // this run's checkpoint is there: kept
+  CHECK(fs::exists(dir / "checkpoint.cfck"));
+  drop_earlier_checkpoint(dir, none, dir / "checkpoint.cfck");  // the one this run resumed: kept
+  CHECK(fs::exists(dir / "checkpoint.cfck"));
+  drop_earlier_checkpoint(dir, none, t.path / "elsewhere.cfck");  // another run's, beside outputs it is not of
+  CHECK_FALSE(fs::exists(dir / "checkpoint.cfck"));
+  drop_earlier_checkpoint(dir, none, {});  // none there: nothing to do
+  const fs::path staging = dir / ".partial-12";
+  const cellform::core::FileError e("cannot write '" + (staging / "printable.stl").string() + "': disk full");
+  CHECK(cellform::app::output_error(e, staging, dir) ==
+        "cannot write '" + (dir / "printable.stl").string() + "': disk full");
+}
+
 TEST_CASE("own_record: the run.json a no-step resume of the folder's own checkpoint puts back", "[cli]") {
   TempDir t("cli-own-record");
   const fs::path dir = t.path / "out", other = t.path / "other";
