@@ -12,7 +12,7 @@ namespace cellform::core {
 void parallel_for(std::size_t n, int threads, const std::function<void(std::size_t, std::size_t)>& body,
                   std::size_t grain = 2048);
 
-/// Number of hardware threads.
+/// Number of hardware threads this process may run on (its CPU affinity: taskset, a container's cpuset).
 int hardware_threads();
 
 /// The worker threads a `threads` setting comes to here: 0 or less = all cores; more than the cores cannot
