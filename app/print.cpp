@@ -190,6 +190,12 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
           << (spec.scale > 0 ? "print.scale" : "print.size")
           << ", or a smaller print.min_radius if the printer allows)\n";
   }
+  if (spec.flat_base > 0 && spec.flat_base > 0.5 * rep.height)  // (a cut above the whole form is refused)
+    err << "cellform: note: print: print.flat_base (" << core::number_text(spec.flat_base)
+        << " mm) cuts away the lower " << core::number_text(std::round(100 * spec.flat_base / rep.height))
+        << "% of the form's " << core::number_text(std::round(rep.height * 10) / 10)
+        << " mm height, and what is left may be thinner than print.min_radius promises (a flat form prints "
+           "lying flat: flat_base = 0, or a cut of a millimetre or so)\n";
   if (rep.voxel_raised_from > 0)  // said even when quiet: the print is coarser than the default promises
     err << "cellform: note: print: the automatic voxel size " << rep.voxel_raised_from << " mm (print.min_radius / 2) "
         << "would need more memory than print.max_memory (" << spec.max_memory_mb << " MB); using " << rep.voxel_size

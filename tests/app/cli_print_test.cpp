@@ -107,6 +107,13 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
                           Contains("too thin for the print's") && Contains("lower print.flat_base"));
     CHECK_FALSE(fs::exists(out / "printable.stl"));
     CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "print failed");
+    // a cut of most of the height is said (it left a fragment with walls far under min_radius, audit); a
+    // small one is not
+    std::snprintf(cut, sizeof cut, "print.flat_base=%.4f", 0.7 * height);
+    r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", cut});
+    CHECK_THAT(r.err, Contains("cuts away the lower 70% of the form's"));
+    r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.flat_base=1"});
+    CHECK_THAT(r.err, !Contains("cuts away the lower"));
     // uniform meshing (adaptivity 0) skips the crossing check: not counted as none
     r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.adaptivity=0"});
     REQUIRE(r.code == 0);
