@@ -489,8 +489,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       }
       printed_first = true;
     }
-    const auto own = s.resume && first >= target ? own_record(o.checkpoint, dir) : std::nullopt;
-    const bool own_no_step = own.has_value();
+    const bool no_step = s.resume && first >= target;  // the checkpoint resumed stays as it was
+    const auto own = no_step ? own_record(o.checkpoint, dir) : std::nullopt;
     if (own) earlier_record = *own;
     // the checkpoint first: outputs failing after it leave it to resume from; one that fails leaves the outputs
     try {
@@ -552,9 +552,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       err << "cellform: " << checkpoint_error
           << (saved ? "\n  (the other outputs are written; the run can be resumed from its last periodic checkpoint, " +
                           checkpoint.string() + ", of step " + std::to_string(saved_step) + ")\n"
-              : own_no_step ? "\n  (the other outputs are written; " + checkpoint.string() +
-                                  ", the checkpoint resumed, is as it was)\n"
-                            : std::string("\n  (the other outputs are written, but this run cannot be resumed)\n"));
+              : no_step ? "\n  (the other outputs are written; " + o.checkpoint.string() +
+                              ", the checkpoint resumed, is as it was)\n"
+                        : std::string("\n  (the other outputs are written, but this run cannot be resumed)\n"));
       code = failure;
     }
     if (!o.quiet || code != ok) {

@@ -59,7 +59,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
   bool resumable = false;          // a checkpoint of this run is in the folder when the outputs are written
   json stepped;                    // run.json's steps when that checkpoint holds steps this run took, else null
   std::string checkpoint_failure;  // why the final checkpoint could not be written
-  bool own_no_step = false;        // a resume that runs no step from the folder's own checkpoint
+  bool no_step = false;            // a resume that runs no step: the checkpoint resumed stays as it was
   std::string earlier_record;      // its run.json, put back if the outputs fail (the checkpoint's rewrite marked
                                    // it superseded)
   try {
@@ -290,8 +290,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     // written (a full disk) still leaves the outputs
     std::string checkpoint_error;
     const auto save_final = [&] {
-      const auto own = s.resume && col.report().steps == first ? own_record(o.checkpoint, dir) : std::nullopt;
-      own_no_step = own.has_value();
+      no_step = s.resume && col.report().steps == first;
+      const auto own = no_step ? own_record(o.checkpoint, dir) : std::nullopt;
       if (own) earlier_record = *own;
       try {
         save();
@@ -479,9 +479,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                         (saved ? ", of step " + std::to_string(saved_step)
                                : std::string(", taken while the sheet grew")) +
                         ")\n"
-              : own_no_step ? "\n  (the other outputs are written; " + checkpoint.string() +
-                                  ", the checkpoint resumed, is as it was)\n"
-                            : std::string("\n  (the other outputs are written, but this run cannot be resumed)\n"));
+              : no_step ? "\n  (the other outputs are written; " + o.checkpoint.string() +
+                              ", the checkpoint resumed, is as it was)\n"
+                        : std::string("\n  (the other outputs are written, but this run cannot be resumed)\n"));
       code = failure;
     }
     std::ostream& where = code == ok ? out : err;

@@ -2,6 +2,7 @@
 #include "core/parallel.h"
 
 #include <sched.h>
+#include <unistd.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -31,11 +32,11 @@ tbb::task_arena& arena_for(int threads) {
 }  // namespace
 
 int hardware_threads() {
-  // the cores this process may run on (taskset, a container's cpuset), not all the machine has: TBB warns
-  // when asked for more workers than those (a system call of about a microsecond)
+  // the cores this process may run on (taskset, a container's cpuset; its main thread's mask, whichever thread
+  // asks), not all the machine has: TBB warns when asked for more workers than those (a system call, about a µs)
   cpu_set_t set;
   CPU_ZERO(&set);
-  if (::sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0) return CPU_COUNT(&set);
+  if (::sched_getaffinity(::getpid(), sizeof set, &set) == 0 && CPU_COUNT(&set) > 0) return CPU_COUNT(&set);
   const unsigned n = std::thread::hardware_concurrency();
   return n == 0 ? 1 : static_cast<int>(n);
 }

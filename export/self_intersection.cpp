@@ -88,15 +88,16 @@ struct Arc {
   std::uint32_t tri;
 };
 
-/// The pairs of a fan round `hub` (triangles [first, last)) that may cross beyond it, to `candidate`. Two
+/// The pairs of a fan round `hub` (triangles [first, last)) to `visit(ti, tj, may_cross)`, which returns false
+/// to stop: every pair whose boxes (below) overlap along the sweep's axis, `may_cross` if they overlap. Two
 /// triangles round one corner cross beyond it iff their sides opposite it, seen from it, share a direction:
 /// each side's directions (an arc of the unit sphere) lie in the box of its ends' unit directions grown by the
 /// arc's sagitta, and by the narrow test's rounding tolerance over the side's distance from the hub. A sweep
-/// over those boxes enumerates only the pairs whose boxes meet (a fine cone: its neighbours), not all.
-template <class Candidate>
+/// over those boxes, along the axis where they overlap least (a flat fan's plane, a cone's cross-section),
+/// meets only neighbours' boxes, not all.
+template <class Visit>
 void fan_pairs_of(const std::vector<Vec3>& v, const std::vector<Tri>& tris, std::uint32_t hub,
-                  const std::uint32_t* first, const std::uint32_t* last, std::vector<Arc>& arcs,
-                  const Candidate& candidate) {
+                  const std::uint32_t* first, const std::uint32_t* last, std::vector<Arc>& arcs, const Visit& visit) {
   const Vec3& h = v[hub];
   double scale = h.cwiseAbs().maxCoeff(), edge = 0;
   for (const std::uint32_t* t = first; t != last; ++t)
@@ -115,13 +116,28 @@ void fan_pairs_of(const std::vector<Vec3>& v, const std::vector<Tri>& tris, std:
     const double grow = std::min(4.0, 1 - 0.5 * (a + b).norm() + (height > 0 ? tol / height : 4.0));
     arcs.push_back({a.cwiseMin(b) - Vec3::Constant(grow), a.cwiseMax(b) + Vec3::Constant(grow), *t});
   }
-  std::sort(arcs.begin(), arcs.end(),
-            [](const Arc& x, const Arc& y) { return x.lo.x() != y.lo.x() ? x.lo.x() < y.lo.x() : x.tri < y.tri; });
+  // the axis: the least summed box width over the boxes' span (a flat fan in a plane x = const spans nothing
+  // in x, where every pair would overlap)
+  int axis = 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k) {
+    double width = 0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const Arc& r : arcs) {
+      width += r.hi[k] - r.lo[k];
+      lo = std::min(lo, r.lo[k]);
+      hi = std::max(hi, r.hi[k]);
+    }
+    if (hi > lo && width / (hi - lo) < best) best = width / (hi - lo), axis = k;
+  }
+  std::sort(arcs.begin(), arcs.end(), [axis](const Arc& x, const Arc& y) {
+    return x.lo[axis] != y.lo[axis] ? x.lo[axis] < y.lo[axis] : x.tri < y.tri;
+  });
   for (std::size_t i = 0; i < arcs.size(); ++i)
-    for (std::size_t j = i + 1; j < arcs.size() && arcs[j].lo.x() <= arcs[i].hi.x(); ++j)
-      if (!(arcs[i].lo.y() > arcs[j].hi.y() || arcs[j].lo.y() > arcs[i].hi.y() || arcs[i].lo.z() > arcs[j].hi.z() ||
-            arcs[j].lo.z() > arcs[i].hi.z()))
-        candidate(arcs[i].tri, arcs[j].tri);
+    for (std::size_t j = i + 1; j < arcs.size() && arcs[j].lo[axis] <= arcs[i].hi[axis]; ++j) {
+      const bool meet =
+          !((arcs[i].lo.array() > arcs[j].hi.array()).any() || (arcs[j].lo.array() > arcs[i].hi.array()).any());
+      if (!visit(arcs[i].tri, arcs[j].tri, meet)) return;
+    }
 }
 
 Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tris, const std::vector<char>& skip,
@@ -467,7 +483,15 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
               for (std::size_t j = fan_end; j < group.size(); ++j)
                 candidate(group[i], group[j], whole[group[i]] && whole[group[j]]);
             fan_pairs_of(v, tris, hubs[k - 1], group.data() + bounds[k], group.data() + fan_end, arcs,
-                         [&](std::uint32_t ti, std::uint32_t tj) { candidate(ti, tj, whole[ti] && whole[tj]); });
+                         [&](std::uint32_t ti, std::uint32_t tj, bool may_cross) {
+                           if (may_cross) {
+                             candidate(ti, tj, whole[ti] && whole[tj]);
+                           } else if (budget && ++enumerated > budget->max_tests) {  // a sweep step counts too
+                             if (!gave_up.load(std::memory_order_relaxed))
+                               gave_up.store(true, std::memory_order_relaxed);
+                           }
+                           return !stop();
+                         });
           }
         }
       },

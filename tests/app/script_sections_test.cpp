@@ -28,8 +28,9 @@ TEST_CASE("the memory limit is the lowest of the run's control groups, from its 
   // v1: only the memory controller's line counts, under memory/; the unlimited value is just very large
   put("v1/memory/docker/abc/memory.limit_in_bytes", "1000000000\n");
   put("v1/memory/memory.limit_in_bytes", "9223372036854771712\n");
-  put("v1/cpu/docker/abc/memory.limit_in_bytes", "5\n");  // not the memory controller: ignored
-  std::istringstream v1("12:cpu,cpuacct:/docker/abc\n11:memory:/docker/abc\n");
+  // a group named by another controller's line, with a lower limit in the memory hierarchy: not the run's
+  put("v1/memory/other/memory.limit_in_bytes", "5\n");
+  std::istringstream v1("12:cpu,cpuacct:/other\n11:memory:/docker/abc\n");
   CHECK(control_group_memory_limit(v1, t.path / "v1") == 1e9);
   // no limit anywhere, a missing file, a line that is no group
   std::istringstream none("0::/\n");

@@ -200,3 +200,30 @@ TEST_CASE("triangles round a shared corner that cross beyond it are found, in sm
   const auto counted = exporters::count_self_intersections(m.vertices, m.triangles, 16, 1e12);
   CHECK(counted.count == all.size());
 }
+
+TEST_CASE("a large fan is swept along the axis its directions spread in, and a crowded one counts to the budget",
+          "[mesh_check]") {
+  // a flat disc fanned round its centre, in the plane x = 0: every direction has x = 0, so a sweep along x
+  // would pair every triangle with every other (35 s for 100,000, review)
+  const std::uint32_t n = 20000;
+  PrintableMesh disc;
+  disc.vertices.emplace_back(0, 0, 0);
+  for (std::uint32_t k = 0; k < n; ++k)
+    disc.vertices.emplace_back(0, std::cos(2 * M_PI * k / n), std::sin(2 * M_PI * k / n));
+  for (std::uint32_t k = 0; k < n; ++k) disc.triangles.push_back({0, 1 + k, 1 + (k + 1) % n});
+  const auto swept = exporters::count_self_intersections(disc.vertices, disc.triangles, 16, 1e6);
+  CHECK(swept.tested);  // about n pairs looked at, not n^2 / 2
+  CHECK(swept.count == 0);
+  // the same fan folded onto itself (each triangle repeated, turned a little about the hub): every pair
+  // overlaps in every axis; the sweep's steps count, so a counting search gives up instead of running on
+  PrintableMesh crowded;
+  crowded.vertices.emplace_back(0, 0, 0);
+  for (std::uint32_t k = 0; k < 4000; ++k) {
+    const double a = 1e-4 * k;
+    crowded.vertices.emplace_back(1, std::cos(a), std::sin(a));
+    crowded.vertices.emplace_back(1, std::cos(a + 0.5), std::sin(a + 0.5));
+    crowded.triangles.push_back({0, 1 + 2 * k, 2 + 2 * k});
+  }
+  const auto given_up = exporters::count_self_intersections(crowded.vertices, crowded.triangles, 16, 1e5);
+  CHECK_FALSE(given_up.tested);
+}
