@@ -293,4 +293,12 @@ void say_printed(std::ostream& err, const nlohmann::json& printed) {
       << core::number_text(printed["scale_mm_per_unit"].get<double>()) << " mm per model unit\n";
 }
 
+void say_print_failed(std::ostream& err, const std::string& message, const std::string& after, bool retry,
+                      const std::filesystem::path& checkpoint) {
+  err << "cellform: " << message << (after.empty() ? "" : "\n  (" + after + ")") << "\n";
+  if (retry)  // a retry need not grow the cells or veins again
+    err << "  to print again with other print.* values: cellform resume " << shell_word(checkpoint.string())
+        << " --set print.NAME=VALUE\n";
+}
+
 }  // namespace cellform::app

@@ -515,12 +515,12 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         code = interrupted;
       } catch (const std::exception& e) {
         if (!skipped_print(e)) {
-          err << "cellform: " << output_error(e, staging, dir) << "\n  (the other outputs"
-              << (checkpoint_error.empty() ? " and the checkpoint are written)\n" : " are written)\n");
-          if (saved && !dynamic_cast<const NothingToPrint*>(&e))  // a retry need not grow the cells again
-            err << "  to print again with other print.* values: cellform resume " << shell_word(checkpoint.string())
-                << " --set print.NAME=VALUE\n";
-          printed = {{"error", output_error(e, staging, dir)}};
+          const std::string m = output_error(e, staging, dir);
+          say_print_failed(err, m,
+                           checkpoint_error.empty() ? "the other outputs and the checkpoint are written"
+                                                    : "the other outputs are written",
+                           saved && !dynamic_cast<const NothingToPrint*>(&e), checkpoint);
+          printed = {{"error", m}};
           if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
             code = failure;
             status = "print failed";  // the cells are complete; run.json's print.error says why

@@ -412,12 +412,10 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         printed = {{"error", "interrupted"}};
         code = interrupted;
       } catch (const std::exception& e) {
-        if (reprint) return discard_reprint("cellform: " + output_error(e, staging, dir), failure);
-        err << "cellform: " << output_error(e, staging, dir) << "\n";
-        if (saved && !dynamic_cast<const NothingToPrint*>(&e))  // a retry need not grow the veins again
-          err << "  to print again with other print.* values: cellform resume " << shell_word(checkpoint.string())
-              << " --set print.NAME=VALUE\n";
-        printed = {{"error", output_error(e, staging, dir)}};
+        const std::string m = output_error(e, staging, dir);
+        if (reprint) return discard_reprint("cellform: " + m, failure);
+        say_print_failed(err, m, "", saved && !dynamic_cast<const NothingToPrint*>(&e), checkpoint);
+        printed = {{"error", m}};
         if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
           code = failure;
           print_failed = true;
