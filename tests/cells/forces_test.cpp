@@ -173,7 +173,9 @@ TEST_CASE("cell_acceleration adds weighted terms and the unary force", "[forces]
   REQUIRE(cell_acceleration(c, p, VeinChildren{}, 0, s).norm() == 0.0);
 }
 
-TEST_CASE("vein straightening pulls a bent vein cell towards the line of its parent and child", "[forces]") {
+TEST_CASE("vein straightening: cohesion pulls a bent vein cell towards its parent and child, separation pushes "
+          "it from its grandparent and grandchild",
+          "[forces]") {
   Cells c;
   add_cell(c, Vec3(-2, 0, 0), CellType::vein);
   add_cell(c, Vec3(-1, 0, 0), CellType::vein);
@@ -185,11 +187,24 @@ TEST_CASE("vein straightening pulls a bent vein cell towards the line of its par
   p.weights[2] = ForceWeights{0.0, 0.0, 1.0, 1.0};
   const VeinChildren vc = vein_children(c);
   ForceScratch s;
-  const Vec3 with = cell_acceleration(c, p, vc, 2, s);
-  p.vein_cohesion_factor = 0;
-  p.vein_separation_factor = 0;
-  const Vec3 without = cell_acceleration(c, p, vc, 2, s);
-  REQUIRE(with.x() == Approx(0).margin(1e-12));
-  REQUIRE(with.y() < without.y());  // more pull back towards y = 0
-  REQUIRE(with.y() < 0);
+  auto acceleration = [&](double cohesion, double separation, Index i) {
+    p.vein_cohesion_factor = cohesion;
+    p.vein_separation_factor = separation;
+    return cell_acceleration(c, p, vc, i, s);
+  };
+  const Vec3 without = acceleration(0, 0, 2);
+  // each term on its own, against Eqs. 4 and 5 over {parent, child} and {grandparent, grandchild}, times 4:
+  // cohesion 4 * ((-1, -0.3) + (1, -0.3)) / 1.09 / 2, separation 4 * ((2, 0.3) + (-2, 0.3)) / 4.09 / 2
+  const Vec3 cohesion = acceleration(4, 0, 2) - without, separation = acceleration(0, 4, 2) - without;
+  CHECK(cohesion.x() == Approx(0).margin(1e-12));
+  CHECK(cohesion.y() == Approx(-4 * 0.6 / 1.09 / 2));  // towards the line of parent and child
+  CHECK(separation.x() == Approx(0).margin(1e-12));
+  CHECK(separation.y() == Approx(4 * 0.6 / 4.09 / 2));  // the bent cell itself is pushed off the line...
+  // ...but the vein's ends are pushed apart along it, which straightens a free vein (tests/cells/simulation_test)
+  const Vec3 end = acceleration(0, 4, 0) - acceleration(0, 0, 0);
+  CHECK(end.x() == Approx(4 * -2.0 / 4.09));
+  CHECK(end.y() == Approx(4 * -0.3 / 4.09));
+  const Vec3 both = acceleration(4, 4, 2);
+  CHECK(both.y() < 0);  // together (the defaults) the bent cell is pulled back
+  CHECK(both.y() == Approx(without.y() + cohesion.y() + separation.y()));
 }
