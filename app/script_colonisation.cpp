@@ -480,6 +480,7 @@ void section_colonisation(Impl& I, const std::string& at) {
     if (v[name].present && I.cfg->colonisation->length_given.empty()) I.cfg->colonisation->length_given = name;
   I.cfg->colonisation->widths.exponent = v["murray_exponent"].num;
   I.cfg->colonisation->widths.tip_radius = v["tip_radius"].num;
+  I.cfg->colonisation->widths.per_node_flow = v["node_flow"].num;
   try {
     venation::validate(p);
   } catch (const std::exception& e) {

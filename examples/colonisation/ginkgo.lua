@@ -34,6 +34,7 @@ colonisation {
   length_step = 15 * P.scale,  -- Delta L
   darts = 300,  -- rho x 10^6
   murray_exponent = 2,
+  node_flow = 0.05,  -- Section 3.5: main veins widened for the veinlets this open pattern leaves out
 }
 
 print { formats = "stl" }

@@ -26,6 +26,7 @@ colonisation {
   length_step = 11 * P.scale,  -- Delta L
   darts = 40,  -- rho x 10^6
   murray_exponent = 2,
+  node_flow = 0.05,  -- Section 3.5: main veins widened for the veinlets this open pattern leaves out
 }
 
 print { formats = "stl" }

@@ -1,8 +1,12 @@
 // Tests of what a space-colonisation run says at its end (app/run_colonisation.cpp).
+#include <algorithm>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "tests/app/test_util.h"
 
@@ -95,4 +99,72 @@ TEST_CASE("a colonisation quick try with --steps ends before any vein: the print
   r = cli({"run", script.string(), "--out", (t.path / "c").string(), "--steps", "60", "--quiet"});
   CHECK(r.code == 0);
   CHECK(fs::exists(t.path / "c" / "printable.stl"));
+}
+
+TEST_CASE("colonisation.node_flow widens the veins towards the base: each inner node adds its flow (Section 3.5)",
+          "[cli][colonisation]") {
+  TempDir t("cli-node-flow");
+  struct Node {
+    double flow, radius;
+    int parent = -1, children = 0;
+  };
+  auto grow = [&](const std::string& node_flow) {
+    const auto script = t.write("leaf" + node_flow + ".lua",
+                                "leaf { shape = 'ellipse' }\nrun { seed = 2 }\ncolonisation { type = 'open', "
+                                "growth = 'none', initial_length = 60, kill_distance = 1, birth_distance = 2, darts = 2000, murray_exponent = 2, node_flow = " +
+                                    node_flow + " }\n");
+    const fs::path out = t.path / ("o" + node_flow);
+    const auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    std::vector<Node> nodes;  // from veins.obj: "v x y z" then "#a flow radius order"; "l tip ... base"
+    std::istringstream in(slurp(out / "veins.obj"));
+    for (std::string line; std::getline(in, line);) {
+      std::istringstream ls(line);
+      std::string tag;
+      ls >> tag;
+      if (tag == "#a") {
+        REQUIRE(!nodes.empty());
+        ls >> nodes.back().flow >> nodes.back().radius;
+      } else if (tag == "v") {
+        nodes.push_back({});
+      } else if (tag == "l") {  // a run of nodes, each the parent of the one before
+        int child = 0, parent = 0;
+        for (ls >> child; ls >> parent; child = parent) {
+          nodes[static_cast<std::size_t>(child - 1)].parent = parent - 1;
+          ++nodes[static_cast<std::size_t>(parent - 1)].children;
+        }
+      }
+    }
+    REQUIRE(nodes.size() > 100);
+    return nodes;
+  };
+  const auto pure = grow("0"), wide = grow("0.25");
+  REQUIRE(pure.size() == wide.size());  // widths come after growth: the same tree
+  std::vector<double> sum(wide.size(), 0.0);
+  for (const Node& v : wide)
+    if (v.parent >= 0) sum[static_cast<std::size_t>(v.parent)] += v.flow;
+  const double tip = wide[0].radius / std::sqrt(wide[0].flow);  // radius = tip_radius * flow^(1/2)
+  std::size_t inner = 0, tips = 0;
+  for (std::size_t i = 0; i < wide.size(); ++i) {
+    const Node& v = wide[i];
+    CHECK(v.radius == Approx(tip * std::sqrt(v.flow)).epsilon(1e-5));  // the files keep 32-bit floats
+    CHECK(pure[i].children == v.children);
+    if (v.children == 0) {
+      ++tips;
+      CHECK(v.flow == 1);
+      CHECK(pure[i].flow == 1);
+    } else {
+      ++inner;
+      CHECK(v.flow == Approx(sum[i] + 0.25).epsilon(1e-5));  // r^2 = sum of the children's r^2, plus the node's
+      CHECK(v.flow > pure[i].flow);
+    }
+  }
+  // the base: every tip's flow and a quarter for every inner node; Murray's law alone gives the tips
+  const auto root = static_cast<std::size_t>(
+      std::find_if(wide.begin(), wide.end(), [](const Node& v) { return v.parent < 0; }) - wide.begin());
+  CHECK(pure[root].flow == static_cast<double>(tips));
+  CHECK(wide[root].flow == Approx(static_cast<double>(tips) + 0.25 * static_cast<double>(inner)).epsilon(1e-5));
+  CHECK(wide[root].radius == Approx(pure[root].radius * std::sqrt(wide[root].flow / pure[root].flow)).epsilon(1e-5));
+  CHECK(wide[root].radius > 1.4 * pure[root].radius);
 }
