@@ -102,7 +102,7 @@ std::vector<Field> build() {
   f.push_back(choice("division", "trigger", Kind::choice, "age", "none|age|neighbours",
                      "what makes a cell divide: its age, or few neighbours nearby (marginal growth)"));
   f.push_back(integer("division", "age", "20", 1, 1e9, "steps", "trigger = age: steps between divisions of a cell"));
-  f.push_back(num("division", "radius", "1.25", 0, kInf, true, "model units",
+  f.push_back(num("division", "radius", "1.25 * cells.rest_length", 0, kInf, true, "model units",
                   "trigger = neighbours: radius in which neighbours are counted"));
   f.push_back(integer("division", "min_neighbours", "6", 1, 1000, "cells",
                       "trigger = neighbours: divide when fewer cells than this are within radius"));

@@ -121,6 +121,7 @@ struct ScriptHost::Impl {
   // rule functions
   int divides_ref = LUA_NOREF;
   int direction_ref = LUA_NOREF;
+  bool division_radius_derived = true;  // division.radius not given: 1.25 rest lengths, set once cells{} is read
   int source_ref = LUA_NOREF;
   // "file:line: " of the section that set each rule, for the messages of its calls during the run
   std::string divides_at, direction_at, source_at;

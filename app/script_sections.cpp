@@ -84,6 +84,7 @@ void section_division(Impl& I, const std::string& at) {
                                      : cells::DivisionTrigger::age;
   d.division_age = static_cast<std::uint32_t>(v["age"].num);
   d.radius = v["radius"].num;
+  I.division_radius_derived = !v["radius"].present;
   d.min_neighbours = static_cast<int>(v["min_neighbours"].num);
   d.min_age = static_cast<std::uint32_t>(v["min_age"].num);
   d.probability = v["probability"].num;

@@ -23,7 +23,7 @@ cells {
 
 division {
   trigger = "neighbours",  -- growth at the rim
-  radius = 1.25,
+  -- radius (neighbours counted within it): 1.25 rest lengths unless given, so it follows cells.rest_length
   min_neighbours = 6,
   min_age = 5,
   probability = 0.3,

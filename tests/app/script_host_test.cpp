@@ -46,6 +46,16 @@ TEST_CASE("a script sets parameters, shapes and defaults", "[script]") {
   REQUIRE(cfg.scene.petioles.size() == 1);
   CHECK(cfg.resolved["cells"]["time_step"] == 0.1);  // every resolved parameter is recorded
   CHECK(cfg.resolved["division"]["probability"] == 1.0);
+  // division.radius follows the rest length as the spacings do (audit: at rest_length 2 the default 1.25
+  // held no neighbour, so every cell divided: marginal growth became growth everywhere, unsaid)
+  CHECK(cfg.scene.cells.division.radius == 2.5);
+  CHECK(cfg.resolved["division"]["radius"] == 2.5);
+  // whichever section comes first; and a radius given is kept
+  CHECK(load("division { trigger = 'neighbours' }\ncells { rest_length = 0.5 }\n").scene.cells.division.radius ==
+        0.625);
+  CHECK(load("cells { rest_length = 2 }\ndivision { trigger = 'neighbours', radius = 1.5 }\n")
+            .scene.cells.division.radius == 1.5);
+  CHECK(load("division { trigger = 'neighbours' }\n").scene.cells.division.radius == 1.25);
 }
 
 TEST_CASE("script errors name the file and line", "[script]") {
