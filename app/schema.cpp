@@ -112,7 +112,8 @@ std::vector<Field> build() {
                   "chance that a triggered cell divides this step (seeded)"));
   f.push_back(choice("division", "direction", Kind::choice_or_function, "random",
                      "random|tangent|axis|radial|circumferential|auxin",
-                     "split direction (tangent: random within the sheet; auxin: along the local auxin flow); or "
+                     "split direction (tangent: random within the sheet; auxin: along the local auxin flow, as tangent "
+                     "where no flow runs yet); or "
                      "function(cell) returning {x, y, z}. An axis, a field or a function's vector has no sign: the "
                      "daughter goes either way along it, by a seeded draw"));
   f.push_back(vec("division", "axis", "{1, 0, 0}", -kFar, kFar, "direction", "split axis (axis, circumferential)"));

@@ -29,16 +29,8 @@ Vec3 split_axis(const Cells& cells, const Params& params, const Rules& rules, In
   switch (d.direction) {
     case SplitDirection::random:
       return rng.unit_vector();
-    case SplitDirection::tangent: {
-      // a random direction in the plane of the three closest neighbours: the sheet grows within itself
-      const Vec3 r = rng.unit_vector();
-      const Index* l = cells.links.data() + static_cast<std::size_t>(i) * static_cast<std::size_t>(cells.link_stride);
-      if (cells.link_stride < 3 || l[0] == kNoIndex || l[1] == kNoIndex || l[2] == kNoIndex) return r;
-      const Vec3 n = (cells.position[l[1]] - cells.position[l[0]]).cross(cells.position[l[2]] - cells.position[l[0]]);
-      const double len = n.norm();
-      if (!(len > 1e-12)) return r;
-      return normalised_or_random(r - r.dot(n / len) * (n / len), rng);
-    }
+    case SplitDirection::tangent:
+      return random_tangent(cells, i, rng);
     case SplitDirection::axis:
       return d.axis.normalized();
     case SplitDirection::radial:
@@ -66,6 +58,16 @@ Vec3 split_direction(const Cells& cells, const Params& params, const Rules& rule
 }
 
 }  // namespace
+
+Vec3 random_tangent(const Cells& cells, Index i, core::StreamRng& rng) {
+  const Vec3 r = rng.unit_vector();
+  const Index* l = cells.links.data() + static_cast<std::size_t>(i) * static_cast<std::size_t>(cells.link_stride);
+  if (cells.link_stride < 3 || l[0] == kNoIndex || l[1] == kNoIndex || l[2] == kNoIndex) return r;
+  const Vec3 n = (cells.position[l[1]] - cells.position[l[0]]).cross(cells.position[l[2]] - cells.position[l[0]]);
+  const double len = n.norm();
+  if (!(len > 1e-12)) return r;
+  return normalised_or_random(r - r.dot(n / len) * (n / len), rng);
+}
 
 std::size_t divide(Cells& cells, const Params& params, const Rules& rules, std::uint64_t seed, std::uint64_t step,
                    const core::PointGrid& grid, int threads) {

@@ -7,6 +7,7 @@
 
 #include "cells/cells.h"
 #include "cells/params.h"
+#include "core/random.h"
 #include "core/spatial_index.h"
 
 namespace cellform::cells {
@@ -22,6 +23,10 @@ struct Rules {
   /// e.g. not across an obstacle surface; empty: where division puts it.
   std::function<Vec3(const Cells&, Index mother, const Vec3& daughter)> place;
 };
+
+/// A seeded random unit direction in the plane of cell i's three closest links (division direction "tangent":
+/// the sheet grows within itself); any direction where the links span no plane.
+Vec3 random_tangent(const Cells& cells, Index i, core::StreamRng& rng);
 
 /// Recomputes the k nearest links of every cell (exact, ties by index), using `grid` as scratch.
 void update_links(Cells& cells, const Params& params, core::PointGrid& grid, int threads);

@@ -70,7 +70,8 @@ Scene::Scene(SceneDescription description, std::uint64_t seed)
     };
   }
   if (desc_.split_along_auxin) {
-    // divide along the local auxin flow; cells without flow yet split in a seeded random direction
+    // divide along the local auxin flow; cells without flow yet split in a seeded random direction within the
+    // sheet, as "tangent" (any direction left the sheet, for planarisation to pull back)
     sim_.rules().split_direction = [this](const cells::Cells& c, core::Index i) -> Vec3 {
       auto get = [&](const char* name) {
         auto it = c.attributes.find(name);
@@ -78,8 +79,8 @@ Scene::Scene(SceneDescription description, std::uint64_t seed)
       };
       const Vec3 d(get(venation::kFlowX), get(venation::kFlowY), get(venation::kFlowZ));
       if (d.squaredNorm() > 0.25) return d;
-      core::Rng rng(core::stream_key(seed_, c.id[i], c.generation[i]));
-      return rng.unit_vector();
+      core::StreamRng rng(core::stream_key(seed_, c.id[i], c.generation[i]));
+      return cells::random_tangent(c, i, rng);
     };
   }
 }

@@ -269,8 +269,9 @@ TEST_CASE("division along the auxin flow splits each cell along its flow directi
                &fz = c.attributes.at(venation::kFlowZ);
     for (std::size_t j = before; j < c.size(); ++j) {
       const Vec3 f(fx[j], fy[j], fz[j]);
-      if (f.squaredNorm() <= 0.25) {  // no flow there: a seeded random direction
+      if (f.squaredNorm() <= 0.25) {  // no flow there: a seeded random direction within the sheet (z = 0)
         ++random;
+        CHECK(c.position[j].z() == Approx(0).margin(1e-12));
         continue;
       }
       const Vec3 offset = 0.5 * d.cells.rest_length * f.normalized();
