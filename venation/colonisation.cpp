@@ -179,24 +179,6 @@ void Colonisation::Impl::urquhart_update(Index s, std::vector<Index>& out, doubl
   out = u.out;
 }
 
-void Colonisation::Impl::close_source(Index s, double D) {
-  auto& r = reached[s];
-  std::sort(r.begin(), r.end());
-  r.erase(std::unique(r.begin(), r.end()), r.end());
-  for (std::size_t i = 1; i < r.size(); ++i) {
-    const Index a = r[0], b = r[i];
-    if (parent[a] == b || parent[b] == a || (nodes.point(a) - nodes.point(b)).squaredNorm() > 9 * D * D) continue;
-    if (!loop_keys.insert(loop_key(a, b)).second) continue;  // another source closed this loop already
-    anastomoses.emplace_back(a, b);
-    ++rep.loops;
-  }
-  tags[s].clear();
-  tags[s].shrink_to_fit();
-  r.clear();
-  r.shrink_to_fit();
-  remove_source(s);
-}
-
 void Colonisation::Impl::sector_update(Index s, std::vector<Index>& out, bool closed, PointTree::Scratch& scratch) {
   if (region) {  // 3-D: no planar sectors
     influence_3d(s, out, closed, scratch);

@@ -113,6 +113,24 @@ inline void check_darts_per_step(double expected, const char* what, std::size_t 
                              ") or a smaller domain");
 }
 
+/// The nodes that reached one closed-pattern source (positions `at`, in index order) are joined where they lie
+/// within `reach` of each other (model units), once: the pairs (j, i), j < i, that join two groups not yet
+/// joined, taking i in order and for each the first j (a spanning forest of the "within reach" graph; when
+/// all lie within reach of the first node, a star from it).
+inline std::vector<std::pair<std::size_t, std::size_t>> closing_pairs(const std::vector<Vec3>& at, double reach) {
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  std::vector<std::size_t> group(at.size());
+  for (std::size_t i = 0; i < at.size(); ++i) group[i] = i;
+  for (std::size_t i = 1; i < at.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j) {
+      if (group[i] == group[j] || (at[i] - at[j]).squaredNorm() > reach * reach) continue;
+      out.emplace_back(j, i);
+      const std::size_t from = group[i], to = group[j];
+      for (std::size_t& g : group) g = g == from ? to : g;
+    }
+  return out;
+}
+
 }  // namespace detail
 
 struct Colonisation::Impl {

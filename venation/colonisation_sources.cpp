@@ -1,6 +1,7 @@
 // Space colonisation: where the auxin sources come from (Runions et al. 2005, Section 3.1): darts thrown
 // into the blade or a 3-D domain each step, or, under marginal growth, the precomputed sources the blade
-// reaches; both tested against the birth distances b_s and b_v. Members of Colonisation::Impl.
+// reaches; both tested against the birth distances b_s and b_v; and, in closed patterns, the loops a
+// source's removal closes. Members of Colonisation::Impl.
 #include <algorithm>
 #include <cmath>
 
@@ -172,6 +173,28 @@ void Colonisation::Impl::add_source(const Vec3& q) {
   grid.insert(id, q);
   active.push_back(id);
   ++rep.sources_born;
+}
+
+void Colonisation::Impl::close_source(Index s, double D) {
+  auto& r = reached[s];
+  std::sort(r.begin(), r.end());
+  r.erase(std::unique(r.begin(), r.end()), r.end());
+  // the nodes within 3 segments of each other are joined, not only those near the first (with a kill
+  // distance of 2 or more, two later veins near each other were left apart); a vein's neighbours, and a
+  // pair another source joined already, need no edge
+  std::vector<Vec3> at;
+  for (const Index v : r) at.push_back(nodes.point(v));
+  for (const auto& [j, i] : detail::closing_pairs(at, 3 * D)) {
+    const Index a = r[j], b = r[i];
+    if (parent[a] == b || parent[b] == a || !loop_keys.insert(loop_key(a, b)).second) continue;
+    anastomoses.emplace_back(a, b);
+    ++rep.loops;
+  }
+  tags[s].clear();
+  tags[s].shrink_to_fit();
+  r.clear();
+  r.shrink_to_fit();
+  remove_source(s);
 }
 
 }  // namespace cellform::venation

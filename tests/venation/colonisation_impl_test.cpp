@@ -96,3 +96,35 @@ TEST_CASE("the source grid answers exactly for any cell size, 1e-300 and 1e300 i
     }
   }
 }
+
+TEST_CASE("the nodes that reached a source are joined wherever they lie within reach, once", "[colonisation]") {
+  using Pairs = std::vector<std::pair<std::size_t, std::size_t>>;
+  const double reach = 3;
+  // all near the first: a star from it, as before
+  CHECK(v::detail::closing_pairs({{0, 0, 0}, {2, 0, 0}, {0, 2, 0}}, reach) == Pairs{{0, 1}, {0, 2}});
+  // the first far from two that lie near each other (d_k = 2: the audit's case, left apart before)
+  CHECK(v::detail::closing_pairs({{-2, 0, 0}, {1.5, 1.3, 0}, {1.5, -1.3, 0}}, reach) == Pairs{{1, 2}});
+  // a chain: joined along it, and a triangle within reach gets no third edge
+  CHECK(v::detail::closing_pairs({{0, 0, 0}, {2.5, 0, 0}, {5, 0, 0}}, reach) == Pairs{{0, 1}, {1, 2}});
+  CHECK(v::detail::closing_pairs({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {9, 9, 0}}, reach) == Pairs{{0, 1}, {0, 2}});
+  // the result is a forest: never more pairs than nodes - 1, on random sets
+  cellform::core::Rng rng(3);
+  for (int trial = 0; trial < 500; ++trial) {
+    std::vector<Vec3> at(2 + rng.next() % 6);
+    for (Vec3& p : at) p = Vec3(rng.uniform(-4, 4), rng.uniform(-4, 4), 0);
+    const Pairs pairs = v::detail::closing_pairs(at, reach);
+    CHECK(pairs.size() < at.size());
+    for (const auto& [j, i] : pairs) CHECK((at[i] - at[j]).norm() <= reach);
+    // and every pair within reach ends up joined: a component search over the pairs
+    std::vector<std::size_t> comp(at.size());
+    for (std::size_t k = 0; k < at.size(); ++k) comp[k] = k;
+    for (bool again = true; again;) {
+      again = false;
+      for (const auto& [j, i] : pairs)
+        if (comp[i] != comp[j]) comp[i] = comp[j] = std::min(comp[i], comp[j]), again = true;
+    }
+    for (std::size_t i = 0; i < at.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j)
+        if ((at[i] - at[j]).norm() <= reach) CHECK(comp[i] == comp[j]);
+  }
+}
