@@ -80,7 +80,8 @@ std::vector<Field> build() {
   f.push_back(num("cells", "max_speed", "1e6 * cells.rest_length", 0, kInf, true, "units/time",
                   "a faster cell stops the run as diverged (the default scales with the form)"));
   f.push_back(Field{"cells", "petiole", Kind::table, "{}", 0, 0, false, "", "",
-                    "force weights of petiole cells: {spring=, planar=, cohesion=, separation=}"});
+                    "force weights of petiole cells: {spring=, planar=, cohesion=, separation=}; they move only a "
+                    "petiole{fixed = false} (a fixed one, the default, stays where it is)"});
   f.push_back(Field{"cells", "vein", Kind::table, "{}", 0, 0, false, "", "",
                     "force weights of vein cells: {spring=, planar=, cohesion=, separation=}"});
 
