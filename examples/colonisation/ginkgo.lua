@@ -13,7 +13,9 @@
 -- the paper), but rho darts per unit area for each of the 3,300 steps make about one dart per unit area,
 -- nearly a b_s = 1 packing: with b_v = 1 each of the many sources the margin uncovers within d_k of a
 -- vein pulls its own node before it is removed, and short twigs fill the blade. b_v = d_k drops those
--- sources, and the vein tips fork as the fan widens, as in Figure 10.
+-- sources, and the vein tips fork as the fan widens, as in Figure 10. The notch is shallow: under marginal growth
+-- the blade below a notch is reached only when the notch's floor passes it, after the veins beside it, and a
+-- notch to 0.78 of the radius filled the middle of the fan with combs of side twigs instead of forks.
 
 local P = params {
   scale = 0.03,  -- fraction of Table 1's leaf size (1 = the paper's)
