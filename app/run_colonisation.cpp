@@ -513,6 +513,24 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
              "whose step lands back where it was: the veins stay on one side. "
           << (spec.on_cells ? "Grow such a sheet larger (cells.rest_length) or seed each side\n"
                             : "Scale such a mesh up (surface{scale = ...}) or seed each side\n");
+    if (rep.stalled && code != interrupted && planar) {  // where the sources left are, and why no vein comes
+      const venation::OutlineIndex blade(col.outline());
+      const std::vector<core::Vec3> left = col.sources();
+      const auto outside = static_cast<std::size_t>(std::count_if(left.begin(), left.end(), [&](const core::Vec3& q) {
+        return !blade.contains(venation::Vec2(q.x(), q.y()));
+      }));
+      std::string where_left;
+      if (outside > 0)
+        where_left = std::to_string(outside) + " outside the grown blade, where no vein grows (" +
+                     (spec.params.growth == venation::GrowthMode::marginal
+                          ? "the young blade covered them where the grown one leaves a gap, below a lobe or tooth)"
+                          : "the blade moved off them)");
+      if (outside < left.size())
+        where_left += (outside > 0 ? ", " : "") + std::to_string(left.size() - outside) +
+                      " inside it, where no vein can step towards them (the step would leave the blade, across a "
+                      "sinus, or run back along a vein)";
+      err << "cellform: note: " << left.size() << " auxin sources are left: " << where_left << "\n";
+    }
     if ((!o.quiet || code != ok) && code != interrupted && !rep.finished && !rep.stalled && checkpoint_error.empty()) {
       // both limits can be reached in one step; doubled, within what --steps and --set accept
       // (twice what was reached, where one step went past the limit: the resume must make room to step on)

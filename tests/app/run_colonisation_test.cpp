@@ -168,3 +168,34 @@ TEST_CASE("colonisation.node_flow widens the veins towards the base: each inner 
   CHECK(wide[root].radius == Approx(pure[root].radius * std::sqrt(wide[root].flow / pure[root].flow)).epsilon(1e-5));
   CHECK(wide[root].radius > 1.4 * pure[root].radius);
 }
+
+TEST_CASE("a stalled leaf says where its sources are left: outside the grown blade, or out of every vein's reach",
+          "[cli][colonisation]") {
+  TempDir t("cli-leaf-stall");
+  // marginal growth of a lobed blade: below a lobe the young blade covers what the grown one leaves open
+  const auto script = t.write("lobed.lua",
+                              "leaf { shape = 'lobed' }\nrun { seed = 1 }\ncolonisation { type = 'open', growth = "
+                              "'marginal', initial_length = 5, final_length = 60, length_step = 1, darts = 300, "
+                              "kill_distance = 1, birth_distance = 1 }\n");
+  const auto r = cli({"run", script.string(), "--out", (t.path / "a").string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const auto j = nlohmann::json::parse(slurp(t.path / "a" / "run.json"));
+  REQUIRE(j["status"] == "stalled");
+  const std::size_t left = j["veins"]["sources_left"];
+  // the note's two counts add up to run.json's
+  const std::string lead = "note: " + std::to_string(left) + " auxin sources are left: ";
+  REQUIRE_THAT(r.err, Contains(lead));
+  std::istringstream rest(r.err.substr(r.err.find(lead) + lead.size()));
+  std::size_t outside = 0, inside = 0;
+  std::string words;
+  rest >> outside;
+  std::getline(rest, words, ')');
+  CHECK_THAT(words, Contains("outside the grown blade") && Contains("below a lobe or tooth"));
+  rest.ignore(2);
+  rest >> inside;
+  std::getline(rest, words);
+  CHECK_THAT(words, Contains("inside it, where no vein can step towards them"));
+  CHECK(outside > 0);
+  CHECK(outside + inside == left);
+}
