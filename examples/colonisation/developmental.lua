@@ -3,9 +3,9 @@
 -- veins of successive orders emerge. Table 1: closed, d_k = 1, b_s = b_v = 3, L_i = 23, nonuniform growth
 -- to L_f = 184 (rates as in Figure 5), rho = 5000 x 10^-6, Murray n = 3.
 -- Figure 5's growth functions were drawn in a graphical editor and are not given as numbers; here the
--- vertical rate REG_y = 1 + g_y falls from the base to the tip (basipetal growth) and the horizontal rate
--- REG_x = 1 + g_x peaks below the middle, scaled so that the leaf grows from L_i to exactly L_f in
--- `steps` steps and its width to `roundness` times its length (Appendix A: x_t = x_0 REG_x(y0)^t,
+-- vertical rate REG_y = 1 + g_y falls from the base to the tip (basipetal growth), scaled so that the leaf
+-- grows from L_i to exactly L_f in `steps` steps, and the horizontal rate REG_x = 1 + g_x, a lookup table,
+-- takes the narrow ellipse to one `roundness` times as wide as long (Appendix A: x_t = x_0 REG_x(y0)^t,
 -- y_t = integral_0^y0 REG_y(y)^t dy, Eq. 4). This is the paper's full size (under 1 s).
 -- `scale` multiplies L_i and L_f (the shape of growth stays).
 
@@ -17,18 +17,14 @@ local P = params {
 
 local initial_length, final_length, initial_width = 23 * P.scale, 184 * P.scale, 0.3
 
--- shapes of g_y and g_x over the initial height y0 (0 = petiole, 1 = tip)
+-- shape of g_y over the initial height y0 (0 = petiole, 1 = tip): growth falls from the base to the tip
 local function gy_shape(y) return 1.3 - 0.8 * math.min(math.max(y, 0), 1) end
-local function gx_shape(y)
-  local u = math.min(math.max(y, 0), 1)
-  return 0.4 + math.sin(math.pi * u ^ 0.8)
-end
 
--- Eq. 4 at t = steps for the blade from 0 to 1 (midpoint rule): the length growth factor
-local function length_factor(a)
+-- Eq. 4 at t = steps (midpoint rule): y_t / initial_length of initial height y0 for the amplitude a
+local function final_height(a, y0)
   local sum, n = 0, 400
-  for i = 1, n do sum = sum + (1 + a * gy_shape((i - 0.5) / n)) ^ P.steps end
-  return sum / n
+  for i = 1, n do sum = sum + (1 + a * gy_shape((i - 0.5) / n * y0)) ^ P.steps end
+  return sum / n * y0
 end
 local function solve(f, target)  -- bisection for the amplitude a > 0 with f(a) = target
   local lo, hi = 0, 1
@@ -39,11 +35,19 @@ local function solve(f, target)  -- bisection for the amplitude a > 0 with f(a) 
   end
   return 0.5 * (lo + hi)
 end
-local ay = solve(length_factor, final_length / initial_length)
--- the widest point (where gx_shape peaks) widens by roundness * final length / initial width
-local peak = 0
-for i = 0, 100 do peak = math.max(peak, gx_shape(i / 100)) end
-local ax = ((P.roundness * final_length / (initial_width * initial_length)) ^ (1 / P.steps) - 1) / peak
+local ay = solve(function(a) return final_height(a, 1) end, final_length / initial_length)
+
+-- REG_x as a lookup table (Appendix A): each height widens by what takes the initial ellipse to the final
+-- one, roundness times as wide as long (x_t = x_0 REG_x(y0)^t; an ellipse's half-width at height y of a
+-- blade of length l and width w is w / 2 * sqrt(1 - (2 y / l - 1)^2), so the ratio needs no special ends)
+local growth_x = {}
+for i = 0, 40 do
+  local y0 = math.min(math.max(i / 40, 0.001), 0.999)
+  local u0, u = 2 * y0 - 1, 2 * final_height(ay, y0) * initial_length / final_length - 1
+  local widen = (P.roundness * final_length) / (initial_width * initial_length) *
+                math.sqrt(math.max(1 - u * u, 0) / (1 - u0 * u0))
+  growth_x[#growth_x + 1] = {i / 40, widen ^ (1 / P.steps)}
+end
 
 run { seed = 20 }
 
@@ -55,7 +59,7 @@ colonisation {
   birth_distance = 3,  -- b_s = b_v
   growth = "nonuniform",
   initial_length = initial_length,  -- L_i
-  growth_x = function(y0) return 1 + ax * gx_shape(y0) end,  -- REG_x, Figure 5c
+  growth_x = growth_x,  -- REG_x, Figure 5c: a table {{y0, rate}, ...}, linear between
   growth_y = function(y0) return 1 + ay * gy_shape(y0) end,  -- REG_y, Figure 5d
   growth_steps = P.steps,
   darts = 5000,        -- rho x 10^6

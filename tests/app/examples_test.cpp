@@ -250,6 +250,41 @@ TEST_CASE("every Table 1 preset runs small and keeps the paper's parameters", "[
       if (std::string(p.file) == "developmental") {
         // the growth functions are calibrated so that the leaf grows from L_i to L_f = 184 (Table 1)
         CHECK(run["veins"]["leaf_length"].get<double>() == Approx(184 * std::stod(p.test_scale)).epsilon(0.02));
+        // and from a narrow to an almost circular blade (Figure 5b): the outline drawn in veins.svg is an
+        // ellipse 0.9 times as wide as long (audit: a diamond with concave sides, 0.26 wide at a tenth of its
+        // length, before the horizontal rates were a lookup table made for it)
+        const std::string svg = slurp(out / "veins.svg");
+        const auto layer = svg.find("inkscape:label=\"100 outline\"");
+        REQUIRE(layer != std::string::npos);
+        const auto d = svg.find(" d=\"", layer) + 4;
+        std::istringstream path(svg.substr(d, svg.find('"', d) - d));
+        std::vector<std::array<double, 2>> pts;
+        for (std::string op; path >> op && op != "Z";) {  // "Mx y Lx y ... Z"
+          std::array<double, 2> q{};
+          path >> q[1];
+          q[0] = std::stod(op.substr(1));
+          pts.push_back(q);
+        }
+        REQUIRE(pts.size() > 40);
+        double lo = 1e300, hi = -1e300, left = 1e300, right = -1e300;
+        for (const auto& q : pts) lo = std::min(lo, q[1]), hi = std::max(hi, q[1]), left = std::min(left, q[0]),
+                                  right = std::max(right, q[0]);
+        const double length = hi - lo;
+        CHECK((right - left) / length == Approx(0.9).epsilon(0.02));
+        for (const double f : {0.1, 0.3, 0.5, 0.7, 0.9}) {  // the width across at each height
+          const double y = lo + f * length;
+          double a0 = 1e300, a1 = -1e300;
+          for (std::size_t k = 0; k < pts.size(); ++k) {
+            const auto& u = pts[k];
+            const auto& v = pts[(k + 1) % pts.size()];
+            if ((u[1] - y) * (v[1] - y) < 0) {
+              const double x = u[0] + (y - u[1]) * (v[0] - u[0]) / (v[1] - u[1]);
+              a0 = std::min(a0, x), a1 = std::max(a1, x);
+            }
+          }
+          INFO("width at " << f << " of the length");
+          CHECK((a1 - a0) / length == Approx(0.9 * std::sqrt(1 - (2 * f - 1) * (2 * f - 1))).epsilon(0.04));
+        }
       }
     }
   }
