@@ -116,7 +116,8 @@ std::vector<Field> build() {
                      "split direction (tangent: random within the sheet; auxin: along the local auxin flow, as tangent "
                      "where no flow runs yet); or "
                      "function(cell) returning {x, y, z}. An axis, a field or a function's vector has no sign: the "
-                     "daughter goes either way along it, by a seeded draw"));
+                     "daughter goes either way along it, by a seeded draw. The mother stays; the daughter starts half a rest "
+                     "length from it in that direction, with its velocity"));
   f.push_back(vec("division", "axis", "{1, 0, 0}", -kFar, kFar, "direction", "split axis (axis, circumferential)"));
   f.push_back(
       vec("division", "centre", "{0, 0, 0}", -kFar, kFar, "model units", "field centre (radial, circumferential)"));
