@@ -288,7 +288,8 @@ bool Colonisation::Impl::reach(std::size_t a, bool closed, double dk2) {
           reached[s].push_back(child[t]);
         else
           T[w++] = child[t];
-      }  // else: the vein left the zone of influence of s
+      }  // else: the vein left the zone of influence of s, or s still pulls t but t could not grow this step
+         // (a step that would retrace a segment or leave the blade): the tag goes too, or s could wait for ever
     }
     T.resize(w);
   } else if (near_d2[s] < dk2) {
