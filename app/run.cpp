@@ -186,11 +186,12 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     // the one default changed since checkpoints record their values: say so where it applies
     const json division = cfg.resolved.value("division", json::object());
     if (s.resume && !s.physics.is_object() && division.value("trigger", "") == "neighbours" &&
-        division.value("radius", 0.0) == 1.25 && !division.value("rule", json()).is_string() &&
-        !s.sets.count("division.radius"))
+        division.value("radius", 0.0) == cells::kDivisionRadius * cfg.scene.cells.rest_length &&
+        !division.value("rule", json()).is_string() && !s.sets.count("division.radius"))
       err << "cellform: note: checkpoint '" << o.checkpoint.string()
           << "' does not record its run's parameter values (an older cellform): if the script leaves "
-             "division.radius to its default, the run continues with 1.25 (the default was 1.5)\n";
+             "division.radius to its default, the run continues with "
+          << core::number_text(cfg.scene.cells.division.radius) << " (the default was 1.5 model units)\n";
     s.physics = physics_of(cfg.resolved);
     apply_checkpoint_every(s.checkpoint_every, &cfg.output, cfg.resolved);
     scene = std::make_unique<forms::Scene>(cfg.scene, seed);

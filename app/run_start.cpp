@@ -529,12 +529,13 @@ std::string unplaced_changes(const Start& s, const SceneConfig& before, const Sc
 
 /// What a resume changes of a colonisation run's own values, in words ("colonisation.darts = 2 (was 1)"):
 /// the --set overrides that differ from the run's, and with --script the edited script's colonisation
-/// values that differ from the run's script's. Leaves out threads and the limits (max_steps, max_nodes, max_sources),
-/// which may change.
+/// values that differ from the run's script's. Leaves out threads, the limits (max_steps, max_nodes, max_sources)
+/// and the widths (murray_exponent, tip_radius, node_flow: computed from the veins at the end), which may change.
 std::string changed_colonisation_values(const Start& s, const SceneConfig& cfg) {
   std::vector<std::string> changed;
   auto may_change = [](const std::string& key) {
-    return key == "threads" || key == "max_steps" || key == "max_nodes" || key == "max_sources";
+    return key == "threads" || key == "max_steps" || key == "max_nodes" || key == "max_sources" ||
+           key == "murray_exponent" || key == "tip_radius" || key == "node_flow";
   };
   for (const auto& [k, v] : s.sets) {
     const auto was = s.checkpoint_sets.find(k);

@@ -267,9 +267,11 @@ std::vector<Field> build() {
       num("colonisation", "murray_exponent", "2", 1, 4, false, "", "n of r_parent^n = sum r_child^n (Table 1: 2)"));
   f.push_back(num("colonisation", "tip_radius", "0.15", 0, 1000, true, "vein segments", "radius of a free vein end"));
   f.push_back(num("colonisation", "node_flow", "0", 0, 1e6, false, "tip flows per node",
-                  "extra flow each vein node adds to what reaches it, so veins widen towards the base beyond Murray's "
-                  "law, the more the longer they run: the paper's widening of primary and secondary veins for the "
-                  "veinlets not modelled (Section 3.5); 0 = Murray's law alone, r_parent^n = sum r_child^n"));
+                  "extra flow each vein node but a free end adds to what reaches it (a free end carries 1), so veins "
+                  "widen towards the base beyond Murray's law, the more the longer they run: the paper's widening of "
+                  "primary and secondary veins for the veinlets not modelled (Section 3.5); a long branch may then "
+                  "outweigh a shorter one with more tips and keep the order; 0 = Murray's law alone, r_parent^n = "
+                  "sum r_child^n"));
   f.push_back(Field{"colonisation", "growth_x", Kind::table_or_function, "(none)", 0, 0, false, "", "REG per step",
                     "nonuniform: horizontal growth rate REG_x = 1 + g_x (Fig. 5c) of the initial height y0 (leaf "
                     "lengths, 0 = petiole, 1 = tip): {{y0, rate}, ...} with y0 increasing, linear between, or "

@@ -467,9 +467,13 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
                        "surface{cells = true} needs seeds = {{x, y, z}, ...} or a petiole{...} cell where the veins "
                        "start");
   if (I.division_radius_derived) {  // as the shapes' spacings, the default follows the cells' size
-    cfg.scene.cells.division.radius = 1.25 * cfg.scene.cells.rest_length;
-    if (I.sections_seen.count("division") && I.divides_ref == LUA_NOREF)  // run.json: the value used
-      cfg.resolved["division"]["radius"] = cfg.scene.cells.division.radius;
+    cells::DivisionParams& d = cfg.scene.cells.division;
+    d.radius = cells::kDivisionRadius * cfg.scene.cells.rest_length;
+    nlohmann::json& rec = cfg.resolved["division"];  // run.json: the value used, where it applies
+    if (d.trigger == cells::DivisionTrigger::neighbours && I.divides_ref == LUA_NOREF)
+      rec["radius"] = d.radius;
+    else
+      rec.erase("radius");
   }
   cfg.scene.cells.vein_trees = cfg.scene.venation.has_value();  // no canalisation, no straightening to bound
   if (!cfg.colonisation || on_cells) {

@@ -46,7 +46,7 @@ void section_cells(Impl& I, const std::string& at) {
   p.vein_cohesion_factor = v["vein_cohesion"].num;
   p.vein_separation_factor = v["vein_separation"].num;
   // a million rest lengths per time unit by default: a form modelled in millimetres or in metres alike (not
-  // recorded then, as the other defaults that follow a cells.* value: an edited rest length re-derives it)
+  // recorded then: an edited rest length re-derives it)
   p.max_speed = v["max_speed"].present ? v["max_speed"].num : 1e6 * p.rest_length;
   p.weights[static_cast<int>(cells::CellType::general)] = general;
   const std::pair<const char*, cells::CellType> types[] = {{"petiole", cells::CellType::petiole},

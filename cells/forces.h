@@ -33,7 +33,8 @@ Vec3 cohesion_kernel(std::span<const Vec3> positions, Index self, std::span<cons
 
 /// `near` of the cohesion kernel in the cell step, in rest lengths. Not a guard for rare cases: grown sheets
 /// pack closer than their rest length (examples/leaf.lua: 89% of links are shorter, the median 0.8), so for
-/// most links the pull is linear in the distance (at 0.8 rest lengths, 0.8 / d instead of Eq. 4's 1.25 / d).
+/// most links the pull is linear in the distance (at 0.8 rest lengths a pull of 0.8 / d, where Eq. 4 gives
+/// 1 / (0.8 d) = 1.25 / d; d the rest length).
 inline constexpr double kCohesionNear = 1.0;
 
 /// Eq. 5, separation, unweighted: (1/m) sum_r (C - P_r) / |C - P_r|^2 over `others`. Coincident ones are

@@ -42,10 +42,13 @@ enum class SplitDirection {
   rule,             ///< non-uniform anisotropic: a rule function supplies the direction
 };
 
+/// Default radius of the neighbours trigger, in rest lengths (scripts scale it by cells.rest_length).
+inline constexpr double kDivisionRadius = 1.25;
+
 struct DivisionParams {
   DivisionTrigger trigger = DivisionTrigger::age;
   std::uint32_t division_age = 20;  ///< steps between divisions of a cell (trigger = age)
-  double radius = 1.25;             ///< model units; neighbourhood counted for trigger = neighbours
+  double radius = kDivisionRadius;  ///< model units; neighbourhood counted for trigger = neighbours
   int min_neighbours = 6;           ///< divide when fewer cells than this lie within radius
   std::uint32_t min_age = 5;        ///< steps a cell waits after its birth or division before dividing again
   double probability = 1.0;         ///< chance (0..1] that a triggered cell divides this step (seeded)

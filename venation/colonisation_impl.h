@@ -114,9 +114,9 @@ inline void check_darts_per_step(double expected, const char* what, std::size_t 
 }
 
 /// The nodes that reached one closed-pattern source (positions `at`, in index order) are joined where they lie
-/// within `reach` of each other (model units), once: the pairs (j, i), j < i, that join two groups not yet
-/// joined, taking i in order and for each the first j (a spanning forest of the "within reach" graph; when
-/// all lie within reach of the first node, a star from it).
+/// within `reach` of each other (model units), once: the pairs (j, i), j < i within reach, i then j ascending,
+/// that join two groups not yet joined (a spanning forest of the "within reach" graph; when all lie within
+/// reach of the first node, a star from it).
 inline std::vector<std::pair<std::size_t, std::size_t>> closing_pairs(const std::vector<Vec3>& at, double reach) {
   std::vector<std::pair<std::size_t, std::size_t>> out;
   std::vector<std::size_t> group(at.size());

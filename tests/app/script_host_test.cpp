@@ -56,6 +56,9 @@ TEST_CASE("a script sets parameters, shapes and defaults", "[script]") {
   CHECK(load("cells { rest_length = 2 }\ndivision { trigger = 'neighbours', radius = 1.5 }\n")
             .scene.cells.division.radius == 1.5);
   CHECK(load("division { trigger = 'neighbours' }\n").scene.cells.division.radius == 1.25);
+  // where it does not apply (trigger = 'age', a rule), run.json leaves it out
+  CHECK(!load("cells { rest_length = 2 }\ndivision { trigger = 'age' }\n").resolved["division"].contains("radius"));
+  CHECK(!load("division { rule = function(c) return false end }\n").resolved["division"].contains("radius"));
 }
 
 TEST_CASE("script errors name the file and line", "[script]") {

@@ -1,6 +1,8 @@
 // Whole steps: growth, determinism across thread counts, hooks and reports.
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstring>
 
 #include "cells/simulation.h"
@@ -268,7 +270,7 @@ double mean_turn(const Cells& c, const std::vector<Index>& chain) {
   return sum / static_cast<double>(chain.size() - 2);
 }
 
-/// A vein zig-zagging between two rows of a hex sheet packed at `spacing` (every joint turns 60 degrees),
+/// A vein zig-zagging between two rows of a hex sheet packed at `spacing` (every joint turns 120 degrees),
 /// rooted at a fixed petiole, after `steps` cell steps with the given straightening factors.
 double zigzag_turn(double spacing, double vein_cohesion, double vein_separation, int steps, double* initial = nullptr, bool straight = false) {
   Params p;  // the script defaults of the general and vein cells

@@ -33,7 +33,7 @@ v::Outline ellipse(double length, double width) {
 v::Outline c_shape() { return {{{-3, 0}, {3, 0}, {3, 4}, {-3, 4}, {-3, 3}, {2, 3}, {2, 1}, {-3, 1}}}; }
 
 /// A fan of radius 10 between 30 and 150 degrees with its tip at the petiole (a vertex) and a V notch
-/// down to radius 6 at the top centre, like examples/colonisation/ginkgo_fan.txt.
+/// down to radius 6 at the top centre (a deeper notch than examples/colonisation/ginkgo_fan.txt's).
 v::Outline notched_fan() {
   v::Outline o;
   o.points.push_back({0, 0});
