@@ -23,8 +23,9 @@ std::string duration(double s) {
 }
 }  // namespace
 
-Progress::Progress(std::ostream& out, bool terminal, bool quiet, std::uint64_t first_step, std::uint64_t last_step)
-    : out_(out), terminal_(terminal), quiet_(quiet), first_(first_step), last_(last_step) {
+Progress::Progress(std::ostream& out, bool terminal, bool quiet, std::uint64_t first_step, std::uint64_t last_step,
+                   std::string then)
+    : out_(out), terminal_(terminal), quiet_(quiet), first_(first_step), last_(last_step), then_(std::move(then)) {
   start_ = last_print_ = std::chrono::steady_clock::now();
 }
 
@@ -45,21 +46,22 @@ void Progress::update(std::uint64_t step, std::size_t cells) {
                           : NAN;
   // of the whole run, as "step N/last" beside it reads (a resume starts part of the way)
   const double frac = last_ > 0 ? static_cast<double>(step) / static_cast<double>(last_) : 1.0;
-  char buf[160];
+  const std::string then = then_.empty() ? std::string() : ", then " + then_;
+  char buf[200];
   if (terminal_) {
     const int width = 30;
     const int fill = static_cast<int>(frac * width);
     std::string bar(static_cast<std::size_t>(fill), '#');
     bar.resize(width, '.');
-    std::snprintf(buf, sizeof buf, "\r[%s] step %llu/%llu  %zu cells  %.1f steps/s  %s left   ", bar.c_str(),
+    std::snprintf(buf, sizeof buf, "\r[%s] step %llu/%llu  %zu cells  %.1f steps/s  %s left%s   ", bar.c_str(),
                   static_cast<unsigned long long>(step), static_cast<unsigned long long>(last_), cells, rate,
-                  duration(left).c_str());
+                  duration(left).c_str(), then.c_str());
     out_ << buf << std::flush;
     open_ = true;
   } else {
-    std::snprintf(buf, sizeof buf, "step %llu/%llu (%.0f%%), %zu cells, %.1f steps/s, %s left\n",
+    std::snprintf(buf, sizeof buf, "step %llu/%llu (%.0f%%), %zu cells, %.1f steps/s, %s left%s\n",
                   static_cast<unsigned long long>(step), static_cast<unsigned long long>(last_), 100 * frac, cells,
-                  rate, duration(left).c_str());
+                  rate, duration(left).c_str(), then.c_str());
     out_ << buf << std::flush;
   }
 }

@@ -272,7 +272,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       err << "cellform: note: " << p.origin << "the petiole due at step " << p.step
           << " comes after the run's last step (" << target
           << "), so this run does not place it; run{steps = N}, --steps N or a resume with --steps N reaches it\n";
-  Progress progress(err, ::isatty(2) != 0, o.quiet, first, target);
+  Progress progress(err, ::isatty(2) != 0, o.quiet, first, target, cfg.print ? "the print" : "");
   bar = &progress;
   CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
   std::vector<std::string> outputs;

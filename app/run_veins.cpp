@@ -106,6 +106,7 @@ std::vector<std::string> write_outputs(const std::filesystem::path& dir, const O
       names.push_back("veins.obj");
     }
   }
+  if (!spec.ply && !spec.obj) return names;  // (the surface of a dense form takes seconds to find)
   const cells::Surface surface = cells::triangulate(c);
   if (spec.ply) {
     exporters::write_cells_ply(dir / "cells.ply", c, surface);

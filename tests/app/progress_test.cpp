@@ -18,6 +18,11 @@ TEST_CASE("progress is of the whole run, also when a resume starts part of the w
   std::this_thread::sleep_for(std::chrono::milliseconds(150));
   on_terminal.update(3052, 10);  // 76% of the run (it once drew 49%, the part since the resume)
   CHECK_THAT(bar.str(), Contains("[" + std::string(22, '#') + std::string(8, '.') + "] step 3052/4000"));
+  // what follows the steps is said (the coral's print took twice its steps, after "0s left", audit)
+  std::ostringstream then;
+  cellform::app::Progress printing(then, false, false, 0, 10, "the print");
+  printing.update(10, 5);
+  CHECK_THAT(then.str(), Contains(" left, then the print\n"));
   std::ostringstream quiet;
   cellform::app::Progress silent(quiet, true, true, 0, 10);
   silent.update(10, 1);
