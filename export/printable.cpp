@@ -357,8 +357,15 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
       voxel = chosen;
       estimate = estimate_at(voxel);
     } else {
+      // the per-primitive part alone over the limit: no voxel, however coarse, fits (it said "a voxel coarse
+      // enough would be 2.59e+08 mm", audit)
+      const double primitives = static_cast<double>(caps.size() + slabs.size()) * 200;
       const std::string advice =
-          needed <= params.min_radius
+          primitives >= params.max_memory_bytes
+              ? "its " + std::to_string(caps.size() + slabs.size()) +
+                    " vein segments and sheet triangles alone need about " + bytes_text(primitives) +
+                    ", so no voxel size fits: raise the memory limit"
+          : needed <= params.min_radius
               ? "use a voxel size of at least " + fmt("%.3g", needed) + " mm (at most min_radius, " +
                     fmt("%.3g", params.min_radius) + " mm), a smaller scale, or raise the memory limit"
               : "use a smaller scale or size, or raise the memory limit (a voxel coarse enough would be " +

@@ -332,6 +332,13 @@ TEST_CASE("the memory estimate refuses and suggests a voxel size that fits", "[p
     }
     return std::string();
   };
+  // a limit below what the segments alone take: no voxel helps, and none is named
+  p.max_memory_bytes = 100;
+  const std::string none = refusal();
+  INFO(none);
+  CHECK_THAT(none, Catch::Contains("1 vein segments and sheet triangles alone need about") &&
+                       Catch::Contains("no voxel size fits: raise the memory limit") && !Catch::Contains("would be"));
+  p.max_memory_bytes = 1e6;
   // with min_radius 0.05 mm no voxel that fits keeps the thinnest veins: no such voxel size is advised
   const std::string thin = refusal();
   INFO(thin);
