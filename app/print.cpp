@@ -150,6 +150,39 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
       for (core::Vec3& p : t) p -= centre;
   }
   const bool moved = centre != core::Vec3::Zero();
+  // said before the stages, which may take minutes (they came after the voxels, 20 to 30 s into a large print)
+  tp.planned = [&](const exporters::ThickenReport& plan) {
+    // nearly every vein raised to the printable minimum, which is more than a segment long at this scale: dense
+    // veins (a colonisation preset printed small) fuse into a plate, which a note says before the slicer does
+    if (!segments.empty() && plan.raised_radii * 10 >= segments.size() * 2 * 9 && plan.scale > 0) {
+      std::vector<double> lengths;
+      lengths.reserve(segments.size());
+      for (const exporters::Segment& g : segments) lengths.push_back((g.b - g.a).norm());
+      const auto mid = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
+      std::nth_element(lengths.begin(), mid, lengths.end());
+      const double segments_per_radius = *mid > 0 ? spec.min_radius / plan.scale / *mid : 0.0;
+      if (segments_per_radius > 1)
+        err << "cellform: note: print: "
+            << core::number_text(
+                   std::round(100.0 * static_cast<double>(plan.raised_radii) / static_cast<double>(2 * segments.size())))
+            << "% of the vein radii are raised to print.min_radius (" << core::number_text(spec.min_radius)
+            << " mm), which is " << core::number_text(std::round(segments_per_radius * 10) / 10)
+            << " vein segments at this scale: veins closer than twice that fuse, and closely spaced veins print as a "
+               "plate (give a larger "
+            << (spec.scale > 0 ? "print.scale" : "print.size")
+            << ", or a smaller print.min_radius if the printer allows)\n";
+    }
+    if (spec.flat_base > 0 && spec.flat_base > 0.5 * plan.height)  // (a cut above the whole form is refused)
+      err << "cellform: note: print: print.flat_base (" << core::number_text(spec.flat_base)
+          << " mm) cuts away the lower " << core::number_text(std::round(100 * spec.flat_base / plan.height))
+          << "% of the form's " << core::number_text(std::round(plan.height * 10) / 10)
+          << " mm height, and what is left may be thinner than print.min_radius promises (a flat form prints "
+             "lying flat: flat_base = 0, or a cut of a millimetre or so)\n";
+    if (plan.voxel_raised_from > 0)  // said even when quiet: the print is coarser than the default promises
+      err << "cellform: note: print: the automatic voxel size " << plan.voxel_raised_from << " mm (print.min_radius / 2) "
+          << "would need more memory than print.max_memory (" << spec.max_memory_mb << " MB); using " << plan.voxel_size
+          << " mm (set print.voxel_size, or raise print.max_memory, for a finer surface)\n";
+  };
   try {
     level_set = exporters::voxelise(moved ? moved_segments : segments, moved ? moved_shell : shell, tp, &rep);
   } catch (const core::InvalidInput& e) {  // the library's names for what the script calls print.*
@@ -170,36 +203,6 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
         m.replace(at, from.size(), to);
     throw core::InvalidInput(m);
   }
-  // nearly every vein raised to the printable minimum, which is more than a segment long at this scale: dense
-  // veins (a colonisation preset printed small) fuse into a plate, which a note says before the slicer does
-  if (!segments.empty() && rep.raised_radii * 10 >= segments.size() * 2 * 9 && rep.scale > 0) {
-    std::vector<double> lengths;
-    lengths.reserve(segments.size());
-    for (const exporters::Segment& g : segments) lengths.push_back((g.b - g.a).norm());
-    const auto mid = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
-    std::nth_element(lengths.begin(), mid, lengths.end());
-    const double segments_per_radius = *mid > 0 ? spec.min_radius / rep.scale / *mid : 0.0;
-    if (segments_per_radius > 1)
-      err << "cellform: note: print: "
-          << core::number_text(
-                 std::round(100.0 * static_cast<double>(rep.raised_radii) / static_cast<double>(2 * segments.size())))
-          << "% of the vein radii are raised to print.min_radius (" << core::number_text(spec.min_radius)
-          << " mm), which is " << core::number_text(std::round(segments_per_radius * 10) / 10)
-          << " vein segments at this scale: veins closer than twice that fuse, and closely spaced veins print as a "
-             "plate (give a larger "
-          << (spec.scale > 0 ? "print.scale" : "print.size")
-          << ", or a smaller print.min_radius if the printer allows)\n";
-  }
-  if (spec.flat_base > 0 && spec.flat_base > 0.5 * rep.height)  // (a cut above the whole form is refused)
-    err << "cellform: note: print: print.flat_base (" << core::number_text(spec.flat_base)
-        << " mm) cuts away the lower " << core::number_text(std::round(100 * spec.flat_base / rep.height))
-        << "% of the form's " << core::number_text(std::round(rep.height * 10) / 10)
-        << " mm height, and what is left may be thinner than print.min_radius promises (a flat form prints "
-           "lying flat: flat_base = 0, or a cut of a millimetre or so)\n";
-  if (rep.voxel_raised_from > 0)  // said even when quiet: the print is coarser than the default promises
-    err << "cellform: note: print: the automatic voxel size " << rep.voxel_raised_from << " mm (print.min_radius / 2) "
-        << "would need more memory than print.max_memory (" << spec.max_memory_mb << " MB); using " << rep.voxel_size
-        << " mm (set print.voxel_size, or raise print.max_memory, for a finer surface)\n";
   tp.progress = stage_progress("meshing");
   const exporters::PrintableMesh mesh = exporters::mesh_level_set(level_set, tp, &rep);
   if (mesh.triangles.empty()) {  // a file of no facets is no print: said, not written

@@ -527,8 +527,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                           : "the blade moved off them)");
       if (outside < left.size())
         where_left += (outside > 0 ? ", " : "") + std::to_string(left.size() - outside) +
-                      " inside it, where no vein can step towards them (the step would leave the blade, across a "
-                      "sinus, or run back along a vein)";
+                      (outside > 0 ? " inside it" : " inside the blade") +
+                      ", where no vein can step towards them (the step would leave the blade, across a sinus, or run "
+                      "back along a vein)";
       err << "cellform: note: " << left.size() << " auxin sources are left: " << where_left << "\n";
     }
     if ((!o.quiet || code != ok) && code != interrupted && !rep.finished && !rep.stalled && checkpoint_error.empty()) {

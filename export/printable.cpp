@@ -378,17 +378,18 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
                                bytes_text(params.max_memory_bytes) + "; " + advice);
     }
   }
-  if (report) {
-    report->scale = scale;
-    report->voxel_size = voxel;
-    report->voxel_raised_from = voxel_raised_from;
-    report->segments = caps.size();
-    report->shell_triangles = slabs.size();
-    report->raised_radii = raised;
-    report->base_z = base_z;
-    report->height = top - bottom;
-    report->estimated_bytes = estimate;
-  }
+  ThickenReport plan_only;
+  ThickenReport& plan = report ? *report : plan_only;
+  plan.scale = scale;
+  plan.voxel_size = voxel;
+  plan.voxel_raised_from = voxel_raised_from;
+  plan.segments = caps.size();
+  plan.shell_triangles = slabs.size();
+  plan.raised_radii = raised;
+  plan.base_z = base_z;
+  plan.height = top - bottom;
+  plan.estimated_bytes = estimate;
+  if (params.planned) params.planned(plan);
   const double band = kHalfWidth * voxel;  // mm, also the grid's background value
 
   // One narrow-band grid of the union of capsules `cs` and slabs `ss`, cut below z = cut_z when `cut`;

@@ -26,6 +26,8 @@ struct Segment {
   double ra = 0, rb = 0;  ///< radii at a and b, model units (raised to ThickenParams::min_radius after scaling)
 };
 
+struct ThickenReport;
+
 /// Settings of thicken(). Lengths are in millimetres of the printed part unless stated otherwise.
 struct ThickenParams {
   double scale = 0;  ///< mm per model unit; 0 = auto: the printed form's largest extent (radii raised to min_radius,
@@ -58,6 +60,10 @@ struct ThickenParams {
   /// Called on the calling thread, before it starts, with a word on a stage that will take long: a shell's closing
   /// of many voxels' radius (minutes where the default takes seconds). Empty = not said. Does not change the output.
   std::function<void(const std::string&)> note;
+  /// Called on the calling thread with the plan (the report's scale, voxel size and voxel_raised_from,
+  /// segments, shell triangles, raised radii, base and height, estimate) once it is made, before any voxel:
+  /// notes on it come before the stages, which may take minutes. Empty = none. Does not change the output.
+  std::function<void(const ThickenReport&)> planned;
 };
 
 /// What thicken() did.

@@ -486,3 +486,31 @@ TEST_CASE("the progress callback sees each stage advance to 1 and can cancel it"
     CHECK_THROWS_AS(exporters::mesh_level_set(ls, p), core::Cancelled);
   }
 }
+
+TEST_CASE("the plan is told before any voxel is made, as the report gives it", "[printable]") {
+  ThickenParams p = exact(0.05);
+  std::vector<std::string> events;
+  exporters::ThickenReport planned;
+  p.planned = [&](const exporters::ThickenReport& r) {
+    events.push_back("planned");
+    planned = r;
+  };
+  p.progress = [&](double) {
+    events.push_back("progress");
+    return true;
+  };
+  exporters::ThickenReport rep;
+  exporters::thicken({{{0, 0, 0}, {10, 0, 0}, 1, 1}}, {}, p, &rep);
+  REQUIRE(events.size() > 1);
+  CHECK(events.front() == "planned");
+  CHECK(std::count(events.begin(), events.end(), "planned") == 1);
+  CHECK(planned.voxel_size == rep.voxel_size);
+  CHECK(planned.segments == 1);
+  CHECK(planned.height == rep.height);
+  CHECK(planned.estimated_bytes == rep.estimated_bytes);
+  // told without a report asked for, too
+  int told = 0;
+  p.planned = [&](const exporters::ThickenReport& r) { told += r.voxel_size == rep.voxel_size; };
+  exporters::thicken({{{0, 0, 0}, {10, 0, 0}, 1, 1}}, {}, p);
+  CHECK(told == 1);
+}
