@@ -163,8 +163,8 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
       const double segments_per_radius = *mid > 0 ? spec.min_radius / plan.scale / *mid : 0.0;
       if (segments_per_radius > 1)
         err << "cellform: note: print: "
-            << core::number_text(
-                   std::round(100.0 * static_cast<double>(plan.raised_radii) / static_cast<double>(2 * segments.size())))
+            << core::number_text(std::round(100.0 * static_cast<double>(plan.raised_radii) /
+                                            static_cast<double>(2 * segments.size())))
             << "% of the vein radii are raised to print.min_radius (" << core::number_text(spec.min_radius)
             << " mm), which is " << core::number_text(std::round(segments_per_radius * 10) / 10)
             << " vein segments at this scale: veins closer than twice that fuse, and closely spaced veins print as a "
@@ -179,7 +179,8 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
           << " mm height, and what is left may be thinner than print.min_radius promises (a flat form prints "
              "lying flat: flat_base = 0, or a cut of a millimetre or so)\n";
     if (plan.voxel_raised_from > 0)  // said even when quiet: the print is coarser than the default promises
-      err << "cellform: note: print: the automatic voxel size " << plan.voxel_raised_from << " mm (print.min_radius / 2) "
+      err << "cellform: note: print: the automatic voxel size " << plan.voxel_raised_from
+          << " mm (print.min_radius / 2) "
           << "would need more memory than print.max_memory (" << spec.max_memory_mb << " MB); using " << plan.voxel_size
           << " mm (set print.voxel_size, or raise print.max_memory, for a finer surface)\n";
   };

@@ -206,7 +206,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         sheet = std::move(grown.cells);
       }
     }
-    const bool fresh = !s.resume || s.sheet_partial;  // the veins start at step 0
+    const bool fresh = !s.resume || s.sheet_partial;                     // the veins start at step 0
     if (!fresh && !o.quiet && s.colonisation_bytes.size() > 20'000'000)  // its indexes take seconds to rebuild
       err << "loading the veins of checkpoint '" << o.checkpoint.string() << "' ("
           << s.colonisation_bytes.size() / 1'000'000 << " MB)...\n";

@@ -69,9 +69,10 @@ std::vector<Field> build() {
                   "constant acceleration, e.g. gravity {0,0,-g} or reverse gravity (Eq. 6)"));
   f.push_back(vec("cells", "drag", "{0.9, 0.9, 0.9}", 0, 1, "factor per step",
                   "velocity factors a, b, c per axis (Eq. 7); 1 = no drag"));
-  f.push_back(num("cells", "vein_cohesion", "4", 0, kInf, false, "factor",
-                  "factor on the vein cells' cohesion towards their vein parent and children (straightening: it pulls a "
-                  "bent vein cell towards them, and shortens the vein's segments)"));
+  f.push_back(
+      num("cells", "vein_cohesion", "4", 0, kInf, false, "factor",
+          "factor on the vein cells' cohesion towards their vein parent and children (straightening: it pulls a "
+          "bent vein cell towards them, and shortens the vein's segments)"));
   f.push_back(num("cells", "vein_separation", "4", 0, kInf, false, "factor",
                   "factor on the vein cells' separation from their grandparent and grandchildren (straightening: it "
                   "pushes a vein's cells apart along it, which straightens a zig-zag, but where the sheet holds a "
@@ -111,13 +112,13 @@ std::vector<Field> build() {
       integer("division", "min_age", "5", 0, 1e9, "steps", "a cell waits this long after its birth or division"));
   f.push_back(num("division", "probability", "1", 0, 1, true, "0..1",
                   "chance that a triggered cell divides this step (seeded)"));
-  f.push_back(choice("division", "direction", Kind::choice_or_function, "random",
-                     "random|tangent|axis|radial|circumferential|auxin",
-                     "split direction (tangent: random within the sheet; auxin: along the local auxin flow, as tangent "
-                     "where no flow runs yet); or "
-                     "function(cell) returning {x, y, z}. An axis, a field or a function's vector has no sign: the "
-                     "daughter goes either way along it, by a seeded draw. The mother stays; the daughter starts half a rest "
-                     "length from it in that direction, with its velocity"));
+  f.push_back(choice(
+      "division", "direction", Kind::choice_or_function, "random", "random|tangent|axis|radial|circumferential|auxin",
+      "split direction (tangent: random within the sheet; auxin: along the local auxin flow, as tangent "
+      "where no flow runs yet); or "
+      "function(cell) returning {x, y, z}. An axis, a field or a function's vector has no sign: the "
+      "daughter goes either way along it, by a seeded draw. The mother stays; the daughter starts half a rest "
+      "length from it in that direction, with its velocity"));
   f.push_back(vec("division", "axis", "{1, 0, 0}", -kFar, kFar, "direction", "split axis (axis, circumferential)"));
   f.push_back(
       vec("division", "centre", "{0, 0, 0}", -kFar, kFar, "model units", "field centre (radial, circumferential)"));

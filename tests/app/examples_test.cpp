@@ -267,8 +267,8 @@ TEST_CASE("every Table 1 preset runs small and keeps the paper's parameters", "[
         }
         REQUIRE(pts.size() > 40);
         double lo = 1e300, hi = -1e300, left = 1e300, right = -1e300;
-        for (const auto& q : pts) lo = std::min(lo, q[1]), hi = std::max(hi, q[1]), left = std::min(left, q[0]),
-                                  right = std::max(right, q[0]);
+        for (const auto& q : pts)
+          lo = std::min(lo, q[1]), hi = std::max(hi, q[1]), left = std::min(left, q[0]), right = std::max(right, q[0]);
         const double length = hi - lo;
         CHECK((right - left) / length == Approx(0.9).epsilon(0.02));
         for (const double f : {0.1, 0.3, 0.5, 0.7, 0.9}) {  // the width across at each height

@@ -111,7 +111,8 @@ TEST_CASE("colonisation.node_flow widens the veins towards the base: each inner 
   auto grow = [&](const std::string& node_flow) {
     const auto script = t.write("leaf" + node_flow + ".lua",
                                 "leaf { shape = 'ellipse' }\nrun { seed = 2 }\ncolonisation { type = 'open', "
-                                "growth = 'none', initial_length = 60, kill_distance = 1, birth_distance = 2, darts = 2000, murray_exponent = 2, node_flow = " +
+                                "growth = 'none', initial_length = 60, kill_distance = 1, birth_distance = 2, darts = "
+                                "2000, murray_exponent = 2, node_flow = " +
                                     node_flow + " }\n");
     const fs::path out = t.path / ("o" + node_flow);
     const auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});

@@ -177,9 +177,10 @@ TEST_CASE("cell_acceleration adds weighted terms and the unary force", "[forces]
   REQUIRE(cell_acceleration(c, p, VeinChildren{}, 0, s).norm() == 0.0);
 }
 
-TEST_CASE("vein straightening: cohesion pulls a bent vein cell towards its parent and child, separation pushes "
-          "it from its grandparent and grandchild",
-          "[forces]") {
+TEST_CASE(
+    "vein straightening: cohesion pulls a bent vein cell towards its parent and child, separation pushes "
+    "it from its grandparent and grandchild",
+    "[forces]") {
   Cells c;
   add_cell(c, Vec3(-2, 0, 0), CellType::vein);
   add_cell(c, Vec3(-1, 0, 0), CellType::vein);

@@ -122,7 +122,7 @@ TEST_CASE("a flat sheet stays flat, in any orientation", "[simulation]") {
   p.weights[0].separation = 0.05;
   Simulation sim(p, 1);
   sim.cells() = cellform::testing::hex_sheet(15, 15, 0.8);
-  cellform::core::Rng rng(4);  // jittered in the plane, so that no two links tie (a tie broken by index
+  cellform::core::Rng rng(4);           // jittered in the plane, so that no two links tie (a tie broken by index
   for (Vec3& x : sim.cells().position)  // may break the other way once rotated)
     x += Vec3(rng.uniform(-0.05, 0.05), rng.uniform(-0.05, 0.05), 0);
   const std::vector<Vec3> start = sim.cells().position;
@@ -272,7 +272,8 @@ double mean_turn(const Cells& c, const std::vector<Index>& chain) {
 
 /// A vein zig-zagging between two rows of a hex sheet packed at `spacing` (every joint turns 120 degrees),
 /// rooted at a fixed petiole, after `steps` cell steps with the given straightening factors.
-double zigzag_turn(double spacing, double vein_cohesion, double vein_separation, int steps, double* initial = nullptr, bool straight = false) {
+double zigzag_turn(double spacing, double vein_cohesion, double vein_separation, int steps, double* initial = nullptr,
+                   bool straight = false) {
   Params p;  // the script defaults of the general and vein cells
   p.weights[0].separation = 0.05;
   p.weights[2].cohesion = 0.05;
@@ -286,7 +287,8 @@ double zigzag_turn(double spacing, double vein_cohesion, double vein_separation,
   c = cellform::testing::hex_sheet(side, side, spacing);
   std::vector<Index> chain;
   for (int k = 0; k < 16; ++k) {  // rows 11 and 12 alternately, each cell a lattice neighbour of the last
-    const int row = straight ? 11 : 11 + k % 2, col = straight ? 4 + k : 4 + (k + 1) / 2;  // odd rows are shifted by half a cell
+    const int row = straight ? 11 : 11 + k % 2,
+              col = straight ? 4 + k : 4 + (k + 1) / 2;  // odd rows are shifted by half a cell
     chain.push_back(static_cast<Index>(row * side + col));
   }
   c.type[chain[0]] = CellType::petiole;
