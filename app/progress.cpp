@@ -23,15 +23,34 @@ std::string duration(double s) {
 }
 }  // namespace
 
+double projected_cell_steps(double step, double last, double cells, double p, double cap) {
+  if (!(last > step)) return 0;
+  if (cap > 0 && cells >= cap) return (last - step) * cells;  // (a cap lowered on resume: the cells stay)
+  if (!(p > 0) || !(step > 0)) return (last - step) * cells;
+  // the cap is reached at step * (cap / cells)^(1/p)
+  const double full = cap > 0 ? step * std::pow(cap / cells, 1 / p) : INFINITY;
+  const double upto = std::min(last, full);
+  const double growing = cells * step / (p + 1) * (std::pow(upto / step, p + 1) - 1);
+  return growing + (last > upto ? (last - upto) * cap : 0.0);
+}
+
 Progress::Progress(std::ostream& out, bool terminal, bool quiet, std::uint64_t first_step, std::uint64_t last_step,
-                   std::string then)
-    : out_(out), terminal_(terminal), quiet_(quiet), first_(first_step), last_(last_step), then_(std::move(then)) {
+                   std::string then, std::size_t max_cells)
+    : out_(out),
+      terminal_(terminal),
+      quiet_(quiet),
+      first_(first_step),
+      last_(last_step),
+      then_(std::move(then)),
+      cap_(max_cells) {
   start_ = last_print_ = std::chrono::steady_clock::now();
 }
 
 void Progress::update(std::uint64_t step, std::size_t cells) {
   if (quiet_) return;
   cell_steps_ += static_cast<double>(std::max<std::size_t>(cells, 1));
+  if (samples_.empty() || static_cast<double>(step) >= 1.05 * static_cast<double>(samples_.back().first) + 1)
+    samples_.emplace_back(step, cells);
   const auto now = std::chrono::steady_clock::now();
   const double since = std::chrono::duration<double>(now - last_print_).count();
   if (since < (terminal_ ? 0.1 : 5.0) && step != last_) return;
@@ -39,11 +58,22 @@ void Progress::update(std::uint64_t step, std::size_t cells) {
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   const double done = static_cast<double>(step - first_);
   const double rate = elapsed > 0 ? done / elapsed : 0;
+  // the growth since half the steps so far (of this command: a resume has no samples before its start), as
+  // a power of the step: 1 to 2 under marginal growth, rising while every cell divides
+  double p = 0;
+  const auto half = std::lower_bound(samples_.begin(), samples_.end(), std::make_pair(step / 2, std::size_t{0}));
+  if (half != samples_.end() && half->first > 0 && half->second > 0 &&
+      static_cast<double>(step) >= 1.1 * static_cast<double>(half->first))
+    p = std::clamp(std::log(static_cast<double>(cells) / static_cast<double>(half->second)) /
+                       std::log(static_cast<double>(step) / static_cast<double>(half->first)),
+                   0.0, 8.0);
   // (at least one cell: a form that lost all its cells still has its steps to go)
-  const double left = cell_steps_ > 0 && elapsed > 0
-                          ? static_cast<double>(last_ - step) * static_cast<double>(std::max<std::size_t>(cells, 1)) *
-                                elapsed / cell_steps_
-                          : NAN;
+  const double left =
+      cell_steps_ > 0 && elapsed > 0
+          ? projected_cell_steps(static_cast<double>(step), static_cast<double>(last_),
+                                 static_cast<double>(std::max<std::size_t>(cells, 1)), p, static_cast<double>(cap_)) *
+                elapsed / cell_steps_
+          : NAN;
   // of the whole run, as "step N/last" beside it reads (a resume starts part of the way)
   const double frac = last_ > 0 ? static_cast<double>(step) / static_cast<double>(last_) : 1.0;
   const std::string then = then_.empty() ? std::string() : ", then " + then_;

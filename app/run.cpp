@@ -122,9 +122,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       // (a script of the other kind is refused below: nothing to compare it with)
       if (s.script_replaced && cfg.colonisation.has_value() == colonisation_checkpoint)
         adopt_edited_script(s, o, cfg, err);
-      // a resumed cell run steps with the values it was saved with, whatever the defaults are now: the
-      // script is read again with those that changed set
-      // (a run stopped while its cell sheet grew too: the rest of the sheet grows with the saved values)
+      // a resumed cell run steps with the values it was saved with, whatever the defaults are now: the script is
+      // read again with those that changed set (a run stopped while its sheet grew too: its rest grows with them)
       // (not with resume --script: the edited script's values are the point)
       if (s.resume && !s.script_replaced && s.physics.is_object() && (!cfg.colonisation || s.sheet_partial)) {
         const json now = physics_of(cfg.resolved);
@@ -272,7 +271,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       err << "cellform: note: " << p.origin << "the petiole due at step " << p.step
           << " comes after the run's last step (" << target
           << "), so this run does not place it; run{steps = N}, --steps N or a resume with --steps N reaches it\n";
-  Progress progress(err, ::isatty(2) != 0, o.quiet, first, target, cfg.print ? "the print" : "");
+  Progress progress(err, ::isatty(2) != 0, o.quiet, first, target, cfg.print ? "the print" : "",
+                    sim.params().division.max_cells);
   bar = &progress;
   CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
   std::vector<std::string> outputs;

@@ -78,7 +78,8 @@ Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHo
   bool& saved = out.checkpointed;
   bool warned = false;
   const std::uint64_t first = sim.step_count();
-  Progress progress(err, ::isatty(2) != 0, o.quiet, sim.step_count(), out.target, "the veins");
+  Progress progress(err, ::isatty(2) != 0, o.quiet, sim.step_count(), out.target, "the veins",
+                    sim.params().division.max_cells);
   bar = &progress;
   // a script's print() while the bar is drawn goes on a line of its own (as in cell runs)
   const std::function<void(const std::string&)> outer_print = host.print_function();

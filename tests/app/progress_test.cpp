@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <sstream>
 #include <thread>
 
@@ -48,6 +49,52 @@ TEST_CASE("the time left of a growing form counts its cells, not only the steps"
   const std::string left = line.substr(at + 9);
   const bool minutes = left.find('m') < left.find(' ');
   CHECK((minutes || std::stod(left) >= 20));
+}
+
+TEST_CASE("projected cell-steps integrate a power of the step up to the cap", "[cli]") {
+  using cellform::app::projected_cell_steps;
+  // no growth: the present count for every step left (the rule before projection)
+  CHECK(projected_cell_steps(100, 400, 50, 0, 0) == Approx(300.0 * 50));
+  // cells = s^2 from 100 cells at step 10: the integral of s^2 from 10 to 40 is (64000 - 1000) / 3
+  CHECK(projected_cell_steps(10, 40, 100, 2, 0) == Approx(21000.0));
+  // linear growth with a cap: cells = 10 s reach 200 at step 20; 10 (s^2 / 2) from 10 to 20, then 200 a step
+  CHECK(projected_cell_steps(10, 30, 100, 1, 200) == Approx(3500.0));
+  // a brute-force sum over the steps agrees within the integral's step error
+  double sum = 0;
+  for (int s = 1001; s <= 3000; ++s) sum += std::min(20000.0, 500 * std::pow(s / 1000.0, 1.7));
+  CHECK(projected_cell_steps(1000, 3000, 500, 1.7, 20000) == Approx(sum).epsilon(1e-3));
+  // already at (or over) the cap, and no step left
+  CHECK(projected_cell_steps(10, 20, 300, 2, 200) == Approx(3000.0));
+  CHECK(projected_cell_steps(20, 20, 300, 2, 0) == 0);
+}
+
+TEST_CASE("the time left of a dividing form projects its growth", "[cli]") {
+  // 40 steps of step^2 cells, 960 left: the present count alone says 960 * 1600 / 22140 = 69 times the time
+  // so far (cell-steps 1^2 + ... + 40^2 = 22140); the growth since step 20 (exponent 2) says
+  // (1000^3 - 40^3) / 3 / 22140 = 15055 times
+  std::ostringstream bar;
+  using Clock = std::chrono::steady_clock;
+  const auto before = Clock::now();
+  cellform::app::Progress growing(bar, true, false, 0, 1000);
+  const auto after = Clock::now();
+  for (std::uint64_t step = 1; step < 40; ++step) growing.update(step, step * step);
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  bar.str("");
+  const auto a = Clock::now();
+  growing.update(40, 1600);
+  const auto b = Clock::now();
+  const std::string line = bar.str();
+  INFO(line);
+  const std::size_t at = line.find("steps/s  ");
+  REQUIRE(at != std::string::npos);
+  const std::string left = line.substr(at + 9);  // "27m36s left" or "1h02m left"
+  const std::size_t h = left.find('h'), m = left.find('m');
+  REQUIRE(m != std::string::npos);
+  const double seconds = h < m ? 3600 * std::stod(left.substr(0, h)) + 60 * std::stod(left.substr(h + 1))
+                               : 60 * std::stod(left.substr(0, m)) + std::stod(left.substr(m + 1));
+  const auto seconds_of = [](auto d) { return std::chrono::duration<double>(d).count(); };
+  CHECK(seconds >= 15055 * seconds_of(a - after) - 1);
+  CHECK(seconds <= 15055 * seconds_of(b - before) + 60);
 }
 
 TEST_CASE("a line written beside the terminal bar starts on a line of its own, the bar drawn again below", "[cli]") {
