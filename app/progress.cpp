@@ -8,8 +8,7 @@
 
 namespace cellform::app {
 
-namespace {
-std::string duration(double s) {
+std::string duration_text(double s) {
   char buf[32];
   if (!std::isfinite(s) || s < 0) return "?";
   if (s >= 3.6e8) return ">99999h";  // (and an int holds the hours)
@@ -21,7 +20,6 @@ std::string duration(double s) {
     std::snprintf(buf, sizeof buf, "%dh%02dm", static_cast<int>(s) / 3600, static_cast<int>(s) / 60 % 60);
   return buf;
 }
-}  // namespace
 
 double projected_cell_steps(double step, double last, double cells, double p, double cap) {
   if (!(last > step)) return 0;
@@ -85,13 +83,13 @@ void Progress::update(std::uint64_t step, std::size_t cells) {
     bar.resize(width, '.');
     std::snprintf(buf, sizeof buf, "\r[%s] step %llu/%llu  %zu cells  %.1f steps/s  %s left%s   ", bar.c_str(),
                   static_cast<unsigned long long>(step), static_cast<unsigned long long>(last_), cells, rate,
-                  duration(left).c_str(), then.c_str());
+                  duration_text(left).c_str(), then.c_str());
     out_ << buf << std::flush;
     open_ = true;
   } else {
     std::snprintf(buf, sizeof buf, "step %llu/%llu (%.0f%%), %zu cells, %.1f steps/s, %s left%s\n",
                   static_cast<unsigned long long>(step), static_cast<unsigned long long>(last_), 100 * frac, cells,
-                  rate, duration(left).c_str(), then.c_str());
+                  rate, duration_text(left).c_str(), then.c_str());
     out_ << buf << std::flush;
   }
 }

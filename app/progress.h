@@ -41,6 +41,9 @@ class Progress {
   std::vector<std::pair<std::uint64_t, std::size_t>> samples_;  // (step, cells), steps ~5% apart
 };
 
+/// "42s", "3m05s", "2h07m" ("?" if not a time).
+std::string duration_text(double seconds);
+
 /// Cell-steps of the steps after `step` up to `last` for a form of `cells` cells at `step` whose count goes
 /// as step^p (p >= 0) up to `cap` cells (0: no cap): the integral of min(cap, cells * (s / step)^p) ds.
 double projected_cell_steps(double step, double last, double cells, double p, double cap);

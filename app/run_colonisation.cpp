@@ -273,7 +273,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
           last_print_time = now;
           err << "step " << r.steps << ": " << r.nodes << " vein nodes, " << r.sources << " sources";
           if (planar) err << (nonuniform ? ", growth step " : ", leaf length ") << r.scale;
-          err << (::isatty(2) ? "\r" : "\n") << std::flush;
+          // (the end is not known: sources come until the blade is full) a shorter line overwrites a longer one
+          err << ", " << duration_text(std::chrono::duration<double>(now - a).count()) << " so far"
+              << (::isatty(2) ? "    \r" : "\n") << std::flush;
         }
         if (!col.done() && checkpoints.due(r.steps) && periodic_checkpoint(save, err, checkpoint_warned)) {
           saved = true;

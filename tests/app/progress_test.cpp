@@ -51,6 +51,16 @@ TEST_CASE("the time left of a growing form counts its cells, not only the steps"
   CHECK((minutes || std::stod(left) >= 20));
 }
 
+TEST_CASE("durations read as seconds, minutes or hours", "[cli]") {
+  using cellform::app::duration_text;
+  CHECK(duration_text(42.4) == "42s");
+  CHECK(duration_text(185) == "3m05s");
+  CHECK(duration_text(7620) == "2h07m");
+  CHECK(duration_text(NAN) == "?");
+  CHECK(duration_text(-1) == "?");
+  CHECK(duration_text(1e12) == ">99999h");
+}
+
 TEST_CASE("projected cell-steps integrate a power of the step up to the cap", "[cli]") {
   using cellform::app::projected_cell_steps;
   // no growth: the present count for every step left (the rule before projection)
