@@ -437,6 +437,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       svg.join_veins = cfg.output.svg_join_veins;
       venation::write_svg(staging / "veins.svg", tree, col.outline(), svg);
       outputs.push_back("veins.svg");
+      std::error_code ec;
+      err << large_svg_note(fs::file_size(staging / "veins.svg", ec), svg.join_veins);
     }
     json run = colonisation_run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
     run["status"] = code == interrupted   ? "interrupted"
@@ -594,6 +596,13 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
   fs::remove_all(staging, ec);
   remove_empty_up_to(dir, created);  // a failed run leaves no empty folder
   return code;
+}
+
+std::string large_svg_note(std::uintmax_t bytes, bool joined) {
+  if (bytes < kLargeSvgBytes || bytes == static_cast<std::uintmax_t>(-1)) return {};
+  return "cellform: note: veins.svg is " + core::number_text(std::round(static_cast<double>(bytes) / 1e6)) +
+         " MB: drawing and laser-cutter programs may take minutes to open it" +
+         (joined ? std::string() : "; output{svg_paths = \"veins\"} draws about half as many paths") + "\n";
 }
 
 }  // namespace cellform::app

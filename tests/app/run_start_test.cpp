@@ -93,3 +93,15 @@ TEST_CASE("the commands cellform suggests can be pasted back into a shell", "[cl
   CHECK(app::shell_word("/tmp/o é sp2/checkpoint.cfck") == "'/tmp/o é sp2/checkpoint.cfck'");
   CHECK(app::shell_word("it's") == "'it'\\''s'");
 }
+
+TEST_CASE("a large veins.svg is said to be large, with the way to fewer paths", "[cli]") {
+  using cellform::app::kLargeSvgBytes;
+  using cellform::app::large_svg_note;
+  CHECK(large_svg_note(kLargeSvgBytes - 1, false).empty());
+  CHECK(large_svg_note(static_cast<std::uintmax_t>(-1), false).empty());  // size unknown: nothing said
+  const std::string note = large_svg_note(110'400'000, false);
+  CHECK(note ==
+        "cellform: note: veins.svg is 110 MB: drawing and laser-cutter programs may take minutes to open "
+        "it; output{svg_paths = \"veins\"} draws about half as many paths\n");
+  CHECK(large_svg_note(kLargeSvgBytes, true).find("svg_paths") == std::string::npos);  // drawn so already
+}
