@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include <Eigen/Core>
 
@@ -147,6 +148,38 @@ bool triangles_cross_beyond_corner(const std::array<Vec3, 3>& a, int i, const st
   const Vec3 &a1 = a[(i + 1) % 3], &a2 = a[(i + 2) % 3], &b1 = b[(j + 1) % 3], &b2 = b[(j + 2) % 3];
   return (!off(a1, a2, b) && segment_meets_triangle(a1, a2, b)) ||
          (!off(b1, b2, a) && segment_meets_triangle(b1, b2, a));
+}
+
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double denom = va + vb + vc;
+  if (!(std::abs(denom) > 0)) {  // degenerate triangle: the closest of its three edges
+    Vec3 best = a;
+    for (auto [u, v] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
+      const Vec3 e = v - u;
+      const double l2 = e.squaredNorm();
+      const double t = l2 > 0 ? std::clamp((p - u).dot(e) / l2, 0.0, 1.0) : 0.0;
+      const Vec3 q = u + t * e;
+      if ((q - p).squaredNorm() < (best - p).squaredNorm()) best = q;
+    }
+    return best;
+  }
+  const double v = vb / denom, w = vc / denom;
+  return a + ab * v + ac * w;
 }
 
 }  // namespace cellform::core

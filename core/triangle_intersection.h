@@ -1,4 +1,5 @@
 // Do two triangles meet? The narrow phase of the printed-mesh checks and of the cell surface's hole filling.
+// And the point of a triangle closest to a point (sources on surfaces, the volume a dilated sheet takes).
 #pragma once
 
 #include <array>
@@ -22,5 +23,9 @@ bool segment_meets_triangle(const Vec3& p, const Vec3& q, const std::array<Vec3,
 /// Triangles a and b that share the corner a[i] == b[j] and no other: do they meet anywhere but there? They
 /// do iff the side of one opposite that corner meets the other (segment_meets_triangle, its tolerance).
 bool triangles_cross_beyond_corner(const std::array<Vec3, 3>& a, int i, const std::array<Vec3, 3>& b, int j);
+
+/// The point of triangle (a, b, c) closest to p (Ericson, Real-Time Collision Detection, 5.1.5); of a
+/// degenerate triangle, the closest point of its sides.
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
 }  // namespace cellform::core

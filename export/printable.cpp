@@ -37,6 +37,7 @@ namespace cellform::exporters {
 
 using detail::arena_threads;
 using detail::check_params;
+using detail::closing_overlap;
 using detail::closing_radius;
 using detail::fmt;
 using detail::init_openvdb;
@@ -315,21 +316,21 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   const double base_z = params.flat_base > 0 ? bottom + params.flat_base : bottom;  // mm: the cut plane
   const bool cut = params.flat_base > 0;
 
-  // Memory: narrow-band voxels (both sides of the surface) and surface quads both scale as voxel^-2.
-  // a shell's closing holds the dilated shell's grid and its exact distances through the whole dilated thickness
-  // at once: about (h + r) / voxel + the band voxels on each side of every slab. The factor 1.6 (grids alive at
-  // once, less the overlap of the covering triangles counted twice) is measured: peak memory of the closing
-  // 0.81 GB on a flat 89-cell disc and about 2 GB on a 363-cell sphere at 120 mm, where 3 said 1.95 and 4.0 GB
-  // (a large folded sheet overlaps itself more: 1.29 GB for coral's 50,000 cells at 0.2 mm, estimated 2.9 GB)
+  // Memory: narrow-band voxels (both sides of the surface) and surface quads both scale as voxel^-2. A shell's
+  // closing holds its dilation's grid and exact distances through the whole dilated thickness at once: the
+  // volume within h + r + two bands of the sheet, counted once where a folded sheet's dilations overlap
+  // (closing_overlap); 1.6 grids alive at once, measured: peak 0.81 GB on a flat 89-cell disc at 120 mm.
   double shell_area = 0;
   for (const Slab& w : slabs) shell_area += (w.p1 - w.p0).cross(w.p2 - w.p0).norm() / 2;
+  const auto dilation = [&](double v) { return half_shell + closing_radius(params, scale) + 2 * kHalfWidth * v; };
+  const double overlap = params.close_holes > 0 ? closing_overlap(shell, scale, shell_area, dilation(voxel),
+                                                                  dilation(std::max(voxel, params.min_radius)))
+                                                : 1.0;
   const auto estimate_at = [&](double v) {
     const double active_estimate = area * 2 * kHalfWidth / (v * v);  // the band is kHalfWidth voxels
     const double quads_estimate = area / (v * v);
     const double closing_voxels =
-        params.close_holes > 0 && !slabs.empty()
-            ? 1.6 * shell_area * 2 * (half_shell + closing_radius(params, scale) + 2 * kHalfWidth * v) / (v * v * v)
-            : 0.0;
+        params.close_holes > 0 && !slabs.empty() ? 1.6 * overlap * shell_area * 2 * dilation(v) / (v * v * v) : 0.0;
     return (active_estimate + closing_voxels) * kBytesPerActiveVoxel + quads_estimate * kBytesPerQuad +
            static_cast<double>(caps.size() + slabs.size()) * 200;
   };

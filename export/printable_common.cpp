@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <mutex>
@@ -13,6 +14,7 @@
 
 #include "core/errors.h"
 #include "core/parallel.h"
+#include "core/triangle_intersection.h"
 #include "export/printable.h"
 #include "export/printable_internal.h"
 
@@ -94,6 +96,60 @@ int arena_threads(int threads) {
 double closing_radius(const ThickenParams& p, double scale) {
   const double r = p.close_holes * scale;
   return p.close_holes_max > 0 ? std::min(r, p.close_holes_max) : r;
+}
+
+double dilated_volume(const std::vector<std::array<Vec3, 3>>& shell, double scale, double radius) {
+  if (shell.empty() || !(radius > 0)) return 0;
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const auto& t : shell)
+    for (const Vec3& p : t) lo = lo.cwiseMin(p * scale), hi = hi.cwiseMax(p * scale);
+  lo.array() -= radius;
+  hi.array() += radius;
+  const Vec3 extent = hi - lo;
+  double cell = radius / 2;
+  constexpr double kMaxCells = 1 << 28;  // 32 MB of bits
+  const double cells = (extent / cell).array().ceil().prod();
+  if (cells > kMaxCells) cell *= std::cbrt(cells / kMaxCells) * 1.01;
+  const auto size = [&](int k) { return static_cast<std::int64_t>(std::ceil(extent[k] / cell)) + 1; };
+  const std::int64_t nx = size(0), ny = size(1), nz = size(2);
+  std::vector<std::uint64_t> bits(static_cast<std::size_t>((nx * ny * nz + 63) / 64), 0);
+  const double r2 = radius * radius;
+  for (const auto& tri : shell) {
+    const Vec3 a = tri[0] * scale, b = tri[1] * scale, c = tri[2] * scale;
+    const Vec3 box_lo = (a.cwiseMin(b).cwiseMin(c) - lo).array() - radius;
+    const Vec3 box_hi = (a.cwiseMax(b).cwiseMax(c) - lo).array() + radius;
+    // cells whose centre (i + 0.5) * cell lies in the box
+    const auto first = [&](int k) {
+      return std::max<std::int64_t>(0, static_cast<std::int64_t>(std::ceil(box_lo[k] / cell - 0.5)));
+    };
+    const auto last = [&](int k, std::int64_t n) {
+      return std::min<std::int64_t>(n - 1, static_cast<std::int64_t>(std::floor(box_hi[k] / cell - 0.5)));
+    };
+    for (std::int64_t i = first(0); i <= last(0, nx); ++i)
+      for (std::int64_t j = first(1); j <= last(1, ny); ++j)
+        for (std::int64_t k = first(2); k <= last(2, nz); ++k) {
+          const std::int64_t at = (i * ny + j) * nz + k;
+          std::uint64_t& word = bits[static_cast<std::size_t>(at / 64)];
+          const std::uint64_t bit = std::uint64_t{1} << (at % 64);
+          if (word & bit) continue;  // counted already (from a neighbouring triangle)
+          const Vec3 q =
+              lo +
+              cell *
+                  (Vec3(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k)).array() + 0.5).matrix();
+          if ((core::closest_point_on_triangle(q, a, b, c) - q).squaredNorm() <= r2) word |= bit;
+        }
+  }
+  std::uint64_t count = 0;
+  for (const std::uint64_t w : bits) count += static_cast<std::uint64_t>(__builtin_popcountll(w));
+  return static_cast<double>(count) * cell * cell * cell;
+}
+
+double closing_overlap(const std::vector<std::array<Vec3, 3>>& shell, double scale, double area, double d0, double d1) {
+  if (shell.empty() || !(area > 0)) return 1;
+  double share = 0;
+  for (const double d : {d0, d1})
+    if (d == d0 || d != d1) share = std::max(share, dilated_volume(shell, scale, d) / (2 * area * d));
+  return std::min(1.0, share);
 }
 
 void note_long_closing(const ThickenParams& params, double close, double voxel) {

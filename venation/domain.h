@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "core/random.h"
+#include "core/triangle_intersection.h"
 #include "core/types.h"
 #include "venation/colonisation.h"
 
@@ -123,8 +124,7 @@ class PreparedDomain {
   std::unique_ptr<Impl> impl_;
 };
 
-/// The point of triangle (a, b, c) closest to p (Ericson, Real-Time Collision Detection, 5.1.5).
-Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+using core::closest_point_on_triangle;
 
 /// The first point of `points` (in order) equal to an earlier one (== in every coordinate), as the 0-based
 /// indices (earlier, later); none if all differ. Seed vein nodes on one point cannot grow apart: every

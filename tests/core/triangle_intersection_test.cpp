@@ -1,9 +1,12 @@
-// Tests of core/triangle_intersection.cpp: crossing, touching, apart, and slivers within rounding of a plane.
+// Tests of core/triangle_intersection.cpp: crossing, touching, apart, and slivers within rounding of a plane;
+// closest points.
 #include "core/triangle_intersection.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
+
+#include "core/random.h"
 
 using cellform::core::triangles_intersect;
 using cellform::core::Vec3;
@@ -106,4 +109,23 @@ TEST_CASE("triangles round a shared corner cross iff a far side meets the other,
   CHECK(borderline < 50);
   CHECK(crossed > 200);
   CHECK(agreed + borderline == 5000);
+}
+
+TEST_CASE("the closest point of a triangle is no farther than any sampled point of it, and lies on it", "[core]") {
+  cellform::core::Rng rng(9);
+  const Vec3 a(0, 0, 0), b(2, 0, 0.5), c(0.3, 1.5, -0.2);
+  for (int i = 0; i < 300; ++i) {
+    const Vec3 q(rng.uniform(-2, 3), rng.uniform(-2, 3), rng.uniform(-2, 2));
+    const Vec3 p = cellform::core::closest_point_on_triangle(q, a, b, c);
+    const Vec3 n = (b - a).cross(c - a).normalized();
+    REQUIRE(std::abs((p - a).dot(n)) < 1e-12);
+    for (int u = 0; u <= 20; ++u)
+      for (int w = 0; u + w <= 20; ++w) {
+        const Vec3 s = a + (b - a) * (u / 20.0) + (c - a) * (w / 20.0);
+        REQUIRE((p - q).norm() <= (s - q).norm() + 1e-12);
+      }
+  }
+  // a degenerate triangle (three points on a line): the closest point of its sides
+  const Vec3 d = cellform::core::closest_point_on_triangle(Vec3(1, 1, 0), Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(4, 0, 0));
+  CHECK((d - Vec3(1, 0, 0)).norm() < 1e-12);
 }
