@@ -13,6 +13,7 @@
 #include <string>
 
 #include "app/cli.h"
+#include "app/escaping_buf.h"
 #include "app/run.h"
 #include "core/errors.h"
 
@@ -98,29 +99,6 @@ void on_hangup(int) {
 }
 }  // namespace
 
-/// What goes to the terminal with its control bytes escaped (\x1b, ...), but for line feeds, tabs and the
-/// carriage returns of progress lines: a name read from a damaged file cannot clear the screen.
-class EscapingBuf : public std::streambuf {
- public:
-  explicit EscapingBuf(std::streambuf* to) : to_(to) {}
-
- protected:
-  int_type overflow(int_type ch) override {
-    if (traits_type::eq_int_type(ch, traits_type::eof())) return traits_type::not_eof(ch);
-    const auto c = static_cast<unsigned char>(ch);
-    if ((c >= 0x20 && c != 0x7f) || c == '\n' || c == '\r' || c == '\t')
-      return to_->sputc(static_cast<char>(c)) == traits_type::eof() ? traits_type::eof() : ch;
-    const std::string e = cellform::core::printable(std::string(1, static_cast<char>(c)));
-    return to_->sputn(e.data(), static_cast<std::streamsize>(e.size())) == static_cast<std::streamsize>(e.size())
-               ? ch
-               : traits_type::eof();
-  }
-  int sync() override { return to_->pubsync(); }
-
- private:
-  std::streambuf* to_;
-};
-
 int main(int argc, char** argv) {
   struct sigaction stop {};
   stop.sa_sigaction = on_interrupt;
@@ -138,7 +116,7 @@ int main(int argc, char** argv) {
   // reported as a full disk is
   std::signal(SIGXFSZ, SIG_IGN);
   std::vector<std::string> args(argv + 1, argv + argc);
-  EscapingBuf out_buf(std::cout.rdbuf()), err_buf(std::cerr.rdbuf());
+  cellform::app::EscapingBuf out_buf(std::cout.rdbuf()), err_buf(std::cerr.rdbuf());
   std::ostream out(&out_buf), err(&err_buf);
   err.setf(std::ios::unitbuf);  // as std::cerr: every message at once, after what stdout holds
   err.tie(&out);

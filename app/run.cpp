@@ -85,7 +85,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   Progress* bar = nullptr;  // the steps' progress bar, while it is drawn: a script's line goes below it
   const auto show_line = [&err, &bar](const char* who, const std::string& line) {
     if (bar) bar->break_line();
-    err << who << line << "\n";
+    err << std::string(who).append(line).append("\n");  // one write: a line stays whole in a shared log
   };
   const auto show_print = [&show_line](const std::string& line) { show_line("script: ", line); };
   host.set_print(show_print);
