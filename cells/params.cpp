@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "cells/cells.h"
 #include "core/errors.h"
 
 namespace cellform::cells {
@@ -78,6 +79,9 @@ double stable_step(double lambda, Integrator integrator) {
 Stiffness stiffest(const Params& p) {
   Stiffness best;
   for (std::size_t t = 0; t < p.weights.size(); ++t) {
+    // vein cells come only from canalisation: without it their weights bound nothing (they refused a run in
+    // millimetres for cells.vein.cohesion, a default of a section the script never wrote)
+    if (t == static_cast<std::size_t>(CellType::vein) && !p.vein_trees) continue;
     Stiffness s = stiffness(p, t);
     best.lambda = std::max(best.lambda, s.lambda);
     if (s.largest > best.largest) {

@@ -77,7 +77,8 @@ struct Params {
   double vein_cohesion_factor = 4.0;    ///< extra cohesion of a vein cell to its vein parent and children
   double vein_separation_factor = 4.0;  ///< extra separation of a vein cell from its grandparent and grandchildren
   /// Whether cells can join vein trees (canalisation runs): only then does the stable time step count the
-  /// straightening terms above. The forces do not read it: they act on whatever vein parents the cells have.
+  /// straightening terms above and the vein cells' weights. The forces do not read it: they act on whatever
+  /// vein parents and types the cells have.
   bool vein_trees = true;
 
   double max_speed = 1e6;  ///< model units per time unit; faster (or NaN) stops the run as diverged

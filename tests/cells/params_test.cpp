@@ -4,6 +4,7 @@
 #include <functional>
 #include <string>
 
+#include "cells/cells.h"
 #include "cells/params.h"
 #include "core/errors.h"
 
@@ -91,4 +92,21 @@ TEST_CASE("stable time step shrinks with stiffer weights", "[params]") {
   Params none;
   for (auto& w : none.weights) w = ForceWeights{0, 0, 0, 0};
   REQUIRE(std::isinf(stable_time_step(none)));
+}
+
+TEST_CASE("without canalisation the vein cells' weights do not bound the time step", "[params]") {
+  // a sheet in millimetres (rest length 0.001): the vein type's cohesion 0.05 bounds the step to
+  // 2 / sqrt(2 * 0.05 / 1e-6) = 0.0063 when veins can grow, and nothing when they cannot
+  Params p;
+  p.rest_length = 0.001;
+  for (auto& w : p.weights) w = ForceWeights{1, 0.5, 0, 0};
+  p.weights[static_cast<int>(CellType::vein)].cohesion = 0.05;
+  p.vein_cohesion_factor = p.vein_separation_factor = 0;
+  p.time_step = 0.1;
+  p.vein_trees = true;
+  REQUIRE(stable_time_step(p) == Approx(2 / std::sqrt(2 * 1.0 + 2 * 0.5 + 2 * 0.05 / 1e-6)));
+  CHECK_THROWS_WITH(validate(p), Catch::Matchers::Contains("cells.vein.cohesion 0.05"));
+  p.vein_trees = false;
+  CHECK(stable_time_step(p) == Approx(2 / std::sqrt(2 * 1.0 + 2 * 0.5)));
+  CHECK_NOTHROW(validate(p));
 }
