@@ -266,11 +266,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     err << "cellform: note: the checkpoint is at its run's last step (" << target << "): no step runs, the outputs"
         << (cfg.print ? " (and the print, if anything grew)" : "")
         << " are made again; give --steps N to continue to step N\n";
-  for (const forms::PetioleSpec& p : cfg.scene.petioles)  // said now, not found missing at the end
-    if (p.step > target && p.step > first)
-      err << "cellform: note: " << p.origin << "the petiole due at step " << p.step
-          << " comes after the run's last step (" << target
-          << "), so this run does not place it; run{steps = N}, --steps N or a resume with --steps N reaches it\n";
+  say_late_starts(err, cfg.scene, first, target);
   Progress progress(err, ::isatty(2) != 0, o.quiet, first, target, cfg.print ? "the print" : "",
                     sim.params().division.max_cells);
   bar = &progress;

@@ -32,6 +32,11 @@ constexpr const char* kCheckpointName = "checkpoint.cfck";
 /// yet); else what the cells' saved attributes tell (an older checkpoint: cells with no path to a petiole: null).
 nlohmann::json vein_summary(const cells::Cells& cells, const venation::Report& last, const nlohmann::json& saved);
 
+/// Before the steps first + 1 to target of a cell run: a note for each petiole due after them, and for
+/// canalisation whose first pass (at step venation.every) comes after them, so that no vein can grow.
+void say_late_starts(std::ostream& err, const forms::SceneDescription& scene, std::uint64_t first,
+                     std::uint64_t target);
+
 /// At the end of a cell run whose last canalisation (`last`) ran in this process: a warning of the cells
 /// that drain to no petiole; with `notes`, a note for each petiole that grew no vein (where, its auxin, why).
 void say_vein_findings(std::ostream& err, const cells::Cells& cells, const venation::Report& last,

@@ -80,6 +80,21 @@ json vein_summary(const cells::Cells& c, const venation::Report& last, const jso
   return {{"vein_cells", veins}, {"petiole_inflow", inflow}, {"unconnected_cells", nullptr}};
 }
 
+void say_late_starts(std::ostream& err, const forms::SceneDescription& scene, std::uint64_t first,
+                     std::uint64_t target) {
+  for (const forms::PetioleSpec& p : scene.petioles)  // said now, not found missing at the end
+    if (p.step > target && p.step > first)
+      err << "cellform: note: " << p.origin << "the petiole due at step " << p.step
+          << " comes after the run's last step (" << target
+          << "), so this run does not place it; run{steps = N}, --steps N or a resume with --steps N reaches it\n";
+  // (a resume past step `every` has had its passes: its veins are there)
+  if (scene.venation && target > first && target < scene.venation->every)
+    err << "cellform: note: " << scene.venation_origin
+        << "canalisation first runs at step venation.every = " << scene.venation->every
+        << ", after the run's last step (" << target
+        << "), so no vein grows in this run; lower venation.every or run longer\n";
+}
+
 void say_vein_findings(std::ostream& err, const cells::Cells& c, const venation::Report& last,
                        const venation::Params& p, bool notes) {
   if (last.cells == 0) return;  // no canalisation ran in this process

@@ -1,5 +1,5 @@
 // Tests of what a cell run with canalisation says about its petioles: cells no petiole drains, and
-// petioles due after the run's last step.
+// petioles (or canalisation's first pass) due after the run's last step.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -59,6 +59,23 @@ TEST_CASE("a petiole due after the run's last step is noted before the steps", "
            "division.max_cells=70"});
   REQUIRE(r.code == 0);
   CHECK_THAT(r.err, !Contains("comes after the run's last step"));
+}
+
+TEST_CASE("canalisation whose first pass comes after the run's last step is noted before the steps",
+          "[cli][venation]") {
+  TempDir t("cli-late-canalisation");
+  const auto late = t.write("late.lua", std::string(kTwoDiscs) + "petiole { at = {0, -4, 0} }\n");
+  // audit: venation.every above the steps said nothing, and veins.ply was empty
+  auto r = cli({"run", late.string(), "--out", (t.path / "a").string(), "--quiet", "--set", "venation.every=50"});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("late.lua:3: canalisation first runs at step venation.every = 50, after the run's last "
+                             "step (30), so no vein grows in this run"));
+  CHECK(nlohmann::json::parse(slurp(t.path / "a" / "run.json"))["veins"]["vein_cells"] == 0);
+  // reached (step 30 is a pass of every = 30): no note, and veins
+  r = cli({"run", late.string(), "--out", (t.path / "b").string(), "--quiet", "--set", "venation.every=30"});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, !Contains("canalisation first runs"));
+  CHECK(nlohmann::json::parse(slurp(t.path / "b" / "run.json"))["veins"]["vein_cells"] > 0);
 }
 
 TEST_CASE("a print with no vein grown yet says what to change, not to print again", "[cli][venation]") {
