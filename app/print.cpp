@@ -180,7 +180,8 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
              "lying flat: flat_base = 0, or a cut of a millimetre or so)\n";
     if (plan.voxel_raised_from > 0)  // said even when quiet: the print is coarser than the default promises
       err << "cellform: note: print: the automatic voxel size " << plan.voxel_raised_from
-          << " mm (print.min_radius / 2) "
+          << (plan.voxel_raised_from < spec.min_radius / 2 ? " mm (half print.shell_thickness) "
+                                                           : " mm (print.min_radius / 2) ")
           << "would need more memory than print.max_memory (" << spec.max_memory_mb << " MB); using " << plan.voxel_size
           << " mm (set print.voxel_size, or raise print.max_memory, for a finer surface)\n";
   };

@@ -295,10 +295,14 @@ std::vector<Field> build() {
   f.push_back(num("print", "min_radius", "0.4", 0, 1e3, true, "mm",
                   "thinner veins are raised to this printable minimum (less than size / 2 when scale is automatic)"));
   f.push_back(num("print", "shell_thickness", "0.6", 0, 1e3, true, "mm",
-                  "wall thickness of the shell (less than size when scale is automatic)"));
+                  "wall thickness of the shell (less than size when scale is automatic); printed walls are up to "
+                  "about a voxel thinner in places (the surface lies on chords): check them with a --min-wall a "
+                  "voxel below it"));
   f.push_back(num("print", "voxel_size", "0", 0, 1e3, false, "mm",
-                  "level-set resolution, at most min_radius; 0 = min_radius / 2, raised (up to min_radius) if that "
-                  "would need more than max_memory"));
+                  "level-set resolution, at most min_radius; 0 = min_radius / 2 (with a shell at most "
+                  "shell_thickness / 2: two voxels across the wall), raised if that would need more than "
+                  "max_memory, up to the thinnest member printed (a vein's radius, at least min_radius; half the "
+                  "shell's wall)"));
   f.push_back(
       num("print", "adaptivity", "0.2", 0, 1, false, "0..1",
           "mesh simplification (OpenVDB): fewer triangles where the surface is flat; above the default it thins round "

@@ -36,6 +36,7 @@
 namespace cellform::exporters {
 
 using detail::arena_threads;
+using detail::auto_scale;
 using detail::check_params;
 using detail::closing_overlap;
 using detail::closing_radius;
@@ -185,52 +186,6 @@ bool finite(const Vec3& v) { return v.allFinite(); }
 
 }  // namespace
 
-namespace {
-
-/// mm per model unit at which the printed form, as it is thickened (vein radii raised to `min_radius` mm,
-/// the shell `half_shell` mm to each side), is `target` mm along its largest side. Along an axis the printed
-/// form reaches max(s max(a + r), s max(a) + min_radius, s max(p) + half_shell) over vein ends a (radius r)
-/// and shell corners p, and as far the other way: an extent that grows with s, solved by bisection below
-/// `upper` (where the model's own radii alone give `target`).
-double auto_scale(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell,
-                  double min_radius, double half_shell, double target, double upper) {
-  const double inf = std::numeric_limits<double>::infinity();
-  Vec3 hi_r = Vec3::Constant(-inf), hi_c = hi_r, hi_s = hi_r, lo_r = Vec3::Constant(inf), lo_c = lo_r, lo_s = lo_r;
-  for (const Segment& g : segments)
-    for (const auto& [p, r] : {std::pair{g.a, g.ra}, std::pair{g.b, g.rb}}) {
-      hi_r = hi_r.cwiseMax(p + Vec3::Constant(r));
-      lo_r = lo_r.cwiseMin(p - Vec3::Constant(r));
-      hi_c = hi_c.cwiseMax(p);
-      lo_c = lo_c.cwiseMin(p);
-    }
-  for (const auto& t : shell)
-    for (const Vec3& p : t) {
-      hi_s = hi_s.cwiseMax(p);
-      lo_s = lo_s.cwiseMin(p);
-    }
-  auto printed_extent = [&](double s) {  // s > 0
-    double e = 0;
-    for (int k = 0; k < 3; ++k) {
-      const double top = std::max({s * hi_r[k], s * hi_c[k] + min_radius, s * hi_s[k] + half_shell});
-      const double bottom = std::min({s * lo_r[k], s * lo_c[k] - min_radius, s * lo_s[k] - half_shell});
-      e = std::max(e, top - bottom);
-    }
-    return e;
-  };
-  double lo = 0, hi = upper;
-  // the model's radii alone reach the target at `upper`; a target below the thickness of one vein or of
-  // the shell (reached at any scale) keeps `upper`, as when the thickness did not count
-  if (!(printed_extent(hi) >= target) || printed_extent(upper * 1e-9) >= target) return upper;
-  for (int i = 0; i < 200 && lo < hi; ++i) {
-    const double mid = lo + (hi - lo) / 2;
-    if (mid <= lo || mid >= hi) break;
-    (printed_extent(mid) < target ? lo : hi) = mid;
-  }
-  return hi;  // the least scale found that reaches the target; 0 < hi <= upper
-}
-
-}  // namespace
-
 LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell,
                   const ThickenParams& params, ThickenReport* report) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -262,7 +217,11 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
                        : extent > 0     ? auto_scale(segments, shell, params.min_radius, half_shell, params.auto_extent,
                                                      params.auto_extent / extent)
                                         : 1.0;
-  double voxel = params.voxel_size > 0 ? params.voxel_size : params.min_radius / 2;  // auto: may be raised below
+  // auto: four voxels across a minimum-radius vein, and at least two across the shell's wall (a coarser voxel
+  // broke a 0.3 mm lamp shade into pieces); it may be raised below, up to the thinnest member printed
+  double voxel = params.voxel_size > 0 ? params.voxel_size
+                 : shell.empty()       ? params.min_radius / 2
+                                       : std::min(params.min_radius / 2, half_shell);
   detail::check_given_scale(segments, shell, params, scale);
 
   // Primitives in mm, with radii raised to the printable minimum.
@@ -288,8 +247,11 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   // the lowest point of the solid, mm: of a round cone, the lower of its end spheres' lowest points;
   // of a slab, its lowest corner less half the thickness
   double bottom = std::numeric_limits<double>::infinity(), top = -bottom;
+  // mm: the thinnest member printed, a vein's radius (raised to min_radius) or the shell's half wall
+  double thinnest = shell.empty() ? std::numeric_limits<double>::infinity() : half_shell;
   for (const Segment& s : segments) {
     const double ra = std::max(s.ra * scale, params.min_radius), rb = std::max(s.rb * scale, params.min_radius);
+    thinnest = std::min({thinnest, ra, rb});
     bottom = std::min({bottom, s.a.z() * scale - ra, s.b.z() * scale - rb});
     top = std::max({top, s.a.z() * scale + ra, s.b.z() * scale + rb});
     raised += (s.ra * scale < params.min_radius) + (s.rb * scale < params.min_radius);
@@ -337,21 +299,22 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   double estimate = estimate_at(voxel);
   double voxel_raised_from = 0;
   if (estimate > params.max_memory_bytes) {
-    // a coarser voxel helps only up to min_radius (thinner veins would vanish): beyond, only size or memory
-    // from a voxel whose estimate is finite (1e-300 mm overflows it)
+    // a coarser voxel helps only up to the thinnest member (thinner ones would vanish): beyond, only size or
+    // memory; from a voxel whose estimate is finite (1e-300 mm overflows it)
+    if (!std::isfinite(thinnest)) thinnest = params.min_radius;
     double fit = std::max(voxel, 1e-6 * params.min_radius);
     // ~ voxel^-2 to ^-3: each step at least halves the error (of alternating sign under ^-3)
     for (int k = 0; k < 64; ++k) fit *= std::sqrt(estimate_at(fit) / params.max_memory_bytes);
     const double needed = fit * 1.05;
-    // the automatic voxel gives way to the memory limit, up to min_radius (a minimum-radius vein stays two
-    // voxels across): rounded up to two significant digits, a value a user can read and pass on, or the
-    // largest that is allowed; checked, as the iteration converges slowly where the per-primitive part of
-    // the estimate dominates
+    // the automatic voxel gives way to the memory limit, up to the thinnest member (a vein of that radius, or
+    // the shell's wall, stays two voxels across; above min_radius where the veins print thicker): rounded up to two
+    // significant digits, a value a user can read and pass on, or the largest that is allowed; checked, as the
+    // iteration converges slowly where the per-primitive part of the estimate dominates
     double chosen = 0;
     if (params.voxel_size == 0) {
       const double unit = std::pow(10.0, std::floor(std::log10(needed)) - 1);
-      for (const double v : {std::ceil(needed / unit) * unit, needed, params.min_radius})
-        if (chosen == 0 && v > voxel && v <= params.min_radius && estimate_at(v) <= params.max_memory_bytes) chosen = v;
+      for (const double v : {std::ceil(needed / unit) * unit, needed, thinnest})
+        if (chosen == 0 && v > voxel && v <= thinnest && estimate_at(v) <= params.max_memory_bytes) chosen = v;
     }
     if (chosen > 0) {
       voxel_raised_from = voxel;
@@ -367,9 +330,17 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
           : needed <= params.min_radius
               ? "use a voxel size of at least " + fmt("%.3g", needed) + " mm (at most min_radius, " +
                     fmt("%.3g", params.min_radius) + " mm), a smaller scale, or raise the memory limit"
+          : needed <= thinnest  // (a voxel given: the automatic one would have been raised so far)
+              ? "use the automatic voxel size (0), which may be as coarse as the thinnest member, " +
+                    fmt("%.3g", thinnest) + " mm, a smaller scale, or raise the memory limit"
               : "use a smaller scale or size, or raise the memory limit (a voxel coarse enough would be " +
-                    fmt("%.3g", needed) + " mm, above min_radius " + fmt("%.3g", params.min_radius) +
-                    " mm, so the thinnest veins would vanish)";
+                    fmt("%.3g", needed) + " mm, above " +
+                    (thinnest == half_shell && !slabs.empty() ? "half the shell thickness "
+                     : thinnest > params.min_radius           ? "the thinnest vein's radius "
+                                                              : "min_radius ") +
+                    fmt("%.3g", thinnest) + " mm, so the thinnest " + (slabs.empty() ? "veins" : "members") +
+                    " would vanish" +
+                    (thinnest == params.min_radius ? "; a larger min_radius allows a coarser voxel" : "") + ")";
       throw core::InvalidInput("thicken: at a voxel size of " + fmt("%.3g", voxel) + " mm the form needs " +
                                (std::isfinite(estimate) && estimate < 1e18
                                     ? "about " + bytes_text(estimate) + " of memory, more than the limit of "

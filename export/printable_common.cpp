@@ -11,6 +11,7 @@
 #include <limits>
 #include <mutex>
 #include <string>
+#include <utility>
 
 #include "core/errors.h"
 #include "core/parallel.h"
@@ -96,6 +97,43 @@ int arena_threads(int threads) {
 double closing_radius(const ThickenParams& p, double scale) {
   const double r = p.close_holes * scale;
   return p.close_holes_max > 0 ? std::min(r, p.close_holes_max) : r;
+}
+
+double auto_scale(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell,
+                  double min_radius, double half_shell, double target, double upper) {
+  const double inf = std::numeric_limits<double>::infinity();
+  Vec3 hi_r = Vec3::Constant(-inf), hi_c = hi_r, hi_s = hi_r, lo_r = Vec3::Constant(inf), lo_c = lo_r, lo_s = lo_r;
+  for (const Segment& g : segments)
+    for (const auto& [p, r] : {std::pair{g.a, g.ra}, std::pair{g.b, g.rb}}) {
+      hi_r = hi_r.cwiseMax(p + Vec3::Constant(r));
+      lo_r = lo_r.cwiseMin(p - Vec3::Constant(r));
+      hi_c = hi_c.cwiseMax(p);
+      lo_c = lo_c.cwiseMin(p);
+    }
+  for (const auto& t : shell)
+    for (const Vec3& p : t) {
+      hi_s = hi_s.cwiseMax(p);
+      lo_s = lo_s.cwiseMin(p);
+    }
+  auto printed_extent = [&](double s) {  // s > 0
+    double e = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double top = std::max({s * hi_r[k], s * hi_c[k] + min_radius, s * hi_s[k] + half_shell});
+      const double bottom = std::min({s * lo_r[k], s * lo_c[k] - min_radius, s * lo_s[k] - half_shell});
+      e = std::max(e, top - bottom);
+    }
+    return e;
+  };
+  double lo = 0, hi = upper;
+  // the model's radii alone reach the target at `upper`; a target below the thickness of one vein or of
+  // the shell (reached at any scale) keeps `upper`, as when the thickness did not count
+  if (!(printed_extent(hi) >= target) || printed_extent(upper * 1e-9) >= target) return upper;
+  for (int i = 0; i < 200 && lo < hi; ++i) {
+    const double mid = lo + (hi - lo) / 2;
+    if (mid <= lo || mid >= hi) break;
+    (printed_extent(mid) < target ? lo : hi) = mid;
+  }
+  return hi;  // the least scale found that reaches the target; 0 < hi <= upper
 }
 
 double dilated_volume(const std::vector<std::array<Vec3, 3>>& shell, double scale, double radius) {

@@ -40,6 +40,13 @@ void report_progress(const ThickenParams& params, double fraction);
 /// The TBB arena size for `threads` (0 = all cores): more threads than cores cannot help, and TBB warns
 /// on stderr when asked for them.
 int arena_threads(int threads);
+/// mm per model unit at which the printed form, as it is thickened (vein radii raised to `min_radius` mm,
+/// the shell `half_shell` mm to each side), is `target` mm along its largest side. Along an axis the printed
+/// form reaches max(s max(a + r), s max(a) + min_radius, s max(p) + half_shell) over vein ends a (radius r)
+/// and shell corners p, and as far the other way: an extent that grows with s, solved by bisection below
+/// `upper` (where the model's own radii alone give `target`).
+double auto_scale(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell,
+                  double min_radius, double half_shell, double target, double upper);
 /// mm: the radius of the shell's closing, close_holes at the scale, capped by close_holes_max.
 double closing_radius(const ThickenParams& p, double scale);
 /// mm^3: the volume within `radius` mm of the triangles `shell` (model units, scaled by `scale` mm per unit),

@@ -239,3 +239,22 @@ TEST_CASE("a shell far thicker than the voxel is refused by the memory limit bef
   p.shell_thickness = 20;  // 20 mm: about 40,000 blocks (under 1 MB to list)
   CHECK_NOTHROW(exporters::voxelise({}, shell, p));
 }
+
+TEST_CASE("the automatic voxel puts two voxels across a thin shell's wall", "[printable]") {
+  // audit: a 0.3 mm wall printed with min_radius 0.8 mm got 0.4 mm voxels and broke into pieces
+  const std::vector<std::array<Vec3, 3>> square{{Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(10, 10, 0)},
+                                                {Vec3(0, 0, 0), Vec3(10, 10, 0), Vec3(0, 10, 0)}};
+  ThickenParams p;
+  p.scale = 1;
+  p.min_radius = 0.8;
+  p.shell_thickness = 0.3;
+  ThickenReport rep;
+  const auto thin = require_printable(exporters::thicken({}, square, p, &rep));
+  CHECK(rep.voxel_size == Approx(0.15));
+  CHECK(thin.parts == 1);
+  CHECK(thin.volume == Approx(100 * 0.3).epsilon(0.1));
+  // a wall thicker than min_radius keeps min_radius / 2
+  p.shell_thickness = 2;
+  exporters::thicken({}, square, p, &rep);
+  CHECK(rep.voxel_size == Approx(0.4));
+}

@@ -339,11 +339,27 @@ TEST_CASE("the memory estimate refuses and suggests a voxel size that fits", "[p
   CHECK_THAT(none, Catch::Contains("1 vein segments and sheet triangles alone need about") &&
                        Catch::Contains("no voxel size fits: raise the memory limit") && !Catch::Contains("would be"));
   p.max_memory_bytes = 1e6;
-  // with min_radius 0.05 mm no voxel that fits keeps the thinnest veins: no such voxel size is advised
-  const std::string thin = refusal();
+  // a voxel of 0.05 mm given, min_radius 0.05 mm, but the vein is 1 mm thick: the automatic voxel could go
+  // up to 1 mm (audit: a 2 m canopy of veins 6 mm thick was refused as if they would vanish)
+  const std::string given = refusal();
+  INFO(given);
+  CHECK_THAT(given, Catch::Contains("use the automatic voxel size (0), which may be as coarse as the thinnest "
+                                    "member, 1 mm") &&
+                        !Catch::Contains("vanish"));
+  p.voxel_size = 0;
+  CHECK_NOTHROW(exporters::thicken(capsule, {}, p));  // raised (to 1 mm at most)
+  p.voxel_size = 0.05;
+  // with a vein of 0.01 mm raised to min_radius 0.05 mm no voxel that fits keeps it: none is advised
+  const std::vector<Segment> thread{{{0, 0, 0}, {400, 0, 0}, 0.01, 0.01}};
+  std::string thin;
+  try {
+    exporters::thicken(thread, {}, p);
+  } catch (const core::InvalidInput& e) {
+    thin = e.what();
+  }
   INFO(thin);
-  CHECK_THAT(thin,
-             Catch::Contains("smaller scale") && Catch::Contains("above min_radius") && !Catch::Contains("at least"));
+  CHECK_THAT(thin, Catch::Contains("smaller scale") && Catch::Contains("above min_radius") &&
+                       Catch::Contains("a larger min_radius allows a coarser voxel") && !Catch::Contains("at least"));
   p.min_radius = 1;  // veins of 1 mm allow a coarser voxel
   const std::string message = refusal();
   INFO(message);
