@@ -342,7 +342,8 @@ std::vector<Field> build() {
                       "space colonisation: also write veins.png, a raster preview of veins and outline"));
   f.push_back(integer("output", "png_size", "1024", 16, 20000, "pixels", "longer side of veins.png"));
   f.push_back(num("output", "svg_size", "0", 0, 1e5, false, "mm",
-                  "longer side of the leaf (outline and veins) in veins.svg, drawn in mm with a 5 mm margin; 0 = at "
+                  "longer side of the leaf (outline and veins, their widths included) in veins.svg, drawn in mm with a "
+                  "5 mm margin; 0 = at "
                   "the print's scale with print{...} (the outline fits the printed veins), else 200"));
   f.back().nonzero_min = 1;  // strokes are at least 0.1 mm: a smaller drawing is a blot
   f.push_back(choice("output", "svg_paths", Kind::choice, "widths", "widths|veins",

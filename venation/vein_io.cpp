@@ -28,7 +28,14 @@ std::pair<Vec2, Vec2> drawing_bounds(const VeinTree& tree, const Outline& outlin
     first = false;
   };
   for (const Vec2& q : outline.points) grow(q);
-  for (const Vec3& q : tree.positions) grow(Vec2(q.x(), q.y()));
+  // each node with its radius: a vein's round stroke reaches that far (the midvein's wide end ran off the
+  // page past the margin)
+  for (Index i = 0; i < tree.size(); ++i) {
+    const Vec2 q(tree.positions[i].x(), tree.positions[i].y());
+    const double r = radius_of(tree, i);
+    grow(q - Vec2(r, r));
+    grow(q + Vec2(r, r));
+  }
   return {lo, hi};
 }
 

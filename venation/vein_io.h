@@ -8,14 +8,15 @@
 
 namespace cellform::venation {
 
-/// The box of a top-view drawing (x, y): the outline and every vein node; lo = hi = 0 when both are empty.
+/// The box of a top-view drawing (x, y): the outline and every vein node with its radius (as far as its
+/// round stroke reaches); lo = hi = 0 when both are empty.
 std::pair<Vec2, Vec2> drawing_bounds(const VeinTree& tree, const Outline& outline);
 
 /// Drawing options for write_svg().
 /// The drawing is in millimetres, for plotters and laser cutters: the file's width and height carry "mm"
 /// and one user unit of the viewBox is one millimetre.
 struct SvgParams {
-  double size = 200;            ///< mm: longer side of the drawn box (outline and vein nodes), margin excluded
+  double size = 200;            ///< mm: longer side of the drawn box (outline and veins' strokes), margin excluded
   double scale = 0;             ///< mm per model unit; when > 0 it replaces `size` (e.g. a print's scale)
   double margin = 5;            ///< mm: blank border around the drawing
   double min_stroke = 0.1;      ///< mm: thinnest drawn vein (radius 0 or before compute_widths)
