@@ -234,7 +234,7 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
           what +
           " was saved with other colonisation parameters (or another seed): only the thread count, "
           "colonisation.max_steps, colonisation.max_nodes and colonisation.max_sources may differ when continuing "
-          "it");
+          "it (and the widths, colonisation.tip_radius, murray_exponent and node_flow, computed at the end)");
     core::ByteWriter scratch;
     if (dh != (m.region ? domain_hash(m.region->domain()) : leaf_hash(m.leaf, scratch)))
       throw InvalidInput(what +
