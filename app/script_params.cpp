@@ -1,5 +1,7 @@
 // params{}: the script's knobs, --set on them, their table's guards (a new or misspelt knob, a change by
 // a rule), print(P); and the cell table's missing fields (ScriptHost::Impl, declared in app/script_impl.h).
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <iterator>
 #include <string_view>
@@ -109,6 +111,17 @@ int api_params(lua_State* L) {
         throw InvalidInput(at + "params{...}: every parameter needs a name (name = default)");
       }
       const std::string key = lua_tostring(L, -2);
+      // a name --set can give, and only one thing: "cells.spring" would be set with the section's parameter,
+      // and "" or "a b" never
+      const bool word = !key.empty() && !std::isdigit(static_cast<unsigned char>(key[0])) &&
+                        std::all_of(key.begin(), key.end(),
+                                    [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+      if (!word) {
+        lua_pop(L, 2);
+        throw InvalidInput(at + "params{...}: the knob name " + core::printable("'" + key + "'") +
+                           " is not a plain name (letters, digits and _, not starting with a digit), which "
+                           "--set NAME=VALUE gives without meaning a section's parameter too");
+      }
       I.param_names.insert(key);
       auto it = I.overrides->find(key);
       const int t = lua_type(L, -1);

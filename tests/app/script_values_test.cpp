@@ -135,3 +135,13 @@ TEST_CASE("the speed limit scales with the rest length unless given", "[script]"
   CHECK(given.scene.cells.max_speed == 5);
   CHECK(load("disc { radius = 3 }\n", {{"cells.max_speed", "7"}}).scene.cells.max_speed == 7);
 }
+
+TEST_CASE("a knob's name is a plain name, which --set gives without meaning a section's parameter too", "[script]") {
+  // audit: params { ["cells.spring"] = 2 } was set by --set cells.spring=5 together with cells{spring}
+  for (const char* name : {"cells.spring", "", "bad name", "1st", "a-b"}) {
+    INFO(name);
+    CHECK_THAT(load_error(std::string("local P = params { [\"") + name + "\"] = 2 }\ndisc { radius = 2 }\n"),
+               Contains("test/leaf.lua:1: params{...}: the knob name '") && Contains("' is not a plain name"));
+  }
+  CHECK_NOTHROW(load("local P = params { _size2 = 2, Size = 3 }\ndisc { radius = 2 }\n"));
+}
