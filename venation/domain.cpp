@@ -428,10 +428,20 @@ PreparedDomain::PreparedDomain(const Domain& domain) {
                        " domain needs at least one seed vein node " + on);
   auto check = [&](const std::vector<Vec3>& pts, const char* name) {
     for (std::size_t i = 0; i < pts.size(); ++i)
-      if (!pts[i].allFinite() || !(impl_->distance_outside(pts[i]) <= tol))
+      if (!pts[i].allFinite() || !(impl_->distance_outside(pts[i]) <= tol)) {
+        // how far, and (on a surface) where the nearest point is: a point picked in a modeller and typed with
+        // three decimals is off by more than the tolerance
+        const std::string off =
+            !pts[i].allFinite()
+                ? std::string()
+                : ": it is " + number_text(impl_->distance_outside(pts[i])) + " model units off" +
+                      (domain.kind == DomainKind::surface && !impl_->tri.empty()
+                           ? ", the nearest point of the surface is " + point_text(impl_->closest(pts[i]))
+                           : std::string());
         throw InvalidInput(std::string("domain.") + name + "[" + std::to_string(i + 1) + "] " + point_text(pts[i]) +
                            " is not " + on + " (" + kind_name(domain.kind) +
-                           "; tolerance 1e-6 of the bounding-box diagonal)");
+                           "; tolerance 1e-6 of the bounding-box diagonal, in model units)" + off);
+      }
   };
   check(domain.initial_nodes, "initial_nodes");
   check(domain.initial_sources, "initial_sources");

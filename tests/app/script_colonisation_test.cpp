@@ -142,7 +142,9 @@ TEST_CASE("volume{} and surface{} give space colonisation a 3-D domain", "[scrip
              Contains("test/leaf.lua:1:") && Contains("volume.file") && Contains("not closed"));
   CHECK_NOTHROW(load("surface { file = '" + open + "', seeds = {{2, 0, 0}} }\ncolonisation {}\n"));
   CHECK_THAT(load_error("surface { file = '" + open + "', seeds = {{0, 0, 0}} }\ncolonisation {}\n"),
-             Contains("surface.seeds[1]") && Contains("not on the surface"));
+             Contains("surface.seeds[1]") && Contains("not on the surface") &&
+                 Contains("model units): it is 1.1547") &&  // 2 / sqrt(3) to every face's plane: how far, and where
+                 Contains("the nearest point of the surface is {0.666667, 0.666667, 0.666667}"));
   CHECK_THAT(load_error("volume { file = '" + closed + "' }\ncolonisation {}\n"), Contains("needs seeds"));
   // domains are bounded like every script position (1e9 model units)
   CHECK_THAT(load_error("surface { file = '" + open + "', scale = 1e300, seeds = {{2, 0, 0}} }\ncolonisation {}\n"),
