@@ -293,9 +293,10 @@ std::vector<Field> build() {
                   "largest extent of the printed form when scale = 0 (of its ideal round members; the mesh lies on "
                   "chords of them, up to about a voxel less)"));
   f.push_back(num("print", "scale", "0", 0, 1e9, false, "mm per model unit", "0 = automatic from size"));
-  f.push_back(num("print", "min_radius", "0.4", 0, 1e3, true, "mm",
+  // lower bounds far below any printer, but not 1e-320 (refused at the end of a run, "inf mm" said, audit)
+  f.push_back(num("print", "min_radius", "0.4", 1e-4, 1e3, false, "mm",
                   "thinner veins are raised to this printable minimum (less than size / 2 when scale is automatic)"));
-  f.push_back(num("print", "shell_thickness", "0.6", 0, 1e3, true, "mm",
+  f.push_back(num("print", "shell_thickness", "0.6", 1e-4, 1e3, false, "mm",
                   "wall thickness of the shell (less than size when scale is automatic); printed walls are up to "
                   "about a voxel thinner in places (the surface lies on chords): check them with a --min-wall a "
                   "voxel below it"));
@@ -304,6 +305,7 @@ std::vector<Field> build() {
                   "shell_thickness / 2: two voxels across the wall), raised if that would need more than "
                   "max_memory, up to the thinnest member printed (a vein's radius, at least min_radius; half the "
                   "shell's wall)"));
+  f.back().nonzero_min = 1e-5;
   f.push_back(
       num("print", "adaptivity", "0.2", 0, 1, false, "0..1",
           "mesh simplification (OpenVDB): fewer triangles where the surface is flat; above the default it thins round "

@@ -199,6 +199,10 @@ void section_print(Impl& I, const std::string& at) {
   p.min_radius = v["min_radius"].num;
   p.shell_thickness = v["shell_thickness"].num;
   p.voxel_size = v["voxel_size"].num;
+  if (p.voxel_size > 0 && p.voxel_size < 1e-5)  // (1e-320 was refused after the steps, "inf mm" said)
+    throw InvalidInput(I.value_at("print.voxel_size", at) + "print.voxel_size must be " +
+                       allowed_text(*find_field("print", "voxel_size")) + " (0: automatic), got " +
+                       core::number_text(p.voxel_size));
   if (p.voxel_size > p.min_radius)  // known now: said before the run, not after it
     throw InvalidInput(
         I.value_at(I.overrides && I.overrides->count("print.voxel_size") ? "print.voxel_size" : "print.min_radius",

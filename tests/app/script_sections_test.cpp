@@ -1,4 +1,4 @@
-// Tests of app/script_sections.cpp's helpers: the memory limit of the run's control groups.
+// Tests of app/script_sections.cpp: the memory limit of the run's control groups; print sizes.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -6,9 +6,13 @@
 #include <sstream>
 
 #include "app/script_host.h"
+#include "tests/app/script_test_util.h"
 #include "tests/app/test_util.h"
 
+using Catch::Matchers::Contains;
 using cellform::app::control_group_memory_limit;
+using cellform::test::load;
+using cellform::test::load_error;
 using cellform::test::TempDir;
 
 TEST_CASE("the memory limit is the lowest of the run's control groups, from its own up to the root", "[script]") {
@@ -37,4 +41,15 @@ TEST_CASE("the memory limit is the lowest of the run's control groups, from its 
   CHECK(std::isinf(control_group_memory_limit(none, t.path / "v2")));
   std::istringstream junk("garbage\n0::/nowhere/at/all\n");
   CHECK(std::isinf(control_group_memory_limit(junk, t.path / "v2")));
+}
+
+TEST_CASE("print sizes no printer can make are refused while the script is read", "[script]") {
+  // audit: 1e-320 mm was refused only after the steps, by a memory message saying "inf mm"
+  CHECK_THAT(load_error("disc { radius = 2 }\nprint { min_radius = 1e-320 }\n"),
+             Contains("test/leaf.lua:2: print.min_radius must be a number from 0.0001 to 1000"));
+  CHECK_THAT(load_error("disc { radius = 2 }\nprint { shell = true, shell_thickness = 1e-320 }\n"),
+             Contains("test/leaf.lua:2: print.shell_thickness must be a number from 0.0001 to 1000"));
+  CHECK_THAT(load_error("disc { radius = 2 }\nprint { voxel_size = 1e-320 }\n"),
+             Contains("test/leaf.lua:2: print.voxel_size must be 0, or a number from 1e-05 to 1000"));
+  CHECK_NOTHROW(load("disc { radius = 2 }\nprint { shell = true, min_radius = 0.0001, voxel_size = 0.0001 }\n"));
 }
