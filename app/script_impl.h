@@ -293,15 +293,20 @@ struct ScriptHost::Impl {
   }
 
   /// Turns a Lua error message into one line that names the script; adds the memory-limit hint. A message
-  /// longer than 4,000 bytes is cut there (error(string.rep("x", 1e8)) wrote 100 MB to the terminal).
+  /// longer than 4,000 bytes keeps its first 3,000 and its last 1,000 (error(string.rep("x", 1e8)) wrote 100 MB
+  /// to the terminal; the end of an error passed up through nested coroutines says what went wrong).
   std::string describe(const std::string& message) const {
     const std::string lua_message = whole_path(message);
-    constexpr std::size_t kLongest = 4000;
+    constexpr std::size_t kLongest = 4000, kHead = 3000;
     if (lua_message.size() > kLongest) {
-      std::size_t cut = kLongest;  // not inside a UTF-8 sequence
-      while (cut > 0 && (static_cast<unsigned char>(lua_message[cut]) & 0xc0) == 0x80) --cut;
-      return describe(lua_message.substr(0, cut)) + "... (" + std::to_string(lua_message.size() - cut) +
-             " bytes more of the message left out)";
+      const auto inside = [&](std::size_t at) {  // inside a UTF-8 sequence
+        return (static_cast<unsigned char>(lua_message[at]) & 0xc0) == 0x80;
+      };
+      std::size_t cut = kHead, tail = lua_message.size() - (kLongest - kHead);
+      while (cut > 0 && inside(cut)) --cut;
+      while (tail < lua_message.size() && inside(tail)) ++tail;
+      return describe(lua_message.substr(0, cut)) + "... (" + std::to_string(tail - cut) +
+             " bytes of the message left out) ..." + lua_message.substr(tail);
     }
     {
       // the hook's stop, with its place; Lua's own memory error, without (another error, such as a syntax
