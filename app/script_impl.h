@@ -373,13 +373,17 @@ struct ScriptHost::Impl {
   /// number and a note of its type otherwise (Lua adds the line only to string messages).
   static int error_object_text(lua_State* L) {
     if (lua_type(L, 1) == LUA_TSTRING) {
-      // Lua says a C stack overflow (a recursion through string.gsub, say) without a line: the line of the
-      // innermost script function running is added
-      if (std::strcmp(lua_tostring(L, 1), "C stack overflow") != 0) return 1;
+      // Lua says a C stack overflow (a recursion through string.gsub, say), or a yield outside a coroutine,
+      // without a line: the line of the innermost script function running is added
+      const bool overflow = std::strcmp(lua_tostring(L, 1), "C stack overflow") == 0;
+      if (!overflow && std::strcmp(lua_tostring(L, 1), "attempt to yield from outside a coroutine") != 0) return 1;
       for (int level = 1; level <= 32; ++level) {
         luaL_where(L, level);
         if (lua_rawlen(L, -1) > 0) {
-          lua_pushliteral(L, "C stack overflow (a recursion too deep)");
+          if (overflow)
+            lua_pushliteral(L, "C stack overflow (a recursion too deep)");
+          else
+            lua_pushvalue(L, 1);
           lua_concat(L, 2);
           return 1;
         }

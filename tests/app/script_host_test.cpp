@@ -72,6 +72,9 @@ TEST_CASE("script errors name the file and line", "[script]") {
     CHECK_THAT(
         load_error("local function f(n)\n  return string.gsub('x', 'x', function() return f(n + 1) end)\nend\nf(1)\n"),
         StartsWith("test/leaf.lua:2: C stack overflow (a recursion too deep)"));
+    // a yield outside a coroutine (audit), at the top and in a rule
+    CHECK(load_error("disc { radius = 2 }\n\ncoroutine.yield(1)\n") ==
+          "test/leaf.lua:3: attempt to yield from outside a coroutine");
   }
   SECTION("misspelt parameter suggests the closest") {
     const std::string e = load_error("\ncells { sprng = 1 }\n");
