@@ -27,8 +27,8 @@ using nlohmann::json;
 
 namespace {
 
-/// A colonisation checkpoint: the script, what resume needs to rebuild the same setup (seed, --set
-/// overrides, the step limit, for surface{cells = true} the grown sheet) and the colonisation state.
+/// A colonisation checkpoint: the script, what resume needs to rebuild the same setup (seed, --set overrides,
+/// the step limit, for surface{cells = true} the grown sheet) and the colonisation state.
 std::string colonisation_checkpoint_bytes(const Start& s, std::uint64_t seed, const venation::ColonisationParams& p,
                                           const venation::Colonisation& col, const cells::Cells* sheet,
                                           std::size_t sheet_initial, std::optional<std::uint64_t> sheet_steps) {
@@ -90,12 +90,11 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
   int code = ok;
   const bool planar = spec.domain.kind == venation::DomainKind::leaf;
   FailedRun failed;
-  // after a step's error: the last checkpoint this run wrote, and the folder showing the run as far as it
-  // (a run.json that says it failed)
+  // after a step's error: the last checkpoint this run wrote, the folder showing the run so far (a failed run.json)
   auto keep_failed_run = [&](const std::string& m) {
     err << "  (the last checkpoint is " << checkpoint.string() << failed.checkpoint_note << ")\n";
     try {
-      json run = colonisation_run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
+      json run = colonisation_run_record(s, seed, o.threads, spec, cfg.resolved);
       run["status"] = "failed";
       run["error"] = m;
       if (!failed.phase.empty()) run["phase"] = failed.phase;
@@ -177,7 +176,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         sheet_checkpointed = grown.checkpointed;
         if (!grown.complete) {  // Ctrl-C: the sheet so far, and its checkpoint to finish it from
           std::vector<std::string> outputs = write_outputs(staging, cfg.output, grown.cells, nullptr);
-          json run = colonisation_run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
+          json run = colonisation_run_record(s, seed, o.threads, spec, cfg.resolved);
           run["status"] = "interrupted";
           run["phase"] = "cells";  // the veins have not started
           run["steps"] = {{"first", 0}, {"completed", 0}, {"limit", spec.params.max_steps}};
@@ -265,7 +264,6 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
           break;
         }
         const venation::ColonisationReport& r = col.step();
-        // every 50 steps, or 5 s (a step of millions of sources can take seconds)
         const auto now = std::chrono::steady_clock::now();
         if (!o.quiet &&
             (r.steps - last_print >= 50 || now - last_print_time >= std::chrono::seconds(5) || col.done())) {
@@ -273,7 +271,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
           last_print_time = now;
           err << "step " << r.steps << ": " << r.nodes << " vein nodes, " << r.sources << " sources";
           if (planar) err << (nonuniform ? ", growth step " : ", leaf length ") << r.scale;
-          // (the end is not known: sources come until the blade is full) a shorter line overwrites a longer one
+          // every 50 steps or 5 s (a step of millions of sources can take seconds); the end is not known
+          // (sources come until the blade is full); a shorter line overwrites a longer one
           err << ", " << duration_text(std::chrono::duration<double>(now - a).count()) << " so far"
               << (::isatty(2) ? "    \r" : "\n") << std::flush;
         }
@@ -440,7 +439,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       std::error_code ec;
       err << large_svg_note(fs::file_size(staging / "veins.svg", ec), svg.join_veins);
     }
-    json run = colonisation_run_record(s, seed, o.threads, spec.domain.kind, cfg.resolved);
+    json run = colonisation_run_record(s, seed, o.threads, spec, cfg.resolved);
     run["status"] = code == interrupted   ? "interrupted"
                     : print_failed        ? "print failed"
                     : rep.finished        ? "complete"
@@ -596,13 +595,6 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
   fs::remove_all(staging, ec);
   remove_empty_up_to(dir, created);  // a failed run leaves no empty folder
   return code;
-}
-
-std::string large_svg_note(std::uintmax_t bytes, bool joined) {
-  if (bytes < kLargeSvgBytes || bytes == static_cast<std::uintmax_t>(-1)) return {};
-  return "cellform: note: veins.svg is " + core::number_text(std::round(static_cast<double>(bytes) / 1e6)) +
-         " MB: drawing and laser-cutter programs may take minutes to open it" +
-         (joined ? std::string() : "; output{svg_paths = \"veins\"} draws about half as many paths") + "\n";
 }
 
 }  // namespace cellform::app

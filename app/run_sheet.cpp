@@ -232,19 +232,22 @@ static const char* domain_name(venation::DomainKind k) {
   return "?";
 }
 
-json colonisation_run_record(const Start& s, std::uint64_t seed, int threads, venation::DomainKind domain,
+json colonisation_run_record(const Start& s, std::uint64_t seed, int threads, const ColonisationSpec& spec,
                              const json& parameters) {
+  json p = parameters;
+  if (!spec.on_cells)  // no cell grows: their parameters played no part (and --set refuses them)
+    for (const char* section : {"cells", "division"}) p.erase(section);
   return {{"program", "cellform"},
           {"version", version()},
           {"command", s.resume ? "resume" : "run"},
           {"mode", "colonisation"},
-          {"domain", domain_name(domain)},
+          {"domain", domain_name(spec.domain.kind)},
           {"script", script_record(s)},
           {"seed", seed},
           {"threads", threads},  // as asked (0 = all cores); threads_used: what that came to here
           {"threads_used", core::effective_threads(threads)},
           {"overrides", s.sets},
-          {"parameters", parameters}};
+          {"parameters", p}};
 }
 
 }  // namespace cellform::app

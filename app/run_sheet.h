@@ -68,8 +68,9 @@ venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cel
 /// Notes a 3-D domain over 1,000 vein segments (model units) across: a mesh in mm without {scale} grows for hours.
 void say_large_domain(std::ostream& err, const venation::Domain& d, bool mesh_file);
 
-/// The parts of a colonisation run's run.json that do not depend on how it ended.
-nlohmann::json colonisation_run_record(const Start& s, std::uint64_t seed, int threads, venation::DomainKind domain,
+/// The parts of a colonisation run's run.json that do not depend on how it ended; its "parameters" are the
+/// script's resolved values, without the cells' and the division's when no cell grows.
+nlohmann::json colonisation_run_record(const Start& s, std::uint64_t seed, int threads, const ColonisationSpec& spec,
                                        const nlohmann::json& parameters);
 
 }  // namespace cellform::app

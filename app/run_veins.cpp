@@ -149,4 +149,11 @@ std::vector<std::string> output_names(const SceneConfig& cfg) {
   return names;
 }
 
+std::string large_svg_note(std::uintmax_t bytes, bool joined) {
+  if (bytes < kLargeSvgBytes || bytes == static_cast<std::uintmax_t>(-1)) return {};
+  return "cellform: note: veins.svg is " + core::number_text(std::round(static_cast<double>(bytes) / 1e6)) +
+         " MB: drawing and laser-cutter programs may take minutes to open it" +
+         (joined ? std::string() : "; output{svg_paths = \"veins\"} draws about half as many paths") + "\n";
+}
+
 }  // namespace cellform::app

@@ -95,6 +95,7 @@ TEST_CASE("3-D space colonisation: veins in a volume and on a grown cell sheet",
     REQUIRE(r.code == 0);
     const auto run = nlohmann::json::parse(slurp(out / "run.json"));
     CHECK(run["domain"] == "surface");
+    CHECK(run["parameters"]["division"]["max_cells"] == 400);  // the sheet's, which a colonisation alone leaves out
     CHECK(run["cells"]["final"].get<int>() > run["cells"]["initial"].get<int>());
     CHECK(run["timings"]["sheet_s"].get<double>() > 0);  // the cells' time, besides the veins' simulation_s
     CHECK(run["veins"]["nodes"].get<int>() > 10);

@@ -37,6 +37,10 @@ TEST_CASE("veins that stall behind a thin wall of a surface say why, and how to 
   REQUIRE(r.code == 0);
   const auto j = nlohmann::json::parse(slurp(t.path / "a" / "run.json"));
   CHECK(j["status"] == "stalled");
+  // no cell grows: run.json leaves out the parameters of cells and division, which --set refuses (audit)
+  CHECK(!j["parameters"].contains("cells"));
+  CHECK(!j["parameters"].contains("division"));
+  CHECK(j["parameters"].contains("colonisation"));
   const std::size_t left = j["veins"]["sources_left"];
   CHECK(left > 0);
   CHECK_THAT(r.err, Contains("note: " + std::to_string(left) + " auxin sources are left") &&
