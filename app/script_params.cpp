@@ -112,15 +112,19 @@ int api_params(lua_State* L) {
       }
       const std::string key = lua_tostring(L, -2);
       // a name --set can give, and only one thing: "cells.spring" would be set with the section's parameter,
-      // and "" or "a b" never
-      const bool word = !key.empty() && !std::isdigit(static_cast<unsigned char>(key[0])) &&
-                        std::all_of(key.begin(), key.end(),
-                                    [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
-      if (!word) {
+      // and "" or "a b" never (a dotted name of no parameter stays: older scripts)
+      const std::size_t dot = key.find('.');
+      const bool settable = !key.empty() && std::none_of(key.begin(), key.end(), [](char c) {
+        return c == '=' || std::isspace(static_cast<unsigned char>(c)) || std::iscntrl(static_cast<unsigned char>(c));
+      });
+      const bool a_parameter = dot != std::string::npos && find_field(key.substr(0, dot), key.substr(dot + 1));
+      if (!settable || a_parameter) {
         lua_pop(L, 2);
         throw InvalidInput(at + "params{...}: the knob name " + core::printable("'" + key + "'") +
-                           " is not a plain name (letters, digits and _, not starting with a digit), which "
-                           "--set NAME=VALUE gives without meaning a section's parameter too");
+                           (a_parameter
+                                ? " is a section's parameter too: --set " + key + "=... would set both"
+                                : std::string(" cannot be given to --set NAME=VALUE (empty, or with spaces or =)")) +
+                           "; name it otherwise");
       }
       I.param_names.insert(key);
       auto it = I.overrides->find(key);

@@ -68,7 +68,7 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
     r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--set", "print.max_memory=1"});
     CHECK(r.code == 1);
     CHECK_THAT(r.err, Contains("a smaller print.size (or print.scale)") && Contains("raise print.max_memory") &&
-                          Contains("above print.min_radius"));
+                          Contains("above the thinnest vein's radius"));
     CHECK_FALSE(nlohmann::json::parse(slurp(out / "run.json"))["print"].contains("base_z_mm"));  // no cut asked
   }
 

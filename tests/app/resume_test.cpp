@@ -465,15 +465,15 @@ TEST_CASE("a leaf whose waiting sources pass max_sources stops, says why, and re
 TEST_CASE("a checkpoint whose --set gave a boolean as 1 or 0 still resumes", "[cli][checkpoint]") {
   // --set petiole.fixed=1 was taken (as true) before December 2026 and kept in the checkpoint and run.json;
   // --set now takes only true or false. The checkpoint's own texts still read, as they are (the earlier
-  // frames, which run.json's overrides must match, stay), while a params knob named like a field keeps its
-  // text, and a 1 given to the resume is refused.
+  // frames, which run.json's overrides must match, stay), while a params knob keeps its text, and a 1 given
+  // to the resume is refused. (A knob named like a field, cell.fixed, was tested here: now refused.)
   TempDir t("cli-old-boolean");
   std::string text = std::string(kSmall) + "output { every = 5 }\n";
-  text.replace(text.find("params { size = 400 }"), 21, "params { size = 400, ['cell.fixed'] = 400 }");
+  text.replace(text.find("params { size = 400 }"), 21, "params { size = 400, fixed_cells = 400 }");
   const auto script = t.write("small.lua", text);
   const fs::path out = t.path / "o";
   REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "12", "--set", "petiole.fixed=true",
-               "--set", "cell.fixed=1"})
+               "--set", "fixed_cells=1"})
               .code == 0);
   const auto good = cellform::core::read_chunk_file(slurp(out / "checkpoint.cfck"), "CKPT", 1, "test");
   auto meta = nlohmann::json::parse(good.chunks.at("meta"));
@@ -509,8 +509,8 @@ TEST_CASE("a checkpoint whose --set gave a boolean as 1 or 0 still resumes", "[c
        {"cells_000000.ply", "cells_000005.ply", "cells_000010.ply", "cells_000015.ply", "cells_000020.ply"})
     CHECK(fs::exists(out / "frames" / f));
   const auto after = nlohmann::json::parse(slurp(out / "run.json"));
-  CHECK(after["overrides"]["cell.fixed"] == "1");  // the knob's text, unchanged
-  CHECK(after["parameters"]["params"]["cell.fixed"] == 1);
+  CHECK(after["overrides"]["fixed_cells"] == "1");  // the knob's text, unchanged
+  CHECK(after["parameters"]["params"]["fixed_cells"] == 1);
 }
 
 TEST_CASE("a cell run's checkpoint refuses to go on against a mesh{} file that changed", "[cli][checkpoint]") {
