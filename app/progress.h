@@ -20,7 +20,7 @@ class Progress {
            std::string then = {}, std::size_t max_cells = 0);
   /// Called after every step with the cells then: the time left assumes a cell costs what it did so far,
   /// and that the cells go on growing as they did since half the steps so far (as a power of the step,
-  /// never shrinking, up to the cap of `limit_cells`): a step rate alone said "0s left", and the present
+  /// never shrinking, up to the cap `max_cells`): a step rate alone said "0s left", and the present
   /// count alone a half to a quarter of the time a dividing form took.
   void update(std::uint64_t step, std::size_t cells);
   void finish();

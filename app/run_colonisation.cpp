@@ -272,9 +272,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
           err << "step " << r.steps << ": " << r.nodes << " vein nodes, " << r.sources << " sources";
           if (planar) err << (nonuniform ? ", growth step " : ", leaf length ") << r.scale;
           // every 50 steps or 5 s (a step of millions of sources can take seconds); the end is not known
-          // (sources come until the blade is full); a shorter line overwrites a longer one
+          // (sources come until the blade is full); the line shrinks by at most 7 (sources, hours): padded
           err << ", " << duration_text(std::chrono::duration<double>(now - a).count()) << " so far"
-              << (::isatty(2) ? "    \r" : "\n") << std::flush;
+              << (::isatty(2) ? "          \r" : "\n") << std::flush;
         }
         if (!col.done() && checkpoints.due(r.steps) && periodic_checkpoint(save, err, checkpoint_warned)) {
           saved = true;

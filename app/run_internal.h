@@ -333,14 +333,14 @@ nlohmann::json thicken_and_write(const std::filesystem::path& dir, const PrintSp
                                  std::vector<std::string>& names, std::ostream& err, bool quiet, double close_holes = 0,
                                  bool sheet = false);
 
-/// Writes a periodic checkpoint with `write`. A failure (a full disk) is reported on `err` the first time
-/// (`warned`) and the run goes on, to try again at the next one; returns whether it was written.
 /// A veins.svg of at least this many bytes is said to be large.
 constexpr std::uintmax_t kLargeSvgBytes = 50'000'000;
 /// The note on a veins.svg of `bytes` (file_size's -1: unknown), or "" under kLargeSvgBytes; `joined`: drawn
 /// a path per vein already (output.svg_paths = "veins").
 std::string large_svg_note(std::uintmax_t bytes, bool joined);
 
+/// Writes a periodic checkpoint with `write`. A failure (a full disk) is reported on `err` the first time
+/// (`warned`) and the run goes on, to try again at the next one; returns whether it was written.
 bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, bool& warned);
 
 /// run.json's checkpoint fields: "checkpoint" names the file a resume starts from, or is null when there

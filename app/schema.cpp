@@ -312,7 +312,8 @@ std::vector<Field> build() {
           "veins by more than a voxel in places (at 1, the thinnest by about half; noted); 0 = uniform"));
   f.push_back(num("print", "max_memory", "2000", 1, 1e6, false, "MB",
                   "memory limit of the printable grid: an explicit voxel_size that needs more is refused; the "
-                  "automatic one is coarsened to fit, up to min_radius"));
+                  "automatic one is coarsened to fit, up to the thinnest member printed (a vein's radius, at least "
+                  "min_radius; half the shell's wall)"));
   f.push_back(text("print", "formats", "stl", "comma-separated: stl, obj, ply, scad, vdb"));
   f.push_back(boolean("print", "fill_cavities", "false",
                       "fill closed pockets inside the solid (a shell around a closed sheet becomes solid; so do "

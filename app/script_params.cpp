@@ -113,11 +113,12 @@ int api_params(lua_State* L) {
       const std::string key = lua_tostring(L, -2);
       // a name --set can give, and only one thing: "cells.spring" would be set with the section's parameter,
       // and "" or "a b" never (a dotted name of no parameter stays: older scripts)
-      const std::size_t dot = key.find('.');
+      bool a_parameter = false;  // at any dot: cells.vein.cohesion is section cells.vein's cohesion
+      for (std::size_t dot = key.find('.'); dot != std::string::npos && !a_parameter; dot = key.find('.', dot + 1))
+        a_parameter = find_field(key.substr(0, dot), key.substr(dot + 1)) != nullptr;
       const bool settable = !key.empty() && std::none_of(key.begin(), key.end(), [](char c) {
         return c == '=' || std::isspace(static_cast<unsigned char>(c)) || std::iscntrl(static_cast<unsigned char>(c));
       });
-      const bool a_parameter = dot != std::string::npos && find_field(key.substr(0, dot), key.substr(dot + 1));
       if (!settable || a_parameter) {
         lua_pop(L, 2);
         throw InvalidInput(at + "params{...}: the knob name " + core::printable("'" + key + "'") +

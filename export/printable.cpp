@@ -285,8 +285,10 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   double shell_area = 0;
   for (const Slab& w : slabs) shell_area += (w.p1 - w.p0).cross(w.p2 - w.p0).norm() / 2;
   const auto dilation = [&](double v) { return half_shell + closing_radius(params, scale) + 2 * kHalfWidth * v; };
+  if (!std::isfinite(thinnest)) thinnest = params.min_radius;        // (no vein, no shell)
+  const double coarsest = params.voxel_size > 0 ? voxel : thinnest;  // the voxel may be raised up to it
   const double overlap = params.close_holes > 0 ? closing_overlap(shell, scale, shell_area, dilation(voxel),
-                                                                  dilation(std::max(voxel, params.min_radius)))
+                                                                  dilation(std::max(voxel, coarsest)))
                                                 : 1.0;
   const auto estimate_at = [&](double v) {
     const double active_estimate = area * 2 * kHalfWidth / (v * v);  // the band is kHalfWidth voxels
@@ -301,7 +303,6 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   if (estimate > params.max_memory_bytes) {
     // a coarser voxel helps only up to the thinnest member (thinner ones would vanish): beyond, only size or
     // memory; from a voxel whose estimate is finite (1e-300 mm overflows it)
-    if (!std::isfinite(thinnest)) thinnest = params.min_radius;
     double fit = std::max(voxel, 1e-6 * params.min_radius);
     // ~ voxel^-2 to ^-3: each step at least halves the error (of alternating sign under ^-3)
     for (int k = 0; k < 64; ++k) fit *= std::sqrt(estimate_at(fit) / params.max_memory_bytes);
@@ -327,10 +328,12 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
               ? "its " + std::to_string(caps.size() + slabs.size()) +
                     " vein segments and sheet triangles alone need about " + bytes_text(primitives) +
                     ", so no voxel size fits: raise the memory limit"
-          : needed <= params.min_radius
-              ? "use a voxel size of at least " + fmt("%.3g", needed) + " mm (at most min_radius, " +
-                    fmt("%.3g", params.min_radius) + " mm), a smaller scale, or raise the memory limit"
-          : needed <= thinnest  // (a voxel given: the automatic one would have been raised so far)
+          : needed <= std::min(params.min_radius, thinnest)
+              ? "use a voxel size of at least " + fmt("%.3g", needed) + " mm (at most " +
+                    (thinnest < params.min_radius ? "half the shell thickness, " : "min_radius, ") +
+                    fmt("%.3g", std::min(params.min_radius, thinnest)) +
+                    " mm), a smaller scale, or raise the memory limit"
+          : needed <= thinnest && params.voxel_size > 0  // (the automatic voxel would have been raised so far)
               ? "use the automatic voxel size (0), which may be as coarse as the thinnest member, " +
                     fmt("%.3g", thinnest) + " mm, a smaller scale, or raise the memory limit"
               : "use a smaller scale or size, or raise the memory limit (a voxel coarse enough would be " +

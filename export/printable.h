@@ -33,8 +33,10 @@ struct ThickenParams {
   double scale = 0;  ///< mm per model unit; 0 = auto: the printed form's largest extent (radii raised to min_radius,
                      ///< shell thickness included) becomes `auto_extent`
   double auto_extent = 120;  ///< mm: size of the largest side of the bounding box when scale = 0
-  /// mm; 0 = auto: min_radius / 2 (a minimum-radius vein is 4 voxels across), or coarser, up to min_radius, where
-  /// that would need more than max_memory_bytes (ThickenReport::voxel_raised_from says so)
+  /// mm; 0 = auto: min_radius / 2 (a minimum-radius vein is 4 voxels across), at most half the shell thickness
+  /// with shell triangles (two voxels across the wall), or coarser, up to the thinnest member printed (a vein's
+  /// radius, at least min_radius; half the shell's wall), where that would need more than max_memory_bytes
+  /// (ThickenReport::voxel_raised_from says so)
   double voxel_size = 0;
   double min_radius = 0.4;       ///< mm: thinner veins are raised to this printable minimum
   double shell_thickness = 0.6;  ///< mm: total wall thickness of the shell around shell triangles (half on each side)

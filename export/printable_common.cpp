@@ -136,7 +136,9 @@ double auto_scale(const std::vector<Segment>& segments, const std::vector<std::a
   return hi;  // the least scale found that reaches the target; 0 < hi <= upper
 }
 
-double dilated_volume(const std::vector<std::array<Vec3, 3>>& shell, double scale, double radius) {
+double dilated_volume(const std::vector<std::array<Vec3, 3>>& shell, double scale, double radius, bool* coarsened,
+                      double max_cells) {
+  if (coarsened) *coarsened = false;
   if (shell.empty() || !(radius > 0)) return 0;
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (const auto& t : shell)
@@ -145,9 +147,11 @@ double dilated_volume(const std::vector<std::array<Vec3, 3>>& shell, double scal
   hi.array() += radius;
   const Vec3 extent = hi - lo;
   double cell = radius / 2;
-  constexpr double kMaxCells = 1 << 28;  // 32 MB of bits
   const double cells = (extent / cell).array().ceil().prod();
-  if (cells > kMaxCells) cell *= std::cbrt(cells / kMaxCells) * 1.01;
+  if (cells > max_cells) {
+    cell *= std::cbrt(cells / max_cells) * 1.01;
+    if (coarsened) *coarsened = true;
+  }
   const auto size = [&](int k) { return static_cast<std::int64_t>(std::ceil(extent[k] / cell)) + 1; };
   const std::int64_t nx = size(0), ny = size(1), nz = size(2);
   std::vector<std::uint64_t> bits(static_cast<std::size_t>((nx * ny * nz + 63) / 64), 0);
@@ -186,7 +190,12 @@ double closing_overlap(const std::vector<std::array<Vec3, 3>>& shell, double sca
   if (shell.empty() || !(area > 0)) return 1;
   double share = 0;
   for (const double d : {d0, d1})
-    if (d == d0 || d != d1) share = std::max(share, dilated_volume(shell, scale, d) / (2 * area * d));
+    if (d == d0 || d != d1) {
+      bool coarsened = false;
+      const double v = dilated_volume(shell, scale, d, &coarsened);
+      if (coarsened) return 1;  // cells wider than half the dilation miss thin parts: no estimate to trust
+      share = std::max(share, v / (2 * area * d));
+    }
   return std::min(1.0, share);
 }
 

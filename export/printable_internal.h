@@ -50,12 +50,14 @@ double auto_scale(const std::vector<Segment>& segments, const std::vector<std::a
 /// mm: the radius of the shell's closing, close_holes at the scale, capped by close_holes_max.
 double closing_radius(const ThickenParams& p, double scale);
 /// mm^3: the volume within `radius` mm of the triangles `shell` (model units, scaled by `scale` mm per unit),
-/// counted as the cells of a grid radius / 2 mm wide whose centres lie that close (coarser past 2^28 cells).
-/// Where a folded sheet lies within 2 radius of itself the dilations overlap and count once.
-double dilated_volume(const std::vector<std::array<Vec3, 3>>& shell, double scale, double radius);
+/// counted as the cells of a grid radius / 2 mm wide whose centres lie that close (coarser past `max_cells`
+/// cells, 2^28 or 32 MB of bits: then `coarsened` is set, and a thin part may be missed). Where a folded sheet
+/// lies within 2 radius of itself the dilations overlap and count once.
+double dilated_volume(const std::vector<std::array<Vec3, 3>>& shell, double scale, double radius,
+                      bool* coarsened = nullptr, double max_cells = 0x1p28);
 /// The share of the sum of the triangles' dilations (2 area d, `area` mm^2 of `shell` at `scale`) that their
 /// union takes, the larger at the dilations `d0` and `d1` mm (the finest and the coarsest voxel's), at most 1
-/// (rims and corners add to a small sheet's union); 1 for no triangles.
+/// (rims and corners add to a small sheet's union); 1 for no triangles, and where the grid had to be coarsened.
 double closing_overlap(const std::vector<std::array<Vec3, 3>>& shell, double scale, double area, double d0, double d1);
 /// Tells params.note of a closing of more than 25 voxels' radius (`close` mm, `voxel` mm), which may take minutes
 /// (the default caps it at 10).

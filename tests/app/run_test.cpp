@@ -77,3 +77,14 @@ TEST_CASE("petioles resting on one point of a grown sheet are refused for closed
   CHECK(r.code == 0);
   CHECK(std::filesystem::exists(t.path / "o" / "veins.ply"));
 }
+
+TEST_CASE("a rule that yields outside a coroutine is named with its line, step and cell", "[cli]") {
+  // audit: the message had no line, in a rule as at the top of a script
+  TempDir t("cli-rule-yield");
+  const auto script = t.write("yield.lua",
+                              "disc { radius = 2 }\n"
+                              "division { rule = function(c) coroutine.yield(1) return true end }\n");
+  const auto r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("yield.lua:2: attempt to yield from outside a coroutine (in division.rule at step "));
+}

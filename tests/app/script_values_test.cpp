@@ -140,6 +140,8 @@ TEST_CASE("a knob's name is one --set can give, and no section's parameter's", "
   // audit: params { ["cells.spring"] = 2 } was set by --set cells.spring=5 together with cells{spring}
   CHECK_THAT(load_error("local P = params { [\"cells.spring\"] = 2 }\ndisc { radius = 2 }\n"),
              Contains("test/leaf.lua:1: params{...}: the knob name 'cells.spring' is a section's parameter too"));
+  CHECK_THAT(load_error("local P = params { [\"cells.vein.cohesion\"] = 2 }\ndisc { radius = 2 }\n"),
+             Contains("the knob name 'cells.vein.cohesion' is a section's parameter too"));  // (review)
   for (const char* name : {"", "bad name", "a=b"}) {
     INFO(name);
     CHECK_THAT(

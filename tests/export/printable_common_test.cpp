@@ -45,6 +45,12 @@ TEST_CASE("a dilated square takes Steiner's volume; two close squares take their
   add_square(apart, 20, 50);
   CHECK(dilated_volume(apart, 1, 1) == Approx(2 * dilated_volume(one, 1, 1)).epsilon(0.01));
   CHECK(dilated_volume({}, 1, 1) == 0);
+  // a grid held to fewer cells is coarsened, and says so (closing_overlap then trusts no share below 1)
+  bool coarsened = true;
+  dilated_volume(two, 1, 1, &coarsened);
+  CHECK_FALSE(coarsened);
+  dilated_volume(two, 1, 1, &coarsened, 1000);
+  CHECK(coarsened);
 }
 
 TEST_CASE("the overlap of a sheet's dilations is their union's share, at most 1", "[printable]") {
