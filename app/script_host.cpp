@@ -113,6 +113,12 @@ int api_print(lua_State* L) {
     if (i > 1) line += "\t";
     line += lua_tostring(L, i);
   }
+  // a stopped script goes no further here: an error raised in the count hook runs xpcall's handler with hooks
+  // off, and a handler printing in a loop was stopped by nothing (its prints kept the watchdog waiting)
+  if (I.stopping) {
+    lua_pushstring(L, I.stop_message.c_str());
+    return lua_error(L);
+  }
   if (I.print) {  // a terminal or pipe that does not read on blocks here: not the script's time
     const bool was_script = I.in_script.exchange(false, std::memory_order_acq_rel);
     I.print(line);

@@ -545,6 +545,10 @@ template <class Body>
 inline int guarded(lua_State* L, Body&& body) {
   Impl& I = *self_of(L);
   I.wait_if_dying();
+  if (I.stopping) {  // as print(): a handler that runs with hooks off (xpcall's, after a stop) ends here
+    lua_pushstring(L, I.stop_message.c_str());
+    return lua_error(L);
+  }
   int results = 0;
   bool failed = false;
   I.in_host = true;  // no Lua memory error inside the body (the script's next allocation fails instead)

@@ -167,6 +167,20 @@ TEST_CASE("a script stuck inside one library call is stopped by its time limit, 
   REQUIRE(pid > 0);
   CHECK(exit_within(pid, 20) == 2);
   CHECK_THAT(slurp(log), Contains("did not stop when it was stopped"));
+  // such a handler that prints in a loop (each print looked like a library call that ended: it ran 11 minutes
+  // and wrote 14 GB, review) ends at its first print, in a rule too
+  const auto printing =
+      t.write("printing.lua",
+              "disc { radius = 2 }\n"
+              "division { rule = function(c)\n"
+              "  xpcall(function() while true do end end, function(e) while true do print('x') end end)\n"
+              "  return false\n"
+              "end }\n");
+  pid = spawn_cellform_logged({"run", printing.string(), "--out", out.string()}, log);
+  REQUIRE(pid > 0);
+  CHECK(exit_within(pid, 20) == 2);
+  CHECK_THAT(slurp(log), Contains("printing.lua:3: a rule function ran more than 10000000 instructions"));
+  CHECK(fs::file_size(log) < 10000);
   // a Ctrl-C during a loop of short library calls (few instructions between them) acts within a second
   const auto loop = t.write("loop.lua",
                             "local s = ('a'):rep(150)\n"
