@@ -448,3 +448,25 @@ TEST_CASE("a colonisation resume whose leaf changed names the change, not the fi
   CHECK_THAT(r.err, Contains("changed: --set leaf.width=0.7"));
   CHECK(cli({"resume", out.string(), "--steps", "25", "--quiet"}).code == 0);  // the checkpoint is as it was
 }
+
+TEST_CASE("an edited script without venation{} still has the checkpoint's vein cells bound its time step",
+          "[cli][checkpoint]") {
+  // (review) without venation{} the vein cells' weights leave the stability bound; a checkpoint's vein cells
+  // still straighten, so they count: 0.5 is stable for the general cells at rest length 0.1, not for veins
+  TempDir t("cli-vein-step");
+  const std::string body =
+      "run { steps = 40, seed = 1 }\n"
+      "division { trigger = 'neighbours', min_neighbours = 6, max_cells = 200 }\n"
+      "disc { radius = 0.4 }\npetiole { at = {0, -0.4, 0} }\n";
+  const auto with =
+      t.write("with.lua", body + "cells { rest_length = 0.1, time_step = 0.1 }\nvenation { threshold = 5 }\n");
+  const auto without = t.write("without.lua", body + "cells { rest_length = 0.1, time_step = 0.5 }\n");
+  const fs::path out = t.path / "o";
+  REQUIRE(cli({"run", with.string(), "--out", out.string(), "--quiet"}).code == 0);
+  REQUIRE(nlohmann::json::parse(slurp(out / "run.json"))["veins"]["vein_cells"].get<int>() > 0);
+  const auto r = cli({"resume", out.string(), "--script", without.string(), "--steps", "50", "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("cells.time_step 0.5 is above the stable limit") && Contains("cells.vein_cohesion"));
+  // a fresh run of that script has no vein cells: accepted
+  CHECK(cli({"run", without.string(), "--out", (t.path / "p").string(), "--quiet", "--steps", "2"}).code == 0);
+}
