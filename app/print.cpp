@@ -66,9 +66,9 @@ core::Vec3 far_centre(const std::vector<exporters::Segment>& segments,
   const double size = (hi - lo).maxCoeff() + 2 * radius;
   const double reach = lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).maxCoeff();
   const double scale = spec.scale > 0 ? spec.scale : size > 0 ? spec.size / size : 0;  // mm per model unit
-  const double voxel = spec.voxel_size > 0 ? spec.voxel_size  // mm: as exporters::voxelise picks it
-                       : shell.empty()     ? spec.min_radius / 2
-                                           : std::min(spec.min_radius, spec.shell_thickness) / 2;
+  const double voxel = spec.voxel_size > 0                                             // mm
+                           ? spec.voxel_size
+                           : exporters::automatic_voxel_size(spec.min_radius, spec.shell_thickness, !shell.empty());
   return reach * scale > 0x1p17 * voxel ? core::Vec3(0.5 * (lo + hi)) : core::Vec3::Zero();
 }
 

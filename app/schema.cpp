@@ -305,7 +305,7 @@ std::vector<Field> build() {
                   "shell_thickness / 2: two voxels across the wall), raised if that would need more than "
                   "max_memory, up to the thinnest member printed (a vein's radius, at least min_radius; half the "
                   "shell's wall)"));
-  f.back().nonzero_min = 1e-5;
+  f.back().nonzero_min = 1e-5;  // (1e-320 was refused after the steps, "inf mm" said, audit)
   f.push_back(
       num("print", "adaptivity", "0.2", 0, 1, false, "0..1",
           "mesh simplification (OpenVDB): fewer triangles where the surface is flat; above the default it thins round "

@@ -33,7 +33,8 @@ struct Field {
   std::string choices;         ///< allowed names for choice kinds, separated by '|'
   std::string unit;            ///< unit or role, e.g. "model units"
   std::string doc;             ///< one line
-  double nonzero_min = 0;      ///< > 0: besides 0 (an automatic value), nothing below this is allowed
+  double nonzero_min = 0;      ///< > 0: besides 0 (an automatic value), nothing below this is allowed (checked
+                               ///< with the range, script and --set alike)
   /// A function or table: leaving it out is no error, whatever default_text says.
   bool structured() const { return kind == Kind::function || kind == Kind::table || kind == Kind::table_or_function; }
 };

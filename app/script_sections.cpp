@@ -199,10 +199,6 @@ void section_print(Impl& I, const std::string& at) {
   p.min_radius = v["min_radius"].num;
   p.shell_thickness = v["shell_thickness"].num;
   p.voxel_size = v["voxel_size"].num;
-  if (p.voxel_size > 0 && p.voxel_size < 1e-5)  // (1e-320 was refused after the steps, "inf mm" said)
-    throw InvalidInput(I.value_at("print.voxel_size", at) + "print.voxel_size must be " +
-                       allowed_text(*find_field("print", "voxel_size")) + " (0: automatic), got " +
-                       core::number_text(p.voxel_size));
   if (p.voxel_size > p.min_radius)  // known now: said before the run, not after it
     throw InvalidInput(
         I.value_at(I.overrides && I.overrides->count("print.voxel_size") ? "print.voxel_size" : "print.min_radius",
@@ -292,10 +288,6 @@ void section_output(Impl& I, const std::string& at) {
   I.cfg->output.png_size = static_cast<int>(v["png_size"].num);
   I.cfg->output.svg_size = v["svg_size"].num;
   if (v["svg_size"].present) I.cfg->output.svg_size_at = I.value_at("output.svg_size", at);
-  if (I.cfg->output.svg_size > 0 && I.cfg->output.svg_size < 1)
-    throw InvalidInput(I.value_at("output.svg_size", at) + "output.svg_size must be " +
-                       allowed_text(*find_field("output", "svg_size")) + " (0: the print's scale, or 200 mm), got " +
-                       core::number_text(I.cfg->output.svg_size));
   I.cfg->output.svg_join_veins = v["svg_paths"].str == "veins";
   if (v["svg_paths"].present) I.cfg->output.svg_paths_at = I.value_at("output.svg_paths", at);
 }

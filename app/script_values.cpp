@@ -244,7 +244,11 @@ std::string got_text(double x) {
 void ScriptHost::Impl::check_range(const Field& f, Value& v, const std::string& at) {
   if (!v.present) return;
   const std::string name = f.section + "." + f.name;
-  auto bad = [&](double x) { return !std::isfinite(x) || x < f.min || x > f.max || (f.min_exclusive && x <= f.min); };
+  // (nonzero_min: besides 0, an automatic value, nothing below it)
+  auto bad = [&](double x) {
+    return !std::isfinite(x) || x < f.min || x > f.max || (f.min_exclusive && x <= f.min) ||
+           (f.nonzero_min > 0 && x != 0 && x < f.nonzero_min);
+  };
   auto fail = [&](const std::string& got) {
     // allowed_text leaves out the far limit that every number has (1e300): say it when it is the one passed
     const bool far = f.max >= 1e299 && (v.num > f.max || v.vec.cwiseAbs().maxCoeff() > f.max);

@@ -186,6 +186,10 @@ bool finite(const Vec3& v) { return v.allFinite(); }
 
 }  // namespace
 
+double automatic_voxel_size(double min_radius, double shell_thickness, bool shell) {
+  return (shell ? std::min(min_radius, shell_thickness) : min_radius) / 2;
+}
+
 LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell,
                   const ThickenParams& params, ThickenReport* report) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -217,11 +221,10 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
                        : extent > 0     ? auto_scale(segments, shell, params.min_radius, half_shell, params.auto_extent,
                                                      params.auto_extent / extent)
                                         : 1.0;
-  // auto: four voxels across a minimum-radius vein, and at least two across the shell's wall (a coarser voxel
-  // broke a 0.3 mm lamp shade into pieces); it may be raised below, up to the thinnest member printed
-  double voxel = params.voxel_size > 0 ? params.voxel_size
-                 : shell.empty()       ? params.min_radius / 2
-                                       : std::min(params.min_radius / 2, half_shell);
+  // (the automatic one may be raised below, up to the thinnest member printed)
+  double voxel = params.voxel_size > 0
+                     ? params.voxel_size
+                     : automatic_voxel_size(params.min_radius, params.shell_thickness, !shell.empty());
   detail::check_given_scale(segments, shell, params, scale);
 
   // Primitives in mm, with radii raised to the printable minimum.
@@ -285,11 +288,8 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   double shell_area = 0;
   for (const Slab& w : slabs) shell_area += (w.p1 - w.p0).cross(w.p2 - w.p0).norm() / 2;
   const auto dilation = [&](double v) { return half_shell + closing_radius(params, scale) + 2 * kHalfWidth * v; };
-  if (!std::isfinite(thinnest)) thinnest = params.min_radius;        // (no vein, no shell)
-  const double coarsest = params.voxel_size > 0 ? voxel : thinnest;  // the voxel may be raised up to it
-  const double overlap = params.close_holes > 0 ? closing_overlap(shell, scale, shell_area, dilation(voxel),
-                                                                  dilation(std::max(voxel, coarsest)))
-                                                : 1.0;
+  if (!std::isfinite(thinnest)) thinnest = params.min_radius;  // (no vein, no shell)
+  double overlap = 1;  // counted only where the sum of the dilations is over the limit (it costs a pass)
   const auto estimate_at = [&](double v) {
     const double active_estimate = area * 2 * kHalfWidth / (v * v);  // the band is kHalfWidth voxels
     const double quads_estimate = area / (v * v);
@@ -299,6 +299,11 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
            static_cast<double>(caps.size() + slabs.size()) * 200;
   };
   double estimate = estimate_at(voxel);
+  if (estimate > params.max_memory_bytes && params.close_holes > 0 && !slabs.empty()) {
+    const double coarsest = params.voxel_size > 0 ? voxel : thinnest;  // the voxel may be raised up to it
+    overlap = closing_overlap(shell, scale, shell_area, dilation(voxel), dilation(std::max(voxel, coarsest)));
+    estimate = estimate_at(voxel);
+  }
   double voxel_raised_from = 0;
   if (estimate > params.max_memory_bytes) {
     // a coarser voxel helps only up to the thinnest member (thinner ones would vanish): beyond, only size or

@@ -152,6 +152,17 @@ double dilated_volume(const std::vector<std::array<Vec3, 3>>& shell, double scal
     cell *= std::cbrt(cells / max_cells) * 1.01;
     if (coarsened) *coarsened = true;
   }
+  // and at most as many distance tests: triangles much larger than the radius (a large print of a coarse
+  // sheet) each test a box of (edge / cell)^3 cells
+  double tests = 0;
+  for (const auto& t : shell) {
+    const Vec3 box = (t[0].cwiseMax(t[1]).cwiseMax(t[2]) - t[0].cwiseMin(t[1]).cwiseMin(t[2])) * scale;
+    tests += ((box.array() + 2 * radius) / cell + 1).prod();
+  }
+  if (tests > max_cells) {
+    cell *= std::cbrt(tests / max_cells) * 1.01;
+    if (coarsened) *coarsened = true;
+  }
   const auto size = [&](int k) { return static_cast<std::int64_t>(std::ceil(extent[k] / cell)) + 1; };
   const std::int64_t nx = size(0), ny = size(1), nz = size(2);
   std::vector<std::uint64_t> bits(static_cast<std::size_t>((nx * ny * nz + 63) / 64), 0);

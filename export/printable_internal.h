@@ -51,7 +51,8 @@ double auto_scale(const std::vector<Segment>& segments, const std::vector<std::a
 double closing_radius(const ThickenParams& p, double scale);
 /// mm^3: the volume within `radius` mm of the triangles `shell` (model units, scaled by `scale` mm per unit),
 /// counted as the cells of a grid radius / 2 mm wide whose centres lie that close (coarser past `max_cells`
-/// cells, 2^28 or 32 MB of bits: then `coarsened` is set, and a thin part may be missed). Where a folded sheet
+/// cells, 2^28 or 32 MB of bits, or as many distance tests: then `coarsened` is set, and a thin part may be
+/// missed). Where a folded sheet
 /// lies within 2 radius of itself the dilations overlap and count once.
 double dilated_volume(const std::vector<std::array<Vec3, 3>>& shell, double scale, double radius,
                       bool* coarsened = nullptr, double max_cells = 0x1p28);

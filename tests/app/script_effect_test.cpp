@@ -81,8 +81,7 @@ TEST_CASE("settings without effect in this run (a shell's without a shell, svg_s
   CHECK_THAT(blade.notes[0], Contains(":2: no leaf{...}, volume{...} or surface{...}: the veins grow in leaf{}'s"));
   // a drawing under 1 mm is a blot of 0.1 mm strokes: refused, naming where it was given
   CHECK_THAT(load_error("leaf {}\ncolonisation {}\noutput { svg_size = 0.001 }\n"),
-             Contains(":3: output.svg_size must be 0, or a number from 1 to 100000 (0: the print's scale, or 200 "
-                      "mm), got 0.001"));
+             Contains(":3: output.svg_size must be 0, or a number from 1 to 100000, got 0.001"));
   CHECK_THAT(load_error("leaf {}\ncolonisation {}\n", {{"output.svg_size", "0.5"}}),
              Contains("--set output.svg_size=0.5") && Contains("got 0.5"));
   CHECK(load("leaf {}\ncolonisation {}\noutput { svg_size = 1 }\n").output.svg_size == 1);

@@ -68,22 +68,23 @@ TEST_CASE("the overlap of a sheet's dilations is their union's share, at most 1"
   CHECK(closing_overlap({}, 1, 0, 1, 1) == 1);
 }
 
-TEST_CASE("a folded sheet's shell is estimated to need less memory than the same sheet unfolded", "[printable]") {
+TEST_CASE("a folded sheet's shell fits a memory limit the same sheet unfolded does not", "[printable]") {
   // two squares of 200 mm (at 1 mm per unit), 0.5 mm apart or 50 mm apart, closed with a radius of 5 mm (on
   // squares of 20 mm the rims would outweigh the overlap): the plan is told before any voxel is made, and the
-  // print stopped there
+  // print stopped there. The overlap is counted only where the dilations' sum is over the limit.
   exporters::ThickenParams p;
   p.scale = 1;
   p.voxel_size = 0.1;
   p.close_holes = 5;  // mm: the closing's grid, through 2 (0.3 + 5 + 0.6) mm of each square, outweighs the bands
   p.min_radius = 0.2;
-  p.max_memory_bytes = 1e15;  // no coarser voxel for either
+  p.max_memory_bytes = 1e15;
   double estimate = 0;
   p.planned = [&](const exporters::ThickenReport& r) {
     estimate = r.estimated_bytes;
     throw core::Cancelled();
   };
   const auto planned = [&](const Triangles& t) {
+    estimate = 0;
     CHECK_THROWS_AS(exporters::thicken({}, t, p), core::Cancelled);
     return estimate;
   };
@@ -92,8 +93,14 @@ TEST_CASE("a folded sheet's shell is estimated to need less memory than the same
   add_square(folded, 200, 0.5);
   add_square(apart, 200, 0);
   add_square(apart, 200, 50);
-  const double near = planned(folded), far = planned(apart);
-  INFO(near << " " << far);
-  CHECK(near < 0.7 * far);  // the union of the dilations is about 12.3 mm thick, their sum 23.6 mm
-  CHECK(near > 0.5 * far);  // the bands around both squares stay
+  // under a limit they both fit, the sum of the dilations is the estimate: the same for both
+  const double sum = planned(apart);
+  CHECK(planned(folded) == sum);
+  // a limit of 0.7 times that: the folded sheet's dilations overlap, its union fits; the unfolded one's does not
+  p.max_memory_bytes = 0.7 * sum;
+  const double near = planned(folded);
+  INFO(near << " " << sum);
+  CHECK(near < 0.7 * sum);  // the union of the dilations is about 12.3 mm thick, their sum 23.6 mm
+  CHECK(near > 0.5 * sum);  // the bands around both squares stay
+  CHECK_THROWS_WITH(exporters::thicken({}, apart, p), Catch::Matchers::Contains("more than the limit"));
 }
