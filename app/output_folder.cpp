@@ -465,6 +465,13 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
   } catch (...) {
     // an unreadable old run.json only means we cannot clean up after it
   }
+  // a commit stopped after the old run.json went (a kill) left the two runs' outputs listed beside them
+  const fs::path manifest = dir / kOutputsManifest;
+  if (stale.empty() && fs::is_regular_file(manifest)) {
+    std::ifstream in(manifest);
+    for (std::string line; std::getline(in, line);)
+      if (!line.empty()) stale.push_back(line);
+  }
   // every file is checked before any moves, so a missing one leaves the earlier outputs as they were
   std::vector<std::string> order;
   std::set<std::string> listed;
@@ -488,6 +495,13 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
   // has no run.json (README: such a folder is unfinished)
   if (listed.count("run.json")) {
     std::stable_partition(order.begin(), order.end(), [](const std::string& n) { return n != "run.json"; });
+    // what the old run.json listed, and this run's outputs, outlive it until the commit is whole: a run
+    // in a folder a kill left without run.json still cleans up both
+    std::set<std::string> both(stale.begin(), stale.end());
+    both.insert(order.begin(), order.end());
+    core::write_file_atomically(manifest, [&](std::ostream& out) {
+      for (const std::string& n : both) out << n << '\n';
+    });
     std::error_code ec;
     fs::remove(dir / "run.json", ec);
     if (ec && fs::exists(dir / "run.json"))
@@ -500,12 +514,15 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
     fs::rename(staging / n, to, ec);
     if (ec) throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': " + ec.message());
   }
+  core::sync_directory(dir);  // the moves reach the disk before the old files go (a crash keeps a whole run)
+  if (fs::is_directory(dir / "frames")) core::sync_directory(dir / "frames");
   for (const std::string& n : stale) {
     if (fresh.count(n) || !own_output(dir, n)) continue;  // only cellform's files, inside dir
     std::error_code ec;
     fs::remove(dir / n, ec);
   }
   std::error_code ec;
+  if (listed.count("run.json")) fs::remove(manifest, ec);
   fs::remove_all(staging, ec);
   // frames/ emptied of the earlier run's frames goes too (fs::remove removes only an empty folder)
   if (std::any_of(stale.begin(), stale.end(), [](const std::string& n) { return n.rfind("frames/", 0) == 0; }) &&

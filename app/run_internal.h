@@ -384,7 +384,9 @@ void remove_empty_up_to(const std::filesystem::path& dir, const std::filesystem:
 /// Moves every file of `staging` (recursively) into `dir`, then removes the outputs of an earlier run
 /// (listed in its run.json) that this run did not write again and `keep` does not name. The old run.json
 /// is removed before the first move and the new one moved last, so a folder left between two runs' files
-/// (a kill, a failed move) has no run.json.
+/// (a kill, a failed move) has no run.json; meanwhile kOutputsManifest lists both runs' outputs, and a
+/// commit into a folder without run.json cleans up after those it lists.
+inline constexpr const char* kOutputsManifest = ".cellform-outputs";
 void commit_outputs(const std::filesystem::path& staging, const std::filesystem::path& dir,
                     const std::vector<std::string>& names, const std::vector<std::string>& keep = {});
 

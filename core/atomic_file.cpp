@@ -37,6 +37,13 @@ void ensure_directory(const fs::path& dir) {
   if (ec) throw FileError("cannot create directory '" + dir.string() + "': " + ec.message());
 }
 
+void sync_directory(const fs::path& dir) {
+  const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  ::fsync(fd);
+  ::close(fd);
+}
+
 void write_file_atomically(const fs::path& path, const std::function<void(std::ostream&)>& write) {
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
   std::error_code ec;
@@ -89,6 +96,7 @@ void write_file_atomically(const fs::path& path, const std::function<void(std::o
                       " was replaced while it was written (is the folder writable by others?)");
     fs::rename(tmp, path, ec);
     if (ec) throw FileError("cannot write '" + path.string() + "': " + ec.message());
+    sync_directory(path.parent_path());
   } catch (...) {
     fs::remove(tmp, ec);
     throw;

@@ -425,6 +425,7 @@ PrintableMesh read_mesh(const std::filesystem::path& path, MeshFileNotes& notes)
     throw core::FileError(path.string() +
                           (ext.empty() ? ": no file extension" : ": unknown mesh format '" + ext + "'") +
                           " (use .stl, .obj or .ply)");
+  if (s.empty()) malformed(path, "the file is empty (0 bytes)");
   PrintableMesh m = ext == ".stl" ? read_stl(path, s, &notes) : ext == ".obj" ? read_obj(path, s) : read_ply(path, s);
   for (std::size_t i = 0; i < m.vertices.size(); ++i)  // unreadable input, not an unprintable shape
     if (!m.vertices[i].allFinite())

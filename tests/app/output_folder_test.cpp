@@ -38,15 +38,30 @@ TEST_CASE("a commit stopped between two runs' files leaves no run.json", "[cli]"
   // a move that fails all the same (here: its path passes the system's limit, the shorter ones do not)
   // leaves no run.json: the old one would not describe the mix
   fs::path deep = t.path / "deep";
-  while (deep.string().size() < PATH_MAX - 220) deep /= std::string(200, 'd');
-  deep /= std::string(PATH_MAX - 11 - deep.string().size(), 'e');  // deep/run.json fits, deep/bbbbbb.txt not
+  while (deep.string().size() < PATH_MAX - 300) deep /= std::string(200, 'd');
+  deep /= std::string(PATH_MAX - 51 - deep.string().size(), 'e');  // deep/run.json fits, deep/bbb...b.txt not
   fs::create_directories(deep);
+  const std::string long_name = std::string(60, 'b') + ".txt";
   std::ofstream(deep / "a") << "old a";
-  std::ofstream(deep / "run.json") << R"({"outputs": ["a", "run.json"]})";
-  for (const char* n : {"a", "bbbbbb.txt"}) std::ofstream(staging / n) << "new " << n;
-  CHECK_THROWS_AS(commit_outputs(staging, deep, {"run.json", "a", "bbbbbb.txt"}), cellform::core::FileError);
+  std::ofstream(deep / "old.obj") << "old obj";
+  std::ofstream(deep / "run.json") << R"({"program": "cellform", "outputs": ["a", "old.obj", "run.json"]})";
+  for (const std::string& n : {std::string("a"), long_name}) std::ofstream(staging / n) << "new " << n;
+  CHECK_THROWS_AS(commit_outputs(staging, deep, {"run.json", "a", long_name}), cellform::core::FileError);
   CHECK(slurp(deep / "a") == "new a");         // moved before the failure
   CHECK_FALSE(fs::exists(deep / "run.json"));  // the old one does not describe the mix
+  // but both runs' outputs are listed beside them, and the next commit there cleans up after both (an
+  // export audit: a run in a folder without run.json left the older run's printable.obj beside its STL)
+  const std::string manifest = slurp(deep / cellform::app::kOutputsManifest);
+  CHECK_THAT(manifest, Contains("old.obj\n") && Contains("a\n") && Contains(long_name + "\n"));
+  fs::remove(staging / long_name);
+  std::ofstream(staging / "run.json") << "new run.json";
+  REQUIRE_NOTHROW(commit_outputs(staging, deep, {"run.json"}));
+  CHECK(slurp(deep / "run.json") == "new run.json");
+  CHECK_FALSE(fs::exists(deep / "old.obj"));
+  CHECK_FALSE(fs::exists(deep / "a"));
+  CHECK_FALSE(fs::exists(deep / cellform::app::kOutputsManifest));
+  fs::create_directories(staging);
+  for (const char* n : {"run.json", "a.txt", "b.txt"}) std::ofstream(staging / n) << "new " << n;
   // a whole commit moves run.json too, listed in any position
   fs::remove_all(dir / "b.txt");
   REQUIRE_NOTHROW(commit_outputs(staging, dir, {"run.json", "b.txt"}));

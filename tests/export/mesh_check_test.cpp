@@ -191,6 +191,17 @@ TEST_CASE("an inside-out mesh is named so, not counted as a cavity", "[mesh_chec
   REQUIRE(r.problems().size() == 1);
   CHECK_THAT(r.problems()[0], Catch::StartsWith("inside out"));
   CHECK_THAT(r.summary(), Catch::Contains("NOT printable: inside out") && !Catch::Contains("cavity"));
+  // with a shell facing the wrong way beside a right one the total may be negative, but reversing every
+  // triangle would turn the right one (an export audit): the misoriented shell is the problem named
+  PrintableMesh mixed = m;
+  PrintableMesh right = uv_sphere(12, 24, 1.0);
+  for (auto& v : right.vertices) v.x() += 10;
+  append(mixed, right);
+  const auto both = exporters::check_mesh(mixed);
+  CHECK(both.volume < 0);
+  CHECK(both.misnested_parts == 1);
+  for (const std::string& problem : both.problems()) CHECK_THAT(problem, !Catch::Contains("inside out"));
+  CHECK_THAT(both.summary(), Catch::Contains("the enclosed volume is negative"));
   // an open one is not called inside out: its problem is the hole
   m.triangles.pop_back();
   const auto open = exporters::check_mesh(m);
@@ -329,6 +340,10 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
   { std::ofstream(dir / "noext") << "solid x\nendsolid x\n"; }
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "noext"),
                     Catch::Contains("noext: no file extension (use .stl, .obj or .ply)"));
+  for (const char* name : {"empty.stl", "empty.obj", "empty.ply"}) {  // not "not an STL file" or "no faces"
+    { std::ofstream(dir / name); }
+    CHECK_THROWS_WITH(exporters::read_mesh(dir / name), Catch::Contains(name) && Catch::Contains("the file is empty"));
+  }
   { std::ofstream(dir / "text.stl") << "hello, not a mesh\n"; }
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "text.stl"), Catch::Contains("text.stl"));
   { std::ofstream(dir / "x.step") << "ISO-10303-21;\n"; }
