@@ -77,9 +77,9 @@ core::Vec3 far_centre(const std::vector<exporters::Segment>& segments,
 /// Thickens vein segments (model units, Murray radii) and shell triangles into a printable solid and
 /// writes the requested formats into `dir`. Appends the file names to `names`; returns what run.json
 /// records. Throws on failure.
-json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::vector<exporters::Segment>& segments,
-                       const std::vector<std::array<core::Vec3, 3>>& shell, int threads,
-                       std::vector<std::string>& names, std::ostream& err, bool quiet, double close_holes, bool sheet) {
+namespace {
+
+exporters::ThickenParams thicken_params(const PrintSpec& spec, int threads, double close_holes) {
   exporters::ThickenParams tp;
   tp.scale = spec.scale;
   tp.auto_extent = spec.size;
@@ -93,6 +93,20 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   tp.flat_base = spec.flat_base;
   tp.close_holes = close_holes;
   tp.close_holes_max = spec.close_holes_max;
+  return tp;
+}
+
+}  // namespace
+
+double planned_print_scale(const PrintSpec& spec, const std::vector<exporters::Segment>& segments,
+                           const std::vector<std::array<core::Vec3, 3>>& shell) {
+  return exporters::print_scale(segments, shell, thicken_params(spec, 1, 0));
+}
+
+json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::vector<exporters::Segment>& segments,
+                       const std::vector<std::array<core::Vec3, 3>>& shell, int threads,
+                       std::vector<std::string>& names, std::ostream& err, bool quiet, double close_holes, bool sheet) {
+  exporters::ThickenParams tp = thicken_params(spec, threads, close_holes);
   // Ctrl-C stops the thickening at the next block; on a terminal the stage shows its percentage. A Ctrl-C
   // that stopped the steps before printing began asked for the outputs, the solid included: it is not one.
   const bool tty = !quiet && ::isatty(2) != 0;

@@ -371,9 +371,10 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       remove_empty_up_to(dir, created);
       return exit_code;
     };
+    std::vector<exporters::Segment> segments;  // (veins.svg is drawn at the print's scale)
+    std::vector<std::array<core::Vec3, 3>> shell;
     if (cfg.print) {
       try {
-        std::vector<exporters::Segment> segments;
         const auto edges = tree.edges();  // tree edges, then the loops' closing ones
         for (std::size_t k = 0; k < edges.size(); ++k) {
           const auto [p, c] = edges[k];
@@ -384,7 +385,6 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
           const double rc = closing ? rp : tree.radius[c];
           segments.push_back({tree.positions[p], tree.positions[c], rp, rc});
         }
-        std::vector<std::array<core::Vec3, 3>> shell;
         if (cfg.print->shell && sheet)
           shell = exporters::shell_triangles(*sheet, cells::Surface{cells::covering_triangles(*sheet), {}});
         if (segments.empty() && shell.empty() && stopped_before_step && code == ok) {
@@ -427,18 +427,10 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       }
     }
     if (reprint) save_final();  // the print worked
-    if (planar) {               // a drawing of the leaf; a 3-D pattern has no one plane to draw it in
-      venation::SvgParams svg;
-      svg.size = cfg.output.svg_size > 0 ? cfg.output.svg_size : 200;
-      // svg_size 0: at the print's scale, so that a cut outline fits the printed veins
-      if (cfg.output.svg_size == 0 && printed.contains("scale_mm_per_unit"))
-        svg.scale = printed["scale_mm_per_unit"].get<double>();
-      svg.join_veins = cfg.output.svg_join_veins;
-      venation::write_svg(staging / "veins.svg", tree, col.outline(), svg);
-      outputs.push_back("veins.svg");
-      std::error_code ec;
-      err << large_svg_note(fs::file_size(staging / "veins.svg", ec), svg.join_veins);
-    }
+    json svg_record;
+    if (planar)  // a drawing of the leaf; a 3-D pattern has no one plane to draw it in
+      svg_record = draw_veins_svg(staging, cfg.output, cfg.print ? &*cfg.print : nullptr, printed, segments, shell,
+                                  tree, col.outline(), outputs, err);
     json run = colonisation_run_record(s, seed, o.threads, spec, cfg.resolved);
     run["status"] = code == interrupted   ? "interrupted"
                     : print_failed        ? "print failed"
@@ -448,6 +440,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                     : rep.hit_max_sources ? "stopped at max_sources"
                                           : "stopped at max_steps";
     run["steps"] = {{"first", first}, {"completed", rep.steps}, {"limit", spec.params.max_steps}};
+    if (planar) run["svg"] = svg_record;
     run["veins"] = {{"nodes", rep.nodes},
                     {"loops", venation::independent_cycles(tree)},  // cycles, not the joins of two seeds' trees
                     {"anastomoses", rep.loops},

@@ -322,6 +322,11 @@ std::vector<std::pair<std::uint64_t, std::string>> salvage_frames(const std::fil
                                                                   const std::filesystem::path& staging,
                                                                   std::uint64_t up_to);
 
+/// mm per model unit the print of `segments` and `shell` uses (exporters::print_scale), known before
+/// anything is voxelised: veins.svg is drawn at it when the print fails. Throws as print_scale.
+double planned_print_scale(const PrintSpec& spec, const std::vector<exporters::Segment>& segments,
+                           const std::vector<std::array<core::Vec3, 3>>& shell);
+
 /// Thickens vein segments (model units, Murray radii) and shell triangles into a printable solid and
 /// writes the requested formats into `dir`. Appends the file names to `names`; returns what run.json
 /// records. Throws on failure (core::Cancelled on Ctrl-C).
@@ -332,6 +337,14 @@ nlohmann::json thicken_and_write(const std::filesystem::path& dir, const PrintSp
                                  const std::vector<std::array<core::Vec3, 3>>& shell, int threads,
                                  std::vector<std::string>& names, std::ostream& err, bool quiet, double close_holes = 0,
                                  bool sheet = false);
+
+/// Draws the leaf's veins.svg into `staging` (adding it to `outputs`; a large file is noted on `err`) at
+/// output.svg_size, or else at the print's scale (`printed`'s, or, if the print failed, the scale planned
+/// for `segments` and `shell`), or else 200 mm. Returns run.json's "svg": the page's scale and size in mm.
+nlohmann::json draw_veins_svg(const std::filesystem::path& staging, const OutputSpec& output, const PrintSpec* print,
+                              const nlohmann::json& printed, const std::vector<exporters::Segment>& segments,
+                              const std::vector<std::array<core::Vec3, 3>>& shell, const venation::VeinTree& tree,
+                              const venation::Outline& outline, std::vector<std::string>& outputs, std::ostream& err);
 
 /// A veins.svg of at least this many bytes is said to be large.
 constexpr std::uintmax_t kLargeSvgBytes = 50'000'000;

@@ -9,6 +9,7 @@
 #include "cells/surface.h"
 #include "export/cell_files.h"
 #include "export/vein_files.h"
+#include "venation/vein_io.h"
 
 namespace cellform::app {
 
@@ -147,6 +148,30 @@ std::vector<std::string> output_names(const SceneConfig& cfg) {
   if (cfg.print)
     for (const std::string& f : cfg.print->formats) names.push_back("printable." + f);
   return names;
+}
+
+json draw_veins_svg(const std::filesystem::path& staging, const OutputSpec& output, const PrintSpec* print,
+                    const json& printed, const std::vector<exporters::Segment>& segments,
+                    const std::vector<std::array<core::Vec3, 3>>& shell, const venation::VeinTree& tree,
+                    const venation::Outline& outline, std::vector<std::string>& outputs, std::ostream& err) {
+  venation::SvgParams svg;
+  svg.size = output.svg_size > 0 ? output.svg_size : 200;
+  // svg_size 0: at the print's scale, so that a cut outline fits the printed veins; a print that failed or
+  // was interrupted had its scale planned all the same (an export audit: the drawing came out at 200 mm)
+  if (output.svg_size == 0 && printed.contains("scale_mm_per_unit")) {
+    svg.scale = printed["scale_mm_per_unit"].get<double>();
+  } else if (output.svg_size == 0 && print && !(segments.empty() && shell.empty())) {
+    try {
+      svg.scale = planned_print_scale(*print, segments, shell);
+    } catch (const std::exception&) {  // (such a print failed already, and said why)
+    }
+  }
+  svg.join_veins = output.svg_join_veins;
+  const venation::SvgPage page = venation::write_svg(staging / "veins.svg", tree, outline, svg);
+  outputs.push_back("veins.svg");
+  std::error_code ec;
+  err << large_svg_note(std::filesystem::file_size(staging / "veins.svg", ec), svg.join_veins);
+  return {{"scale_mm_per_unit", page.scale}, {"width_mm", page.width}, {"height_mm", page.height}};
 }
 
 std::string large_svg_note(std::uintmax_t bytes, bool joined) {

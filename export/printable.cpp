@@ -190,13 +190,8 @@ double automatic_voxel_size(double min_radius, double shell_thickness, bool shel
   return (shell ? std::min(min_radius, shell_thickness) : min_radius) / 2;
 }
 
-LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell,
-                  const ThickenParams& params, ThickenReport* report) {
-  const auto t0 = std::chrono::steady_clock::now();
-  check_params(params);
-  if (segments.empty() && shell.empty())
-    throw core::InvalidInput("thicken: nothing to thicken: the form has no vein segments and no shell triangles");
-
+double print_scale(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell,
+                   const ThickenParams& params) {
   // Validate and find the model's bounding box (radii included) for the automatic scale.
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (std::size_t i = 0; i < segments.size(); ++i) {
@@ -215,12 +210,21 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
       lo = lo.cwiseMin(p);
       hi = hi.cwiseMax(p);
     }
-  const double extent = (hi - lo).maxCoeff();
+  if (params.scale > 0) return params.scale;
+  const double extent = segments.empty() && shell.empty() ? 0.0 : (hi - lo).maxCoeff();
+  return extent > 0 ? auto_scale(segments, shell, params.min_radius, params.shell_thickness / 2, params.auto_extent,
+                                 params.auto_extent / extent)
+                    : 1.0;
+}
+
+LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell,
+                  const ThickenParams& params, ThickenReport* report) {
+  const auto t0 = std::chrono::steady_clock::now();
+  check_params(params);
+  if (segments.empty() && shell.empty())
+    throw core::InvalidInput("thicken: nothing to thicken: the form has no vein segments and no shell triangles");
   const double half_shell = params.shell_thickness / 2;
-  const double scale = params.scale > 0 ? params.scale
-                       : extent > 0     ? auto_scale(segments, shell, params.min_radius, half_shell, params.auto_extent,
-                                                     params.auto_extent / extent)
-                                        : 1.0;
+  const double scale = print_scale(segments, shell, params);
   // (the automatic one may be raised below, up to the thinnest member printed)
   double voxel = params.voxel_size > 0
                      ? params.voxel_size

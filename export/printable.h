@@ -122,6 +122,14 @@ std::size_t fill_cavities(PrintableMesh& mesh);
 /// mm (a coarser voxel broke a 0.3 mm lamp shade into pieces).
 double automatic_voxel_size(double min_radius, double shell_thickness, bool shell);
 
+/// mm per model unit the print of `segments` and `shell_triangles` uses: params.scale, or the automatic
+/// scale at which the printed form (radii raised to min_radius, the shell's half thickness around its
+/// triangles) is params.auto_extent mm along its largest side (1 for a form of no extent). Known before any
+/// voxel: veins.svg is drawn at it even when the print fails. Throws core::InvalidInput on a non-finite
+/// coordinate or radius, or a negative radius.
+double print_scale(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell_triangles,
+                   const ThickenParams& params);
+
 /// Voxelises the union of the tapered capsules and of a shell of `shell_thickness` around the triangles
 /// (any soup: non-manifold and open input is fine) into a level set in mm. Each leaf of the grid takes
 /// the minimum of the exact signed distances of the primitives overlapping it (gather, not scatter), so

@@ -61,8 +61,8 @@ constexpr std::size_t kOutlineLayer = 100;
 
 }  // namespace
 
-void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline, const SvgParams& sp,
-               const std::vector<Vec3>& sources) {
+SvgPage write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline, const SvgParams& sp,
+                  const std::vector<Vec3>& sources) {
   const auto [lo, hi] = drawing_bounds(tree, outline);
   const double extent = std::max({hi.x() - lo.x(), hi.y() - lo.y(), 1e-12});
   const double s = sp.scale > 0 ? sp.scale : sp.size / extent;  // mm per model unit
@@ -224,6 +224,7 @@ void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Ou
     out += "</svg>\n";
     core::drain(out, os, 0);
   });
+  return {s, w, h};
 }
 
 void write_vein_ply(const std::filesystem::path& path, const VeinTree& tree) {

@@ -41,9 +41,13 @@ struct SvgParams {
 /// Within a layer the paths come in plot_order() from where the pen is (the page's top-left corner, then
 /// the end of the previous layer), each drawn from the end nearer the pen. All is scaled by the same
 /// factor (`scale`, or else size / the box's longer side: mm per model unit), y pointing up. Written
-/// atomically; core::FileError on failure.
-void write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline,
-               const SvgParams& params = {}, const std::vector<Vec3>& sources = {});
+/// atomically; core::FileError on failure. Returns the page drawn.
+struct SvgPage {
+  double scale = 0;              ///< mm per model unit
+  double width = 0, height = 0;  ///< mm, margins included
+};
+SvgPage write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline,
+                  const SvgParams& params = {}, const std::vector<Vec3>& sources = {});
 
 /// Binary little-endian PLY in the layout of the cell runs' veins.ply (exporters::write_veins_ply, less the
 /// cell id): vertices (x, y, z, flow, radius as float; order as int) and an edge element (vertex1 = the

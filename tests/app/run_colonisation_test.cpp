@@ -204,3 +204,36 @@ TEST_CASE("a stalled leaf says where its sources are left: outside the grown bla
   CHECK(outside > 0);
   CHECK(outside + inside == left);
 }
+
+TEST_CASE("veins.svg is at the print's scale even when the print fails, and run.json gives its scale and size",
+          "[cli][colonisation]") {
+  TempDir t("cli-col-svg-failed-print");
+  const auto script = t.write("leaf.lua",
+                              "leaf { shape = 'ellipse' }\n"
+                              "colonisation { type = 'open', growth = 'none', initial_length = 30, darts = 20000 }\n"
+                              "print { size = 70 }\n");
+  const auto good = cli({"run", script.string(), "--out", (t.path / "good").string(), "--steps", "30", "--quiet"});
+  REQUIRE(good.code == 0);
+  // an export audit: a print refused for memory drew the leaf 200 mm long instead, and nothing said so
+  const auto bad = cli({"run", script.string(), "--out", (t.path / "bad").string(), "--steps", "30", "--quiet", "--set",
+                        "print.voxel_size=0.001", "--set", "print.max_memory=1"});
+  INFO(bad.err);
+  REQUIRE(bad.code == 1);
+  const auto g = nlohmann::json::parse(slurp(t.path / "good" / "run.json"));
+  const auto b = nlohmann::json::parse(slurp(t.path / "bad" / "run.json"));
+  CHECK(b["status"] == "print failed");
+  CHECK(g["svg"]["scale_mm_per_unit"] == g["print"]["scale_mm_per_unit"]);
+  CHECK(b["svg"] == g["svg"]);
+  CHECK(slurp(t.path / "bad" / "veins.svg") == slurp(t.path / "good" / "veins.svg"));
+  const std::string svg = slurp(t.path / "good" / "veins.svg");
+  const std::size_t at = svg.find("width=\"") + 7;
+  CHECK(std::stod(svg.substr(at, svg.find("mm\"", at) - at)) ==
+        Approx(g["svg"]["width_mm"].get<double>()).margin(5e-4));  // (3 decimals)
+  // without print{} the drawing is 200 mm on its longer side, margins aside
+  const auto plain = t.write("plain.lua",
+                             "leaf { shape = 'ellipse' }\n"
+                             "colonisation { type = 'open', growth = 'none', initial_length = 30, darts = 20000 }\n");
+  REQUIRE(cli({"run", plain.string(), "--out", (t.path / "plain").string(), "--steps", "30", "--quiet"}).code == 0);
+  const auto p = nlohmann::json::parse(slurp(t.path / "plain" / "run.json"));
+  CHECK(std::max(p["svg"]["width_mm"].get<double>(), p["svg"]["height_mm"].get<double>()) == Approx(210));
+}
