@@ -18,6 +18,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/float_precision.h"
 #include "core/text.h"
 
 namespace cellform::exporters {
@@ -94,7 +95,9 @@ void write_cells_ply(const std::filesystem::path& path, const Cells& cells, cons
   header += "comment id is the low 32 bits of the 64-bit cell id\n";
   header += "comment type: 0 general, 1 petiole, 2 vein\n";
   header += "element vertex " + std::to_string(n) + "\n";
-  header += "property float x\nproperty float y\nproperty float z\n";
+  const bool doubles = core::needs_double(cells.position);
+  const std::string xyz = core::ply_position_type(doubles);
+  header += "property " + xyz + " x\nproperty " + xyz + " y\nproperty " + xyz + " z\n";
   header += "property uchar type\nproperty uint age\nproperty uint generation\nproperty uint id\n";
   header += "property uchar fixed\n";
   // vein order is a whole number (1 = primary); every other attribute is written as a float
@@ -113,12 +116,14 @@ void write_cells_ply(const std::filesystem::path& path, const Cells& cells, cons
   header += "end_header\n";
 
   std::string body;
-  body.reserve(n * (22 + 4 * columns.size()) + surface.triangles.size() * 13 + surface.edges.size() * 8);
+  body.reserve(n * (34 + 4 * columns.size()) + surface.triangles.size() * 13 + surface.edges.size() * 8);
   for (std::size_t i = 0; i < n; ++i) {
     const core::Vec3& p = cells.position[i];
-    put(body, static_cast<float>(p.x()));
-    put(body, static_cast<float>(p.y()));
-    put(body, static_cast<float>(p.z()));
+    for (int k = 0; k < 3; ++k)
+      if (doubles)
+        put(body, p[k]);
+      else
+        put(body, static_cast<float>(p[k]));
     put(body, static_cast<std::uint8_t>(cells.type[i]));
     put(body, cells.age[i]);
     put(body, cells.generation[i]);

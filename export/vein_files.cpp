@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/atomic_file.h"
+#include "core/float_precision.h"
 #include "core/polylines.h"
 #include "core/text.h"
 
@@ -27,10 +28,13 @@ void put(std::string& out, T v) {
 void write_veins_ply(const std::filesystem::path& path, const venation::VeinGraph& g, const cells::Cells& cells) {
   std::string body;
   body.reserve(g.cell.size() * 28 + g.edges.size() * 8);
+  const bool doubles = core::needs_double(g.position);
   for (std::size_t i = 0; i < g.cell.size(); ++i) {
-    put<float>(body, static_cast<float>(g.position[i].x()));
-    put<float>(body, static_cast<float>(g.position[i].y()));
-    put<float>(body, static_cast<float>(g.position[i].z()));
+    for (int k = 0; k < 3; ++k)
+      if (doubles)
+        put<double>(body, g.position[i][k]);
+      else
+        put<float>(body, static_cast<float>(g.position[i][k]));
     put<float>(body, static_cast<float>(g.flow[i]));
     put<float>(body, static_cast<float>(g.radius[i]));
     put<std::int32_t>(body, g.order[i]);
@@ -45,8 +49,9 @@ void write_veins_ply(const std::filesystem::path& path, const venation::VeinGrap
       "run "
       "child -> parent\n"
       "element vertex " +
-      std::to_string(g.cell.size()) +
-      "\nproperty float x\nproperty float y\nproperty float z\nproperty float flow\n"
+      std::to_string(g.cell.size()) + "\nproperty " + core::ply_position_type(doubles) + " x\nproperty " +
+      core::ply_position_type(doubles) + " y\nproperty " + core::ply_position_type(doubles) +
+      " z\nproperty float flow\n"
       "property float radius\nproperty int order\nproperty uint id\n"
       "element edge " +
       std::to_string(g.edges.size()) + "\nproperty int vertex1\nproperty int vertex2\nend_header\n";

@@ -16,6 +16,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/float_precision.h"
 
 using namespace cellform;
 using cells::Cells;
@@ -123,6 +124,11 @@ double read_value(const std::string& data, std::size_t& at, const std::string& t
   if (t == "float") {
     float v;
     std::memcpy(&v, p, 4);
+    return v;
+  }
+  if (t == "double") {
+    double v;
+    std::memcpy(&v, p, 8);
     return v;
   }
   FAIL("type not used by cellform: " << t);
@@ -270,6 +276,35 @@ TEST_CASE("vein_order is written as a whole number", "[export][ply]") {
   REQUIRE(column < v.properties.size());
   CHECK(v.properties[column].type == "int");
   for (std::size_t i = 0; i < c.size(); ++i) CHECK(v.rows[i][column] == order[i]);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a sheet far from the origin keeps its positions in 64-bit doubles, one near it in floats", "[export][ply]") {
+  const fs::path dir = temp_dir("ply-far");
+  Sheet s = make_sheet();
+  CHECK_FALSE(cellform::core::needs_double(s.cells.position));
+  // an export audit: at 3,000,000 units out floats are 0.25 units apart, and the cells snapped to that grid
+  for (Vec3& p : s.cells.position) p += Vec3(3e6, -2e6, 0.5);
+  REQUIRE(cellform::core::needs_double(s.cells.position));
+  exporters::write_cells_ply(dir / "far.ply", s.cells, s.surface);
+  const Ply ply = parse_ply(slurp(dir / "far.ply"));
+  const PlyElement& v = ply.elements[0];
+  for (int k = 0; k < 3; ++k) CHECK(v.properties[k].type == "double");
+  CHECK(v.properties[3].type == "uchar");
+  for (std::size_t i = 0; i < s.cells.size(); ++i)
+    for (int k = 0; k < 3; ++k) CHECK(v.rows[i][k] == s.cells.position[i][k]);
+  OpenMesh::PolyMesh_ArrayKernelT<> mesh;  // (its points are floats: it reads doubles and rounds them)
+  OpenMesh::IO::Options options;
+  REQUIRE(OpenMesh::IO::read_mesh(mesh, (dir / "far.ply").string(), options));
+  CHECK(mesh.n_vertices() == s.cells.size());
+  CHECK(mesh.point(OpenMesh::VertexHandle(0))[0] == static_cast<float>(s.cells.position[0][0]));
+  // the bound: a float moves a point by up to 2^-24 of its largest coordinate; allowed up to 1e-5 of the extent
+  const std::vector<Vec3> pair = {Vec3(0, 0, 0), Vec3(1, 0, 0)};
+  CHECK_FALSE(cellform::core::needs_double(pair));
+  CHECK_FALSE(cellform::core::needs_double(std::vector<Vec3>{Vec3(160, 0, 0), Vec3(161, 0, 0)}));
+  CHECK(cellform::core::needs_double(std::vector<Vec3>{Vec3(170, 0, 0), Vec3(171, 0, 0)}));
+  CHECK(cellform::core::needs_double(std::vector<Vec3>{Vec3(5, 5, 5)}));  // no extent: any rounding moves it
+  CHECK_FALSE(cellform::core::needs_double(std::vector<Vec3>{}));
   fs::remove_all(dir);
 }
 

@@ -353,6 +353,19 @@ TEST_CASE("SVG, PLY and OBJ output", "[colonisation]") {
   REQUIRE(t.parent[1] != kNoIndex);
   CHECK(i32(first_edge) == 1);  // node 0 is the seed: the first edge is node 1's, to its parent
   CHECK(i32(first_edge + 4) == static_cast<std::int32_t>(t.parent[1]));
+  // the same tree far from the origin: positions as doubles (36 bytes a node), the rest as before
+  v::VeinTree far = t;
+  for (Vec3& q : far.positions) q += Vec3(4e6, 0, 0);
+  v::write_vein_ply(dir / "far.ply", far);
+  std::stringstream far_all;
+  far_all << std::ifstream(dir / "far.ply", std::ios::binary).rdbuf();
+  const std::string far_ply = far_all.str();
+  CHECK_THAT(far_ply, Contains("property double x\nproperty double y\nproperty double z\nproperty float flow\n"));
+  const std::size_t far_body = far_ply.find("end_header\n") + 11;
+  REQUIRE(far_ply.size() == far_body + 36 * t.size() + 8 * edges.size());
+  double far_x;
+  std::memcpy(&far_x, far_ply.data() + far_body + 36 * last, 8);
+  CHECK(far_x == far.positions[last].x());
   std::ifstream obj(dir / "veins.obj");
   std::string line;
   std::size_t v_lines = 0, l_lines = 0, a_lines = 0;
