@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -110,6 +111,40 @@ TEST_CASE("a cell drains into the neighbour of the previous layer with the large
   CHECK(flow[0] == 6);
   // the flow direction of cell 5 points at cell 2
   CHECK(attr(c, venation::kFlowX)[5] == -1.0);
+}
+
+TEST_CASE("a cell next to the veins drains into the neighbouring vein cell of the largest flow", "[venation]") {
+  // (a paper-fidelity audit: only layer 2 was tested directly.) Vein cells 1 and 2 hang on petiole 0; cell 3
+  // touches both, cells 4, 5 and 6 only 2. The first pass knows no vein flow yet (all 0): the smaller index,
+  // 1, wins. The choice reads the vein flows of the pass before (this pass's are known only after phase 2),
+  // so in the second pass vein 2, which carried 4 against 2, wins.
+  cells::Cells c;
+  c.link_stride = 2;
+  for (const core::Vec3& q : {core::Vec3(0, -1, 0), core::Vec3(-1, 0, 0), core::Vec3(1, 0, 0), core::Vec3(0, 1, 0),
+                              core::Vec3(2, 1, 0), core::Vec3(3, 0, 0), core::Vec3(2, -1, 0)})
+    cells::add_cell(c, q);
+  c.type[0] = CellType::petiole;
+  for (Index v : {1u, 2u}) {
+    c.type[v] = CellType::vein;
+    c.vein_parent[v] = 0;
+    c.links[2 * v] = 0;
+  }
+  c.links[2 * 3] = 1;
+  c.links[2 * 3 + 1] = 2;
+  for (Index x : {4u, 5u, 6u}) c.links[2 * x] = 2;
+  venation::Params p;
+  p.threshold = 1e9;
+  venation::Workspace ws;
+  venation::canalise(c, p, {}, ws);
+  const auto& flow = attr(c, venation::kFlow);
+  CHECK(flow[1] == 2);                      // 1 + 3
+  CHECK(flow[2] == 4);                      // 2 + 4 + 5 + 6
+  CHECK(attr(c, venation::kFlowX)[3] < 0);  // towards cell 1
+  venation::canalise(c, p, {}, ws);
+  CHECK(flow[1] == 1);
+  CHECK(flow[2] == 5);
+  CHECK(flow[0] == 7);
+  CHECK(attr(c, venation::kFlowX)[3] > 0);  // towards cell 2
 }
 
 TEST_CASE("flow is conserved into several petioles and the veins form a forest", "[venation]") {
@@ -472,6 +507,32 @@ TEST_CASE("a higher threshold gives fewer vein cells on grown sheets, for each s
       INFO("seed " << seed << ", threshold " << t << ": " << r.vein_cells << " vein cells of " << c.size());
       CHECK(r.vein_cells < previous);
       previous = r.vein_cells;
+    }
+  }
+}
+
+TEST_CASE("a higher threshold spaces the veins farther apart on grown sheets", "[venation]") {
+  // the paper: the threshold "controls the distance between adjacent veins". The mean distance from a cell
+  // to the nearest vein or petiole cell (brute force) grows with it, for each seed.
+  for (std::uint64_t seed : {3u, 4u}) {
+    const cells::Cells sheet = grown_sheet(70, 1, seed);
+    double previous = 0;
+    for (double t : {5.0, 20.0, 80.0}) {
+      cells::Cells c = sheet;
+      venation::Params p;
+      p.threshold = t;
+      grow(c, p, 150);
+      double sum = 0;
+      for (std::size_t i = 0; i < c.size(); ++i) {
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t j = 0; j < c.size(); ++j)
+          if (c.type[j] != CellType::general) best = std::min(best, (c.position[j] - c.position[i]).norm());
+        sum += best;
+      }
+      const double mean = sum / static_cast<double>(c.size());
+      INFO("seed " << seed << ", threshold " << t << ": mean distance to a vein " << mean);
+      CHECK(mean > previous * 1.15);
+      previous = mean;
     }
   }
 }
