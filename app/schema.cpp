@@ -52,7 +52,9 @@ std::vector<Field> build() {
   f.push_back(
       integer("cells", "neighbours", "6", 3, 32, "cells", "k: links per cell, the k nearest (dynamic neighbourhood)"));
   f.push_back(num("cells", "link_range", "1.5", 0, 1e6, false, "rest lengths",
-                  "links only reach cells this close (0 = no limit: rims then pull inward)"));
+                  "links only reach cells this close (0 = no limit: the rim of a sheet spaced at the rest length then "
+                  "pulls inward; in a sheet packed closer than 0.87 rest lengths, as grown sheets are, the second "
+                  "ring lies within 1.5 and the rim pulls inward either way)"));
   f.push_back(choice("cells", "integrator", Kind::choice, "velocity_acceleration", "velocity|velocity_acceleration",
                      "velocity-only or velocity-acceleration model"));
   f.push_back(num("cells", "time_step", "0.1", 0, kInf, true, "time units",

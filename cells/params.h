@@ -63,7 +63,9 @@ struct Params {
   double rest_length = 1.0;  ///< d of Eq. 2: target distance between linked cells, model units
   int neighbours = 6;        ///< k: links per cell (the six closest in the paper); at least 3
   /// Links reach only cells within link_range * rest_length ("if available, the six closest"); 0 = the k
-  /// nearest at any distance (rim cells then link across the sheet and pull the rim inward).
+  /// nearest at any distance (rim cells then link across the sheet and pull the rim inward). That holds for a
+  /// sheet spaced at the rest length; in one packed closer than 1.5 / sqrt(3) = 0.87 rest lengths the second
+  /// ring lies within 1.5 too, and the rim pulls inward either way (see kCohesionNear in forces.h).
   double link_range = 1.5;
   Integrator integrator = Integrator::velocity_acceleration;
   double time_step = 0.1;  ///< time units per step
