@@ -55,6 +55,7 @@ std::vector<Field> build() {
                   "links only reach cells this close (0 = no limit: the rim of a sheet spaced at the rest length then "
                   "pulls inward; in a sheet packed closer than 0.87 rest lengths, as grown sheets are, the second "
                   "ring lies within 1.5 and the rim pulls inward either way)"));
+  f.back().nonzero_min = 1;  // cells/params.cpp refuses 0 < link_range < 1: said and checked as it does
   f.push_back(choice("cells", "integrator", Kind::choice, "velocity_acceleration", "velocity|velocity_acceleration",
                      "velocity-only or velocity-acceleration model"));
   f.push_back(num("cells", "time_step", "0.1", 0, kInf, true, "time units",

@@ -32,6 +32,7 @@ TEST_CASE("allowed values are said as the checks take them", "[script][docs]") {
   using cellform::app::allowed_text;
   using cellform::app::find_field;
   CHECK(allowed_text(*find_field("output", "svg_size")) == "0, or a number from 1 to 100000");
+  CHECK(allowed_text(*find_field("cells", "link_range")) == "0, or a number from 1 to 1e+06");
   CHECK(allowed_text(*find_field("output", "png_size")) == "a whole number from 16 to 20000");
   CHECK(allowed_text(*find_field("print", "scale")) == "a number from 0 to 1e+09");
 }
