@@ -120,8 +120,9 @@ std::vector<Field> build() {
                   "chance that a triggered cell divides this step (seeded)"));
   f.push_back(choice(
       "division", "direction", Kind::choice_or_function, "random", "random|tangent|axis|radial|circumferential|auxin",
-      "split direction (tangent: random within the sheet; auxin: along the local auxin flow, as tangent "
-      "where no flow runs yet); or "
+      "split direction (tangent: random within the sheet; axis: along division.axis, which elongates the form "
+      "only with trigger = neighbours: with age the sheet grows round, unlike the paper's uniform anisotropic "
+      "growth; auxin: along the local auxin flow, as tangent where no flow runs yet); or "
       "function(cell) returning {x, y, z}. An axis, a field or a function's vector has no sign: the "
       "daughter goes either way along it, by a seeded draw. The mother stays; the daughter starts half a rest "
       "length from it in that direction, with its velocity"));
