@@ -75,9 +75,12 @@ inline constexpr const char* kFlowZ = "flow_dz";
 ///  1. Towards the veins: starting at the cells adjacent to a vein and moving outward layer by layer
 ///     (breadth first over the links), each cell picks as downstream the neighbour of the previous
 ///     layer with the largest flow so far (for the first layer: the neighbouring vein cell with the
-///     largest vein flow of the previous step); ties go to the smaller index. Within a layer, cells are
-///     taken in the order the breadth-first search reached them (deterministic). Its auxin is added to
-///     that neighbour and, transitively, to everything downstream.
+///     largest vein flow of the previous step, since this step's vein flows are totals known only after
+///     phase 2); ties go to the smaller index. Within a layer, cells are taken in the order the
+///     breadth-first search reached them (deterministic). Its auxin is added to that neighbour and,
+///     transitively, to everything downstream. Two cells are neighbours here if either links to the
+///     other (the symmetric closure of the links, vein parents included), so a one-way link cuts no cell
+///     off; the forces use each cell's own links only.
 ///  2. Through the veins: flows accumulate from the vein tips to the petioles.
 /// Then every cell adjacent to a vein whose flow exceeds the threshold becomes a vein cell whose vein
 /// parent is its downstream vein cell. Petiole cells are the sinks and roots of the vein forest. Orders
