@@ -44,7 +44,10 @@ void integrate(Cells& cells, const Params& params, std::uint64_t step, int threa
 /// Ages every cell by one step and divides those whose trigger fires, in index order. A daughter is
 /// placed half a rest length from its mother along the split direction (a split axis (axis, radial,
 /// circumferential, a rule's vector) has no sign: the daughter goes either way along it, by a seeded draw), is a
-/// general cell, copies the mother's velocity, generation + 1, attributes and links; both get age 0. Stops at
+/// general cell, copies the mother's velocity, generation + 1, attributes and links; both get age 0. Cells of every
+/// type divide, vein and petiole cells too (the paper has only general cells divide); their daughters are general,
+/// not fixed, with no vein parent (the vein radius and order they copy are cleared by the next canalisation pass
+/// or, between passes, by forms::Scene), and canalisation may make them vein cells again. Stops at
 /// max_cells. Randomness comes from (seed, step, cell id) only. Returns the number of divisions. `grid` must index the
 /// current positions (trigger = neighbours counts cells within the radius through it); the built-in triggers are
 /// evaluated on up to `threads` threads, the rules serially. Throws core::InvalidInput naming the cell if a split
