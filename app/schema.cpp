@@ -70,8 +70,10 @@ std::vector<Field> build() {
                   "weight of separation from neighbours of neighbours (Eq. 5)"));
   f.push_back(vec("cells", "unary", "{0, 0, 0}", -kFar, kFar, "units/time^2",
                   "constant acceleration, e.g. gravity {0,0,-g} or reverse gravity (Eq. 6)"));
-  f.push_back(vec("cells", "drag", "{0.9, 0.9, 0.9}", 0, 1, "factor per step",
-                  "velocity factors a, b, c per axis (Eq. 7); 1 = no drag"));
+  f.push_back(
+      vec("cells", "drag", "{0.9, 0.9, 0.9}", 0, 1, "factor per step",
+          "velocity factors a, b, c per axis (Eq. 7); 1 = no drag (above 1, the paper's acceleration, is refused "
+          "for stability: it multiplies the speed every step)"));
   f.push_back(
       num("cells", "vein_cohesion", "4", 0, kInf, false, "factor",
           "factor on the vein cells' cohesion towards their vein parent and children (straightening: it pulls a "

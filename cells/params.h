@@ -77,8 +77,10 @@ struct Params {
   /// Force weights per cell type, indexed by CellType (general, petiole, vein).
   std::array<ForceWeights, 3> weights{};
 
-  Vec3 unary = Vec3::Zero();        ///< Eq. 6: constant acceleration, e.g. gravity (model units / time^2)
-  Vec3 drag = Vec3(0.9, 0.9, 0.9);  ///< Eq. 7: factors (a, b, c) multiplying velocity each step, in [0, 1]
+  Vec3 unary = Vec3::Zero();  ///< Eq. 6: constant acceleration, e.g. gravity (model units / time^2)
+  /// Eq. 7: factors (a, b, c) multiplying velocity each step, in [0, 1]. The paper also allows a factor above 1
+  /// ("accelerated"); it is refused for stability, as it multiplies a cell's speed every step.
+  Vec3 drag = Vec3(0.9, 0.9, 0.9);
 
   double vein_cohesion_factor = 4.0;    ///< extra cohesion of a vein cell to its vein parent and children
   double vein_separation_factor = 4.0;  ///< extra separation of a vein cell from its grandparent and grandchildren
