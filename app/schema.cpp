@@ -48,7 +48,7 @@ std::vector<Field> build() {
 
   // cells{}
   f.push_back(num("cells", "rest_length", "1", 0, kFar, true, "model units",
-                  "d of Eq. 2: target distance between linked cells"));
+                  "d of the cell paper's Eq. 2: target distance between linked cells"));
   f.push_back(
       integer("cells", "neighbours", "6", 3, 32, "cells", "k: links per cell, the k nearest (dynamic neighbourhood)"));
   f.push_back(num("cells", "link_range", "1.5", 0, 1e6, false, "rest lengths",
@@ -60,20 +60,22 @@ std::vector<Field> build() {
                      "velocity-only or velocity-acceleration model"));
   f.push_back(num("cells", "time_step", "0.1", 0, kInf, true, "time units",
                   "integration step; too large is refused as unstable"));
-  f.push_back(num("cells", "spring", "1", 0, kInf, false, "1/time^2", "weight of the spring force (Eq. 2)"));
-  f.push_back(num("cells", "planar", "0.5", 0, kInf, false, "1/time^2",
-                  "weight of planarisation towards the plane of the 3 closest (Eq. 3)"));
-  f.push_back(num("cells", "cohesion", "0", 0, kInf, false, "units^2/time^2",
-                  "weight of cohesion to the neighbours (Eq. 4; closer than a rest length the pull weakens in "
-                  "proportion to the distance, so the spring keeps the cells it draws together apart)"));
-  f.push_back(num("cells", "separation", "0", 0, kInf, false, "units^2/time^2",
-                  "weight of separation from neighbours of neighbours (Eq. 5)"));
-  f.push_back(vec("cells", "unary", "{0, 0, 0}", -kFar, kFar, "units/time^2",
-                  "constant acceleration, e.g. gravity {0,0,-g} or reverse gravity (Eq. 6)"));
   f.push_back(
-      vec("cells", "drag", "{0.9, 0.9, 0.9}", 0, 1, "factor per step",
-          "velocity factors a, b, c per axis (Eq. 7); 1 = no drag (above 1, the paper's acceleration, is refused "
-          "for stability: it multiplies the speed every step)"));
+      num("cells", "spring", "1", 0, kInf, false, "1/time^2", "weight of the spring force (cell paper, Eq. 2)"));
+  f.push_back(num("cells", "planar", "0.5", 0, kInf, false, "1/time^2",
+                  "weight of planarisation towards the plane of the 3 closest (cell paper, Eq. 3)"));
+  f.push_back(
+      num("cells", "cohesion", "0", 0, kInf, false, "units^2/time^2",
+          "weight of cohesion to the neighbours (cell paper, Eq. 4; closer than a rest length the pull weakens in "
+          "proportion to the distance, so the spring keeps the cells it draws together apart)"));
+  f.push_back(num("cells", "separation", "0", 0, kInf, false, "units^2/time^2",
+                  "weight of separation from neighbours of neighbours (cell paper, Eq. 5)"));
+  f.push_back(vec("cells", "unary", "{0, 0, 0}", -kFar, kFar, "units/time^2",
+                  "constant acceleration, e.g. gravity {0,0,-g} or reverse gravity (cell paper, Eq. 6)"));
+  f.push_back(vec("cells", "drag", "{0.9, 0.9, 0.9}", 0, 1, "factor per step",
+                  "velocity factors a, b, c per axis (cell paper, Eq. 7); 1 = no drag (above 1, the cell paper's "
+                  "acceleration, is refused "
+                  "for stability: it multiplies the speed every step)"));
   f.push_back(
       num("cells", "vein_cohesion", "4", 0, kInf, false, "factor",
           "factor on the vein cells' cohesion towards their vein parent and children (straightening: it pulls a "
@@ -123,7 +125,7 @@ std::vector<Field> build() {
   f.push_back(choice(
       "division", "direction", Kind::choice_or_function, "random", "random|tangent|axis|radial|circumferential|auxin",
       "split direction (tangent: random within the sheet; axis: along division.axis, which elongates the form "
-      "only with trigger = neighbours: with age the sheet grows round, unlike the paper's uniform anisotropic "
+      "only with trigger = neighbours: with age the sheet grows round, unlike the cell paper's uniform anisotropic "
       "growth; auxin: along the local auxin flow, as tangent where no flow runs yet); or "
       "function(cell) returning {x, y, z}. An axis, a field or a function's vector has no sign: the "
       "daughter goes either way along it, by a seeded draw. The mother stays; the daughter starts half a rest "
@@ -245,11 +247,12 @@ std::vector<Field> build() {
             "the grown sheet, from at most half its size or 3 cell spacings away (default: the petiole cells)"});
   f.push_back(choice("colonisation", "type", Kind::choice, "open", "open|closed",
                      "open: trees; closed: veins join into loops"));
-  f.push_back(choice(
-      "colonisation", "neighbourhood", Kind::choice, "exact", "exact|urquhart",
-      "closed: relative neighbourhood (Eq. 2) or its Urquhart approximation (leaf only; slower here, 2 to 8 times in "
-      "the presets and more in larger leaves, as exact keeps each source's sector bests from step to step: the "
-      "paper's speed-up does not apply)"));
+  f.push_back(
+      choice("colonisation", "neighbourhood", Kind::choice, "exact", "exact|urquhart",
+             "closed: relative neighbourhood (Runions 2005, Eq. 2) or its Urquhart approximation (leaf only; slower "
+             "here, 2 to 8 times in "
+             "the presets and more in larger leaves, as exact keeps each source's sector bests from step to step: the "
+             "paper's speed-up does not apply)"));
   f.push_back(num("colonisation", "kill_distance", "1", 0.5, kInf, false, "vein segments",
                   "d_k: a vein node this close reaches (open: removes) a source"));
   f.push_back(num("colonisation", "birth_distance", "10", 0, kInf, true, "vein segments",
@@ -289,7 +292,7 @@ std::vector<Field> build() {
                     "function(y0) sampled at 257 heights from -0.5 to 1.5; rates > 0"});
   f.push_back(Field{"colonisation", "growth_y", Kind::table_or_function, "(none)", 0, 0, false, "", "REG per step",
                     "nonuniform: vertical growth rate REG_y = 1 + g_y (Fig. 5d), as growth_x; > 0 keeps the "
-                    "mapping y0 -> y_t of Eq. 4 increasing"});
+                    "mapping y0 -> y_t (Runions 2005, Eq. 4) increasing"});
   f.push_back(integer("colonisation", "growth_steps", "0", 0, 1e9, "steps",
                       "nonuniform: steps of growth; the leaf then keeps its shape (required, >= 1)"));
 

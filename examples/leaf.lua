@@ -1,6 +1,7 @@
--- A flat, waving leaf with its veins, printed as a structural lattice (the paper's figures 2 and 3).
--- Marginal growth: cells at the rim have few neighbours nearby and divide within the sheet. Drag in z
--- (Eq. 7) keeps the blade nearly horizontal while it waves a little where the rim outgrows the middle.
+-- A flat, waving leaf with its veins, printed as a structural lattice (the cell paper's figures 2 and 3;
+-- docs/papers.md). Marginal growth: cells at the rim have few neighbours nearby and divide within the
+-- sheet. Drag in z (the cell paper's Eq. 7) keeps the blade nearly horizontal while it waves a little
+-- where the rim outgrows the middle.
 -- Auxin flows from every cell to the petiole; where it concentrates, cells become veins, and the veins
 -- are thickened with their Murray radii into printable.stl.
 
