@@ -3,9 +3,11 @@
 -- Table 1: open, d_k = 10, b_s = b_v = 1, L_i = 3200, marginal growth to L_f = 4500
 -- by Delta L = 9 per step, rho = 200 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
--- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
--- 1 / scale^2): the default, scale = 0.1, grows the leaf from 320 to 450 (about 1.5 s here, print included);
--- `--set scale=1` gives the paper's size.
+-- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf
+-- area, 1 / scale^2): the default, scale = 0.1, grows the leaf from 320 to 450 (on one core here:
+-- growth 0.5 s, print 2.7 s); `--set scale=1` gives the paper's size.
+-- Printed 120 mm across, every vein is raised to print.min_radius (0.4 mm): the fine veins merge into
+-- the main ones, which print apart (veins.svg and veins.png keep the widths).
 
 local P = params {
   scale = 0.1,  -- fraction of Table 1's leaf size (1 = the paper's)

@@ -1,13 +1,14 @@
 -- Leaf development under non-uniform anisotropic growth (Runions et al. 2005, Table 1 row
 -- "Developmental", Figures 5 and 20): the blade grows from a narrow to an almost circular shape while
--- veins of successive orders emerge. Table 1: closed, d_k = 1, b_s = b_v = 3, L_i = 23, nonuniform growth
--- to L_f = 184 (rates as in Figure 5), rho = 5000 x 10^-6, Murray n = 3.
+-- veins of successive orders emerge. Table 1: closed, d_k = 1, b_s = b_v = 3, L_i = 23, nonuniform
+-- growth to L_f = 184 (rates as in Figure 5), rho = 5000 x 10^-6, Murray n = 3.
 -- Figure 5's growth functions were drawn in a graphical editor and are not given as numbers; here the
--- vertical rate REG_y = 1 + g_y falls from the base to the tip (basipetal growth), scaled so that the leaf
--- grows from L_i to exactly L_f in `steps` steps, and the horizontal rate REG_x = 1 + g_x, a lookup table,
--- takes the narrow ellipse to one `roundness` times as wide as long (Appendix A: x_t = x_0 REG_x(y0)^t,
--- y_t = integral_0^y0 REG_y(y)^t dy, Eq. 4). This is the paper's full size (under 1 s).
--- `scale` multiplies L_i and L_f (the shape of growth stays).
+-- vertical rate REG_y = 1 + g_y falls from the base to the tip (basipetal growth), scaled so that the
+-- leaf grows from L_i to exactly L_f in `steps` steps, and the horizontal rate REG_x = 1 + g_x, a
+-- lookup table, takes the narrow ellipse to one `roundness` times as wide as long (Appendix A:
+-- x_t = x_0 REG_x(y0)^t, y_t = integral_0^y0 REG_y(y)^t dy, Eq. 4). This is the paper's full size (on
+-- one core here: growth 0.2 s, print 4 s). `scale` multiplies L_i and L_f (the shape of growth stays).
+-- Printed 120 mm across, it is an open net whose main veins are wider than the rest.
 
 local P = params {
   scale = 1,        -- fraction of Table 1's leaf size (1 = the paper's)

@@ -3,10 +3,12 @@
 -- Table 1: open, d_k = 30, b_s = b_v = 1, L_i = 1100, marginal growth to L_f = 5500
 -- by Delta L = 11 per step, rho = 40 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
--- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
--- 1 / scale^2): the default, scale = 0.2, grows the leaf from 220 to 1100 (under 1 s here);
--- `--set scale=1` gives the paper's size: 320,000 nodes in about 30 s here (the margin outruns the
--- veins and sources pile up, so the time grows faster than the nodes).
+-- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf
+-- area, 1 / scale^2): the default, scale = 0.2, grows the leaf from 220 to 1100 (on one core here:
+-- growth 0.3 s, print 1.6 s); `--set scale=1` gives the paper's size: 320,000 nodes in about 30 s here
+-- (the margin outruns the veins and sources pile up, so the time grows faster than the nodes).
+-- Printed 120 mm across, every vein is raised to print.min_radius (0.4 mm): the fine veins merge into
+-- the main ones, which print apart (veins.svg and veins.png keep the widths).
 
 local P = params {
   scale = 0.2,  -- fraction of Table 1's leaf size (1 = the paper's)

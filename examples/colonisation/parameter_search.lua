@@ -5,7 +5,11 @@
 --   panels a-e: d_k = 40, 20, 10, 5, 1 with rho = 600 x 10^-6 (denser veins, then loops, as d_k falls);
 --   panels f-h: rho = 60, 300, 6000 x 10^-6 (0.00006, 0.0003, 0.006) with d_k = 1 (smoother veins).
 -- `panel` picks a figure panel; `kill_distance` or `darts` (> 0) override its value. This is the
--- paper's full size (about 2 s for panel c); `scale` multiplies L_i, L_f and Delta L for quick looks.
+-- paper's full size (panel c on one core here: growth 1.6 s, print 3.1 s); `scale` multiplies L_i, L_f
+-- and Delta L for quick looks.
+-- Made for veins.svg and veins.png: printed 120 mm across, with every vein raised to print.min_radius
+-- (0.4 mm), the veins print as a dense lattice with small holes; `--set scale=0.3` (a smaller leaf,
+-- fewer veins) prints an open net of veins.
 
 local P = params {
   panel = "c",        -- a, b, c, d, e (d_k search) or f, g, h (rho search)

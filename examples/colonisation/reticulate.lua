@@ -5,9 +5,12 @@
 -- Table 1: closed, d_k = 1, b_s = b_v = 15, L_i = 225, isogonic growth to L_f = 4500
 -- by Delta L = 40.5 per step, rho = 200 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
--- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
--- 1 / scale^2): the default, scale = 0.5, grows the leaf from 112.5 to 2250 (about 7 s here, print included);
--- `--set scale=1` gives the paper's size.
+-- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf
+-- area, 1 / scale^2): the default, scale = 0.5, grows the leaf from 112.5 to 2250 (on one core here:
+-- growth 3 s, print 4 s); `--set scale=1` gives the paper's size.
+-- Made for veins.svg and veins.png: printed 120 mm across, with every vein raised to print.min_radius
+-- (0.4 mm), the veins fuse into a plate; `--set scale=0.1` (a smaller leaf, fewer veins) prints an open
+-- net of veins.
 
 local P = params {
   neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (slower here, 2 to 8 times and more in larger leaves: exact keeps sector bests)

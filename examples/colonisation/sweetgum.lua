@@ -3,9 +3,12 @@
 -- Table 1: open, d_k = 1, b_s = b_v = 1, L_i = 1200, marginal growth to L_f = 6700
 -- by Delta L = 7 per step, rho = 200 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
--- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
--- 1 / scale^2): the default, scale = 0.1, grows the leaf from 120 to 670 (about 4 s here, print included);
--- `--set scale=1` gives the paper's size.
+-- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf
+-- area, 1 / scale^2): the default, scale = 0.1, grows the leaf from 120 to 670 (on one core here:
+-- growth 0.9 s, print 4.5 s); `--set scale=1` gives the paper's size.
+-- Made for veins.svg and veins.png: printed 120 mm across, with every vein raised to print.min_radius
+-- (0.4 mm), the veins fuse into a plate; `--set scale=0.03` (a smaller leaf, fewer veins) prints an open
+-- net of veins.
 
 local P = params {
   scale = 0.1,  -- fraction of Table 1's leaf size (1 = the paper's)

@@ -4,9 +4,12 @@
 -- Table 1: closed, d_k = 1, b_s = b_v = 1, L_i = 3500, marginal growth to L_f = 24,000
 -- by Delta L = 60 per step, rho = 20 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
--- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
--- 1 / scale^2): the default, scale = 0.05, grows the leaf from 175 to 1200 (about 3 s here, print included);
--- `--set scale=1` gives the paper's size.
+-- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf
+-- area, 1 / scale^2): the default, scale = 0.05, grows the leaf from 175 to 1200 (on one core here:
+-- growth 0.8 s, print 3.7 s); `--set scale=1` gives the paper's size.
+-- Made for veins.svg and veins.png: printed 120 mm across, with every vein raised to print.min_radius
+-- (0.4 mm), the veins print as a dense lattice with small holes; `--set scale=0.02` (a smaller leaf,
+-- fewer veins) prints an open net of veins.
 
 local P = params {
   neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (slower here, 2 to 8 times and more in larger leaves: exact keeps sector bests)

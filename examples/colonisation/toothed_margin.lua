@@ -1,11 +1,14 @@
 -- Toothed margin (Runions et al. 2005, Table 1 row "Toothed margin", Figure 13 left): closed venation
--- with anastomoses in a toothed leaf with a lobe on each side; the veins extend into the lobes and teeth.
--- Table 1: closed, d_k = 1, b_s = b_v = 10, L_i = 6600, marginal growth to L_f = 26,000
+-- with anastomoses in a toothed leaf with a lobe on each side; the veins extend into the lobes and
+-- teeth. Table 1: closed, d_k = 1, b_s = b_v = 10, L_i = 6600, marginal growth to L_f = 26,000
 -- by Delta L = 40 per step, rho = 10 x 10^-6 darts per unit area per step, Murray n = 2.
 -- `scale` multiplies L_i, L_f and Delta L (same number of steps and relative growth per step; d_k,
--- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf area,
--- 1 / scale^2): the default, scale = 0.1, grows the leaf from 660 to 2600 (about 7 s here, print included);
--- `--set scale=1` gives the paper's size.
+-- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf
+-- area, 1 / scale^2): the default, scale = 0.1, grows the leaf from 660 to 2600 (on one core here:
+-- growth 3.5 s, print 6.9 s); `--set scale=1` gives the paper's size.
+-- Made for veins.svg and veins.png: printed 120 mm across, with every vein raised to print.min_radius
+-- (0.4 mm), the veins fuse into a plate; `--set scale=0.03` (a smaller leaf, fewer veins) prints an open
+-- net of veins.
 
 local P = params {
   neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (slower here, 2 to 8 times and more in larger leaves: exact keeps sector bests)
