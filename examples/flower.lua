@@ -37,5 +37,5 @@ disc { radius = 5 }
 petiole { at = {0, 0, 0} }
 
 -- printed as one watertight shell of the sheet (0.6 mm walls, 120 mm across), perforated where the sheet has
--- gaps; the whole run takes about 30 s on 2 cores, most of it the print
+-- gaps; on one core here the growth takes 2.5 s and the print 49 s
 print { formats = "stl", shell = true, veins = false }
