@@ -1,4 +1,4 @@
--- A ribbed vault: a low, ruffled shell of cells (about 36 x 36 x 14 rest lengths) grown under reverse gravity from a ring of supports on the ground
+-- A ribbed vault: a low, ruffled shell of cells (about 43 x 33 x 14 rest lengths) grown under reverse gravity from a ring of supports on the ground
 -- (as examples/shell.lua), then closed space colonisation (Runions et al. 2005) over the grown sheet
 -- draws a net of ribs from the supports across it. The sheet is printed as a thin shell with the ribs
 -- as its thickened veins: one piece.
