@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian packages cellform needs (only those missing), then configures and builds
-# in Release into build/. Sourced by run.sh and test.sh; safe to run again (quick when up to date).
+# in Release into build/. Run by run.sh and test.sh; safe to run again (quick when up to date).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 packages=(cmake g++ make pkg-config libopenmesh-dev libnanoflann-dev libeigen3-dev libopenvdb-dev
