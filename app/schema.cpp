@@ -465,8 +465,12 @@ std::string schema_markdown() {
   for (const Field& f : schema()) {
     if (f.section != section) {
       section = f.section;
-      s << "\n### `" << section
-        << "{...}`\n\n| parameter | default | allowed | unit | meaning |\n|---|---|---|---|---|\n";
+      // a table inside a section ("cells.petiole") is shown as it is written: cells{ petiole = {...} }
+      const std::size_t dot = section.find('.');
+      const std::string call = dot == std::string::npos
+                                   ? section + "{...}"
+                                   : section.substr(0, dot) + "{ " + section.substr(dot + 1) + " = {...} }";
+      s << "\n### `" << call << "`\n\n| parameter | default | allowed | unit | meaning |\n|---|---|---|---|---|\n";
     }
     s << "| `" << f.name << "` | "
       << (!f.default_text.empty() ? "`" + f.default_text + "`"
