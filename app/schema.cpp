@@ -74,8 +74,7 @@ std::vector<Field> build() {
                   "constant acceleration, e.g. gravity {0,0,-g} or reverse gravity (cell paper, Eq. 6)"));
   f.push_back(vec("cells", "drag", "{0.9, 0.9, 0.9}", 0, 1, "factor per step",
                   "velocity factors a, b, c per axis (cell paper, Eq. 7); 1 = no drag (above 1, the cell paper's "
-                  "acceleration, is refused "
-                  "for stability: it multiplies the speed every step)"));
+                  "acceleration, is refused for stability: it multiplies the speed every step)"));
   f.push_back(
       num("cells", "vein_cohesion", "4", 0, kInf, false, "factor",
           "factor on the vein cells' cohesion towards their vein parent and children (straightening: it pulls a "
@@ -250,9 +249,8 @@ std::vector<Field> build() {
   f.push_back(
       choice("colonisation", "neighbourhood", Kind::choice, "exact", "exact|urquhart",
              "closed: relative neighbourhood (Runions 2005, Eq. 2) or its Urquhart approximation (leaf only; slower "
-             "here, 2 to 8 times in "
-             "the presets and more in larger leaves, as exact keeps each source's sector bests from step to step: the "
-             "paper's speed-up does not apply)"));
+             "here, 2 to 8 times in the presets and more in larger leaves, as exact keeps each source's sector bests "
+             "from step to step: the paper's speed-up does not apply)"));
   f.push_back(num("colonisation", "kill_distance", "1", 0.5, kInf, false, "vein segments",
                   "d_k: a vein node this close reaches (open: removes) a source"));
   f.push_back(num("colonisation", "birth_distance", "10", 0, kInf, true, "vein segments",
