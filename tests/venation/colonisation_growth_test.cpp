@@ -169,3 +169,37 @@ TEST_CASE("a pattern that cannot grow ends with the stalled flag", "[colonisatio
   while (!limited.done()) limited.step();
   CHECK(limited.report().hit_max_steps);
 }
+
+TEST_CASE("nonuniform growth moves the blade as Appendix A's Eq. 4 says", "[colonisation]") {
+  // (a paper-fidelity audit: the growth test held for swapped rates or t + 1 steps.) After t steps a point
+  // of the initial blade at (x0, y0), relative to the petiole, lies at x0 REG_x(y0)^t and
+  // y_t = integral from 0 to y0 of REG_y(y)^t dy (Runions 2005, Eq. 4), here by Simpson's rule.
+  v::ColonisationParams p = params(v::VenationType::open, 0.5, 1);
+  p.growth = v::GrowthMode::nonuniform;
+  p.growth_x = {{0, 10}, {1.03, 1.03}};
+  p.growth_y = {{0, 10}, {1.05, 1.01}};  // the base lengthens faster than the tip
+  p.growth_steps = 20;
+  const v::Leaf leaf = ellipse_leaf(10, 5);
+  v::Colonisation sim(leaf, p);
+  const v::Outline initial = sim.outline();
+  auto y_at = [&](double y0, int t) {
+    const int n = 2000;  // intervals (even)
+    const double h = y0 / n;
+    double sum = 0;
+    for (int i = 0; i <= n; ++i)
+      sum += (i == 0 || i == n ? 1 : i % 2 ? 4 : 2) * std::pow(p.growth_y(i * h), t);
+    return sum * h / 3;
+  };
+  for (int t = 1; t <= 12; ++t) {
+    sim.step();
+    if (t % 4 != 0) continue;
+    const v::Outline now = sim.outline();
+    REQUIRE(now.points.size() == initial.points.size());
+    for (std::size_t k = 0; k < now.points.size(); k += 7) {
+      const v::Vec2 q0 = initial.points[k] - leaf.petiole;
+      INFO("step " << t << ", outline point " << k << " from (" << q0.x() << ", " << q0.y() << ")");
+      CHECK(now.points[k].x() - leaf.petiole.x() == Approx(q0.x() * std::pow(1.03, t)).margin(1e-6));
+      CHECK(now.points[k].y() - leaf.petiole.y() == Approx(y_at(q0.y(), t)).margin(1e-5));
+    }
+  }
+}
