@@ -186,8 +186,7 @@ TEST_CASE("nonuniform growth moves the blade as Appendix A's Eq. 4 says", "[colo
     const int n = 2000;  // intervals (even)
     const double h = y0 / n;
     double sum = 0;
-    for (int i = 0; i <= n; ++i)
-      sum += (i == 0 || i == n ? 1 : i % 2 ? 4 : 2) * std::pow(p.growth_y(i * h), t);
+    for (int i = 0; i <= n; ++i) sum += (i == 0 || i == n ? 1 : i % 2 ? 4 : 2) * std::pow(p.growth_y(i * h), t);
     return sum * h / 3;
   };
   for (int t = 1; t <= 12; ++t) {
@@ -201,5 +200,41 @@ TEST_CASE("nonuniform growth moves the blade as Appendix A's Eq. 4 says", "[colo
       CHECK(now.points[k].x() - leaf.petiole.x() == Approx(q0.x() * std::pow(1.03, t)).margin(1e-6));
       CHECK(now.points[k].y() - leaf.petiole.y() == Approx(y_at(q0.y(), t)).margin(1e-5));
     }
+  }
+}
+
+TEST_CASE("closed: a source waits for a vein still on its way, and the late vein closes the loop", "[colonisation]") {
+  // (a paper-fidelity audit: no test had a late vein.) Runions 2005: a source "must remain active until it is
+  // reached by all veins that are growing towards it". One source, a vein 5 below it and one `far` above it
+  // (both relative neighbours of the source): the near vein reaches it first, the far one keeps growing to it.
+  for (const double far : {10.0, 20.0}) {
+    v::ShapeParams sp;
+    sp.kind = v::ShapeKind::ellipse;
+    sp.length = sp.width = 200;
+    v::Leaf leaf;
+    leaf.outline = v::make_outline(sp);
+    leaf.initial_nodes = {{0, 55}, {0, 60 + far}};
+    leaf.initial_sources = {{0.3, 60.4}};
+    v::ColonisationParams p = params(v::VenationType::closed, 1);
+    p.darts_per_area = 0;
+    p.max_steps = 200;
+    v::Colonisation c(leaf, p);
+    std::size_t alive_after_near = 0;
+    for (int step = 0; step < 200 && !c.done(); ++step) {
+      c.step();
+      if (step == 6) alive_after_near = c.sources().size();  // the near vein has reached it by now
+    }
+    const v::VeinTree t = c.tree();
+    std::size_t from_far = 0;  // nodes grown from the far seed (node 1)
+    for (std::size_t i = 2; i < t.size(); ++i) {
+      Index r = static_cast<Index>(i);
+      while (t.parent[r] != core::kNoIndex) r = t.parent[r];
+      from_far += r == 1;
+    }
+    INFO("far vein at " << far << ": " << t.size() << " nodes, " << from_far << " from the far seed");
+    CHECK(alive_after_near == 1);
+    CHECK(c.report().finished);
+    CHECK(from_far >= static_cast<std::size_t>(far) - 2);  // it grew all the way
+    REQUIRE(t.anastomoses.size() == 1);                    // and the graph has the closing edge
   }
 }
