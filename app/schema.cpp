@@ -209,6 +209,11 @@ std::vector<Field> build() {
   f.push_back(num("leaf", "lobe_depth", "0.35", 0, 0.99, false, "fraction", "cut between lobes, of the radius"));
   f.push_back(integer("leaf", "teeth", "0", 0, 2000, "", "teeth along the margin (0 = entire margin)"));
   f.push_back(num("leaf", "tooth_depth", "0.02", 0, 1, false, "leaf lengths", "height of the teeth"));
+  f.push_back(integer("leaf", "fine_teeth", "0", 0, 2000, "",
+                      "a second wave of teeth summed with the first (Runions 2005, Section 3.2: waves of different "
+                      "amplitudes and frequencies), e.g. finer teeth on the teeth of a doubly serrate margin "
+                      "(0 = none)"));
+  f.push_back(num("leaf", "fine_tooth_depth", "0.005", 0, 1, false, "leaf lengths", "height of the second wave"));
   f.push_back(
       text("leaf", "file", "(none)",
            "outline file (one 'x y' per line, '#' starts a comment, closed: the first point repeated last; petiole "

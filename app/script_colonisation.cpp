@@ -103,7 +103,7 @@ std::string script_colonisation_message(const std::string& message) {
       {"colonisation.max_steps", "the step limit (--steps or colonisation.max_steps)"},
       {"leaf.initial_nodes", "leaf.seeds"},
       {"leaf.petiole at", "the petiole, the point (0, 0) of the outline, at"},
-      {"shape.teeth: teeth", "leaf.teeth and leaf.tooth_depth: teeth"},
+      {"shape.teeth: teeth", "leaf.teeth and leaf.tooth_depth (with any fine_teeth): teeth"},
       {"shape.lobe_depth", "leaf.lobe_depth"},
       {"shape.lobes", "leaf.lobes"},
       {"shape.width", "leaf.width"}};
@@ -237,7 +237,8 @@ void section_leaf(Impl& I, const std::string& at) {
     if (!v["file"].str.empty()) {
       // the built-in outlines' values do not shape a drawn one: said if given (a note: a run that gave them
       // once, when they went unsaid, still resumes), and not recorded as used
-      for (const char* k : {"shape", "width", "lobes", "lobe_depth", "teeth", "tooth_depth"}) {
+      for (const char* k :
+           {"shape", "width", "lobes", "lobe_depth", "teeth", "tooth_depth", "fine_teeth", "fine_tooth_depth"}) {
         if (v[k].present)
           I.cfg->notes.push_back(I.value_at(std::string("leaf.") + k, at) + "leaf." + k +
                                  " has no effect beside leaf.file: it shapes the built-in outlines, and an outline "
@@ -277,11 +278,14 @@ void section_leaf(Impl& I, const std::string& at) {
         for (const char* name : {"lobes", "lobe_depth"})
           unused(name, "with shape = \"" + k + "\": it shapes the lobed and palmate outlines");
       if (v["teeth"].num == 0) unused("tooth_depth", "without teeth (leaf.teeth = 0: an entire margin)");
+      if (v["fine_teeth"].num == 0) unused("fine_tooth_depth", "without fine teeth (leaf.fine_teeth = 0)");
       sp.length = 1;
       sp.width = v["width"].num;
       sp.lobes = static_cast<int>(v["lobes"].num);
       sp.lobe_depth = v["lobe_depth"].num;
       if (v["teeth"].num > 0) sp.teeth.push_back({v["tooth_depth"].num, static_cast<int>(v["teeth"].num)});
+      if (v["fine_teeth"].num > 0)
+        sp.teeth.push_back({v["fine_tooth_depth"].num, static_cast<int>(v["fine_teeth"].num)});
       leaf.outline = venation::make_outline(sp);
     }
     const int seeds = static_cast<int>(v["seeds"].num);

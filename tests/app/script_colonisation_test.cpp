@@ -281,3 +281,39 @@ TEST_CASE("output.every (frames of a cell run) is refused in a space-colonisatio
   CHECK_THAT(load_error("colonisation {}\n", {{"output.every", "5"}}),
              Contains("--set output.every=5: output.every writes frames"));
 }
+
+TEST_CASE("leaf.fine_teeth sums a second wave of teeth into the margin (doubly serrate)", "[script][colonisation]") {
+  // Runions 2005, Section 3.2: margins by "summing triangular waveforms of different amplitudes and
+  // frequencies"; a script could give only one (a paper-fidelity audit)
+  auto turns = [](const std::string& script) {  // the margin's changes between turning left and right
+    const auto cfg = load(script);
+    const auto& pts = cfg.colonisation->leaf.outline.points;
+    int changes = 0, last = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const auto& a = pts[i];
+      const auto& b = pts[(i + 1) % pts.size()];
+      const auto& c = pts[(i + 2) % pts.size()];
+      const double cross = (b.x() - a.x()) * (c.y() - b.y()) - (b.y() - a.y()) * (c.x() - b.x());
+      const int sign = cross > 1e-12 ? 1 : cross < -1e-12 ? -1 : 0;
+      if (sign != 0 && last != 0 && sign != last) ++changes;
+      if (sign != 0) last = sign;
+    }
+    return changes;
+  };
+  const int smooth = turns("leaf { shape = 'ellipse' }\ncolonisation {}\n");
+  const int serrate = turns("leaf { shape = 'ellipse', teeth = 20 }\ncolonisation {}\n");
+  const int doubly = turns("leaf { shape = 'ellipse', teeth = 20, fine_teeth = 100 }\ncolonisation {}\n");
+  INFO("turn changes: smooth " << smooth << ", 20 teeth " << serrate << ", and 100 fine " << doubly);
+  CHECK(smooth == 0);
+  CHECK(serrate >= 2 * 20 - 4);  // each tooth turns the margin at least twice (they fade near the petiole)
+  CHECK(doubly > 3 * serrate);   // five times as many teeth on the teeth
+  const auto cfg = load(
+      "leaf { shape = 'ellipse', teeth = 20, fine_teeth = 100, fine_tooth_depth = 0.004 }\n"
+      "colonisation {}\n");
+  CHECK(cfg.resolved["leaf"]["fine_teeth"] == 100);
+  CHECK(cfg.resolved["leaf"]["fine_tooth_depth"] == 0.004);
+  // a depth without its teeth is noted, as tooth_depth is
+  const auto noted = load("leaf { shape = 'ellipse', fine_tooth_depth = 0.01 }\ncolonisation {}\n");
+  REQUIRE(noted.notes.size() == 1);
+  CHECK_THAT(noted.notes[0], Contains("leaf.fine_tooth_depth has no effect without fine teeth"));
+}
