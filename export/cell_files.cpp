@@ -18,7 +18,6 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
-#include "core/float_precision.h"
 #include "core/text.h"
 
 namespace cellform::exporters {
@@ -95,9 +94,9 @@ void write_cells_ply(const std::filesystem::path& path, const Cells& cells, cons
   header += "comment id is the low 32 bits of the 64-bit cell id\n";
   header += "comment type: 0 general, 1 petiole, 2 vein\n";
   header += "element vertex " + std::to_string(n) + "\n";
-  const bool doubles = core::needs_double(cells.position);
-  const std::string xyz = core::ply_position_type(doubles);
-  header += "property " + xyz + " x\nproperty " + xyz + " y\nproperty " + xyz + " z\n";
+  // positions as doubles: a form placed at site coordinates (millions of units out) keeps them exactly, and every
+  // frame of a sequence has one layout (floats snapped such cells to a grid of a quarter unit)
+  header += "property double x\nproperty double y\nproperty double z\n";
   header += "property uchar type\nproperty uint age\nproperty uint generation\nproperty uint id\n";
   header += "property uchar fixed\n";
   // vein order is a whole number (1 = primary); every other attribute is written as a float
@@ -119,11 +118,7 @@ void write_cells_ply(const std::filesystem::path& path, const Cells& cells, cons
   body.reserve(n * (34 + 4 * columns.size()) + surface.triangles.size() * 13 + surface.edges.size() * 8);
   for (std::size_t i = 0; i < n; ++i) {
     const core::Vec3& p = cells.position[i];
-    for (int k = 0; k < 3; ++k)
-      if (doubles)
-        put(body, p[k]);
-      else
-        put(body, static_cast<float>(p[k]));
+    for (int k = 0; k < 3; ++k) put(body, p[k]);
     put(body, static_cast<std::uint8_t>(cells.type[i]));
     put(body, cells.age[i]);
     put(body, cells.generation[i]);

@@ -12,7 +12,7 @@ namespace cellform::exporters {
 
 /// Writes the cells as a binary little-endian PLY file.
 /// Elements, in this order:
-/// - `vertex` (one per cell, in index order): float x y z (model units), uchar type (CellType value),
+/// - `vertex` (one per cell, in index order): double x y z (model units), uchar type (CellType value),
 ///   uint age (steps), uint generation, uint id (the low 32 bits of the 64-bit cell id: PLY has no 64-bit
 ///   integer type), uchar fixed (0 or 1), then one float property per entry of cells.attributes in name
 ///   order, the name sanitised to [A-Za-z0-9_] (other characters become '_', a leading digit gets a leading

@@ -7,7 +7,6 @@
 #include <string>
 
 #include "core/atomic_file.h"
-#include "core/float_precision.h"
 #include "core/polylines.h"
 #include "core/text.h"
 
@@ -27,14 +26,9 @@ void put(std::string& out, T v) {
 
 void write_veins_ply(const std::filesystem::path& path, const venation::VeinGraph& g, const cells::Cells& cells) {
   std::string body;
-  body.reserve(g.cell.size() * 28 + g.edges.size() * 8);
-  const bool doubles = core::needs_double(g.position);
+  body.reserve(g.cell.size() * 40 + g.edges.size() * 8);
   for (std::size_t i = 0; i < g.cell.size(); ++i) {
-    for (int k = 0; k < 3; ++k)
-      if (doubles)
-        put<double>(body, g.position[i][k]);
-      else
-        put<float>(body, static_cast<float>(g.position[i][k]));
+    for (int k = 0; k < 3; ++k) put<double>(body, g.position[i][k]);  // (as cells.ply's, exact far out)
     put<float>(body, static_cast<float>(g.flow[i]));
     put<float>(body, static_cast<float>(g.radius[i]));
     put<std::int32_t>(body, g.order[i]);
@@ -46,12 +40,9 @@ void write_veins_ply(const std::filesystem::path& path, const venation::VeinGrap
   }
   const std::string header =
       "ply\nformat binary_little_endian 1.0\ncomment cellform vein graph, in model units (printable.* is in mm): edges "
-      "run "
-      "child -> parent\n"
-      "element vertex " +
-      std::to_string(g.cell.size()) + "\nproperty " + core::ply_position_type(doubles) + " x\nproperty " +
-      core::ply_position_type(doubles) + " y\nproperty " + core::ply_position_type(doubles) +
-      " z\nproperty float flow\n"
+      "run child -> parent\nelement vertex " +
+      std::to_string(g.cell.size()) +
+      "\nproperty double x\nproperty double y\nproperty double z\nproperty float flow\n"
       "property float radius\nproperty int order\nproperty uint id\n"
       "element edge " +
       std::to_string(g.edges.size()) + "\nproperty int vertex1\nproperty int vertex2\nend_header\n";

@@ -7,7 +7,7 @@
 
 namespace cellform::exporters {
 
-/// Binary little-endian PLY: vertices (x, y, z as float; flow, radius as float; order as int; id as uint)
+/// Binary little-endian PLY: vertices (x, y, z as double; flow, radius as float; order as int; id as uint)
 /// and an edge element (vertex1, vertex2: child node, parent node). Atomic; core::FileError on failure.
 void write_veins_ply(const std::filesystem::path& path, const venation::VeinGraph& graph, const cells::Cells& cells);
 

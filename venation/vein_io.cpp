@@ -9,7 +9,6 @@
 
 #include "core/atomic_file.h"
 #include "core/chunk_file.h"
-#include "core/float_precision.h"
 #include "core/polylines.h"
 #include "core/text.h"
 #include "venation/plot_order.h"
@@ -233,14 +232,9 @@ void write_vein_ply(const std::filesystem::path& path, const VeinTree& tree) {
   // x y z flow radius order, edges child -> parent, then the loop-closing edges (anastomoses)
   const bool flows = tree.flow.size() == tree.size(), orders = tree.order.size() == tree.size();
   core::ByteWriter w;  // host byte order: little-endian hosts only (x86-64, arm64), as the header says
-  const bool doubles = core::needs_double(tree.positions);
   for (Index i = 0; i < tree.size(); ++i) {
     const Vec3& q = tree.positions[i];
-    for (int k = 0; k < 3; ++k)
-      if (doubles)
-        w.put(q[k]);
-      else
-        w.put(static_cast<float>(q[k]));
+    for (int k = 0; k < 3; ++k) w.put(q[k]);  // doubles, as cells.ply's
     for (double x : {flows ? tree.flow[i] : 0.0, radius_of(tree, i)}) w.put(static_cast<float>(x));
     w.put(static_cast<std::int32_t>(orders ? tree.order[i] : 0));
   }
@@ -261,9 +255,9 @@ void write_vein_ply(const std::filesystem::path& path, const VeinTree& tree) {
       "child -> parent, "
       "then the edges that close loops\nelement vertex ";
   core::append_integer(header, tree.size());
-  header += "\nproperty " + core::ply_position_type(doubles) + " x\nproperty " + core::ply_position_type(doubles) +
-            " y\nproperty " + core::ply_position_type(doubles) +
-            " z\nproperty float flow\nproperty float radius\nproperty int order\nelement edge ";
+  header +=
+      "\nproperty double x\nproperty double y\nproperty double z\nproperty float flow\nproperty float radius\n"
+      "property int order\nelement edge ";
   core::append_integer(header, edges);
   header += "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
   core::write_file_atomically(path, [&](std::ostream& os) {

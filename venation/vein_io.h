@@ -50,7 +50,7 @@ SvgPage write_svg(const std::filesystem::path& path, const VeinTree& tree, const
                   const SvgParams& params = {}, const std::vector<Vec3>& sources = {});
 
 /// Binary little-endian PLY in the layout of the cell runs' veins.ply (exporters::write_veins_ply, less the
-/// cell id): vertices (x, y, z, flow, radius as float; order as int) and an edge element (vertex1 = the
+/// cell id): vertices (x, y, z as double; flow, radius as float; order as int) and an edge element (vertex1 = the
 /// tip-side node, vertex2 = its parent), the anastomoses last. Atomic; core::FileError on failure.
 void write_vein_ply(const std::filesystem::path& path, const VeinTree& tree);
 

@@ -104,7 +104,7 @@ Graph read_vein_graph(const fs::path& ply) {
   std::istringstream in(bytes);
   std::string line;
   Graph g;
-  std::size_t vertex_bytes = 0;  // binary little-endian: 4 bytes per float or int property of a vertex
+  std::size_t vertex_bytes = 0;  // binary little-endian: 8 bytes per double, 4 per float or int property
   bool in_vertex = false;
   while (std::getline(in, line) && line != "end_header") {
     std::istringstream ls(line);
@@ -115,7 +115,7 @@ Graph read_vein_graph(const fs::path& ply) {
     if (a == "element") in_vertex = b == "vertex";
     if (a == "element" && b == "vertex") g.nodes = n;
     if (a == "element" && b == "edge") g.edges = n;
-    if (a == "property" && in_vertex) vertex_bytes += 4;
+    if (a == "property" && in_vertex) vertex_bytes += b == "double" ? 8 : 4;
   }
   std::size_t at = static_cast<std::size_t>(in.tellg()) + g.nodes * vertex_bytes;
   REQUIRE(bytes.size() == at + g.edges * 8);

@@ -16,7 +16,6 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
-#include "core/float_precision.h"
 
 using namespace cellform;
 using cells::Cells;
@@ -225,8 +224,8 @@ TEST_CASE("binary PLY holds every cell field, the triangles and the links", "[ex
                                              "flow", "x_2"});
   std::vector<std::string> types;
   for (const auto& p : v.properties) types.push_back(p.type);
-  CHECK(types == std::vector<std::string>{"float", "float", "float", "uchar", "uint", "uint", "uint", "uchar", "float",
-                                          "float", "float"});
+  CHECK(types == std::vector<std::string>{"double", "double", "double", "uchar", "uint", "uint", "uint", "uchar",
+                                          "float", "float", "float"});
   REQUIRE(f.properties.size() == 1);
   CHECK(f.properties[0].name == "vertex_indices");
   CHECK(f.properties[0].count_type == "uchar");
@@ -236,7 +235,7 @@ TEST_CASE("binary PLY holds every cell field, the triangles and the links", "[ex
   for (std::size_t i = 0; i < c.size(); ++i) {
     const auto& row = v.rows[i];
     REQUIRE(row.size() == 11);
-    for (int k = 0; k < 3; ++k) CHECK(row[k] == static_cast<double>(static_cast<float>(c.position[i][k])));
+    for (int k = 0; k < 3; ++k) CHECK(row[k] == c.position[i][k]);
     CHECK(row[3] == static_cast<double>(c.type[i]));
     CHECK(row[4] == c.age[i]);
     CHECK(row[5] == c.generation[i]);
@@ -279,32 +278,21 @@ TEST_CASE("vein_order is written as a whole number", "[export][ply]") {
   fs::remove_all(dir);
 }
 
-TEST_CASE("a sheet far from the origin keeps its positions in 64-bit doubles, one near it in floats", "[export][ply]") {
+TEST_CASE("a sheet far from the origin keeps its positions exactly (64-bit doubles)", "[export][ply]") {
+  // an export audit: at 3,000,000 units out floats are 0.25 units apart, and the cells snapped to that grid
   const fs::path dir = temp_dir("ply-far");
   Sheet s = make_sheet();
-  CHECK_FALSE(cellform::core::needs_double(s.cells.position));
-  // an export audit: at 3,000,000 units out floats are 0.25 units apart, and the cells snapped to that grid
   for (Vec3& p : s.cells.position) p += Vec3(3e6, -2e6, 0.5);
-  REQUIRE(cellform::core::needs_double(s.cells.position));
   exporters::write_cells_ply(dir / "far.ply", s.cells, s.surface);
   const Ply ply = parse_ply(slurp(dir / "far.ply"));
   const PlyElement& v = ply.elements[0];
-  for (int k = 0; k < 3; ++k) CHECK(v.properties[k].type == "double");
-  CHECK(v.properties[3].type == "uchar");
   for (std::size_t i = 0; i < s.cells.size(); ++i)
     for (int k = 0; k < 3; ++k) CHECK(v.rows[i][k] == s.cells.position[i][k]);
-  OpenMesh::PolyMesh_ArrayKernelT<> mesh;  // (its points are floats: it reads doubles and rounds them)
+  OpenMesh::PolyMesh_ArrayKernelT<> mesh;  // (its points are floats: it reads the doubles and rounds them)
   OpenMesh::IO::Options options;
   REQUIRE(OpenMesh::IO::read_mesh(mesh, (dir / "far.ply").string(), options));
   CHECK(mesh.n_vertices() == s.cells.size());
   CHECK(mesh.point(OpenMesh::VertexHandle(0))[0] == static_cast<float>(s.cells.position[0][0]));
-  // the bound: a float moves a point by up to 2^-24 of its largest coordinate; allowed up to 1e-5 of the extent
-  const std::vector<Vec3> pair = {Vec3(0, 0, 0), Vec3(1, 0, 0)};
-  CHECK_FALSE(cellform::core::needs_double(pair));
-  CHECK_FALSE(cellform::core::needs_double(std::vector<Vec3>{Vec3(160, 0, 0), Vec3(161, 0, 0)}));
-  CHECK(cellform::core::needs_double(std::vector<Vec3>{Vec3(170, 0, 0), Vec3(171, 0, 0)}));
-  CHECK(cellform::core::needs_double(std::vector<Vec3>{Vec3(5, 5, 5)}));  // no extent: any rounding moves it
-  CHECK_FALSE(cellform::core::needs_double(std::vector<Vec3>{}));
   fs::remove_all(dir);
 }
 
