@@ -233,9 +233,9 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, fs::
     }
   }
   // staging folders (".partial-PID" or ".partial-PID-K") and half-written checkpoints and run.json files
-  // ("checkpoint.cfck.tmp-PID-K", "run.json.tmp-PID-K") of runs that were killed (a second Ctrl-C, SIGKILL):
-  // with the folder locked no other run writes there, so all of them, whatever runs under those process
-  // ids now; unlocked (a file system without locks), those whose process is gone
+  // ("checkpoint.cfck.tmp-PID-K", "run.json.tmp-PID-K", ".cellform-outputs.tmp-PID-K") of runs that were killed (a
+  // second Ctrl-C, SIGKILL): with the folder locked no other run writes there, so all of them, whatever runs under
+  // those process ids now; unlocked (a file system without locks), those whose process is gone
   std::error_code ec;
   const bool locked = lock && lock->held();
   std::string folder_mark;  // of the checkpoint in the folder: the staging folder holding its frames stays
@@ -259,7 +259,8 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, fs::
     if (name.rfind(".partial-", 0) == 0 && !e.is_symlink(ec) && e.is_directory(ec))
       prefix = 9;
     else
-      for (const std::string& tmp : {std::string(kCheckpointName) + ".tmp-", std::string("run.json.tmp-")})
+      for (const std::string& tmp : {std::string(kCheckpointName) + ".tmp-", std::string("run.json.tmp-"),
+                                     std::string(kOutputsManifest) + ".tmp-"})
         if (name.rfind(tmp, 0) == 0 && !e.is_symlink(ec) && e.is_regular_file(ec)) prefix = tmp.size();
     const long pid = prefix ? pid_of(name.substr(prefix)) : -1;
     if (pid < 0) continue;
@@ -455,22 +456,28 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
   std::set<std::string> fresh(names.begin(), names.end());
   fresh.insert(keep.begin(), keep.end());
   std::vector<std::string> stale;
+  bool old_run = false;
   try {
     std::ifstream old(dir / "run.json");
     if (old) {
       const json j = json::parse(old);
-      if (is_cellform_run(j))
+      if (is_cellform_run(j)) {
+        old_run = true;
         for (const auto& n : j.value("outputs", json::array())) stale.push_back(n.get<std::string>());
+      }
     }
   } catch (...) {
     // an unreadable old run.json only means we cannot clean up after it
   }
-  // a commit stopped after the old run.json went (a kill) left the two runs' outputs listed beside them
+  // A commit stopped by a kill left the two runs' outputs listed beside them: the file itself only (a link
+  // is not followed). Without a run.json its frames stay: a resume of that run's checkpoint takes up its
+  // frames from before the checkpoint, which no run.json lists now.
   const fs::path manifest = dir / kOutputsManifest;
-  if (stale.empty() && fs::is_regular_file(manifest)) {
+  std::error_code mec;
+  if (fs::is_regular_file(fs::symlink_status(manifest, mec))) {
     std::ifstream in(manifest);
     for (std::string line; std::getline(in, line);)
-      if (!line.empty()) stale.push_back(line);
+      if (!line.empty() && (old_run || line.rfind("frames/", 0) != 0)) stale.push_back(line);
   }
   // every file is checked before any moves, so a missing one leaves the earlier outputs as they were
   std::vector<std::string> order;
@@ -499,13 +506,17 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
     // in a folder a kill left without run.json still cleans up both
     std::set<std::string> both(stale.begin(), stale.end());
     both.insert(order.begin(), order.end());
-    core::write_file_atomically(manifest, [&](std::ostream& out) {
-      for (const std::string& n : both) out << n << '\n';
-    });
+    try {  // (best effort: a commit without it, into a full disk say, is as it was before the list)
+      core::write_file_atomically(manifest, [&](std::ostream& out) {
+        for (const std::string& n : both) out << n << '\n';
+      });
+    } catch (const core::FileError&) {
+    }
     std::error_code ec;
     fs::remove(dir / "run.json", ec);
     if (ec && fs::exists(dir / "run.json"))
       throw core::FileError("cannot replace '" + (dir / "run.json").string() + "': " + ec.message());
+    core::sync_directory(dir);  // gone before any move lands (a crash never leaves it over a mix)
   }
   for (const std::string& n : order) {
     const fs::path to = dir / n;
@@ -515,14 +526,15 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
     if (ec) throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': " + ec.message());
   }
   core::sync_directory(dir);  // the moves reach the disk before the old files go (a crash keeps a whole run)
-  if (fs::is_directory(dir / "frames")) core::sync_directory(dir / "frames");
+  std::error_code fec;
+  if (fs::is_directory(dir / "frames", fec)) core::sync_directory(dir / "frames");
   for (const std::string& n : stale) {
     if (fresh.count(n) || !own_output(dir, n)) continue;  // only cellform's files, inside dir
     std::error_code ec;
     fs::remove(dir / n, ec);
   }
   std::error_code ec;
-  if (listed.count("run.json")) fs::remove(manifest, ec);
+  if (listed.count("run.json") && fs::is_regular_file(fs::symlink_status(manifest, ec))) fs::remove(manifest, ec);
   fs::remove_all(staging, ec);
   // frames/ emptied of the earlier run's frames goes too (fs::remove removes only an empty folder)
   if (std::any_of(stale.begin(), stale.end(), [](const std::string& n) { return n.rfind("frames/", 0) == 0; }) &&

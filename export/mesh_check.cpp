@@ -338,11 +338,13 @@ std::vector<std::string> MeshReport::problems() const {
                      : std::to_string(misnested_parts) + " closed surfaces face the wrong way for where they lie") +
                 " (a surface inside a solid is a pocket's wall and must face into the pocket; one outside every "
                 "solid, or inside a pocket, must face out)");
-  // a negative total is the whole mesh turned inside out only when no shell is misoriented and none crosses
-  // another (then reversing every triangle fixes it); otherwise the problems above say what to fix
+  // a negative total is the whole mesh turned inside out when every shell faces the wrong way (one alone, or
+  // all of them misnested) and none crosses another: reversing every triangle fixes it; otherwise (one shell
+  // of two reversed, say) the problems above say what to fix
   if (triangles > 0 && closed_manifold() && consistently_oriented && !(volume > 0))
     p.push_back(!(volume < 0) ? "encloses no volume"
-                : misnested_parts == 0 && self_intersections == 0 && intersections_tested
+                : (parts == 1 || (nesting_tested && misnested_parts == parts)) && self_intersections == 0 &&
+                        intersections_tested
                     ? "inside out: every triangle faces inward (the enclosed volume is negative); reverse the "
                       "triangles' winding"
                     : "the enclosed volume is negative");

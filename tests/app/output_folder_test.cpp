@@ -60,6 +60,38 @@ TEST_CASE("a commit stopped between two runs' files leaves no run.json", "[cli]"
   CHECK_FALSE(fs::exists(deep / "old.obj"));
   CHECK_FALSE(fs::exists(deep / "a"));
   CHECK_FALSE(fs::exists(deep / cellform::app::kOutputsManifest));
+  // Without a run.json the frames it lists stay (review: a resume of the killed run's checkpoint takes up its
+  // frames from before the checkpoint, which no run.json lists, and they were deleted); other outputs go
+  const fs::path w = t.path / "w", m = w / cellform::app::kOutputsManifest;
+  auto commit_run_json = [&](const std::string& text) {
+    fs::create_directories(staging);
+    std::ofstream(staging / "run.json") << text;
+    REQUIRE_NOTHROW(commit_outputs(staging, w, {"run.json"}));
+    CHECK(slurp(w / "run.json") == text);
+  };
+  fs::create_directories(w / "frames");
+  std::ofstream(w / "frames" / "cells_000010.ply") << "frame";
+  std::ofstream(w / "old.obj") << "old obj";
+  std::ofstream(m) << "frames/cells_000010.ply\nold.obj\nrun.json\n";
+  commit_run_json("newer run.json");
+  CHECK(fs::exists(w / "frames" / "cells_000010.ply"));
+  CHECK_FALSE(fs::exists(w / "old.obj"));
+  CHECK_FALSE(fs::exists(m));
+  // a list beside a cellform run.json (a kill after the new run.json went in) is read too, frames and all
+  std::ofstream(w / "run.json") << R"({"program": "cellform", "outputs": ["run.json"]})";
+  std::ofstream(m) << "frames/cells_000010.ply\n";
+  commit_run_json("newest run.json");
+  CHECK_FALSE(fs::exists(w / "frames" / "cells_000010.ply"));
+  // a link in the list's place is not followed, and a folder there does not stop the commit
+  std::ofstream(w / "mine.txt") << "the user's";
+  std::ofstream(t.path / "elsewhere") << "mine.txt\n";
+  fs::create_symlink(t.path / "elsewhere", m);
+  commit_run_json("run.json again");
+  CHECK(slurp(w / "mine.txt") == "the user's");
+  CHECK(slurp(t.path / "elsewhere") == "mine.txt\n");  // (the commit's own list replaced the link, then went)
+  CHECK_FALSE(fs::exists(fs::symlink_status(m)));
+  fs::create_directories(m);
+  commit_run_json("run.json once more");
   fs::create_directories(staging);
   for (const char* n : {"run.json", "a.txt", "b.txt"}) std::ofstream(staging / n) << "new " << n;
   // a whole commit moves run.json too, listed in any position

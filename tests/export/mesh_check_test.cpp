@@ -202,6 +202,20 @@ TEST_CASE("an inside-out mesh is named so, not counted as a cavity", "[mesh_chec
   CHECK(both.misnested_parts == 1);
   for (const std::string& problem : both.problems()) CHECK_THAT(problem, !Catch::Contains("inside out"));
   CHECK_THAT(both.summary(), Catch::Contains("the enclosed volume is negative"));
+  // but two pieces, or a solid with a pocket, all reversed are inside out: reversing every triangle fixes them
+  for (const double inner : {1.0, 0.5}) {  // beside it, or inside it (a pocket)
+    PrintableMesh all = uv_sphere(12, 24, 2.0), second = uv_sphere(12, 24, inner);
+    if (inner == 1.0)
+      for (auto& v : second.vertices) v.x() += 10;
+    else
+      for (auto& t : second.triangles) std::swap(t[1], t[2]);  // a pocket's wall faces in
+    append(all, second);
+    for (auto& t : all.triangles) std::swap(t[1], t[2]);
+    const auto reversed = exporters::check_mesh(all);
+    INFO("second shell of radius " << inner);
+    CHECK(reversed.volume < 0);
+    CHECK_THAT(reversed.summary(), Catch::Contains("inside out"));
+  }
   // an open one is not called inside out: its problem is the hole
   m.triangles.pop_back();
   const auto open = exporters::check_mesh(m);
