@@ -535,11 +535,11 @@ TEST_CASE("a full disk keeps the frames up to the last checkpoint, as a script e
   TempDir t("full-disk-frames");
   const auto script = t.write("small.lua", kSmall);
   const fs::path out = t.path / "o";
-  // RLIMIT_FSIZE fails writes past 12,000 bytes as a full disk would (EFBIG; SIGXFSZ ignored): the checkpoints
-  // of steps 5 and 10 fit and the one of step 15 does not (a warning, the run goes on); frame 15 fits, frame 20
-  // does not, and stops the run
+  // RLIMIT_FSIZE fails writes past 14,000 bytes as a full disk would (EFBIG; SIGXFSZ ignored): the checkpoints
+  // of steps 5 and 10 fit (5.4 and 9.6 kB) and the one of step 15 does not (17.4 kB: a warning, the run goes
+  // on); frame 15 fits (12.1 kB), frame 20 (20.3 kB) does not, and stops the run
   const auto r = [&] {
-    const FileSizeLimit limit(12000);
+    const FileSizeLimit limit(14000);
     return cli({"run", script.string(), "--out", out.string(), "--set", "output.every=5", "--checkpoint-every", "5",
                 "--quiet"});
   }();
