@@ -224,6 +224,9 @@ std::vector<Field> build() {
                       "initial vein nodes spread along the base (several: grass-like parallel veins)"));
   f.push_back(
       num("leaf", "seed_spread", "0.3", 0, 10, false, "leaf lengths", "width of the base the seeds are spread over"));
+  f.push_back(Field{"leaf", "seed_points", Kind::table, "(none)", 0, 0, false, "", "leaf lengths",
+                    "initial vein nodes placed by hand, {{x, y}, ...} inside the blade (the petiole at (0, 0), the tip "
+                    "at (0, 1)), instead of seeds and seed_spread"});
   // volume{} and surface{}: 3-D source domains instead of a leaf
   f.push_back(Field{"volume", "box", Kind::table, "(none)", 0, 0, false, "", "",
                     "sources fill the box {min = {x, y, z}, max = {x, y, z}} (model units = vein segments)"});

@@ -14,24 +14,31 @@ void one_domain(Impl& I, const std::string& section, const std::string& at) {
                          "); a script has one of leaf{}, volume{} and surface{}");
 }
 
-/// The seeds = {{x, y, z}, ...} field of the section table at stack index 1 (also one point {x, y, z}).
-std::vector<Vec3> read_points(Impl& I, const std::string& section, const std::string& at) {
+/// The field `name` = {{x, y, z}, ...} of the section table at stack index 1 (also one point {x, y, z}); with
+/// `dims` 2, points {x, y} (z = 0), in `unit`.
+std::vector<Vec3> read_points(Impl& I, const std::string& section, const std::string& at,
+                              const std::string& name = "seeds", int dims = 3,
+                              const std::string& unit = "model units") {
   lua_State* L = I.L;
   std::vector<Vec3> out;
-  raw_field(L, 1, "seeds");
+  if (lua_type(L, 1) != LUA_TTABLE) return out;  // the default blade: no table was given
+  raw_field(L, 1, name.c_str());
   const int idx = lua_gettop(L);
+  const std::string point = dims == 3 ? "{x, y, z}" : "{x, y}";
   auto fail = [&](const std::string& what) {
     lua_settop(L, idx - 1);
-    return InvalidInput(at + section + ".seeds must be a list of points {{x, y, z}, ...} in model units; " + what);
+    return InvalidInput(at + section + "." + name + " must be a list of points {" + point + ", ...} in " + unit + "; " +
+                        what);
   };
   if (lua_type(L, idx) == LUA_TNIL) {
     lua_pop(L, 1);
     return out;
   }
   auto read_point = [&](int t, const std::string& which) {
-    if (lua_type(L, t) != LUA_TTABLE || lua_rawlen(L, t) != 3) throw fail(which + " is not {x, y, z}");
-    Vec3 p;
-    for (int k = 0; k < 3; ++k) {
+    if (lua_type(L, t) != LUA_TTABLE || lua_rawlen(L, t) != static_cast<lua_Unsigned>(dims))
+      throw fail(which + " is not " + point);
+    Vec3 p = Vec3::Zero();
+    for (int k = 0; k < dims; ++k) {
       lua_rawgeti(L, t, k + 1);
       if (lua_type(L, -1) != LUA_TNUMBER) throw fail(which + " has a component that is not a number");
       p[k] = lua_tonumber(L, -1);
@@ -39,7 +46,7 @@ std::vector<Vec3> read_points(Impl& I, const std::string& section, const std::st
     }
     if (!p.allFinite()) throw fail(which + " is not finite");
     if (p.cwiseAbs().maxCoeff() > kFarthest)
-      throw fail(which + " lies beyond " + core::number_text(kFarthest) + " model units");
+      throw fail(which + " lies beyond " + core::number_text(kFarthest) + " " + unit);
     return p;
   };
   lua_rawgeti(L, idx, 1);
@@ -288,15 +295,30 @@ void section_leaf(Impl& I, const std::string& at) {
         sp.teeth.push_back({v["fine_tooth_depth"].num, static_cast<int>(v["fine_teeth"].num)});
       leaf.outline = venation::make_outline(sp);
     }
-    const int seeds = static_cast<int>(v["seeds"].num);
-    if (seeds > 1 && v["seed_spread"].num == 0)
+    // seed nodes placed by hand (Runions 2005: "positions of the initial points are specified by the user")
+    const std::vector<Vec3> placed = read_points(I, "leaf", "", "seed_points", 2, "leaf lengths");
+    if (!placed.empty() && (v["seeds"].present || v["seed_spread"].present))
+      throw InvalidInput(std::string("leaf.seed_points places the seed vein nodes by hand: leave out leaf.") +
+                         (v["seeds"].present ? "seeds" : "seed_spread") + ", which spreads them along the base");
+    const int seeds = placed.empty() ? static_cast<int>(v["seeds"].num) : static_cast<int>(placed.size());
+    if (placed.empty() && seeds > 1 && v["seed_spread"].num == 0)
       throw InvalidInput("leaf.seed_spread = 0 puts the " + std::to_string(seeds) +
                          " seeds on one point, where they cannot grow apart; give a seed_spread > 0 (leaf lengths), "
                          "or seeds = 1");
     leaf.initial_nodes.clear();
-    for (int i = 0; i < seeds && seeds > 1; ++i) {
+    for (int i = 0; i < seeds && seeds > 1 && placed.empty(); ++i) {
       const double spread = v["seed_spread"].num;
       leaf.initial_nodes.push_back(venation::Vec2(-spread / 2 + spread * i / (seeds - 1), 0.001));
+    }
+    if (!placed.empty()) {
+      auto& rec = I.cfg->resolved["leaf"];
+      rec.erase("seeds");
+      rec.erase("seed_spread");
+      rec["seed_points"] = nlohmann::json::array();
+      for (const Vec3& q : placed) {
+        leaf.initial_nodes.push_back(venation::Vec2(q.x(), q.y()));
+        rec["seed_points"].push_back({q.x(), q.y()});
+      }
     }
     try {
       venation::validate(leaf);
@@ -306,6 +328,8 @@ void section_leaf(Impl& I, const std::string& at) {
         throw InvalidInput("leaf.file: the point (0, 0) of " + v["file"].str +
                            ", where the blade attaches to its petiole, lies outside the outline; the outline must "
                            "have (0, 0) inside it or on it");
+      if (!placed.empty() && m.rfind("leaf.initial_nodes[", 0) == 0)
+        throw InvalidInput("leaf.seed_points[" + m.substr(19) + " (the petiole at (0, 0), the tip at (0, 1))");
       if (seeds <= 1 || m.rfind("leaf.initial_nodes[", 0) != 0 || m.find("outside") == std::string::npos) throw;
       const std::string nth = m.substr(19, m.find(']') - 19);
       throw InvalidInput(

@@ -317,3 +317,25 @@ TEST_CASE("leaf.fine_teeth sums a second wave of teeth into the margin (doubly s
   REQUIRE(noted.notes.size() == 1);
   CHECK_THAT(noted.notes[0], Contains("leaf.fine_tooth_depth has no effect without fine teeth"));
 }
+
+TEST_CASE("leaf.seed_points places the seed vein nodes by hand", "[script][colonisation]") {
+  // Runions 2005: "positions of the initial points are specified by the user"; a script could only spread
+  // them evenly along the base (a paper-fidelity audit)
+  const auto cfg = load(
+      "leaf { shape = 'ellipse', seed_points = {{-0.1, 0.05}, {0.1, 0.05}, {0, 0.5}} }\n"
+      "colonisation {}\n");
+  const auto& nodes = cfg.colonisation->leaf.initial_nodes;
+  REQUIRE(nodes.size() == 3);
+  CHECK(nodes[0] == cellform::venation::Vec2(-0.1, 0.05));
+  CHECK(nodes[2] == cellform::venation::Vec2(0, 0.5));
+  CHECK(cfg.resolved["leaf"]["seed_points"] == nlohmann::json::parse("[[-0.1, 0.05], [0.1, 0.05], [0, 0.5]]"));
+  CHECK_FALSE(cfg.resolved["leaf"].contains("seeds"));
+  CHECK(load("leaf { seed_points = {0, 0.2} }\ncolonisation {}\n").colonisation->leaf.initial_nodes.size() == 1);
+  CHECK_THAT(load_error("leaf { shape = 'ellipse', seed_points = {{0, 0.05}, {0.9, 0.5}} }\ncolonisation {}\n"),
+             Contains("test/leaf.lua:1") && Contains("leaf.seed_points[2] lies outside the blade"));
+  CHECK_THAT(load_error("leaf { seeds = 3, seed_points = {{0, 0.05}} }\ncolonisation {}\n"),
+             Contains("leaf.seed_points places the seed vein nodes by hand: leave out leaf.seeds"));
+  CHECK_THAT(
+      load_error("leaf { seed_points = {{0, 0.05, 0}} }\ncolonisation {}\n"),
+      Contains("leaf.seed_points must be a list of points {{x, y}, ...} in leaf lengths; entry 1 is not {x, y}"));
+}
