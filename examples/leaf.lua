@@ -20,9 +20,6 @@ cells {
   planar = 0.6,
   separation = 0.05,
   drag = {0.85, 0.85, P.vertical_drag},
-  -- straighter veins in a flat sheet than the default 4 (mean bend between segments over seeds 1 to 3:
-  -- 11 degrees against 17); the 3-D vein_coral.lua keeps 4 (23 degrees against 25 at 1)
-  vein_separation = 1,
 }
 
 division {

@@ -14,9 +14,6 @@ cells {
   planar = 0.6,
   separation = 0.05,
   drag = {0.85, 0.85, 0.3},
-  -- straighter veins in a flat sheet than the default 4 (mean bend between segments over seeds 1 and 2:
-  -- 13.5 degrees against 20), as in leaf.lua; the 3-D vein_coral.lua keeps 4
-  vein_separation = 1,
 }
 
 division {
