@@ -46,16 +46,16 @@ namespace {
 /// Model units: the centre of the bounding box of what is printed when the print would reach more than 2^17
 /// voxels from the origin (a form at site coordinates, say), else zero. There a 32-bit coordinate (the mesher's,
 /// STL's) is coarser than 1/64 of a voxel: a form 196 m out in mm at 0.2 mm voxels (a 32-bit step of 1/13
-/// voxel) got ten times the triangles, crossing and zero-area ones. The scale and voxel size are estimated as
-/// the print takes them (an automatic voxel size only grows, which moves less).
+/// voxel) got ten times the triangles, crossing and zero-area ones. The scale is the print's (`print_scale`,
+/// which does not depend on where the form lies), the voxel size as the print takes it (an automatic voxel
+/// size only grows, which moves less). Zero when the input is not finite (voxelise then says which part).
 core::Vec3 far_centre(const std::vector<exporters::Segment>& segments,
-                      const std::vector<std::array<core::Vec3, 3>>& shell, const PrintSpec& spec) {
+                      const std::vector<std::array<core::Vec3, 3>>& shell, const PrintSpec& spec,
+                      const exporters::ThickenParams& tp) {
   core::Vec3 lo = core::Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  double radius = 0;
   for (const exporters::Segment& s : segments) {
     lo = lo.cwiseMin(s.a).cwiseMin(s.b);
     hi = hi.cwiseMax(s.a).cwiseMax(s.b);
-    radius = std::max({radius, s.ra, s.rb});
   }
   for (const auto& t : shell)
     for (const core::Vec3& p : t) {
@@ -63,10 +63,14 @@ core::Vec3 far_centre(const std::vector<exporters::Segment>& segments,
       hi = hi.cwiseMax(p);
     }
   if (!lo.allFinite() || !hi.allFinite()) return core::Vec3::Zero();
-  const double size = (hi - lo).maxCoeff() + 2 * radius;
   const double reach = lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).maxCoeff();
-  const double scale = spec.scale > 0 ? spec.scale : size > 0 ? spec.size / size : 0;  // mm per model unit
-  const double voxel = spec.voxel_size > 0                                             // mm
+  double scale = 0;  // mm per model unit
+  try {
+    scale = exporters::print_scale(segments, shell, tp);
+  } catch (const core::InvalidInput&) {
+    return core::Vec3::Zero();  // a non-finite radius, say: voxelise says which segment
+  }
+  const double voxel = spec.voxel_size > 0  // mm
                            ? spec.voxel_size
                            : exporters::automatic_voxel_size(spec.min_radius, spec.shell_thickness, !shell.empty());
   return reach * scale > 0x1p17 * voxel ? core::Vec3(0.5 * (lo + hi)) : core::Vec3::Zero();
@@ -152,7 +156,7 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   tp.progress = stage_progress("voxelising");
   exporters::LevelSet level_set;
   // a form far from the origin is printed about its own centre (run.json's print.origin_mm places it back)
-  const core::Vec3 centre = far_centre(segments, shell, spec);
+  const core::Vec3 centre = far_centre(segments, shell, spec, tp);
   std::vector<exporters::Segment> moved_segments;
   std::vector<std::array<core::Vec3, 3>> moved_shell;
   if (centre != core::Vec3::Zero()) {
