@@ -394,6 +394,23 @@ void remove_empty_up_to(const fs::path& dir, const fs::path& top) {
   }
 }
 
+int refuse_outputs(const std::exception_ptr& e, const fs::path& dir, const fs::path& created, std::ostream& err) {
+  try {
+    std::rethrow_exception(e);
+  } catch (const FolderBusy& b) {
+    err << "cellform: cannot write outputs: " << b.what() << "\n";
+    return failure;  // the folder is the other run's now
+  } catch (const FolderRefused& r) {
+    err << "cellform: cannot write outputs: " << r.what() << "\n";
+    remove_empty_up_to(dir, created);  // the folders a failed --out made on its way
+    return usage;                      // the folder is as it was
+  } catch (const std::exception& x) {
+    err << "cellform: cannot write outputs: " << core::error_text(x) << "\n";
+    remove_empty_up_to(dir, created);
+    return failure;
+  }
+}
+
 std::vector<std::string> earlier_frames(const fs::path& dir, std::uint64_t up_to, const std::string& script_hash,
                                         std::uint64_t seed, const Overrides& overrides) {
   // the overrides that shape the cells (output.* and print.* may change on resume)

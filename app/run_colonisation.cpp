@@ -66,17 +66,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     check_output_places(dir, output_names(cfg));
     staging = make_staging(dir, lock, &kept_staging);
     if (s.script_replaced) record_replaced_script(s, o, dir);
-  } catch (const FolderBusy& e) {
-    err << "cellform: cannot write outputs: " << e.what() << "\n";
-    return failure;  // the folder is the other run's now
-  } catch (const FolderRefused& e) {
-    err << "cellform: cannot write outputs: " << e.what() << "\n";
-    remove_empty_up_to(dir, created);  // the folders a failed --out made on its way
-    return usage;                      // the folder is as it was
-  } catch (const std::exception& e) {
-    err << "cellform: cannot write outputs: " << core::error_text(e) << "\n";
-    remove_empty_up_to(dir, created);
-    return failure;
+  } catch (const std::exception&) {
+    return refuse_outputs(std::current_exception(), dir, created, err);
   }
   ColonisationSpec& spec = *cfg.colonisation;
   spec.params.seed = seed;

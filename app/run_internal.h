@@ -5,6 +5,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <exception>
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -393,6 +394,12 @@ std::filesystem::path out_folder(const std::filesystem::path& dir);
 /// Removes `dir` and then its parents, up to and including `top`, while they are empty folders; nothing
 /// when `top` is empty.
 void remove_empty_up_to(const std::filesystem::path& dir, const std::filesystem::path& top);
+
+/// Says on `err` why the outputs cannot be written to `dir` (`e`, thrown while preparing the folder) and gives
+/// the exit code: FolderBusy leaves the folder alone (another run's now: failure); FolderRefused (usage) and
+/// any other error (failure) remove the folders `--out` made on its way (`created`, as remove_empty_up_to).
+int refuse_outputs(const std::exception_ptr& e, const std::filesystem::path& dir, const std::filesystem::path& created,
+                   std::ostream& err);
 
 /// Moves every file of `staging` (recursively) into `dir`, then removes the outputs of an earlier run
 /// (listed in its run.json) that this run did not write again and `keep` does not name. The old run.json
