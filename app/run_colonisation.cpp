@@ -155,9 +155,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         // a sheet grown shorter than run.steps now asks (the first run's --steps, an edited script) is not
         // grown further: said, as a resume's --steps (the veins' limit now) might be taken for the sheet's
         if (sheet_steps && *sheet_steps < cfg.steps)
-          err << "cellform: note: the sheet grew " << *sheet_steps << " steps (the script's run.steps is now "
-              << cfg.steps << "); a resume goes on with the veins on that sheet, and a new run grows the whole "
-              << "sheet\n";
+          err << "cellform: note: the sheet grew " << *sheet_steps << " steps, fewer than run.steps now asks ("
+              << cfg.steps << "); a resume goes on with the veins on that sheet (--steps limits the veins), and a new "
+              << "run grows the whole sheet\n";
       } else {
         const auto grow_start = std::chrono::steady_clock::now();
         Sheet grown = grow_sheet(o, s, cfg, host, seed, checkpoint, err, failed);
@@ -513,7 +513,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       if (outside > 0)
         where_left = std::to_string(outside) + " outside the grown blade, where no vein grows (" +
                      (spec.params.growth == venation::GrowthMode::marginal
-                          ? "the young blade covered them where the grown one leaves a gap, below a lobe or tooth)"
+                          ? "the young blade covered them where the grown one leaves a gap, below a lobe or tooth; "
+                            "growth = \"isogonic\" grows the whole outline from the start, lobes included)"
                           : "the blade moved off them)");
       if (outside < left.size())
         where_left += (outside > 0 ? ", " : "") + std::to_string(left.size() - outside) +

@@ -448,6 +448,15 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
                          "{...} acts on cells; this space-colonisation run grows no cells (only surface{cells = "
                          "true} does). The veins stay inside the leaf{...}, volume{...} or surface{...}");
   }
+  if (!cfg.colonisation && !cfg.scene.venation)  // a petiole is a sink: without venation it only stays put
+    for (const ShapeCall& s : I.shapes)
+      if (s.kind == "petiole") {
+        cfg.notes.push_back(s.where +
+                            "petiole{...} places the sink of venation{...}'s auxin flow, and this script grows no "
+                            "veins: the petiole is only a cell that stays where it is (add venation{...} to grow "
+                            "veins)");
+        break;
+      }
   if (on_cells && cfg.initial_cells.empty() && cfg.scene.petioles.empty())
     throw InvalidInput(I.sections_seen["surface"] +
                        "surface{cells = true} grows the cells first: place them with a shape such as disc{radius = 3}");
@@ -457,8 +466,9 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
                        "surface{cells = true}, or shell = false)");
   if (cfg.colonisation && cfg.output.every > 0)  // frames are snapshots of a cell run
     throw InvalidInput(I.value_at("output.every", I.sections_seen["output"]) +
-                       "output.every writes frames of a cell run; a space-colonisation run writes its veins at the "
-                       "end (and output.checkpoint_every sets how often it saves a checkpoint)");
+                       "output.every writes frames of a cell run; a space-colonisation run (even one whose "
+                       "surface{cells = true} grows a sheet first) writes its veins and cells at the end (and "
+                       "output.checkpoint_every sets how often it saves a checkpoint)");
   if (cfg.scene.split_along_auxin && !cfg.scene.venation)  // there would be no flow to split along
     throw InvalidInput(I.value_at("division.direction", I.sections_seen["division"]) +
                        "division.direction = \"auxin\" splits cells along the auxin flow, which needs venation{...}");

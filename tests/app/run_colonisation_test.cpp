@@ -196,7 +196,7 @@ TEST_CASE("a stalled leaf says where its sources are left: outside the grown bla
   std::string words;
   rest >> outside;
   std::getline(rest, words, ')');
-  CHECK_THAT(words, Contains("outside the grown blade") && Contains("below a lobe or tooth"));
+  CHECK_THAT(words, Contains("outside the grown blade") && Contains("below a lobe or tooth") && Contains("isogonic"));
   rest.ignore(2);
   rest >> inside;
   std::getline(rest, words);

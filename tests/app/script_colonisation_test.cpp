@@ -280,6 +280,10 @@ TEST_CASE("output.every (frames of a cell run) is refused in a space-colonisatio
              Contains("--set output.every=5: output.every writes frames"));
   CHECK_THAT(load_error("colonisation {}\n", {{"output.every", "5"}}),
              Contains("--set output.every=5: output.every writes frames"));
+  // also when the run grows a cell sheet first: its message says so (the parameter table too)
+  CHECK_THAT(load_error("disc { radius = 2 }\npetiole {}\nsurface { cells = true }\ncolonisation {}\n"
+                        "output { every = 5 }\n"),
+             Contains(":5: output.every writes frames of a cell run") && Contains("surface{cells = true}"));
 }
 
 TEST_CASE("leaf.fine_teeth sums a second wave of teeth into the margin (doubly serrate)", "[script][colonisation]") {
