@@ -448,15 +448,6 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
                          "{...} acts on cells; this space-colonisation run grows no cells (only surface{cells = "
                          "true} does). The veins stay inside the leaf{...}, volume{...} or surface{...}");
   }
-  if (!cfg.colonisation && !cfg.scene.venation)  // a petiole is a sink: without venation it only stays put
-    for (const ShapeCall& s : I.shapes)
-      if (s.kind == "petiole") {
-        cfg.notes.push_back(s.where +
-                            "petiole{...} places the sink of venation{...}'s auxin flow, and this script grows no "
-                            "veins: the petiole is only a cell that stays where it is (add venation{...} to grow "
-                            "veins)");
-        break;
-      }
   if (on_cells && cfg.initial_cells.empty() && cfg.scene.petioles.empty())
     throw InvalidInput(I.sections_seen["surface"] +
                        "surface{cells = true} grows the cells first: place them with a shape such as disc{radius = 3}");

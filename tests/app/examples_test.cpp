@@ -77,7 +77,7 @@ TEST_CASE("the first script of docs/scripting.md grows a leaf, as copied", "[exa
   INFO(run["cells"].dump());
   // 62 cells at the start; with division.radius = 1.5 the sheet stalled at 99
   CHECK(run["cells"]["final"].get<int>() > 5 * run["cells"]["initial"].get<int>());
-  // its petiole drains a venation{...}: veins grow (without it the petiole did nothing, and no note said so)
+  // its petiole drains a venation{...}: veins grow (without it the petiole was only a fixed cell)
   CHECK(run["veins"]["vein_cells"].get<int>() > 0);
   CHECK_THAT(r.err, !Contains("note"));
 }

@@ -55,14 +55,6 @@ TEST_CASE("settings without effect in this run (a shell's without a shell, svg_s
   CHECK_THAT(one_note("disc { radius = 2 }\nvenation {}\nprint { adaptivity = 0.6 }\n"),
              Contains(":3: print.adaptivity = 0.6 simplifies curved surfaces too"));
   CHECK(load("disc { radius = 2 }\nvenation {}\nprint { adaptivity = 0.2 }\n").notes.empty());
-  // a petiole is venation's sink: in a cell run without venation it only stays put (the first sample of
-  // docs/scripting.md placed one so); one note for two, none with venation or in surface{cells = true}
-  CHECK_THAT(
-      one_note("disc { radius = 2 }\npetiole { at = {0, -2, 0} }\npetiole { at = {0, 2, 0} }\n"),
-      Contains(":2: petiole{...} places the sink of venation{...}'s auxin flow, and this script grows no veins"));
-  CHECK(load("disc { radius = 2 }\npetiole { at = {0, -2, 0} }\nvenation {}\n").notes.empty());
-  CHECK(load("disc { radius = 2 }\npetiole { at = {0, -2, 0} }\nsurface { cells = true }\ncolonisation {}\n")
-            .notes.empty());
   // a blade that does not grow keeps its initial length
   const auto fixed = load("leaf {}\ncolonisation { growth = 'none', final_length = 500, length_step = 5 }\n");
   REQUIRE(fixed.notes.size() == 2);
