@@ -59,11 +59,12 @@ void write_veins_obj(const std::filesystem::path& path, const venation::VeinGrap
           "print.scale_mm_per_unit)\n"
        << "# per vertex: '#a flow radius order' follows its 'v' line\no veins\n";
     std::string out;
-    for (std::size_t i = 0; i < g.cell.size(); ++i) {  // "v %.9g %.9g %.9g\n#a %.9g %.9g %d"
+    const int digits = core::coordinate_digits(g.position);  // 9 about the origin
+    for (std::size_t i = 0; i < g.cell.size(); ++i) {        // "v %.9g %.9g %.9g\n#a %.9g %.9g %d"
       out += 'v';
       for (double x : {g.position[i].x(), g.position[i].y(), g.position[i].z()}) {
         out += ' ';
-        core::append_general(out, x);
+        core::append_general(out, x, digits);
       }
       out += "\n#a ";
       core::append_general(out, g.flow[i]);

@@ -274,12 +274,13 @@ void write_vein_obj(const std::filesystem::path& path, const VeinTree& tree) {
     out +=
         " nodes, in model units (a print{...} writes printable.* in mm, and run.json gives print.scale_mm_per_unit)\n"
         "# per vertex: '#a flow radius order' follows its 'v' line\no veins\n";
-    for (Index i = 0; i < tree.size(); ++i) {  // numbers as "%.9g"
+    const int digits = core::coordinate_digits(tree.positions);  // 9 about the origin
+    for (Index i = 0; i < tree.size(); ++i) {                    // numbers as "%.9g"
       const Vec3& q = tree.positions[i];
       out += 'v';
       for (double x : {q.x(), q.y(), q.z()}) {
         out += ' ';
-        core::append_general(out, x);
+        core::append_general(out, x, digits);
       }
       out += "\n#a ";
       core::append_general(out, tree.flow.size() == tree.size() ? tree.flow[i] : 0.0);

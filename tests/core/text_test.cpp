@@ -1,12 +1,15 @@
 // Tests of numbers as text: byte for byte what printf writes, the oracle, on awkward and random values.
 #include "core/text.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <sstream>
+#include <string>
 #include <vector>
 
 #include "core/random.h"
@@ -97,4 +100,44 @@ TEST_CASE("append_integer and drain", "[core][text]") {
   cellform::core::drain(s, os, 0);  // written and emptied
   CHECK(os.str() == "4294967295 -9223372036854775808 0");
   CHECK(s.empty());
+}
+
+TEST_CASE("coordinate_digits keeps every coordinate to 5e-9 of the form's size, however far out it lies",
+          "[core][text]") {
+  using cellform::core::coordinate_digits;
+  using cellform::core::Vec3;
+  // about the origin: "%.9g", as the files always had
+  CHECK(coordinate_digits({Vec3(-3, 0, 1), Vec3(5, 2, -1)}) == 9);
+  CHECK(coordinate_digits({Vec3(0, 0, 0), Vec3(0, 120, 0)}) == 9);  // a leaf from its petiole
+  // nothing to span: none, the origin, a non-finite point; one point elsewhere is kept exact
+  CHECK(coordinate_digits({}) == 9);
+  CHECK(coordinate_digits({Vec3(0, 0, 0), Vec3(0, 0, 0)}) == 9);
+  CHECK(coordinate_digits({Vec3(5e5, 2e5, 30)}) == 17);
+  CHECK(coordinate_digits({Vec3(0, 0, 0), Vec3(std::nan(""), 1, 1)}) == 9);
+  // a leaf 100 units across at site coordinates: 9 digits kept it to 5e-4 units (the audit's case)
+  CHECK(coordinate_digits({Vec3(5e5, 2e5, 30), Vec3(5e5 + 100, 2e5 + 60, 30)}) == 13);
+  CHECK(coordinate_digits({Vec3(1e15, 0, 0), Vec3(1e15 + 1, 0, 0)}) == 17);  // capped: exact
+  // the oracle: written with that many digits and read back, each coordinate is off by at most 5e-9 of the side
+  cellform::core::Rng rng(11);
+  for (int trial = 0; trial < 200; ++trial) {
+    const double side = std::ldexp(rng.uniform(1, 2), static_cast<int>(rng.next() % 40) - 20);
+    const Vec3 at = Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)) *
+                    std::ldexp(1.0, static_cast<int>(rng.next() % 60) - 10);
+    std::vector<Vec3> points;
+    for (int k = 0; k < 20; ++k) points.push_back(at + side * Vec3(rng.uniform(), rng.uniform(), rng.uniform()));
+    const int digits = coordinate_digits(points);
+    double extent = 0;
+    for (int a = 0; a < 3; ++a) {
+      double lo = points[0][a], hi = lo;
+      for (const Vec3& p : points) lo = std::min(lo, p[a]), hi = std::max(hi, p[a]);
+      extent = std::max(extent, hi - lo);
+    }
+    for (const Vec3& p : points)
+      for (int a = 0; a < 3; ++a) {
+        std::string s;
+        cellform::core::append_general(s, p[a], digits);
+        INFO("trial " << trial << ", digits " << digits << ", " << s);
+        REQUIRE(std::abs(std::strtod(s.c_str(), nullptr) - p[a]) <= 5e-9 * extent);
+      }
+  }
 }
