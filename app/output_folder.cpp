@@ -411,6 +411,20 @@ int refuse_outputs(const std::exception_ptr& e, const fs::path& dir, const fs::p
   }
 }
 
+bool keep_other_run(const fs::path& dir, const fs::path& resumed, const std::string& checkpoint_error,
+                    const fs::path& staging, const fs::path& created, std::ostream& err) {
+  const fs::path there = dir / kCheckpointName;
+  std::error_code ec;
+  if (fs::symlink_status(there, ec).type() != fs::file_type::regular) return false;
+  if (!resumed.empty() && fs::equivalent(resumed, there, ec)) return false;
+  err << "cellform: " << checkpoint_error << "\n  (nothing in " << dir.string()
+      << "/ changed: this run, which could write no checkpoint, does not replace the run there, whose outputs and "
+         "checkpoint stay; free some space and run again, or give --out another folder)\n";
+  fs::remove_all(staging, ec);
+  remove_empty_up_to(dir, created);
+  return true;
+}
+
 std::vector<std::string> earlier_frames(const fs::path& dir, std::uint64_t up_to, const std::string& script_hash,
                                         std::uint64_t seed, const Overrides& overrides) {
   // the overrides that shape the cells (output.* and print.* may change on resume)

@@ -490,6 +490,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     } catch (const std::exception& e) {
       checkpoint_error = core::error_text(e);
     }
+    // none of this run's: a checkpoint of another run there stays, and with it that run's outputs
+    if (!saved && !no_step &&
+        keep_other_run(dir, s.resume ? o.checkpoint : fs::path(), checkpoint_error, staging, created, err))
+      return failure;
     for (const std::string& n :
          write_outputs(staging, cfg.output, sim.cells(), cfg.scene.venation ? &*cfg.scene.venation : nullptr))
       outputs.push_back(n);
@@ -510,7 +514,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
           say_print_failed(err, m,
                            checkpoint_error.empty() ? "the other outputs and the checkpoint are written"
                                                     : "the other outputs are written",
-                           saved && !dynamic_cast<const NothingToPrint*>(&e), checkpoint);
+                           saved && checkpoint_error.empty() && !dynamic_cast<const NothingToPrint*>(&e), checkpoint);
           printed = {{"error", m}};
           if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
             code = failure;

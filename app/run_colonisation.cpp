@@ -302,6 +302,10 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     // one that fails (too fine a voxel for the memory, say) leaves the folder as it was, its earlier print too.
     const bool reprint = !fresh && col.report().steps == first && cfg.print.has_value();
     if (!reprint) save_final();
+    // none of this run's: a checkpoint of another run there stays, and with it that run's outputs
+    if (!reprint && !saved && !sheet_checkpointed && !no_step &&
+        keep_other_run(dir, s.resume ? o.checkpoint : fs::path(), checkpoint_error, staging, created, err))
+      return failure;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
     venation::VeinTree tree = col.tree();
     // petiole cells the grown sheet left off its surface (the veins started at the nearest point of it): a
@@ -409,7 +413,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       } catch (const std::exception& e) {
         const std::string m = output_error(e, staging, dir);
         if (reprint) return discard_reprint("cellform: " + m, failure);
-        say_print_failed(err, m, "", saved && !dynamic_cast<const NothingToPrint*>(&e), checkpoint);
+        // (after a periodic checkpoint, not the final one, a resume grows the rest again: no quick retry)
+        say_print_failed(err, m, "", saved && checkpoint_error.empty() && !dynamic_cast<const NothingToPrint*>(&e),
+                         checkpoint);
         printed = {{"error", m}};
         if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
           code = failure;

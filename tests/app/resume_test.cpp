@@ -198,33 +198,6 @@ TEST_CASE("corrupt, foreign and truncated checkpoints are refused clearly", "[cl
   CHECK_THAT(r.err, Contains("physics.cfck") && Contains("is corrupt (metadata 'physics'") && !Contains("json"));
 }
 
-TEST_CASE("a checkpoint that cannot be written still leaves the outputs, and says so", "[cli][checkpoint]") {
-  TempDir t("cli-no-checkpoint");
-  const auto cells = t.write("small.lua", kSmall);
-  const auto veins = t.write("leaf.lua",
-                             "leaf { shape = 'ellipse' }\n"
-                             "colonisation { type = 'open', growth = 'none', initial_length = 30, darts = 20000 }\n");
-  for (const fs::path& script : {cells, veins}) {
-    INFO(script.filename().string());
-    const fs::path out = t.path / script.stem();
-    fs::create_directories(out / "checkpoint.cfck");  // a folder in the way: the checkpoint cannot be written
-    // periodic checkpoints every step fail too: said once, and the run goes on to its end
-    const auto r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "5", "--set",
-                        "output.checkpoint_every=1", "--set", "output.checkpoint_seconds=0"});
-    CHECK(r.code == 1);
-    CHECK_THAT(r.err, Contains("checkpoint.cfck") && Contains("this run cannot be resumed"));
-    const std::string goes_on = "the run goes on";
-    CHECK(r.err.find(goes_on) != std::string::npos);
-    CHECK(r.err.find(goes_on) == r.err.rfind(goes_on));
-    const auto run = nlohmann::json::parse(slurp(out / "run.json"));
-    CHECK(run["checkpoint"].is_null());
-    CHECK_THAT(run["checkpoint_error"].get<std::string>(), Contains("checkpoint.cfck"));
-    CHECK(!run.contains("checkpoint_step"));
-    for (const auto& name : run["outputs"]) CHECK(fs::is_regular_file(out / name.get<std::string>()));
-    CHECK(run["outputs"].size() >= 3);
-  }
-}
-
 TEST_CASE("run.json names the checkpoint a resume starts from, the last periodic one when the final failed",
           "[cli][checkpoint]") {
   nlohmann::json run;
