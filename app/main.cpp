@@ -54,7 +54,9 @@ void on_interrupt(int sig, siginfo_t* info, void*) {
   if (g_interrupt.exchange(true)) {
     // a print the first Ctrl-C asked for: this one cancels it, keeping the other outputs
     if (g_print_after_interrupt.load() && !g_print_cancel.exchange(true)) {
-      static const char kCancel[] = "\ncellform: cancelling the print; Ctrl-C again quits at once, without outputs\n";
+      static const char kCancel[] =
+          "\ncellform: cancelling the print once its pass under way ends (seconds on a large print); Ctrl-C again "
+          "quits at once, without outputs\n";
       say(kCancel, sizeof kCancel - 1);
       return;
     }
@@ -74,14 +76,14 @@ void on_interrupt(int sig, siginfo_t* info, void*) {
       // [term][print planned]
       {"\ncellform: interrupted: the steps stop after the current one and the outputs are written; Ctrl-C again "
        "quits at once, without outputs\n",
-       "\ncellform: interrupted: the steps stop after the current one (a printable solid being made is skipped) "
-       "and the outputs are written; Ctrl-C again skips a printable solid being made, and otherwise quits at "
-       "once, without outputs\n"},
+       "\ncellform: interrupted: the steps stop after the current one (a printable solid being made is skipped, once "
+       "its pass under way ends) and the outputs are written; Ctrl-C again skips a printable solid being made, and "
+       "otherwise quits at once, without outputs\n"},
       {"\ncellform: terminated (SIGTERM): the steps stop after the current one and the outputs are written; "
        "another SIGTERM or Ctrl-C quits at once, without outputs\n",
        "\ncellform: terminated (SIGTERM): the steps stop after the current one (a printable solid being made is "
-       "skipped) and the outputs are written; another SIGTERM or Ctrl-C skips a printable solid being made, and "
-       "otherwise quits at once, without outputs\n"}};
+       "skipped, once its pass under way ends) and the outputs are written; another SIGTERM or Ctrl-C skips a "
+       "printable solid being made, and otherwise quits at once, without outputs\n"}};
   const char* text = g_reading_script.load() ? kReading[term] : kStop[term][g_print_planned.load() ? 1 : 0];
   say(text, std::strlen(text));  // strlen is async-signal-safe
 }

@@ -439,8 +439,14 @@ std::vector<Vec3> parse_ascii_stl(std::string_view text, std::vector<Vec3>* norm
                      "; a facet needs exactly three vertices");
         {
           Vec3 p;
-          if (words.size() != 4 || !number(words[1], p.x()) || !number(words[2], p.y()) || !number(words[3], p.z()))
+          if (words.size() != 4 || !number(words[1], p.x()) || !number(words[2], p.y()) || !number(words[3], p.z())) {
+            double x = 0;  // a number, but beyond a double's range
+            for (std::size_t k = 1; k < words.size() && k < 4; ++k)
+              if (std::from_chars(words[k].data(), words[k].data() + words[k].size(), x).ec ==
+                  std::errc::result_out_of_range)
+                throw fail("a vertex coordinate is beyond the range of 64-bit numbers (about 1.8e308)");
             throw fail("a vertex needs three numbers");
+          }
           if (!p.allFinite()) throw fail("a vertex needs three finite numbers (NaN and infinity are not allowed)");
           corners.push_back(p);
         }
