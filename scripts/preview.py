@@ -132,6 +132,9 @@ def main():
     png = Path(opts.png) if opts.png else out_dir / "preview.png"
     # a cell run has cells.ply (and veins.ply with venation{}); space colonisation in a leaf or a volume
     # has only veins.ply
+    if not out_dir.is_dir():
+        sys.exit(f"preview.py: '{out_dir}' is not a folder" + (" (it does not exist)" if not out_dir.exists() else "")
+                 + ": give a cellform output folder")
     if not (out_dir / "cells.ply").exists() and not (out_dir / "veins.ply").exists():
         sys.exit(f"preview.py: '{out_dir}' holds neither cells.ply nor veins.ply: give a cellform output folder")
     cells = read_ply(out_dir / "cells.ply") if (out_dir / "cells.ply").exists() else {"vertex": []}

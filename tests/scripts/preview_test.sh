@@ -30,4 +30,6 @@ expect 2 "argument --elev: invalid float value: 'abc'" "$dir/o" --elev abc
 expect 2 "unrecognized arguments: --tpo" "$dir/o" "$dir/q.png" --tpo "$dir/r.png"
 expect 1 "cannot write '/proc/nope/x.png'" "$dir/o" /proc/nope/x.png
 expect 1 "holds neither cells.ply nor veins.ply" "$dir"
+expect 1 "is not a folder (it does not exist)" "$dir/none"
+expect 1 "is not a folder:" "$dir/s.lua"
 exit $fail
