@@ -83,7 +83,7 @@ TEST_CASE("a print that fails after only a periodic checkpoint offers no quick r
   // the final checkpoint did not fit, the one of step 29 did: "to print again: cellform resume ... --set
   // print.NAME=VALUE" would grow step 30 again before printing, which is not what it promised
   TempDir t("cli-no-retry");
-  const auto script = t.write("sheet.lua", std::string(kSmall) + "print { shell = true, formats = 'scad' }\n");
+  const auto script = t.write("sheet.lua", std::string(kSmall) + "venation { threshold = 10 }\nprint { size = 60 }\n");
   const std::vector<std::string> args = {"run",   script.string(), "--quiet",
                                          "--set", "size=100000",   "--checkpoint-every",
                                          "1",     "--set",         "output.checkpoint_seconds=0",
@@ -96,7 +96,7 @@ TEST_CASE("a print that fails after only a periodic checkpoint offers no quick r
   const fs::path whole = t.path / "whole";
   REQUIRE(cli(with_out(whole)).code == 0);  // the sheet grows every step: each checkpoint is larger
   const std::size_t limit = fs::file_size(whole / "checkpoint.cfck") - 1;
-  REQUIRE(fs::file_size(whole / "printable.scad") > limit);
+  REQUIRE(fs::file_size(whole / "printable.stl") > limit);
   REQUIRE(fs::file_size(whole / "cells.ply") + 1000 < limit);
   CliResult r;
   {
@@ -105,11 +105,11 @@ TEST_CASE("a print that fails after only a periodic checkpoint offers no quick r
   }
   INFO(r.err);
   CHECK(r.code == 1);
-  CHECK_THAT(r.err, Contains("printable.scad") && Contains("of step 29"));
+  CHECK_THAT(r.err, Contains("printable.stl") && Contains("of step 29"));
   CHECK_THAT(r.err, !Contains("to print again"));
   // with the final checkpoint written, the hint stays
   {
-    FileSizeLimit small(fs::file_size(whole / "printable.scad") - 1);
+    FileSizeLimit small(fs::file_size(whole / "printable.stl") - 1);
     r = cli(with_out(t.path / "print"));
   }
   CHECK(r.code == 1);
