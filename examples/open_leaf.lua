@@ -8,7 +8,9 @@ local P = params {
   kill_distance = 1,   -- d_k: smaller gives more, denser veins
 }
 
-run { seed = 3 }
+-- seed 4 reaches every source; with some seeds (3, 5) one source the young blade held lies below a tooth of
+-- the grown one, out of every vein's reach, and the run ends "stalled" (docs/scripting.md, marginal growth)
+run { seed = 4 }
 
 leaf { shape = "ovate", width = 0.6, teeth = 12, tooth_depth = 0.03 }
 
