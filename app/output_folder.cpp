@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <climits>
 #include <cstring>
 #include <fstream>
@@ -135,7 +136,13 @@ void mark_superseded(const fs::path& dir) {
   write_run_json(file, j);
 }
 
-bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, bool& warned) {
+bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, bool& warned, double& seconds) {
+  const auto began = std::chrono::steady_clock::now();
+  struct Clock {
+    std::chrono::steady_clock::time_point began;
+    double& seconds;
+    ~Clock() { seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count(); }
+  } clock{began, seconds};
   try {
     write();
     return true;

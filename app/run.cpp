@@ -269,6 +269,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   const fs::path checkpoint = dir / kCheckpointName;
   std::string status = "complete";
   double sim_seconds = 0;
+  double checkpoint_seconds = 0;  // the periodic checkpoints' (the final one's is in output_s)
   int code = ok;
   bool saved = false;            // this run wrote checkpoint.cfck (an older one may be there from another run)
   std::string checkpoint_error;  // why the final checkpoint could not be written
@@ -434,7 +435,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       if (cfg.output.every > 0 && step % cfg.output.every == 0)  // asked for, whatever output.ply says of the end
         write_frame(sim.cells(), step);
       if (step < target && checkpoints.due(step))
-        saved = periodic_checkpoint(checkpoint_now, err, checkpoint_warned) || saved;
+        saved = periodic_checkpoint(checkpoint_now, err, checkpoint_warned, checkpoint_seconds) || saved;
     }
     progress.finish();
     if (full_at > 0 && full_at <= target)  // divisions, and the rules that decide them, stopped there
@@ -536,6 +537,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                  {{"total_s", total},
                   {"simulation_s", sim_seconds},
                   {"output_s", output_seconds},
+                  {"checkpoints_s", checkpoint_seconds},
                   {"steps_per_s", sim_seconds > 0 ? static_cast<double>(done) / sim_seconds : 0.0}}}});
     record_checkpoint(run, checkpoint_error, saved, saved_step);
     if (cfg.print) run["print"] = printed;

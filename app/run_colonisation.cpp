@@ -126,6 +126,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     std::size_t sheet_initial = s.initial_cells > 0 ? s.initial_cells : cfg.initial_cells.size();
     std::optional<std::uint64_t> sheet_steps = s.sheet_partial ? std::nullopt : s.sheet_steps;  // as grown
     double sheet_seconds = 0;         // growing surface{cells = true}'s sheet in this command
+    double checkpoint_seconds = 0;    // the periodic checkpoints (of the sheet too; the final one's is not here)
     bool sheet_checkpointed = false;  // a checkpoint written while the sheet grew is in the folder
     if (s.sheet_partial && !spec.on_cells)
       throw core::InvalidInput("checkpoint '" + o.checkpoint.string() +
@@ -161,7 +162,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       } else {
         const auto grow_start = std::chrono::steady_clock::now();
         Sheet grown = grow_sheet(o, s, cfg, host, seed, checkpoint, err, failed);
-        sheet_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - grow_start).count();
+        sheet_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - grow_start).count() -
+                        grown.checkpoint_seconds;
+        checkpoint_seconds += grown.checkpoint_seconds;
         sheet_initial = grown.initial;
         sheet_steps = grown.step;
         sheet_checkpointed = grown.checkpointed;
@@ -248,6 +251,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     std::size_t saved_step = 0;  // the step of the last checkpoint it wrote
     CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
     bool checkpoint_warned = false;
+    double vein_checkpoint_seconds = 0;  // the periodic checkpoints of the veins' steps
     try {
       while (!col.done()) {
         if (g_interrupt.load()) {
@@ -267,7 +271,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
           err << ", " << duration_text(std::chrono::duration<double>(now - a).count()) << " so far"
               << (::isatty(2) ? "          \r" : "\n") << std::flush;
         }
-        if (!col.done() && checkpoints.due(r.steps) && periodic_checkpoint(save, err, checkpoint_warned)) {
+        if (!col.done() && checkpoints.due(r.steps) &&
+            periodic_checkpoint(save, err, checkpoint_warned, vein_checkpoint_seconds)) {
           saved = true;
           saved_step = r.steps;
         }
@@ -280,6 +285,10 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       failed.checkpoint_note = saved ? "" : ", taken while the sheet grew";
       throw;
     }
+    // the veins' steps, without their periodic checkpoints
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count() - vein_checkpoint_seconds;
+    checkpoint_seconds += vein_checkpoint_seconds;
     if (!o.quiet && ::isatty(2)) err << "\n";
     // before the outputs: a failure writing them leaves the checkpoint; and a checkpoint that cannot be
     // written (a full disk) still leaves the outputs
@@ -306,7 +315,6 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     if (!reprint && !saved && !sheet_checkpointed && !no_step &&
         keep_other_run(dir, s.resume ? o.checkpoint : fs::path(), checkpoint_error, staging, created, err))
       return failure;
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
     venation::VeinTree tree = col.tree();
     // petiole cells the grown sheet left off its surface (the veins started at the nearest point of it): a
     // stem joins each to its veins, so they stand on their supports
@@ -445,7 +453,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                     {"sources_born", rep.sources_born}};
     if (tree.size() > rep.nodes) run["veins"]["stems"] = tree.size() - rep.nodes;  // nodes of veins.* beyond
     run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
-                      {"simulation_s", seconds}};
+                      {"simulation_s", seconds},
+                      {"checkpoints_s", checkpoint_seconds}};
     if (sheet_seconds > 0) run["timings"]["sheet_s"] = sheet_seconds;  // the cells grown first, in this command
     record_checkpoint(run, checkpoint_error, saved || sheet_checkpointed,
                       saved ? std::optional<std::uint64_t>(saved_step) : std::nullopt);

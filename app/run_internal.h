@@ -353,9 +353,10 @@ constexpr std::uintmax_t kLargeSvgBytes = 50'000'000;
 /// a path per vein already (output.svg_paths = "veins").
 std::string large_svg_note(std::uintmax_t bytes, bool joined);
 
-/// Writes a periodic checkpoint with `write`. A failure (a full disk) is reported on `err` the first time
-/// (`warned`) and the run goes on, to try again at the next one; returns whether it was written.
-bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, bool& warned);
+/// Writes a periodic checkpoint with `write`, adding the seconds it took to `seconds` (run.json's
+/// timings.checkpoints_s). A failure (a full disk) is reported on `err` the first time (`warned`) and the run
+/// goes on, to try again at the next one; returns whether it was written.
+bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, bool& warned, double& seconds);
 
 /// run.json's checkpoint fields: "checkpoint" names the file a resume starts from, or is null when there
 /// is none; when the final checkpoint failed, "checkpoint_error" says why and, if an earlier (periodic)

@@ -102,7 +102,7 @@ Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHo
       host.check_knobs(sim.step_count());
       progress.update(sim.step_count(), sim.cells().size());
       if (sim.step_count() < out.target && checkpoints.due(sim.step_count()) &&
-          periodic_checkpoint(save, err, warned)) {
+          periodic_checkpoint(save, err, warned, out.checkpoint_seconds)) {
         saved = true;
         failed.sheet_checkpointed = true;
         failed.sheet_saved = sim.step_count();

@@ -23,8 +23,9 @@ struct Sheet {
   std::uint64_t step = 0, target = 0;
   std::size_t initial = 0;  // cells when the growth began (of the run, not of this resume)
   bool complete = false;
-  bool checkpointed = false;     // a sheet checkpoint of this run is in the folder
-  std::string checkpoint_error;  // why the checkpoint on Ctrl-C could not be written
+  bool checkpointed = false;      // a sheet checkpoint of this run is in the folder
+  double checkpoint_seconds = 0;  // spent on its periodic checkpoints
+  std::string checkpoint_error;   // why the checkpoint on Ctrl-C could not be written
 };
 
 /// What a colonisation run that a step's error stopped has left: for its run.json and its message.
