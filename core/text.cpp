@@ -35,16 +35,19 @@ int coordinate_digits(const std::vector<Vec3>& points) {
   constexpr int kNear = 9, kExact = std::numeric_limits<double>::max_digits10;
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (const Vec3& p : points) {
+    if (!p.allFinite()) return kNear;  // written as nan or inf whatever the digits
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
   const double extent = (hi - lo).maxCoeff();
   const double reach = lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).maxCoeff();
-  if (!std::isfinite(extent) || !std::isfinite(reach) || reach <= extent) return kNear;
-  if (!(extent > 0)) return kExact;  // points that all coincide, away from the origin
-  // d significant digits keep x to 5 * 10^-d of |x|: a coordinate up to `reach` = 10^k times the box's side
-  // needs k more digits than one up to the side
-  return std::min(kExact, kNear + static_cast<int>(std::ceil(std::log10(reach / extent))));
+  if (points.empty() || reach == 0) return kNear;
+  if (!(extent > 0) || !std::isfinite(extent)) return kExact;  // points that coincide away from the origin
+  // d significant digits keep x to half a unit of its d-th digit, 0.5 * 10^(floor(log10 |x|) - d + 1): with
+  // d = 9 + floor(log10 reach) - floor(log10 extent), at most 0.5 * 10^(floor(log10 extent) - 8), which is
+  // 5e-9 of the side. (The decades are whole numbers of moderate size: no overflow.)
+  const double decades = std::floor(std::log10(reach)) - std::floor(std::log10(extent));
+  return static_cast<int>(std::clamp(kNear + decades, double{kNear}, double{kExact}));
 }
 
 }  // namespace cellform::core

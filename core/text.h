@@ -19,9 +19,10 @@ void append_general(std::string& out, double x, int precision = 9);
 void append_fixed(std::string& out, double x, int digits);
 
 /// Significant digits (for append_general) that keep each coordinate of `points` within 5e-9 of their
-/// bounding box's largest side: 9 ("%.9g") for a form about the origin, more the farther the form lies from
-/// the origin for its size (a form 100 units across at 500,000 units: 13), at most 17 (every double exact).
-/// 9 for no point, the origin alone, or a point not finite; 17 for points that coincide elsewhere.
+/// bounding box's largest side: 9 ("%.9g") while the coordinates reach no farther decade than the box's side
+/// (a form about the origin, or one 30 units across at 10 to 40), more the farther the form lies from the
+/// origin for its size (a form 100 units across at 500,000 units: 12), at most 17 (every double exact).
+/// 9 for no point, the origin alone, or any point not finite; 17 for points that coincide elsewhere.
 int coordinate_digits(const std::vector<Vec3>& points);
 
 /// Appends an integer in decimal.

@@ -173,7 +173,7 @@ void write_cells_obj(const std::filesystem::path& path, const Cells& cells, cons
       "print.scale_mm_per_unit)\n";
   text += "# " + std::to_string(n) + " vertices, " + std::to_string(surface.triangles.size()) + " faces, " +
           std::to_string(lines.size()) + " lines\n";
-  const int digits = core::coordinate_digits(cells.position);  // 9 about the origin: "v %.9g %.9g %.9g"
+  const int digits = core::coordinate_digits(cells.position);  // "v %.9g %.9g %.9g" about the origin
   for (std::size_t i = 0; i < n; ++i) {
     const core::Vec3& p = cells.position[i];
     text += 'v';

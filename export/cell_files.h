@@ -24,9 +24,10 @@ namespace cellform::exporters {
 /// core::InvalidInput if the surface refers to a cell that does not exist or an attribute has the wrong size.
 void write_cells_ply(const std::filesystem::path& path, const cells::Cells& cells, const cells::Surface& surface);
 
-/// Writes the cells as an OBJ file: a comment header with the counts, one `v x y z` line per cell
-/// (model units, "%.9g": every float digit), one `f a b c` line per triangle and one `l a b` line per link
-/// that is not a side of any triangle (indices 1-based). Atomic; throws as write_cells_ply does.
+/// Writes the cells as an OBJ file: a comment header with the counts, one `v x y z` line per cell (model
+/// units, "%.9g" about the origin, more digits far from it: core::coordinate_digits), one `f a b c` line per
+/// triangle and one `l a b` line per link that is not a side of any triangle (indices 1-based). Atomic; throws as
+/// write_cells_ply does.
 void write_cells_obj(const std::filesystem::path& path, const cells::Cells& cells, const cells::Surface& surface);
 
 /// File name of one frame of a sequence: stem, '_', the step zero-padded to six digits (more if needed),

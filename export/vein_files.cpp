@@ -59,8 +59,9 @@ void write_veins_obj(const std::filesystem::path& path, const venation::VeinGrap
           "print.scale_mm_per_unit)\n"
        << "# per vertex: '#a flow radius order' follows its 'v' line\no veins\n";
     std::string out;
-    const int digits = core::coordinate_digits(g.position);  // 9 about the origin
-    for (std::size_t i = 0; i < g.cell.size(); ++i) {        // "v %.9g %.9g %.9g\n#a %.9g %.9g %d"
+    // "v %.9g %.9g %.9g\n#a %.9g %.9g %d", with more digits for positions far from the origin
+    const int digits = core::coordinate_digits(g.position);
+    for (std::size_t i = 0; i < g.cell.size(); ++i) {
       out += 'v';
       for (double x : {g.position[i].x(), g.position[i].y(), g.position[i].z()}) {
         out += ' ';

@@ -383,12 +383,21 @@ std::vector<Vec3> parse_ascii_stl(std::string_view text, std::vector<Vec3>* norm
       shown.erase(0, std::min(shown.find_first_not_of(" \t"), shown.size()));
       return core::InvalidInput("line " + std::to_string(line_no) + ": " + what + " (the line reads '" + shown + "')");
     };
-    // a number, all of the word ("1e-3", "-2", "+0.5"; "5five" is not one)
-    auto number = [](std::string_view w, double& x) {
+    // a number, all of the word ("1e-3", "-2", "+0.5"; "5five" is not one); one too small for a double is 0
+    // or the nearest, as strtod (the OBJ reader's) reads it, and one too large is refused by name
+    bool too_large = false;
+    auto number = [&too_large](std::string_view w, double& x) {
       if (w.size() > 1 && w[0] == '+' && w[1] != '-') w.remove_prefix(1);
       const auto r = std::from_chars(w.data(), w.data() + w.size(), x);
-      return r.ec == std::errc() && r.ptr == w.data() + w.size();
+      if (r.ptr != w.data() + w.size()) return false;
+      if (r.ec == std::errc::result_out_of_range) {
+        x = std::strtod(std::string(w).c_str(), nullptr);
+        too_large = too_large || std::isinf(x);
+        return !std::isinf(x);
+      }
+      return r.ec == std::errc();
     };
+    const char* kTooLarge = " (a number beyond the range of 64-bit numbers, about 1.8e308)";
     // word i is this keyword, in any case
     auto is = [&](std::size_t i, std::string_view keyword) {
       if (i >= words.size() || words[i].size() != keyword.size()) return false;
@@ -414,7 +423,8 @@ std::vector<Vec3> parse_ascii_stl(std::string_view text, std::vector<Vec3>* norm
           Vec3 n;
           if (!is(1, "normal") || words.size() != 5 || !number(words[2], n.x()) || !number(words[3], n.y()) ||
               !number(words[4], n.z()))
-            throw fail("a facet starts with 'facet normal' and three numbers");
+            throw fail(std::string("a facet starts with 'facet normal' and three numbers") +
+                       (too_large ? kTooLarge : ""));
           if (normals) normals->push_back(n);
         }
         facet_line = line_no;
@@ -439,14 +449,8 @@ std::vector<Vec3> parse_ascii_stl(std::string_view text, std::vector<Vec3>* norm
                      "; a facet needs exactly three vertices");
         {
           Vec3 p;
-          if (words.size() != 4 || !number(words[1], p.x()) || !number(words[2], p.y()) || !number(words[3], p.z())) {
-            double x = 0;  // a number, but beyond a double's range
-            for (std::size_t k = 1; k < words.size() && k < 4; ++k)
-              if (std::from_chars(words[k].data(), words[k].data() + words[k].size(), x).ec ==
-                  std::errc::result_out_of_range)
-                throw fail("a vertex coordinate is beyond the range of 64-bit numbers (about 1.8e308)");
-            throw fail("a vertex needs three numbers");
-          }
+          if (words.size() != 4 || !number(words[1], p.x()) || !number(words[2], p.y()) || !number(words[3], p.z()))
+            throw fail(std::string("a vertex needs three numbers") + (too_large ? kTooLarge : ""));
           if (!p.allFinite()) throw fail("a vertex needs three finite numbers (NaN and infinity are not allowed)");
           corners.push_back(p);
         }

@@ -274,8 +274,9 @@ void write_vein_obj(const std::filesystem::path& path, const VeinTree& tree) {
     out +=
         " nodes, in model units (a print{...} writes printable.* in mm, and run.json gives print.scale_mm_per_unit)\n"
         "# per vertex: '#a flow radius order' follows its 'v' line\no veins\n";
-    const int digits = core::coordinate_digits(tree.positions);  // 9 about the origin
-    for (Index i = 0; i < tree.size(); ++i) {                    // numbers as "%.9g"
+    // positions with 9 significant digits about the origin, more far from it; the rest as "%.9g"
+    const int digits = core::coordinate_digits(tree.positions);
+    for (Index i = 0; i < tree.size(); ++i) {
       const Vec3& q = tree.positions[i];
       out += 'v';
       for (double x : {q.x(), q.y(), q.z()}) {

@@ -108,15 +108,18 @@ TEST_CASE("coordinate_digits keeps every coordinate to 5e-9 of the form's size, 
   using cellform::core::Vec3;
   // about the origin: "%.9g", as the files always had
   CHECK(coordinate_digits({Vec3(-3, 0, 1), Vec3(5, 2, -1)}) == 9);
-  CHECK(coordinate_digits({Vec3(0, 0, 0), Vec3(0, 120, 0)}) == 9);  // a leaf from its petiole
+  CHECK(coordinate_digits({Vec3(0, 0, 0), Vec3(0, 120, 0)}) == 9);      // a leaf from its petiole
+  CHECK(coordinate_digits({Vec3(10, 10, 10), Vec3(40, 40, 40)}) == 9);  // the same decade: as the files had
+  CHECK(coordinate_digits({Vec3(0.5, 0, 0), Vec3(0.9, 0, 0)}) == 9);
   // nothing to span: none, the origin, a non-finite point; one point elsewhere is kept exact
   CHECK(coordinate_digits({}) == 9);
   CHECK(coordinate_digits({Vec3(0, 0, 0), Vec3(0, 0, 0)}) == 9);
   CHECK(coordinate_digits({Vec3(5e5, 2e5, 30)}) == 17);
-  CHECK(coordinate_digits({Vec3(0, 0, 0), Vec3(std::nan(""), 1, 1)}) == 9);
+  CHECK(coordinate_digits({Vec3(1e6, 0, 0), Vec3(1e6 + 1, 0, 0), Vec3(std::nan(""), 1, 1)}) == 9);
   // a leaf 100 units across at site coordinates: 9 digits kept it to 5e-4 units (the audit's case)
-  CHECK(coordinate_digits({Vec3(5e5, 2e5, 30), Vec3(5e5 + 100, 2e5 + 60, 30)}) == 13);
-  CHECK(coordinate_digits({Vec3(1e15, 0, 0), Vec3(1e15 + 1, 0, 0)}) == 17);  // capped: exact
+  CHECK(coordinate_digits({Vec3(5e5, 2e5, 30), Vec3(5e5 + 100, 2e5 + 60, 30)}) == 12);
+  CHECK(coordinate_digits({Vec3(1e15, 0, 0), Vec3(1e15 + 1, 0, 0)}) == 17);    // capped: exact
+  CHECK(coordinate_digits({Vec3(1e300, 0, 0), Vec3(1e300, 1e-10, 0)}) == 17);  // reach / side overflows
   // the oracle: written with that many digits and read back, each coordinate is off by at most 5e-9 of the side
   cellform::core::Rng rng(11);
   for (int trial = 0; trial < 200; ++trial) {

@@ -104,11 +104,17 @@ TEST_CASE("parse_ascii_stl refuses anything else, saying the line", "[forms][mes
   CHECK_THAT(error("solid\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0 0\n"),
              Contains("line 4") && Contains("three numbers"));
   CHECK_THAT(error("solid\nfacet normal 0 0 1\nouter loop\nvertex 0 0 inf\n"), Contains("line 4") && Contains("NaN"));
-  // a number past a double's range is one, and said so (it read as "needs three numbers")
+  // a number past a double's range is one, and said so (it read as "needs three numbers" alone); one too
+  // small is 0, as in OBJ; a wrong count is said first
   CHECK_THAT(error("solid\nfacet normal 0 0 1\nouter loop\nvertex 1e400 0 0\n"),
              Contains("line 4") && Contains("beyond the range of 64-bit numbers"));
   CHECK_THAT(error("solid\nfacet normal 0 0 1\nouter loop\nvertex 0 0 " + std::string(400, '9') + "\n"),
              Contains("line 4") && Contains("beyond the range"));
+  CHECK_THAT(error("solid\nfacet normal 0 0 1\nouter loop\nvertex +1e400 0 0\n"), Contains("beyond the range"));
+  CHECK_THAT(error("solid\nfacet normal 0 1e999 1\n"), Contains("line 2") && Contains("beyond the range"));
+  CHECK_THAT(error("solid\nfacet normal 0 0 1\nouter loop\nvertex 1e400 0\n"),
+             Contains("three numbers") && !Contains("beyond"));
+  CHECK(error("solid\n" + facet("1e-400 0 0", "1 0 0", "0 1 0") + "endsolid\n") == "accepted");
   CHECK_THAT(error("solid\n" + f.substr(0, f.find("endfacet")) + "endsolid\n"),
              Contains("line 8") && Contains("'endfacet'"));
   CHECK_THAT(error("solid\n" + f + "vertex 0 0 0\nendsolid\n"), Contains("line 9") && Contains("'facet normal"));
