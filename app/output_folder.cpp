@@ -424,9 +424,9 @@ bool keep_other_run(const fs::path& dir, const fs::path& resumed, const std::str
   std::error_code ec;
   if (fs::symlink_status(there, ec).type() != fs::file_type::regular) return false;
   if (!resumed.empty() && fs::equivalent(resumed, there, ec)) return false;
-  err << "cellform: " << checkpoint_error << "\n  (nothing in " << dir.string()
-      << "/ changed: this run, which could write no checkpoint, does not replace the run there, whose outputs and "
-         "checkpoint stay; free some space and run again, or give --out another folder)\n";
+  err << "cellform: " << checkpoint_error << "\n  (this run's outputs are not written, and nothing in " << dir.string()
+      << "/ changed: without a checkpoint of its own this run would replace the run there, its checkpoint too, "
+         "and leave neither to resume; make room and run or resume again, or give --out another folder)\n";
   fs::remove_all(staging, ec);
   remove_empty_up_to(dir, created);
   return true;

@@ -491,9 +491,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     } catch (const std::exception& e) {
       checkpoint_error = core::error_text(e);
     }
-    // none of this run's: a checkpoint of another run there stays, and with it that run's outputs
-    if (!saved && !no_step &&
-        keep_other_run(dir, s.resume ? o.checkpoint : fs::path(), checkpoint_error, staging, created, err))
+    // none of this run's: a checkpoint of another run there stays, and with it that run's outputs (a resume's
+    // own checkpoint, resumed in its folder, is kept by the commit anyway)
+    if (!saved && keep_other_run(dir, s.resume ? o.checkpoint : fs::path(), checkpoint_error, staging, created, err))
       return failure;
     for (const std::string& n :
          write_outputs(staging, cfg.output, sim.cells(), cfg.scene.venation ? &*cfg.scene.venation : nullptr))

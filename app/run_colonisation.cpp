@@ -169,6 +169,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         sheet_steps = grown.step;
         sheet_checkpointed = grown.checkpointed;
         if (!grown.complete) {  // Ctrl-C: the sheet so far, and its checkpoint to finish it from
+          if (!grown.checkpointed && !grown.checkpoint_error.empty() &&
+              keep_other_run(dir, s.resume ? o.checkpoint : fs::path(), grown.checkpoint_error, staging, created, err))
+            return failure;
           std::vector<std::string> outputs = write_outputs(staging, cfg.output, grown.cells, nullptr);
           json run = colonisation_run_record(s, seed, o.threads, spec, cfg.resolved);
           run["status"] = "interrupted";
@@ -312,7 +315,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     const bool reprint = !fresh && col.report().steps == first && cfg.print.has_value();
     if (!reprint) save_final();
     // none of this run's: a checkpoint of another run there stays, and with it that run's outputs
-    if (!reprint && !saved && !sheet_checkpointed && !no_step &&
+    if (!reprint && !saved && !sheet_checkpointed &&
         keep_other_run(dir, s.resume ? o.checkpoint : fs::path(), checkpoint_error, staging, created, err))
       return failure;
     venation::VeinTree tree = col.tree();
@@ -431,7 +434,10 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         }
       }
     }
-    if (reprint) save_final();  // the print worked
+    if (reprint) {  // the print worked
+      save_final();
+      if (!saved && keep_other_run(dir, o.checkpoint, checkpoint_error, staging, created, err)) return failure;
+    }
     json svg_record;
     if (planar)  // a drawing of the leaf; a 3-D pattern has no one plane to draw it in
       svg_record = draw_veins_svg(staging, cfg.output, cfg.print ? &*cfg.print : nullptr, printed, segments, shell,

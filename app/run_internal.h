@@ -404,8 +404,9 @@ int refuse_outputs(const std::exception_ptr& e, const std::filesystem::path& dir
 
 /// For a run that could write no checkpoint of its own (a full disk): when `dir` holds another run's
 /// checkpoint.cfck (not `resumed`, which a commit keeps), says so after `checkpoint_error` on `err`, removes
-/// `staging` and the folders `--out` made (`created`) and returns true: committing would delete that run's
-/// checkpoint with its outputs, and leave neither run to resume. False, doing nothing, otherwise.
+/// `staging` (this run's outputs are dropped) and the folders `--out` made (`created`) and returns true:
+/// committing would delete that run's checkpoint with its outputs, and leave neither run to resume. False,
+/// doing nothing, otherwise.
 bool keep_other_run(const std::filesystem::path& dir, const std::filesystem::path& resumed,
                     const std::string& checkpoint_error, const std::filesystem::path& staging,
                     const std::filesystem::path& created, std::ostream& err);

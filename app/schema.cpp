@@ -353,7 +353,7 @@ std::vector<Field> build() {
   f.push_back(integer("output", "every", "0", 0, 1e9, "steps",
                       "cell runs: also write frames/cells_NNNNNN.ply (the step, in six digits, more from step "
                       "1,000,000) of the cells as placed (step 0) and every this many steps (0 = none); not with "
-                      "colonisation{...}, even on the sheet surface{cells = true} grows first"));
+                      "colonisation{...}, even when surface{cells = true} grows a sheet first"));
   f.push_back(integer("output", "checkpoint_every", "1000", 0, 1e9, "steps",
                       "write checkpoint.cfck every this many steps (0 = only at the end)"));
   f.push_back(num("output", "checkpoint_seconds", "60", 0, 1e9, false, "s",

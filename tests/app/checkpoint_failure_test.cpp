@@ -2,8 +2,12 @@
 // say so, an earlier run's checkpoint in the folder is never lost, and no hint offers a retry that is not one.
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <chrono>
+#include <csignal>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include "tests/app/test_util.h"
@@ -96,7 +100,7 @@ TEST_CASE("a print that fails after only a periodic checkpoint offers no quick r
   const fs::path whole = t.path / "whole";
   REQUIRE(cli(with_out(whole)).code == 0);  // the sheet grows every step: each checkpoint is larger
   const std::size_t limit = fs::file_size(whole / "checkpoint.cfck") - 1;
-  REQUIRE(fs::file_size(whole / "printable.stl") > limit);
+  REQUIRE(fs::file_size(whole / "printable.stl") > limit + 1);  // so that the second half's limit lets it fail
   REQUIRE(fs::file_size(whole / "cells.ply") + 1000 < limit);
   CliResult r;
   {
@@ -114,4 +118,73 @@ TEST_CASE("a print that fails after only a periodic checkpoint offers no quick r
   }
   CHECK(r.code == 1);
   CHECK_THAT(r.err, Contains("to print again with other print.* values"));
+}
+
+TEST_CASE("a resume into another run's folder that can write no checkpoint leaves that run as it was",
+          "[cli][checkpoint]") {
+  // review: a resume that ran no step (the outputs made again) skipped the check, and with --out into another
+  // run's folder deleted that run's checkpoint
+  TempDir t("cli-keep-other");
+  const auto cells = t.write("small.lua", std::string(kSmall) + "venation { threshold = 10 }\n");
+  const auto veins = t.write("ball.lua",
+                             "volume { ball = { radius = 5 }, seeds = {{0, 0, 0}} }\n"
+                             "colonisation { type = 'open', birth_distance = 1, kill_distance = 1, darts = 1e6 }\n");
+  for (const fs::path& script : {cells, veins}) {
+    INFO(script.filename().string());
+    const fs::path a = t.path / (script.stem().string() + "A"), b = t.path / (script.stem().string() + "B");
+    REQUIRE(cli({"run", script.string(), "--out", a.string(), "--quiet", "--steps", "30"}).code == 0);
+    REQUIRE(cli({"run", script.string(), "--out", b.string(), "--quiet", "--steps", "30", "--seed", "7"}).code == 0);
+    const std::string record = slurp(b / "run.json"), checkpoint = slurp(b / "checkpoint.cfck");
+    const std::size_t limit = fs::file_size(a / "checkpoint.cfck") - 1;  // A's state, written into B
+    for (const auto& name : nlohmann::json::parse(slurp(a / "run.json"))["outputs"])
+      REQUIRE(fs::file_size(a / name.get<std::string>()) + 1000 < limit);
+    CliResult r;
+    {
+      FileSizeLimit small(limit);
+      r = cli({"resume", (a / "checkpoint.cfck").string(), "--out", b.string(), "--quiet"});  // no step runs
+    }
+    INFO(r.err);
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Contains("this run's outputs are not written") && Contains(b.string()));
+    CHECK(slurp(b / "run.json") == record);
+    CHECK(slurp(b / "checkpoint.cfck") == checkpoint);
+  }
+}
+
+TEST_CASE("a Ctrl-C while the sheet grows, whose checkpoint fails, leaves another run's folder as it was",
+          "[cli][checkpoint][signal]") {
+  // review: the interrupted sheet's outputs replaced the folder's run, checkpoint and all
+  TempDir t("cli-keep-sheet");
+  const auto other = t.write("small.lua", kSmall);
+  const auto sheet = t.write("sheet.lua",
+                             "division { trigger = 'none' }\nrun { steps = 1000000 }\ndisc { radius = 6 }\n"
+                             "petiole { at = {0, -6, 0} }\nsurface { cells = true }\n"
+                             "colonisation { birth_distance = 1, kill_distance = 1, darts = 1e6 }\n");
+  auto interrupted = [&](const fs::path& out) {
+    const fs::path log = t.path / "log.txt";
+    const pid_t pid = spawn_cellform_logged({"run", sheet.string(), "--out", out.string(), "--quiet"}, log);
+    REQUIRE(pid > 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(800));  // the sheet grows (no periodic checkpoint)
+    kill(pid, SIGINT);
+    const int code = wait_exit(pid);
+    return std::pair{code, slurp(log)};
+  };
+  const fs::path reference = t.path / "R", kept = t.path / "K";  // names of one length: checkpoints record them
+  const auto [code, said] = interrupted(reference);
+  INFO(said);
+  REQUIRE(code == 130);
+  const std::size_t limit = fs::file_size(reference / "checkpoint.cfck") - 200;  // (the step's digits vary)
+  REQUIRE(fs::file_size(reference / "cells.ply") + 1000 < limit);
+  REQUIRE(cli({"run", other.string(), "--out", kept.string(), "--quiet"}).code == 0);
+  const std::string record = slurp(kept / "run.json"), checkpoint = slurp(kept / "checkpoint.cfck");
+  std::pair<int, std::string> r;
+  {
+    FileSizeLimit small(limit);
+    r = interrupted(kept);
+  }
+  INFO(r.second);
+  CHECK(r.first == 130);  // a Ctrl-C ends cellform by SIGINT, whatever the outputs did
+  CHECK_THAT(r.second, Contains("this run's outputs are not written"));
+  CHECK(slurp(kept / "run.json") == record);
+  CHECK(slurp(kept / "checkpoint.cfck") == checkpoint);
 }
