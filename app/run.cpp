@@ -539,7 +539,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                   {"output_s", output_seconds},
                   {"checkpoints_s", checkpoint_seconds},
                   {"steps_per_s", sim_seconds > 0 ? static_cast<double>(done) / sim_seconds : 0.0}}}});
-    record_checkpoint(run, checkpoint_error, saved, saved_step);
+    // a resume whose checkpoints failed in the folder of the checkpoint it resumed: that one is there still
+    std::error_code same;
+    const bool resumed_here = s.resume && !saved && fs::equivalent(o.checkpoint, checkpoint, same);
+    record_checkpoint(run, checkpoint_error, saved || resumed_here, saved ? saved_step : first);
     if (cfg.print) run["print"] = printed;
     commit_run(run, outputs, s, first, seed, staging, dir, s.resume ? o.checkpoint : fs::path());
     if (print_cancelled)
@@ -549,9 +552,11 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       err << "cellform: " << checkpoint_error
           << (saved ? "\n  (the other outputs are written; the run can be resumed from its last periodic checkpoint, " +
                           checkpoint.string() + ", of step " + std::to_string(saved_step) + ")\n"
-              : no_step ? "\n  (the other outputs are written; " + o.checkpoint.string() +
-                              ", the checkpoint resumed, is as it was)\n"
-                        : std::string("\n  (the other outputs are written, but this run cannot be resumed)\n"));
+              : no_step || resumed_here
+                  ? "\n  (the other outputs are written; " + o.checkpoint.string() + ", the checkpoint resumed (step " +
+                        std::to_string(first) + "), is as it was" +
+                        (no_step ? std::string(")\n") : ": a resume of it runs this run's steps again)\n")
+                  : std::string("\n  (the other outputs are written, but this run cannot be resumed)\n"));
       code = failure;
     }
     if (!o.quiet || code != ok) {

@@ -182,7 +182,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                           {"steps", grown.step},
                           {"target", grown.target}};
           run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
-          record_checkpoint(run, grown.checkpoint_error, grown.checkpointed, std::nullopt);
+          std::error_code same;  // a resumed checkpoint of this folder is there still when this one failed
+          const bool resumed_here = s.resume && !grown.checkpointed && fs::equivalent(o.checkpoint, checkpoint, same);
+          record_checkpoint(run, grown.checkpoint_error, grown.checkpointed || resumed_here, std::nullopt);
           outputs.push_back("run.json");
           run["outputs"] = outputs;
           write_run_json(staging / "run.json", run);
@@ -191,8 +193,13 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
           err << "interrupted while the cell sheet grew (step " << grown.step << " of " << grown.target
               << "; no veins yet): the sheet so far is in " << dir.string() << "/\n";
           if (!grown.checkpoint_error.empty()) {
-            err << "cellform: " << grown.checkpoint_error << "\n  (this run cannot be resumed"
-                << (grown.checkpointed ? "; the last periodic checkpoint, " + checkpoint.string() + ", can" : "")
+            err << "cellform: " << grown.checkpoint_error
+                << (resumed_here
+                        ? "\n  (" + o.checkpoint.string() +
+                              ", the checkpoint resumed, is as it was: a resume of it grows these steps again"
+                        : "\n  (this run cannot be resumed" +
+                              (grown.checkpointed ? "; the last periodic checkpoint, " + checkpoint.string() + ", can"
+                                                  : std::string()))
                 << ")\n";
             return failure;
           }
@@ -462,7 +469,11 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                       {"simulation_s", seconds},
                       {"checkpoints_s", checkpoint_seconds}};
     if (sheet_seconds > 0) run["timings"]["sheet_s"] = sheet_seconds;  // the cells grown first, in this command
-    record_checkpoint(run, checkpoint_error, saved || sheet_checkpointed,
+    // a resume whose checkpoints failed in the folder of the checkpoint it resumed: that one is there still
+    std::error_code same;
+    const bool resumed_here =
+        s.resume && !saved && !sheet_checkpointed && fs::equivalent(o.checkpoint, checkpoint, same);
+    record_checkpoint(run, checkpoint_error, saved || sheet_checkpointed || resumed_here,
                       saved ? std::optional<std::uint64_t>(saved_step) : std::nullopt);
     if (cfg.print) run["print"] = printed;
     if (planar) run["veins"]["leaf_length"] = leaf_length;
@@ -488,9 +499,11 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                         (saved ? ", of step " + std::to_string(saved_step)
                                : std::string(", taken while the sheet grew")) +
                         ")\n"
-              : no_step ? "\n  (the other outputs are written; " + o.checkpoint.string() +
-                              ", the checkpoint resumed, is as it was)\n"
-                        : std::string("\n  (the other outputs are written, but this run cannot be resumed)\n"));
+              : no_step || resumed_here
+                  ? "\n  (the other outputs are written; " + o.checkpoint.string() +
+                        ", the checkpoint resumed, is as it was" +
+                        (no_step ? std::string(")\n") : ": a resume of it runs this run's steps again)\n")
+                  : std::string("\n  (the other outputs are written, but this run cannot be resumed)\n"));
       code = failure;
     }
     std::ostream& where = code == ok ? out : err;

@@ -46,7 +46,12 @@ int coordinate_digits(const std::vector<Vec3>& points) {
   // d significant digits keep x to half a unit of its d-th digit, 0.5 * 10^(floor(log10 |x|) - d + 1): with
   // d = 9 + floor(log10 reach) - floor(log10 extent), at most 0.5 * 10^(floor(log10 extent) - 8), which is
   // 5e-9 of the side. (The decades are whole numbers of moderate size: no overflow.)
-  const double decades = std::floor(std::log10(reach)) - std::floor(std::log10(extent));
+  auto decade = [](double x) {  // floor(log10 x), exact where log10 rounds up to a whole number
+    double e = std::floor(std::log10(x));
+    if (std::pow(10.0, e) > x) e -= 1;
+    return e;
+  };
+  const double decades = decade(reach) - decade(extent);
   return static_cast<int>(std::clamp(kNear + decades, double{kNear}, double{kExact}));
 }
 

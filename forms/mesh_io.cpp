@@ -397,7 +397,7 @@ std::vector<Vec3> parse_ascii_stl(std::string_view text, std::vector<Vec3>* norm
       }
       return r.ec == std::errc();
     };
-    const char* kTooLarge = " (a number beyond the range of 64-bit numbers, about 1.8e308)";
+    const char* kTooLarge = "; one is beyond the range of 64-bit numbers, about 1.8e308";
     // word i is this keyword, in any case
     auto is = [&](std::size_t i, std::string_view keyword) {
       if (i >= words.size() || words[i].size() != keyword.size()) return false;

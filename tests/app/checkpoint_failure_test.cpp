@@ -162,7 +162,8 @@ TEST_CASE("a Ctrl-C while the sheet grows, whose checkpoint fails, leaves anothe
                              "colonisation { birth_distance = 1, kill_distance = 1, darts = 1e6 }\n");
   auto interrupted = [&](const fs::path& out) {
     const fs::path log = t.path / "log.txt";
-    const pid_t pid = spawn_cellform_logged({"run", sheet.string(), "--out", out.string(), "--quiet"}, log);
+    const pid_t pid = spawn_cellform_logged(
+        {"run", sheet.string(), "--out", out.string(), "--quiet", "--set", "output.checkpoint_every=0"}, log);
     REQUIRE(pid > 0);
     std::this_thread::sleep_for(std::chrono::milliseconds(800));  // the sheet grows (no periodic checkpoint)
     kill(pid, SIGINT);
@@ -187,4 +188,34 @@ TEST_CASE("a Ctrl-C while the sheet grows, whose checkpoint fails, leaves anothe
   CHECK_THAT(r.second, Contains("this run's outputs are not written"));
   CHECK(slurp(kept / "run.json") == record);
   CHECK(slurp(kept / "checkpoint.cfck") == checkpoint);
+}
+
+TEST_CASE("a resume whose checkpoint fails in its own folder names the checkpoint it resumed, still there",
+          "[cli][checkpoint]") {
+  // review: run.json said checkpoint null and the message "this run cannot be resumed", though the checkpoint
+  // resumed stays (the commit keeps it) and a resume of it makes the same steps again
+  TempDir t("cli-resumed-kept");
+  const auto script = t.write("small.lua", std::string(kSmall) + "venation { threshold = 10 }\n");
+  const fs::path whole = t.path / "W", part = t.path / "P";  // names of one length: checkpoints record them
+  REQUIRE(cli({"run", script.string(), "--out", whole.string(), "--quiet", "--steps", "40"}).code == 0);
+  REQUIRE(cli({"run", script.string(), "--out", part.string(), "--quiet", "--steps", "20"}).code == 0);
+  const std::string resumed = slurp(part / "checkpoint.cfck");
+  const std::size_t limit = fs::file_size(whole / "checkpoint.cfck") - 1;
+  for (const auto& name : nlohmann::json::parse(slurp(whole / "run.json"))["outputs"])
+    REQUIRE(fs::file_size(whole / name.get<std::string>()) + 1000 < limit);
+  CliResult r;
+  {
+    FileSizeLimit small(limit);
+    r = cli({"resume", part.string(), "--steps", "40", "--quiet"});
+  }
+  INFO(r.err);
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("the checkpoint resumed (step 20), is as it was") && !Contains("cannot be resumed"));
+  const auto run = nlohmann::json::parse(slurp(part / "run.json"));
+  CHECK(run.at("checkpoint") == "checkpoint.cfck");
+  CHECK(run.at("checkpoint_step") == 20);
+  CHECK(slurp(part / "checkpoint.cfck") == resumed);
+  // and it is so: resumed again, the same result as the run that went through
+  REQUIRE(cli({"resume", part.string(), "--steps", "40", "--quiet"}).code == 0);
+  CHECK(slurp(part / "cells.ply") == slurp(whole / "cells.ply"));
 }
