@@ -491,8 +491,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     } catch (const std::exception& e) {
       checkpoint_error = core::error_text(e);
     }
-    // none of this run's: a checkpoint of another run there stays, and with it that run's outputs (a resume's
-    // own checkpoint, resumed in its folder, is kept by the commit anyway)
+    // none of this run's: another run's checkpoint there stays, with its outputs (the commit keeps one resumed)
     if (!saved && keep_other_run(dir, s.resume ? o.checkpoint : fs::path(), checkpoint_error, staging, created, err))
       return failure;
     for (const std::string& n :

@@ -530,32 +530,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                     : std::string("stopped at max_steps"))
             << ": " << rep.steps << " steps, " << rep.nodes << " vein nodes, " << venation::independent_cycles(tree)
             << " loops; outputs in " << dir.string() << "/\n";
-    if (rep.stalled && code != interrupted && spec.domain.kind == venation::DomainKind::surface)
-      err << "cellform: note: " << rep.sources
-          << " auxin sources are left. Besides those on a sheet the veins do not reach, a source behind a wall or fin "
-             "thinner than about 3 vein segments pulls the vein node straight across it (distances are straight), "
-             "whose step lands back where it was: the veins stay on one side. "
-          << (spec.on_cells ? "Grow such a sheet larger (cells.rest_length) or seed each side\n"
-                            : "Scale such a mesh up (surface{scale = ...}) or seed each side\n");
-    if (rep.stalled && code != interrupted && planar) {  // where the sources left are, and why no vein comes
-      const venation::OutlineIndex blade(col.outline());
-      const std::vector<core::Vec3> left = col.sources();
-      const auto outside = static_cast<std::size_t>(std::count_if(left.begin(), left.end(), [&](const core::Vec3& q) {
-        return !blade.contains(venation::Vec2(q.x(), q.y()));
-      }));
-      std::string where_left;
-      if (outside > 0)
-        where_left = std::to_string(outside) + " outside the grown blade, where no vein grows (" +
-                     (spec.params.growth == venation::GrowthMode::marginal
-                          ? "the young blade covered them where the grown one leaves a gap, below a lobe or tooth; "
-                            "growth = \"isogonic\" grows the whole outline from the start, lobes included)"
-                          : "the blade moved off them)");
-      if (outside < left.size())
-        where_left += (outside > 0 ? ", " : "") + std::to_string(left.size() - outside) +
-                      (outside > 0 ? " inside it" : " inside the blade") +
-                      ", where no vein can step towards them (the step would leave the blade, across a sinus, or run "
-                      "back along a vein)";
-      err << "cellform: note: " << left.size() << " auxin sources are left: " << where_left << "\n";
+    if (rep.stalled && code != interrupted) {
+      const venation::Outline outline = planar ? col.outline() : venation::Outline{};
+      say_sources_left(err, spec, col.sources(), planar ? &outline : nullptr);
     }
     if ((!o.quiet || code != ok) && code != interrupted && !rep.finished && !rep.stalled && checkpoint_error.empty()) {
       // both limits can be reached in one step; doubled, within what --steps and --set accept

@@ -347,6 +347,11 @@ nlohmann::json draw_veins_svg(const std::filesystem::path& staging, const Output
                               const std::vector<std::array<core::Vec3, 3>>& shell, const venation::VeinTree& tree,
                               const venation::Outline& outline, std::vector<std::string>& outputs, std::ostream& err);
 
+/// The notes of a colonisation run that stalled, `sources_left` out of every vein's reach: on a surface, why
+/// a vein may not cross to them; in a leaf (`outline`: the grown blade), how many lie outside it, and why.
+void say_sources_left(std::ostream& err, const ColonisationSpec& spec, const std::vector<core::Vec3>& sources_left,
+                      const venation::Outline* outline);
+
 /// A veins.svg of at least this many bytes is said to be large.
 constexpr std::uintmax_t kLargeSvgBytes = 50'000'000;
 /// The note on a veins.svg of `bytes` (file_size's -1: unknown), or "" under kLargeSvgBytes; `joined`: drawn

@@ -181,4 +181,34 @@ std::string large_svg_note(std::uintmax_t bytes, bool joined) {
          (joined ? std::string() : "; output{svg_paths = \"veins\"} draws about half as many paths") + "\n";
 }
 
+void say_sources_left(std::ostream& err, const ColonisationSpec& spec, const std::vector<core::Vec3>& sources_left,
+                      const venation::Outline* outline) {
+  if (spec.domain.kind == venation::DomainKind::surface)
+    err << "cellform: note: " << sources_left.size()
+        << " auxin sources are left. Besides those on a sheet the veins do not reach, a source behind a wall or fin "
+           "thinner than about 3 vein segments pulls the vein node straight across it (distances are straight), "
+           "whose step lands back where it was: the veins stay on one side. "
+        << (spec.on_cells ? "Grow such a sheet larger (cells.rest_length) or seed each side\n"
+                          : "Scale such a mesh up (surface{scale = ...}) or seed each side\n");
+  if (!outline) return;
+  const venation::OutlineIndex blade(*outline);
+  const auto outside =
+      static_cast<std::size_t>(std::count_if(sources_left.begin(), sources_left.end(), [&](const core::Vec3& q) {
+        return !blade.contains(venation::Vec2(q.x(), q.y()));
+      }));
+  std::string where_left;
+  if (outside > 0)
+    where_left = std::to_string(outside) + " outside the grown blade, where no vein grows (" +
+                 (spec.params.growth == venation::GrowthMode::marginal
+                      ? "the young blade covered them where the grown one leaves a gap, below a lobe or tooth; "
+                        "growth = \"isogonic\" grows the whole outline from the start, lobes included)"
+                      : "the blade moved off them)");
+  if (outside < sources_left.size())
+    where_left += (outside > 0 ? ", " : "") + std::to_string(sources_left.size() - outside) +
+                  (outside > 0 ? " inside it" : " inside the blade") +
+                  ", where no vein can step towards them (the step would leave the blade, across a sinus, or run "
+                  "back along a vein)";
+  err << "cellform: note: " << sources_left.size() << " auxin sources are left: " << where_left << "\n";
+}
+
 }  // namespace cellform::app

@@ -16,6 +16,16 @@ using namespace cellform::test;
 using Catch::Matchers::Contains;
 namespace fs = std::filesystem;
 
+namespace {
+/// A cell run with canalisation and a 3-D space colonisation, small, written into `t`.
+std::vector<fs::path> cell_and_vein_scripts(const TempDir& t) {
+  return {t.write("small.lua", std::string(kSmall) + "venation { threshold = 10 }\n"),
+          t.write("ball.lua",
+                  "volume { ball = { radius = 5 }, seeds = {{0, 0, 0}} }\n"
+                  "colonisation { type = 'open', birth_distance = 1, kill_distance = 1, darts = 1e6 }\n")};
+}
+}  // namespace
+
 TEST_CASE("a checkpoint that cannot be written still leaves the outputs, and says so", "[cli][checkpoint]") {
   TempDir t("cli-no-checkpoint");
   const auto cells = t.write("small.lua", kSmall);
@@ -48,11 +58,7 @@ TEST_CASE("a re-run that can write no checkpoint leaves the folder's earlier run
   // a full disk (here a file size limit between the other outputs' sizes and the checkpoint's): the re-run's
   // smaller files went in and the earlier run's checkpoint went, leaving neither run to resume
   TempDir t("cli-keep-earlier");
-  const auto cells = t.write("small.lua", std::string(kSmall) + "venation { threshold = 10 }\n");
-  const auto veins = t.write("ball.lua",
-                             "volume { ball = { radius = 5 }, seeds = {{0, 0, 0}} }\n"
-                             "colonisation { type = 'open', birth_distance = 1, kill_distance = 1, darts = 1e6 }\n");
-  for (const fs::path& script : {cells, veins}) {
+  for (const fs::path& script : cell_and_vein_scripts(t)) {
     INFO(script.filename().string());
     const fs::path out = t.path / script.stem();
     REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "30"}).code == 0);
@@ -125,11 +131,7 @@ TEST_CASE("a resume into another run's folder that can write no checkpoint leave
   // review: a resume that ran no step (the outputs made again) skipped the check, and with --out into another
   // run's folder deleted that run's checkpoint
   TempDir t("cli-keep-other");
-  const auto cells = t.write("small.lua", std::string(kSmall) + "venation { threshold = 10 }\n");
-  const auto veins = t.write("ball.lua",
-                             "volume { ball = { radius = 5 }, seeds = {{0, 0, 0}} }\n"
-                             "colonisation { type = 'open', birth_distance = 1, kill_distance = 1, darts = 1e6 }\n");
-  for (const fs::path& script : {cells, veins}) {
+  for (const fs::path& script : cell_and_vein_scripts(t)) {
     INFO(script.filename().string());
     const fs::path a = t.path / (script.stem().string() + "A"), b = t.path / (script.stem().string() + "B");
     REQUIRE(cli({"run", script.string(), "--out", a.string(), "--quiet", "--steps", "30"}).code == 0);
