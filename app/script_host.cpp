@@ -458,7 +458,7 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
   if (cfg.colonisation && cfg.output.every > 0)  // frames are snapshots of a cell run
     throw InvalidInput(I.value_at("output.every", I.sections_seen["output"]) +
                        "output.every writes frames of a cell run; a space-colonisation run (even one whose "
-                       "surface{cells = true} grows a sheet first) writes its veins and cells at the end (and "
+                       "surface{cells = true} grows a sheet first) writes its outputs at the end (and "
                        "output.checkpoint_every sets how often it saves a checkpoint)");
   if (cfg.scene.split_along_auxin && !cfg.scene.venation)  // there would be no flow to split along
     throw InvalidInput(I.value_at("division.direction", I.sections_seen["division"]) +
