@@ -20,9 +20,7 @@ namespace {
 /// A cell run with canalisation and a 3-D space colonisation, small, written into `t`.
 std::vector<fs::path> cell_and_vein_scripts(const TempDir& t) {
   return {t.write("small.lua", std::string(kSmall) + "venation { threshold = 10 }\n"),
-          t.write("ball.lua",
-                  "volume { ball = { radius = 5 }, seeds = {{0, 0, 0}} }\n"
-                  "colonisation { type = 'open', birth_distance = 1, kill_distance = 1, darts = 1e6 }\n")};
+          t.write("ball.lua", kSmallVeins)};
 }
 }  // namespace
 

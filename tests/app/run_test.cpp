@@ -96,9 +96,7 @@ TEST_CASE("run.json's timings give the periodic checkpoints apart from the steps
   // a long run's checkpoints can cost as much as its steps (29 of 250 MB in the full-size poplar): said apart
   TempDir t("cli-checkpoint-time");
   const auto cells = t.write("cells.lua", kSmall);
-  const auto veins = t.write("ball.lua",
-                             "volume { ball = { radius = 5 }, seeds = {{0, 0, 0}} }\n"
-                             "colonisation { type = 'open', birth_distance = 1, kill_distance = 1, darts = 1e6 }\n");
+  const auto veins = t.write("ball.lua", kSmallVeins);
   const auto sheet = t.write("sheet.lua", std::string(kSmall) +
                                               "surface { cells = true }\n"
                                               "colonisation { birth_distance = 1, kill_distance = 1, darts = 1e6 }\n");

@@ -29,6 +29,12 @@ inline const char* kSmall =
     "disc { radius = 3 }\n"
     "petiole { at = {0, 0, 0} }\n";
 
+/// A small 3-D space colonisation (a ball's worth of veins from its centre), the colonisation counterpart of
+/// kSmall: about 50 kB of checkpoint, a few kB of vein files.
+inline const char* kSmallVeins =
+    "volume { ball = { radius = 5 }, seeds = {{0, 0, 0}} }\n"
+    "colonisation { type = 'open', birth_distance = 1, kill_distance = 1, darts = 1e6 }\n";
+
 /// A fresh directory under the system temp dir, removed at scope end.
 struct TempDir {
   std::filesystem::path path;
