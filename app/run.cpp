@@ -329,7 +329,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                   {"parameters", cfg.resolved},
                   {"timings",
                    {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
-                    {"simulation_s", sim_seconds}}},
+                    {"simulation_s", sim_seconds},
+                    {"checkpoints_s", checkpoint_seconds}}},
                   {"checkpoint", kCheckpointName}});
       commit_run(run, names, s, first, seed, staging, dir, {});
     } catch (const std::exception& f) {
@@ -376,8 +377,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   };
   try {
     if (cfg.output.every > 0 && sim.step_count() == 0 && first < target) {
-      // the first frame, of the cells as placed: linked on a copy (the first step links them itself; linking
-      // them here would change the run)
+      // the first frame, of the cells as placed, linked on a copy (linking them here would change the run)
       cells::Cells placed = sim.cells();
       core::PointGrid grid;
       cells::update_links(placed, sim.params(), grid, sim.threads());

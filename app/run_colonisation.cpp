@@ -181,7 +181,9 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                           {"final", grown.cells.size()},
                           {"steps", grown.step},
                           {"target", grown.target}};
-          run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
+          run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
+                            {"sheet_s", sheet_seconds},
+                            {"checkpoints_s", checkpoint_seconds}};
           std::error_code same;  // a resumed checkpoint of this folder is there still when this one failed
           const bool resumed_here = s.resume && !grown.checkpointed && fs::equivalent(o.checkpoint, checkpoint, same);
           record_checkpoint(run, grown.checkpoint_error, grown.checkpointed || resumed_here, std::nullopt);

@@ -470,6 +470,8 @@ TEST_CASE("Ctrl-C while surface{cells = true}'s sheet grows leaves a checkpoint 
   CHECK(run["phase"] == "cells");
   const std::uint64_t stopped = run["cells"]["steps"];
   REQUIRE(stopped > 0);
+  CHECK(run["timings"].at("sheet_s").get<double>() > 0);  // the sheet's steps took the second
+  CHECK(run["timings"].at("checkpoints_s").get<double>() >= 0);
   fs::copy_file(out / "checkpoint.cfck", t.path / "sheet.cfck");
   // resuming grows the rest of the sheet, then the veins: the same as one uninterrupted run
   const std::string target = std::to_string(stopped + 20);

@@ -76,6 +76,7 @@ TEST_CASE("a run stopped by a script error goes on from its checkpoint with the 
   CHECK_THAT(run["error"].get<std::string>(), Contains("broken.lua:2: division.rule must return true or false"));
   CHECK(run["steps"]["completed"] == 20);
   CHECK(run["steps"]["failed"] == 25);
+  CHECK(run["timings"].at("checkpoints_s").get<double>() > 0);  // those of steps 10 and 20
   CHECK(run["outputs"] == nlohmann::json::array({"frames/cells_000000.ply", "frames/cells_000010.ply",
                                                  "frames/cells_000020.ply", "run.json"}));
   CHECK(fs::exists(out / "frames/cells_000020.ply"));
