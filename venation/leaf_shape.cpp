@@ -454,9 +454,73 @@ OutlineIndex::OutlineIndex(const Outline& outline) : outline_(outline) {
     band_edges_.insert(band_edges_.end(), l.begin(), l.end());
     band_start_.push_back(band_edges_.size());
   }
+  // The grid: about 64 cells per vertex (at most 2^20), of the box's proportions.
+  const double w = hi_.x() - lo_.x(), h = hi_.y() - lo_.y();
+  const double reach = std::max({std::abs(lo_.x()), std::abs(lo_.y()), std::abs(hi_.x()), std::abs(hi_.y())});
+  const double total = std::clamp(64.0 * static_cast<double>(n), 4096.0, 1048576.0);
+  // cells far wider than the rounding of the coordinates (else the crossing test alone)
+  if (!(std::isfinite(w) && std::isfinite(h) && std::min(w, h) / total > 1e-9 * reach && std::isfinite(1 / w) &&
+        std::isfinite(1 / h)))
+    return;
+  const auto most = static_cast<long>(total);
+  gx_ = std::clamp(std::lround(std::sqrt(total * w / h)), 1L, most);
+  gy_ = std::clamp(std::lround(total / static_cast<double>(gx_)), 1L, most);
+  const double cw = w / static_cast<double>(gx_), ch = h / static_cast<double>(gy_);
+  inv_w_ = static_cast<double>(gx_) / w;
+  inv_h_ = static_cast<double>(gy_) / h;
+  cell_class_.assign(static_cast<std::size_t>(gx_ * gy_), 0);
+  auto col = [&](double x) { return static_cast<long>(std::floor((x - lo_.x()) * inv_w_)); };
+  auto row = [&](double y) { return static_cast<long>(std::floor((y - lo_.y()) * inv_h_)); };
+  // Cells near an edge: for each row within a cell of the edge's y range, the edge's x extent over that
+  // row widened by a cell up and down, then by a cell left and right. So a cell left unmarked is at least
+  // about a cell from every edge, far beyond any rounding of the crossing test or of a point's cell.
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2& a = p[i];
+    const Vec2& c = p[(i + 1) % n];
+    const double y_lo = std::min(a.y(), c.y()), y_hi = std::max(a.y(), c.y());
+    const long r0 = std::max(0L, row(y_lo) - 1), r1 = std::min(gy_ - 1, row(y_hi) + 1);
+    for (long r = r0; r <= r1; ++r) {
+      const double ya = std::max(y_lo, lo_.y() + static_cast<double>(r - 1) * ch);
+      const double yb = std::min(y_hi, lo_.y() + static_cast<double>(r + 2) * ch);
+      double x0 = std::min(a.x(), c.x()), x1 = std::max(a.x(), c.x());
+      if (c.y() != a.y() && ya <= yb) {
+        const double xa = a.x() + (ya - a.y()) * (c.x() - a.x()) / (c.y() - a.y());
+        const double xb = a.x() + (yb - a.y()) * (c.x() - a.x()) / (c.y() - a.y());
+        x0 = std::max(x0, std::min(xa, xb));
+        x1 = std::min(x1, std::max(xa, xb));
+      }
+      const long c0 = std::max(0L, col(std::min(x0, x1)) - 1), c1 = std::min(gx_ - 1, col(std::max(x0, x1)) + 1);
+      for (long k = c0; k <= c1; ++k) cell_class_[static_cast<std::size_t>(r * gx_ + k)] = 2;
+    }
+  }
+  // Runs of unmarked cells along a row lie on one side of the outline (a crossing between two of them
+  // would have marked the cells round it): one crossing test per run, at the centre of its first cell.
+  for (long r = 0; r < gy_; ++r) {
+    std::uint8_t* line = cell_class_.data() + r * gx_;
+    for (long k = 0; k < gx_;) {
+      if (line[k] == 2) {
+        ++k;
+        continue;
+      }
+      const Vec2 centre(lo_.x() + (static_cast<double>(k) + 0.5) * cw, lo_.y() + (static_cast<double>(r) + 0.5) * ch);
+      const std::uint8_t in = crossing_test(centre) ? 1 : 0;
+      for (; k < gx_ && line[k] != 2; ++k) line[k] = in;
+    }
+  }
 }
 
 bool OutlineIndex::contains(const Vec2& q) const {
+  if (outline_.points.empty() || q.x() < lo_.x() || q.x() > hi_.x() || q.y() < lo_.y() || q.y() > hi_.y()) return false;
+  if (!cell_class_.empty()) {
+    const long k = std::min(gx_ - 1, static_cast<long>((q.x() - lo_.x()) * inv_w_));
+    const long r = std::min(gy_ - 1, static_cast<long>((q.y() - lo_.y()) * inv_h_));
+    const std::uint8_t c = cell_class_[static_cast<std::size_t>(r * gx_ + k)];
+    if (c != 2) return c == 1;
+  }
+  return crossing_test(q);
+}
+
+bool OutlineIndex::crossing_test(const Vec2& q) const {
   if (outline_.points.empty() || q.x() < lo_.x() || q.x() > hi_.x() || q.y() < lo_.y() || q.y() > hi_.y()) return false;
   const auto& p = outline_.points;
   const std::size_t n = p.size();

@@ -1,6 +1,7 @@
 // Leaf blade outlines for space colonisation: parametric shapes, toothed margins, polygon files, checks.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -78,12 +79,18 @@ void validate_outline(const Outline& outline, const std::string& what, const Out
 /// Distance from `p` to the nearest point of the outline's boundary, model units.
 double distance_to_boundary(const Outline& outline, const Vec2& p);
 
-/// Fast point-in-polygon queries through horizontal bands of edges (even-odd rule).
+/// Fast point-in-polygon queries through horizontal bands of edges (even-odd rule). A grid over the
+/// bounding box answers most queries at once: a cell that no edge comes within a cell of is wholly inside
+/// or outside, as its centre is (the crossing test gives every point of such a cell the same answer, since
+/// no edge lies near enough for rounding to matter); only points in the cells along the margin are tested
+/// against the edges of their band.
 class OutlineIndex {
  public:
   OutlineIndex() = default;
   explicit OutlineIndex(const Outline& outline);
   bool contains(const Vec2& p) const;
+  /// contains() without the grid: the crossing test against the edges of the point's band.
+  bool crossing_test(const Vec2& p) const;
   double area() const { return area_; }
   const Vec2& lo() const { return lo_; }  ///< bounding box
   const Vec2& hi() const { return hi_; }
@@ -95,6 +102,10 @@ class OutlineIndex {
   double area_ = 0, band_height_ = 1;
   std::vector<std::size_t> band_start_;
   std::vector<std::size_t> band_edges_;
+  // the grid: gx_ x gy_ cells, row-major, 0 = outside, 1 = inside, 2 = near an edge (empty: no grid)
+  long gx_ = 0, gy_ = 0;
+  double inv_w_ = 0, inv_h_ = 0;
+  std::vector<std::uint8_t> cell_class_;
 };
 
 }  // namespace cellform::venation

@@ -175,6 +175,59 @@ TEST_CASE("OutlineIndex agrees with a plain crossing test", "[leaf_shape]") {
   CHECK(inside > 100);
 }
 
+TEST_CASE("OutlineIndex's grid gives the crossing test's answer everywhere, at the margin too", "[leaf_shape]") {
+  // the grid answers from a cell's class, the crossing test from the edges: they must agree bit for bit,
+  // on random points, on points a hair from every vertex and edge, and on outlines of any size and place
+  std::vector<std::pair<std::string, Outline>> outlines;
+  for (const ShapeKind kind : {ShapeKind::ovate, ShapeKind::lobed, ShapeKind::ellipse}) {
+    venation::ShapeParams sp;
+    sp.kind = kind;
+    sp.teeth = {{0.02, 40}};
+    outlines.emplace_back("shape " + std::to_string(static_cast<int>(kind)), venation::make_outline(sp));
+  }
+  // a tilted square of four long edges, a thin sliver, and the ovate moved far off and shrunk or grown
+  outlines.emplace_back("square", Outline{{{0, -1}, {1, 0}, {0, 1}, {-1, 0}}});
+  outlines.emplace_back("sliver", Outline{{{0, 0}, {10, 0.001}, {10, 0.003}, {0, 0.001}}});
+  for (const double scale : {1e-6, 1e6})
+    for (const double off : {0.0, 1e3}) {
+      Outline o = outlines[0].second;
+      for (Vec2& q : o.points) q = Vec2(off, -off) + scale * q;
+      outlines.emplace_back("ovate x " + std::to_string(scale) + " at " + std::to_string(off), o);
+    }
+  std::uint64_t state = 12345;
+  auto uniform = [&] {  // splitmix64
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1p-53;
+  };
+  for (const auto& [name, o] : outlines) {
+    INFO(name);
+    const venation::OutlineIndex idx(o);
+    const Vec2 lo = idx.lo(), hi = idx.hi(), size = hi - lo;
+    std::vector<Vec2> qs;
+    for (int i = 0; i < 20000; ++i)
+      qs.emplace_back(lo.x() - 0.05 * size.x() + 1.1 * size.x() * uniform(),
+                      lo.y() - 0.05 * size.y() + 1.1 * size.y() * uniform());
+    const double hair = 1e-12 * size.norm();
+    for (std::size_t i = 0; i < o.points.size(); ++i) {
+      const Vec2 a = o.points[i], c = o.points[(i + 1) % o.points.size()];
+      for (const double t : {0.0, 0.5, uniform()})
+        for (const Vec2& d : {Vec2(0, 0), Vec2(hair, 0), Vec2(-hair, 0), Vec2(0, hair), Vec2(0, -hair)})
+          qs.push_back(a + t * (c - a) + d);
+    }
+    int inside = 0, differ = 0;
+    for (const Vec2& q : qs) {
+      const bool in = idx.contains(q);
+      differ += in != idx.crossing_test(q);
+      inside += in;
+    }
+    CHECK(differ == 0);
+    CHECK(inside > 1000);
+    CHECK(inside < static_cast<int>(qs.size()) - 1000);
+  }
+}
+
 TEST_CASE("teeth follow a lobed margin into its sinuses without crossing", "[leaf_shape]") {
   using Catch::Matchers::Contains;
   // the defaults of leaf{shape = "lobed"}: width 0.6, five lobes 0.35 deep, teeth 0.02 deep (leaf lengths)
