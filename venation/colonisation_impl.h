@@ -240,6 +240,7 @@ struct Colonisation::Impl {
   WitnessGrid witness;
   std::size_t witness_cap = 0;  // the cell budget of the last layout
   bool witness_capped = false;  // that budget made the cells coarser than asked
+  double witness_bv = 0;        // b_v of the last layout
 
   Impl(const Leaf& l, const ColonisationParams& params);
 

@@ -21,14 +21,19 @@ namespace cellform::venation {
 class WitnessGrid {
  public:
   /// Empties the grid and lays cells of side `cell` over [lo, hi] (model units; at most `max_cells`
-  /// cells: a coarser cell is used if needed).
-  void reset(const core::Vec3& lo, const core::Vec3& hi, double cell, std::size_t max_cells);
+  /// cells: a coarser cell is used if needed). With `cover` > 0 (model units) the grid also keeps a map of
+  /// the cells that lie wholly within `cover` of a node, which settles any query of r >= cover alone.
+  void reset(const core::Vec3& lo, const core::Vec3& hi, double cell, std::size_t max_cells, double cover = 0);
   /// Forgets every node and the box (every query says "ask the tree").
   void clear();
   /// Offers node i at p: kept if its cell has none yet (and p is in the box, in the plane z = 0).
   void insert(core::Index i, const core::Vec3& p);
-  /// True if a kept node u has (points[u] - q).squaredNorm() <= r2 among the cells around q.
+  /// True if a kept node u has (points[u] - q).squaredNorm() <= r2 among the cells around q, or (q in the
+  /// plane, r2 >= cover^2) q's cell is in the map of covered cells: one bit read (8 cells a byte, so that a
+  /// large blade's map stays in cache), and no node.
   bool witness(const core::Vec3& q, double r2, const std::vector<core::Vec3>& points) const;
+  /// Whether the map of covered cells settles queries of squared radius r2 (cover^2 <= r2).
+  bool covers_radius(double r2) const;
 
   double cell() const { return cell_; }
   bool empty() const { return cells_.empty(); }
@@ -39,7 +44,11 @@ class WitnessGrid {
   double cell_ = 0, inv_ = 0;
   core::Vec3 lo_ = core::Vec3::Zero(), hi_ = core::Vec3::Zero();
   long nx_ = 0, ny_ = 0;
-  std::vector<core::Index> cells_;  // row-major, kNoIndex = no node kept
+  std::vector<core::Index> cells_;       // row-major, kNoIndex = no node kept
+  std::vector<std::uint64_t> occupied_;  // bit per cell: cells_ holds a node
+  std::vector<std::uint64_t> covered_;   // bit per half cell (a cell's quarter): all of it within cover_ of a node
+  double cover_ = 0;                     // model units; 0 = no map of covered cells
+  bool fine_ = false;                    // cells wide against the rounding of their coordinates
 };
 
 }  // namespace cellform::venation

@@ -66,6 +66,52 @@ TEST_CASE("witness grid: with cells of at most r / sqrt 2 a node in the dart's o
   }
 }
 
+TEST_CASE("witness grid: the map of covered cells settles a dart alone only for radii of at least its own") {
+  core::Rng rng(11);
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 300; ++i) pts.emplace_back(rng.uniform(0, 30), rng.uniform(0, 30), 0.0);
+  const double cover = 2.0;
+  WitnessGrid g;
+  g.reset(Vec3(-1, -1, 0), Vec3(31, 31, 0), 0.7 * cover, 1 << 20, cover);
+  for (Index i = 0; i < pts.size(); ++i) g.insert(i, pts[i]);
+  CHECK(g.covers_radius(cover * cover));
+  CHECK(g.covers_radius(std::pow(std::sqrt(cover * cover * (1 - 1e-15)), 2)));  // a radius rounded on the way
+  CHECK_FALSE(g.covers_radius(cover * cover * (1 - 1e-6)));
+  // darts everywhere, and at the corners of every cell (the points of a cell farthest from a node)
+  std::vector<Vec3> darts;
+  for (int k = 0; k < 20000; ++k) darts.emplace_back(rng.uniform(-2, 32), rng.uniform(-2, 32), 0.0);
+  const double c = g.cell();
+  for (int y = 0; y < 23; ++y)
+    for (int x = 0; x < 23; ++x)
+      for (const double e : {1e-9, 1 - 1e-9}) darts.emplace_back(-1 + (x + e) * c, -1 + (y + e) * c, 0.0);
+  for (const double r : {0.5 * cover, 0.999999 * cover, cover, 1.3 * cover}) {
+    INFO("r = " << r);
+    int proved = 0, within = 0;
+    for (const Vec3& q : darts) {
+      const bool w = g.witness(q, r * r, pts), b = brute_within(pts, q, r * r);
+      if (w) REQUIRE(b);  // never a false "too near"
+      proved += w;
+      within += b;
+    }
+    CHECK(proved > 0.9 * within);  // most darts near a node are settled by the grid
+  }
+  // a dart 1.9 from its only node, in a cell the node's disc of radius 2 covers: the map settles it for r = 2,
+  // and for r = 1.95 the node's own distance does; off the plane, the node alone decides
+  const std::vector<Vec3> one{Vec3(0.05, 0.05, 0)};
+  WitnessGrid h;
+  h.reset(Vec3(0, 0, 0), Vec3(10, 10, 0), 0.7 * cover, 1 << 20, cover);
+  h.insert(0, one[0]);
+  const Vec3 q(0.05 + 1.9 / std::sqrt(2.0), 0.05 + 1.9 / std::sqrt(2.0), 0);
+  CHECK(h.witness(q, 4.0, one));
+  CHECK(h.witness(q, 1.95 * 1.95, one));
+  CHECK_FALSE(h.witness(q, 1.85 * 1.85, one));
+  CHECK_FALSE(h.witness(q + Vec3(0, 0, 1), 4.0, one));
+  // a grid whose cells are too fine for its coordinates keeps no map
+  WitnessGrid off;
+  off.reset(Vec3(1e9, 0, 0), Vec3(1e9 + 10, 10, 0), 1.0, 1 << 20, 2.0);
+  CHECK_FALSE(off.covers_radius(100.0));
+}
+
 TEST_CASE("witness grid: outside the box, off the plane, cleared or over budget it only defers to the tree") {
   std::vector<Vec3> pts{Vec3(1, 1, 0), Vec3(30, 30, 0), Vec3(2, 2, 1)};
   WitnessGrid g;
