@@ -59,6 +59,7 @@ struct VeinChildren {
   std::vector<Index> start;
   std::vector<Index> child;
 };
+/// The vein children of every cell (its cells whose vein_parent it is), in O(cells).
 VeinChildren vein_children(const Cells& cells);
 
 /// Reorders all per-cell data by perm (perm[new] = old) and remaps every stored index.

@@ -20,7 +20,7 @@ enum class Integrator {
 /// Weights of the intercellular forces for one cell type (accelerations are weight * kernel).
 struct ForceWeights {
   double spring = 1.0;      ///< Eq. 2, per time unit squared
-  double planar = 0.5;      ///< Eq. 3, towards the plane of the three closest neighbours
+  double planar = 0.5;      ///< Eq. 3, per time unit squared, towards the plane of the three closest neighbours
   double cohesion = 0.0;    ///< Eq. 4, towards neighbours (model units^2 per time unit^2)
   double separation = 0.0;  ///< Eq. 5, away from neighbours of neighbours (model units^2 per time unit^2)
 };
@@ -49,15 +49,18 @@ enum class SplitDirection {
 /// Default radius of the neighbours trigger, in rest lengths (scripts scale it by cells.rest_length).
 inline constexpr double kDivisionRadius = 1.25;
 
+/// When and how cells divide (section "Cell Proliferation").
 struct DivisionParams {
+  /// what makes a cell divide
   DivisionTrigger trigger = DivisionTrigger::age;
   std::uint32_t division_age = 20;  ///< steps between divisions of a cell (trigger = age)
   double radius = kDivisionRadius;  ///< model units; neighbourhood counted for trigger = neighbours
   int min_neighbours = 6;           ///< divide when fewer cells than this lie within radius
   std::uint32_t min_age = 5;        ///< steps a cell waits after its birth or division before dividing again
   double probability = 1.0;         ///< chance (0..1] that a triggered cell divides this step (seeded)
+  /// direction of the split (the daughters' offset)
   SplitDirection direction = SplitDirection::random;
-  Vec3 axis = Vec3::UnitX();         ///< split axis (axis, circumferential)
+  Vec3 axis = Vec3::UnitX();         ///< split axis (axis, circumferential): a direction, any non-zero length
   Vec3 centre = Vec3::Zero();        ///< field centre (radial, circumferential), model units
   std::uint64_t max_cells = 100000;  ///< growth stops (no more divisions) at this many cells
 };
@@ -71,6 +74,7 @@ struct Params {
   /// sheet spaced at the rest length; in one packed closer than 1.5 / sqrt(3) = 0.87 rest lengths the second
   /// ring lies within 1.5 too, and the rim pulls inward either way (see kCohesionNear in forces.h).
   double link_range = 1.5;
+  /// how a step moves the cells
   Integrator integrator = Integrator::velocity_acceleration;
   double time_step = 0.1;  ///< time units per step
 
@@ -82,8 +86,10 @@ struct Params {
   /// ("accelerated"); it is refused for stability, as it multiplies a cell's speed every step.
   Vec3 drag = Vec3(0.9, 0.9, 0.9);
 
-  double vein_cohesion_factor = 4.0;    ///< extra cohesion of a vein cell to its vein parent and children
-  double vein_separation_factor = 4.0;  ///< extra separation of a vein cell from its grandparent and grandchildren
+  /// dimensionless: multiplies the cohesion weight between a vein cell and its vein parent and children
+  double vein_cohesion_factor = 4.0;
+  /// dimensionless: multiplies the separation weight between a vein cell and its grandparent and grandchildren
+  double vein_separation_factor = 4.0;
   /// Whether cells can join vein trees (canalisation runs): only then does the stable time step count the
   /// straightening terms above and the vein cells' weights. The forces do not read it: they act on whatever
   /// vein parents and types the cells have.
@@ -91,7 +97,7 @@ struct Params {
 
   double max_speed = 1e6;  ///< model units per time unit; faster (or NaN) stops the run as diverged
 
-  DivisionParams division;
+  DivisionParams division;  ///< growth by division
 };
 
 /// Throws core::InvalidInput naming the parameter and what is allowed, for any value out of range

@@ -61,8 +61,11 @@ struct ColonisationParams {
   double node_distance = 1;           ///< D: length of a vein segment, Eq. 1
   double darts_per_area = 2e-4;       ///< rho: darts thrown per unit leaf area per step (Table 1 lists rho x 1e6);
                                       ///< marginal growth throws all steps' darts at once (marginal_sources.h)
+  /// open (trees) or closed (loops)
   VenationType type = VenationType::closed;
+  /// closed: exact relative neighbourhoods (Eq. 2) or the Urquhart approximation
   Neighbourhood neighbourhood = Neighbourhood::exact;
+  /// how the leaf grows while the veins do
   GrowthMode growth = GrowthMode::none;
   double initial_scale = 1;      ///< sigma_0: outline scale factor at step 0 (about the petiole)
   double final_scale = 1;        ///< sigma at which growth stops
@@ -95,10 +98,10 @@ void validate(const ColonisationParams& params);
 
 /// The leaf: its outline at scale 1, the petiole (growth centre), the seed vein nodes.
 struct Leaf {
-  Outline outline;                    ///< blade outline at growth scale 1, model units
-  Vec2 petiole = Vec2::Zero();        ///< attachment point of blade to petiole; marginal growth scales about it
-  std::vector<Vec2> initial_nodes;    ///< seed vein nodes (empty = the petiole); several along the base for grasses
-  std::vector<Vec2> initial_sources;  ///< sources present at step 0 (no birth-distance test), e.g. from a script
+  Outline outline;                  ///< blade outline at growth scale 1, model units
+  Vec2 petiole = Vec2::Zero();      ///< model units at scale 1: attachment of blade to petiole; growth scales about it
+  std::vector<Vec2> initial_nodes;  ///< model units at scale 1: seed vein nodes (empty = the petiole); grasses: several
+  std::vector<Vec2> initial_sources;  ///< model units at scale 1: sources at step 0 (no birth-distance test)
 };
 
 /// Positions in Leaf are in outline units at growth scale 1; they are scaled with the outline about the

@@ -62,7 +62,7 @@ struct Domain {
   double radius = 1;                  ///< ball: radius, model units (> 0)
   Mesh mesh;                          ///< volume (closed) or surface
   std::vector<Vec3> initial_nodes;    ///< 3-D kinds: seed vein nodes (at least one), model units
-  std::vector<Vec3> initial_sources;  ///< 3-D kinds: sources present at step 0 (no birth-distance test)
+  std::vector<Vec3> initial_sources;  ///< 3-D kinds: sources at step 0 (no birth-distance test), model units
 };
 
 /// Throws core::InvalidInput naming "domain.<field>" and what is allowed: for a leaf as validate(Leaf);

@@ -39,6 +39,7 @@ struct TriangularWave {
 
 /// Parameters of make_outline(). Lengths are for growth scale 1.
 struct ShapeParams {
+  /// the blade's outline family
   ShapeKind kind = ShapeKind::ellipse;
   double length = 1.0;                ///< model units: petiole to tip
   double width = 0.6;                 ///< model units: widest extent across the leaf axis

@@ -28,6 +28,12 @@ struct SvgParams {
   bool join_veins = false;
 };
 
+/// The page write_svg() drew.
+struct SvgPage {
+  double scale = 0;              ///< mm per model unit
+  double width = 0, height = 0;  ///< mm, margins included
+};
+
 /// SVG of the veins as stroked paths of width 2 * radius of each segment's child node (tip radius for
 /// anastomoses; at least min_stroke) and the outline as a line. One path runs through every node with a
 /// single child while the width stays the same, so a plotter lifts its pen only at branch points, width
@@ -42,10 +48,6 @@ struct SvgParams {
 /// the end of the previous layer), each drawn from the end nearer the pen. All is scaled by the same
 /// factor (`scale`, or else size / the box's longer side: mm per model unit), y pointing up. Written
 /// atomically; core::FileError on failure. Returns the page drawn.
-struct SvgPage {
-  double scale = 0;              ///< mm per model unit
-  double width = 0, height = 0;  ///< mm, margins included
-};
 SvgPage write_svg(const std::filesystem::path& path, const VeinTree& tree, const Outline& outline,
                   const SvgParams& params = {}, const std::vector<Vec3>& sources = {});
 
