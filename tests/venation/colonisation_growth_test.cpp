@@ -170,6 +170,18 @@ TEST_CASE("a pattern that cannot grow ends with the stalled flag", "[colonisatio
   CHECK(limited.report().hit_max_steps);
 }
 
+TEST_CASE("a growth table is read between its points along straight lines, and held beyond its ends",
+          "[colonisation]") {
+  const v::GrowthFunction f{{0, 2, 10}, {1.10, 1.02, 1.0}};
+  CHECK(f(-5) == 1.10);  // held below the first point
+  CHECK(f(0) == 1.10);
+  CHECK(f(1) == Approx(1.06));  // halfway from 1.10 to 1.02
+  CHECK(f(2) == Approx(1.02));
+  CHECK(f(4) == Approx(1.015));  // a quarter of the way from 1.02 to 1.0
+  CHECK(f(10) == 1.0);
+  CHECK(f(50) == 1.0);  // held above the last
+}
+
 TEST_CASE("nonuniform growth moves the blade as Appendix A's Eq. 4 says", "[colonisation]") {
   // (a paper-fidelity audit: the growth test held for swapped rates or t + 1 steps.) After t steps a point
   // of the initial blade at (x0, y0), relative to the petiole, lies at x0 REG_x(y0)^t and

@@ -1,5 +1,6 @@
 // Tests of venation/colonisation_tree.cpp: stems from anchors to the roots of a vein tree.
 #include <catch2/catch.hpp>
+#include <cmath>
 
 #include "venation/colonisation.h"
 
@@ -56,4 +57,24 @@ TEST_CASE("independent cycles: a loop counts, a join of two seeds' trees does no
   CHECK(v::independent_cycles(t) == 2);
   // E - V + C: 4 parent edges and 3 anastomoses, 6 nodes, 1 component
   CHECK(v::independent_cycles(t) == 4 + t.anastomoses.size() - 6 + 1);
+}
+
+TEST_CASE("compute_widths: the child of the largest flow continues its parent's order, the others start the next",
+          "[colonisation]") {
+  //   0 -> 1 -> 3 -> 5, 6, 7     0 -> 2     1 -> 4     (2, 4, 5, 6 and 7 are tips)
+  v::VeinTree t;
+  t.parent = {kNoIndex, 0, 0, 1, 1, 3, 3, 3};
+  t.positions.assign(t.parent.size(), Vec3::Zero());
+  t.birth_step.assign(t.parent.size(), 0);
+  v::WidthParams w;
+  w.tip_radius = 0.5;
+  w.exponent = 2;
+  w.per_node_flow = 0;
+  v::compute_widths(t, w);
+  // flows count the tips drained: 0: 5, 1: 4, 2: 1, 3: 3, 4: 1, tips 1
+  CHECK(t.flow == std::vector<double>{5, 4, 1, 3, 1, 1, 1, 1});
+  for (std::size_t i = 0; i < t.size(); ++i) CHECK(t.radius[i] == Approx(0.5 * std::sqrt(t.flow[i])));
+  // 0 primary; its larger child 1 goes on as primary, 2 is secondary; at 1, 3 (flow 3) goes on, 4 is secondary;
+  // at 3 the three tips tie: the first (5) goes on, 6 and 7 are secondary
+  CHECK(t.order == std::vector<std::uint32_t>{1, 1, 2, 1, 2, 1, 2, 2});
 }
