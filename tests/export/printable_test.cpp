@@ -16,6 +16,7 @@
 #include <fstream>
 #include <map>
 #include <regex>
+#include <sstream>
 #include <string>
 
 #include "core/errors.h"
@@ -23,6 +24,7 @@
 #include "export/mesh_check.h"
 #include "export/mesh_files.h"
 #include "export/mesh_read.h"
+#include "tests/export/ply_reader.h"
 #include "tests/export/printable_fixtures.h"
 
 using namespace cellform;
@@ -242,7 +244,26 @@ TEST_CASE("thickened meshes pass check_mesh, admesh and OpenSCAD, and survive th
     CHECK(r.genus == check.genus);
   }
   require_admesh_clean(dir / "loop.stl");
+  exporters::MeshFileNotes notes;  // every STL facet's stored normal agrees with its corners' winding
+  exporters::read_mesh(dir / "loop.stl", notes);
+  CHECK(notes.stored_normals == m.triangles.size());
+  CHECK(notes.normals_against_winding == 0);
   exporters::write_scad(dir / "loop.scad", m);
+  {  // OpenSCAD wants faces clockwise seen from outside: each triangle written (t0, t2, t1)
+    const std::string scad = test::slurp(dir / "loop.scad");
+    std::istringstream faces(scad.substr(scad.find("faces = [")));
+    faces.ignore(9);
+    std::size_t k = 0, bad = 0;
+    char c1 = 0, c2 = 0, c3 = 0, c4 = 0;
+    long a = 0, b = 0, c = 0;
+    while (faces >> c1 >> a >> c2 >> b >> c3 >> c >> c4 && c1 == '[') {
+      bad += k >= m.triangles.size() || a != m.triangles[k][0] || b != m.triangles[k][2] || c != m.triangles[k][1];
+      ++k;
+      faces >> c1;  // ',' or the closing ']'
+    }
+    CHECK(k == m.triangles.size());
+    CHECK(bad == 0);
+  }
 
   if (!have("openscad")) {
     WARN("openscad is not installed; skipping the OpenSCAD checks");
