@@ -1,8 +1,9 @@
 // Thickening into a level set (voxelise); meshing it is in printable_mesh.cpp, the helpers both use in
-// printable_common.cpp. These are the only files of cellform that include OpenVDB.
+// printable_common.cpp. This file and printable_mesh.cpp are the only ones that include OpenVDB (printable_vdb.h).
 #include "export/printable.h"
 
 #include "export/printable_internal.h"
+#include "export/printable_vdb.h"
 
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>

@@ -97,7 +97,7 @@ struct ThickenReport {
 };
 
 /// A narrow-band signed distance grid (OpenVDB FloatGrid, mm, background = 3 voxels) kept behind an
-/// opaque handle so that only printable.cpp includes OpenVDB.
+/// opaque handle so that only printable.cpp and printable_mesh.cpp include OpenVDB.
 class LevelSet {
  public:
   struct Impl;

@@ -1,6 +1,5 @@
 // Shared by the printing stages (printable.cpp voxelises, printable_mesh.cpp meshes): parameter checks,
 // progress and cancelling, thread counts, OpenVDB's one-time set-up.
-#include <openvdb/openvdb.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -9,7 +8,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
-#include <mutex>
 #include <string>
 #include <utility>
 
@@ -27,11 +25,6 @@ std::string fmt(const char* f, double x) {
   char b[64];
   std::snprintf(b, sizeof b, f, x);
   return b;
-}
-
-void init_openvdb() {
-  static std::once_flag once;
-  std::call_once(once, [] { openvdb::initialize(); });
 }
 
 void check_params(const ThickenParams& p) {

@@ -1,8 +1,6 @@
-// Private to export/: what printable.cpp (voxelising) and printable_mesh.cpp (meshing) share. Includes
-// OpenVDB; not for other folders.
+// Private to export/: what printable.cpp (voxelising), printable_mesh.cpp (meshing) and printable_common.cpp
+// share, without OpenVDB (the level set's grid is in printable_vdb.h); not for other folders.
 #pragma once
-
-#include <openvdb/openvdb.h>
 
 #include <array>
 #include <chrono>
@@ -14,20 +12,10 @@
 
 namespace cellform::exporters {
 
-struct LevelSet::Impl {
-  openvdb::FloatGrid::Ptr grid;
-  double voxel_size = 0;
-  double scale = 0;
-  std::size_t active_voxels = 0;
-  double base_z = std::numeric_limits<double>::quiet_NaN();  ///< mm: the flat_base cut plane, NaN without one
-};
-
 namespace detail {
 
 /// printf-formats one number (messages).
 std::string fmt(const char* f, double x);
-/// openvdb::initialize(), once per process.
-void init_openvdb();
 /// Throws core::InvalidInput naming the first ThickenParams field out of range.
 void check_params(const ThickenParams& p);
 /// InvalidInput for a given scale (mm per model unit) at which veins printed alone span no more than

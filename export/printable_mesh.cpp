@@ -24,6 +24,7 @@
 #include "export/mesh_clean.h"
 #include "export/printable.h"
 #include "export/printable_internal.h"
+#include "export/printable_vdb.h"
 
 namespace cellform::exporters {
 
