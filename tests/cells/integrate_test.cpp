@@ -40,6 +40,26 @@ TEST_CASE("velocity-only integrator ignores the previous velocity", "[integrate]
   REQUIRE(c.position[0].z() == Approx(1.5 * p.time_step));
 }
 
+TEST_CASE("velocity-only integrator applies the drag axis by axis", "[integrate]") {
+  // v = drag * a per component (no previous velocity), x += v dt: a zero-drag axis never moves
+  Cells c;
+  const Vec3 x0(0.3, -0.2, 0.7);
+  add_cell(c, x0);
+  c.velocity[0] = Vec3(5, -5, 5);
+  c.acceleration[0] = Vec3(1, 2, 3);
+  Params p;
+  p.integrator = Integrator::velocity;
+  p.drag = Vec3(1.0, 0.5, 0.0);
+  const double dt = p.time_step;
+  integrate(c, p, 1, 1);
+  CHECK(c.velocity[0].x() == Approx(1.0 * 1));
+  CHECK(c.velocity[0].y() == Approx(0.5 * 2));
+  CHECK(c.velocity[0].z() == 0.0);
+  CHECK(c.position[0].x() == Approx(x0.x() + 1.0 * dt));
+  CHECK(c.position[0].y() == Approx(x0.y() + 1.0 * dt));
+  CHECK(c.position[0].z() == x0.z());
+}
+
 TEST_CASE("fixed cells never move", "[integrate]") {
   Params p;
   p.unary = Vec3(0, 0, -1);

@@ -46,3 +46,23 @@ TEST_CASE("corrupt, truncated, foreign and newer files are refused", "[core][che
   ByteReader r(short_string, "f");
   CHECK_THROWS_WITH(r.get_string(), Contains("data ends early"));
 }
+
+TEST_CASE("bytes after the last chunk are refused as trailing data, even under a valid checksum",
+          "[core][checkpoint]") {
+  // a file is everything up to its checksum, then the FNV-1a checksum of those bytes (8 bytes, host order)
+  const auto sealed = [](const std::string& body) {
+    const std::uint64_t sum = fnv1a64(body.data(), body.size());
+    return body + std::string(reinterpret_cast<const char*>(&sum), sizeof sum);
+  };
+  const std::string file = write_chunk_file("CKPT", 1, {{"a", "x"}});
+  const std::string body = file.substr(0, file.size() - 8);
+  REQUIRE(sealed(body) == file);  // sealed as the writer seals
+  CHECK_THROWS_WITH(read_chunk_file(sealed(body + "junk"), "CKPT", 1, "f"), Equals("f is corrupt (trailing data)"));
+  CHECK_THROWS_WITH(read_chunk_file(sealed(body + std::string(1, '\0')), "CKPT", 1, "f"), Contains("trailing data"));
+  // a writer stating fewer chunks than it wrote: the record it did not count is trailing data
+  const std::string two = write_chunk_file("CKPT", 1, {{"a", "x"}, {"b", "y"}});
+  std::string undercounted = two.substr(0, two.size() - 8);
+  const std::uint64_t one = 1;
+  undercounted.replace(8 + 4 + 4, 8, reinterpret_cast<const char*>(&one), 8);  // magic, kind, version, count
+  CHECK_THROWS_WITH(read_chunk_file(sealed(undercounted), "CKPT", 1, "f"), Contains("trailing data"));
+}

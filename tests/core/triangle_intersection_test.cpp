@@ -26,6 +26,53 @@ TEST_CASE("triangles meet when an edge crosses, touch, or overlap in one plane; 
   CHECK_FALSE(triangles_intersect(flat, {Vec3(3, 3, 0), Vec3(5, 3, 0), Vec3(3, 5, 0)}));
 }
 
+TEST_CASE("a triangle lying inside another in its plane meets it, in either argument order", "[triangle]") {
+  // no edges cross: only a corner inside the other triangle decides, and it must be looked for both ways round
+  const std::array<Vec3, 3> big{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  const std::array<Vec3, 3> small{Vec3(0.2, 0.2, 0), Vec3(0.6, 0.2, 0), Vec3(0.2, 0.6, 0)};
+  CHECK(triangles_intersect(big, small));
+  CHECK(triangles_intersect(small, big));
+  // the same, tilted out of the axis planes and moved away from the origin
+  const Vec3 o(3, -2, 5), e1 = Vec3(1, 2, 0.5).normalized(), e2 = e1.cross(Vec3(0.3, -1, 2)).normalized();
+  auto on_plane = [&](const std::array<Vec3, 3>& t) {
+    std::array<Vec3, 3> r;
+    for (int i = 0; i < 3; ++i) r[i] = o + t[i].x() * e1 + t[i].y() * e2;
+    return r;
+  };
+  CHECK(triangles_intersect(on_plane(big), on_plane(small)));
+  CHECK(triangles_intersect(on_plane(small), on_plane(big)));
+  // intersection is symmetric: random pairs in general position and in one plane (overlapping, apart, or one
+  // inside the other) get the same answer in both orders; a triangle whose corners are convex combinations of
+  // another's with weights bounded away from 0 lies inside it and must meet it
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1), w(0.1, 1);
+  std::size_t met = 0, nested = 0, asymmetric = 0, nested_missed = 0;
+  for (int k = 0; k < 6000; ++k) {
+    const int kind = k % 3;  // 0: general position, 1: coplanar, 2: coplanar, the second inside the first
+    auto point = [&]() { return Vec3(u(rng), u(rng), kind == 0 ? u(rng) : 0.0); };
+    const std::array<Vec3, 3> a{point(), point(), point()};
+    std::array<Vec3, 3> b{point(), point(), point()};
+    if (kind == 2) {
+      if ((a[1] - a[0]).cross(a[2] - a[0]).norm() < 0.1) continue;  // a clear interior
+      for (Vec3& p : b) {
+        const double w0 = w(rng), w1 = w(rng), w2 = w(rng);
+        p = (w0 * a[0] + w1 * a[1] + w2 * a[2]) / (w0 + w1 + w2);
+      }
+    }
+    const bool ab = triangles_intersect(a, b), ba = triangles_intersect(b, a);
+    asymmetric += ab != ba;
+    met += ab;
+    if (kind == 2) {
+      nested_missed += !ab || !ba;
+      ++nested;
+    }
+  }
+  CHECK(asymmetric == 0);
+  CHECK(nested_missed == 0);
+  CHECK(met > 1000);
+  CHECK(nested > 1000);
+}
+
 TEST_CASE("a sliver within rounding of another triangle's plane is tested in that plane", "[triangle]") {
   // A stands across B's plane by 1e-6 (within the tolerance), and A's normal lies in B's plane: projected
   // along it, B is a segment that A's edge crosses; in B's plane they are 0.047 apart
@@ -98,6 +145,8 @@ TEST_CASE("triangles round a shared corner cross iff a far side meets the other,
     const std::array<Vec3, 3> a{Vec3::Zero(), point(), point()}, b{point(), point(), Vec3::Zero()};
     const bool coarse = triangles_intersect(shrunk(a, 0, 1e-2), shrunk(b, 2, 1e-2)),
                fine = triangles_intersect(shrunk(a, 0, 1e-4), shrunk(b, 2, 1e-4));
+    CHECK(triangles_intersect(shrunk(b, 2, 1e-2), shrunk(a, 0, 1e-2)) == coarse);  // either order
+    CHECK(triangles_intersect(shrunk(b, 2, 1e-4), shrunk(a, 0, 1e-4)) == fine);
     if (coarse != fine) {
       ++borderline;
       continue;

@@ -227,3 +227,19 @@ TEST_CASE("a large fan is swept along the axis its directions spread in, and a c
   const auto given_up = exporters::count_self_intersections(crowded.vertices, crowded.triangles, 16, 1e5);
   CHECK_FALSE(given_up.tested);
 }
+
+TEST_CASE("a small triangle lying inside a face of a closed tetrahedron intersects it, listed before or after",
+          "[mesh_check]") {
+  // the tetrahedron's face {0, 2, 1} lies in z = 0; the loose triangle lies inside it, sharing no vertex, so
+  // no edges cross: only a corner of one inside the other shows the overlap
+  const std::vector<Vec3> small{Vec3(0.2, 0.2, 0), Vec3(0.6, 0.2, 0), Vec3(0.2, 0.6, 0)};
+  PrintableMesh after = tetrahedron();
+  after.vertices.insert(after.vertices.end(), small.begin(), small.end());
+  after.triangles.push_back({4, 5, 6});
+  CHECK(exporters::check_mesh(after).self_intersections >= 1);
+  PrintableMesh before;  // the loose triangle first, the tetrahedron's faces after it
+  before.vertices = small;
+  before.triangles.push_back({0, 1, 2});
+  append(before, tetrahedron());
+  CHECK(exporters::check_mesh(before).self_intersections >= 1);
+}

@@ -287,6 +287,65 @@ TEST_CASE("cells never end inside or pass through a box", "[forms][obstacles]") 
   }
 }
 
+TEST_CASE("a cell stopped by a plane, sphere or box loses exactly its velocity into it and slides on",
+          "[forms][obstacles]") {
+  // one move into the obstacle, stopped on the surface whose outward unit normal is n (known by construction);
+  // the same move with many velocities: one pointing in (v.n < 0) keeps only its tangential part, v - (v.n) n,
+  // so it neither goes on inwards nor bounces off; one pointing away is kept as it is
+  const double margin = 0.05;
+  auto check_velocities = [margin](const Obstacles& o, const Vec3& prev, const Vec3& cur, const Vec3& n) {
+    core::Rng rng(21);
+    Cells cells;
+    for (int k = 0; k < 200; ++k) {
+      cells::add_cell(cells, cur);
+      cells.velocity.back() = random_point(rng, 2.0);
+    }
+    const Cells before = cells;
+    forms::apply_obstacles(cells, std::vector<Vec3>(cells.size(), prev), o, margin);
+    int inward = 0, outward = 0;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      REQUIRE(cells.position[i] != before.position[i]);  // stopped
+      const Vec3 &vb = before.velocity[i], &v = cells.velocity[i];
+      if (vb.dot(n) < 0) {
+        ++inward;
+        CHECK(std::abs(v.dot(n)) < 1e-12);
+        CHECK((v - vb).cross(n).norm() < 1e-12);  // changed along n only: the tangential part is kept
+      } else {
+        ++outward;
+        CHECK(v == vb);
+      }
+    }
+    CHECK(inward > 50);
+    CHECK(outward > 50);
+  };
+  SECTION("a tilted ground plane") {
+    Obstacles o;
+    const Vec3 n = Vec3(0.2, -0.3, 1.0).normalized(), point(0.5, 0.5, -1.0);
+    o.half_spaces.push_back({point, 3.0 * n});  // normal need not be unit length
+    const Vec3 along = n.cross(Vec3::UnitX()).normalized();
+    check_velocities(o, point + 2.0 * n, point - 0.5 * n + 0.7 * along, n);
+  }
+  SECTION("a sphere, entered off its centre") {
+    Obstacles o;
+    const Vec3 c(0.3, -0.2, 0.1);
+    o.spheres.push_back({c, 1.5});
+    const Vec3 prev = c + Vec3(2.0, 0.5, 0.3), cur = c + Vec3(0.1, 0.2, -0.1);
+    // entry: the first t in [0, 1] with |prev + t (cur - prev) - c| = radius + margin
+    const Vec3 d = cur - prev, oc = prev - c;
+    const double r = 1.5 + margin, a = d.dot(d), b = oc.dot(d), cc = oc.dot(oc) - r * r;
+    const double t = (-b - std::sqrt(b * b - a * cc)) / a;
+    REQUIRE(t > 0);
+    REQUIRE(t < 1);
+    check_velocities(o, prev, cur, (prev + t * d - c).normalized());
+  }
+  SECTION("a box, entered through its top and through a side") {
+    Obstacles o;
+    o.boxes.push_back({Vec3(-1.0, -0.5, -0.2), Vec3(1.0, 0.5, 0.2)});
+    check_velocities(o, Vec3(0.3, -0.1, 1.5), Vec3(0.5, 0.1, 0.0), Vec3::UnitZ());
+    check_velocities(o, Vec3(2.5, 0.1, 0.05), Vec3(0.5, -0.1, -0.05), Vec3::UnitX());
+  }
+}
+
 TEST_CASE("cells never cross a closed or an open mesh", "[forms][obstacles]") {
   core::Rng rng(14);
   const TriangleMesh ball = closed_sphere_mesh(Vec3(0.1, 0.2, -0.1), 1.3);

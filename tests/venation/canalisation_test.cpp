@@ -13,48 +13,15 @@
 #include "core/errors.h"
 #include "core/random.h"
 #include "tests/fixtures.h"
+#include "tests/venation/canalisation_fixtures.h"
 #include "tests/venation/canalisation_oracle.h"
 
 using namespace cellform;
+using namespace cellform::test;  // chain, attr, grow, leaf
 using Catch::Matchers::Contains;
 using cells::CellType;
 using core::Index;
 using core::kNoIndex;
-
-namespace {
-
-/// A chain of n cells along x, each linked to its predecessor and successor, petiole at index 0.
-cells::Cells chain(int n) {
-  cells::Cells c;
-  c.link_stride = 2;
-  for (int i = 0; i < n; ++i) cells::add_cell(c, core::Vec3(i, 0, 0));
-  for (int i = 0; i < n; ++i) {
-    c.links[2 * i] = i > 0 ? static_cast<Index>(i - 1) : kNoIndex;
-    c.links[2 * i + 1] = i + 1 < n ? static_cast<Index>(i + 1) : kNoIndex;
-  }
-  c.type[0] = CellType::petiole;
-  return c;
-}
-
-const std::vector<double>& attr(const cells::Cells& c, const char* name) { return c.attributes.at(name); }
-
-/// Runs canalisation `steps` times on a fixed sheet.
-venation::Report grow(cells::Cells& c, const venation::Params& p, int steps) {
-  venation::Workspace ws;
-  venation::Report r;
-  for (int s = 0; s < steps; ++s) r = venation::canalise(c, p, {}, ws);
-  return r;
-}
-
-/// The hex sheet with a petiole in the middle of its bottom row.
-cells::Cells leaf(int rows, int cols) {
-  cells::Cells c = testing::hex_sheet(rows, cols);
-  testing::link_lattice(c);
-  c.type[static_cast<std::size_t>(cols / 2)] = CellType::petiole;
-  return c;
-}
-
-}  // namespace
 
 TEST_CASE("on a straight chain the flow at each cell is the number of cells upstream", "[venation]") {
   cells::Cells c = chain(12);
@@ -219,6 +186,20 @@ TEST_CASE("negative vein flows in a state still give every cell its downstream c
   venation::Workspace ws;
   const auto r = venation::canalise(c, p, {}, ws);
   CHECK(r.total_source == static_cast<double>(c.size()));
+  CHECK(r.petiole_inflow == r.total_source);
+}
+
+TEST_CASE("a petiole hung on a vein passes its auxin on: the inflow is counted once, at the root", "[venation]") {
+  cells::Cells c = chain(8);  // 0 a root petiole; veins 1 <- 2 hang on it; petiole 3 hangs on vein 2
+  c.type[1] = c.type[2] = CellType::vein;
+  c.type[3] = CellType::petiole;
+  c.vein_parent[1] = 0, c.vein_parent[2] = 1, c.vein_parent[3] = 2;
+  venation::Params p;
+  p.threshold = 1e9;  // no promotion
+  const auto r = grow(c, p, 1);
+  CHECK(r.total_source == 8);
+  CHECK(attr(c, venation::kFlow)[3] == 5);  // cells 3 to 7 drain into petiole 3, which passes them down the vein
+  CHECK(attr(c, venation::kFlow)[0] == 8);  // all of it reaches the root petiole
   CHECK(r.petiole_inflow == r.total_source);
 }
 
