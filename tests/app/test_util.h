@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "app/cli.h"
+#include "tests/files.h"
 
 namespace cellform::test {
 
@@ -34,31 +35,6 @@ inline const char* kSmall =
 inline const char* kSmallVeins =
     "volume { ball = { radius = 5 }, seeds = {{0, 0, 0}} }\n"
     "colonisation { type = 'open', birth_distance = 1, kill_distance = 1, darts = 1e6 }\n";
-
-/// A fresh directory under the system temp dir, removed at scope end.
-struct TempDir {
-  std::filesystem::path path;
-  explicit TempDir(const std::string& name) {
-    path = std::filesystem::temp_directory_path() / ("cellform-test-" + name + "-" + std::to_string(::getpid()));
-    std::filesystem::remove_all(path);
-    std::filesystem::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path, ec);
-  }
-  std::filesystem::path write(const std::string& name, const std::string& text) const {
-    std::ofstream(path / name, std::ios::binary) << text;
-    return path / name;
-  }
-};
-
-inline std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 struct CliResult {
   int code;

@@ -10,14 +10,9 @@
 #include <string>
 #include <vector>
 
-namespace cellform::test {
+#include "tests/files.h"
 
-inline std::string slurp(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+namespace cellform::test {
 
 // The elements of a PLY, every value as a double (lists flattened).
 struct PlyProperty {

@@ -1,8 +1,6 @@
 // Tests of export/vein_files.h: the vein graph read back by an independent PLY reader and OBJ parser.
 #include "export/vein_files.h"
 
-#include <unistd.h>
-
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -22,13 +20,6 @@ using test::slurp;
 namespace fs = std::filesystem;
 
 namespace {
-
-fs::path temp_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("cellform-veins-test-" + std::to_string(::getpid()) + "-" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 // Two trees: 0 <- 1 <- 2 <- 3 with a branch 2 <- 4 <- 5 (a fork at 2), and 6 <- 7 (edges run child -> parent).
 // Node k is cell 10 - k; cell ids are 500 + cell, and cell 10's id needs more than 32 bits (the file keeps 32).
@@ -56,7 +47,8 @@ Graph make_graph(const Vec3& offset = Vec3::Zero()) {
 }  // namespace
 
 TEST_CASE("veins.ply holds every node's position, flow, radius, order and cell id, and the edges", "[export][veins]") {
-  const fs::path dir = temp_dir("ply");
+  const test::TempDir tmp("veins-ply");
+  const fs::path& dir = tmp.path;
   const Graph r = make_graph();
   exporters::write_veins_ply(dir / "veins.ply", r.g, r.cells);
   const test::Ply ply = parse_ply(slurp(dir / "veins.ply"));  // (parse_ply checks nothing is left over)
@@ -82,12 +74,12 @@ TEST_CASE("veins.ply holds every node's position, flow, radius, order and cell i
   for (std::size_t k = 0; k < e.rows.size(); ++k)
     CHECK(
         (e.rows[k] == std::vector<double>{static_cast<double>(r.g.edges[k][0]), static_cast<double>(r.g.edges[k][1])}));
-  fs::remove_all(dir);
 }
 
 TEST_CASE("veins.obj has every node with its attributes and one child-to-parent polyline per branch",
           "[export][veins]") {
-  const fs::path dir = temp_dir("obj");
+  const test::TempDir tmp("veins-obj");
+  const fs::path& dir = tmp.path;
   for (const Vec3& offset : {Vec3(0, 0, 0), Vec3(1e6, -2e6, 3e5)}) {  // far out: more digits, same positions
     INFO("offset " << offset.transpose());
     const Graph r = make_graph(offset);
@@ -139,15 +131,14 @@ TEST_CASE("veins.obj has every node with its attributes and one child-to-parent 
     CHECK(pairs == edges);
     CHECK(lines.size() == 4);
   }
-  fs::remove_all(dir);
 }
 
 TEST_CASE("vein files to an unwritable place give FileError naming the path and leave no file", "[export][veins]") {
-  const fs::path dir = temp_dir("unwritable");
+  const test::TempDir tmp("veins-unwritable");
+  const fs::path& dir = tmp.path;
   const Graph r = make_graph();
   const fs::path nowhere = dir / "missing" / "veins.ply";
   CHECK_THROWS_AS(exporters::write_veins_ply(nowhere, r.g, r.cells), core::FileError);
   CHECK_THROWS_WITH(exporters::write_veins_obj(dir / "missing" / "veins.obj", r.g), Catch::Contains("missing"));
   CHECK_FALSE(fs::exists(dir / "missing"));
-  fs::remove_all(dir);
 }
