@@ -390,16 +390,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     std::vector<std::array<core::Vec3, 3>> shell;
     if (cfg.print) {
       try {
-        const auto edges = tree.edges();  // tree edges, then the loops' closing ones
-        for (std::size_t k = 0; k < edges.size(); ++k) {
-          const auto [p, c] = edges[k];
-          // a loop's closing segment carries no flow of its own: the width of the finer vein it joins, at both
-          // ends, as veins.svg and veins.png draw it
-          const bool closing = k + tree.anastomoses.size() >= edges.size();
-          const double rp = closing ? std::min(tree.radius[p], tree.radius[c]) : tree.radius[p];
-          const double rc = closing ? rp : tree.radius[c];
-          segments.push_back({tree.positions[p], tree.positions[c], rp, rc});
-        }
+        segments = vein_segments(tree);
         if (cfg.print->shell && sheet)
           shell = exporters::shell_triangles(*sheet, cells::Surface{cells::covering_triangles(*sheet), {}});
         if (segments.empty() && shell.empty() && stopped_before_step && code == ok) {

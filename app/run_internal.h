@@ -347,6 +347,11 @@ nlohmann::json draw_veins_svg(const std::filesystem::path& staging, const Output
                               const std::vector<std::array<core::Vec3, 3>>& shell, const venation::VeinTree& tree,
                               const venation::Outline& outline, std::vector<std::string>& outputs, std::ostream& err);
 
+/// The segments a colonisation run prints: every tree edge with the radii of its two nodes, then each loop's
+/// closing edge at the radius of the finer vein it joins, at both ends (it carries no flow of its own; veins.svg
+/// and veins.png draw it so too). Model units.
+std::vector<exporters::Segment> vein_segments(const venation::VeinTree& tree);
+
 /// The notes of a colonisation run that stalled, `sources_left` out of every vein's reach: on a surface, why
 /// a vein may not cross to them; in a leaf (`outline`: the grown blade), how many lie outside it, and why.
 void say_sources_left(std::ostream& err, const ColonisationSpec& spec, const std::vector<core::Vec3>& sources_left,

@@ -211,4 +211,17 @@ void say_sources_left(std::ostream& err, const ColonisationSpec& spec, const std
   err << "cellform: note: " << sources_left.size() << " auxin sources are left: " << where_left << "\n";
 }
 
+std::vector<exporters::Segment> vein_segments(const venation::VeinTree& tree) {
+  std::vector<exporters::Segment> segments;
+  const auto edges = tree.edges();  // tree edges, then the loops' closing ones
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    const auto [p, c] = edges[k];
+    const bool closing = k + tree.anastomoses.size() >= edges.size();
+    const double rp = closing ? std::min(tree.radius[p], tree.radius[c]) : tree.radius[p];
+    const double rc = closing ? rp : tree.radius[c];
+    segments.push_back({tree.positions[p], tree.positions[c], rp, rc});
+  }
+  return segments;
+}
+
 }  // namespace cellform::app

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "app/run_internal.h"
 #include "tests/app/test_util.h"
 
 using namespace cellform::test;
@@ -236,4 +237,29 @@ TEST_CASE("veins.svg is at the print's scale even when the print fails, and run.
   REQUIRE(cli({"run", plain.string(), "--out", (t.path / "plain").string(), "--steps", "30", "--quiet"}).code == 0);
   const auto p = nlohmann::json::parse(slurp(t.path / "plain" / "run.json"));
   CHECK(std::max(p["svg"]["width_mm"].get<double>(), p["svg"]["height_mm"].get<double>()) == Approx(210));
+}
+
+TEST_CASE("a colonisation print gives each loop's closing segment the finer vein's radius at both ends",
+          "[colonisation][print]") {
+  // a tree 0 -> 1 -> 2 and 0 -> 3 (radii 3, 2, 1 and 0.5), with a loop closed between 2 and 3
+  cellform::venation::VeinTree t;
+  t.positions = {cellform::core::Vec3(0, 0, 0), cellform::core::Vec3(0, 1, 0), cellform::core::Vec3(0, 2, 0),
+                 cellform::core::Vec3(1, 1, 0)};
+  t.parent = {cellform::core::kNoIndex, 0, 1, 0};
+  t.birth_step = {0, 1, 2, 1};
+  t.radius = {3, 2, 1, 0.5};
+  t.anastomoses = {{2, 3}};
+  const auto s = cellform::app::vein_segments(t);
+  REQUIRE(s.size() == 4);
+  for (std::size_t k = 0; k < 3; ++k) {  // tree edges: each end the radius of its node
+    const auto [p, c] = t.edges()[k];
+    CHECK(s[k].a == t.positions[p]);
+    CHECK(s[k].b == t.positions[c]);
+    CHECK(s[k].ra == t.radius[p]);
+    CHECK(s[k].rb == t.radius[c]);
+  }
+  CHECK(s[3].a == t.positions[2]);  // the closing segment: 0.5 at both ends, not 1 at one of them
+  CHECK(s[3].b == t.positions[3]);
+  CHECK(s[3].ra == 0.5);
+  CHECK(s[3].rb == 0.5);
 }
