@@ -1,5 +1,5 @@
 // Shared by the printing stages (printable.cpp voxelises, printable_mesh.cpp meshes): parameter checks,
-// progress and cancelling, thread counts, OpenVDB's one-time set-up.
+// progress and cancelling, thread counts, the automatic scale and the shell's memory estimate (no OpenVDB).
 #include <tbb/task_arena.h>
 
 #include <algorithm>

@@ -103,7 +103,7 @@ void Colonisation::Impl::make_table() {
   for (double& v : table_y) v -= zero;
   Outline o = leaf.outline;
   for (Vec2& q : o.points) q = to_current(p.initial_scale * (q - leaf.petiole));
-  current = OutlineIndex(o);
+  current = OutlineIndex(o, grown >= p.growth_steps);  // the grid, for the darts, once the blade stays
 }
 
 void Colonisation::Impl::grow_nonuniform() {

@@ -240,7 +240,7 @@ struct Colonisation::Impl {
   WitnessGrid witness;
   std::size_t witness_cap = 0;  // the cell budget of the last layout
   bool witness_capped = false;  // that budget made the cells coarser than asked
-  double witness_bv = 0;        // b_v of the last layout
+  double witness_cover = 0;     // model units: the radius of the last layout's map of covered cells (0: none)
 
   Impl(const Leaf& l, const ColonisationParams& params);
 

@@ -68,13 +68,15 @@ void Colonisation::Impl::update_witness(double bv) {
   const std::size_t cap = std::max<std::size_t>(std::size_t{1} << 20, 8 * nodes.size());
   bool relayout = !witness.covers(lo, hi);
   if (!relayout && witness.cell() > bv) relayout = !witness_capped || cap >= 2 * witness_cap;
-  // Growth shrank b_v since the layout, below the radius of the map of covered cells: once the growth is
-  // over (b_v stays), laid again for it. The darts of a grown blade are thousands a step, for
-  // thousands of steps while the last gaps fill, and most land in a covered cell.
-  if (!relayout && growth_over() && bv != witness_bv && !witness.covers_radius(bv * bv)) relayout = true;
+  // The map of covered cells settles queries of b_v at least its radius, so it is laid only once the growth
+  // is over (b_v then stays; while it shrinks, the map would be of no use from the next step): then the grid
+  // is laid again with it. The darts of a grown blade are thousands a step, for thousands of steps while
+  // the last gaps fill, and most land in a covered cell.
+  const double cover = growth_over() ? bv : 0;
+  if (!relayout && cover != witness_cover && !witness.covers_radius(bv * bv)) relayout = true;
   if (!relayout) return;
-  witness.reset(lo, hi, 0.7 * bv, cap, bv);
-  witness_bv = bv;
+  witness.reset(lo, hi, 0.7 * bv, cap, cover);
+  witness_cover = cover;
   witness_cap = cap;
   witness_capped = witness.cell() > 0.7 * bv;
   if (witness.empty()) return;  // no grid could be laid (a blade beyond double range)

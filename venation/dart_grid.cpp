@@ -39,7 +39,7 @@ void WitnessGrid::reset(const Vec3& lo, const Vec3& hi, double cell, std::size_t
   // a point's cell is floor((x - lo) / cell): off by at most about 1e-16 of the coordinates in cells
   const double reach = std::max({std::abs(lo.x()), std::abs(lo.y()), std::abs(hi.x()), std::abs(hi.y())});
   fine_ = reach < 1e6 * cell_;
-  cover_ = fine_ && cover > 0 && std::isfinite(cover) && cover < 64 * cell_ ? cover : 0;
+  cover_ = fine_ && cover > 0 && std::isfinite(cover) && cover <= 4 * cell_ ? cover : 0;  // (49 cells a node at 1.43)
   covered_.assign(cover_ > 0 ? (static_cast<std::size_t>(nx_ * ny_) * kSub * kSub + 63) / 64 : 0, 0);
 }
 

@@ -429,7 +429,7 @@ Outline parse_outline(const std::string& text, const std::string& source) {
 
 Outline read_outline(const std::filesystem::path& path) { return parse_outline(core::read_file(path), path.string()); }
 
-OutlineIndex::OutlineIndex(const Outline& outline) : outline_(outline) {
+OutlineIndex::OutlineIndex(const Outline& outline, bool grid) : outline_(outline) {
   const auto& p = outline_.points;
   const std::size_t n = p.size();
   lo_ = hi_ = p.front();
@@ -458,10 +458,10 @@ OutlineIndex::OutlineIndex(const Outline& outline) : outline_(outline) {
   const double w = hi_.x() - lo_.x(), h = hi_.y() - lo_.y();
   const double reach = std::max({std::abs(lo_.x()), std::abs(lo_.y()), std::abs(hi_.x()), std::abs(hi_.y())});
   const double total = std::clamp(64.0 * static_cast<double>(n), 4096.0, 1048576.0);
-  // cells far wider than the rounding of the coordinates (else the crossing test alone)
-  if (!(std::isfinite(w) && std::isfinite(h) && std::min(w, h) / total > 1e-9 * reach && std::isfinite(1 / w) &&
-        std::isfinite(1 / h)))
-    return;
+  // cells far wider than the rounding of the coordinates, and coordinates whose products neither overflow nor
+  // underflow (else the crossing test alone)
+  const bool tame = reach > 1e-140 && reach < 1e140 && std::min(w, h) > 1e-140;
+  if (!grid || !tame || !(std::min(w, h) / total > 1e-9 * reach)) return;
   const auto most = static_cast<long>(total);
   gx_ = std::clamp(std::lround(std::sqrt(total * w / h)), 1L, most);
   gy_ = std::clamp(std::lround(total / static_cast<double>(gx_)), 1L, most);

@@ -88,8 +88,11 @@ double distance_to_boundary(const Outline& outline, const Vec2& p);
 class OutlineIndex {
  public:
   OutlineIndex() = default;
-  explicit OutlineIndex(const Outline& outline);
+  /// `grid`: lay the grid (O(64 cells a vertex) to build; without it every query takes the crossing test).
+  explicit OutlineIndex(const Outline& outline, bool grid = true);
   bool contains(const Vec2& p) const;
+  /// Whether the grid was laid (it is not for a box too small for its coordinates' rounding, or beyond 1e+-140).
+  bool has_grid() const { return !cell_class_.empty(); }
   /// contains() without the grid: the crossing test against the edges of the point's band.
   bool crossing_test(const Vec2& p) const;
   double area() const { return area_; }

@@ -103,6 +103,10 @@ TEST_CASE("witness grid: the map of covered cells settles a dart alone only for 
   h.insert(0, one[0]);
   const Vec3 q(0.05 + 1.9 / std::sqrt(2.0), 0.05 + 1.9 / std::sqrt(2.0), 0);
   CHECK(h.witness(q, 4.0, one));
+  // only the map knows it once the node is read elsewhere: the grid's answer comes from the bit alone
+  const std::vector<Vec3> moved{Vec3(1e3, 1e3, 0)};
+  CHECK(h.witness(q, 4.0, moved));
+  CHECK_FALSE(h.witness(q, 1.95 * 1.95, moved));  // below the map's radius: the (moved) node decides
   CHECK(h.witness(q, 1.95 * 1.95, one));
   CHECK_FALSE(h.witness(q, 1.85 * 1.85, one));
   CHECK_FALSE(h.witness(q + Vec3(0, 0, 1), 4.0, one));

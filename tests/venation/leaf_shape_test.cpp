@@ -204,6 +204,9 @@ TEST_CASE("OutlineIndex's grid gives the crossing test's answer everywhere, at t
   for (const auto& [name, o] : outlines) {
     INFO(name);
     const venation::OutlineIndex idx(o);
+    // every outline has its grid but the tiny one far from the origin (cells finer than its coordinates' rounding)
+    CHECK(idx.has_grid() == (name != "ovate x 0.000001 at 1000.000000"));
+    CHECK_FALSE(venation::OutlineIndex(o, false).has_grid());
     const Vec2 lo = idx.lo(), hi = idx.hi(), size = hi - lo;
     std::vector<Vec2> qs;
     for (int i = 0; i < 20000; ++i)
