@@ -73,7 +73,7 @@ void Colonisation::Impl::update_witness(double bv) {
   // is laid again with it. The darts of a grown blade are thousands a step, for thousands of steps while
   // the last gaps fill, and most land in a covered cell.
   const double cover = growth_over() ? bv : 0;
-  if (!relayout && cover != witness_cover && !witness.covers_radius(bv * bv)) relayout = true;
+  if (!relayout && cover != witness_cover) relayout = true;
   if (!relayout) return;
   witness.reset(lo, hi, 0.7 * bv, cap, cover);
   witness_cover = cover;
