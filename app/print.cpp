@@ -47,8 +47,9 @@ namespace {
 /// voxels from the origin (a form at site coordinates, say), else zero. There a 32-bit coordinate (the mesher's,
 /// STL's) is coarser than 1/64 of a voxel: a form 196 m out in mm at 0.2 mm voxels (a 32-bit step of 1/13
 /// voxel) got ten times the triangles, crossing and zero-area ones. The scale is the print's (`print_scale`,
-/// which does not depend on where the form lies), the voxel size as the print takes it (an automatic voxel
-/// size only grows, which moves less). Zero when the input is not finite (voxelise then says which part).
+/// which does not depend on where the form lies), the voxel size the one the print takes: an automatic voxel
+/// raised to fit print.max_memory reaches farther (the plan, made before any voxel, is asked for it). Zero when
+/// the input is not finite (voxelise then says which part).
 core::Vec3 far_centre(const std::vector<exporters::Segment>& segments,
                       const std::vector<std::array<core::Vec3, 3>>& shell, const PrintSpec& spec,
                       const exporters::ThickenParams& tp) {
@@ -70,9 +71,24 @@ core::Vec3 far_centre(const std::vector<exporters::Segment>& segments,
   } catch (const core::InvalidInput&) {
     return core::Vec3::Zero();  // a non-finite radius, say: voxelise says which segment
   }
-  const double voxel = spec.voxel_size > 0  // mm
-                           ? spec.voxel_size
-                           : exporters::automatic_voxel_size(spec.min_radius, spec.shell_thickness, !shell.empty());
+  double voxel = spec.voxel_size > 0  // mm
+                     ? spec.voxel_size
+                     : exporters::automatic_voxel_size(spec.min_radius, spec.shell_thickness, !shell.empty());
+  if (spec.voxel_size == 0 && reach * scale > 0x1p17 * voxel) {
+    struct Planned {
+      double voxel;  // mm
+    };
+    exporters::ThickenParams probe = tp;
+    probe.progress = nullptr;
+    probe.note = nullptr;
+    probe.planned = [](const exporters::ThickenReport& plan) { throw Planned{plan.voxel_size}; };
+    try {
+      (void)exporters::voxelise(segments, shell, probe, nullptr);
+    } catch (const Planned& plan) {
+      voxel = plan.voxel;
+    } catch (const std::exception&) {  // (the print itself says what is wrong)
+    }
+  }
   return reach * scale > 0x1p17 * voxel ? core::Vec3(0.5 * (lo + hi)) : core::Vec3::Zero();
 }
 

@@ -20,6 +20,7 @@
 #include "export/mesh_files.h"
 #include "export/printable.h"
 #include "export/vein_files.h"
+#include "venation/canalisation.h"
 
 #ifndef CELLFORM_VERSION
 #define CELLFORM_VERSION "0.0.0"
@@ -95,6 +96,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   fs::path killed_staging;  // the staging folder holding the frames of the checkpoint in the folder (a killed run's)
   std::string folder_mark;  // checkpoint_mark of the checkpoint in the folder when this run took it
   std::optional<FolderLock> lock;  // held until the run has written its last file
+  std::string print_error;         // the print failed: why, said once the other outputs are in (or failed)
+  bool print_retry = false;        // and a resume with other print.* values can print again
   try {
     s = start_from(o);
     host.accept_digit_booleans(s.digit_booleans);
@@ -447,19 +450,17 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     json printed;
     bool print_cancelled = false, printed_first = false;  // (a Ctrl-C of the early print ends the run)
     std::vector<std::string> print_names;
-    // a run cut short (--steps below the script's run.steps, a quick try) before any vein grew: the print is
-    // skipped, not failed (a print that growth cannot make, such as a shell of a line of cells, still fails)
-    auto skipped_print = [&](const std::exception& e) {
-      if (!dynamic_cast<const NothingToPrint*>(&e) || !cfg.print->veins || target >= cfg.steps || g_interrupt.load())
-        return false;
-      const std::string why = "nothing to print yet at step " + std::to_string(sim.step_count()) +
-                              " (no vein has grown; the run was cut short at step " + std::to_string(target) +
-                              " of the script's " + std::to_string(cfg.steps) + ")";
-      err << "cellform: print: skipped: " << why << "\n";
-      printed = {{"skipped", why}};
-      return true;
-    };
-    if (cfg.print && s.resume && first >= target) {
+    // a run cut short (--steps below the script's run.steps, a quick try) before any vein grew skips a print of
+    // veins, rather than fail it or print the sheet alone (a print without veins is made, or fails, as in a full run)
+    const bool skip_print = cfg.print && cfg.print->veins && cfg.scene.venation && target < cfg.steps &&
+                            !g_interrupt.load() && venation::vein_graph(sim.cells()).edges.empty();
+    if (skip_print) {
+      printed = {{"skipped", "nothing to print yet at step " + std::to_string(sim.step_count()) +
+                                 " (no vein has grown; the run was cut short at step " + std::to_string(target) +
+                                 " of the script's " + std::to_string(cfg.steps) + ")"}};
+      err << "cellform: print: skipped: " << printed["skipped"].get<std::string>() << "\n";
+    }
+    if (cfg.print && !skip_print && s.resume && first >= target) {
       // no step ran: the outputs are made again for another print. The print first, so that one that
       // fails (too fine a voxel for the memory, say) leaves the folder as it was, its earlier print too.
       try {
@@ -467,17 +468,15 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                                   print_names, err, o.quiet);
         if (!o.quiet) say_printed(err, printed);
       } catch (const std::exception& e) {  // a Ctrl-C (core::Cancelled) too: the print was all this run made
-        if (!skipped_print(e)) {           // (skipped as by the run that wrote the checkpoint)
-          const bool cancelled = dynamic_cast<const core::Cancelled*>(&e) != nullptr;
-          err << (cancelled ? std::string(o.quiet ? "" : "\n") + "cellform: printing interrupted"
-                            : "cellform: " + output_error(e, staging, dir))
-              << "\n  (nothing in " << dir.string()
-              << "/ changed: its outputs, printable files and checkpoint are as they were)\n";
-          std::error_code ec;
-          fs::remove_all(staging, ec);
-          remove_empty_up_to(dir, created);
-          return cancelled ? interrupted : failure;
-        }
+        const bool cancelled = dynamic_cast<const core::Cancelled*>(&e) != nullptr;
+        err << (cancelled ? std::string(o.quiet ? "" : "\n") + "cellform: printing interrupted"
+                          : "cellform: " + output_error(e, staging, dir))
+            << "\n  (nothing in " << dir.string()
+            << "/ changed: its outputs, printable files and checkpoint are as they were)\n";
+        std::error_code ec;
+        fs::remove_all(staging, ec);
+        remove_empty_up_to(dir, created);
+        return cancelled ? interrupted : failure;
       }
       printed_first = true;
     }
@@ -498,7 +497,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
          write_outputs(staging, cfg.output, sim.cells(), cfg.scene.venation ? &*cfg.scene.venation : nullptr))
       outputs.push_back(n);
     outputs.insert(outputs.end(), print_names.begin(), print_names.end());
-    if (cfg.print && !printed_first) {
+    if (cfg.print && !skip_print && !printed_first) {
       try {
         printed = write_printable(staging, *cfg.print, sim.cells(), cfg.scene.venation.has_value(), o.threads, outputs,
                                   err, o.quiet);
@@ -509,17 +508,12 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         status = "interrupted";
         code = interrupted;
       } catch (const std::exception& e) {
-        if (!skipped_print(e)) {
-          const std::string m = output_error(e, staging, dir);
-          say_print_failed(err, m,
-                           checkpoint_error.empty() ? "the other outputs and the checkpoint are written"
-                                                    : "the other outputs are written",
-                           saved && checkpoint_error.empty() && !dynamic_cast<const NothingToPrint*>(&e), checkpoint);
-          printed = {{"error", m}};
-          if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
-            code = failure;
-            status = "print failed";  // the cells are complete; run.json's print.error says why
-          }
+        print_error = output_error(e, staging, dir);  // said once the other files are in (their writing may fail)
+        print_retry = saved && checkpoint_error.empty() && !dynamic_cast<const NothingToPrint*>(&e);
+        printed = {{"error", print_error}};
+        if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
+          code = failure;
+          status = "print failed";  // the cells are complete; run.json's print.error says why
         }
       }
     }
@@ -544,6 +538,11 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     record_checkpoint(run, checkpoint_error, saved || resumed_here, saved ? saved_step : first);
     if (cfg.print) run["print"] = printed;
     commit_run(run, outputs, s, first, seed, staging, dir, s.resume ? o.checkpoint : fs::path());
+    if (!print_error.empty())
+      say_print_failed(err, print_error,
+                       checkpoint_error.empty() ? "the other outputs and the checkpoint are written"
+                                                : "the other outputs are written",
+                       print_retry, checkpoint);
     if (print_cancelled)
       err << (o.quiet ? "" : "\n") << "cellform: printing interrupted: no printable files (the other outputs"
           << (checkpoint_error.empty() ? " and the checkpoint are written)\n" : " are written)\n");
@@ -575,6 +574,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     code = usage;
   } catch (const std::exception& e) {
     progress.finish();
+    if (!print_error.empty()) err << "cellform: " << print_error << "\n";
     err << "cellform: " << output_error(e, staging, dir) << "\n";
     // the outputs failed (a full disk): what is left to continue from; a run.json that says so (a few kB,
     // which a full disk usually still has) and the frames up to it stay, as after a script error. (With no

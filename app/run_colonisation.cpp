@@ -397,8 +397,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
           err << "cellform: print: skipped: nothing grew before colonisation.max_sources stopped the run (a "
                  "resume with a higher limit prints)\n";
           printed = {{"skipped", "nothing to print: stopped at colonisation.max_sources before anything grew"}};
-        } else if (segments.empty() && shell.empty() && code == ok && rep.hit_max_steps &&
-                   spec.params.max_steps < script_steps) {  // a quick try (--steps) cut short before a vein grew
+        } else if (segments.empty() && code == ok && rep.hit_max_steps && spec.params.max_steps < script_steps) {
+          // a quick try (--steps) cut short before a vein grew: not the sheet alone (a flat base may not fit yet)
           printed = {{"skipped", "nothing to print yet at step " + std::to_string(rep.steps) +
                                      " (no vein has grown; the run was cut short at step " +
                                      std::to_string(spec.params.max_steps) + " of the script's " +

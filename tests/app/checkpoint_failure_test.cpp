@@ -219,3 +219,40 @@ TEST_CASE("a resume whose checkpoint fails in its own folder names the checkpoin
   REQUIRE(cli({"resume", part.string(), "--steps", "40", "--quiet"}).code == 0);
   CHECK(slurp(part / "cells.ply") == slurp(whole / "cells.ply"));
 }
+
+TEST_CASE("a print that fails, then run.json too, does not say that the other outputs are written",
+          "[cli][checkpoint]") {
+  // a full disk: printable.stl failed, then run.json, and the outputs were dropped; the print's failure said
+  // "(the other outputs and the checkpoint are written)" before that
+  TempDir t("cli-print-then-record");
+  const auto script = t.write("sheet.lua",
+                              "local P = params { note = 'a note' }\nrun { steps = 0 }\ndisc { radius = 2 }\n"
+                              "print { shell = true, veins = false, size = 40 }\n");
+  // a long parameter is in run.json twice (overrides, parameters) and in the checkpoint once: a file size
+  // limit between the two lets the checkpoint and the cell files in, but not printable.stl and run.json
+  const std::vector<std::string> args = {"run",  script.string(), "--quiet", "--set", "note=" + std::string(3000, 'n'),
+                                         "--out"};
+  const fs::path whole = t.path / "whole", out = t.path / "out";
+  auto with_out = [&](const fs::path& o) {
+    std::vector<std::string> a = args;
+    a.push_back(o.string());
+    return a;
+  };
+  REQUIRE(cli(with_out(whole)).code == 0);
+  const std::size_t checkpoint = fs::file_size(whole / "checkpoint.cfck"), record = fs::file_size(whole / "run.json");
+  REQUIRE(checkpoint + 1000 < record);
+  REQUIRE(fs::file_size(whole / "cells.ply") < checkpoint);
+  CliResult r;
+  {
+    FileSizeLimit small((checkpoint + record) / 2);
+    r = cli(with_out(out));
+  }
+  INFO(r.err);
+  CHECK(r.code == 1);
+  CHECK_THAT(r.err, Contains("printable.stl") && Contains("run.json") && !Contains("outputs and the checkpoint are"));
+  CHECK_THAT(r.err, !Contains("other outputs are written"));
+  CHECK_THAT(r.err, Contains("cellform resume continues from it"));
+  CHECK(!fs::exists(out / "run.json"));
+  CHECK(cli({"resume", (out / "checkpoint.cfck").string(), "--quiet"}).code == 0);  // the checkpoint is whole
+  CHECK(slurp(out / "cells.ply") == slurp(whole / "cells.ply"));
+}

@@ -217,6 +217,15 @@ TEST_CASE("a quick try with --steps ends before any vein: the print is skipped, 
   r = cli({"run", line.string(), "--out", (t.path / "c").string(), "--steps", "5", "--quiet"});
   CHECK(r.code == 1);
   CHECK_THAT(r.err, Contains("no sheet of triangles") && !Contains("skipped"));
+  // a print of veins with the sheet is skipped too: not made of the sheet alone, nor failed (a flat base 2 mm
+  // high does not fit the flat disc of step 5; before, the try printed the sheet and failed there)
+  const auto shell = t.write("shell.lua",
+                             "run { steps = 300 }\nvenation { threshold = 30 }\ndisc { radius = 3 }\n"
+                             "petiole { at = {0, -3, 0} }\nprint { size = 40, shell = true, flat_base = 2 }\n");
+  r = cli({"run", shell.string(), "--out", (t.path / "s").string(), "--steps", "5", "--quiet"});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("print: skipped: nothing to print yet at step 5") && !Contains("flat_base"));
+  CHECK(!fs::exists(t.path / "s" / "printable.stl"));
   // the whole script with nothing to print (too high a threshold) still fails, as it asked for a print
   r = cli(
       {"run", script.string(), "--out", (t.path / "b").string(), "--steps", "5", "--set", "run.steps=5", "--quiet"});

@@ -106,6 +106,27 @@ TEST_CASE("a colonisation quick try with --steps ends before any vein: the print
   CHECK(fs::exists(t.path / "c" / "printable.stl"));
 }
 
+TEST_CASE("a quick try on a grown sheet ends before any vein: the print of veins and sheet is skipped",
+          "[cli][colonisation]") {
+  // examples/ribbed_shell.lua --steps 3: the sheet alone was printed, and its flat base did not fit the flat sheet
+  // of so short a try, which failed the run (exit 1)
+  TempDir t("cli-col-sheet-try");
+  const auto script =
+      t.write("sheet.lua",
+              "cells { time_step = 0.2, separation = 0.05, drag = {0.8, 0.8, 0.3} }\n"
+              "division { trigger = 'age', age = 6, min_age = 3, probability = 0.5, max_cells = 400 }\n"
+              "run { steps = 60 }\ndisc { radius = 4 }\npetiole { at = {0, -4, 0} }\nsurface { cells = true }\n"
+              "colonisation { kill_distance = 1, birth_distance = 2, darts = 20000 }\n"
+              "print { shell = true, size = 30, flat_base = 2 }\n");
+  const auto r = cli({"run", script.string(), "--out", (t.path / "a").string(), "--steps", "1", "--quiet"});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("print: skipped: nothing to print yet at step 1") && !Contains("flat_base"));
+  const auto j = nlohmann::json::parse(slurp(t.path / "a" / "run.json"));
+  CHECK(j["print"].contains("skipped"));
+  CHECK(!fs::exists(t.path / "a" / "printable.stl"));
+}
+
 TEST_CASE("colonisation.node_flow widens the veins towards the base: each inner node adds its flow (Section 3.5)",
           "[cli][colonisation]") {
   TempDir t("cli-node-flow");
