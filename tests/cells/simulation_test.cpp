@@ -4,6 +4,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
+#include <utility>
+#include <vector>
 
 #include "cells/simulation.h"
 #include "core/random.h"
@@ -71,6 +73,52 @@ TEST_CASE("same seed gives bit-identical cells with 1 and 2 threads", "[simulati
   REQUIRE(one.cells().links == two.cells().links);
   REQUIRE(one.cells().vein_parent == two.cells().vein_parent);
   for (const Vec3& x : one.cells().position) REQUIRE(x.allFinite());
+}
+
+TEST_CASE("lengths scale: twice the rest length, positions and radii give twice the positions, bit for bit",
+          "[simulation]") {
+  // Every length-valued parameter doubled (rest length, division radius, unary acceleration; the cohesion and
+  // separation weights, in units^2 / time^2, times 4) and the cells placed twice as far apart: each force is
+  // then exactly twice as large (powers of two scale without rounding), and so is every position at every
+  // step. A length taken in the wrong units (rest_length where its square is meant, or a constant left
+  // unscaled) breaks it; the tests' usual rest length of 1 hides such a slip.
+  for (const DivisionTrigger trigger : {DivisionTrigger::age, DivisionTrigger::neighbours}) {
+    auto run = [&](double k) {
+      Simulation sim = make_sim(12, 5, 1);
+      Params p = sim.params();
+      p.rest_length *= k;
+      for (auto& w : p.weights) {
+        w.cohesion *= k * k;
+        w.separation *= k * k;
+      }
+      p.unary = Vec3(0.01, -0.02, 0.03) * k;
+      p.division.trigger = trigger;
+      p.division.radius *= k;
+      p.division.min_neighbours = 5;
+      Simulation scaled(p, 5);
+      scaled.set_threads(1);
+      scaled.cells() = sim.cells();
+      for (Vec3& x : scaled.cells().position) x *= k;
+      std::size_t divisions = 0;
+      for (int s = 0; s < 40; ++s) divisions += scaled.step().divisions;
+      CHECK(divisions > 20);
+      // by id: the spatial reorder may number them differently
+      std::vector<std::pair<std::uint64_t, std::pair<Vec3, Vec3>>> by_id;
+      const Cells& c = scaled.cells();
+      for (std::size_t i = 0; i < c.size(); ++i) by_id.push_back({c.id[i], {c.position[i], c.velocity[i]}});
+      std::sort(by_id.begin(), by_id.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+      return by_id;
+    };
+    const auto one = run(1), two = run(2);
+    INFO((trigger == DivisionTrigger::age ? "age" : "neighbours"));
+    REQUIRE(one.size() == two.size());
+    std::size_t same = 0;
+    for (std::size_t i = 0; i < one.size(); ++i) {
+      REQUIRE(one[i].first == two[i].first);
+      same += (2 * one[i].second.first == two[i].second.first && 2 * one[i].second.second == two[i].second.second);
+    }
+    CHECK(same == one.size());
+  }
 }
 
 TEST_CASE("step report, hooks and the spatial reorder", "[simulation]") {
