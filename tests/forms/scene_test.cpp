@@ -214,6 +214,15 @@ TEST_CASE("a petiole made on a cell joins it to the veins' roots and keeps a fix
   CHECK(forms::make_petiole(c, Vec3(2, 0, 0), false, 1.0) == 2);
   CHECK(c.size() == 3);
   CHECK_THROWS_WITH(forms::make_petiole(c, Vec3(9, 0, 0), true, 1.0), Contains("within 3 rest lengths"));
+  // both distances in rest lengths, whatever the rest length (a rest length of 1 hides its square): at 4, the
+  // cell 1.8 away is taken and one 11 away is a new cell, one 13 away is refused
+  cells::Cells far;
+  cells::add_cell(far, Vec3(0, 0, 0));
+  CHECK(forms::make_petiole(far, Vec3(1.8, 0, 0), false, 4.0) == 0);
+  CHECK(forms::make_petiole(far, Vec3(11, 0, 0), false, 4.0) == 1);
+  CHECK(far.size() == 2);
+  CHECK_THROWS_WITH(forms::make_petiole(far, Vec3(0, 13, 0), true, 4.0), Contains("within 3 rest lengths"));
+  CHECK(far.size() == 2);
 }
 
 TEST_CASE("two petioles of one step that fall on one cell are noted: the two are one sink", "[forms][scene]") {
