@@ -1,6 +1,7 @@
 // Tests of forms/shapes.h: lattice counts and spacing, and shapes too large to build refused clearly.
 #include "forms/shapes.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
@@ -29,6 +30,44 @@ TEST_CASE("shapes place cells spacing apart on the shape", "[forms][shapes]") {
   for (const Vec3& p : sphere) CHECK(p.norm() == Approx(3.0));
   CHECK(forms::line_points(kO, Vec3(3, 0, 0), 1.0).size() == 4);
   CHECK(forms::line_points(kO, kO, 1.0).size() == 1);
+}
+
+TEST_CASE("shapes lie where their centre and normal put them, evenly spaced", "[forms][shapes]") {
+  const Vec3 c(3, -2, 5), n = Vec3(1, 2, 2) / 3;  // a tilted plane away from the origin
+  const std::vector<Vec3> disc = forms::hex_disc(c, n, 4.0, 0.5);
+  REQUIRE(disc.size() > 200);
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& p : disc) {
+    CHECK(std::abs((p - c).dot(n)) < 1e-12);  // in the plane of the normal through the centre
+    CHECK((p - c).norm() <= 4.0 + 1e-9);
+    mean += p / static_cast<double>(disc.size());
+  }
+  CHECK((mean - c).norm() < 0.05);  // the lattice is symmetric about its centre
+  // brute force: every cell's nearest other cell is one spacing away, in the plane
+  for (std::size_t i = 0; i < disc.size(); ++i) {
+    double nearest = INFINITY;
+    for (std::size_t j = 0; j < disc.size(); ++j)
+      if (j != i) nearest = std::min(nearest, (disc[i] - disc[j]).norm());
+    CHECK(nearest == Approx(0.5));
+  }
+  // a sphere about its centre: every cell on it, their mean at the centre (the spiral's heights are symmetric
+  // about the equator), and cells about one spacing from their nearest
+  const std::vector<Vec3> sphere = forms::sphere_points(c, 3.0, 0.5);
+  REQUIRE(sphere.size() > 300);
+  mean = Vec3::Zero();
+  for (const Vec3& p : sphere) {
+    CHECK((p - c).norm() == Approx(3.0));
+    mean += p / static_cast<double>(sphere.size());
+  }
+  CHECK(std::abs(mean.z() - c.z()) < 1e-9);
+  CHECK((mean - c).norm() < 0.01);
+  for (std::size_t i = 0; i < sphere.size(); ++i) {
+    double nearest = INFINITY;
+    for (std::size_t j = 0; j < sphere.size(); ++j)
+      if (j != i) nearest = std::min(nearest, (sphere[i] - sphere[j]).norm());
+    CHECK(nearest > 0.3);
+    CHECK(nearest < 0.7);
+  }
 }
 
 TEST_CASE("shapes too large to build are refused with the cell limit, never built wrong", "[forms][shapes]") {
