@@ -210,4 +210,9 @@ TEST_CASE(
   CHECK(end.x() == Approx(4 * -2.0 / 4.09));
   CHECK(end.y() == Approx(4 * -0.3 / 4.09));
   CHECK(acceleration(4, 4, 2).y() < 0);  // together (the defaults) the bent cell is pulled back
+  // each factor multiplies its own weight (the equal weights above would hide the two swapped)
+  p.weights[2] = ForceWeights{0.0, 0.0, 0.5, 2.0};
+  const Vec3 base = acceleration(0, 0, 2);
+  CHECK((acceleration(4, 0, 2) - base).y() == Approx(-0.5 * 4 * 0.6 / 1.09 / 2));
+  CHECK((acceleration(0, 4, 2) - base).y() == Approx(2.0 * 4 * 0.6 / 4.09 / 2));
 }
