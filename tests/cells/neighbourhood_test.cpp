@@ -111,3 +111,38 @@ TEST_CASE("link_range keeps only the k nearest within range, over several steps"
   p.link_range = 0.5;
   CHECK_THROWS_WITH(validate(p), Catch::Matchers::Contains("cells.link_range"));
 }
+
+TEST_CASE("link_range is in rest lengths, and a cell with no neighbour in range keeps no link", "[neighbourhood]") {
+  // a sparse random cloud at a rest length of 2 (range 3 model units): some cells have a few neighbours in
+  // range, some none at all (their nearest one too is dropped); brute force over every pair
+  cellform::core::Rng rng(7);
+  Cells c;
+  for (int i = 0; i < 400; ++i) add_cell(c, Vec3(rng.uniform(0, 60), rng.uniform(0, 60), rng.uniform(-1, 1)));
+  add_cell(c, Vec3(200, 200, 0));  // alone
+  Params p;
+  p.rest_length = 2;
+  p.link_range = 1.5;
+  cellform::core::PointGrid grid;
+  int without = 0, partial = 0;
+  for (int threads : {1, 2}) {
+    update_links(c, p, grid, threads);
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      std::vector<std::pair<double, Index>> all;
+      for (std::size_t j = 0; j < c.size(); ++j)
+        if (j != i) all.push_back({(c.position[j] - c.position[i]).squaredNorm(), static_cast<Index>(j)});
+      std::sort(all.begin(), all.end());
+      int kept = 0;
+      for (int s = 0; s < 6; ++s) {
+        const bool in_range = all[static_cast<std::size_t>(s)].first <= 3.0 * 3.0;
+        kept += in_range;
+        INFO("cell " << i << " slot " << s);
+        REQUIRE(c.links[i * 6 + static_cast<std::size_t>(s)] ==
+                (in_range ? all[static_cast<std::size_t>(s)].second : kNoIndex));
+      }
+      without += kept == 0;
+      partial += kept > 0 && kept < 6;
+    }
+  }
+  CHECK(without >= 2);  // the lone cell, at least, in each pass
+  CHECK(partial > 100);
+}
