@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cells/simulation.h"
+#include "core/random.h"
 #include "tests/fixtures.h"
 
 using namespace cellform::cells;
@@ -118,6 +119,37 @@ TEST_CASE("second ring excludes the cell and its direct neighbours, without dupl
     REQUIRE(dist > 1.5);
     REQUIRE(dist < 2.01);
   }
+}
+
+TEST_CASE("cell_acceleration's separation is Eq. 5 over the reference second ring, on a random sheet", "[forces]") {
+  // cell_acceleration finds the second ring its own faster way (a stamp per cell, kept between cells and
+  // steps); on a random cloud with its k-nearest links, vein chains and some one-way links, it must agree with
+  // second_ring() and separation_kernel() for every cell, the cell itself and its direct neighbours never in
+  // the ring however the cells were visited before
+  cellform::core::Rng rng(3);
+  Cells c;
+  for (int i = 0; i < 600; ++i) add_cell(c, Vec3(rng.uniform(0, 12), rng.uniform(0, 12), rng.uniform(-0.2, 0.2)));
+  Params p;
+  cellform::core::PointGrid grid;
+  update_links(c, p, grid, 1);
+  for (Index i = 1; i < 40; ++i) {  // a vein chain
+    c.type[i] = CellType::vein;
+    c.vein_parent[i] = i - 1;
+  }
+  const VeinChildren vc = vein_children(c);
+  for (auto& w : p.weights) w = ForceWeights{0.0, 0.0, 0.0, 0.7};  // separation alone
+  p.vein_separation_factor = 0;
+  ForceScratch s;
+  std::vector<Index> direct, ring;
+  for (int pass = 0; pass < 2; ++pass)  // the second pass with the stamps the first left
+    for (Index i = 0; i < static_cast<Index>(c.size()); ++i) {
+      direct_neighbours(c, vc, i, direct);
+      second_ring(c, i, direct, ring);
+      const Vec3 expected = 0.7 * separation_kernel(c.position, i, ring);
+      const Vec3 a = cell_acceleration(c, p, vc, i, s);
+      INFO("cell " << i);
+      REQUIRE((a - expected).norm() <= 1e-12 * (1 + expected.norm()));
+    }
 }
 
 TEST_CASE("vein parent and children always count as direct neighbours", "[forces]") {
