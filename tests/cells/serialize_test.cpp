@@ -86,4 +86,19 @@ TEST_CASE("damaged bytes throw FileError naming the source", "[serialize]") {
   CHECK_THROWS_WITH(load(save(wrap), "wrap.bin"), Catch::Matchers::Contains("wrap.bin is corrupt (next cell id"));
   wrap.next_id = std::uint64_t{1} << 62;  // the largest accepted
   CHECK(load(save(wrap), "wrap.bin").next_id == wrap.next_id);
+  // indices one past the end, and an id equal to the next one (which the next cell born would repeat)
+  const auto n = static_cast<Index>(c.size());
+  Cells parent = c;
+  parent.vein_parent[2] = n;
+  CHECK_THROWS_WITH(load(save(parent), "p.bin"), Catch::Matchers::Contains("vein parent out of range"));
+  parent.vein_parent[2] = n - 1;  // the last cell: fine
+  CHECK(load(save(parent), "p.bin").vein_parent[2] == n - 1);
+  Cells link = c;
+  link.links[3] = n;
+  CHECK_THROWS_WITH(load(save(link), "l.bin"), Catch::Matchers::Contains("link out of range"));
+  Cells id = c;
+  id.id[4] = id.next_id;
+  CHECK_THROWS_WITH(load(save(id), "i.bin"), Catch::Matchers::Contains("cell id not below next id"));
+  id.id[4] = id.next_id - 1;
+  CHECK(load(save(id), "i.bin").id[4] == id.next_id - 1);
 }
