@@ -376,6 +376,8 @@ TEST_CASE("bad input is refused with a clear message", "[venation]") {
   CHECK_THROWS_WITH(venation::canalise(c, wide, {}, ws), Contains("venation.radius_scale") && Contains("32-bit"));
   wide.radius_scale = 1e30;  // five cells: 5^(1/3) 1e30
   CHECK_NOTHROW(venation::canalise(c, wide, {}, ws));
+  wide.radius_scale = 2.5e38;  // one cell's flow would fit (2.5e38), the five cells' (4.3e38) not
+  CHECK_THROWS_WITH(venation::canalise(c, wide, {}, ws), Contains("venation.radius_scale") && Contains("32-bit"));
   CHECK(attr(c, venation::kRadius)[0] <= std::numeric_limits<float>::max());
 }
 
@@ -468,6 +470,14 @@ TEST_CASE("canalise matches the reference algorithm with non-integer sources", "
   };
   run_against_oracle(c, p, 50, 2, rule);
   CHECK(std::count(c.type.begin(), c.type.end(), CellType::vein) > 20);  // the promotions were compared too
+  // one strength for all, not a whole number: sums of 0.1 round, so a flow is the running sum the reference
+  // adds up, not 0.1 times the count (the product is taken only where every partial sum is exact)
+  cells::Cells u = grown_sheet(70, 2, 3);
+  venation::Params q;
+  q.source = 0.1;
+  q.threshold = 0.95;
+  run_against_oracle(u, q, 50, 2, {});
+  CHECK(std::count(u.type.begin(), u.type.end(), CellType::vein) > 20);
 }
 
 TEST_CASE("a higher threshold gives fewer vein cells on grown sheets, for each seed", "[venation]") {
