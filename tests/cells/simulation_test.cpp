@@ -121,6 +121,36 @@ TEST_CASE("lengths scale: twice the rest length, positions and radii give twice 
   }
 }
 
+TEST_CASE("the neighbours trigger counts the cells where the step moved them (brute force)", "[simulation]") {
+  // cells thrown about fast between the links' update and the division: a count over the grid of their
+  // places before the move would miss some and count others
+  Params p;
+  p.division.trigger = DivisionTrigger::neighbours;
+  p.division.min_age = 0;
+  p.division.probability = 1;
+  p.division.max_cells = 100000;
+  Simulation sim(p, 9);
+  sim.set_threads(1);
+  sim.cells() = cellform::testing::hex_sheet(14, 14);
+  cellform::core::Rng rng(9);
+  for (Vec3& v : sim.cells().velocity) v = 6.0 * rng.unit_vector();
+  for (int step = 0; step < 3; ++step) {
+    std::size_t expected = 0;
+    const StepReport r = sim.step({}, [&](Cells& c) {
+      expected = 0;
+      for (std::size_t i = 0; i < c.size(); ++i) {
+        int near = 0;
+        for (std::size_t j = 0; j < c.size(); ++j)
+          near += j != i && (c.position[j] - c.position[i]).norm() <= p.division.radius;
+        expected += near < p.division.min_neighbours;
+      }
+    });
+    INFO("step " << step);
+    CHECK(r.divisions == expected);
+    CHECK(expected > 20);
+  }
+}
+
 TEST_CASE("step report, hooks and the spatial reorder", "[simulation]") {
   Simulation sim = make_sim(12, 3, 1);
   const std::size_t n0 = sim.cells().size();
