@@ -272,7 +272,7 @@ TEST_CASE("cells never end inside or pass through a box", "[forms][obstacles]") 
     Cells cells = make_cells(cur, rng);
     const Cells before = cells;
     forms::apply_obstacles(cells, prev, o, margin);
-    int corrected = 0;
+    int corrected = 0, untouched = 0;
     const Vec3 shrink = Vec3::Constant(1e-9);
     for (std::size_t i = 0; i < cells.size(); ++i) {
       const Vec3& p = cells.position[i];
@@ -282,8 +282,15 @@ TEST_CASE("cells never end inside or pass through a box", "[forms][obstacles]") 
         ++corrected;
         CHECK(cells.velocity[i].norm() <= before.velocity[i].norm() + 1e-12);
       }
+      // a move that never reaches the (grown) box is left alone: one leaving it behind, say
+      if (!segment_enters_box(prev[i], cur[i], lo - shrink, hi + shrink)) {
+        ++untouched;
+        REQUIRE(p == before.position[i]);
+        REQUIRE(cells.velocity[i] == before.velocity[i]);
+      }
     }
     CHECK(corrected > 60);
+    CHECK(untouched > 1000);
   }
 }
 
