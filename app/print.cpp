@@ -45,7 +45,7 @@ namespace {
 
 /// Model units: the centre of the bounding box of what is printed when the print would reach more than 2^17
 /// voxels from the origin (a form at site coordinates, say), else zero. There a 32-bit coordinate (the mesher's,
-/// STL's) is coarser than 1/64 of a voxel: a form 196 m out in mm at 0.2 mm voxels (a 32-bit step of 1/13
+/// STL's) is coarser than 1/128 of a voxel: a form 196 m out in mm at 0.2 mm voxels (a 32-bit step of 1/13
 /// voxel) got ten times the triangles, crossing and zero-area ones. The scale is the print's (`print_scale`,
 /// which does not depend on where the form lies), the voxel size the one the print takes: an automatic voxel
 /// raised to fit print.max_memory reaches farther (the plan, made before any voxel, is asked for it). Zero when
@@ -306,7 +306,7 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
     printed["origin_mm"] = {origin.x(), origin.y(), origin.z()};
     err << "cellform: note: print: the form lies " << core::number_text(origin.norm() / 1000)
         << " m from the origin in the print's millimetres, where 32-bit coordinates (the mesher's, STL's) are "
-           "coarser than 1/64 of its "
+           "coarser than 1/128 of its "
         << core::number_text(rep.voxel_size) << " mm voxels; printable.* are written about the form's centre, "
         << core::point_text(origin.x(), origin.y(), origin.z())
         << " mm (run.json's print.origin_mm: add it to lay them over cells.obj and veins.obj times the scale)\n";

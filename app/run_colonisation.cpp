@@ -390,14 +390,15 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     std::vector<std::array<core::Vec3, 3>> shell;
     if (cfg.print) {
       try {
-        segments = vein_segments(tree);
+        if (cfg.print->veins) segments = vein_segments(tree);  // (veins = false: the sheet alone)
         if (cfg.print->shell && sheet)
           shell = exporters::shell_triangles(*sheet, cells::Surface{cells::covering_triangles(*sheet), {}});
         if (segments.empty() && shell.empty() && stopped_before_step && code == ok) {
           err << "cellform: print: skipped: nothing grew before colonisation.max_sources stopped the run (a "
                  "resume with a higher limit prints)\n";
           printed = {{"skipped", "nothing to print: stopped at colonisation.max_sources before anything grew"}};
-        } else if (segments.empty() && code == ok && rep.hit_max_steps && spec.params.max_steps < script_steps) {
+        } else if (cfg.print->veins && segments.empty() && code == ok && rep.hit_max_steps &&
+                   spec.params.max_steps < script_steps) {
           // a quick try (--steps) cut short before a vein grew: not the sheet alone (a flat base may not fit yet)
           printed = {{"skipped", "nothing to print yet at step " + std::to_string(rep.steps) +
                                      " (no vein has grown; the run was cut short at step " +
@@ -406,7 +407,10 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
           err << "cellform: print: skipped: " << printed["skipped"].get<std::string>() << "\n";
         } else if (segments.empty() && shell.empty()) {
           throw NothingToPrint(
-              code == interrupted
+              !cfg.print->veins
+                  ? "print: nothing to print: print.veins = false leaves only the cell sheet, and there is none "
+                    "(print.shell = true with surface{cells = true})"
+              : code == interrupted
                   ? "print: nothing to print: the run was interrupted before anything printable grew"
                   : "print: nothing to print: no vein grew (run longer, raise colonisation.darts, or lower "
                     "colonisation.birth_distance)");

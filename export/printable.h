@@ -65,6 +65,8 @@ struct ThickenParams {
   /// Called on the calling thread with the plan (the report's scale, voxel size and voxel_raised_from,
   /// segments, shell triangles, raised radii, base and height, estimate) once it is made, before any voxel:
   /// notes on it come before the stages, which may take minutes. Empty = none. Does not change the output.
+  /// It may throw to stop there, before any voxel (the exception passes through voxelise() unchanged): a
+  /// caller that needs only the plan (app/print.cpp, the voxel size a memory limit gives) asks it this way.
   std::function<void(const ThickenReport&)> planned;
 };
 

@@ -67,5 +67,5 @@ colonisation {
   murray_exponent = 3, -- n = 3 for the developmental model
 }
 
-output { png = true }  -- veins.png, a preview of veins.svg
 print { formats = "stl" }
+output { png = true }  -- veins.png, a preview of veins.svg

@@ -41,5 +41,5 @@ colonisation {
   node_flow = 0.05,  -- Section 3.5: main veins widened for the veinlets this open pattern leaves out
 }
 
-output { png = true }  -- veins.png, a preview of veins.svg
 print { formats = "stl" }
+output { png = true }  -- veins.png, a preview of veins.svg

@@ -30,5 +30,5 @@ colonisation {
   murray_exponent = 2,
 }
 
-output { png = true }  -- veins.png, a preview of veins.svg
 print { formats = "stl" }
+output { png = true }  -- veins.png, a preview of veins.svg

@@ -2,9 +2,11 @@
 // solid and its checks, print errors, printing again, and prints of a sheet.
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "core/errors.h"
 #include "tests/app/test_util.h"
 
 using namespace cellform::test;
@@ -229,31 +231,34 @@ TEST_CASE("a form far from the origin is printed about its own centre, as cleanl
 }
 
 TEST_CASE("a far form is printed about its centre only if the voxel size the print takes needs it", "[cli][print]") {
-  // the automatic 0.2 mm voxel, raised to 250 mm for print.max_memory, is what the mesher's 32-bit coordinates
-  // must resolve: 2^17 of them reach 32.8 km. Before, the form was moved for the 0.2 mm voxel (26 m), and the
-  // note said that 32-bit coordinates were coarser than 1/64 of its 250 mm voxels 99 m out, which is false
+  // the automatic 0.2 mm voxel, raised for print.max_memory, is what the mesher's 32-bit coordinates must
+  // resolve. Before, the form was moved for the 0.2 mm voxel (beyond 2^17 of them, 26 m), and the note said
+  // that 32-bit coordinates were coarser than a small part of its raised voxels, which was false
   TempDir t("cli-print-far-raised");
-  const auto at = [&](const std::string& x) {
-    const auto script = t.write("far" + x + ".lua", "run { steps = 0 }\ndisc { radius = 4, centre = {" + x +
-                                                        ", 0, 0} }\nprint { shell = true, veins = false, size = "
-                                                        "100000, shell_thickness = 1000, max_memory = 100 }\n");
-    const fs::path out = t.path / ("o" + x);
+  const auto at = [&](long x) {
+    const auto script = t.write("far" + std::to_string(x) + ".lua",
+                                "run { steps = 0 }\ndisc { radius = 4, centre = {" + std::to_string(x) +
+                                    ", 0, 0} }\nprint { shell = true, veins = false, size = "
+                                    "100000, shell_thickness = 1000, max_memory = 100 }\n");
+    const fs::path out = t.path / ("o" + std::to_string(x));
     const auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
     INFO(r.err);
     REQUIRE(r.code == 0);
     return std::pair{nlohmann::json::parse(slurp(out / "run.json"))["print"], r.err};
   };
-  const auto [near, near_err] = at("4");  // 8 model units out, 99 m in the print's mm
-  CHECK(near["voxel_size_mm"] == 250.0);
+  const auto [near, near_err] = at(4);  // reaching 8 model units out
+  const double v = near["voxel_size_mm"].get<double>(), scale = near["scale_mm_per_unit"].get<double>();
   CHECK(near["voxel_raised_from_mm"] == 0.2);
-  CHECK(near["scale_mm_per_unit"] == 12375.0);
+  REQUIRE(8 * scale > 0x1p17 * 0.2);  // beyond 2^17 automatic voxels...
+  REQUIRE(8 * scale < 0x1p17 * v);    // ...but not 2^17 of the raised ones
   CHECK_FALSE(near.contains("origin_mm"));
   CHECK_THAT(near_err, !Contains("about the form's centre"));
-  const auto [far, far_err] = at("3000");  // 37 km: beyond 2^17 voxels of 250 mm
-  CHECK(far["voxel_size_mm"] == 250.0);
+  const auto x = static_cast<long>(std::ceil(0x1p18 * v / scale));  // beyond 2^18 raised voxels: moved
+  const auto [far, far_err] = at(x);
+  CHECK(far["voxel_size_mm"] == v);
   REQUIRE(far.contains("origin_mm"));
-  CHECK(std::abs(far["origin_mm"][0].get<double>() - 3000 * 12375.0) < 12375.0);
-  CHECK_THAT(far_err, Contains("coarser than 1/64 of its 250 mm voxels"));
+  CHECK(std::abs(far["origin_mm"][0].get<double>() - static_cast<double>(x) * scale) < scale);
+  CHECK_THAT(far_err, Contains("coarser than 1/128 of its " + cellform::core::number_text(v) + " mm voxels"));
 }
 
 TEST_CASE("a printed solid with a sealed cavity is warned of, and fill_cavities fills it", "[cli][print]") {

@@ -111,13 +111,12 @@ TEST_CASE("a quick try on a grown sheet ends before any vein: the print of veins
   // examples/ribbed_shell.lua --steps 3: the sheet alone was printed, and its flat base did not fit the flat sheet
   // of so short a try, which failed the run (exit 1)
   TempDir t("cli-col-sheet-try");
-  const auto script =
-      t.write("sheet.lua",
-              "cells { time_step = 0.2, separation = 0.05, drag = {0.8, 0.8, 0.3} }\n"
-              "division { trigger = 'age', age = 6, min_age = 3, probability = 0.5, max_cells = 400 }\n"
-              "run { steps = 60 }\ndisc { radius = 4 }\npetiole { at = {0, -4, 0} }\nsurface { cells = true }\n"
-              "colonisation { kill_distance = 1, birth_distance = 2, darts = 20000 }\n"
-              "print { shell = true, size = 30, flat_base = 2 }\n");
+  const std::string sheet =
+      "cells { time_step = 0.2, separation = 0.05, drag = {0.8, 0.8, 0.3} }\n"
+      "division { trigger = 'age', age = 6, min_age = 3, probability = 0.5, max_cells = 400 }\n"
+      "run { steps = 60 }\ndisc { radius = 4 }\npetiole { at = {0, -4, 0} }\nsurface { cells = true }\n"
+      "colonisation { kill_distance = 1, birth_distance = 2, darts = 20000 }\n";
+  const auto script = t.write("sheet.lua", sheet + "print { shell = true, size = 30, flat_base = 2 }\n");
   const auto r = cli({"run", script.string(), "--out", (t.path / "a").string(), "--steps", "1", "--quiet"});
   INFO(r.err);
   CHECK(r.code == 0);
@@ -125,6 +124,13 @@ TEST_CASE("a quick try on a grown sheet ends before any vein: the print of veins
   const auto j = nlohmann::json::parse(slurp(t.path / "a" / "run.json"));
   CHECK(j["print"].contains("skipped"));
   CHECK(!fs::exists(t.path / "a" / "printable.stl"));
+  // a print of the sheet alone (print.veins = false) has no veins to wait for: made as in a full run
+  const auto alone = t.write("sheet_only.lua", sheet + "print { shell = true, size = 30, veins = false }\n");
+  const auto q = cli({"run", alone.string(), "--out", (t.path / "b").string(), "--steps", "1", "--quiet"});
+  INFO(q.err);
+  CHECK(q.code == 0);
+  CHECK(nlohmann::json::parse(slurp(t.path / "b" / "run.json"))["print"]["segments"] == 0);
+  CHECK(fs::exists(t.path / "b" / "printable.stl"));
 }
 
 TEST_CASE("colonisation.node_flow widens the veins towards the base: each inner node adds its flow (Section 3.5)",
