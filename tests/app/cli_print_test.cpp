@@ -236,11 +236,11 @@ TEST_CASE("a far form is printed about its centre only if the voxel size the pri
   // that 32-bit coordinates were coarser than a small part of its raised voxels, which was false
   TempDir t("cli-print-far-raised");
   const auto at = [&](long x) {
-    const auto script = t.write("far" + std::to_string(x) + ".lua",
-                                "run { steps = 0 }\ndisc { radius = 4, centre = {" + std::to_string(x) +
-                                    ", 0, 0} }\nprint { shell = true, veins = false, size = "
-                                    "100000, shell_thickness = 1000, max_memory = 100 }\n");
-    const fs::path out = t.path / ("o" + std::to_string(x));
+    const std::string name = std::to_string(x);  // (a literal + a temporary string trips g++ 12's -Wrestrict)
+    const auto script = t.write("far" + name + ".lua", "run { steps = 0 }\ndisc { radius = 4, centre = {" + name +
+                                                           ", 0, 0} }\nprint { shell = true, veins = false, size = "
+                                                           "100000, shell_thickness = 1000, max_memory = 100 }\n");
+    const fs::path out = t.path / ("o" + name);
     const auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
     INFO(r.err);
     REQUIRE(r.code == 0);
