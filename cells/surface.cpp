@@ -11,12 +11,7 @@
 
 namespace cellform::cells {
 
-namespace {
-
-/// Whether segments pq and rs cross as the two diagonals of a quad do: their closest points lie inside
-/// both (not at an end) and are nearer each other than a quarter of the shorter (a folded quad still
-/// counts; two edges of a thick clump, far apart, do not).
-bool diagonals_cross(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) {
+bool detail::diagonals_cross(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) {
   const Vec3 d1 = q - p, d2 = s - r, w = p - r;
   const double a = d1.squaredNorm(), b = d1.dot(d2), c = d2.squaredNorm(), d = d1.dot(w), e = d2.dot(w);
   const double den = a * c - b * b;
@@ -26,6 +21,8 @@ bool diagonals_cross(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s)
   const double gap2 = (p + t1 * d1 - (r + t2 * d2)).squaredNorm();
   return gap2 < std::min(a, c) / 16;
 }
+
+namespace {
 
 /// Whether point k lies on segment pq, or close to it (within a quarter of its length, away from its ends):
 /// then the triangle pqk is a sliver lying along the two shorter edges pk and kq.
@@ -101,7 +98,7 @@ std::vector<std::array<Index, 2>> uncrossed(const std::vector<Vec3>& pos,
         const Index l = static_cast<Index>(common[y][0]);
         const auto kl = std::lower_bound(first(k), first(k + 1), Link{l, 0});  // k's row is short and sorted
         if (kl != first(k + 1) && kl->to == l && rank[kl->edge] < rank[e] &&
-            diagonals_cross(pos[i], pos[j], pos[k], pos[l]))
+            detail::diagonals_cross(pos[i], pos[j], pos[k], pos[l]))
           blockers.push_back({kl->edge, kl->edge});
       }
     }

@@ -13,6 +13,11 @@
 
 namespace cellform::cells::detail {
 
+/// Whether segments pq and rs cross as the two diagonals of a quad do: their closest points lie inside
+/// both (not at an end: parameters in (0.02, 0.98)) and are nearer each other than a quarter of the shorter
+/// (a folded quad still counts; two edges of a thick clump, far apart, do not). Parallel segments do not.
+bool diagonals_cross(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s);
+
 /// Whether triangles t1 and t2, which share corner v and no side, lie over each other round v: nearly in
 /// one plane (normals within 35 degrees, either way round) and, seen in t1's plane, their angles at v
 /// overlapping by more than a fifth of the smaller. A sheet of one layer never does; the cliques of a
