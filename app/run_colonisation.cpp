@@ -369,8 +369,10 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     if (cfg.output.png) {  // 3-D patterns are drawn as seen from above (+z), without an outline
       exporters::PngParams png;
       png.size = cfg.output.png_size;
-      png.margin =
-          std::min(png.margin, std::floor(static_cast<double>(png.size) / 8.0));  // small images keep room to draw
+      // the blank border of veins.svg (5 mm round its default 200 mm) in proportion, at least 10 pixels; small
+      // images keep room to draw
+      png.margin = std::min(std::max(png.margin, std::round(static_cast<double>(png.size) * 5.0 / 210.0)),
+                            std::floor(static_cast<double>(png.size) / 8.0));
       exporters::write_vein_png(staging / "veins.png", tree, planar ? col.outline() : venation::Outline{}, png);
       outputs.push_back("veins.png");
     }

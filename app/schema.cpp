@@ -307,7 +307,7 @@ std::vector<Field> build() {
   f.push_back(boolean("print", "shell", "false", "the cell sheet becomes a shell of shell_thickness"));
   f.push_back(num("print", "size", "120", 0, 1e5, true, "mm",
                   "largest extent of the printed form when scale = 0 (of its ideal round members; the mesh lies on "
-                  "chords of them, up to about a voxel less)"));
+                  "chords of them, up to about two voxels less at thin tips and rims)"));
   f.push_back(num("print", "scale", "0", 0, 1e9, false, "mm per model unit", "0 = automatic from size"));
   // lower bounds far below any printer, but not 1e-320 (refused at the end of a run, "inf mm" said, audit)
   f.push_back(num("print", "min_radius", "0.4", 1e-4, 1e3, false, "mm",

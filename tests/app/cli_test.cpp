@@ -81,6 +81,16 @@ TEST_CASE("help, version and usage errors", "[cli]") {
   CHECK_THAT(r.err, Contains("--seed is given twice (3 and 4); give it once"));
   r = cli({"run", "x.lua", "--out", "a", "--out", "b"});
   CHECK_THAT(r.err, Contains("--out is given twice (a and b)"));
+  // two step limits that differ: --steps would win unsaid, and run.json would record the --set as in force
+  for (const char* limit : {"colonisation.max_steps=60", "run.steps=60"}) {
+    r = cli({"run", "x.lua", "--steps", "40", "--set", limit});
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains("--steps 40 and --set " + std::string(limit) + " both give the step limit"));
+  }
+  r = cli({"resume", "o/checkpoint.cfck", "--steps", "40", "--set", "colonisation.max_steps=60"});
+  CHECK_THAT(r.err, Contains("both give the step limit"));
+  r = cli({"run", "x.lua", "--steps", "40", "--set", "colonisation.max_steps=40"});  // the same limit twice
+  CHECK_THAT(r.err, !Contains("both give the step limit"));
   r = cli({"params"});
   CHECK(r.code == 0);
   CHECK_THAT(r.out, Contains("rest_length"));

@@ -194,7 +194,7 @@ TEST_CASE("every Table 1 preset runs small and keeps the paper's parameters", "[
                                     "--set",
                                     std::string("scale=") + p.test_scale,
                                     "--set",
-                                    "output.png_size=256"};  // (veins.png: each preset asks for it)
+                                    "output.png_size=512"};  // (veins.png: each preset asks for it)
       if (*p.extra) args.insert(args.end(), {"--set", p.extra});
       const auto r = cli(args);
       INFO(r.err);
@@ -238,8 +238,14 @@ TEST_CASE("every Table 1 preset runs small and keeps the paper's parameters", "[
       CHECK(fs::file_size(out / "veins.svg") > 0);
       // the PNG preview beside it: the requested size on the longer side, background and veins drawn
       const exporters::Image img = exporters::read_png(out / "veins.png");
-      CHECK(std::max(img.width, img.height) == 256);
+      CHECK(std::max(img.width, img.height) == 512);
       CHECK((img.at(0, 0) & 0xffffff) == exporters::PngParams{}.background);
+      // a blank border as veins.svg has (5 mm of 210): 12 pixels here, on every side, the innermost of which
+      // the outline's antialiased line may touch (it was 10 pixels at any size)
+      for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x)
+          if (std::min({x, y, img.width - 1 - x, img.height - 1 - y}) < 11)
+            REQUIRE((img.at(x, y) & 0xffffff) == exporters::PngParams{}.background);
       // vein pixels: dark green (G 0x3a; antialiased thin veins lighter), unlike blade (0xec) and margin (0x7a)
       CHECK(std::count_if(img.pixels.begin(), img.pixels.end(),
                           [](std::uint32_t px) { return ((px >> 8) & 0xff) < 0x60; }) > 20);

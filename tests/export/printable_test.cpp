@@ -188,8 +188,15 @@ TEST_CASE("automatic scale makes the largest extent 120 mm", "[printable]") {
   ThickenReport rep;
   const auto m = exporters::thicken(y_tree(), {}, p, &rep);
   const auto check = require_printable(m);
-  const Vec3 size = check.bbox_max - check.bbox_min;
-  CHECK(size.maxCoeff() == Approx(120).margin(2 * p.voxel_size));
+  // the ideal round members reach 120 mm; the mesh lies on chords of them, which cost up to about two voxels
+  // at a thin tip or rim (here 0.64 mm at 0.4 mm voxels; print.size documents it), and never add
+  const auto within = [&](const exporters::MeshReport& c) {
+    const double extent = (c.bbox_max - c.bbox_min).maxCoeff();
+    INFO("extent " << extent << " mm, voxel " << p.voxel_size << " mm");
+    CHECK(extent <= 120 + 1e-3);
+    CHECK(extent >= 120 - 2 * p.voxel_size);
+  };
+  within(check);
   CHECK(rep.scale > 1);
 
   // the size counts the form as printed: thin veins raised to min_radius, and the shell's thickness (they
@@ -198,12 +205,12 @@ TEST_CASE("automatic scale makes the largest extent 120 mm", "[printable]") {
   for (Segment& g : thin) g.ra = g.rb = 0.001;
   p.min_radius = 3;
   const auto raised = require_printable(exporters::thicken(thin, {}, p, &rep));
-  CHECK((raised.bbox_max - raised.bbox_min).maxCoeff() == Approx(120).margin(2 * p.voxel_size));
+  within(raised);
   p.min_radius = 0.4;
   p.shell_thickness = 4;
   const std::vector<std::array<Vec3, 3>> sheet = {{Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(0, 5, 0)}};
   const auto slab = require_printable(exporters::thicken({}, sheet, p, &rep));
-  CHECK((slab.bbox_max - slab.bbox_min).maxCoeff() == Approx(120).margin(2 * p.voxel_size));
+  within(slab);
 }
 
 TEST_CASE("a Y-shaped vein tree is one watertight part of genus 0", "[printable]") {
