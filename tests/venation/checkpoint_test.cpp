@@ -338,6 +338,9 @@ TEST_CASE("states refuse other parameters or domains, and corrupt bytes", "[chec
   other = p;
   other.seed = 43;
   CHECK_THROWS_AS(v::Colonisation::load(leaf, other, bytes), core::InvalidInput);
+  other = p;
+  other.settle_steps = p.settle_steps + 1;  // when a quiet pattern ends is part of the run
+  CHECK_THROWS_WITH(v::Colonisation::load(leaf, other, bytes), Contains("colonisation parameters"));
   CHECK_THROWS_WITH(v::Colonisation::load(ovate_leaf(31, 20), p, bytes), Contains("domain"));
   v::Domain d;
   d.kind = v::DomainKind::ball;

@@ -78,3 +78,13 @@ TEST_CASE("compute_widths: the child of the largest flow continues its parent's 
   // at 3 the three tips tie: the first (5) goes on, 6 and 7 are secondary
   CHECK(t.order == std::vector<std::uint32_t>{1, 1, 2, 1, 2, 1, 2, 2});
 }
+
+TEST_CASE("a negative per-node flow is refused", "[colonisation]") {
+  v::VeinTree t;
+  t.positions = {Vec3::Zero(), Vec3(1, 0, 0)};
+  t.parent = {kNoIndex, 0};
+  t.birth_step = {0, 1};
+  v::WidthParams w;
+  w.per_node_flow = -1;
+  CHECK_THROWS_WITH(v::compute_widths(t, w), Catch::Contains("per_node_flow"));
+}

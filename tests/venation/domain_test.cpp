@@ -399,6 +399,9 @@ TEST_CASE("bad 3-D domains and parameters name what is wrong", "[domain]") {
   v::Domain open_mesh = d;
   open_mesh.mesh.triangles.pop_back();
   REQUIRE_THROWS_WITH(v::Colonisation(open_mesh, ok), Contains("domain.volume") && Contains("not closed"));
+  v::Domain doubled = d;  // a face twice: its edges border three triangles each, an even count nowhere
+  doubled.mesh.triangles.push_back(doubled.mesh.triangles[0]);
+  REQUIRE_THROWS_WITH(v::Colonisation(doubled, ok), Contains("not closed") && Contains("borders 3 triangle(s)"));
   v::Domain as_surface = open_mesh;  // an open mesh is a fine surface
   as_surface.kind = v::DomainKind::surface;
   as_surface.initial_nodes = {Vec3(2, 0, 0)};
@@ -414,6 +417,11 @@ TEST_CASE("bad 3-D domains and parameters name what is wrong", "[domain]") {
   outside.initial_nodes.push_back(Vec3(1.5, 1.5, 0));  // |x| + |y| = 3 > 2
   REQUIRE_THROWS_AS(v::Colonisation(outside, ok), core::InvalidInput);
   REQUIRE_THROWS_WITH(v::Colonisation(outside, ok), Contains("domain.initial_nodes[2]"));
+  // the tolerance is relative (1e-6 of the domain's diagonal, 5.7e-6 here): 1e-4 off is outside, 1e-7 not
+  outside.initial_nodes.back() = Vec3(2 + 1e-4, 0, 0);
+  REQUIRE_THROWS_WITH(v::Colonisation(outside, ok), Contains("domain.initial_nodes[2]"));
+  outside.initial_nodes.back() = Vec3(2 + 1e-7, 0, 0);
+  REQUIRE_NOTHROW(v::Colonisation(outside, ok));
   v::Domain off_surface = as_surface;
   off_surface.initial_nodes = {Vec3(0.5, 0, 0)};  // inside, not on the surface
   REQUIRE_THROWS_WITH(v::Colonisation(off_surface, ok), Contains("domain.initial_nodes[1]") && Contains("surface"));

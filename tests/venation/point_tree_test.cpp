@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <limits>
 #include <span>
 
 #include "core/random.h"
@@ -11,8 +12,10 @@
 
 using namespace cellform;
 using core::Index;
+using core::kNoIndex;
 using core::Vec3;
 using venation::PointTree;
+namespace v = cellform::venation;
 using venation::testing::delaunay_brute_force;
 using venation::testing::urquhart_brute_force;
 
@@ -418,4 +421,113 @@ TEST_CASE("PointBatch::nearest reports exact distance ties", "[point_tree]") {
     ties += tie ? 1 : 0;
   }
   CHECK(ties > 50);
+}
+
+TEST_CASE("nearest breaks exact distance ties by index, wherever the tied points lie in the tree", "[point_tree]") {
+  // lattice points and half-lattice queries: many queries are exactly as far from two or more points
+  core::Rng rng(5);
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 400; ++i) pts.emplace_back(std::floor(rng.uniform(0, 30)), std::floor(rng.uniform(0, 30)), 0.0);
+  v::PointTree t;
+  for (const Vec3& q : pts) t.insert(q);
+  std::size_t ties = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3 s(0.5 * std::floor(rng.uniform(0, 60)), 0.5 * std::floor(rng.uniform(0, 60)), 0.0);
+    Index best = kNoIndex;
+    double d2 = 0;
+    REQUIRE(t.nearest(s, best, d2));
+    Index bb = 0;
+    int at_best = 0;
+    for (Index i = 1; i < pts.size(); ++i)
+      if ((pts[i] - s).squaredNorm() < (pts[bb] - s).squaredNorm()) bb = i;
+    for (const Vec3& q : pts) at_best += (q - s).squaredNorm() == (pts[bb] - s).squaredNorm();
+    ties += at_best > 1;
+    INFO("query " << k);
+    REQUIRE(best == bb);
+  }
+  CHECK(ties > 100);
+}
+
+TEST_CASE("a point on the query itself is in the sector mask of its box", "[point_tree]") {
+  const Vec3 s(1.5, -2.25, 0);
+  const unsigned m = v::PointBatch::sector_mask(s, s, s);
+  CHECK((m >> v::PointTree::sector(0.0, 0.0) & 1u));
+  const unsigned m2 = v::PointBatch::sector_mask(s - Vec3(1, 0, 0), s, s);  // a box ending at s
+  CHECK((m2 >> v::PointTree::sector(0.0, 0.0) & 1u));
+}
+
+TEST_CASE("sector bests break exact ties by index (tree and batch)", "[point_tree]") {
+  core::Rng rng(6);
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 400; ++i) pts.emplace_back(std::floor(rng.uniform(0, 30)), std::floor(rng.uniform(0, 30)), 0.0);
+  v::PointTree t;
+  for (const Vec3& q : pts) t.insert(q);
+  v::PointBatch b;
+  b.assign(pts, 0);
+  v::PointTree::Scratch sc;
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3 s(0.5 * std::floor(rng.uniform(0, 60)), 0.5 * std::floor(rng.uniform(0, 60)), 0.0);
+    Index want[6];
+    double wd2[6];
+    for (int j = 0; j < 6; ++j) {
+      want[j] = kNoIndex;
+      wd2[j] = std::numeric_limits<double>::infinity();
+    }
+    for (Index i = 0; i < pts.size(); ++i) {
+      const Vec3 d = pts[i] - s;
+      const int j = v::PointTree::sector(d.x(), d.y());
+      if (d.squaredNorm() < wd2[j]) {
+        wd2[j] = d.squaredNorm();
+        want[j] = i;
+      }
+    }
+    Index merged[6];
+    double md2[6];
+    std::vector<Index> rn;
+    t.relative_neighbourhood(s, rn, sc);
+    REQUIRE(rn == v::testing::relative_neighbourhood_brute_force(pts, s));
+    for (int j = 0; j < 6; ++j) {
+      merged[j] = kNoIndex;
+      md2[j] = std::numeric_limits<double>::infinity();
+    }
+    b.sector_merge(s, merged, md2);
+    INFO("query " << k);
+    for (int j = 0; j < 6; ++j) {
+      REQUIRE(merged[j] == want[j]);
+    }
+  }
+}
+
+TEST_CASE("the closed lune holds a point exactly r from v (Eq. 2)", "[point_tree]") {
+  v::PointTree t;
+  t.insert(Vec3(0, 5, 0));  // v, r = 5
+  t.insert(Vec3(3, 1, 0));  // u: |u - s|^2 = 10, |u - v|^2 = 25 = r^2
+  v::PointTree::Scratch sc;
+  std::vector<Index> out;
+  t.relative_neighbourhood(Vec3::Zero(), out, sc);
+  CHECK(out == std::vector<Index>{1});
+  CHECK(t.lune_occupied(Vec3::Zero(), 0));
+}
+
+TEST_CASE("a box at 60-65 degrees from a nearer point is not pruned from the planar neighbourhood", "[point_tree]") {
+  // p (angle 62 degrees, just farther than u = (1, 0)) is not in u's lune: cos 62 < |u| / (2 |p|)
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 17; ++i) pts.emplace_back(1.0 + 0.1 * i, 0.001 * i, 0.0);
+  for (int i = 0; i < 17; ++i) {
+    const double r = 1.0001 + 0.00002 * i, a = (62.0 + 0.001 * i) * M_PI / 180;
+    pts.emplace_back(r * std::cos(a), r * std::sin(a), 0.0);
+  }
+  for (int build = 0; build < 2; ++build) {
+    v::PointTree t;
+    if (build)
+      t.assign(pts);
+    else
+      for (const Vec3& q : pts) t.insert(q);
+    v::PointTree::Scratch sc;
+    std::vector<Index> out;
+    t.relative_neighbourhood(Vec3::Zero(), out, sc);
+    INFO("build " << build);
+    CHECK(out == v::testing::relative_neighbourhood_brute_force(pts, Vec3::Zero()));
+    CHECK(std::find(out.begin(), out.end(), Index{17}) != out.end());
+  }
 }

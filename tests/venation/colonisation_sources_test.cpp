@@ -1,0 +1,66 @@
+// Tests of venation/colonisation_sources.cpp: the darts' birth tests (b_s against sources, b_v against
+// nodes) and the max_sources ceiling.
+#include "venation/colonisation.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "core/random.h"
+#include "tests/venation/leaf_fixtures.h"
+#include "venation/leaf_shape.h"
+
+using namespace cellform;
+using core::Vec3;
+namespace v = cellform::venation;
+using namespace cellform::test;
+
+TEST_CASE("darts test b_s against sources and b_v against nodes, when they differ", "[colonisation]") {
+  const v::Leaf leaf = ellipse_leaf(80, 60);
+  const v::OutlineIndex blade(leaf.outline);
+  for (auto [bs, bv] : {std::pair{5.0, 3.0}, std::pair{3.0, 5.0}}) {
+    v::ColonisationParams p = params(v::VenationType::open, 1);
+    p.source_birth_distance = bs;
+    p.vein_birth_distance = bv;
+    p.darts_per_area = 0.5;
+    v::Colonisation sim(leaf, p);
+    core::Rng rng(p.seed);
+    std::vector<Vec3> expect;
+    for (int step = 0; step < 2; ++step) {
+      const std::vector<Vec3> nodes = sim.tree().positions;
+      const double expected = p.darts_per_area * blade.area();
+      auto count = static_cast<std::size_t>(std::floor(expected));
+      if (rng.uniform() < expected - std::floor(expected)) ++count;
+      for (std::size_t d = 0; d < count; ++d) {
+        Vec3 q;
+        do q = Vec3(rng.uniform(blade.lo().x(), blade.hi().x()), rng.uniform(blade.lo().y(), blade.hi().y()), 0.0);
+        while (!blade.contains(v::Vec2(q.x(), q.y())));
+        bool ok = true;
+        for (const Vec3& s : expect) ok = ok && (s - q).norm() > bs;
+        for (const Vec3& n : nodes) ok = ok && (n - q).norm() > bv;
+        if (ok) expect.push_back(q);
+      }
+      sim.step();
+      INFO("b_s " << bs << " b_v " << bv << " step " << step + 1);
+      REQUIRE(sim.sources() == expect);
+    }
+  }
+}
+
+TEST_CASE("max_sources is a ceiling: a step that would leave one more waiting is not taken", "[colonisation]") {
+  v::ColonisationParams p = params(v::VenationType::closed, 1, 2);
+  p.darts_per_area = 0.2;
+  const v::Leaf leaf = ellipse_leaf(60, 40, v::ShapeKind::ovate);
+  v::Colonisation whole(leaf, p);
+  const std::size_t first_step = whole.step().sources;
+  REQUIRE(first_step > 40);
+  for (std::size_t limit : {first_step - 1, first_step}) {
+    v::ColonisationParams cut = p;
+    cut.max_sources = limit;
+    v::Colonisation c(leaf, cut);
+    const v::ColonisationReport& r = c.step();
+    INFO("limit " << limit << " of " << first_step);
+    CHECK(r.hit_max_sources);
+    CHECK(c.sources().size() <= limit);
+    CHECK(r.steps == (limit == first_step ? 1u : 0u));
+  }
+}
