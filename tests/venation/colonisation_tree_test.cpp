@@ -40,6 +40,9 @@ TEST_CASE("with_stems joins each root to its anchor where they differ, keeping p
   CHECK(w.flow[0] == Approx(w.flow[2]));
   // anchors within min_length add nothing; the anchors must be one per root
   CHECK(v::with_stems(t, {Vec3(0, 0, 0), Vec3(5, 0, 1e-12)}, 1e-9).size() == t.size());
+  // "more than min_length apart": an anchor exactly min_length away adds nothing
+  CHECK(v::with_stems(t, {Vec3(0, 0, 0), Vec3(5, 0, -1.5)}, 1.5).size() == t.size());
+  CHECK(v::with_stems(t, {Vec3(0, 0, 0), Vec3(5, 0, -1.5)}, 1.25).size() == t.size() + 1);
   CHECK_THROWS_WITH(v::with_stems(t, {Vec3(0, 0, 0)}, 1e-9), Contains("1 anchors for 2 roots"));
 }
 

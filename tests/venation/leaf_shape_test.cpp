@@ -176,6 +176,22 @@ TEST_CASE("OutlineIndex agrees with a plain crossing test", "[leaf_shape]") {
   CHECK(inside > 100);
 }
 
+TEST_CASE("a point on a vertical edge of the outline is inside on the left edge, outside on the right",
+          "[leaf_shape]") {
+  // the crossing rule is half-open, so a point on an edge two blades share belongs to exactly one of them
+  const Outline left{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}}, right{{{1, 0}, {2, 0}, {2, 1}, {1, 1}}};
+  for (bool grid : {false, true}) {
+    const venation::OutlineIndex a(left, grid), b(right, grid);
+    for (double y : {0.25, 0.5, 0.75}) {
+      INFO("grid " << grid << ", y " << y);
+      CHECK(a.contains(Vec2(0, y)));
+      CHECK_FALSE(a.contains(Vec2(1, y)));
+      CHECK(b.contains(Vec2(1, y)));  // the shared edge: in the right-hand blade only
+      CHECK(a.crossing_test(Vec2(0, y)) == a.contains(Vec2(0, y)));
+    }
+  }
+}
+
 TEST_CASE("OutlineIndex's grid gives the crossing test's answer everywhere, at the margin too", "[leaf_shape]") {
   // the grid answers from a cell's class, the crossing test from the edges: they must agree bit for bit,
   // on random points, on points a hair from every vertex and edge, and on outlines of any size and place
