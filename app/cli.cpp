@@ -267,18 +267,6 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
         positional.push_back(a);
       }
     }
-    // two step limits at once: --steps would win for this command, and the --set, recorded in run.json's
-    // overrides, would look in force though a later plain resume keeps the checkpoint's limit
-    if (o.steps)
-      for (const std::string name : {"run.steps", "colonisation.max_steps"})  // (resume refuses run.steps itself)
-        if (const auto set = o.sets.find(name); set != o.sets.end() && (cmd == "run" || name != "run.steps")) {
-          double x = 0;
-          const std::string& v = set->second;
-          const auto [end, bad] = std::from_chars(v.data(), v.data() + v.size(), x);
-          if (bad == std::errc() && end == v.data() + v.size() && x != static_cast<double>(*o.steps))
-            throw UsageError("--steps " + std::to_string(*o.steps) + " and --set " + name + "=" + v +
-                             " both give the step limit; give one of them");
-        }
     if (positional.size() != 1)
       throw UsageError(cmd == "run" ? "cellform run takes one SCRIPT (see cellform run --help)"
                                     : "cellform resume takes one CHECKPOINT (see cellform run --help)");

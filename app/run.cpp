@@ -102,8 +102,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     s = start_from(o);
     host.accept_digit_booleans(s.digit_booleans);
     const bool colonisation_checkpoint = !s.colonisation_bytes.empty() || s.sheet_partial;
-    try {
-      // resume --script: the run's own --sets that the edited script has no parameter for are dropped
+    try {  // resume --script: the run's own --sets that the edited script has no parameter for are dropped
       std::set<std::string> may_go_unused;
       if (s.script_replaced)
         for (const auto& [k, v] : s.checkpoint_sets)
@@ -170,6 +169,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                                                                 "describes a ")) +
                                (cfg.colonisation ? "space-colonisation" : "cell") + " run");
     adopt_mesh_files(s, o, cfg, err);
+    refuse_two_step_limits(s, o, cfg);
     seed = s.seed ? *s.seed : cfg.seed;
     host.set_seed(seed);  // math.random in rules: from the seed and the step
     if (cfg.resolved.contains("run")) cfg.resolved["run"]["seed"] = seed;  // run.json: the seed used (--seed too)

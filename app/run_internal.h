@@ -129,6 +129,10 @@ void adopt_mesh_files(Start& s, const RunOptions& o, const SceneConfig& cfg, std
 
 void adopt_max_steps(Start& s, const RunOptions& o, const SceneConfig& cfg);
 
+/// Refuses --steps N beside a --set of the step limit (run.steps where cells grow, colonisation.max_steps) to
+/// another value: --steps would win unsaid, and run.json's overrides would show the --set as in force.
+void refuse_two_step_limits(const Start& s, const RunOptions& o, const SceneConfig& cfg);
+
 /// resume --script, once the edited script is read into `cfg`: reads the run's own script again to record
 /// its values as the run used them (s.replaced_parameters), warns on `err` of shapes and petioles the
 /// edited script changes that will not be placed, and keeps the run's target unless run.steps changed.

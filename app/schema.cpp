@@ -36,8 +36,10 @@ Field text(const char* s, const char* n, const char* def, const char* doc) {
 std::vector<Field> build() {
   std::vector<Field> f;
   // run{}
-  f.push_back(integer("run", "steps", "200", 0, 1e9, "steps",
-                      "cell steps to simulate (--steps overrides); space colonisation uses colonisation.max_steps"));
+  f.push_back(
+      integer("run", "steps", "200", 0, 1e9, "steps",
+              "cell steps to simulate (--steps overrides; a --set of another value beside it is refused); space "
+              "colonisation uses colonisation.max_steps"));
   // 2^53: every whole number up to it is exact in Lua's numbers (a larger literal would round to another)
   f.push_back(integer("run", "seed", "1", 0, 9007199254740992.0, "", "seed of every random choice (--seed overrides)"));
   f.push_back(

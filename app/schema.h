@@ -1,6 +1,7 @@
 // The script API's parameters: one table gives names, types, defaults, ranges, units and docs.
 #pragma once
 
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -57,5 +58,21 @@ std::string schema_markdown();
 
 /// "0 <= x <= 1"-style description of a field's allowed values.
 std::string allowed_text(const Field& f);
+
+/// `s` without leading and trailing spaces and tabs.
+inline std::string trim(const std::string& s) {
+  const auto a = s.find_first_not_of(" \t");
+  const auto b = s.find_last_not_of(" \t");
+  return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
+}
+
+/// A --set value read as a number, as every --set of a number is (spaces around it allowed, strtod's forms).
+inline bool parse_double(const std::string& text, double& out) {
+  const std::string t = trim(text);
+  if (t.empty()) return false;
+  char* end = nullptr;
+  out = std::strtod(t.c_str(), &end);
+  return end == t.c_str() + t.size();
+}
 
 }  // namespace cellform::app

@@ -52,20 +52,6 @@ struct ShapeCall {
   std::string where;
 };
 
-inline std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t");
-  const auto b = s.find_last_not_of(" \t");
-  return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
-}
-
-inline bool parse_double(const std::string& text, double& out) {
-  const std::string t = trim(text);
-  if (t.empty()) return false;
-  char* end = nullptr;
-  out = std::strtod(t.c_str(), &end);
-  return end == t.c_str() + t.size();
-}
-
 struct ScriptHost::Impl {
   lua_State* L = nullptr;
   ScriptLimits limits;

@@ -108,11 +108,11 @@ class PreparedObstacles {
 ///   solid, or below a ground plane, is moved to the nearest point of the surface;
 /// - solids count as grown by `margin`: cells end at least `margin` model units away from them;
 /// - the velocity component into the obstacle is removed.
-/// Corrections repeat until no constraint is violated (a few passes); a cell that came from outside the
-/// solids and cannot be placed (wedged between obstacles), or whose correction would cross a mesh (a solid's
-/// nearest way out lying beyond a mesh wall), returns to its previous position with zero velocity. A cell
-/// that was already inside (overlapping solids push it back and forth) keeps the passes' progress and
-/// leaves over the next steps. Fixed cells are untouched.
+/// Corrections repeat until no constraint is violated (a few passes). A cell whose correction would cross a
+/// mesh (a solid's nearest way out lying beyond a mesh wall) returns to its previous position with zero
+/// velocity; so does a cell that came from outside the solids and cannot be placed (wedged between
+/// obstacles), while one that was already inside (overlapping solids push it back and forth) keeps the
+/// passes' progress and leaves over the next steps. Fixed cells are untouched.
 /// Each cell writes only its own slot: any thread count (0 = all cores) gives identical results.
 /// `margin`: model units, >= 0. Throws core::InvalidInput for a bad obstacle, a negative margin or a
 /// previous_positions of the wrong size.

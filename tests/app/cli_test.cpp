@@ -81,16 +81,6 @@ TEST_CASE("help, version and usage errors", "[cli]") {
   CHECK_THAT(r.err, Contains("--seed is given twice (3 and 4); give it once"));
   r = cli({"run", "x.lua", "--out", "a", "--out", "b"});
   CHECK_THAT(r.err, Contains("--out is given twice (a and b)"));
-  // two step limits that differ: --steps would win unsaid, and run.json would record the --set as in force
-  for (const char* limit : {"colonisation.max_steps=60", "run.steps=60"}) {
-    r = cli({"run", "x.lua", "--steps", "40", "--set", limit});
-    CHECK(r.code == 2);
-    CHECK_THAT(r.err, Contains("--steps 40 and --set " + std::string(limit) + " both give the step limit"));
-  }
-  r = cli({"resume", "o/checkpoint.cfck", "--steps", "40", "--set", "colonisation.max_steps=60"});
-  CHECK_THAT(r.err, Contains("both give the step limit"));
-  r = cli({"run", "x.lua", "--steps", "40", "--set", "colonisation.max_steps=40"});  // the same limit twice
-  CHECK_THAT(r.err, !Contains("both give the step limit"));
   r = cli({"params"});
   CHECK(r.code == 0);
   CHECK_THAT(r.out, Contains("rest_length"));
@@ -258,6 +248,35 @@ TEST_CASE("run.json names the script by its full path when it was given relative
   const auto run = nlohmann::json::parse(slurp(t.path / "o" / "run.json"));
   CHECK(fs::equivalent(run["script"]["path"].get<std::string>(), t.path / "small.lua"));
   CHECK(fs::path(run["script"]["path"].get<std::string>()).is_absolute());
+}
+
+TEST_CASE("a step limit given twice (by --steps and by a --set of another value) is refused", "[cli]") {
+  // --steps would win unsaid, and run.json's overrides would show the --set as in force; a later plain resume
+  // keeps the checkpoint's limit, not the --set's
+  TempDir t("cli-two-limits");
+  const auto cells = t.write("cells.lua", kSmall), veins = t.write("veins.lua", kSmallVeins);
+  const std::string out = (t.path / "o").string(), vout = (t.path / "v").string();
+  auto refused = [](const CliResult& r, const std::string& set) {
+    INFO(r.err);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains("--steps 4 and --set " + set + " both give the step limit; give one of them"));
+    CHECK(r.err.find('\n') == r.err.size() - 1);  // one line
+  };
+  for (const char* v : {"6", "+6", " 6", "6e0"})  // read as every --set of a number is
+    refused(cli({"run", cells.string(), "--out", out, "--steps", "4", "--set", std::string("run.steps=") + v}),
+            std::string("run.steps=") + v);
+  refused(cli({"run", veins.string(), "--out", vout, "--steps", "4", "--set", "colonisation.max_steps=6"}),
+          "colonisation.max_steps=6");
+  CHECK_FALSE(fs::exists(out));
+  // the same value twice is one limit; a cell run's colonisation.max_steps is refused for what it is
+  REQUIRE(cli({"run", cells.string(), "--out", out, "--steps", "4", "--set", "run.steps= 4.0", "-q"}).code == 0);
+  REQUIRE(cli({"run", veins.string(), "--out", vout, "--steps", "4", "--set", "colonisation.max_steps=4", "-q"}).code ==
+          0);
+  const auto other = cli({"run", cells.string(), "--out", out, "--steps", "4", "--set", "colonisation.max_steps=6"});
+  CHECK_THAT(other.err, !Contains("both give the step limit") && Contains("colonisation"));
+  // resumes: a colonisation's limit, and a cell run's run.steps under --script (a plain resume refuses it itself)
+  refused(cli({"resume", vout, "--steps", "4", "--set", "colonisation.max_steps=6"}), "colonisation.max_steps=6");
+  refused(cli({"resume", out, "--script", cells.string(), "--steps", "4", "--set", "run.steps=6"}), "run.steps=6");
 }
 
 TEST_CASE("a run writes outputs and a run.json that reproduces it", "[cli]") {

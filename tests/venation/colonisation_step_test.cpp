@@ -34,7 +34,8 @@ struct Key {
 TEST_CASE("pulls that nearly cancel (|sum| < 1e-9) grow towards the nearest source", "[colonisation]") {
   v::Leaf leaf = ellipse_leaf(20, 20);
   leaf.initial_nodes = {{0, 10}};
-  leaf.initial_sources = {{-5, 10}, {5, 10 + 1e-11}};  // unit pulls sum to (0, 2e-12)
+  // unit pulls sum to (0, 1.7e-12); the nearer source is listed second, so neither the first nor the last wins
+  leaf.initial_sources = {{6, 10 + 1e-11}, {-5, 10}};
   for (v::VenationType type : {v::VenationType::open, v::VenationType::closed}) {
     v::ColonisationParams p = params(type, 1);
     p.darts_per_area = 0;
@@ -179,7 +180,8 @@ TEST_CASE("3-D pulls that cancel grow towards the nearest source that pulls the 
   d.box_min = Vec3::Zero();
   d.box_max = Vec3::Constant(20);
   d.initial_nodes = {{10, 10, 10}, {10, 10, 14}};
-  d.initial_sources = {{5, 10, 10}, {15, 10, 10}, {10, 10, 12.6}};  // the third is nearer v but pulls w
+  // the first two pull v = (10, 10, 10) apart exactly, the nearer listed second; the third is nearer v but pulls w
+  d.initial_sources = {{16, 10, 10}, {5, 10, 10}, {10, 10, 12.6}};
   v::ColonisationParams p = params(v::VenationType::open, 1);
   p.darts_per_area = 0;
   v::Colonisation c(d, p);

@@ -89,5 +89,5 @@ TEST_CASE("a negative per-node flow is refused", "[colonisation]") {
   t.birth_step = {0, 1};
   v::WidthParams w;
   w.per_node_flow = -1;
-  CHECK_THROWS_WITH(v::compute_widths(t, w), Catch::Contains("per_node_flow"));
+  CHECK_THROWS_WITH(v::compute_widths(t, w), Contains("per_node_flow"));
 }

@@ -399,7 +399,7 @@ TEST_CASE("bad 3-D domains and parameters name what is wrong", "[domain]") {
   v::Domain open_mesh = d;
   open_mesh.mesh.triangles.pop_back();
   REQUIRE_THROWS_WITH(v::Colonisation(open_mesh, ok), Contains("domain.volume") && Contains("not closed"));
-  v::Domain doubled = d;  // a face twice: its edges border three triangles each, an even count nowhere
+  v::Domain doubled = d;  // a face twice: its three edges border three triangles each, an odd count
   doubled.mesh.triangles.push_back(doubled.mesh.triangles[0]);
   REQUIRE_THROWS_WITH(v::Colonisation(doubled, ok), Contains("not closed") && Contains("borders 3 triangle(s)"));
   v::Domain as_surface = open_mesh;  // an open mesh is a fine surface
@@ -417,11 +417,20 @@ TEST_CASE("bad 3-D domains and parameters name what is wrong", "[domain]") {
   outside.initial_nodes.push_back(Vec3(1.5, 1.5, 0));  // |x| + |y| = 3 > 2
   REQUIRE_THROWS_AS(v::Colonisation(outside, ok), core::InvalidInput);
   REQUIRE_THROWS_WITH(v::Colonisation(outside, ok), Contains("domain.initial_nodes[2]"));
-  // the tolerance is relative (1e-6 of the domain's diagonal, 5.7e-6 here): 1e-4 off is outside, 1e-7 not
+  // the tolerance is relative (1e-6 of the domain's diagonal, 6.9e-6 here): 1e-4 off is outside, 1e-7 not; in
+  // the same octahedron 1000 times larger, 5e-3 off is not
   outside.initial_nodes.back() = Vec3(2 + 1e-4, 0, 0);
   REQUIRE_THROWS_WITH(v::Colonisation(outside, ok), Contains("domain.initial_nodes[2]"));
   outside.initial_nodes.back() = Vec3(2 + 1e-7, 0, 0);
   REQUIRE_NOTHROW(v::Colonisation(outside, ok));
+  v::Domain large = d;
+  large.mesh = octahedron(2000);
+  large.initial_nodes = {Vec3::Zero(), Vec3(2000 + 5e-3, 0, 0)};
+  v::ColonisationParams large_params = ok;
+  large_params.node_distance = large_params.kill_distance = 100;
+  large_params.source_birth_distance = large_params.vein_birth_distance = 200;
+  large_params.darts_per_area = 1e-9;
+  REQUIRE_NOTHROW(v::Colonisation(large, large_params));
   v::Domain off_surface = as_surface;
   off_surface.initial_nodes = {Vec3(0.5, 0, 0)};  // inside, not on the surface
   REQUIRE_THROWS_WITH(v::Colonisation(off_surface, ok), Contains("domain.initial_nodes[1]") && Contains("surface"));
