@@ -1,6 +1,6 @@
 // Tests of the rules of a space-colonisation step (venation/colonisation.cpp) against hand-worked cases and
-// a brute-force oracle: pulls that cancel, the kill distance, the tags of closed sources, ties across sector
-// boundaries, Urquhart's neighbours.
+// a brute-force oracle: pulls that cancel, the kill distance, the tags of closed sources, Urquhart's neighbours
+// (ties across a sector boundary: the mirror-image test in colonisation_test.cpp).
 #include "venation/colonisation.h"
 
 #include <algorithm>
@@ -132,28 +132,6 @@ TEST_CASE("closed sources go when every tagged vein reached them or left their n
     INFO("tags passed " << passed);
     CHECK(passed > 20);
     CHECK((c.report().finished || c.report().stalled));
-  }
-}
-
-TEST_CASE("mirror-image nodes in the two sectors beside a sector boundary exclude each other", "[colonisation]") {
-  // as the mirror test in colonisation_test.cpp, turned a quarter: the mirror line y = 50 through the
-  // source (0, 50) is the boundary of sectors 2 and 3, so each pair of new nodes ties across sectors
-  v::Leaf leaf = ellipse_leaf(100, 100);
-  leaf.initial_nodes = {{-30, 47}, {-30, 53}};
-  leaf.initial_sources = {{-10, 47}, {-10, 53}, {0, 50}};
-  for (bool lazy : {false, true}) {
-    INFO("lazy sectors " << lazy);
-    v::ColonisationParams p = params(v::VenationType::closed, 1);
-    p.darts_per_area = 0;
-    p.lazy_sectors = lazy;
-    v::Colonisation c(leaf, p);
-    for (int i = 0; i < 5; ++i) c.step();
-    const v::VeinTree t = c.tree();
-    REQUIRE(t.size() == 12);
-    for (std::size_t i = 0; i < t.size(); ++i) {
-      CHECK(std::abs(t.positions[i].y() - 50) == 3);
-      CHECK(t.positions[i].x() == -30 + static_cast<double>(i / 2));
-    }
   }
 }
 

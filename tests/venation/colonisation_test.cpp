@@ -482,24 +482,34 @@ TEST_CASE("mirror-image nodes exactly as far from a source exclude each other (E
   // Two veins climb x = -3 and x = 3 towards their own sources; a third source on the axis sees each
   // pair of new nodes at exactly the same distance, in the same sector. Each lies in the other's lune,
   // so that source influences neither and the veins stay straight (a sector update that missed the tie
-  // would bend the first vein towards it).
-  v::Leaf leaf = ellipse_leaf(100, 100);
-  leaf.initial_nodes = {{-3, 20}, {3, 20}};
-  leaf.initial_sources = {{-3, 24.5}, {3, 24.5}, {0, 50}};
-  for (bool lazy : {false, true}) {
-    INFO("lazy sectors " << lazy);
-    v::ColonisationParams p = params(v::VenationType::closed, 1);
-    p.darts_per_area = 0;
-    p.lazy_sectors = lazy;
-    v::Colonisation c(leaf, p);
-    for (int i = 0; i < 3; ++i) c.step();
-    const v::VeinTree t = c.tree();
-    REQUIRE(t.size() == 8);  // 2 + 2 per step
-    for (std::size_t i = 0; i < t.size(); ++i) {
-      CHECK(std::abs(t.positions[i].x()) == 3);
-      CHECK(t.positions[i].y() == 20 + static_cast<double>(i / 2));
+  // would bend the first vein towards it). Turned a quarter (veins along y = 47 and y = 53 towards x, the
+  // source at (0, 50)), the mirror line is the boundary of sectors 2 and 3, and each pair ties across sectors.
+  struct Case {
+    std::vector<v::Vec2> nodes, sources;
+    int steps;
+    bool up;  // the veins climb in y
+  };
+  for (const Case& k : {Case{{{-3, 20}, {3, 20}}, {{-3, 24.5}, {3, 24.5}, {0, 50}}, 3, true},
+                        Case{{{-30, 47}, {-30, 53}}, {{-10, 47}, {-10, 53}, {0, 50}}, 5, false}})
+    for (bool lazy : {false, true}) {
+      INFO("veins climb in " << (k.up ? "y" : "x") << ", lazy sectors " << lazy);
+      v::Leaf leaf = ellipse_leaf(100, 100);
+      leaf.initial_nodes = k.nodes;
+      leaf.initial_sources = k.sources;
+      v::ColonisationParams p = params(v::VenationType::closed, 1);
+      p.darts_per_area = 0;
+      p.lazy_sectors = lazy;
+      v::Colonisation c(leaf, p);
+      for (int i = 0; i < k.steps; ++i) c.step();
+      const v::VeinTree t = c.tree();
+      REQUIRE(t.size() == 2 + 2 * static_cast<std::size_t>(k.steps));  // 2 + 2 per step
+      for (std::size_t i = 0; i < t.size(); ++i) {
+        const double across = k.up ? std::abs(t.positions[i].x()) : std::abs(t.positions[i].y() - 50);
+        const double along = k.up ? t.positions[i].y() - 20 : t.positions[i].x() + 30;
+        CHECK(across == 3);
+        CHECK(along == static_cast<double>(i / 2));
+      }
     }
-  }
 }
 
 TEST_CASE("growing leaves never lay a vein segment along another (a plotter would draw it twice)", "[colonisation]") {

@@ -423,16 +423,31 @@ TEST_CASE("PointBatch::nearest reports exact distance ties", "[point_tree]") {
   CHECK(ties > 50);
 }
 
+namespace {
+
+/// 400 points of the integer lattice in [0, 30)^2 (repeats among them): with half_lattice_point() queries,
+/// many exact distance ties.
+std::vector<Vec3> lattice_points(core::Rng& rng) {
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 400; ++i) pts.emplace_back(std::floor(rng.uniform(0, 30)), std::floor(rng.uniform(0, 30)), 0.0);
+  return pts;
+}
+
+Vec3 half_lattice_point(core::Rng& rng) {
+  return Vec3(0.5 * std::floor(rng.uniform(0, 60)), 0.5 * std::floor(rng.uniform(0, 60)), 0.0);
+}
+
+}  // namespace
+
 TEST_CASE("nearest breaks exact distance ties by index, wherever the tied points lie in the tree", "[point_tree]") {
   // lattice points and half-lattice queries: many queries are exactly as far from two or more points
   core::Rng rng(5);
-  std::vector<Vec3> pts;
-  for (int i = 0; i < 400; ++i) pts.emplace_back(std::floor(rng.uniform(0, 30)), std::floor(rng.uniform(0, 30)), 0.0);
+  const std::vector<Vec3> pts = lattice_points(rng);
   v::PointTree t;
   for (const Vec3& q : pts) t.insert(q);
   std::size_t ties = 0;
   for (int k = 0; k < 2000; ++k) {
-    const Vec3 s(0.5 * std::floor(rng.uniform(0, 60)), 0.5 * std::floor(rng.uniform(0, 60)), 0.0);
+    const Vec3 s = half_lattice_point(rng);
     Index best = kNoIndex;
     double d2 = 0;
     REQUIRE(t.nearest(s, best, d2));
@@ -458,15 +473,14 @@ TEST_CASE("a point on the query itself is in the sector mask of its box", "[poin
 
 TEST_CASE("sector bests break exact ties by index (tree and batch)", "[point_tree]") {
   core::Rng rng(6);
-  std::vector<Vec3> pts;
-  for (int i = 0; i < 400; ++i) pts.emplace_back(std::floor(rng.uniform(0, 30)), std::floor(rng.uniform(0, 30)), 0.0);
+  const std::vector<Vec3> pts = lattice_points(rng);
   v::PointTree t;
   for (const Vec3& q : pts) t.insert(q);
   v::PointBatch b;
   b.assign(pts, 0);
   v::PointTree::Scratch sc;
   for (int k = 0; k < 2000; ++k) {
-    const Vec3 s(0.5 * std::floor(rng.uniform(0, 60)), 0.5 * std::floor(rng.uniform(0, 60)), 0.0);
+    const Vec3 s = half_lattice_point(rng);
     Index want[6];
     double wd2[6];
     for (int j = 0; j < 6; ++j) {
