@@ -544,3 +544,15 @@ TEST_CASE("control bytes from a damaged file reach the terminal escaped", "[cli]
   CHECK_THAT(said, Contains("bad.stl") && Contains("facet \\x1b[2J normal"));
   CHECK(said.find('\x1b') == std::string::npos);
 }
+
+TEST_CASE("option values just past their ranges are refused", "[cli]") {
+  auto r = cli({"run", "x.lua", "--threads", "257"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--threads takes a whole number from 0 to 256, got '257'"));
+  r = cli({"check", "x.stl", "--min-wall", "0"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--min-wall must be a thickness > 0"));
+  r = cli({"run", "x.lua", "--set", "=5"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--set takes NAME=VALUE, got '=5'"));
+}

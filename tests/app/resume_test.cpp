@@ -282,6 +282,9 @@ TEST_CASE("resume refuses to go back in steps or to change the seed, leaving the
     const CliResult back = cli({"resume", ck.string(), "--steps", "4", "--quiet"});
     CHECK(back.code == 2);
     CHECK_THAT(back.err, Contains("is at step 6; --steps 4 would go back"));
+    const CliResult one_back = cli({"resume", ck.string(), "--steps", "5", "--quiet"});  // one step back too
+    CHECK(one_back.code == 2);
+    CHECK_THAT(one_back.err, Contains("is at step 6; --steps 5 would go back"));
     const CliResult seed = cli({"resume", ck.string(), "--seed", "99", "--quiet"});
     CHECK(seed.code == 2);
     CHECK_THAT(seed.err, Contains("--seed 99: a resumed run keeps the seed of"));
@@ -290,7 +293,7 @@ TEST_CASE("resume refuses to go back in steps or to change the seed, leaving the
   }
   // a cell run's physics stay as saved; what it writes may change
   const fs::path ck = t.path / "small" / "checkpoint.cfck";
-  for (const char* set : {"cells.spring=2", "size=100", "run.seed=5"}) {
+  for (const char* set : {"cells.spring=2", "size=100", "run.seed=5", "division.age=3"}) {
     const CliResult physics = cli({"resume", ck.string(), "--set", set, "--quiet", "--steps", "8"});
     CHECK(physics.code == 2);
     CHECK_THAT(physics.err, Contains(std::string("--set ") + set) && Contains("only output.* and print.* may change"));

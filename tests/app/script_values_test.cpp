@@ -151,3 +151,27 @@ TEST_CASE("a knob's name is one --set can give, and no section's parameter's", "
   // a dotted name of no parameter stays (older scripts may have them)
   CHECK_NOTHROW(load("local P = params { _size2 = 2, Size = 3, ['my.size'] = 4 }\ndisc { radius = 2 }\n"));
 }
+
+TEST_CASE("a division.direction that names no choice is refused, with the nearest choice", "[script]") {
+  CHECK_THAT(load_error("disc { radius = 2 }\ndivision { direction = 'tangnet' }\n"),
+             Contains(":2: division.direction must be one of \"random\"") && Contains("did you mean \"tangent\"?"));
+  CHECK_THAT(load_error("disc { radius = 2 }\ndivision {}\n", {{"division.direction", "radiall"}}),
+             Contains("--set division.direction=radiall: division.direction must be one of"));
+}
+
+TEST_CASE("a --set vector needs three numbers", "[script]") {
+  CHECK_THAT(load_error("disc { radius = 2 }\ncells {}\n", {{"cells.unary", "0,-1"}}),
+             Contains("--set cells.unary=0,-1: cells.unary must be {x, y, z}") && Contains("--set cells.unary=X,Y,Z"));
+}
+
+TEST_CASE("print.formats naming no format is refused", "[script]") {
+  CHECK_THAT(load_error("disc { radius = 2 }\nvenation {}\nprint { formats = ' , ' }\n"),
+             Contains(":3: print.formats must name at least one of stl, obj, ply, scad, vdb"));
+  CHECK_THAT(load_error("disc { radius = 2 }\nvenation {}\nprint {}\n", {{"print.formats", ","}}),
+             Contains("--set print.formats=,: print.formats must name at least one"));
+}
+
+TEST_CASE("a zero division.axis is refused at its line", "[script]") {
+  CHECK_THAT(load_error("disc { radius = 2 }\ndivision { direction = 'axis', axis = {0, 0, 0} }\n"),
+             Contains("test/leaf.lua:2: division.axis must be a non-zero vector for direction = \"axis\""));
+}
