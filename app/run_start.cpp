@@ -406,13 +406,12 @@ void adopt_mesh_files(Start& s, const RunOptions& o, const SceneConfig& cfg, std
 }
 
 void refuse_two_step_limits(const Start& s, const RunOptions& o, const SceneConfig& cfg) {
-  if (!o.steps) return;
   // run.steps counts the cells' steps: of a new run, or of a resume --script that grows cells (a plain resume
   // refuses a changed run.steps itself, and a grown sheet's run.steps does nothing)
   const bool cells_steps = !s.resume || (s.script_replaced && (s.colonisation_bytes.empty() || s.sheet_partial));
   for (const std::string name : {"run.steps", "colonisation.max_steps"}) {
     const auto set = o.sets.find(name);
-    if (set == o.sets.end() || (name == "run.steps" ? !cells_steps : !cfg.colonisation)) continue;
+    if (!o.steps || set == o.sets.end() || (name == "run.steps" ? !cells_steps : !cfg.colonisation)) continue;
     double x = 0;
     if (parse_double(set->second, x) && x != static_cast<double>(*o.steps))
       throw InputError("--steps " + std::to_string(*o.steps) + " and --set " + name + "=" + set->second +
