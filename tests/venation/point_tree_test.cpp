@@ -471,7 +471,7 @@ TEST_CASE("a point on the query itself is in the sector mask of its box", "[poin
   CHECK((m2 >> v::PointTree::sector(0.0, 0.0) & 1u));
 }
 
-TEST_CASE("sector bests break exact ties by index (tree and batch)", "[point_tree]") {
+TEST_CASE("a batch's sector bests and the tree's relative neighbourhood break exact ties by index", "[point_tree]") {
   core::Rng rng(6);
   const std::vector<Vec3> pts = lattice_points(rng);
   v::PointTree t;
