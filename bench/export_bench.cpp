@@ -169,9 +169,10 @@ const GrownForm& leaf50k() {
   return form;
 }
 
-double thicken_leaf(double voxel, bool sheet) {
+double thicken_leaf(double voxel, bool sheet, double close_holes = 0) {
   exporters::ThickenParams p;
   p.voxel_size = voxel;
+  p.close_holes = close_holes;
   const GrownForm& f = leaf50k();
   return seconds([&] { exporters::thicken(f.veins, sheet ? f.sheet : std::vector<std::array<Vec3, 3>>{}, p); });
 }
@@ -189,6 +190,17 @@ const Register r8{{"export.thicken.leaf50k.fine", "s", "the same with 0.1 mm vox
                    [] { return thicken_leaf(0.1, false); }}};
 const Register r9{{"export.thicken.leaf50k.shell", "s", "veins and the cell sheet as a 0.6 mm shell, default settings",
                    1, [] { return thicken_leaf(0, true); }}};
+// the closing cellform run gives a shell (print.close_holes = 1: half the median link, which is about 1 here)
+const Register r9b{{"export.thicken.leaf50k.shell.closed", "s",
+                    "the same shell with its gaps closed as cellform run closes them (radius 0.5 model units)", 1,
+                    [] { return thicken_leaf(0, true, 0.5); }}};
+const Register r9c{{"export.thicken.leaf50k.shell.closed.peak_mb", "MB",
+                    "peak resident memory of export.thicken.leaf50k.shell.closed", 1, [] {
+                      leaf50k();
+                      reset_peak_rss();
+                      thicken_leaf(0, true, 0.5);
+                      return peak_rss_bytes() / 1e6;
+                    }}};
 const Register r10{{"export.thicken.leaf50k.segments", "segments", "vein segments of the grown 50,000-cell form", 1,
                     [] { return static_cast<double>(leaf50k().veins.size()); }}};
 
