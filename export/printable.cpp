@@ -461,9 +461,12 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
                   for (int x = a.x(); x <= b.x(); ++x)
                     for (int y = a.y(); y <= b.y(); ++y)
                       for (int z = a.z(); z <= b.z(); ++z) {
+                        double& slot = d[FloatLeaf::coordToOffset(openvdb::Coord(x, y, z))];
+                        // already deeper than the band: stored as -band whatever else overlaps it (below), so
+                        // its distance to this primitive is not needed (in a thick or closed shell, most are)
+                        if (slot <= -band) continue;
                         const Vec3 p(x * voxel, y * voxel, z * voxel);
                         const double dist = i < cs.size() ? cs[i].distance(p) : ss[i - cs.size()].distance(p);
-                        double& slot = d[FloatLeaf::coordToOffset(openvdb::Coord(x, y, z))];
                         slot = std::min(slot, dist);
                       }
                 }

@@ -10,6 +10,7 @@
 #include "core/errors.h"
 #include "export/mesh_check.h"
 #include "export/printable.h"
+#include "export/printable_vdb.h"
 #include "tests/export/printable_fixtures.h"
 
 using namespace cellform;
@@ -257,4 +258,71 @@ TEST_CASE("the automatic voxel puts two voxels across a thin shell's wall", "[pr
   p.shell_thickness = 2;
   exporters::thicken({}, square, p, &rep);
   CHECK(rep.voxel_size == Approx(0.4));
+}
+
+namespace {
+
+double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (p - (a + t * ab)).norm();
+}
+
+// Unsigned distance from p to the triangle abc: to its plane where p projects inside, else to its nearest side.
+double triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 n = (b - a).cross(c - a).normalized();
+  const Vec3 q = p - n * n.dot(p - a);
+  const bool inside =
+      (b - a).cross(q - a).dot(n) >= 0 && (c - b).cross(q - b).dot(n) >= 0 && (a - c).cross(q - c).dot(n) >= 0;
+  if (inside) return std::abs(n.dot(p - a));
+  return std::min({segment_distance(p, a, b), segment_distance(p, b, c), segment_distance(p, c, a)});
+}
+
+}  // namespace
+
+TEST_CASE("the grid of thick overlapping slabs and capsules is the minimum of their distances, voxel by voxel",
+          "[printable]") {
+  // Slabs 3 mm thick, stacked 0.8 mm apart and folded, and a capsule of radius 1 through them: most voxels lie
+  // inside several primitives, deeper than the band, where the voxeliser stops evaluating (only the sign is kept).
+  // Every voxel is compared with the brute-force minimum over all primitives.
+  const Shell shell{{Vec3(0, 0, 0), Vec3(6, 0, 0), Vec3(0, 6, 0)},
+                    {Vec3(0, 0, 0.8), Vec3(6, 0, 0.8), Vec3(0, 6, 0.8)},
+                    {Vec3(0, 0, 0), Vec3(6, 0, 0), Vec3(0, 1, 5)}};
+  const std::vector<Segment> veins{{{1, 1, -1}, {4, 3, 4}, 1.0, 1.0}};
+  const double voxel = 0.2, h = 1.5, r = 1.0;
+  ThickenParams p = exact(voxel);
+  p.shell_thickness = 2 * h;
+  const exporters::LevelSet ls = exporters::voxelise(veins, shell, p);
+  const openvdb::FloatGrid& grid = *ls.impl().grid;
+  const double band = 3 * voxel;  // the grid's background
+  REQUIRE(grid.background() == Approx(band));
+  auto brute = [&](const Vec3& q) {
+    double d = segment_distance(q, veins[0].a, veins[0].b) - r;
+    for (const auto& t : shell) d = std::min(d, triangle_distance(q, t[0], t[1], t[2]) - h);
+    return d;
+  };
+  const auto acc = grid.getConstAccessor();
+  std::size_t near = 0, deep = 0, outside = 0;
+  for (int i = -14; i <= 44; ++i)
+    for (int j = -14; j <= 44; ++j)
+      for (int k = -20; k <= 40; ++k) {
+        const openvdb::Coord ijk(i, j, k);
+        const double want = brute(Vec3(i, j, k) * voxel);
+        const double got = acc.getValue(ijk);
+        INFO("voxel (" << i << ", " << j << ", " << k << "): brute force " << want << ", grid " << got);
+        if (std::abs(std::abs(want) - band) < 1e-6) continue;  // on the band's edge: either way
+        if (std::abs(want) < band) {
+          ++near;
+          CHECK(acc.isValueOn(ijk));
+          CHECK(got == Approx(want).margin(1e-3 * voxel + 1e-6));  // a value at 0 is pushed 1/1000 voxel off
+        } else {
+          (want < 0 ? deep : outside) += 1;
+          CHECK_FALSE(acc.isValueOn(ijk));
+          CHECK(got == Approx(want < 0 ? -band : band));
+        }
+      }
+  INFO(near << " near, " << deep << " deep, " << outside << " outside");
+  CHECK(near > 10000);
+  CHECK(deep > 10000);
+  CHECK(outside > 20000);
 }
