@@ -190,9 +190,10 @@ const Register r8{{"export.thicken.leaf50k.fine", "s", "the same with 0.1 mm vox
                    [] { return thicken_leaf(0.1, false); }}};
 const Register r9{{"export.thicken.leaf50k.shell", "s", "veins and the cell sheet as a 0.6 mm shell, default settings",
                    1, [] { return thicken_leaf(0, true); }}};
-// the closing cellform run gives a shell (print.close_holes = 1: half the median link, which is about 1 here)
+// a wide closing: close_holes 0.5 model units (half the median link, as print.close_holes = 1 asks), 2.8 mm on
+// this 120 mm form, left uncapped (cellform run caps it at print.close_holes_max, 2 mm by default)
 const Register r9b{{"export.thicken.leaf50k.shell.closed", "s",
-                    "the same shell with its gaps closed as cellform run closes them (radius 0.5 model units)", 1,
+                    "the same shell with its gaps closed over half a cell spacing (0.5 model units: 2.8 mm, uncapped)", 1,
                     [] { return thicken_leaf(0, true, 0.5); }}};
 const Register r9c{{"export.thicken.leaf50k.shell.closed.peak_mb", "MB",
                     "peak resident memory of export.thicken.leaf50k.shell.closed", 1, [] {

@@ -1,4 +1,4 @@
-// Private to export/: the level set's OpenVDB grid, shared by printable.cpp (voxelising) and
+// Private to export/ (and its tests): the level set's OpenVDB grid, shared by printable.cpp (voxelising) and
 // printable_mesh.cpp (meshing), the only files of cellform that include OpenVDB (its headers are heavy).
 #pragma once
 
