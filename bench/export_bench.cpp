@@ -193,8 +193,8 @@ const Register r9{{"export.thicken.leaf50k.shell", "s", "veins and the cell shee
 // a wide closing: close_holes 0.5 model units (half the median link, as print.close_holes = 1 asks), 2.8 mm on
 // this 120 mm form, left uncapped (cellform run caps it at print.close_holes_max, 2 mm by default)
 const Register r9b{{"export.thicken.leaf50k.shell.closed", "s",
-                    "the same shell with its gaps closed over half a cell spacing (0.5 model units: 2.8 mm, uncapped)", 1,
-                    [] { return thicken_leaf(0, true, 0.5); }}};
+                    "the same shell with its gaps closed over half a cell spacing (0.5 model units: 2.8 mm, uncapped)",
+                    1, [] { return thicken_leaf(0, true, 0.5); }}};
 const Register r9c{{"export.thicken.leaf50k.shell.closed.peak_mb", "MB",
                     "peak resident memory of export.thicken.leaf50k.shell.closed", 1, [] {
                       leaf50k();
