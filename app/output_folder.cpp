@@ -141,7 +141,7 @@ bool periodic_checkpoint(const std::function<void()>& write, std::ostream& err, 
   struct Clock {
     std::chrono::steady_clock::time_point began;
     double& seconds;
-    ~Clock() { seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count(); }
+    ~Clock() { seconds += seconds_since(began); }
   } clock{began, seconds};
   try {
     write();

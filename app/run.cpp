@@ -321,20 +321,19 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       for (std::size_t k = 0; k < frame_steps.size(); ++k)
         if (frame_steps[k] <= saved_step) names.push_back(outputs[k]);
       json run = run_head(s, seed, o.threads, "failed");
-      run.update({{"error", error},
-                  {"steps",
-                   {{"first", first},
-                    {"completed", saved_step},
-                    {"target", target},
-                    {"failed", stepping > 0 ? json(stepping) : json(nullptr)}}},
-                  {"cells", {{"initial", s.initial_cells}, {"final", saved_cells}}},
-                  {"overrides", s.sets},
-                  {"parameters", cfg.resolved},
-                  {"timings",
-                   {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
-                    {"simulation_s", sim_seconds},
-                    {"checkpoints_s", checkpoint_seconds}}},
-                  {"checkpoint", kCheckpointName}});
+      run.update(
+          {{"error", error},
+           {"steps",
+            {{"first", first},
+             {"completed", saved_step},
+             {"target", target},
+             {"failed", stepping > 0 ? json(stepping) : json(nullptr)}}},
+           {"cells", {{"initial", s.initial_cells}, {"final", saved_cells}}},
+           {"overrides", s.sets},
+           {"parameters", cfg.resolved},
+           {"timings",
+            {{"total_s", seconds_since(t0)}, {"simulation_s", sim_seconds}, {"checkpoints_s", checkpoint_seconds}}},
+           {"checkpoint", kCheckpointName}});
       commit_run(run, names, s, first, seed, staging, dir, {});
     } catch (const std::exception& f) {
       err << "cellform: warning: the frames and run.json of the failed run could not be written: "
@@ -431,7 +430,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         return failure;
       }
       stepping = 0;
-      sim_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+      sim_seconds += seconds_since(a);
       const std::uint64_t step = sim.step_count();
       if (full_at == 0 && sim.cells().size() >= sim.params().division.max_cells) full_at = step;
       progress.update(step, sim.cells().size());
@@ -517,8 +516,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         }
       }
     }
-    const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - b).count();
-    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double output_seconds = seconds_since(b);
+    const double total = seconds_since(t0);
     const std::uint64_t done = sim.step_count() - first;
     json run = run_head(s, seed, o.threads, status);
     run.update({{"steps", {{"first", first}, {"completed", sim.step_count()}, {"target", target}}},

@@ -90,7 +90,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       run["error"] = m;
       if (!failed.phase.empty()) run["phase"] = failed.phase;
       run["steps"] = failed.steps;
-      run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
+      run["timings"] = failed.timings;
+      run["timings"]["total_s"] = seconds_since(t0);
       run["checkpoint"] = kCheckpointName;
       run["outputs"] = json::array({"run.json"});
       write_run_json(staging / "run.json", run);
@@ -162,8 +163,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       } else {
         const auto grow_start = std::chrono::steady_clock::now();
         Sheet grown = grow_sheet(o, s, cfg, host, seed, checkpoint, err, failed);
-        sheet_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - grow_start).count() -
-                        grown.checkpoint_seconds;
+        sheet_seconds = seconds_since(grow_start) - grown.checkpoint_seconds;
         checkpoint_seconds += grown.checkpoint_seconds;
         sheet_initial = grown.initial;
         sheet_steps = grown.step;
@@ -181,9 +181,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                           {"final", grown.cells.size()},
                           {"steps", grown.step},
                           {"target", grown.target}};
-          run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
-                            {"sheet_s", sheet_seconds},
-                            {"checkpoints_s", checkpoint_seconds}};
+          run["timings"] = {
+              {"total_s", seconds_since(t0)}, {"sheet_s", sheet_seconds}, {"checkpoints_s", checkpoint_seconds}};
           std::error_code same;  // a resumed checkpoint of this folder is there still when this one failed
           const bool resumed_here = s.resume && !grown.checkpointed && fs::equivalent(o.checkpoint, checkpoint, same);
           record_checkpoint(run, grown.checkpoint_error, grown.checkpointed || resumed_here, std::nullopt);
@@ -295,11 +294,13 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       failed.steps = {{"first", first}, {"completed", saved_step}, {"failed", col.report().steps + 1}};
       failed.checkpointed = saved || sheet_checkpointed;
       failed.checkpoint_note = saved ? "" : ", taken while the sheet grew";
+      failed.timings = {{"simulation_s", seconds_since(a) - vein_checkpoint_seconds},
+                        {"checkpoints_s", checkpoint_seconds + vein_checkpoint_seconds}};
+      if (sheet_seconds > 0) failed.timings["sheet_s"] = sheet_seconds;
       throw;
     }
     // the veins' steps, without their periodic checkpoints
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count() - vein_checkpoint_seconds;
+    const double seconds = seconds_since(a) - vein_checkpoint_seconds;
     checkpoint_seconds += vein_checkpoint_seconds;
     if (!o.quiet && ::isatty(2)) err << "\n";
     // before the outputs: a failure writing them leaves the checkpoint; and a checkpoint that cannot be
@@ -464,9 +465,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                     {"sources_left", rep.sources},
                     {"sources_born", rep.sources_born}};
     if (tree.size() > rep.nodes) run["veins"]["stems"] = tree.size() - rep.nodes;  // nodes of veins.* beyond
-    run["timings"] = {{"total_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
-                      {"simulation_s", seconds},
-                      {"checkpoints_s", checkpoint_seconds}};
+    run["timings"] = {{"total_s", seconds_since(t0)}, {"simulation_s", seconds}, {"checkpoints_s", checkpoint_seconds}};
     if (sheet_seconds > 0) run["timings"]["sheet_s"] = sheet_seconds;  // the cells grown first, in this command
     // a resume whose checkpoints failed in the folder of the checkpoint it resumed: that one is there still
     std::error_code same;

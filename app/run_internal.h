@@ -367,6 +367,11 @@ constexpr std::uintmax_t kLargeSvgBytes = 50'000'000;
 /// a path per vein already (output.svg_paths = "veins").
 std::string large_svg_note(std::uintmax_t bytes, bool joined);
 
+/// Wall-clock seconds from `start` to now.
+inline double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 /// Writes a periodic checkpoint with `write`, adding the seconds it took to `seconds` (run.json's
 /// timings.checkpoints_s). A failure (a full disk) is reported on `err` the first time (`warned`) and the run
 /// goes on, to try again at the next one; returns whether it was written.

@@ -93,6 +93,7 @@ Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHo
     ~RestorePrint() { host.set_print(print); }
   } restore_print{host, outer_print};
   failed.sheet_first = first;
+  failed.sheet_start = std::chrono::steady_clock::now();
   failed.sheet_growing = true;
   try {
     while (sim.step_count() < out.target && !g_interrupt.load()) {
@@ -101,11 +102,13 @@ Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHo
       scene.step();
       host.check_knobs(sim.step_count());
       progress.update(sim.step_count(), sim.cells().size());
-      if (sim.step_count() < out.target && checkpoints.due(sim.step_count()) &&
-          periodic_checkpoint(save, err, warned, out.checkpoint_seconds)) {
-        saved = true;
-        failed.sheet_checkpointed = true;
-        failed.sheet_saved = sim.step_count();
+      if (sim.step_count() < out.target && checkpoints.due(sim.step_count())) {
+        if (periodic_checkpoint(save, err, warned, out.checkpoint_seconds)) {
+          saved = true;
+          failed.sheet_checkpointed = true;
+          failed.sheet_saved = sim.step_count();
+        }
+        failed.sheet_checkpoint_s = out.checkpoint_seconds;
       }
     }
     failed.sheet_growing = false;

@@ -3,6 +3,7 @@
 // left (run_colonisation.cpp).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <ostream>
@@ -39,10 +40,16 @@ struct FailedRun {
   bool sheet_growing = false;
   std::uint64_t sheet_first = 0, sheet_saved = 0, sheet_stepping = 0;
   bool sheet_checkpointed = false;
+  std::chrono::steady_clock::time_point sheet_start;  // when the sheet's steps began
+  double sheet_checkpoint_s = 0;                      // spent on its periodic checkpoints so far
+  /// run.json's timings but total_s: the steps and checkpoints so far (seconds)
+  nlohmann::json timings = nlohmann::json::object();
   /// The state of the sheet's growth as run_colonisation's catch records it, with `failing` the step.
   void sheet_failed(std::uint64_t failing) {
     phase = "cells";
     steps = {{"sheet_first", sheet_first}, {"sheet_completed", sheet_saved}, {"sheet_failed", failing}};
+    const double grown = seconds_since(sheet_start);
+    timings = {{"sheet_s", grown - sheet_checkpoint_s}, {"checkpoints_s", sheet_checkpoint_s}};
     checkpointed = sheet_checkpointed;
     checkpoint_note = ", taken while the sheet grew at step " + std::to_string(sheet_saved);
   }
