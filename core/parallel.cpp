@@ -59,4 +59,8 @@ void parallel_for(std::size_t n, int threads, const std::function<void(std::size
   });
 }
 
+void with_threads(int threads, const std::function<void()>& body) {
+  arena_for(effective_threads(threads)).execute(body);
+}
+
 }  // namespace cellform::core

@@ -12,6 +12,10 @@ namespace cellform::core {
 void parallel_for(std::size_t n, int threads, const std::function<void(std::size_t, std::size_t)>& body,
                   std::size_t grain = 2048);
 
+/// Runs body with the TBB algorithms it starts (OpenVDB's tools, tbb::parallel_sort, parallel_for) on at most
+/// `threads` threads (0 = all cores), in the arena parallel_for uses. Exceptions pass through.
+void with_threads(int threads, const std::function<void()>& body);
+
 /// Number of hardware threads this process may run on (its CPU affinity: taskset, a container's cpuset).
 int hardware_threads();
 

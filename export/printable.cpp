@@ -13,10 +13,7 @@
 #include <openvdb/tools/Prune.h>
 #include <openvdb/tools/SignedFloodFill.h>
 #include <openvdb/tools/VolumeToMesh.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -36,7 +33,6 @@
 
 namespace cellform::exporters {
 
-using detail::arena_threads;
 using detail::auto_scale;
 using detail::check_params;
 using detail::closing_overlap;
@@ -411,8 +407,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     grid->setGridClass(openvdb::GRID_LEVEL_SET);
     grid->setName("surface");  // the name Houdini and Blender give a level set
 
-    tbb::task_arena arena(arena_threads(params.threads));
-    arena.execute([&] {
+    core::with_threads(params.threads, [&] {
       // Gather: list every (leaf, primitive) overlap, sort by leaf, then each leaf takes the minimum
       // over its primitives. Every leaf is computed by one task from sorted input: no races, no order effects.
       std::vector<std::size_t> offset(nprim + 1, 0);
@@ -423,15 +418,18 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
                                         static_cast<std::size_t>(b.z() - a.z() + 1);
       }
       std::vector<LeafRef> refs(offset[nprim]);
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nprim, 256), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-          const openvdb::Coord a = boxes[i].lo >> kLeafLog2, b = boxes[i].hi >> kLeafLog2;
-          std::size_t k = offset[i];
-          for (int x = a.x(); x <= b.x(); ++x)
-            for (int y = a.y(); y <= b.y(); ++y)
-              for (int z = a.z(); z <= b.z(); ++z) refs[k++] = {leaf_key(x, y, z), static_cast<std::uint32_t>(i)};
-        }
-      });
+      core::parallel_for(
+          nprim, params.threads,
+          [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i) {
+              const openvdb::Coord a = boxes[i].lo >> kLeafLog2, b = boxes[i].hi >> kLeafLog2;
+              std::size_t k = offset[i];
+              for (int x = a.x(); x <= b.x(); ++x)
+                for (int y = a.y(); y <= b.y(); ++y)
+                  for (int z = a.z(); z <= b.z(); ++z) refs[k++] = {leaf_key(x, y, z), static_cast<std::uint32_t>(i)};
+            }
+          },
+          256);
       tbb::parallel_sort(refs.begin(), refs.end());  // unique elements: the sorted order is unique too
       std::vector<std::size_t> runs;
       for (std::size_t k = 0; k < refs.size(); ++k)
@@ -446,11 +444,11 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
       const std::size_t block = std::max<std::size_t>(256, nleaves / 64 + 1);
       for (std::size_t first = 0; first < nleaves; first += block) {
         report_progress(params, p0 + (p1 - p0) * static_cast<double>(first) / static_cast<double>(nleaves));
-        tbb::parallel_for(
-            tbb::blocked_range<std::size_t>(first, std::min(nleaves, first + block), 16),
-            [&](const tbb::blocked_range<std::size_t>& r) {
+        core::parallel_for(
+            std::min(nleaves, first + block) - first, params.threads,
+            [&](std::size_t begin, std::size_t end) {
               std::array<double, FloatLeaf::SIZE> d;
-              for (std::size_t l = r.begin(); l < r.end(); ++l) {
+              for (std::size_t l = first + begin; l < first + end; ++l) {
                 const openvdb::Coord origin = leaf_origin(refs[runs[l]].leaf);
                 const openvdb::Coord last = origin.offsetBy(FloatLeaf::DIM - 1);
                 d.fill(band);
@@ -491,7 +489,8 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
                 }
                 leaves[l] = std::move(leaf);
               }
-            });
+            },
+            16);
       }
       report_progress(params, p1);
       auto& tree = grid->tree();
@@ -518,8 +517,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     const openvdb::FloatGrid::Ptr dilated = rasterise({}, wide, cut, base_z - close, 0.0, 0.5);
     const int inner = static_cast<int>(std::ceil(close / voxel)) + kHalfWidth + 1;  // voxels past the band
     openvdb::FloatGrid::Ptr closed;
-    tbb::task_arena arena(arena_threads(params.threads));
-    arena.execute([&] {
+    core::with_threads(params.threads, [&] {
       // OpenVDB's sweeps take no interrupter: a cancel is seen between them (each a few seconds to tens of
       // seconds on a large shell) and every few thousand leaves of the erosion
       const openvdb::FloatGrid::Ptr exact = openvdb::tools::sdfToSdf(*dilated);
@@ -554,7 +552,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
     closed->setGridClass(openvdb::GRID_LEVEL_SET);
     report_progress(params, 0.75);
     grid = caps.empty() ? closed : rasterise(caps, {}, cut, base_z, 0.75, 1.0);
-    if (!caps.empty()) arena.execute([&] { openvdb::tools::csgUnion(*grid, *closed); });
+    if (!caps.empty()) core::with_threads(params.threads, [&] { openvdb::tools::csgUnion(*grid, *closed); });
     report_progress(params, 1.0);
     // as for the gathered leaves: no value at (or next to) 0, where volumeToMesh would make zero-area triangles
     const float nudge = static_cast<float>(1e-3 * voxel);

@@ -1,6 +1,5 @@
 // Shared by the printing stages (printable.cpp voxelises, printable_mesh.cpp meshes): parameter checks,
 // progress and cancelling, thread counts, the automatic scale and the shell's memory estimate (no OpenVDB).
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
@@ -12,7 +11,6 @@
 #include <utility>
 
 #include "core/errors.h"
-#include "core/parallel.h"
 #include "core/triangle_intersection.h"
 #include "export/printable.h"
 #include "export/printable_internal.h"
@@ -80,11 +78,6 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 // Calls params.progress (if any); throws core::Cancelled when it asks to stop.
 void report_progress(const ThickenParams& params, double fraction) {
   if (params.progress && !params.progress(fraction)) throw core::Cancelled();
-}
-
-// More threads than cores cannot help, and TBB warns on stderr when asked for them.
-int arena_threads(int threads) {
-  return threads > 0 ? std::min(threads, core::hardware_threads()) : tbb::task_arena::automatic;
 }
 
 double closing_radius(const ThickenParams& p, double scale) {

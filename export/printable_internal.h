@@ -24,9 +24,6 @@ void check_given_scale(const std::vector<Segment>& segments, const std::vector<s
 double seconds_since(std::chrono::steady_clock::time_point t);
 /// Calls params.progress (if any); throws core::Cancelled when it asks to stop.
 void report_progress(const ThickenParams& params, double fraction);
-/// The TBB arena size for `threads` (0 = all cores): more threads than cores cannot help, and TBB warns
-/// on stderr when asked for them.
-int arena_threads(int threads);
 /// mm per model unit at which the printed form, as it is thickened (vein radii raised to `min_radius` mm,
 /// the shell `half_shell` mm to each side), is `target` mm along its largest side. Along an axis the printed
 /// form reaches max(s max(a + r), s max(a) + min_radius, s max(p) + half_shell) over vein ends a (radius r)

@@ -3,10 +3,6 @@
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/VolumeToMesh.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -28,7 +24,6 @@
 
 namespace cellform::exporters {
 
-using detail::arena_threads;
 using detail::check_params;
 using detail::init_openvdb;
 using detail::report_progress;
@@ -157,8 +152,7 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
   const double shortest = params.adaptivity > 0 ? kShortestEdge * voxel : 0.0;
   PrintableMesh mesh;
   std::size_t repaired = 0, intersections = 0;
-  tbb::task_arena arena(arena_threads(params.threads));
-  arena.execute([&] {
+  core::with_threads(params.threads, [&] {
     report_progress(params, 0.0);
     // a flat base stays flat: the voxels within two of its plane are meshed without merging (merged
     // polygons there tilt up from the plane: a column's foot had 5.8 of its 36 mm2 on it)

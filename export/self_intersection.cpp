@@ -12,7 +12,6 @@
 #include "export/mesh_check.h"
 
 #include <tbb/parallel_sort.h>
-#include <tbb/task_arena.h>
 
 namespace cellform::exporters {
 
@@ -344,10 +343,8 @@ Pairs intersecting_pairs(const std::vector<Vec3>& v, const std::vector<Tri>& tri
       }
     }
   });
-  {
-    tbb::task_arena arena(threads > 0 ? std::min(threads, core::hardware_threads()) : tbb::task_arena::automatic);
-    arena.execute([&] { tbb::parallel_sort(refs.begin(), refs.end()); });  // equal elements are equal: one order
-  }
+  // equal elements are equal: one order
+  core::with_threads(threads, [&] { tbb::parallel_sort(refs.begin(), refs.end()); });
   // two cells whose keys collide: a triangle in both is one entry of their run
   refs.erase(std::unique(refs.begin(), refs.end(),
                          [](const CellRef& a, const CellRef& b) { return a.cell == b.cell && a.tri == b.tri; }),

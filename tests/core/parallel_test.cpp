@@ -1,10 +1,14 @@
-// Tests of core/parallel.cpp: the cores counted are those the process may run on.
+// Tests of core/parallel.cpp: the cores counted are those the process may run on; with_threads caps TBB.
 #include "core/parallel.h"
 
 #include <sched.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <catch2/catch.hpp>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -37,4 +41,25 @@ TEST_CASE("hardware_threads counts the cores this process may use, and effective
       },
       64);
   CHECK(std::all_of(hits.begin(), hits.end(), [](int h) { return h == 1; }));
+}
+
+TEST_CASE("with_threads runs TBB algorithms on at most the threads asked for, and passes exceptions on", "[parallel]") {
+  using cellform::core::effective_threads;
+  using cellform::core::with_threads;
+  for (int t : {1, 2, 0, 64}) {
+    int concurrency = -1;
+    with_threads(t, [&] { concurrency = tbb::this_task_arena::max_concurrency(); });
+    CHECK(concurrency == effective_threads(t));
+  }
+  // one thread: a TBB loop inside runs on the calling thread alone
+  const std::thread::id caller = std::this_thread::get_id();
+  std::atomic<int> elsewhere{0};
+  with_threads(1, [&] {
+    tbb::parallel_for(0, 100000, [&](int) {
+      if (std::this_thread::get_id() != caller) ++elsewhere;
+    });
+  });
+  CHECK(elsewhere == 0);
+  CHECK_THROWS_WITH(with_threads(2, [] { throw std::runtime_error("out of memory for the grid"); }),
+                    "out of memory for the grid");
 }
