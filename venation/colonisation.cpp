@@ -5,6 +5,7 @@
 #include "venation/colonisation.h"
 
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include "core/errors.h"
@@ -318,7 +319,7 @@ void Colonisation::Impl::step() {
   const double bs2 = bs * bs, bv2 = std::pow(p.vein_birth_distance * sc, 2), dk2 = std::pow(p.kill_distance * sc, 2);
   const double D = p.node_distance * sc;
   step_D = D;
-  const std::size_t active_before = active.size(), nodes_before = nodes.size();
+  const std::size_t active_before = active.size(), nodes_before = nodes.size(), darts_before = rep.darts;
 
   if (marginal) {
     reveal_sources(bs2, bv2);
@@ -497,7 +498,8 @@ void Colonisation::Impl::step() {
   // to max_steps, holding every source it ever made.
   const bool changed = nodes.size() != nodes_before || active.size() != active_before;
   quiet = (growth_over() && !changed) ? quiet + 1 : 0;
-  if (quiet >= p.settle_steps) {
+  quiet_darts = quiet > 0 ? quiet_darts + (rep.darts - darts_before) : 0;
+  if (quiet >= p.settle_steps && static_cast<double>(quiet_darts) >= settle_darts()) {
     if (active.empty())
       rep.finished = true;
     else
@@ -506,6 +508,18 @@ void Colonisation::Impl::step() {
   if (rep.steps >= p.max_steps && !rep.finished && !rep.stalled) rep.hit_max_steps = true;
   if (nodes.size() >= p.max_nodes && !rep.finished && !rep.stalled) rep.hit_max_nodes = true;
   if (active.size() >= p.max_sources && !rep.finished && !rep.stalled) rep.hit_max_sources = true;
+}
+
+double Colonisation::Impl::settle_darts() const {
+  const double bv = p.vein_birth_distance * dist_factor();  // model units
+  if (marginal || !(p.darts_per_area > 0) || !(bv > 0)) return 0;
+  if (region) {
+    const bool volume = region->domain().kind != DomainKind::surface;
+    return region->dart_measure() / (volume ? 4 * std::numbers::pi / 3 * bv * bv * bv : std::numbers::pi * bv * bv);
+  }
+  // the actual leaf, in vein segments, as draw_blade_darts throws over it
+  const double area = nonuniform ? current.area() : unit.area() * sigma * sigma;
+  return area / (std::numbers::pi * p.vein_birth_distance * p.vein_birth_distance);
 }
 
 // ---- Colonisation ----

@@ -171,7 +171,8 @@ struct Colonisation::Impl {
   // whose blade first contains them (the step number says which have been: nothing else to save)
   bool marginal = false;
   MarginalSources precomputed;
-  std::size_t quiet = 0;
+  std::size_t quiet = 0;        // steps in a row, growth over, that changed nothing
+  std::size_t quiet_darts = 0;  // darts thrown over those steps
   ColonisationReport rep;
 
   // Closed, exact, in the plane: per source the nearest node of each 60-degree sector and whether its
@@ -300,6 +301,11 @@ struct Colonisation::Impl {
     const Vec3 u = petiole + (q - petiole) / std::max(frame_scale(), p.final_scale);
     return unit.contains(Vec2(u.x(), u.y()));
   }
+  /// Darts that must land in vain, besides settle_steps steps, before a run that grows nothing more ends:
+  /// as many as the domain holds b_v discs (balls in a volume), so that the room left for sources is likely
+  /// under a few such discs in all, however few darts a step throws. None when no darts come (marginal growth after
+  /// the margin has passed every precomputed source, rho = 0, b_v = 0).
+  double settle_darts() const;
   bool growth_over() const {
     if (nonuniform) return grown >= p.growth_steps;
     return p.growth == GrowthMode::none || sigma >= p.final_scale;

@@ -23,8 +23,9 @@ namespace {
 constexpr const char* kStateKind = "COLO";
 // 2: Urquhart cells; 3: marginal growth reveals precomputed sources; 4: lazy sector modes (a state of
 // version 3 loads with every source out of lazy mode: the same results, lazy mode changes only the speed);
-// 5: a leaf's step inserts its nodes into the tree as one batch (older versions inserted them one by one)
-constexpr std::uint32_t kStateVersion = 5;
+// 5: a leaf's step inserts its nodes into the tree as one batch (older versions inserted them one by one);
+// 6: the darts thrown over the quiet steps (older states load with none: their runs settle later)
+constexpr std::uint32_t kStateVersion = 6;
 
 void put_vec3s(core::ByteWriter& w, const std::vector<Vec3>& v) {
   std::vector<double> flat;
@@ -212,6 +213,7 @@ std::string Colonisation::save() const {
     w.put_vector(slack);
     w.put(m.last_D);
   }
+  w.put<std::uint64_t>(m.quiet_darts);
   return core::write_chunk_file(kStateKind, kStateVersion, {{"setup", setup.take()}, {"state", w.take()}});
 }
 
@@ -287,6 +289,7 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
     slack = r.get_vector<double>();
     m.last_D = r.get<double>();
   }
+  m.quiet_darts = f.version >= 6 ? static_cast<std::size_t>(r.get<std::uint64_t>()) : 0;
 
   // consistency: sizes and indices (the checksum catches damage; this catches a state of another build)
   const std::size_t n = points.size(), ns = m.src.size();

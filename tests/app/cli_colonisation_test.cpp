@@ -26,6 +26,14 @@ TEST_CASE("a colonisation that never places a source says so", "[cli][colonisati
   CHECK(r.code == 0);
   CHECK_THAT(r.err, Contains("no auxin source was placed"));
   CHECK_THAT(r.err, Contains("colonisation.darts"));
+  // a box smaller than the birth distance round its seed: every dart falls within it, which more darts or
+  // steps would not change
+  const auto small =
+      t.write("small.lua", "volume { box = { min = {0, 0, 0}, max = {3, 3, 3} } }\ncolonisation { darts = 20000 }\n");
+  r = cli({"run", small.string(), "--out", (t.path / "s").string(), "--quiet"});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("darts fell within the birth distances: lower colonisation.birth_distance") &&
+                        !Contains("more steps") && !Contains("raise colonisation.darts"));
   // a run that does place sources gives no such warning (marginal growth reveals sources only while the
   // blade grows, here two steps: rho x 10^6 = 20000 puts about 12 darts into the 24 x 12 box)
   const auto dense =

@@ -1,5 +1,6 @@
 // Tests of Colonisation::save() and load(): a run saved after any step and continued in a fresh object
 // ends exactly as the run that was never interrupted.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cstring>
 #include <functional>
@@ -71,30 +72,38 @@ void require_same(const v::Colonisation& a, const v::Colonisation& b) {
 }
 
 /// The state of `c` in an older format: format 4 appended the lazy sector modes (per source 18 bytes,
-/// five array lengths and the last segment length) to the "state" chunk; formats 2, 3 and 5 differ in
-/// meaning only (5: a leaf step's nodes entered the tree as one batch).
+/// five array lengths and the last segment length) to the "state" chunk, and format 6 the darts of the
+/// quiet steps (8 bytes); formats 2, 3 and 5 differ in meaning only (5: a leaf step's nodes entered the
+/// tree as one batch).
 std::string as_version(const v::Colonisation& c, std::uint32_t version) {
-  core::ChunkFile f = core::read_chunk_file(c.save(), "COLO", 5, "state");
-  REQUIRE(f.version == 5);
-  if (version == 4) return core::write_chunk_file("COLO", version, f.chunks);
+  core::ChunkFile f = core::read_chunk_file(c.save(), "COLO", 6, "state");
+  REQUIRE(f.version == 6);
+  if (version == 6) return c.save();
   std::string& state = f.chunks.at("state");
+  REQUIRE(state.size() > 8);
+  state.resize(state.size() - 8);
+  if (version >= 4) return core::write_chunk_file("COLO", version, f.chunks);
   const std::size_t trailer = 5 * 8 + 18 * c.report().sources_born + 8;
   REQUIRE(state.size() > trailer);
   state.resize(state.size() - trailer);
   return core::write_chunk_file("COLO", version, f.chunks);
 }
 
-/// Runs `make()` to the end; then for cuts at step 0, a third, two thirds and the end: steps a fresh
-/// run to the cut, saves, loads into another object (threads 2) and runs it to the end.
+/// Runs `make()` to the end; then for cuts at step 0, a third, two thirds, the step before the end (deep in the
+/// steps that settle the run: their darts are counted), the end and `more`: steps a fresh run to the cut, saves,
+/// loads into another object (threads 2) and runs it to the end.
 void check_resume(const std::function<v::Colonisation(int threads)>& make,
-                  const std::function<v::Colonisation(const std::string&, int threads)>& load) {
+                  const std::function<v::Colonisation(const std::string&, int threads)>& load,
+                  const std::vector<std::size_t>& more = {}) {
   v::Colonisation whole = make(1);
   whole.run();
   const std::size_t n = whole.report().steps;
   INFO("steps " << n << ", nodes " << whole.report().nodes << ", loops " << whole.report().loops);
   REQUIRE(n > 10);
   REQUIRE((whole.report().finished || whole.report().stalled));
-  for (std::size_t cut : {std::size_t{0}, n / 3, 2 * n / 3, n}) {
+  std::vector<std::size_t> cuts = {0, n / 3, 2 * n / 3, n - 1, n};
+  cuts.insert(cuts.end(), more.begin(), more.end());
+  for (std::size_t cut : cuts) {
     INFO("saved after step " << cut);
     v::Colonisation first = make(1);
     while (first.report().steps < cut) first.step();
@@ -106,7 +115,7 @@ void check_resume(const std::function<v::Colonisation(int threads)>& make,
   }
 }
 
-void check_leaf(const v::Leaf& leaf, const v::ColonisationParams& p) {
+void check_leaf(const v::Leaf& leaf, const v::ColonisationParams& p, const std::vector<std::size_t>& more = {}) {
   check_resume(
       [&](int threads) {
         v::ColonisationParams q = p;
@@ -117,7 +126,8 @@ void check_leaf(const v::Leaf& leaf, const v::ColonisationParams& p) {
         v::ColonisationParams q = p;
         q.threads = threads;
         return v::Colonisation::load(leaf, q, bytes);
-      });
+      },
+      more);
 }
 
 void check_domain(const v::Domain& d, const v::ColonisationParams& p) {
@@ -167,10 +177,12 @@ TEST_CASE("a run saved while sources are lazy (far from the veins) continues bit
     probe.step();
     lazy.push_back(probe.lazy_sources());
   }
-  const std::size_t n = probe.report().steps;
-  INFO("steps " << n << ", lazy at a third " << lazy[n / 3] << ", at two thirds " << lazy[2 * n / 3]);
-  REQUIRE(lazy[n / 3] > 20);  // check_leaf cuts there (and at 0, 2 n / 3, n): lazy modes are saved
-  check_leaf(leaf, p);
+  // cut where most sources are lazy, and halfway to there: lazy modes are saved
+  const std::size_t most = static_cast<std::size_t>(std::max_element(lazy.begin(), lazy.end()) - lazy.begin());
+  INFO("steps " << probe.report().steps << ", most lazy after step " << most << ": " << lazy[most]);
+  REQUIRE(lazy[most] > 20);
+  REQUIRE(lazy[most / 2] > 0);
+  check_leaf(leaf, p, {most, most / 2});
 }
 
 TEST_CASE("a format-3 state (no lazy modes) continues as the run that was never saved", "[checkpoint]") {
@@ -361,7 +373,7 @@ TEST_CASE("states refuse other parameters or domains, and corrupt bytes", "[chec
   CHECK_THROWS_AS(v::Colonisation::load(leaf, p, bytes.substr(0, bytes.size() - 9)), core::FileError);
   CHECK_THROWS_AS(v::Colonisation::load(leaf, p, "not a state"), core::FileError);
   // a node that is no number, in a state whose checksum was made to match, is refused too
-  core::ChunkFile f = core::read_chunk_file(bytes, "COLO", 5, "state");
+  core::ChunkFile f = core::read_chunk_file(bytes, "COLO", 6, "state");
   std::string& state = f.chunks.at("state");
   const double nan = std::numeric_limits<double>::quiet_NaN();
   REQUIRE(state.size() > 16);

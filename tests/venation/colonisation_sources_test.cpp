@@ -64,3 +64,46 @@ TEST_CASE("max_sources is a ceiling: a step that would leave one more waiting is
     CHECK(r.steps == (limit == first_step ? 1u : 0u));
   }
 }
+
+namespace {
+
+/// Share of `probes` random points of the blade farther than `bv` from every vein node (brute force): the
+/// room a source could still be born in, once no source waits.
+double free_share(const v::Leaf& leaf, const v::VeinTree& t, double bv, int probes) {
+  const v::OutlineIndex blade(leaf.outline);
+  core::Rng rng(7);
+  const v::Vec2 lo = blade.lo(), hi = blade.hi();
+  int inside = 0, free = 0;
+  while (inside < probes) {
+    const v::Vec2 q(rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()));
+    if (!blade.contains(q)) continue;
+    ++inside;
+    bool near = false;
+    for (const Vec3& n : t.positions) near = near || (Vec3(q.x(), q.y(), 0) - n).squaredNorm() <= bv * bv;
+    free += near ? 0 : 1;
+  }
+  return static_cast<double>(free) / probes;
+}
+
+}  // namespace
+
+TEST_CASE("a run ends only once its darts find no room, however few a step throws", "[colonisation]") {
+  // 0.05 and 2 darts a step over a 60 x 40 ellipse (about 1,900 units of area, 67 b_v discs): a run once ended
+  // after five steps without a change, which left a sparse blade empty (no source at 0.05 darts a step)
+  const v::Leaf leaf = ellipse_leaf(60, 40);
+  std::vector<std::size_t> born;
+  for (double rho : {2.5e-5, 1e-3}) {
+    v::ColonisationParams p = params(v::VenationType::open, 1, 3);
+    p.darts_per_area = rho;
+    p.max_steps = 100000;
+    const auto [t, rep] = v::colonise(leaf, p);
+    INFO("rho " << rho << ": " << rep.steps << " steps, " << rep.sources_born << " sources, " << rep.darts << " darts");
+    REQUIRE(rep.finished);
+    const double share = free_share(leaf, t, 3, 20000);
+    INFO("free share " << share);
+    CHECK(share < 0.08);  // settled once as many darts as the blade holds b_v discs fell in vain: a few discs' room
+    born.push_back(rep.sources_born);
+  }
+  // about as many sources, at one dart in 20 steps as at two a step
+  CHECK(static_cast<double>(born[0]) > 0.8 * static_cast<double>(born[1]));
+}
