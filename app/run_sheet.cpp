@@ -190,7 +190,7 @@ venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cel
   if (!spec.domain.initial_nodes.empty() && !state)
     for (std::size_t k = 0; k < seeds.size(); ++k)
       if (const double off = (seeds[k] - asked[k]).norm(); off > reach)
-        throw core::InvalidInput("surface{cells = true}: surface.seeds[" + std::to_string(k + 1) + "] " +
+        throw core::InvalidInput(spec.domain_where + "surface.seeds[" + std::to_string(k + 1) + "] " +
                                  point_text(asked[k]) + " is " + core::number_text(off) +
                                  " model units from the grown sheet (its nearest point is " + point_text(seeds[k]) +
                                  "); a seed moves onto the sheet from at most half the sheet's size or 3 cell "

@@ -127,6 +127,7 @@ void section_domain(Impl& I, const std::string& section, const std::string& at) 
   Values v = I.read_section(section, 1, at, &rec);
   if (!I.cfg->colonisation) I.cfg->colonisation.emplace();
   ColonisationSpec& spec = *I.cfg->colonisation;
+  spec.domain_where = at;
   venation::Domain& d = spec.domain;
   lua_State* L = I.L;
   // a nested table such as volume{box = {min = ..., max = ...}}, read against the schema's "volume.box"
@@ -210,8 +211,19 @@ void section_domain(Impl& I, const std::string& section, const std::string& at) 
 
 void finish_colonisation(Impl& I) {
   ColonisationSpec& spec = *I.cfg->colonisation;
-  if (spec.domain.kind == venation::DomainKind::leaf) return;
   const std::string at = I.sections_seen["colonisation"];
+  if (spec.domain.kind == venation::DomainKind::leaf) {
+    try {
+      venation::validate(spec.leaf, spec.params);  // a closed pattern's seeds (only leaf.seed_points can repeat)
+    } catch (const std::exception& e) {
+      std::string m = core::error_text(e);
+      for (std::size_t k = m.find("leaf.initial_nodes"); k != std::string::npos; k = m.find("leaf.initial_nodes", k))
+        m.replace(k, 18, "leaf.seed_points");
+      const auto leaf = I.sections_seen.find("leaf");
+      throw InvalidInput((leaf != I.sections_seen.end() ? leaf->second : at) + m);
+    }
+    return;
+  }
   nlohmann::json& rec = I.cfg->resolved["colonisation"];
   venation::ColonisationParams& p = spec.params;
   if (spec.growth_given && p.growth != venation::GrowthMode::none)

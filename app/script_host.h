@@ -66,6 +66,7 @@ struct ColonisationSpec {
   bool growth_given = false;  ///< colonisation.growth was set (a 3-D domain then needs "none")
   std::string length_given;   ///< a leaf-size field set (initial_length, ...): none of a 3-D domain's
   std::string where;          ///< "file:line: " of colonisation{...}, for its errors found while it runs
+  std::string domain_where;   ///< "file:line: " of volume{...} or surface{...}, likewise
 };
 
 /// A printable solid requested by print{...}.

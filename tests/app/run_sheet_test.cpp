@@ -1,6 +1,8 @@
 // Tests of surface{cells = true} runs through the command line (app/run_sheet.cpp, app/run_colonisation.cpp):
 // the steps its sheet grew, in run.json and on resume.
+#include <algorithm>
 #include <catch2/catch.hpp>
+#include <cstring>
 #include <nlohmann/json.hpp>
 
 #include "tests/app/test_util.h"
@@ -60,7 +62,10 @@ TEST_CASE("surface{cells = true}: a seed far off the grown sheet is refused, a n
   // 50 units out from a sheet about 8 across: moved there without a word
   const auto far = run("{50, 0, 0}");
   CHECK(far.code == 2);
-  CHECK_THAT(far.err, Contains("surface.seeds[1] {50, 0, 0} is 4") && Contains("model units from the grown sheet") &&
+  // named with the line of surface{...}, the first after kSmall's
+  const std::string line = std::to_string(std::count(kSmall, kSmall + std::strlen(kSmall), '\n') + 1);
+  CHECK_THAT(far.err, Contains("seed.lua:" + line + ": surface.seeds[1] {50, 0, 0} is 4") &&
+                          Contains("model units from the grown sheet") &&
                           Contains("at most half the sheet's size or 3 cell spacings away"));
   const auto near = run("{0, 0, 0.5}");  // half a spacing above the sheet
   INFO(near.err);

@@ -337,6 +337,13 @@ TEST_CASE("leaf.seed_points places the seed vein nodes by hand", "[script][colon
   CHECK(load("leaf { seed_points = {0, 0.2} }\ncolonisation {}\n").colonisation->leaf.initial_nodes.size() == 1);
   CHECK_THAT(load_error("leaf { shape = 'ellipse', seed_points = {{0, 0.05}, {0.9, 0.5}} }\ncolonisation {}\n"),
              Contains("test/leaf.lua:1") && Contains("leaf.seed_points[2] lies outside the blade"));
+  // a closed pattern's seeds on one point never grow apart: refused, in the script's names, with leaf{}'s line;
+  // in an open one the second is left alone, harmlessly
+  CHECK_THAT(load_error("\nleaf { seed_points = {{0, 0.5}, {0, 0.5}} }\ncolonisation { type = 'closed' }\n"),
+             Contains("test/leaf.lua:2: leaf.seed_points[2] repeats leaf.seed_points[1]"));
+  CHECK(
+      load("leaf { seed_points = {{0, 0.5}, {0, 0.5}} }\ncolonisation {}\n").colonisation->leaf.initial_nodes.size() ==
+      2);
   CHECK_THAT(load_error("leaf { seeds = 3, seed_points = {{0, 0.05}} }\ncolonisation {}\n"),
              Contains("leaf.seed_points places the seed vein nodes by hand: leave out leaf.seeds"));
   CHECK_THAT(
