@@ -127,6 +127,11 @@ void apply_checkpoint_every(std::optional<std::uint64_t> every, OutputSpec* outp
 /// run's fingerprints in `s` for its checkpoints.
 void adopt_mesh_files(Start& s, const RunOptions& o, const SceneConfig& cfg, std::ostream& err);
 
+/// Refuses (core::InvalidInput) a resume with an edited script (resume --script) whose obstacles hold some of the
+/// checkpoint's `cells`, as a new run's shapes inside an obstacle are, or whose venation{} has no petiole cell
+/// to drain to: none among `cells` and no petiole{} due after the checkpoint's step.
+void check_resumed_cells(const Start& s, const SceneConfig& cfg, const cells::Cells& cells);
+
 void adopt_max_steps(Start& s, const RunOptions& o, const SceneConfig& cfg);
 
 /// Refuses --steps N beside a --set of the step limit (run.steps where cells grow, colonisation.max_steps) to

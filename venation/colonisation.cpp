@@ -513,13 +513,15 @@ void Colonisation::Impl::step() {
 double Colonisation::Impl::settle_darts() const {
   const double bv = p.vein_birth_distance * dist_factor();  // model units
   if (marginal || !(p.darts_per_area > 0) || !(bv > 0)) return 0;
+  double discs = 0;
   if (region) {
     const bool volume = region->domain().kind != DomainKind::surface;
-    return region->dart_measure() / (volume ? 4 * std::numbers::pi / 3 * bv * bv * bv : std::numbers::pi * bv * bv);
+    discs = region->dart_measure() / (volume ? 4 * std::numbers::pi / 3 * bv * bv * bv : std::numbers::pi * bv * bv);
+  } else {  // the actual leaf, in vein segments, as draw_blade_darts throws over it
+    const double area = nonuniform ? current.area() : unit.area() * sigma * sigma;
+    discs = area / (std::numbers::pi * p.vein_birth_distance * p.vein_birth_distance);
   }
-  // the actual leaf, in vein segments, as draw_blade_darts throws over it
-  const double area = nonuniform ? current.area() : unit.area() * sigma * sigma;
-  return area / (std::numbers::pi * p.vein_birth_distance * p.vein_birth_distance);
+  return std::min(discs, kSettleDarts);
 }
 
 // ---- Colonisation ----

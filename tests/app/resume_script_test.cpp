@@ -169,8 +169,32 @@ TEST_CASE("resume --script is refused clearly where it cannot apply", "[cli][che
   CHECK(r.code == 2);
   CHECK_THAT(r.err,
              Contains("is of a cell run, but --script " + veins.string() + " describes a space-colonisation run"));
-  CHECK_THAT(r.err, !Contains("warning"));          // no word on its shapes first: they are beside the point
+  CHECK_THAT(r.err, !Contains("warning"));  // no word on its shapes first: they are beside the point
+  // an obstacle over the checkpoint's cells, as a new run refuses one (it would throw them to its far side)
+  const auto walled = t.write("walled.lua", std::string(kSmall) + "ball { centre = {0, 0, 0}, radius = 1 }\n");
+  r = cli({"resume", checkpoint, "--script", walled.string(), "--steps", "6", "--quiet"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("obstacles must start outside the cells") &&
+                        Contains(walled.string() + " places it over the cells of the checkpoint's step 5"));
   CHECK(slurp(out / "checkpoint.cfck") == before);  // every refusal left it as it was
+  {  // venation{} added to a run without a petiole cell: its petiole{} must come after the checkpoint's step
+    std::string bare = kSmall;
+    bare.erase(bare.find("petiole {"));
+    const fs::path o2 = t.path / "bare";
+    REQUIRE(cli({"run", t.write("bare.lua", bare).string(), "--out", o2.string(), "--quiet", "--steps", "5"}).code ==
+            0);
+    const auto veined = t.write("veined.lua", bare + "petiole { at = {0, -3, 0} }\nvenation { threshold = 5 }\n");
+    r = cli({"resume", o2.string(), "--script", veined.string(), "--steps", "8", "--quiet"});
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains("veined.lua:7: venation needs a petiole cell, and the checkpoint's cells (step 5) have "
+                               "none") &&
+                          Contains("give it step = 6"));
+    const auto later =
+        t.write("later.lua", bare + "petiole { at = {0, -3, 0}, step = 6 }\nvenation { threshold = 5 }\n");
+    r = cli({"resume", o2.string(), "--script", later.string(), "--steps", "8", "--quiet"});
+    INFO(r.err);
+    CHECK(r.code == 0);
+  }
   // a physics value may not change on a plain resume, but may with an edited script
   r = cli({"resume", checkpoint, "--steps", "8", "--set", "cells.spring=2", "--quiet"});
   CHECK(r.code == 2);

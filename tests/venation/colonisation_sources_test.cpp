@@ -2,8 +2,10 @@
 // nodes) and the max_sources ceiling.
 #include "venation/colonisation.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <numbers>
 
 #include "core/random.h"
 #include "tests/venation/leaf_fixtures.h"
@@ -86,6 +88,37 @@ double free_share(const v::Leaf& leaf, const v::VeinTree& t, double bv, int prob
 }
 
 }  // namespace
+
+TEST_CASE("a run settles after five quiet steps and as many vain darts as its blade holds b_v discs, up to 1,000",
+          "[colonisation]") {
+  // the rule watched from outside: a change is a vein node or a source more or less
+  for (auto [length, width] : {std::pair{60.0, 40.0}, std::pair{500.0, 400.0}}) {
+    const v::Leaf leaf = ellipse_leaf(length, width);
+    v::ColonisationParams p = params(v::VenationType::open, 1, 6);
+    p.darts_per_area = 5 / v::OutlineIndex(leaf.outline).area();  // about 5 darts a step
+    p.max_steps = 100000;
+    const double discs = v::OutlineIndex(leaf.outline).area() / (std::numbers::pi * 36);
+    v::Colonisation sim(leaf, p);
+    std::size_t quiet_steps = 0, quiet_darts = 0, last_darts = 0;
+    while (!sim.done()) {
+      const v::ColonisationReport before = sim.report();
+      sim.step();
+      const v::ColonisationReport& r = sim.report();
+      last_darts = r.darts - before.darts;
+      const bool changed = r.nodes != before.nodes || r.sources != before.sources;
+      quiet_steps = changed ? 0 : quiet_steps + 1;
+      quiet_darts = changed ? 0 : quiet_darts + last_darts;
+    }
+    const double needed = std::min(discs, 1000.0);
+    INFO(length << " x " << width << ": " << discs << " discs, " << sim.report().steps << " steps, quiet for "
+                << quiet_steps << " steps and " << quiet_darts << " darts");
+    REQUIRE(sim.report().finished);
+    CHECK(quiet_steps >= 5);
+    CHECK(static_cast<double>(quiet_darts) >= needed);
+    // and not a step later than both held
+    CHECK((quiet_steps == 5 || static_cast<double>(quiet_darts - last_darts) < needed));
+  }
+}
 
 TEST_CASE("a run ends only once its darts find no room, however few a step throws", "[colonisation]") {
   // 0.05 and 2 darts a step over a 60 x 40 ellipse (about 1,900 units of area, 67 b_v discs): a run once ended

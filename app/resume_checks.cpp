@@ -1,0 +1,79 @@
+// What a resume must still agree with, or take over, from the run it continues: the step limits, the obstacle
+// mesh files it grew against, and (with an edited script) obstacles that hold none of its cells and a sink for
+// venation added.
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "app/run_internal.h"
+#include "app/schema.h"
+#include "core/errors.h"
+#include "forms/obstacles.h"
+
+namespace cellform::app {
+
+void adopt_mesh_files(Start& s, const RunOptions& o, const SceneConfig& cfg, std::ostream& err) {
+  std::vector<std::string> meshes;
+  for (const auto& [path, hash] : cfg.mesh_files) meshes.push_back(hash);
+  if (s.resume && (!cfg.colonisation || s.sheet_partial) && s.obstacle_meshes && *s.obstacle_meshes != meshes) {
+    std::string changed;
+    for (std::size_t k = 0; k < meshes.size(); ++k)
+      if (k >= s.obstacle_meshes->size() || (*s.obstacle_meshes)[k] != meshes[k])
+        changed += (changed.empty() ? "'" : ", '") + cfg.mesh_files[k].first.string() + "'";
+    if (!s.script_replaced)
+      throw InputError("checkpoint '" + o.checkpoint.string() +
+                       "' grew against other mesh{} obstacles: " + (changed.empty() ? std::string("a file") : changed) +
+                       " changed since it was saved; put back the file it was grown with, or start a new run "
+                       "(resume --script with an edited script takes the files as they are now)");
+    err << "cellform: note: the mesh{} obstacles differ from those the checkpoint grew against"
+        << (changed.empty() ? std::string(" (fewer of them)") : " (" + changed + " changed)")
+        << "; the run goes on against them as they are now\n";
+  }
+  s.obstacle_meshes = meshes;
+}
+
+void refuse_two_step_limits(const Start& s, const RunOptions& o, const SceneConfig& cfg) {
+  // run.steps counts the cells' steps: of a new run, or of a resume --script that grows cells (a plain resume
+  // refuses a changed run.steps itself, and a grown sheet's run.steps does nothing)
+  const bool cells_steps = !s.resume || (s.script_replaced && (s.colonisation_bytes.empty() || s.sheet_partial));
+  for (const std::string name : {"run.steps", "colonisation.max_steps"}) {
+    const auto set = o.sets.find(name);
+    if (!o.steps || set == o.sets.end() || (name == "run.steps" ? !cells_steps : !cfg.colonisation)) continue;
+    double x = 0;
+    if (parse_double(set->second, x) && x != static_cast<double>(*o.steps))
+      throw InputError("--steps " + std::to_string(*o.steps) + " and --set " + name + "=" + set->second +
+                       " both give the step limit; give one of them");
+  }
+}
+
+void adopt_max_steps(Start& s, const RunOptions& o, const SceneConfig& cfg) {
+  if (!s.max_steps_changed || o.steps || !cfg.colonisation) return;  // --steps wins
+  const std::uint64_t limit = cfg.colonisation->params.max_steps;
+  if (limit < s.step)
+    throw InputError("colonisation.max_steps = " + std::to_string(limit) + " is below the checkpoint's step " +
+                     std::to_string(s.step) + "; give " + std::to_string(s.step) + " or more");
+  s.target_steps = limit;
+  s.has_target = true;
+}
+
+void check_resumed_cells(const Start& s, const SceneConfig& cfg, const cells::Cells& cells) {
+  if (!s.resume || !s.script_replaced) return;  // the run's own script: its cells are as it left them
+  try {
+    forms::check_outside(cfg.scene.obstacles, cells.position, cfg.scene.obstacle_names);
+  } catch (const core::InvalidInput& e) {
+    throw core::InvalidInput(std::string(e.what()) + "; " + s.script_path.string() +
+                             " places it over the cells of the checkpoint's step " + std::to_string(s.step) +
+                             ", which it would throw to its far side: move it off them, or start a new run");
+  }
+  // venation{} added by the edited script: its sink must be a cell by the next step
+  if (!cfg.scene.venation || std::count(cells.type.begin(), cells.type.end(), cells::CellType::petiole) > 0) return;
+  for (const forms::PetioleSpec& p : cfg.scene.petioles)
+    if (p.step > s.step) return;  // placed as the run goes on
+  const std::string next = std::to_string(s.step + 1);
+  throw core::InvalidInput(cfg.scene.venation_origin +
+                           "venation needs a petiole cell, and the checkpoint's cells (step " + std::to_string(s.step) +
+                           ") have none; a resume does not place a petiole{} due by then: " + "give it step = " + next +
+                           " (or later) to place it as the run goes on");
+}
+
+}  // namespace cellform::app
