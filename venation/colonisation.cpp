@@ -433,11 +433,12 @@ void Colonisation::Impl::step() {
     } else {
       const Index s = pull_source[v];
       pull_source[v] = kNoIndex;
-      // A node stays in the blade: sources on both sides of a sinus (a lobed or toothed outline) pull a
-      // node between them out of it (a laser would cut the vein through the outline). Marginal growth
+      // A segment stays in the blade: sources on both sides of a sinus (a lobed or toothed outline) pull a
+      // node between them out of it, or a segment across the sinus from a node near it (a laser would cut the
+      // vein through the outline). Marginal growth
       // scales the margin, not the veins: an outline not star-shaped about the petiole (a lobe's sinus, a
       // barb) leaves part of a young blade outside the grown one, and no vein goes there either.
-      auto fits = [&](const Vec3& x) { return !retraces(v, x) && (marginal ? in_final_blade(x) : in_blade(x)); };
+      auto fits = [&](const Vec3& x) { return !retraces(v, x) && segment_in_blade(nodes.point(v), x); };
       // Sources that cancel (Eq. 1 undefined), pull v back along one of its segments (usually its Eq. 1
       // child again, which is farther from each of them than v) or out of the blade: v grows towards its
       // nearest influencing source alone, which splits the set (Figure 6k). Without it such pairs wait for

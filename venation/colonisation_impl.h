@@ -296,10 +296,13 @@ struct Colonisation::Impl {
     const Vec3 u = petiole + (q - petiole) / frame_scale();
     return unit.contains(Vec2(u.x(), u.y()));
   }
-  /// Marginal growth: whether q lies in the grown blade (no node stays outside it).
-  bool in_final_blade(const Vec3& q) const {
-    const Vec3 u = petiole + (q - petiole) / std::max(frame_scale(), p.final_scale);
-    return unit.contains(Vec2(u.x(), u.y()));
+  /// Whether the vein segment from node position `a` to `q` lies in the blade (under marginal growth the
+  /// grown one): q inside, and no cut across a sinus or between teeth (OutlineIndex::segment_inside).
+  bool segment_in_blade(const Vec3& a, const Vec3& q) const {
+    if (nonuniform) return current.segment_inside(Vec2(a.x(), a.y()), Vec2(q.x(), q.y()));
+    const double s = marginal ? std::max(frame_scale(), p.final_scale) : frame_scale();
+    const Vec3 ua = petiole + (a - petiole) / s, uq = petiole + (q - petiole) / s;
+    return unit.segment_inside(Vec2(ua.x(), ua.y()), Vec2(uq.x(), uq.y()));
   }
   /// Darts that must land in vain, besides settle_steps steps, before a run that grows nothing more ends:
   /// as many as the domain holds b_v discs (balls in a volume), up to kSettleDarts, however few darts a step

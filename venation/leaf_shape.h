@@ -95,6 +95,10 @@ class OutlineIndex {
   bool has_grid() const { return !cell_class_.empty(); }
   /// contains() without the grid: the crossing test against the edges of the point's band.
   bool crossing_test(const Vec2& p) const;
+  /// Whether the segment from `a` to `b` lies in the blade: `b` inside and no edge of the outline crossing
+  /// it (a segment that only touches an edge or a vertex stays in, and so does one that starts on the outline).
+  /// For a vein segment from a node inside, which may not cut across a sinus or between teeth.
+  bool segment_inside(const Vec2& a, const Vec2& b) const;
   double area() const { return area_; }
   const Vec2& lo() const { return lo_; }  ///< bounding box
   const Vec2& hi() const { return hi_; }

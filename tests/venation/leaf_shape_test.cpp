@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/errors.h"
+#include "core/random.h"
 
 using namespace cellform;
 using Catch::Matchers::Contains;
@@ -174,6 +175,53 @@ TEST_CASE("OutlineIndex agrees with a plain crossing test", "[leaf_shape]") {
     inside += c;
   }
   CHECK(inside > 100);
+}
+
+TEST_CASE("OutlineIndex::segment_inside: the far end inside and no edge crossed, as a scan of every edge says",
+          "[leaf_shape]") {
+  // toothed and lobed blades, where short segments cut across sinuses with both ends inside
+  for (const ShapeKind kind : {ShapeKind::ovate, ShapeKind::lobed}) {
+    venation::ShapeParams sp;
+    sp.kind = kind;
+    sp.teeth = {{0.05, 200}};
+    if (kind == ShapeKind::lobed) {
+      sp.teeth.clear();
+      sp.lobes = 4;
+      sp.lobe_depth = 0.9;
+    }
+    const Outline o = venation::make_outline(sp);
+    const venation::OutlineIndex idx(o), plain(o, false);
+    core::Rng rng(11);
+    int across = 0, within = 0;
+    for (int i = 0; i < 20000; ++i) {
+      const Vec2 a(rng.uniform(idx.lo().x(), idx.hi().x()), rng.uniform(idx.lo().y(), idx.hi().y()));
+      if (!idx.contains(a)) continue;
+      const double angle = rng.uniform(0, 2 * M_PI), length = rng.uniform(0, 0.05);
+      const Vec2 b = a + length * Vec2(std::cos(angle), std::sin(angle));
+      bool crossed = false;  // every edge, each end of the segment strictly on either side
+      for (std::size_t k = 0, j = o.points.size() - 1; k < o.points.size(); j = k++) {
+        const Vec2 &c = o.points[j], &d = o.points[k];
+        auto side = [](const Vec2& u, const Vec2& v, const Vec2& w) {
+          const double x = (v - u).x() * (w - u).y() - (v - u).y() * (w - u).x();
+          return (x > 0) - (x < 0);
+        };
+        crossed = crossed || (side(a, b, c) * side(a, b, d) < 0 && side(c, d, a) * side(c, d, b) < 0);
+      }
+      const bool expect = idx.contains(b) && !crossed;
+      CHECK(idx.segment_inside(a, b) == expect);
+      CHECK(plain.segment_inside(a, b) == expect);  // without the grid: the bands alone
+      if (expect) {                                 // and then every point of it is inside, sampled
+        bool all = true;
+        for (int t = 1; t < 50; ++t) all = all && idx.contains(a + (b - a) * (t / 50.0));
+        CHECK(all);
+      }
+      across += idx.contains(b) && crossed;
+      within += expect;
+    }
+    INFO("segments with both ends inside that cross the outline: " << across << ", inside: " << within);
+    CHECK(across > 20);
+    CHECK(within > 2000);
+  }
 }
 
 TEST_CASE("a point on a vertical edge of the outline is inside on the left edge, outside on the right",
