@@ -135,13 +135,18 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
       bool json = false;
       double min_wall = 0;
       std::vector<std::string> files;
+      std::string wall_given;  // as run and resume: an option given twice is refused, not the last one taken
       for (std::size_t i = 1; i < args.size(); ++i) {
         if (args[i] == "--json") {
+          if (json) throw UsageError("--json is given twice; give it once");
           json = true;
         } else if (args[i] == "--min-wall" || args[i].rfind("--min-wall=", 0) == 0) {
           const bool joined = args[i].size() > 10;
           if (!joined && i + 1 == args.size()) throw UsageError("--min-wall needs a thickness (file units, mm)");
           const std::string v = joined ? args[i].substr(11) : args[++i];
+          if (!wall_given.empty())
+            throw UsageError("--min-wall is given twice (" + wall_given + " and " + v + "); give it once");
+          wall_given = v;
           const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), min_wall);  // no spaces, no hex
           if (ec != std::errc() || end != v.data() + v.size() || !(min_wall > 0 && min_wall <= 1e6))
             throw UsageError("--min-wall must be a thickness > 0 and at most 1e6 (the file's units, mm), got '" + v +

@@ -151,4 +151,11 @@ TEST_CASE("cellform check --min-wall judges the walls too", "[cli][check]") {
     CHECK_THAT(r.err, Contains("--min-wall must be a thickness > 0"));
   }
   CHECK(cli({"check", plate.string(), "--min-wall"}).code == 2);
+  // given twice: refused, as run and resume refuse it, not the last taken unsaid
+  r = cli({"check", plate.string(), "--min-wall", "0.1", "--min-wall=0.2"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--min-wall is given twice (0.1 and 0.2); give it once"));
+  r = cli({"check", plate.string(), "--json", "--json"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("--json is given twice"));
 }
