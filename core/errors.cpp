@@ -19,6 +19,7 @@ std::string error_text(const std::exception& e) {
 
 std::string number_text(double x) {
   if (std::isnan(x)) return "NaN";  // the stream writes "nan" or "-nan", by the sign bit
+  if (x == 0) return "0";           // and "-0" for negative zero
   std::ostringstream o;
   o << x;
   return o.str();

@@ -33,7 +33,7 @@ class Cancelled : public std::runtime_error {
 };
 
 /// A number for a message: up to 6 significant digits, 1e+300 and 1e-300 as such (std::to_string would
-/// print 300 digits, or 0.000000).
+/// print 300 digits, or 0.000000); negative zero as 0.
 std::string number_text(double x);
 
 /// A point for a message, as a script writes it: "{x, y, z}" with number_text's numbers.

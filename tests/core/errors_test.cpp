@@ -18,6 +18,8 @@ TEST_CASE("number_text keeps messages short", "[core]") {
   CHECK(cellform::core::number_text(1e300) == "1e+300");
   CHECK(cellform::core::number_text(0.5) == "0.5");
   CHECK(cellform::core::point_text(0.5, -2, 1e300) == "{0.5, -2, 1e+300}");
+  CHECK(cellform::core::number_text(-0.0) == "0");  // a sum of negative zeros, a rule's -0: no "-0"
+  CHECK(cellform::core::number_text(-1e-300) == "-1e-300");
 }
 
 TEST_CASE("is_utf8 accepts well-formed UTF-8 (as JSON does) and nothing else", "[core]") {
