@@ -121,12 +121,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       if (s.script_unchanged)
         err << "cellform: note: " << o.replace_script->string()
             << " is the script the checkpoint keeps, unchanged: this is a plain resume\n";
-      // (a script of the other kind is refused below: nothing to compare it with)
-      if (s.script_replaced && cfg.colonisation.has_value() == colonisation_checkpoint)
+      if (s.script_replaced && cfg.colonisation.has_value() == colonisation_checkpoint)  // else refused below
         adopt_edited_script(s, o, cfg, err);
-      // a resumed cell run steps with the values it was saved with, whatever the defaults are now: the script is
-      // read again with those that changed set (a run stopped while its sheet grew too: its rest grows with them)
-      // (not with resume --script: the edited script's values are the point)
+      // a resumed cell run (or sheet) steps with the values it was saved with, whatever the defaults are now: the
+      // script is read again with those that changed set (not with --script: its edited values are the point)
       if (s.resume && !s.script_replaced && s.physics.is_object() && (!cfg.colonisation || s.sheet_partial)) {
         const json now = physics_of(cfg.resolved);
         json changed = json::object();
@@ -411,7 +409,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         scene->step();
         host.check_knobs(sim.step_count());
       } catch (const core::SimulationDiverged& e) {
-        err << (o.quiet ? "" : "\n") << "cellform: " << e.what() << "\n";  // says "diverged" and what to try
+        progress.break_line();                    // a bar drawn on a terminal
+        err << "cellform: " << e.what() << "\n";  // says "diverged" and what to try
         try {
           checkpoint_now();  // the cells are those of the last good step
           saved = true;
@@ -469,7 +468,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         if (!o.quiet) say_printed(err, printed);
       } catch (const std::exception& e) {  // a Ctrl-C (core::Cancelled) too: the print was all this run made
         const bool cancelled = dynamic_cast<const core::Cancelled*>(&e) != nullptr;
-        err << (cancelled ? std::string(o.quiet ? "" : "\n") + "cellform: printing interrupted"
+        err << (cancelled ? std::string(o.quiet || !::isatty(2) ? "" : "\n") + "cellform: printing interrupted"
                           : "cellform: " + output_error(e, staging, dir))
             << "\n  (nothing in " << dir.string()
             << "/ changed: its outputs, printable files and checkpoint are as they were)\n";
@@ -544,7 +543,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                                                 : "the other outputs are written",
                        print_retry, checkpoint);
     if (print_cancelled)
-      err << (o.quiet ? "" : "\n") << "cellform: printing interrupted: no printable files (the other outputs"
+      err << (o.quiet || !::isatty(2) ? "" : "\n")
+          << "cellform: printing interrupted: no printable files (the other outputs"
           << (checkpoint_error.empty() ? " and the checkpoint are written)\n" : " are written)\n");
     if (!checkpoint_error.empty()) {
       err << "cellform: " << checkpoint_error

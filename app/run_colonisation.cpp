@@ -490,7 +490,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     commit_outputs(staging, dir, outputs);
     drop_earlier_checkpoint(dir, run, s.resume ? o.checkpoint : fs::path());
     if (print_cancelled)
-      err << (o.quiet ? "" : "\n")
+      err << (o.quiet || !::isatty(2) ? "" : "\n")  // the print's bar is drawn only on a terminal
           << "cellform: printing interrupted: no printable files (the vein files are written)\n";
     if (!checkpoint_error.empty()) {
       err << "cellform: " << checkpoint_error

@@ -339,6 +339,11 @@ TEST_CASE(
   CHECK_THAT(r.err, Contains("the simulation diverged") &&
                         Contains("cellform resume " + checkpoint + " --script " + tight.string()) &&
                         !Contains("carry over"));  // no --set: nothing to say of them
+  {  // without --quiet, to a file or pipe (no progress bar to end), no blank line before the message
+    const CliResult loud = cli({"run", tight.string(), "--out", (t.path / "loud").string()});
+    CHECK(loud.code == 1);
+    CHECK_THAT(loud.err, Contains("\ncellform: step ") && !Contains("\n\n"));
+  }
   const auto run = nlohmann::json::parse(slurp(out / "run.json"));
   CHECK(run["status"] == "failed");
   CHECK_THAT(run["error"].get<std::string>(), Contains("exceeds cells.max_speed = 0.001"));
