@@ -40,9 +40,15 @@ void say_veinless_petioles(std::ostream& err, const cells::Cells& c, const venat
     std::ostringstream at;
     at << std::setprecision(3) << "{" << q.x() << ", " << q.y() << ", " << q.z() << "}";
     if (!linked[i]) {
-      double nearest = std::numeric_limits<double>::infinity();
-      for (std::size_t j = 0; j < n; ++j)
-        if (j != i) nearest = std::min(nearest, (c.position[j] - q).norm());
+      // of the linked cells: one born in the last step (the petiole's own daughter, say) is no way in yet
+      double linked_nearest = std::numeric_limits<double>::infinity(), any_nearest = linked_nearest;
+      for (std::size_t j = 0; j < n; ++j) {
+        if (j == i) continue;
+        const double d = (c.position[j] - q).norm();
+        any_nearest = std::min(any_nearest, d);
+        if (linked[j]) linked_nearest = std::min(linked_nearest, d);
+      }
+      const double nearest = std::isfinite(linked_nearest) ? linked_nearest : any_nearest;
       err << "cellform: note: the petiole at " << at.str() << " (cell " << c.id[i]
           << ") grew no vein: it is linked to no cell, so no auxin reaches it"
           << (std::isfinite(nearest) ? " (the nearest cell is " + core::number_text(nearest) + " model units away)"

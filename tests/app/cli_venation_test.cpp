@@ -187,6 +187,14 @@ TEST_CASE("a petiole that grew no vein is noted, with where it is and why", "[cl
   REQUIRE(r.code == 0);
   CHECK_THAT(r.err, Contains("note: the petiole at {0, 3.4, 0}") && Contains("it is linked to no cell") &&
                         Contains("A petiole due at the run's last step is linked only in the next step"));
+  // a petiole apart from the form that divided at the last step: the distance to the form is said, not the
+  // half rest length to its own new daughter
+  const auto split = t.write("split.lua",
+                             "division { trigger = 'age', age = 5 }\nrun { steps = 5 }\nvenation { threshold = 5 }\n"
+                             "disc { radius = 3 }\npetiole { at = {0, -5.5, 0} }\n");
+  r = cli({"run", split.string(), "--out", (t.path / "e").string()});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("note: the petiole at {0, -5.5, 0}") && Contains("(the nearest cell is 2."));
 }
 
 TEST_CASE("a quick try with --steps ends before any vein: the print is skipped, and the note says why",
