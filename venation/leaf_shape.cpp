@@ -543,17 +543,21 @@ bool OutlineIndex::crossing_test(const Vec2& q) const {
 bool OutlineIndex::segment_inside(const Vec2& a, const Vec2& b) const {
   if (!contains(b)) return false;
   const Vec2 lo = a.cwiseMin(b), hi = a.cwiseMax(b);
-  if (lo.x() < lo_.x() || lo.y() < lo_.y() || hi.x() > hi_.x() || hi.y() > hi_.y()) return false;
-  if (!cell_class_.empty()) {  // every grid cell the segment's box meets wholly inside: no edge near
-    const long k0 = static_cast<long>((lo.x() - lo_.x()) * inv_w_), k1 = static_cast<long>((hi.x() - lo_.x()) * inv_w_);
-    const long r0 = static_cast<long>((lo.y() - lo_.y()) * inv_h_), r1 = static_cast<long>((hi.y() - lo_.y()) * inv_h_);
+  if (!cell_class_.empty() && lo.x() >= lo_.x() && lo.y() >= lo_.y()) {  // every cell the box meets wholly inside
+    auto cell = [](double offset, double inv, long count) {
+      return std::min(count - 1, static_cast<long>(offset * inv));
+    };
+    const long k0 = cell(lo.x() - lo_.x(), inv_w_, gx_), k1 = cell(hi.x() - lo_.x(), inv_w_, gx_);
+    const long r0 = cell(lo.y() - lo_.y(), inv_h_, gy_), r1 = cell(hi.y() - lo_.y(), inv_h_, gy_);
     bool clear = true;
-    for (long r = r0; r <= std::min(r1, gy_ - 1) && clear; ++r)
-      for (long k = k0; k <= std::min(k1, gx_ - 1) && clear; ++k)
-        clear = cell_class_[static_cast<std::size_t>(r * gx_ + k)] == 1;
+    for (long r = r0; r <= r1 && clear; ++r)
+      for (long k = k0; k <= k1 && clear; ++k) clear = cell_class_[static_cast<std::size_t>(r * gx_ + k)] == 1;
     if (clear) return true;
   }
-  // a proper crossing with an edge of a band the segment's height meets: each end strictly on either side
+  // a proper crossing with an edge of a band the segment's height meets: each end strictly on either side,
+  // but for a start on the outline (a seed at the petiole; a node that rounding put just outside, within the
+  // tolerance validate(Leaf) gives a seed), which may cross it there
+  const double tolerance = 1e-6 * (hi_ - lo_).norm();
   const auto& p = outline_.points;
   const std::size_t n = p.size(), bands = band_start_.size() - 1;
   auto band = [&](double y) {
@@ -568,10 +572,8 @@ bool OutlineIndex::segment_inside(const Vec2& a, const Vec2& b) const {
       const Vec2& c = p[band_edges_[k]];
       const Vec2& d = p[(band_edges_[k] + 1) % n];
       if (side(a, b, c) * side(a, b, d) >= 0 || side(c, d, a) * side(c, d, b) >= 0) continue;
-      // where along a -> b: a start on the outline (a seed at the petiole) rounds to either side of it
-      const Vec2 e = d - c, f = b - a;
-      const double t = ((c.x() - a.x()) * e.y() - (c.y() - a.y()) * e.x()) / (f.x() * e.y() - f.y() * e.x());
-      if (t > 1e-9) return false;
+      const Vec2 e = d - c;  // not zero: c and d lie strictly on either side of the segment
+      if (std::abs(e.x() * (a.y() - c.y()) - e.y() * (a.x() - c.x())) > tolerance * e.norm()) return false;
     }
   return true;
 }

@@ -96,7 +96,8 @@ class OutlineIndex {
   /// contains() without the grid: the crossing test against the edges of the point's band.
   bool crossing_test(const Vec2& p) const;
   /// Whether the segment from `a` to `b` lies in the blade: `b` inside and no edge of the outline crossing
-  /// it (a segment that only touches an edge or a vertex stays in, and so does one that starts on the outline).
+  /// it (a segment that only touches an edge or a vertex stays in, and so does one that starts on the outline,
+  /// or outside it by up to 1e-6 of the outline's box diagonal, as validate(Leaf) allows a seed).
   /// For a vein segment from a node inside, which may not cut across a sinus or between teeth.
   bool segment_inside(const Vec2& a, const Vec2& b) const;
   double area() const { return area_; }

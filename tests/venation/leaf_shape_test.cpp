@@ -218,6 +218,12 @@ TEST_CASE("OutlineIndex::segment_inside: the far end inside and no edge crossed,
       across += idx.contains(b) && crossed;
       within += expect;
     }
+    // a start on the outline, or a hair outside it (as validate(Leaf) lets a seed be), may go in; one farther not
+    const double diagonal = (idx.hi() - idx.lo()).norm();
+    const Vec2 base(0, 0), inward(0, 0.05);  // the petiole, at the bottom of the blade
+    CHECK(idx.segment_inside(base, base + inward));
+    CHECK(idx.segment_inside(base + Vec2(5e-7, -5e-7) * diagonal, base + inward));
+    CHECK_FALSE(idx.segment_inside(base + Vec2(1e-4, -1e-4) * diagonal, base + inward));  // (beside the vertex)
     INFO("segments with both ends inside that cross the outline: " << across << ", inside: " << within);
     CHECK(across > 20);
     CHECK(within > 2000);
