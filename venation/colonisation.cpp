@@ -435,9 +435,9 @@ void Colonisation::Impl::step() {
       pull_source[v] = kNoIndex;
       // A segment stays in the blade: sources on both sides of a sinus (a lobed or toothed outline) pull a
       // node between them out of it, or a segment across the sinus from a node near it (a laser would cut the
-      // vein through the outline). Marginal growth
-      // scales the margin, not the veins: an outline not star-shaped about the petiole (a lobe's sinus, a
-      // barb) leaves part of a young blade outside the grown one, and no vein goes there either.
+      // vein through the outline). Marginal growth scales the margin, not the veins: an outline not
+      // star-shaped about the petiole (a lobe's sinus, a barb) leaves part of a young blade outside the grown
+      // one, and no vein goes there either.
       auto fits = [&](const Vec3& x) { return !retraces(v, x) && segment_in_blade(nodes.point(v), x); };
       // Sources that cancel (Eq. 1 undefined), pull v back along one of its segments (usually its Eq. 1
       // child again, which is farther from each of them than v) or out of the blade: v grows towards its
@@ -517,12 +517,12 @@ double Colonisation::Impl::settle_darts() const {
   double discs = 0;
   if (region) {
     const bool volume = region->domain().kind != DomainKind::surface;
-    discs = region->dart_measure() / (volume ? 4 * std::numbers::pi / 3 * bv * bv * bv : std::numbers::pi * bv * bv);
+    discs = region->measure() / (volume ? 4 * std::numbers::pi / 3 * bv * bv * bv : std::numbers::pi * bv * bv);
   } else {  // the actual leaf, in vein segments, as draw_blade_darts throws over it
     const double area = nonuniform ? current.area() : unit.area() * sigma * sigma;
     discs = area / (std::numbers::pi * p.vein_birth_distance * p.vein_birth_distance);
   }
-  return std::min(discs, kSettleDarts);
+  return discs >= 0 ? std::min(discs, kSettleDarts) : 0.0;  // (NaN: a measure beyond double range)
 }
 
 // ---- Colonisation ----

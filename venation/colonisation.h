@@ -82,7 +82,9 @@ struct ColonisationParams {
                                       ///< or before a step whose darts would make more wait (not taken)
   std::size_t settle_steps = 5;       ///< after growth ends: stop when this many steps in a row added no
                                       ///< node and left as many sources waiting (a source born within reach of
-                                      ///< the veins goes at once) (finished if no source is left, else stalled)
+                                      ///< the veins goes at once), and their darts were at least as many as the
+                                      ///< domain holds b_v discs (balls), up to 1,000 (none under marginal
+                                      ///< growth) (finished if no source is left, else stalled)
   /// Closed, exact, planar, nodes that never move (not nonuniform growth): a source whose nearest node
   /// provably excludes every other node from V(s) follows only that node until the proof runs out,
   /// instead of updating its six sector bests every step. The same result either way (false: to test
@@ -139,7 +141,7 @@ struct ColonisationReport {
   std::size_t loops = 0;            ///< anastomosis edges added (a join of two seeds' trees closes no cycle)
   double scale = 1;                 ///< growth scale sigma at the end (nonuniform: steps of growth done)
   bool finished = false;            ///< growth over and no source left: the pattern is complete
-  bool stalled = false;             ///< growth over, sources remain, but settle_steps steps changed nothing
+  bool stalled = false;             ///< growth over, sources remain, but the settling steps changed nothing
   bool hit_max_steps = false;       ///< stopped by max_steps
   bool hit_max_nodes = false;       ///< stopped by max_nodes
   bool hit_max_sources = false;     ///< stopped by max_sources

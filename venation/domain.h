@@ -101,6 +101,9 @@ class PreparedDomain {
   /// Volume (box, ball; for a mesh volume its bounding box's) or surface area that darts are thrown
   /// over, model units cubed or squared.
   double dart_measure() const;
+  /// Volume (a mesh volume's to within a few percent, from a lattice of inside tests) or surface area of the
+  /// domain itself, model units cubed or squared.
+  double measure() const;
 
   /// True if `q` is inside the volume or within `tolerance` (model units) of it, or within `tolerance`
   /// of the surface.

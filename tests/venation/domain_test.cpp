@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <map>
+#include <numbers>
 
 #include "core/errors.h"
 #include "tests/venation/eq1_oracle.h"
@@ -131,6 +132,37 @@ TEST_CASE("mesh volumes: the even-odd inside test agrees with the analytic octah
       if (std::abs(l1(q) - 1) < 1e-12 || std::abs(l1(q) - 0.5) < 1e-12) continue;
       CHECK(pd.contains(q, 0) == (l1(q) < 1 && l1(q) > 0.5));
     }
+}
+
+TEST_CASE("a domain's own measure: a box's and a ball's volume, a mesh volume's by lattice, a surface's area",
+          "[domain]") {
+  v::Domain d;
+  d.kind = v::DomainKind::box;
+  d.box_min = Vec3(0, 0, 0);
+  d.box_max = Vec3(2, 3, 4);
+  d.initial_nodes = {Vec3(1, 1, 1)};
+  CHECK(v::PreparedDomain(d).measure() == 24);
+  d.kind = v::DomainKind::ball;
+  d.centre = Vec3::Zero();
+  d.radius = 2;
+  d.initial_nodes = {Vec3::Zero()};
+  CHECK(v::PreparedDomain(d).measure() == Approx(32 * std::numbers::pi / 3));
+  CHECK(v::PreparedDomain(d).dart_measure() == 64);  // darts are thrown over its box
+  d.kind = v::DomainKind::volume;
+  d.mesh = octahedron(2);
+  CHECK(v::PreparedDomain(d).measure() == Approx(4.0 / 3 * 8).epsilon(0.05));
+  // hollow, its inner shell wound as the outer (the even-odd rule does not mind): the shell between them
+  v::Mesh hollow = octahedron(2);
+  const v::Mesh inner = octahedron(1);
+  for (auto t : inner.triangles) hollow.triangles.push_back({t[0] + 6, t[1] + 6, t[2] + 6});
+  hollow.vertices.insert(hollow.vertices.end(), inner.vertices.begin(), inner.vertices.end());
+  d.mesh = hollow;
+  d.initial_nodes = {Vec3(1.5, 0, 0)};
+  CHECK(v::PreparedDomain(d).measure() == Approx(4.0 / 3 * (8 - 1)).epsilon(0.05));
+  d.kind = v::DomainKind::surface;
+  d.mesh = octahedron(2);
+  d.initial_nodes = {Vec3(2, 0, 0)};
+  CHECK(v::PreparedDomain(d).measure() == Approx(4 * std::sqrt(3.0) * 4));
 }
 
 TEST_CASE("closest points equal a brute-force scan of every triangle", "[domain]") {
