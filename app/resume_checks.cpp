@@ -65,15 +65,20 @@ void check_resumed_cells(const Start& s, const SceneConfig& cfg, const cells::Ce
                              " places it over the cells of the checkpoint's step " + std::to_string(s.step) +
                              ", which it would throw to its far side: move it off them, or start a new run");
   }
-  // venation{} added by the edited script: its sink must be a cell by the next step
+  // venation{} added by the edited script: its sink must be a cell by its first pass
   if (!cfg.scene.venation || std::count(cells.type.begin(), cells.type.end(), cells::CellType::petiole) > 0) return;
+  const std::uint64_t every = std::max<std::uint64_t>(cfg.scene.venation->every, 1);
+  const std::uint64_t pass = (s.step / every + 1) * every;  // placed at a step, a petiole is there for its pass
   for (const forms::PetioleSpec& p : cfg.scene.petioles)
-    if (p.step > s.step) return;  // placed as the run goes on
-  const std::string next = std::to_string(s.step + 1);
-  throw core::InvalidInput(cfg.scene.venation_origin +
-                           "venation needs a petiole cell, and the checkpoint's cells (step " + std::to_string(s.step) +
-                           ") have none; a resume does not place a petiole{} due by then: " + "give it step = " + next +
-                           " (or later) to place it as the run goes on");
+    if (p.step > s.step && p.step <= pass) return;
+  const std::string next = std::to_string(s.step + 1), at = std::to_string(s.step);
+  std::string m = cfg.scene.venation_origin;  // (appended: GCC 12 warns falsely of "literal" + a temporary)
+  m += "venation needs a petiole cell by its first pass (step ";
+  m += std::to_string(pass) + "), and the checkpoint's cells (step " + at + ") have none; ";
+  m += cfg.scene.petioles.empty()
+           ? "add petiole{at = {x, y, z}, step = " + next + "}"
+           : "a resume does not place a petiole{} due by step " + at + ": give it step = " + next;
+  throw core::InvalidInput(m);
 }
 
 }  // namespace cellform::app

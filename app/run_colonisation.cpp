@@ -302,6 +302,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     // the veins' steps, without their periodic checkpoints
     const double seconds = seconds_since(a) - vein_checkpoint_seconds;
     checkpoint_seconds += vein_checkpoint_seconds;
+    failed.timings = {{"simulation_s", seconds}, {"checkpoints_s", checkpoint_seconds}};  // if the outputs fail
+    if (sheet_seconds > 0) failed.timings["sheet_s"] = sheet_seconds;
     if (!o.quiet && ::isatty(2)) err << "\n";
     // before the outputs: a failure writing them leaves the checkpoint; and a checkpoint that cannot be
     // written (a full disk) still leaves the outputs
@@ -341,11 +343,10 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     if (rep.sources_born == 0 && code == ok && !stopped_before_step) {  // nothing to grow towards: say why
       err << "cellform: warning: no auxin source was placed in " << rep.steps << " steps, so no vein grew (";
       if (rep.darts > 0) err << "all " << rep.darts << " darts fell within the birth distances: ";
-      err << (rep.darts > 0 && rep.finished ? "" : "raise colonisation.darts, ")
-          << "lower colonisation.birth_distance or vein_birth_distance"
-          << (planar         ? ", or give the leaf room to grow)\n"
-              : rep.finished ? ")\n"
-                             : ", or run more steps)\n");
+      err << (rep.darts == 0 ? "no dart was thrown: raise colonisation.darts"
+              : rep.finished ? "lower colonisation.birth_distance or vein_birth_distance"
+                             : "raise colonisation.darts, lower colonisation.birth_distance or vein_birth_distance")
+          << (planar ? ", or give the leaf room to grow" : "") << (rep.finished ? ")\n" : ", or run more steps)\n");
     } else if (code == ok && rep.finished && spec.params.type == venation::VenationType::closed &&
                spec.params.kill_distance >= spec.params.vein_birth_distance &&
                std::none_of(tree.parent.begin(), tree.parent.end(), [](core::Index q) { return q != core::kNoIndex; }))

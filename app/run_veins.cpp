@@ -51,7 +51,9 @@ void say_veinless_petioles(std::ostream& err, const cells::Cells& c, const venat
       const double nearest = std::isfinite(linked_nearest) ? linked_nearest : any_nearest;
       err << "cellform: note: the petiole at " << at.str() << " (cell " << c.id[i]
           << ") grew no vein: it is linked to no cell, so no auxin reaches it"
-          << (std::isfinite(nearest) ? " (the nearest cell is " + core::number_text(nearest) + " model units away)"
+          << (std::isfinite(nearest) ? std::string(std::isfinite(linked_nearest) ? " (the nearest linked cell is "
+                                                                                 : " (the nearest cell is ") +
+                                           core::number_text(nearest) + " model units away)"
                                      : std::string())
           << ". A petiole due at the run's last step is linked only in the next step (run longer); one farther "
              "than cells.link_range from every cell never is (place it nearer the form)\n";

@@ -215,7 +215,7 @@ void finish_colonisation(Impl& I) {
   if (spec.domain.kind == venation::DomainKind::leaf) {
     try {
       venation::validate(spec.leaf, spec.params);  // a closed pattern's seeds (only leaf.seed_points can repeat)
-    } catch (const std::exception& e) {
+    } catch (const InvalidInput& e) {
       std::string m = core::error_text(e);
       for (std::size_t k = m.find("leaf.initial_nodes"); k != std::string::npos; k = m.find("leaf.initial_nodes", k))
         m.replace(k, 18, "leaf.seed_points");

@@ -177,7 +177,7 @@ TEST_CASE("a petiole that grew no vein is noted, with where it is and why", "[cl
   r = cli({"run", apart.string(), "--out", (t.path / "c").string()});
   REQUIRE(r.code == 0);
   CHECK_THAT(r.err, Contains("note: the petiole at {0, -5.5, 0}") && Contains("it is linked to no cell") &&
-                        Contains("(the nearest cell is 2.") && !Contains("where veins already run"));
+                        Contains("(the nearest linked cell is 2.") && !Contains("where veins already run"));
   // added at the run's last step, next to a cell: not linked yet, which the note says (it blamed the distance)
   const auto last =
       t.write("last.lua",
@@ -194,7 +194,7 @@ TEST_CASE("a petiole that grew no vein is noted, with where it is and why", "[cl
                              "disc { radius = 3 }\npetiole { at = {0, -5.5, 0} }\n");
   r = cli({"run", split.string(), "--out", (t.path / "e").string()});
   REQUIRE(r.code == 0);
-  CHECK_THAT(r.err, Contains("note: the petiole at {0, -5.5, 0}") && Contains("(the nearest cell is 2."));
+  CHECK_THAT(r.err, Contains("note: the petiole at {0, -5.5, 0}") && Contains("(the nearest linked cell is 2."));
 }
 
 TEST_CASE("a quick try with --steps ends before any vein: the print is skipped, and the note says why",

@@ -186,9 +186,19 @@ TEST_CASE("resume --script is refused clearly where it cannot apply", "[cli][che
     const auto veined = t.write("veined.lua", bare + "petiole { at = {0, -3, 0} }\nvenation { threshold = 5 }\n");
     r = cli({"resume", o2.string(), "--script", veined.string(), "--steps", "8", "--quiet"});
     CHECK(r.code == 2);
-    CHECK_THAT(r.err, Contains("veined.lua:7: venation needs a petiole cell, and the checkpoint's cells (step 5) have "
-                               "none") &&
+    CHECK_THAT(r.err, Contains("veined.lua:7: venation needs a petiole cell by its first pass (step 6), and the "
+                               "checkpoint's cells (step 5) have none") &&
                           Contains("give it step = 6"));
+    // due after that first pass: the run would fail at it
+    const auto late = t.write("late.lua", bare + "petiole { at = {0, -3, 0}, step = 7 }\nvenation { threshold = 5 }\n");
+    r = cli({"resume", o2.string(), "--script", late.string(), "--steps", "8", "--quiet"});
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains("give it step = 6"));
+    // none at all
+    r = cli({"resume", o2.string(), "--script", t.write("none.lua", bare + "venation { threshold = 5 }\n").string(),
+             "--steps", "8", "--quiet"});
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains("add petiole{at = {x, y, z}, step = 6}"));
     const auto later =
         t.write("later.lua", bare + "petiole { at = {0, -3, 0}, step = 6 }\nvenation { threshold = 5 }\n");
     r = cli({"resume", o2.string(), "--script", later.string(), "--steps", "8", "--quiet"});
