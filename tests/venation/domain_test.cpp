@@ -59,6 +59,16 @@ v::Mesh icosphere(double r, int levels) {
   return m;
 }
 
+/// The shell between two octahedra about the origin, the inner one wound as the outer (the even-odd rule does
+/// not mind).
+v::Mesh hollow_octahedron(double outer, double inner) {
+  v::Mesh m = octahedron(outer);
+  const v::Mesh in = octahedron(inner);
+  for (auto t : in.triangles) m.triangles.push_back({t[0] + 6, t[1] + 6, t[2] + 6});
+  m.vertices.insert(m.vertices.end(), in.vertices.begin(), in.vertices.end());
+  return m;
+}
+
 double l1(const Vec3& p) { return std::abs(p.x()) + std::abs(p.y()) + std::abs(p.z()); }
 
 v::ColonisationParams params3d(v::VenationType type, double birth = 2.5) {
@@ -119,11 +129,7 @@ TEST_CASE("mesh volumes: the even-odd inside test agrees with the analytic octah
     }
   }
   // a hollow octahedron (inner shell): inside is between the two
-  v::Mesh hollow = octahedron(1);
-  const v::Mesh inner = octahedron(0.5);
-  for (auto t : inner.triangles) hollow.triangles.push_back({t[0] + 6, t[1] + 6, t[2] + 6});
-  hollow.vertices.insert(hollow.vertices.end(), inner.vertices.begin(), inner.vertices.end());
-  d.mesh = hollow;
+  d.mesh = hollow_octahedron(1, 0.5);
   d.initial_nodes = {Vec3(0.75, 0, 0)};
   const v::PreparedDomain pd(d);
   for (double x = -1.25; x <= 1.25; x += 0.125)
@@ -151,12 +157,7 @@ TEST_CASE("a domain's own measure: a box's and a ball's volume, a mesh volume's 
   d.kind = v::DomainKind::volume;
   d.mesh = octahedron(2);
   CHECK(v::PreparedDomain(d).measure() == Approx(4.0 / 3 * 8).epsilon(0.05));
-  // hollow, its inner shell wound as the outer (the even-odd rule does not mind): the shell between them
-  v::Mesh hollow = octahedron(2);
-  const v::Mesh inner = octahedron(1);
-  for (auto t : inner.triangles) hollow.triangles.push_back({t[0] + 6, t[1] + 6, t[2] + 6});
-  hollow.vertices.insert(hollow.vertices.end(), inner.vertices.begin(), inner.vertices.end());
-  d.mesh = hollow;
+  d.mesh = hollow_octahedron(2, 1);  // the shell between them
   d.initial_nodes = {Vec3(1.5, 0, 0)};
   CHECK(v::PreparedDomain(d).measure() == Approx(4.0 / 3 * (8 - 1)).epsilon(0.05));
   d.kind = v::DomainKind::surface;
