@@ -263,6 +263,14 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
     bool checkpoint_warned = false;
     double vein_checkpoint_seconds = 0;  // the periodic checkpoints of the veins' steps
+    // run.json's timings so far but total_s: the veins' steps without their periodic checkpoints, all of those,
+    // and the sheet grown first in this command
+    auto steps_timings = [&] {
+      json t = {{"simulation_s", seconds_since(a) - vein_checkpoint_seconds},
+                {"checkpoints_s", checkpoint_seconds + vein_checkpoint_seconds}};
+      if (sheet_seconds > 0) t["sheet_s"] = sheet_seconds;
+      return t;
+    };
     try {
       while (!col.done()) {
         if (g_interrupt.load()) {
@@ -294,16 +302,10 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       failed.steps = {{"first", first}, {"completed", saved_step}, {"failed", col.report().steps + 1}};
       failed.checkpointed = saved || sheet_checkpointed;
       failed.checkpoint_note = saved ? "" : ", taken while the sheet grew";
-      failed.timings = {{"simulation_s", seconds_since(a) - vein_checkpoint_seconds},
-                        {"checkpoints_s", checkpoint_seconds + vein_checkpoint_seconds}};
-      if (sheet_seconds > 0) failed.timings["sheet_s"] = sheet_seconds;
+      failed.timings = steps_timings();
       throw;
     }
-    // the veins' steps, without their periodic checkpoints
-    const double seconds = seconds_since(a) - vein_checkpoint_seconds;
-    checkpoint_seconds += vein_checkpoint_seconds;
-    failed.timings = {{"simulation_s", seconds}, {"checkpoints_s", checkpoint_seconds}};  // if the outputs fail
-    if (sheet_seconds > 0) failed.timings["sheet_s"] = sheet_seconds;
+    failed.timings = steps_timings();  // run.json's, and a failed one's if the outputs fail
     if (!o.quiet && ::isatty(2)) err << "\n";
     // before the outputs: a failure writing them leaves the checkpoint; and a checkpoint that cannot be
     // written (a full disk) still leaves the outputs
@@ -469,8 +471,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                     {"sources_left", rep.sources},
                     {"sources_born", rep.sources_born}};
     if (tree.size() > rep.nodes) run["veins"]["stems"] = tree.size() - rep.nodes;  // nodes of veins.* beyond
-    run["timings"] = {{"total_s", seconds_since(t0)}, {"simulation_s", seconds}, {"checkpoints_s", checkpoint_seconds}};
-    if (sheet_seconds > 0) run["timings"]["sheet_s"] = sheet_seconds;  // the cells grown first, in this command
+    run["timings"] = failed.timings;
+    run["timings"]["total_s"] = seconds_since(t0);
     // a resume whose checkpoints failed in the folder of the checkpoint it resumed: that one is there still
     std::error_code same;
     const bool resumed_here =
