@@ -470,7 +470,8 @@ std::vector<std::string> earlier_frames(const fs::path& dir, std::uint64_t up_to
   return kept;
 }
 
-void check_output_places(const fs::path& dir, const std::vector<std::string>& names) {
+void check_output_places(const fs::path& dir, std::vector<std::string> names) {
+  names.insert(names.begin(), {kCheckpointName, "run.json"});
   for (const std::string& name : names) {
     std::error_code probe;
     if (fs::is_directory(dir / name, probe))

@@ -310,10 +310,10 @@ inline constexpr const char* kStagingMark = "checkpoint.mark";
 /// gets the checkpoint_mark of that checkpoint (empty when `dir` has none).
 std::filesystem::path make_staging(const std::filesystem::path& dir, std::optional<FolderLock>& lock,
                                    std::filesystem::path* kept = nullptr, std::string* checkpoint_mark_out = nullptr);
-/// Refuses (FolderRefused) a `dir` where a folder takes the place of one of the files `names` a run writes
-/// there: the run would fail only at its end, after every step. (checkpoint.cfck is not among them: a folder
-/// there is warned of at the first checkpoint, and the outputs are still written.)
-void check_output_places(const std::filesystem::path& dir, const std::vector<std::string>& names);
+/// Refuses (FolderRefused) a `dir` where a folder takes the place of checkpoint.cfck, run.json or one of the
+/// files `names` a run writes there: the run would fail only at its end, after every step, or (the checkpoint)
+/// go on unable to be resumed.
+void check_output_places(const std::filesystem::path& dir, std::vector<std::string> names);
 /// The files a run of `cfg` writes into its output folder at its end (not run.json, the checkpoint or frames).
 std::vector<std::string> output_names(const SceneConfig& cfg);
 /// Refuses (FolderRefused) a `dir` whose frames/ is a file or a link to nothing: output.every writes there,

@@ -1,5 +1,5 @@
-// Tests of a checkpoint that cannot be written (a full disk, a folder in the way): the outputs still go in and
-// say so, an earlier run's checkpoint in the folder is never lost, and no hint offers a retry that is not one.
+// Tests of a checkpoint that cannot be written (a full disk; a folder in its place is refused): the outputs still go in
+// and say so, an earlier run's checkpoint in the folder is never lost, and no hint offers a retry that is not one.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <chrono>
@@ -26,17 +26,36 @@ std::vector<fs::path> cell_and_vein_scripts(const TempDir& t) {
 
 TEST_CASE("a checkpoint that cannot be written still leaves the outputs, and says so", "[cli][checkpoint]") {
   TempDir t("cli-no-checkpoint");
-  const auto cells = t.write("small.lua", kSmall);
-  const auto veins = t.write("leaf.lua",
-                             "leaf { shape = 'ellipse' }\n"
-                             "colonisation { type = 'open', growth = 'none', initial_length = 30, darts = 20000 }\n");
-  for (const fs::path& script : {cells, veins}) {
+  for (const fs::path& script : cell_and_vein_scripts(t)) {
     INFO(script.filename().string());
-    const fs::path out = t.path / script.stem();
-    fs::create_directories(out / "checkpoint.cfck");  // a folder in the way: the checkpoint cannot be written
-    // periodic checkpoints every step fail too: said once, and the run goes on to its end
-    const auto r = cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "5", "--set",
-                        "output.checkpoint_every=1", "--set", "output.checkpoint_seconds=0"});
+    // a full disk (a file size limit between the outputs' sizes and the smallest checkpoint's): periodic
+    // checkpoints every step fail too: said once, and the run goes on to its end
+    const std::vector<std::string> args = {"run",
+                                           script.string(),
+                                           "--quiet",
+                                           "--set",
+                                           "output.checkpoint_every=1",
+                                           "--set",
+                                           "output.checkpoint_seconds=0",
+                                           "--out"};
+    auto run_into = [&](const fs::path& out, const std::string& steps) {
+      std::vector<std::string> a = args;
+      a.insert(a.end(), {out.string(), "--steps", steps});
+      return cli(a);
+    };
+    const fs::path first = t.path / (script.stem().string() + "1"), whole = t.path / (script.stem().string() + "5");
+    REQUIRE(run_into(first, "1").code == 0);
+    REQUIRE(run_into(whole, "5").code == 0);
+    const std::size_t limit = fs::file_size(first / "checkpoint.cfck") - 1;
+    for (const auto& name : nlohmann::json::parse(slurp(whole / "run.json"))["outputs"])
+      REQUIRE(fs::file_size(whole / name.get<std::string>()) + 100 < limit);
+    const fs::path out = t.path / (script.stem().string() + "L");  // a name as long: checkpoints record it
+    CliResult r;
+    {
+      FileSizeLimit small(limit);
+      r = run_into(out, "5");
+    }
+    INFO(r.err);
     CHECK(r.code == 1);
     CHECK_THAT(r.err, Contains("checkpoint.cfck") && Contains("this run cannot be resumed"));
     const std::string goes_on = "the run goes on";
@@ -48,7 +67,34 @@ TEST_CASE("a checkpoint that cannot be written still leaves the outputs, and say
     CHECK(!run.contains("checkpoint_step"));
     for (const auto& name : run["outputs"]) CHECK(fs::is_regular_file(out / name.get<std::string>()));
     CHECK(run["outputs"].size() >= 3);
+    CHECK_FALSE(fs::exists(out / "checkpoint.cfck"));
   }
+}
+
+TEST_CASE("a folder where a run writes its checkpoint or run.json is refused before the first step",
+          "[cli][checkpoint]") {
+  // it was found only at the first checkpoint: the run went on unable to be resumed, and its run.json said
+  // "complete" beside exit code 1
+  TempDir t("cli-folder-in-the-way");
+  const auto cells = t.write("small.lua", kSmall);
+  const auto veins = t.write("ball.lua", kSmallVeins);
+  for (const fs::path& script : {cells, veins})
+    for (const char* name : {"checkpoint.cfck", "run.json"}) {
+      INFO(script.filename().string() << " " << name);
+      const fs::path out = t.path / (script.stem().string() + "-" + name);
+      fs::create_directories(out / name / "x");
+      const auto r = cli({"run", script.string(), "--out", out.string(), "--quiet"});
+      CHECK(r.code == 2);
+      std::string said = "'";  // (built by += : g++ 12 warns of "literal" + a temporary string)
+      said += (out / name).string();
+      said += "' is a folder where this run may write its ";
+      said += name;
+      CHECK_THAT(r.err, Contains(said + ": choose another --out folder, or move that folder away"));
+      std::size_t entries = 0;  // nothing made beside it
+      for ([[maybe_unused]] const auto& e : fs::directory_iterator(out)) ++entries;
+      CHECK(entries == 1);
+      CHECK(fs::is_directory(out / name / "x"));
+    }
 }
 
 TEST_CASE("a re-run that can write no checkpoint leaves the folder's earlier run, checkpoint and all",

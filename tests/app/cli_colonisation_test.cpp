@@ -136,9 +136,14 @@ TEST_CASE("3-D space colonisation: veins in a volume and on a grown cell sheet",
     const auto plain = t.write("plain.lua",
                                "volume { box = { min = {0, 0, 0}, max = {10, 10, 10} } }\n"
                                "colonisation { type = 'open', kill_distance = 1, birth_distance = 3, darts = 3000 }\n");
-    fs::create_directories(t.path / "blocked" / "checkpoint.cfck" / "x");
-    const auto b = cli({"run", plain.string(), "--out", (t.path / "blocked").string(), "--quiet"});
+    REQUIRE(cli({"run", plain.string(), "--out", (t.path / "fitted").string(), "--quiet"}).code == 0);
+    CliResult b;
+    {
+      FileSizeLimit full(fs::file_size(t.path / "fitted" / "checkpoint.cfck") - 1);  // a full disk
+      b = cli({"run", plain.string(), "--out", (t.path / "blocked").string(), "--quiet"});
+    }
     CHECK(b.code == 1);
+    CHECK_THAT(b.err, Contains("checkpoint.cfck"));
     CHECK_THAT(b.err, !Contains("print failed"));
     CHECK(nlohmann::json::parse(slurp(t.path / "blocked" / "run.json"))["status"] != "print failed");
   }

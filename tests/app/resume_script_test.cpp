@@ -391,9 +391,13 @@ TEST_CASE(
   REQUIRE(cli({"run", script.string(), "--out", out.string(), "--steps", "3", "--quiet"}).code == 0);
   CHECK(slurp(out / "frames") == "the user's notes");
   const auto tight = t.write("tight.lua", "cells { time_step = 0.2, max_speed = 0.001 }\ndisc { radius = 3 }\n");
-  const fs::path blocked = t.path / "blocked";
-  fs::create_directories(blocked / "checkpoint.cfck" / "x");  // no checkpoint can be written there
-  const CliResult r = cli({"run", tight.string(), "--out", blocked.string(), "--quiet"});
+  const fs::path fitted = t.path / "fitted", blocked = t.path / "blocked";  // names of one length
+  REQUIRE(cli({"run", tight.string(), "--out", fitted.string(), "--quiet"}).code == 1);
+  CliResult r;
+  {
+    FileSizeLimit full(fs::file_size(fitted / "checkpoint.cfck") - 1);  // a full disk
+    r = cli({"run", tight.string(), "--out", blocked.string(), "--quiet"});
+  }
   CHECK(r.code == 1);
   CHECK_THAT(r.err, Contains("the simulation diverged") && Contains("the last good one, could not be written"));
   CHECK_FALSE(fs::exists(blocked / "run.json"));
