@@ -136,7 +136,7 @@ TEST_CASE("an unwritable output location fails clearly", "[cli]") {
   fs::create_directories(t.path / "o" / "run.json");
   r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet", "--steps", "2"});
   CHECK(r.code == 2);  // an input error: another folder, or that one moved away
-  CHECK_THAT(r.err, Contains("run.json' is not a file (a folder?)"));
+  CHECK_THAT(r.err, Contains("run.json' is a folder where this run may write its run.json"));
   CHECK(fs::is_directory(t.path / "o" / "run.json"));
   CHECK_FALSE(fs::exists(t.path / "o" / "cells.ply"));
   // so is a file in the place of frames/ when frames are asked for: before the run, not after
