@@ -76,7 +76,7 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
         {"nonmanifold_edges", r.nonmanifold_edges},
         {"nonmanifold_vertices", r.nonmanifold_vertices},
         {"consistently_oriented", r.consistently_oriented},
-        {"misoriented_shells", r.misnested_parts},
+        {"misoriented_shells", r.nesting_tested ? nlohmann::json(r.misnested_parts) : nlohmann::json(nullptr)},
         {"self_intersections", r.intersections_tested ? nlohmann::json(r.self_intersections) : nlohmann::json(nullptr)},
         {"degenerate_triangles", r.degenerate_triangles},
         // STL only: stored facet normals against the winding (the verdict goes by the winding, as slicers do)

@@ -319,7 +319,8 @@ std::vector<Field> build() {
                   "about a voxel thinner in places (the surface lies on chords): check them with a --min-wall a "
                   "voxel below it"));
   f.push_back(num("print", "voxel_size", "0", 0, 1e3, false, "mm",
-                  "level-set resolution, at most min_radius; 0 = min_radius / 2 (with a shell at most "
+                  "level-set resolution, at most min_radius (printing veins) and shell_thickness / 2 (printing "
+                  "a shell); 0 = min_radius / 2 (with a shell at most "
                   "shell_thickness / 2: two voxels across the wall), raised if that would need more than "
                   "max_memory, up to the thinnest member printed (a vein's radius, at least min_radius; half the "
                   "shell's wall)"));

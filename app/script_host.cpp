@@ -469,6 +469,22 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
   if (cfg.print && cfg.print->veins && !cfg.print->shell && !cfg.scene.venation && !cfg.colonisation)
     throw InvalidInput(I.sections_seen["print"] +
                        "print{veins = true} needs veins: add venation{...}, or print the sheet with shell = true");
+  if (cfg.print) {  // known now: said before the run, not after it
+    const PrintSpec& p = *cfg.print;
+    const std::string at = I.sections_seen["print"];
+    auto named = [&](const char* other) {
+      return I.value_at(I.overrides && I.overrides->count("print.voxel_size") ? "print.voxel_size" : other, at);
+    };
+    if (p.veins && (cfg.scene.venation || cfg.colonisation) && p.voxel_size > p.min_radius)
+      throw InvalidInput(named("print.min_radius") + "print.voxel_size (" + core::number_text(p.voxel_size) +
+                         " mm) exceeds print.min_radius (" + core::number_text(p.min_radius) +
+                         " mm): the thinnest veins would vanish; use a voxel size of at most min_radius");
+    if (p.shell && p.voxel_size > p.shell_thickness / 2)
+      throw InvalidInput(named("print.shell_thickness") + "print.voxel_size (" + core::number_text(p.voxel_size) +
+                         " mm) exceeds half of print.shell_thickness (" + core::number_text(p.shell_thickness) +
+                         " mm): with fewer than two voxels across, the wall would break into pieces; use a voxel "
+                         "size of at most shell_thickness / 2");
+  }
   if (on_cells && cfg.colonisation->domain.initial_nodes.empty() && cfg.scene.petioles.empty())
     throw InvalidInput(I.sections_seen["surface"] +
                        "surface{cells = true} needs seeds = {{x, y, z}, ...} or a petiole{...} cell where the veins "

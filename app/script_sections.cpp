@@ -198,14 +198,7 @@ void section_print(Impl& I, const std::string& at) {
   p.scale = v["scale"].num;
   p.min_radius = v["min_radius"].num;
   p.shell_thickness = v["shell_thickness"].num;
-  p.voxel_size = v["voxel_size"].num;
-  if (p.voxel_size > p.min_radius)  // known now: said before the run, not after it
-    throw InvalidInput(
-        I.value_at(I.overrides && I.overrides->count("print.voxel_size") ? "print.voxel_size" : "print.min_radius",
-                   at) +
-        "print.voxel_size (" + core::number_text(p.voxel_size) + " mm) exceeds print.min_radius (" +
-        core::number_text(p.min_radius) +
-        " mm): the thinnest veins would vanish; use a voxel size of at most min_radius");
+  p.voxel_size = v["voxel_size"].num;  // (checked against min_radius and the shell once the veins are known)
   p.adaptivity = v["adaptivity"].num;
   p.max_memory_mb = v["max_memory"].num;
   p.pieces = v["pieces"].str;

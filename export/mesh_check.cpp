@@ -326,6 +326,10 @@ std::vector<std::string> MeshReport::problems() const {
     p.push_back(
         "self-intersections not tested: too many triangles overlap in one place (more than 3e8 pairs to test in "
         "one cell of the search grid, as in a stack of triangles over one another)");
+  if (!nesting_tested)
+    p.push_back(
+        "nesting not tested: too many parts inside others' boxes (more than 20,000 parts, or 3e8 solid angles "
+        "to sum), so a closed surface facing the wrong way for where it lies may go unseen");
   if (self_intersections > 0)
     p.push_back("self-intersecting: " + count(self_intersections, "pair", "pairs") + " of triangles cross");
   if (degenerate_triangles > 0)
@@ -379,8 +383,6 @@ std::string MeshReport::summary() const {
     << nonmanifold_vertices << ", misoriented edges " << misoriented_edges << ", self-intersecting pairs "
     << (intersections_tested ? std::to_string(self_intersections) : std::string("not tested"))
     << ", degenerate triangles " << degenerate_triangles << "\n";
-  if (!nesting_tested)
-    s << "nesting of the parts not checked (too many parts inside others' boxes to compare in reasonable time)\n";
   s << "genus per part:";
   for (std::size_t p = 0; p < genus.size() && p < 20; ++p)
     s << " " << (genus[p] < 0 ? std::string("open") : std::to_string(genus[p]));

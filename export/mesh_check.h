@@ -30,7 +30,9 @@ struct MeshReport {
   /// other parts wind once round it), one outside every solid or inside a pocket must face out (they wind
   /// zero times). Checked on closed, consistently oriented meshes of several parts.
   std::size_t misnested_parts = 0;
-  bool nesting_tested = true;  ///< false: too many parts inside others' boxes (over 20,000, or 3e8 solid angles)
+  /// false: too many parts inside others' boxes (over 20,000, or 3e8 solid angles); not printable then, as when
+  /// the intersections are not tested
+  bool nesting_tested = true;
   std::size_t self_intersections = 0;  ///< pairs of triangles without a shared vertex that intersect
   bool intersections_tested = true;    ///< false: too many overlapping triangles to test (not printable)
   std::vector<std::array<std::uint32_t, 2>>
@@ -43,10 +45,10 @@ struct MeshReport {
 
   /// No holes, no non-manifold edges or vertices.
   bool closed_manifold() const { return boundary_edges == 0 && nonmanifold_edges == 0 && nonmanifold_vertices == 0; }
-  /// Closed manifold, consistently oriented (also as nested), no self-intersections, no degenerate triangles,
-  /// positive volume.
+  /// Closed manifold, consistently oriented (also as nested, and tested so), no self-intersections (tested), no
+  /// degenerate triangles, positive volume.
   bool printable() const {
-    return triangles > 0 && closed_manifold() && consistently_oriented && misnested_parts == 0 &&
+    return triangles > 0 && closed_manifold() && consistently_oriented && nesting_tested && misnested_parts == 0 &&
            intersections_tested && self_intersections == 0 && degenerate_triangles == 0 && volume > 0;
   }
   /// Why the mesh is not printable, one phrase each ("not closed: 12 boundary edges", "inside out: ..."); empty

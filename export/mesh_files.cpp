@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <string>
 
 #include "core/atomic_file.h"
@@ -36,23 +37,25 @@ void put_vec(std::string& out, const Vec3& v) {
 }  // namespace
 
 void write_stl(const std::filesystem::path& path, const PrintableMesh& m) {
-  std::string out;
-  out.reserve(84 + 50 * m.triangles.size());
-  std::string header = "binary STL from cellform, units: mm";
-  header.resize(80, ' ');
-  out += header;
-  put<std::uint32_t>(out, static_cast<std::uint32_t>(m.triangles.size()));
-  for (const auto& t : m.triangles) {
-    const Vec3 &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
-    const Vec3 n = (b - a).cross(c - a).normalized();
-    put_vec(out, n.allFinite() ? n : Vec3::Zero());
-    put_vec(out, a);
-    put_vec(out, b);
-    put_vec(out, c);
-    put<std::uint16_t>(out, 0);
-  }
-  core::write_file_atomically(
-      path, [&](std::ostream& os) { os.write(out.data(), static_cast<std::streamsize>(out.size())); });
+  if (m.triangles.size() > std::numeric_limits<std::uint32_t>::max())
+    throw core::InvalidInput(path.string() + ": " + std::to_string(m.triangles.size()) +
+                             " triangles; a binary STL holds at most 4294967295 (write PLY or OBJ instead)");
+  core::write_file_atomically(path, [&](std::ostream& os) {  // in pieces: 50 bytes a triangle
+    std::string out = "binary STL from cellform, units: mm";
+    out.resize(80, ' ');
+    put<std::uint32_t>(out, static_cast<std::uint32_t>(m.triangles.size()));
+    for (const auto& t : m.triangles) {
+      const Vec3 &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
+      const Vec3 n = (b - a).cross(c - a).normalized();
+      put_vec(out, n.allFinite() ? n : Vec3::Zero());
+      put_vec(out, a);
+      put_vec(out, b);
+      put_vec(out, c);
+      put<std::uint16_t>(out, 0);
+      core::drain(out, os);
+    }
+    core::drain(out, os, 0);
+  });
 }
 
 void write_obj(const std::filesystem::path& path, const PrintableMesh& m) {
@@ -85,23 +88,24 @@ void write_obj(const std::filesystem::path& path, const PrintableMesh& m) {
 }
 
 void write_ply(const std::filesystem::path& path, const PrintableMesh& m) {
-  std::string body;
-  body.reserve(12 * m.vertices.size() + 13 * m.triangles.size());
-  for (const Vec3& v : m.vertices) put_vec(body, v);
-  for (const auto& t : m.triangles) {
-    put<std::uint8_t>(body, 3);
-    for (std::uint32_t i : t) put<std::int32_t>(body, static_cast<std::int32_t>(i));
-  }
-  const std::string header =
-      "ply\nformat binary_little_endian 1.0\ncomment cellform printable mesh, units: mm\n"
-      "element vertex " +
-      std::to_string(m.vertices.size()) +
-      "\nproperty float x\nproperty float y\nproperty float z\n"
-      "element face " +
-      std::to_string(m.triangles.size()) + "\nproperty list uchar int vertex_indices\nend_header\n";
-  core::write_file_atomically(path, [&](std::ostream& os) {
-    os << header;
-    os.write(body.data(), static_cast<std::streamsize>(body.size()));
+  if (m.vertices.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+    throw core::InvalidInput(path.string() + ": " + std::to_string(m.vertices.size()) +
+                             " vertices; a PLY's 32-bit indices reach at most 2147483647 (write STL instead)");
+  core::write_file_atomically(path, [&](std::ostream& os) {  // in pieces: 12 bytes a vertex, 13 a triangle
+    std::string out =
+        "ply\nformat binary_little_endian 1.0\ncomment cellform printable mesh, units: mm\nelement vertex " +
+        std::to_string(m.vertices.size()) + "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+        std::to_string(m.triangles.size()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const Vec3& v : m.vertices) {
+      put_vec(out, v);
+      core::drain(out, os);
+    }
+    for (const auto& t : m.triangles) {
+      put<std::uint8_t>(out, 3);
+      for (std::uint32_t i : t) put<std::int32_t>(out, static_cast<std::int32_t>(i));
+      core::drain(out, os);
+    }
+    core::drain(out, os, 0);
   });
 }
 

@@ -335,7 +335,7 @@ PrintableMesh read_ply(const std::filesystem::path& path, const std::string& s) 
   std::vector<std::uint32_t> faces;  // every face's corners in turn, face f ending at face_end[f]
   std::vector<std::size_t> face_end;
   for (const Element& e : elements)
-    for (std::size_t i = 0; i < e.count; ++i) {
+    for (std::size_t i = 0; i < e.count && !e.props.empty(); ++i) {  // (no properties: no data, however many)
       elem = &e.name;
       elem_index = i;
       elem_count = e.count;

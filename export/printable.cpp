@@ -5,31 +5,24 @@
 #include "export/printable_internal.h"
 #include "export/printable_vdb.h"
 
-#include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/ChangeBackground.h>
 #include <openvdb/tools/Composite.h>
 #include <openvdb/tools/FastSweeping.h>
 #include <openvdb/tools/Prune.h>
 #include <openvdb/tools/SignedFloodFill.h>
-#include <openvdb/tools/VolumeToMesh.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <mutex>
-#include <sstream>
 #include <string>
 
-#include "core/atomic_file.h"
-#include "core/chunk_file.h"
 #include "core/errors.h"
 #include "core/parallel.h"
-#include "export/mesh_check.h"
 
 namespace cellform::exporters {
 
@@ -45,6 +38,10 @@ using detail::seconds_since;
 
 LevelSet::LevelSet() = default;
 LevelSet::LevelSet(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
+const LevelSet::Impl& LevelSet::impl() const {
+  if (!impl_) throw core::InvalidInput("an empty level set (no voxelise() made it) has no grid to mesh or write");
+  return *impl_;
+}
 double LevelSet::voxel_size() const { return impl_ ? impl_->voxel_size : 0.0; }
 double LevelSet::scale() const { return impl_ ? impl_->scale : 0.0; }
 std::size_t LevelSet::active_voxels() const { return impl_ ? impl_->active_voxels : 0; }
@@ -221,6 +218,15 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   if (segments.empty() && shell.empty())
     throw core::InvalidInput("thicken: nothing to thicken: the form has no vein segments and no shell triangles");
   const double half_shell = params.shell_thickness / 2;
+  if (!segments.empty() && params.voxel_size > params.min_radius)
+    throw core::InvalidInput("thicken: voxel_size " + fmt("%g", params.voxel_size) + " mm exceeds min_radius " +
+                             fmt("%g", params.min_radius) +
+                             " mm: the thinnest veins would vanish; use a voxel size of at most min_radius");
+  if (!shell.empty() && params.voxel_size > half_shell)
+    throw core::InvalidInput("thicken: voxel_size " + fmt("%g", params.voxel_size) +
+                             " mm exceeds half the shell_thickness " + fmt("%g", params.shell_thickness) +
+                             " mm: with fewer than two voxels across, the wall would break into pieces; use a voxel "
+                             "size of at most shell_thickness / 2");
   const double scale = print_scale(segments, shell, params);
   // (the automatic one may be raised below, up to the thinnest member printed)
   double voxel = params.voxel_size > 0

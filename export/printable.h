@@ -36,7 +36,8 @@ struct ThickenParams {
   /// mm; 0 = auto: min_radius / 2 (a minimum-radius vein is 4 voxels across), at most half the shell thickness
   /// with shell triangles (two voxels across the wall), or coarser, up to the thinnest member printed (a vein's
   /// radius, at least min_radius; half the shell's wall), where that would need more than max_memory_bytes
-  /// (ThickenReport::voxel_raised_from says so)
+  /// (ThickenReport::voxel_raised_from says so). A given one is at most min_radius with segments and at most half
+  /// the shell thickness with shell triangles (voxelise refuses more)
   double voxel_size = 0;
   double min_radius = 0.4;       ///< mm: thinner veins are raised to this printable minimum
   double shell_thickness = 0.6;  ///< mm: total wall thickness of the shell around shell triangles (half on each side)
@@ -91,8 +92,9 @@ struct ThickenReport {
   std::size_t dust_parts = 0;       ///< parts of less than a voxel's volume, removed
   double volume = 0;                ///< mm^3, enclosed by the output mesh (positive)
   double area = 0;                  ///< mm^2, surface area of the output mesh
-  std::size_t remeshed_triangles =
-      0;  ///< triangles of intersecting pairs whose neighbourhood was meshed again without adaptivity
+  /// triangles of intersecting pairs whose neighbourhood was meshed again without adaptivity (each once a pass,
+  /// summed over the passes)
+  std::size_t remeshed_triangles = 0;
   std::size_t self_intersections = 0;  ///< intersecting triangle pairs left in the output (0 unless the repair gave up)
   double voxelise_seconds = 0;         ///< wall time of voxelisation
   double mesh_seconds = 0;             ///< wall time of meshing
@@ -105,7 +107,8 @@ class LevelSet {
   struct Impl;
   LevelSet();
   explicit LevelSet(std::shared_ptr<const Impl> impl);
-  const Impl& impl() const { return *impl_; }
+  /// Throws core::InvalidInput on an empty handle (default-constructed: no voxelise() made it).
+  const Impl& impl() const;
   double voxel_size() const;  ///< mm
   double scale() const;       ///< mm per model unit
   std::size_t active_voxels() const;
@@ -154,7 +157,7 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
 PrintableMesh thicken(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell_triangles,
                       const ThickenParams& params, ThickenReport* report = nullptr);
 
-/// Writes the level set as an OpenVDB .vdb file (one FloatGrid named "cellform", class level set, mm).
+/// Writes the level set as an OpenVDB .vdb file (one FloatGrid named "surface", class level set, mm).
 /// Atomic; core::FileError on failure.
 void write_vdb(const std::filesystem::path& path, const LevelSet& level_set);
 

@@ -35,9 +35,6 @@ void check_params(const ThickenParams& p) {
     bad("min_radius must be > 0 mm, got " + fmt("%g", p.min_radius));
   if (!(std::isfinite(p.voxel_size) && p.voxel_size >= 0))
     bad("voxel_size must be >= 0 mm (0 = auto), got " + fmt("%g", p.voxel_size));
-  if (p.voxel_size > p.min_radius)
-    bad("voxel_size " + fmt("%g", p.voxel_size) + " mm exceeds min_radius " + fmt("%g", p.min_radius) +
-        " mm: the thinnest veins would vanish; use a voxel size of at most min_radius");
   if (!(std::isfinite(p.shell_thickness) && p.shell_thickness > 0))
     bad("shell_thickness must be > 0 mm, got " + fmt("%g", p.shell_thickness));
   if (!(p.adaptivity >= 0 && p.adaptivity <= 1)) bad("adaptivity must be in [0, 1], got " + fmt("%g", p.adaptivity));

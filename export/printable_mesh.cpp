@@ -193,11 +193,12 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
                                                  static_cast<int>(std::ceil(hi.y() / voxel)) + m,
                                                  static_cast<int>(std::ceil(hi.z() / voxel)) + m));
       };
-      for (const auto& pr : pairs)
-        for (std::uint32_t t : pr) {
-          no_merge->sparseFill(box(t, margin), true, true);
-          ++repaired;
-        }
+      std::vector<std::uint32_t> crossing;  // each triangle once, however many pairs it is in
+      for (const auto& pr : pairs) crossing.insert(crossing.end(), pr.begin(), pr.end());
+      std::sort(crossing.begin(), crossing.end());
+      crossing.erase(std::unique(crossing.begin(), crossing.end()), crossing.end());
+      for (const std::uint32_t t : crossing) no_merge->sparseFill(box(t, margin), true, true);
+      repaired += crossing.size();
       mesh = mesh_once(grid, a, no_merge, a > 0 ? shortest : 0.0);  // the last resort changes nothing more
       pairs = self_intersecting_pairs(mesh, params.threads);
     }

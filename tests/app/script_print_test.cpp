@@ -18,6 +18,16 @@ TEST_CASE("print values that contradict each other are refused before the run: v
              Contains(":2:") && Contains("; the script set it to nil before this call") && !Contains("did you mean"));
   CHECK_THAT(load_error("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { voxel_size = 1, min_radius = 0.4 }\n"),
              Contains(":4: print.voxel_size (1 mm) exceeds print.min_radius (0.4 mm)"));
+  // a shell's wall needs two voxels across; min_radius binds only a print of veins
+  CHECK_THAT(load_error("disc { radius = 3 }\nprint { shell = true, voxel_size = 0.4, shell_thickness = 0.6 }\n"),
+             Contains(":2: print.voxel_size (0.4 mm) exceeds half of print.shell_thickness (0.6 mm)"));
+  CHECK_NOTHROW(load("disc { radius = 3 }\nprint { shell = true, voxel_size = 0.5, shell_thickness = 1 }\n"));
+  CHECK_THAT(load_error("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { shell = true, voxel_size = 0.5, "
+                        "shell_thickness = 1 }\n"),
+             Contains(":4: print.voxel_size (0.5 mm) exceeds print.min_radius (0.4 mm)"));
+  CHECK_NOTHROW(
+      load("disc { radius = 3 }\nvenation {}\npetiole {}\nprint { shell = true, veins = false, "
+           "voxel_size = 0.5, shell_thickness = 1 }\n"));
   // a shell thicker than the whole print (the auto scale fits the form to size, its walls come on top)
   CHECK_THAT(load_error("disc { radius = 3 }\nprint { shell = true, size = 20, shell_thickness = 30 }\n"),
              Contains(":2: print.shell_thickness (30 mm) is not less than print.size (20 mm"));

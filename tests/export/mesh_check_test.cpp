@@ -180,6 +180,28 @@ TEST_CASE("nested shells must face the way their nesting asks: out, in, out, ...
   CHECK(two.pieces == 2);
 }
 
+TEST_CASE("a mesh of too many parts to test their nesting is not called printable", "[mesh_check]") {
+  // review: beyond 20,000 parts the nesting went untested and a solid inside another, both facing out, passed
+  PrintableMesh m;
+  for (int i = 0; i < 20001; ++i) append(m, tetrahedron(Vec3(2.0 * (i % 150), 2.0 * (i / 150), 0)));
+  append(m, tetrahedron(Vec3(0.1, 0.1, 0.1), 0.2));  // inside the first, facing out
+  const auto r = exporters::check_mesh(m);
+  CHECK(r.closed_manifold());
+  CHECK(r.self_intersections == 0);
+  CHECK_FALSE(r.nesting_tested);
+  CHECK_FALSE(r.printable());
+  REQUIRE(r.problems().size() == 1);
+  CHECK_THAT(r.problems()[0], Catch::StartsWith("nesting not tested: too many parts"));
+  // one part fewer than the limit, the same solid inside: tested, and found
+  PrintableMesh fewer;
+  for (int i = 0; i < 19999; ++i) append(fewer, tetrahedron(Vec3(2.0 * (i % 150), 2.0 * (i / 150), 0)));
+  append(fewer, tetrahedron(Vec3(0.1, 0.1, 0.1), 0.2));
+  const auto f = exporters::check_mesh(fewer);
+  CHECK(f.nesting_tested);
+  CHECK(f.misnested_parts == 1);
+  CHECK_FALSE(f.printable());
+}
+
 TEST_CASE("an inside-out mesh is named so, not counted as a cavity", "[mesh_check]") {
   auto m = uv_sphere(24, 48, 2.0);
   for (auto& t : m.triangles) std::swap(t[1], t[2]);
@@ -479,6 +501,24 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
   std::ofstream(dir / "huge.ply") << huge << "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "huge.ply"),
                     Catch::Contains("count 1099511627776, too large") && !Catch::Contains("whole number"));
+  // an element of no properties holds no data, however many it counts (review: a binary file of 999999999999
+  // of them read nothing that many times, about an hour)
+  for (const char* format : {"ascii", "binary_little_endian"}) {
+    std::string empty = head;
+    empty.replace(empty.find("ascii"), 5, format);
+    empty.replace(empty.find("element face"), 0, "element marker 999999999999\n");
+    std::string data = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    if (format[0] == 'b') {
+      data.clear();
+      for (const float x : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f})
+        data.append(reinterpret_cast<const char*>(&x), sizeof x);
+      data += '\x03';
+      for (const std::int32_t i : {0, 1, 2}) data.append(reinterpret_cast<const char*>(&i), sizeof i);
+    }
+    std::ofstream(dir / "marker.ply", std::ios::binary) << empty << data;
+    INFO(format);
+    CHECK(exporters::read_mesh(dir / "marker.ply").triangles.size() == 1);
+  }
   std::string zeros = head;  // leading zeros are no size
   zeros.replace(zeros.find("vertex 3"), 8, "vertex 00000000000003");
   std::ofstream(dir / "zeros.ply") << zeros << "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";

@@ -258,6 +258,21 @@ TEST_CASE("the automatic voxel puts two voxels across a thin shell's wall", "[pr
   p.shell_thickness = 2;
   exporters::thicken({}, square, p, &rep);
   CHECK(rep.voxel_size == Approx(0.4));
+  // a given voxel: at most half the wall (review: 0.4 mm voxels for a 0.3 mm wall were taken), however fine
+  // min_radius, which only the veins need
+  p.shell_thickness = 0.3;
+  p.voxel_size = 0.16;
+  CHECK_THROWS_WITH(exporters::thicken({}, square, p), Catch::Contains("voxel_size 0.16 mm exceeds half the "
+                                                                       "shell_thickness 0.3 mm"));
+  p.voxel_size = 0.15;
+  CHECK(require_printable(exporters::thicken({}, square, p, &rep)).parts == 1);
+  p.shell_thickness = 2;
+  p.min_radius = 0.2;
+  p.voxel_size = 0.5;
+  CHECK(require_printable(exporters::thicken({}, square, p, &rep)).parts == 1);
+  CHECK(rep.voxel_size == 0.5);
+  const std::vector<exporters::Segment> vein{{Vec3(0, 0, 1), Vec3(10, 0, 1), 0.2, 0.2}};
+  CHECK_THROWS_WITH(exporters::thicken(vein, square, p), Catch::Contains("exceeds min_radius"));
 }
 
 namespace {

@@ -322,6 +322,10 @@ TEST_CASE("write_vdb writes the level set", "[printable][files]") {
   CHECK(
       std::regex_match(sa.substr(21, 36), std::regex("[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}")));
   CHECK_THROWS_AS(exporters::write_vdb(dir / "no" / "such" / "dir.vdb", ls), core::FileError);
+  // an empty handle is refused, not read through a null pointer (review), and leaves no file
+  CHECK_THROWS_AS(exporters::write_vdb(dir / "empty.vdb", exporters::LevelSet()), core::InvalidInput);
+  CHECK_FALSE(fs::exists(dir / "empty.vdb"));
+  CHECK_THROWS_AS(exporters::mesh_level_set(exporters::LevelSet(), exact(0.1)), core::InvalidInput);
   fs::remove_all(dir);
 }
 
