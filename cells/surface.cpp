@@ -420,17 +420,6 @@ Surface triangulate(const Cells& cells, bool one_layer) {
       }
     }
   };
-  // the boundary's loops of a piece, by union-find over their corners (kNoIndex: not met yet)
-  std::vector<Index> loop_of, touched;
-  std::vector<double> loop_length;
-  auto loop_root = [&](Index x) {
-    if (loop_of[x] == kNoIndex) {
-      loop_of[x] = x;
-      touched.push_back(x);
-    }
-    while (loop_of[x] != x) x = loop_of[x] = loop_of[loop_of[x]];
-    return x;
-  };
   for (std::size_t seed = 0; seed < tris.size(); ++seed) {
     if (seen[seed]) continue;
     seen[seed] = 1;
@@ -454,21 +443,23 @@ Surface triangulate(const Cells& cells, bool one_layer) {
       component.push_back(r.tri);
       reach_from(r.tri);
     }
-    // Which side faces out: a piece that encloses a volume (closed, or nearly: small holes, filled below)
-    // outward, by its signed volume about its centroid; an open sheet up (+z, then +y, then +x), by its
-    // area vector, so a leaf's normals point to the sky. Enclosing: each of its holes is small for its area,
-    // length^2 < 3 area for every loop of its boundary (a sphere without a cap of 0.3 of its radius: 1.3;
-    // a hemisphere: 2 pi; a disc, however ruffled or holed, round its outline: at least 4 pi; a blob with
-    // pinholes: small, though their lengths added up are not).
+    // Which side faces out, by one score that changes with the shape by little steps, so that a growing
+    // sheet's frames keep their faces (a test of its holes' loops against the area, then of a volume's size,
+    // taken one way then the other as the coral grew, turned it inside out every few frames: two holes meeting
+    // at a cell made one long loop; an export audit). Its terms: the area vector's upward part as a fraction
+    // of the area (1 for a flat sheet facing up, 0 for a closed one), plus the volume held about the centroid,
+    // outward, as a fraction of a ball's of that area (1 for a ball, about 1 for a hemisphere, 0 for a flat or
+    // evenly ruffled sheet), weighed by how closed the piece is: 1 less its area vector's length as a fraction
+    // of its area (1 closed, 1/2 a hemisphere, 0 a flat sheet; a closed surface's area vector is 0 however its
+    // holes' edges run). So a closed or nearly closed piece faces out, an open sheet up (a leaf's normals point
+    // to the sky, a small fragment of a ruffled sheet's too), and a spherical bowl out from about a hemisphere
+    // on. A vertical sheet (both terms 0) faces +y, then +x.
     Vec3 centre = Vec3::Zero();
     for (const std::size_t t : component)
       centre += cells.position[tris[t][0]] + cells.position[tris[t][1]] + cells.position[tris[t][2]];
     centre /= 3.0 * static_cast<double>(component.size());
-    double volume = 0, area = 0;
-    Vec3 area_vector = Vec3::Zero();
-    loop_of.resize(cells.size(), kNoIndex);
-    loop_length.resize(cells.size(), 0.0);
-    touched.clear();
+    double volume = 0, area = 0;      // six times the signed volume about the centre; the area
+    Vec3 area_vector = Vec3::Zero();  // twice the vector area
     for (const std::size_t t : component) {
       const Vec3 a = cells.position[tris[t][0]] - centre, b = cells.position[tris[t][1]] - centre,
                  c = cells.position[tris[t][2]] - centre;
@@ -476,35 +467,16 @@ Surface triangulate(const Cells& cells, bool one_layer) {
       const Vec3 normal = (b - a).cross(c - a);
       area_vector += normal;
       area += normal.norm() / 2;
-      for (int k = 0; k < 3; ++k) {
-        const std::size_t e = edge_index(tris[t][k], tris[t][(k + 1) % 3]);
-        if (inc_start[e + 1] - inc_start[e] != 1) continue;
-        const Index u = loop_root(tris[t][k]), v = loop_root(tris[t][(k + 1) % 3]);
-        if (u != v) {  // joins two loops (or starts one): the larger index hangs below the smaller
-          loop_of[std::max(u, v)] = std::min(u, v);
-          loop_length[std::min(u, v)] += loop_length[std::max(u, v)];
-        }
-        loop_length[std::min(u, v)] += (cells.position[tris[t][k]] - cells.position[tris[t][(k + 1) % 3]]).norm();
-      }
     }
-    double longest_loop = 0;  // of the boundary's loops (connected pieces)
-    for (const Index x : touched) {
-      if (loop_of[x] == x) longest_loop = std::max(longest_loop, loop_length[x]);
-      loop_of[x] = kNoIndex;
-      loop_length[x] = 0;
-    }
+    constexpr double kBall = 0.0940315;  // a ball's volume over its area^1.5: (4/3 pi) / (4 pi)^1.5
+    const double closed = std::max(0.0, 1 - area_vector.norm() / (2 * area));
+    const double held = volume / 6 / (kBall * std::pow(area, 1.5)), upward = area_vector.z() / (2 * area);
+    const double score = closed * held + upward;
     bool flip = false;
-    // Both tests also need the area vector a small part of the area (under a quarter; half for a hemisphere,
-    // all of it for a disc), so that an outline broken into arcs (its sides shared by three triangles, in
-    // two layers) never makes an open sheet enclosing. A blob whose holes run together a little (a loop up
-    // to length^2 < 6 area) counts if it holds a volume, as a ball does (V > 0.04 A^1.5: a ball's is 0.094,
-    // an egg crate's, as small an area vector, about none).
-    const double loop2 = longest_loop * longest_loop, enclosed = std::abs(volume) / 6;
-    const bool small_area_vector = area_vector.norm() / 2 < 0.25 * area;
-    if (small_area_vector && (loop2 < 3 * area || (loop2 < 6 * area && enclosed > 0.04 * std::pow(area, 1.5))))
-      flip = volume < 0;
+    if (std::abs(score) > 1e-6)
+      flip = score < 0;
     else
-      for (int axis : {2, 1, 0})
+      for (int axis : {1, 0})
         if (std::abs(area_vector[axis]) > 1e-6 * area_vector.norm()) {
           flip = area_vector[axis] < 0;
           break;

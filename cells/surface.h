@@ -12,8 +12,9 @@ namespace cellform::cells {
 /// Triangles and edges of the cell sheet, indices into Cells.
 struct Surface {
   /// Oriented consistently across manifold edges where possible: each connected piece up (+z) if open, out
-  /// if closed; where overlapping triangles make a piece non-orientable, neighbours along a seam on its
-  /// sharpest creases face opposite ways.
+  /// if closed or nearly so (a spherical bowl from about a hemisphere on), by a score that changes with the
+  /// shape by small steps, so that a growing sheet keeps its faces; where overlapping triangles make a piece
+  /// non-orientable, neighbours along a seam on its sharpest creases face opposite ways.
   std::vector<std::array<Index, 3>> triangles;
   std::vector<std::array<Index, 2>> edges;  ///< every link (i < j), including vein parent links
 };
