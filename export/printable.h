@@ -118,8 +118,8 @@ class LevelSet {
 };
 
 /// Removes every connected part (through shared vertices) of negative signed volume, i.e. the inner
-/// walls of closed cavities, and the vertices only they used, so the cavities become solid.
-/// Returns how many parts were removed.
+/// walls of closed cavities, with every piece lying inside one of them (which would be a surface inside
+/// solid), and the vertices only they used, so the cavities become solid. Returns how many parts were removed.
 std::size_t fill_cavities(PrintableMesh& mesh);
 
 /// mm: the automatic voxel size (ThickenParams::voxel_size 0) before any raise for memory: four voxels across a

@@ -139,7 +139,58 @@ std::size_t remove_parts(PrintableMesh& mesh, Drop drop) {
 }  // namespace
 
 std::size_t fill_cavities(PrintableMesh& mesh) {
-  return remove_parts(mesh, [](double volume) { return volume < 0; });
+  // the parts, their volumes, boxes and triangles
+  std::vector<std::uint32_t> root;
+  const std::vector<double> volume = part_volumes(mesh, root);
+  const std::size_t nv = mesh.vertices.size();
+  std::vector<std::vector<std::uint32_t>> tris_of(nv);  // by root vertex
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    tris_of[root[mesh.triangles[t][0]]].push_back(static_cast<std::uint32_t>(t));
+  std::vector<std::uint32_t> cavities, islands;
+  for (std::size_t i = 0; i < nv; ++i)
+    if (root[i] == i && !tris_of[i].empty())
+      (volume[i] < 0 ? cavities : islands).push_back(static_cast<std::uint32_t>(i));
+  if (cavities.empty()) return 0;
+  std::vector<Vec3> lo(nv), hi(nv);
+  for (const std::uint32_t c : cavities) {
+    lo[c] = hi[c] = mesh.vertices[c];
+    for (const std::uint32_t t : tris_of[c])
+      for (const std::uint32_t i : mesh.triangles[t]) {
+        lo[c] = lo[c].cwiseMin(mesh.vertices[i]);
+        hi[c] = hi[c].cwiseMax(mesh.vertices[i]);
+      }
+  }
+  // A piece inside a cavity (a grain the shell's closing left in a pocket, the shell round a bubble inside a
+  // closed sheet) would be a surface inside solid once the pocket is filled: it goes with the cavity's wall.
+  // Inside: the cavity's wall winds round a point of it (solid angles, Van Oosterom and Strackee).
+  std::vector<char> drop(nv, 0);
+  for (const std::uint32_t c : cavities) drop[c] = 1;
+  std::size_t removed = cavities.size();
+  for (const std::uint32_t p : islands) {
+    const Vec3& q = mesh.vertices[p];
+    for (const std::uint32_t c : cavities) {
+      if ((q.array() < lo[c].array()).any() || (q.array() > hi[c].array()).any()) continue;
+      double solid_angle = 0;
+      for (const std::uint32_t t : tris_of[c]) {
+        const Vec3 a = mesh.vertices[mesh.triangles[t][0]] - q, b = mesh.vertices[mesh.triangles[t][1]] - q,
+                   d = mesh.vertices[mesh.triangles[t][2]] - q;
+        const double la = a.norm(), lb = b.norm(), ld = d.norm();
+        solid_angle += 2 * std::atan2(a.dot(b.cross(d)), la * lb * ld + a.dot(b) * ld + a.dot(d) * lb + b.dot(d) * la);
+      }
+      if (std::abs(solid_angle) > 2 * M_PI) {  // wound once (inward: -4 pi), not 0
+        drop[p] = 1;
+        ++removed;
+        break;
+      }
+    }
+  }
+  std::vector<std::array<std::uint32_t, 3>> kept;
+  kept.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles)
+    if (!drop[root[t[0]]]) kept.push_back(t);
+  mesh.triangles.swap(kept);
+  drop_unused_vertices(mesh);
+  return removed;
 }
 
 PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& params, ThickenReport* report) {
@@ -224,6 +275,8 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
   if (params.fill_cavities && cavities > 0) {
     fill_cavities(mesh);
     volume = signed_volume(mesh);
+    std::size_t none = 0;
+    count_pieces(mesh, pieces, none);  // less the pieces that lay in the pockets
   }
   if (intersections > 0 && (dust > 0 || (params.fill_cavities && cavities > 0)))  // of the mesh as written
     intersections = self_intersecting_pairs(mesh, params.threads).size();
