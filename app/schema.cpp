@@ -256,11 +256,12 @@ std::vector<Field> build() {
             "the grown sheet, from at most half its size or 3 cell spacings away (default: the petiole cells)"});
   f.push_back(choice("colonisation", "type", Kind::choice, "open", "open|closed",
                      "open: trees; closed: veins join into loops"));
-  f.push_back(
-      choice("colonisation", "neighbourhood", Kind::choice, "exact", "exact|urquhart",
-             "closed: relative neighbourhood (Runions 2005, Eq. 2) or its Urquhart approximation (leaf only; slower "
-             "here, 2 to 8 times in the presets and more in larger leaves, as exact keeps each source's sector bests "
-             "from step to step: the paper's speed-up does not apply)"));
+  f.push_back(choice(
+      "colonisation", "neighbourhood", Kind::choice, "exact", "exact|urquhart",
+      "closed: relative neighbourhood (Runions 2005, Eq. 2) or its Urquhart approximation (leaf only; slower "
+      "here, up to 25 times in the presets on one core (grass 25, reticulate 14, poplar's default 1.1) and more in "
+      "larger leaves, as exact keeps each source's sector bests "
+      "from step to step: the paper's speed-up does not apply)"));
   f.push_back(num("colonisation", "kill_distance", "1", 0.5, kInf, false, "vein segments",
                   "d_k: a vein node this close reaches (open: removes) a source"));
   f.push_back(num("colonisation", "birth_distance", "10", 0, kInf, true, "vein segments",

@@ -8,7 +8,7 @@ local P = params {
   size = 7000,
 }
 
--- growth slows as the form fills out (about 1,400 steps to 7,000 cells, 2,200 to 30,000): the run
+-- growth slows as the form fills out (about 1,500 steps to 7,000 cells, 2,200 to 30,000): the run
 -- lengthens with size
 run { steps = 1500 + math.max(0, math.floor(450 * math.log(P.size / 7000, 2))), seed = 5 }
 

@@ -8,6 +8,8 @@
 -- growth 0.5 s, print 2.7 s); `--set scale=1` gives the paper's size.
 -- Printed 120 mm across, every vein is raised to print.min_radius (0.4 mm): the fine veins merge into
 -- the main ones, which print apart (veins.svg and veins.png keep the widths).
+-- It ends "stalled" with 1 source left, inside the blade where no vein can step towards it (the step would
+-- leave the blade or cross a sinus); every other source is reached.
 
 local P = params {
   scale = 0.1,  -- fraction of Table 1's leaf size (1 = the paper's)

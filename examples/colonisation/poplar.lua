@@ -9,10 +9,12 @@
 -- 2.5 to 3.5 minutes on 2 cores (the machine's load varies) and the whole run with its print about a
 -- minute more (see docs/benchmarks.md). Made for veins.svg and veins.png: printed 120 mm across, with
 -- every vein raised to print.min_radius (0.4 mm), the veins fuse into a plate; `--set scale=0.05` (a
--- smaller leaf, fewer veins) prints an open net of veins.
+-- smaller leaf, fewer veins) prints its veins apart, with space between them.
+-- It ends "stalled" with 5 sources left, inside the blade where no vein can step towards them (the step
+-- would leave the blade or run back along a vein); every other source is reached.
 
 local P = params {
-  neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (slower here, 2 to 8 times and more in larger leaves: exact keeps sector bests)
+  neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (slower here: up to 25 times in the presets, more in larger leaves; exact keeps sector bests)
   scale = 0.2,  -- fraction of Table 1's leaf size (1 = the paper's)
 }
 

@@ -7,7 +7,8 @@
 -- b_s and rho stay, in vein segments). The full size takes far longer (vein nodes grow with the leaf
 -- area, 1 / scale^2): the default, scale = 0.02, grows the leaf from 90 to 2240 (on one core here:
 -- growth 1 s, print 2 s). From scale = 0.03 the leaf tip moves more than a vein segment per step
--- (34 x 0.03 > 1): sources pile up ahead of the veins (0.03, on one core: growth 17 s, print 4 s). The
+-- (34 x 0.03 > 1): sources pile up ahead of the veins (0.03, on one core: growth 6 s, print 3 s, 18 s
+-- in all with the sources precomputed and the files written). The
 -- paper's size, `--set scale=1`, would precompute about 7 x 10^9 darts (rho for each of the 3,160 steps
 -- over the final blade's box), more than the 10^9 allowed; the sources precomputed from them are held
 -- to 5 x 10^7, so the largest scale that runs is about 0.08 (0.09 is refused).

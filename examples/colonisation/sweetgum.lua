@@ -7,8 +7,10 @@
 -- area, 1 / scale^2): the default, scale = 0.1, grows the leaf from 120 to 670 (on one core here:
 -- growth 0.9 s, print 4.5 s); `--set scale=1` gives the paper's size.
 -- Made for veins.svg and veins.png: printed 120 mm across, with every vein raised to print.min_radius
--- (0.4 mm), the veins fuse into a plate; `--set scale=0.03` (a smaller leaf, fewer veins) prints an open
--- net of veins.
+-- (0.4 mm), the veins fuse into a plate; `--set scale=0.03` (a smaller leaf, fewer veins) prints its veins
+-- apart, with space between them.
+-- It ends "stalled" with 5 sources left, between teeth where no vein can step towards them (the step
+-- would leave the blade across the notch); every other source is reached.
 
 local P = params {
   scale = 0.1,  -- fraction of Table 1's leaf size (1 = the paper's)

@@ -7,10 +7,10 @@
 -- 2700 long (on one core here: growth 2.5 s, print 4.5 s); `--set scale=1` gives the paper's size.
 -- Made for veins.svg and veins.png: printed 120 mm across, with every vein raised to print.min_radius
 -- (0.4 mm), the veins print as a dense lattice with small holes; `--set scale=0.3` (a smaller leaf,
--- fewer veins) prints an open net of veins.
+-- fewer veins) prints its veins apart, with space between them.
 
 local P = params {
-  neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (slower here, 2 to 8 times and more in larger leaves: exact keeps sector bests)
+  neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (slower here: up to 25 times in the presets, more in larger leaves; exact keeps sector bests)
   scale = 0.6,  -- fraction of Table 1's leaf size (1 = the paper's)
 }
 
