@@ -377,15 +377,12 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     frame_steps.push_back(step);
   };
   try {
-    if (cfg.output.every > 0 && sim.step_count() == 0 && first < target) {
+    if (cfg.output.every > 0 && sim.step_count() == 0) {  // (also when no step runs: --steps 0)
       // the first frame, of the cells as placed, linked on a copy (linking them here would change the run)
       cells::Cells placed = sim.cells();
       core::PointGrid grid;
       cells::update_links(placed, sim.params(), grid, sim.threads());
-      if (cfg.scene.venation)  // the attributes of the later frames, none flowing yet: one layout for a sequence
-        for (const char* name : {venation::kFlow, venation::kRadius, venation::kOrder, venation::kFlowX,
-                                 venation::kFlowY, venation::kFlowZ})
-          cells::attribute(placed, name);
+      if (cfg.scene.venation) add_vein_attributes(placed);  // the later frames' layout, none flowing yet
       write_frame(placed, 0);
     }
     const auto& links = sim.cells().links;

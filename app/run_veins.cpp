@@ -115,6 +115,12 @@ void say_vein_findings(std::ostream& err, const cells::Cells& c, const venation:
   if (notes) say_veinless_petioles(err, c, p);
 }
 
+void add_vein_attributes(cells::Cells& c) {
+  for (const char* name :
+       {venation::kFlow, venation::kRadius, venation::kOrder, venation::kFlowX, venation::kFlowY, venation::kFlowZ})
+    cells::attribute(c, name);
+}
+
 /// Writes the cell outputs of the current state into `dir`; returns their names.
 std::vector<std::string> write_outputs(const std::filesystem::path& dir, const OutputSpec& spec, const cells::Cells& c,
                                        const venation::Params* veins) {
@@ -132,7 +138,14 @@ std::vector<std::string> write_outputs(const std::filesystem::path& dir, const O
   }
   if (!spec.ply && !spec.obj) return names;  // (the surface of a dense form takes seconds to find)
   const cells::Surface surface = cells::triangulate(c);
-  if (spec.ply) {
+  if (spec.ply && veins && !c.attributes.count(venation::kFlow)) {
+    // before the first canalisation (--steps 0): the attributes of the later files, none flowing yet, so that
+    // a script's files have one layout
+    cells::Cells placed = c;
+    add_vein_attributes(placed);
+    exporters::write_cells_ply(dir / "cells.ply", placed, surface);
+    names.push_back("cells.ply");
+  } else if (spec.ply) {
     exporters::write_cells_ply(dir / "cells.ply", c, surface);
     names.push_back("cells.ply");
   }

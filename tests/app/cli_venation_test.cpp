@@ -147,6 +147,12 @@ TEST_CASE("every frame of a run with venation has the same properties, the first
   CHECK_THAT(first, Contains("flow") && Contains("vein_order"));
   CHECK(first == properties(slurp(t.path / "o" / "frames/cells_000010.ply")));
   CHECK(first == properties(slurp(t.path / "o" / "cells.ply")));
+  // --steps 0 (an export audit): its cells.ply had none of them, and no frame was written, though a
+  // sequence starts with the cells as placed; the frame and cells.ply are now one and the same
+  REQUIRE(cli({"run", script.string(), "--out", (t.path / "zero").string(), "--quiet", "--steps", "0"}).code == 0);
+  CHECK(properties(slurp(t.path / "zero" / "cells.ply")) == first);
+  CHECK(slurp(t.path / "zero" / "frames/cells_000000.ply") == slurp(t.path / "o" / "frames/cells_000000.ply"));
+  CHECK(slurp(t.path / "zero" / "cells.ply") == slurp(t.path / "zero" / "frames/cells_000000.ply"));
 }
 
 TEST_CASE("a petiole that grew no vein is noted, with where it is and why", "[cli][venation]") {
