@@ -80,6 +80,7 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
         {"self_intersections", r.intersections_tested ? nlohmann::json(r.self_intersections) : nlohmann::json(nullptr)},
         {"degenerate_triangles", r.degenerate_triangles},
         // STL only: stored facet normals against the winding (the verdict goes by the winding, as slicers do)
+        {"stl_padding_bytes", notes.stl_padding},
         {"stl_normals_against_winding",
          notes.normals_checked ? nlohmann::json(notes.normals_against_winding) : nlohmann::json(nullptr)},
         {"volume_mm3", solid ? nlohmann::json(r.volume) : nlohmann::json(nullptr)},
@@ -119,6 +120,9 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
       out << "wall thickness: not measurable (no ray from the surface left the solid through another wall)\n";
     if (th.given_up > 0)
       out << "  (" << th.given_up << " of the rays were given up where very many triangles meet at one spot)\n";
+    if (notes.stl_padding > 0)
+      out << "note: " << notes.stl_padding << (notes.stl_padding == 1 ? " byte" : " bytes")
+          << " after the last facet of the binary STL were ignored (padding, as most slicers take it)\n";
     if (notes.normals_against_winding > 0)
       out << "warning: " << notes.normals_against_winding << " of the " << notes.stored_normals
           << " stored facet normals point against their triangle's winding (the check, and most slicers, go by the "

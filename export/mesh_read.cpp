@@ -114,7 +114,11 @@ void count_stored_normals(const std::vector<Vec3>& corners, const std::vector<Ve
 PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s, MeshFileNotes* notes) {
   if (s.size() >= 84) {
     const std::uint32_t n = get<std::uint32_t>(s, 80);
-    if (s.size() == 84 + 50 * std::size_t{n}) {
+    // a few bytes after the last facet (some exporters pad the file) are ignored, as slicers do; as many as a
+    // facet's 50 or more are no padding: the count would leave facets out
+    const std::size_t expected = 84 + 50 * std::size_t{n};
+    if (s.size() >= expected && s.size() < expected + 50 && (s.size() == expected || n > 0)) {
+      if (notes) notes->stl_padding = s.size() - expected;
       std::vector<Vec3> corners(3 * std::size_t{n});
       for (std::size_t t = 0; t < n; ++t)
         for (int k = 0; k < 3; ++k) {
@@ -134,9 +138,9 @@ PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s, 
   if (!forms::starts_like_ascii_stl(std::string_view(s).substr(0, 84))) {
     if (s.size() >= 84) {  // a binary header whose triangle count does not fit the file: truncated or padded
       const std::size_t n = get<std::uint32_t>(s, 80);
-      malformed(path, "a damaged binary STL: its header announces " + std::to_string(n) + " triangles (" +
-                          std::to_string(84 + 50 * n) + " bytes), but the file has " + std::to_string(s.size()) +
-                          " bytes");
+      malformed(path, "a damaged binary STL: its header announces " + std::to_string(n) +
+                          (n == 1 ? " triangle (" : " triangles (") + std::to_string(84 + 50 * n) +
+                          " bytes), but the file has " + std::to_string(s.size()) + " bytes");
     }
     malformed(path, "not an STL file (neither binary nor ASCII 'solid')");
   }

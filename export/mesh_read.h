@@ -21,6 +21,7 @@ struct MeshFileNotes {
   std::size_t stored_normals = 0;           ///< STL: facets whose stored normal is not zero
   std::size_t normals_against_winding = 0;  ///< STL: of those, the facets whose stored normal points against
                                             ///< the normal of their corners' winding (right-hand rule)
+  std::size_t stl_padding = 0;  ///< binary STL: bytes after its last facet (fewer than a facet's 50), ignored
 };
 
 /// As read_mesh(path), also filling `notes` (STL facet normals are otherwise ignored: the winding decides).

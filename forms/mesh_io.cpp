@@ -172,8 +172,9 @@ std::string lower(std::string s) {
   return s;
 }
 
-// A binary STL is exactly 84 + 50 n bytes for the n triangles its header announces (OpenMesh and the
-// exporters' reader decide the same way), and true is returned. A file of another size is ASCII, which
+// A binary STL is exactly 84 + 50 n bytes for the n triangles its header announces (as OpenMesh, which reads
+// it, decides; the exporters' reader, for `cellform check`, also takes up to 49 bytes of padding), and true is
+// returned. A file of another size is ASCII, which
 // must start with "solid"; anything else is a damaged binary file.
 bool is_binary_stl(std::istream& in, std::uintmax_t size, const std::string& name) {
   char head[84] = {};

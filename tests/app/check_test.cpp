@@ -92,6 +92,13 @@ TEST_CASE("cellform check warns of STL facet normals that point against the wind
   CHECK_THAT(r.out, Contains("warning: 3 of the 3 stored facet normals point against their triangle's winding"));
   r = cli({"check", (t.path / "flipped.stl").string(), "--json"});
   CHECK(nlohmann::json::parse(r.out)["stl_normals_against_winding"] == 3);
+  CHECK(nlohmann::json::parse(r.out)["stl_padding_bytes"] == 0);
+  // a padded file (a line end after the last facet) is read as slicers read it, and said to be so
+  r = cli({"check", t.write("padded.stl", stl(1, false) + "\r\n").string()});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.out, Contains("note: 2 bytes after the last facet of the binary STL were ignored"));
+  CHECK(nlohmann::json::parse(cli({"check", (t.path / "padded.stl").string(), "--json"}).out)["stl_padding_bytes"] ==
+        2);
   // ASCII: the same from the "facet normal" lines
   const auto ascii =
       t.write("flipped_ascii.stl",

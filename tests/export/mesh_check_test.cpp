@@ -542,6 +542,21 @@ TEST_CASE("read_mesh names the file it cannot read", "[mesh_check][files]") {
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "padded.stl"),
                     Catch::Contains("damaged binary STL") && Catch::Contains("announces 2 triangles (184 bytes)"));
   CHECK_THROWS_WITH(exporters::read_mesh(dir / "none.stl"), Catch::Contains("no facets"));
+  {  // a few bytes after the last facet are padding, read as slicers read it (an export audit: refused); 49 at most
+    std::string stl(80, ' ');
+    std::uint32_t n = 1;
+    stl.append(reinterpret_cast<const char*>(&n), 4);
+    stl += std::string(12, '\0');
+    for (const float x : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f})
+      stl.append(reinterpret_cast<const char*>(&x), 4);
+    stl += std::string(2, '\0');
+    std::ofstream(dir / "tail.stl", std::ios::binary) << stl + "\r\n";
+    std::ofstream(dir / "long.stl", std::ios::binary) << stl + std::string(50, '\n');
+  }
+  exporters::MeshFileNotes tail_notes;
+  CHECK(exporters::read_mesh(dir / "tail.stl", tail_notes).triangles.size() == 1);
+  CHECK(tail_notes.stl_padding == 2);
+  CHECK_THROWS_WITH(exporters::read_mesh(dir / "long.stl"), Catch::Contains("announces 1 triangle (134 bytes)"));
   {  // ASCII STL cut short after a whole facet, and one with a word for a number
     const std::string facet =
         "facet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 0 1 0\n endloop\nendfacet\n";
