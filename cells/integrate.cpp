@@ -70,12 +70,10 @@ double integrate_and_measure(Cells& cells, const Params& params, std::uint64_t s
             local_fastest2 = std::max(local_fastest2, s2);
         }
       }
-      if (problem != kNone) {
-        local = std::min(local, problem << 32 | i);
-        break;  // the first problem of this range is the only candidate from it
-      }
+      // the whole range, not only its first problem: a later one of higher priority wins whatever the ranges
+      // (a review: two threads named a NaN acceleration where one named a speed)
+      if (problem != kNone) local = std::min(local, problem << 32 | i);
     }
-    // a range that stopped early has not measured every speed, but then the step throws anyway
     if (local != (kNone << 32)) atomic_min(worst, local);
     atomic_max(fastest2, local_fastest2);
   });

@@ -1,5 +1,6 @@
 // Integrators, drag, fixed cells and divergence detection.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <map>
 #include <string>
 
@@ -164,5 +165,27 @@ TEST_CASE("speed above max_speed diverges", "[integrate]") {
     INFO(msg);
     REQUIRE(msg.find("speed 1e+06 ") == std::string::npos);
     REQUIRE(msg.find("speed 1000000.001 exceeds cells.max_speed = 1000000;") != std::string::npos);
+  }
+}
+
+TEST_CASE("the divergence said is the same on any number of threads: the worst problem, then the first cell",
+          "[integrate]") {
+  // a review: each range stopped at its first problem, so one thread named a fast cell where two named a
+  // NaN acceleration further on
+  for (const int threads : {1, 2, 4}) {
+    Cells c;
+    for (int i = 0; i < 20000; ++i) add_cell(c, Vec3(i, 0, 0));
+    c.acceleration[100] = Vec3(0, 50, 0);  // too fast
+    c.acceleration[15000] = Vec3(0, std::nan(""), 0);
+    c.acceleration[17000] = Vec3(0, std::nan(""), 0);
+    Params p;
+    p.max_speed = 1;
+    INFO(threads << " threads");
+    try {
+      integrate(c, p, 3, threads);
+      FAIL("no exception");
+    } catch (const cellform::core::SimulationDiverged& e) {
+      CHECK_THAT(e.what(), Catch::Contains("step 3, cell 15000: acceleration is NaN"));
+    }
   }
 }
