@@ -172,10 +172,10 @@ class Colonisation {
   /// nearest node, ties by index; closed: relative neighbourhood, Eq. 2/3), add one node per influenced
   /// node at distance D along the normalised mean direction (Eq. 1), remove (open) or tag and later
   /// remove (closed) sources reached within d_k, grow the blade. A node whose new segment would run
-  /// within 5 degrees of one of its segments (to a child or its parent) does not grow: Eq. 1 then only
-  /// repeats a node (pulls that cancel but for a remainder pointing back along the vein) or lays one on a
-  /// segment that growth stretched, and drawing that segment twice is no progress. Returns the cumulative
-  /// report.
+  /// within 5 degrees of one of its segments (to a child or its parent) steps towards its nearest
+  /// influencing source instead, and does not grow if that fails too: Eq. 1 then only repeats a node (pulls
+  /// that cancel but for a remainder pointing back along the vein) or lays one on a segment that growth
+  /// stretched, and drawing that segment twice is no progress. Returns the cumulative report.
   const ColonisationReport& step();
   /// True once the report says finished, stalled or hit a limit.
   bool done() const;
@@ -234,7 +234,8 @@ struct WidthParams {
 /// Fills tree.flow, tree.radius and tree.order once, from the tips to the base: flow(v) = tip flow at a
 /// tip, else sum of the children's flows (+ per_node_flow), radius = flow^(1/n) * tip_radius, so
 /// r_parent^n = sum r_child^n holds at every branching. Every child entering a node contributes equally
-/// by its own flow (closed patterns); anastomosis edges carry no flow and get the tip radius. Order: seeds
+/// by its own flow (closed patterns); anastomosis edges carry no flow (the files draw and print them at the
+/// radius of the finer vein they join). Order: seeds
 /// start at 1, at each node the child with the largest flow (ties: smaller index) keeps the order, the
 /// others get order + 1. Throws core::InvalidInput for exponent or tip_radius not positive.
 void compute_widths(VeinTree& tree, const WidthParams& params);

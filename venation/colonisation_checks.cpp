@@ -65,6 +65,12 @@ void validate(const ColonisationParams& p) {
     if (!(p.scale_step > 0 && std::isfinite(p.scale_step)))
       throw InvalidInput(
           "colonisation.scale_step must be a positive increase of the leaf size per step when the leaf grows");
+    // a step below the rounding of the scale would never arrive (the run went on to max_steps, never quiet)
+    if (p.final_scale > p.initial_scale &&
+        ((p.final_scale - p.initial_scale) / p.scale_step > 1e7 || !(p.initial_scale + p.scale_step > p.initial_scale)))
+      throw InvalidInput("colonisation.scale_step (" + number_text(p.scale_step) + ") is too small: growth from " +
+                         number_text(p.initial_scale) + " to " + number_text(p.final_scale) +
+                         " would take more than 10^7 steps");
   }
   if (p.max_steps == 0) throw InvalidInput("colonisation.max_steps must be at least 1");
   if (p.threads < 0) throw InvalidInput("colonisation.threads must be >= 0 (0 = all cores)");

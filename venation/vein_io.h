@@ -34,15 +34,14 @@ struct SvgPage {
   double width = 0, height = 0;  ///< mm, margins included
 };
 
-/// SVG of the veins as stroked paths of width 2 * radius of each segment's child node (tip radius for
-/// anastomoses; at least min_stroke) and the outline as a line. One path runs through every node with a
-/// single child while the width stays the same, so a plotter lifts its pen only at branch points, width
-/// changes and tips (with join_veins, a path runs a whole vein); anastomoses are one path each.
-/// Inkscape layers, their names beginning with their number (AxiDraw plots one layer by number):
-/// "1 veins of order 1", "2 veins of order 2", ... (an anastomosis joins the higher order of its ends),
-/// each in its own stroke colour from LightBurn's layer palette (00, 01, ...: a laser program that
-/// separates operations by colour gives each order its own layer), then the outline last, "100 outline"
-/// in LightBurn's colour 09 (a laser cutter cuts it after engraving the veins; a plotter plots it as
+/// SVG of the veins as stroked paths of width 2 * radius of each segment's child node (an anastomosis: of the
+/// finer of the two nodes it joins; at least min_stroke) and the outline as a line. One path runs through every node
+/// with a single child while the width stays the same, so a plotter lifts its pen only at branch points, width changes
+/// and tips (with join_veins, a path runs a whole vein); anastomoses are one path each. Inkscape layers, their names
+/// beginning with their number (AxiDraw plots one layer by number): "1 veins of order 1", "2 veins of order 2", ... (an
+/// anastomosis joins the higher order of its ends), each in its own stroke colour from LightBurn's layer palette (00,
+/// 01, ...: a laser program that separates operations by colour gives each order its own layer), then the outline last,
+/// "100 outline" in LightBurn's colour 09 (a laser cutter cuts it after engraving the veins; a plotter plots it as
 /// layer 100 whatever the leaf); the sources, when drawn, in a layer "% sources" that AxiDraw skips.
 /// Within a layer the paths come in plot_order() from where the pen is (the page's top-left corner, then
 /// the end of the previous layer), each drawn from the end nearer the pen. All is scaled by the same

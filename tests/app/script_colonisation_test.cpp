@@ -79,6 +79,14 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
   // messages name the script's parameters, not the library's fields
   CHECK_THAT(load_error("leaf {}\ncolonisation { length_step = 0 }\n"),
              Contains(":2: colonisation.length_step") && !Contains("scale_step"));
+  // a step below the rounding of the size never arrives: isogonic growth ran on to max_steps (a review)
+  CHECK_THAT(load_error("leaf {}\ncolonisation { growth = 'isogonic', initial_length = 20, final_length = 40, "
+                        "length_step = 1e-17 }\n"),
+             Contains(":2: colonisation.length_step (1e-17) is too small: growth from 20 to 40 would take more "
+                      "than 10^7 steps"));
+  CHECK_NOTHROW(
+      load("leaf {}\ncolonisation { growth = 'isogonic', initial_length = 20, final_length = 40, "
+           "length_step = 1e-5 }\n"));
   CHECK_THAT(load_error("leaf {}\ncolonisation { initial_length = 50, final_length = 20 }\n"),
              Contains("colonisation.final_length") && Contains("colonisation.initial_length"));
   CHECK_THAT(load_error("leaf { shape = 'ellipse', seeds = 3, seed_spread = 5 }\ncolonisation {}\n"),
