@@ -40,7 +40,7 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
     return usage;
   }
   // pieces, pockets, a volume and walls mean something only where the surfaces bound a solid the right way round
-  const bool solid = r.closed_manifold() && r.consistently_oriented && r.misnested_parts == 0;
+  const bool solid = r.closed_manifold() && r.consistently_oriented && r.nesting_tested && r.misnested_parts == 0;
   // --min-wall: the 1st percentile by area (single rays can cut a junction's corner), measured
   const bool thin = min_wall > 0 && !(th.samples > 0 && th.p01 >= min_wall);
   const std::string thin_text =
@@ -80,9 +80,9 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
         {"self_intersections", r.intersections_tested ? nlohmann::json(r.self_intersections) : nlohmann::json(nullptr)},
         {"degenerate_triangles", r.degenerate_triangles},
         // STL only: stored facet normals against the winding (the verdict goes by the winding, as slicers do)
-        {"stl_padding_bytes", notes.stl_padding},
         {"stl_normals_against_winding",
          notes.normals_checked ? nlohmann::json(notes.normals_against_winding) : nlohmann::json(nullptr)},
+        {"stl_padding_bytes", notes.stl_padding},  // binary STL: bytes after the last facet, ignored (0 otherwise)
         {"volume_mm3", solid ? nlohmann::json(r.volume) : nlohmann::json(nullptr)},
         {"area_mm2", r.area},
         {"bbox_min_mm", {r.bbox_min.x(), r.bbox_min.y(), r.bbox_min.z()}},
@@ -122,7 +122,8 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
       out << "  (" << th.given_up << " of the rays were given up where very many triangles meet at one spot)\n";
     if (notes.stl_padding > 0)
       out << "note: " << notes.stl_padding << (notes.stl_padding == 1 ? " byte" : " bytes")
-          << " after the last facet of the binary STL were ignored (padding, as most slicers take it)\n";
+          << " after the last facet of the binary STL were ignored (padding, as most slicers take it; cellform's "
+             "mesh{}, volume{} and surface{} take only an exact binary STL)\n";
     if (notes.normals_against_winding > 0)
       out << "warning: " << notes.normals_against_winding << " of the " << notes.stored_normals
           << " stored facet normals point against their triangle's winding (the check, and most slicers, go by the "

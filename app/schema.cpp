@@ -280,7 +280,8 @@ std::vector<Field> build() {
   f.push_back(
       num("colonisation", "final_length", "1600", 0, kInf, true, "vein segments", "L_f: growth stops at this length"));
   f.push_back(num("colonisation", "length_step", "8", 0, kInf, false, "vein segments per step",
-                  "Delta L: growth per step (marginal and isogonic: > 0; no effect with none or nonuniform)"));
+                  "Delta L: growth per step (marginal and isogonic: > 0, and at most 10^7 steps from initial_length "
+                  "to final_length; no effect with none or nonuniform)"));
   f.push_back(integer("colonisation", "max_steps", "100000", 1, 1e9, "steps", "stop after this many steps"));
   f.push_back(integer("colonisation", "max_nodes", "2000000", 1, 1e9, "nodes",
                       "stop after the step that reaches this many vein nodes"));

@@ -360,21 +360,23 @@ std::string MeshReport::summary() const {
   s << triangles << " triangles, " << vertices << " vertices, ";
   // the inner walls of closed pockets are parts too, but not pieces that come apart (a volume's sign means
   // that only on a closed, consistently oriented mesh, and only if it is not inside out)
-  if (cavities > 0 && pieces > 0 && closed_manifold() && consistently_oriented && misnested_parts == 0)
+  if (cavities > 0 && pieces > 0 && closed_manifold() && consistently_oriented && nesting_tested &&
+      misnested_parts == 0)
     s << pieces << (pieces == 1 ? " solid piece with " : " solid pieces with ") << cavities
       << (cavities == 1 ? " closed cavity" : " closed cavities") << " inside (" << parts << " surfaces)";
-  else if (closed_manifold() && consistently_oriented && misnested_parts == 0)
+  else if (closed_manifold() && consistently_oriented && nesting_tested && misnested_parts == 0)
     s << parts << (parts == 1 ? " part" : " parts");
   else  // pieces and pockets are not told apart on such a mesh
     s << parts << (parts == 1 ? " connected surface" : " connected surfaces");
   // a volume means something only inside a closed, consistently oriented surface
   s << "; volume ";
-  if (closed_manifold() && consistently_oriented && misnested_parts == 0)
+  if (closed_manifold() && consistently_oriented && nesting_tested && misnested_parts == 0)
     s << volume;
   else
     s << "none ("
       << (!closed_manifold()       ? boundary_edges > 0 ? "not closed" : "not 2-manifold"
           : !consistently_oriented ? "misoriented"
+          : !nesting_tested        ? "nesting not tested"
                                    : "misoriented shells")
       << ")";
   const Vec3 size = bbox_max - bbox_min;

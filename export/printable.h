@@ -158,7 +158,7 @@ PrintableMesh thicken(const std::vector<Segment>& segments, const std::vector<st
                       const ThickenParams& params, ThickenReport* report = nullptr);
 
 /// Writes the level set as an OpenVDB .vdb file (one FloatGrid named "surface", class level set, mm).
-/// Atomic; core::FileError on failure.
+/// Atomic; core::FileError on failure; core::InvalidInput for an empty level set.
 void write_vdb(const std::filesystem::path& path, const LevelSet& level_set);
 
 /// One segment per vein edge (child node to parent node) with the nodes' radii. A node without an edge (a

@@ -163,27 +163,37 @@ std::size_t fill_cavities(PrintableMesh& mesh) {
   // A piece inside a cavity (a grain the shell's closing left in a pocket, the shell round a bubble inside a
   // closed sheet) would be a surface inside solid once the pocket is filled: it goes with the cavity's wall.
   // Inside: the cavity's wall winds round a point of it (solid angles, Van Oosterom and Strackee).
-  std::vector<char> drop(nv, 0);
+  std::vector<char> drop(nv, 0), inside(islands.size(), 0);
   for (const std::uint32_t c : cavities) drop[c] = 1;
+  core::parallel_for(
+      islands.size(), 0,
+      [&](std::size_t b0, std::size_t e0) {  // each island writes its own slot
+        for (std::size_t k = b0; k < e0; ++k) {
+          const Vec3& q = mesh.vertices[islands[k]];
+          for (const std::uint32_t c : cavities) {
+            if ((q.array() < lo[c].array()).any() || (q.array() > hi[c].array()).any()) continue;
+            double solid_angle = 0;
+            for (const std::uint32_t t : tris_of[c]) {
+              const Vec3 a = mesh.vertices[mesh.triangles[t][0]] - q, b = mesh.vertices[mesh.triangles[t][1]] - q,
+                         d = mesh.vertices[mesh.triangles[t][2]] - q;
+              const double la = a.norm(), lb = b.norm(), ld = d.norm();
+              solid_angle +=
+                  2 * std::atan2(a.dot(b.cross(d)), la * lb * ld + a.dot(b) * ld + a.dot(d) * lb + b.dot(d) * la);
+            }
+            if (std::abs(solid_angle) > 2 * M_PI) {  // wound once (inward: -4 pi), not 0
+              inside[k] = 1;
+              break;
+            }
+          }
+        }
+      },
+      1);
   std::size_t removed = cavities.size();
-  for (const std::uint32_t p : islands) {
-    const Vec3& q = mesh.vertices[p];
-    for (const std::uint32_t c : cavities) {
-      if ((q.array() < lo[c].array()).any() || (q.array() > hi[c].array()).any()) continue;
-      double solid_angle = 0;
-      for (const std::uint32_t t : tris_of[c]) {
-        const Vec3 a = mesh.vertices[mesh.triangles[t][0]] - q, b = mesh.vertices[mesh.triangles[t][1]] - q,
-                   d = mesh.vertices[mesh.triangles[t][2]] - q;
-        const double la = a.norm(), lb = b.norm(), ld = d.norm();
-        solid_angle += 2 * std::atan2(a.dot(b.cross(d)), la * lb * ld + a.dot(b) * ld + a.dot(d) * lb + b.dot(d) * la);
-      }
-      if (std::abs(solid_angle) > 2 * M_PI) {  // wound once (inward: -4 pi), not 0
-        drop[p] = 1;
-        ++removed;
-        break;
-      }
+  for (std::size_t k = 0; k < islands.size(); ++k)
+    if (inside[k]) {
+      drop[islands[k]] = 1;
+      ++removed;
     }
-  }
   std::vector<std::array<std::uint32_t, 3>> kept;
   kept.reserve(mesh.triangles.size());
   for (const auto& t : mesh.triangles)

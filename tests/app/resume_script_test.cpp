@@ -391,7 +391,7 @@ TEST_CASE(
   REQUIRE(cli({"run", script.string(), "--out", out.string(), "--steps", "3", "--quiet"}).code == 0);
   CHECK(slurp(out / "frames") == "the user's notes");
   const auto tight = t.write("tight.lua", "cells { time_step = 0.2, max_speed = 0.001 }\ndisc { radius = 3 }\n");
-  const fs::path fitted = t.path / "fitted", blocked = t.path / "blocked";  // names of one length
+  const fs::path fitted = t.path / "fitted", blocked = t.path / "blocked";  // (a longer name: a larger checkpoint)
   REQUIRE(cli({"run", tight.string(), "--out", fitted.string(), "--quiet"}).code == 1);
   CliResult r;
   {

@@ -82,7 +82,11 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
   // a step below the rounding of the size never arrives: isogonic growth ran on to max_steps (a review)
   CHECK_THAT(load_error("leaf {}\ncolonisation { growth = 'isogonic', initial_length = 20, final_length = 40, "
                         "length_step = 1e-17 }\n"),
-             Contains(":2: colonisation.length_step (1e-17) is too small: growth from 20 to 40 would take more "
+             Contains(":2: colonisation.length_step (1e-17) is too small to change the leaf's size (20) in double "
+                      "precision"));
+  CHECK_THAT(load_error("leaf {}\ncolonisation { growth = 'isogonic', initial_length = 20, final_length = 40, "
+                        "length_step = 1e-6 }\n"),
+             Contains(":2: colonisation.length_step (1e-06) is too small: growth from 20 to 40 would take more "
                       "than 10^7 steps"));
   CHECK_NOTHROW(
       load("leaf {}\ncolonisation { growth = 'isogonic', initial_length = 20, final_length = 40, "

@@ -558,8 +558,8 @@ TEST_CASE("a closed sheet faces outward, an open one up", "[surface]") {
   });
   CHECK(pinholed.size() < 363 - 24);
   CHECK(signed_volume(pinholed, ps) > 0.7 * ball);
-  // a barrel (both caps gone; its holes are too large for the first test, but it has no area vector to
-  // face up by) faces outward: each cone from the centre to a triangle counts positive
+  // a barrel (both caps gone: large holes, but no area vector to face up by) faces outward: each cone from
+  // the centre to a triangle counts positive
   for (const double bottom : {0.7, 0.75}) {
     INFO("barrel from z = -" << bottom << " r to 0.7 r");
     const auto [barrel, bs] =
@@ -574,7 +574,7 @@ TEST_CASE("a closed sheet faces outward, an open one up", "[surface]") {
     CHECK(signed_volume(capped, cs) > 0.5 * ball);
   }
   // a steeply ruffled open sheet (an egg crate, its area vector a small part of its area) faces up too:
-  // its volume about its centroid says nothing
+  // it holds next to no volume about its centroid
   for (const double amplitude : {0.0, 1.5, 6.0}) {
     INFO("ruffles " << amplitude);
     Cells crate = cellform::testing::hex_sheet(12, 12);

@@ -192,7 +192,8 @@ TEST_CASE("a mesh of too many parts to test their nesting is not called printabl
   CHECK_FALSE(r.printable());
   REQUIRE(r.problems().size() == 1);
   CHECK_THAT(r.problems()[0], Catch::StartsWith("nesting not tested: too many parts"));
-  // one part fewer than the limit, the same solid inside: tested, and found
+  CHECK_THAT(r.summary(), Catch::Contains("volume none (nesting not tested)"));  // no verdict of solid either
+  // at the limit (20,000 parts), the same solid inside: tested, and found
   PrintableMesh fewer;
   for (int i = 0; i < 19999; ++i) append(fewer, tetrahedron(Vec3(2.0 * (i % 150), 2.0 * (i / 150), 0)));
   append(fewer, tetrahedron(Vec3(0.1, 0.1, 0.1), 0.2));
