@@ -198,13 +198,11 @@ struct PreparedObstacles::MeshIndex {
   }
 
   // A crossing: from strictly on one side of the plane to the other side or onto the plane, through the
-  // triangle (edges included, with a tiny tolerance so nothing slips between neighbouring triangles). A cell
-  // exactly on the plane (a disc placed on a floor mesh at z = 0) is on its front, the side its normal faces:
-  // it may leave to the front, not to the back (it went through either way: a review).
+  // triangle (edges included, with a tiny tolerance so nothing slips between neighbouring triangles).
   static bool cross(const Triangle& tri, const Vec3& from, const Vec3& to, double& t, Vec3& point) {
     const double d0 = (from - tri.v0).dot(tri.normal);
     const double d1 = (to - tri.v0).dot(tri.normal);
-    if (!((d0 > 0 && d1 <= 0) || (d0 < 0 && d1 >= 0) || (d0 == 0 && d1 < 0))) return false;
+    if (!((d0 > 0 && d1 <= 0) || (d0 < 0 && d1 >= 0))) return false;
     t = d0 / (d0 - d1);
     point = from + t * (to - from);
     const Vec3 w = point - tri.v0;
@@ -486,7 +484,7 @@ void PreparedObstacles::apply(cells::Cells& cells, const std::vector<Vec3>& prev
             changed = false;
             if (index_) {
               if (const auto hit = index_->first_crossing(prev, p)) {
-                // Back on the side the cell came from (the front for a cell that was on the plane).
+                // Back on the side the cell came from; crossing requires prev off the plane, so side != 0.
                 const double side = (prev - hit->point).dot(hit->normal) >= 0 ? 1.0 : -1.0;
                 const Vec3 towards_prev = side * hit->normal;
                 p = hit->point + mesh_backoff * towards_prev;
