@@ -377,7 +377,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     cells::Cells c = now;
     core::PointGrid grid;
     cells::update_links(c, sim.params(), grid, sim.threads());
-    if (cfg.scene.venation) add_vein_attributes(c);
+    if (cfg.scene.venation) venation::add_attributes(c);
     exporters::write_cells_ply(staging / name, c, cells::triangulate(c));
     outputs.push_back(name);
     frame_steps.push_back(step);

@@ -252,10 +252,6 @@ class CheckpointClock {
   std::chrono::steady_clock::time_point last_;
 };
 
-/// Adds canalisation's per-cell attributes (flow, its direction, vein radius and order) to `c`, zero where
-/// missing: the layout of a cell file once canalisation has run, for files written before it.
-void add_vein_attributes(cells::Cells& c);
-
 /// Writes the cell outputs (cells.ply/obj, and the vein graph with `veins`, the run's canalisation) of `c` into
 /// `dir`; returns their names. cells.ply has canalisation's attributes with `veins`, also before its first pass.
 std::vector<std::string> write_outputs(const std::filesystem::path& dir, const OutputSpec& spec, const cells::Cells& c,

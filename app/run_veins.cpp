@@ -9,6 +9,7 @@
 #include "cells/surface.h"
 #include "export/cell_files.h"
 #include "export/vein_files.h"
+#include "venation/canalisation.h"
 #include "venation/vein_io.h"
 
 namespace cellform::app {
@@ -115,12 +116,6 @@ void say_vein_findings(std::ostream& err, const cells::Cells& c, const venation:
   if (notes) say_veinless_petioles(err, c, p);
 }
 
-void add_vein_attributes(cells::Cells& c) {
-  for (const char* name :
-       {venation::kFlow, venation::kRadius, venation::kOrder, venation::kFlowX, venation::kFlowY, venation::kFlowZ})
-    cells::attribute(c, name);
-}
-
 /// Writes the cell outputs of the current state into `dir`; returns their names.
 std::vector<std::string> write_outputs(const std::filesystem::path& dir, const OutputSpec& spec, const cells::Cells& c,
                                        const venation::Params* veins) {
@@ -138,15 +133,16 @@ std::vector<std::string> write_outputs(const std::filesystem::path& dir, const O
   }
   if (!spec.ply && !spec.obj) return names;  // (the surface of a dense form takes seconds to find)
   const cells::Surface surface = cells::triangulate(c);
-  if (spec.ply && veins && !c.attributes.count(venation::kFlow)) {
+  if (spec.ply) {
     // before the first canalisation (--steps 0): the attributes of the later files, none flowing yet, so that
-    // a script's files have one layout
-    cells::Cells placed = c;
-    add_vein_attributes(placed);
-    exporters::write_cells_ply(dir / "cells.ply", placed, surface);
-    names.push_back("cells.ply");
-  } else if (spec.ply) {
-    exporters::write_cells_ply(dir / "cells.ply", c, surface);
+    // a script's files have one layout (on a copy, made only then)
+    const bool bare = veins && !c.attributes.count(venation::kFlow);
+    cells::Cells placed;
+    if (bare) {
+      placed = c;
+      venation::add_attributes(placed);
+    }
+    exporters::write_cells_ply(dir / "cells.ply", bare ? placed : c, surface);
     names.push_back("cells.ply");
   }
   if (spec.obj) {

@@ -453,7 +453,7 @@ Surface triangulate(const Cells& cells, bool one_layer) {
     // of its area (1 closed, 1/2 a hemisphere, 0 a flat sheet; a closed surface's area vector is 0 however its
     // holes' edges run). So a closed or nearly closed piece faces out, an open sheet up (a leaf's normals point
     // to the sky, a small fragment of a ruffled sheet's too), and a spherical bowl out from about a hemisphere
-    // on. A vertical sheet (both terms 0) faces +y, then +x.
+    // on. Where the score is 0 (a vertical sheet: both terms), by the area vector: +z, then +y, then +x.
     Vec3 centre = Vec3::Zero();
     for (const std::size_t t : component)
       centre += cells.position[tris[t][0]] + cells.position[tris[t][1]] + cells.position[tris[t][2]];
@@ -476,7 +476,7 @@ Surface triangulate(const Cells& cells, bool one_layer) {
     if (std::abs(score) > 1e-6)
       flip = score < 0;
     else
-      for (int axis : {1, 0})
+      for (int axis : {2, 1, 0})
         if (std::abs(area_vector[axis]) > 1e-6 * area_vector.norm()) {
           flip = area_vector[axis] < 0;
           break;

@@ -52,6 +52,11 @@ std::vector<std::uint32_t> weld_positions(const std::vector<Vec3>& v) {
   return canon;
 }
 
+double solid_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double la = a.norm(), lb = b.norm(), lc = c.norm();
+  return 2 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la);
+}
+
 double signed_volume(const PrintableMesh& m) {
   double s = 0;
   for (const Tri& t : m.triangles) s += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]]));
@@ -284,20 +289,14 @@ MeshReport check_mesh(const PrintableMesh& mesh, int threads) {
               if (first[p] == nt) continue;
               const Tri& w = tris[first[p]];
               const Vec3 q = (mesh.vertices[w[0]] + mesh.vertices[w[1]] + mesh.vertices[w[2]]) / 3.0;
-              double solid_angle = 0;  // of the other parts whose boxes hold q (only those can wind round it)
+              double seen = 0;  // solid angle of the other parts whose boxes hold q (only those can wind round it)
               for (std::size_t o = 0; o < r.parts; ++o) {
                 if (o == p || (q.array() < lo[o].array()).any() || (q.array() > hi[o].array()).any()) continue;
-                for (const std::uint32_t t : part_tris[o]) {
-                  // Van Oosterom and Strackee: the solid angle of a triangle seen from q
-                  const Vec3 a = mesh.vertices[tris[t][0]] - q, b = mesh.vertices[tris[t][1]] - q,
-                             c = mesh.vertices[tris[t][2]] - q;
-                  const double la = a.norm(), lb = b.norm(), lc = c.norm();
-                  const double num = a.dot(b.cross(c));
-                  const double den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
-                  solid_angle += 2 * std::atan2(num, den);
-                }
+                for (const std::uint32_t t : part_tris[o])
+                  seen += exporters::solid_angle(mesh.vertices[tris[t][0]] - q, mesh.vertices[tris[t][1]] - q,
+                                                 mesh.vertices[tris[t][2]] - q);
               }
-              const double winding = solid_angle / (4 * M_PI);
+              const double winding = seen / (4 * M_PI);
               const bool outside = std::abs(winding) < 0.25, inside = std::abs(winding - 1) < 0.25;
               wrong[p] = !((outside && part_volume[p] > 0) || (inside && part_volume[p] < 0));
             }

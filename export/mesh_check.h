@@ -88,6 +88,10 @@ SelfIntersectionCount count_self_intersections(const std::vector<core::Vec3>& ve
                                                const std::vector<std::array<std::uint32_t, 3>>& triangles,
                                                std::size_t examples, double max_tests, int threads = 0);
 
+/// Solid angle (steradians, signed by the winding) of the triangle a, b, c seen from the origin (Van Oosterom and
+/// Strackee): summed over a closed surface, 4 pi times the times it winds round the origin.
+double solid_angle(const core::Vec3& a, const core::Vec3& b, const core::Vec3& c);
+
 /// Signed volume by the divergence theorem (units^3): positive for a closed mesh wound outward.
 double signed_volume(const PrintableMesh& mesh);
 /// Sum of triangle areas (units^2).

@@ -110,9 +110,16 @@ void count_pieces(const PrintableMesh& mesh, std::size_t& pieces, std::size_t& c
     if (root[i] == i && used[i]) (volume[i] < 0 ? cavities : pieces) += 1;
 }
 
-}  // namespace
-
-namespace {
+/// Removes the triangles of every part `drop` marks (by its root vertex, as part_volumes gives `root`), and the
+/// vertices only they used.
+void remove_marked_parts(PrintableMesh& mesh, const std::vector<std::uint32_t>& root, const std::vector<char>& drop) {
+  std::vector<std::array<std::uint32_t, 3>> kept;
+  kept.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles)
+    if (!drop[root[t[0]]]) kept.push_back(t);
+  mesh.triangles.swap(kept);
+  drop_unused_vertices(mesh);
+}
 
 /// Removes every part whose signed volume `drop` accepts, and the vertices only they used; returns how many.
 template <class Drop>
@@ -120,19 +127,15 @@ std::size_t remove_parts(PrintableMesh& mesh, Drop drop) {
   std::vector<std::uint32_t> root;
   const std::vector<double> part_volume = part_volumes(mesh, root);
   const std::size_t nv = mesh.vertices.size();
-  auto find = [&](std::uint32_t x) { return root[x]; };
-  std::vector<char> used(nv, 0);
-  for (const auto& t : mesh.triangles) used[find(t[0])] = 1;
+  std::vector<char> used(nv, 0), marked(nv, 0);
+  for (const auto& t : mesh.triangles) used[root[t[0]]] = 1;
   std::size_t removed = 0;
   for (std::size_t i = 0; i < nv; ++i)
-    removed += used[i] && find(static_cast<std::uint32_t>(i)) == i && drop(part_volume[i]);
-  if (removed == 0) return 0;
-  std::vector<std::array<std::uint32_t, 3>> kept;
-  kept.reserve(mesh.triangles.size());
-  for (const auto& t : mesh.triangles)
-    if (!drop(part_volume[find(t[0])])) kept.push_back(t);
-  mesh.triangles.swap(kept);
-  drop_unused_vertices(mesh);
+    if (used[i] && root[i] == i && drop(part_volume[i])) {
+      marked[i] = 1;
+      ++removed;
+    }
+  if (removed > 0) remove_marked_parts(mesh, root, marked);
   return removed;
 }
 
@@ -172,15 +175,12 @@ std::size_t fill_cavities(PrintableMesh& mesh) {
           const Vec3& q = mesh.vertices[islands[k]];
           for (const std::uint32_t c : cavities) {
             if ((q.array() < lo[c].array()).any() || (q.array() > hi[c].array()).any()) continue;
-            double solid_angle = 0;
+            double seen = 0;
             for (const std::uint32_t t : tris_of[c]) {
-              const Vec3 a = mesh.vertices[mesh.triangles[t][0]] - q, b = mesh.vertices[mesh.triangles[t][1]] - q,
-                         d = mesh.vertices[mesh.triangles[t][2]] - q;
-              const double la = a.norm(), lb = b.norm(), ld = d.norm();
-              solid_angle +=
-                  2 * std::atan2(a.dot(b.cross(d)), la * lb * ld + a.dot(b) * ld + a.dot(d) * lb + b.dot(d) * la);
+              const auto& tri = mesh.triangles[t];
+              seen += solid_angle(mesh.vertices[tri[0]] - q, mesh.vertices[tri[1]] - q, mesh.vertices[tri[2]] - q);
             }
-            if (std::abs(solid_angle) > 2 * M_PI) {  // wound once (inward: -4 pi), not 0
+            if (std::abs(seen) > 2 * M_PI) {  // wound once (inward: -4 pi), not 0
               inside[k] = 1;
               break;
             }
@@ -194,12 +194,7 @@ std::size_t fill_cavities(PrintableMesh& mesh) {
       drop[islands[k]] = 1;
       ++removed;
     }
-  std::vector<std::array<std::uint32_t, 3>> kept;
-  kept.reserve(mesh.triangles.size());
-  for (const auto& t : mesh.triangles)
-    if (!drop[root[t[0]]]) kept.push_back(t);
-  mesh.triangles.swap(kept);
-  drop_unused_vertices(mesh);
+  remove_marked_parts(mesh, root, drop);
   return removed;
 }
 

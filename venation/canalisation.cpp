@@ -15,6 +15,10 @@
 
 namespace cellform::venation {
 
+void add_attributes(cells::Cells& c) {
+  for (const char* name : {kFlow, kRadius, kOrder, kFlowX, kFlowY, kFlowZ}) cells::attribute(c, name);
+}
+
 using cells::CellType;
 
 void validate(const Params& p) {

@@ -71,6 +71,10 @@ inline constexpr const char* kFlowX = "flow_dx";       ///< unit direction of th
 inline constexpr const char* kFlowY = "flow_dy";
 inline constexpr const char* kFlowZ = "flow_dz";
 
+/// Adds the per-cell attributes canalise() writes (the six above), zero where missing: a cell file written
+/// before canalisation's first pass then has the layout of the later ones.
+void add_attributes(cells::Cells& c);
+
 /// One step of canalisation, in the paper's two phases, in time linear in the number of cells and links.
 ///  1. Towards the veins: starting at the cells adjacent to a vein and moving outward layer by layer
 ///     (breadth first over the links), each cell picks as downstream the neighbour of the previous
