@@ -330,7 +330,10 @@ void Colonisation::Impl::step() {
 
   // influence: S(v) for every vein node (Eq. 1 input); open: nearest node; closed: V(s), Eq. 2 and 3
   const bool closed = p.type == VenationType::closed;
-  const double half_extent = 4 * ((detail::lift(unit.hi()) - detail::lift(unit.lo())).norm() + 1) * frame_scale();
+  // window of Urquhart's neighbours: a few times the blade's size (nonuniform: the blade as grown so far)
+  const double half_extent =
+      nonuniform ? 4 * ((current.hi() - current.lo()).norm() + 1)
+                 : 4 * ((detail::lift(unit.hi()) - detail::lift(unit.lo())).norm() + 1) * frame_scale();
   // lazy sectors: squared distances of nodes up to 2 half_extent apart round by far less than lazy_tol
   // times the smallest margin accepted (kLazyRenew D)
   lazy_tol = 1e-9 * half_extent;

@@ -40,8 +40,7 @@ struct OracleCounts {
 /// sources each node is pulled by (`pulled`, brute force): one node D along the mean direction; towards
 /// the nearest pulling source alone where the pulls cancel or the mean retraces a segment; none where
 /// that retraces a segment too.
-OracleCounts require_brute_force_steps(const v::Leaf& leaf, const v::ColonisationParams& p, v::testing::Pulled pulled) {
-  v::Colonisation c(leaf, p);
+OracleCounts require_brute_force_steps(v::Colonisation& c, const v::ColonisationParams& p, v::testing::Pulled pulled) {
   OracleCounts n;
   while (!c.done() && n.steps < 400) {
     const v::VeinTree before = c.tree();
@@ -77,6 +76,10 @@ OracleCounts require_brute_force_steps(const v::Leaf& leaf, const v::Colonisatio
   CHECK((c.report().finished || c.report().stalled));
   return n;
 }
+OracleCounts require_brute_force_steps(const v::Leaf& leaf, const v::ColonisationParams& p, v::testing::Pulled pulled) {
+  v::Colonisation c(leaf, p);
+  return require_brute_force_steps(c, p, pulled);
+}
 
 }  // namespace
 
@@ -105,6 +108,34 @@ TEST_CASE("every step follows Eq. 1 by brute force: open, closed exact (lazy sec
     const OracleCounts n = require_brute_force_steps(leaf, p, v::testing::Pulled::urquhart);
     CHECK(n.checked > 500);
   }
+}
+
+TEST_CASE("Urquhart's window grows with a blade grown nonuniformly", "[colonisation]") {
+  // (review of venation/: the window around each source was sized by the initial blade under nonuniform
+  // growth, so sources left far from the veins by a blade grown 28 times pulled nothing.) A 10 x 5 blade
+  // with 40 fixed sources grows 1.25 times a step for 15 steps, with the veins still at its base; from then
+  // on every step must follow Eq. 1 with the Urquhart neighbours by brute force.
+  v::Leaf leaf = ellipse_leaf(10, 5);
+  leaf.initial_nodes = {{0, 0.2}};
+  core::Rng rng(5);
+  while (leaf.initial_sources.size() < 40) {
+    const double x = rng.uniform(-2.5, 2.5), y = rng.uniform(1, 10);
+    if ((x / 2.5) * (x / 2.5) + ((y - 5) / 5) * ((y - 5) / 5) < 0.9) leaf.initial_sources.push_back({x, y});
+  }
+  v::ColonisationParams p = params(v::VenationType::closed, 1);
+  p.darts_per_area = 0;
+  p.neighbourhood = v::Neighbourhood::urquhart;
+  p.growth = v::GrowthMode::nonuniform;
+  p.growth_x = p.growth_y = {{0, 10}, {1.25, 1.25}};
+  p.growth_steps = 15;
+  v::Colonisation c(leaf, p);
+  for (int t = 0; t < 15; ++t) c.step();
+  const v::Outline grown = c.outline();
+  double top = 0;
+  for (const v::Vec2& q : grown.points) top = std::max(top, q.y());
+  REQUIRE(top > 250);  // grown some 28 times
+  const OracleCounts n = require_brute_force_steps(c, p, v::testing::Pulled::urquhart);
+  CHECK(n.checked > 300);
 }
 
 TEST_CASE("closed loops close at a source that veins from two sides reached", "[colonisation]") {
