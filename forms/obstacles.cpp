@@ -86,6 +86,7 @@ struct PreparedObstacles::MeshIndex {
     Vec3 v0, e1, e2;
     Vec3 normal;  // unit
     double d00, d01, d11, inv_denom;
+    std::uint32_t mesh = 0;  // index in Obstacles::meshes
   };
   struct Node {
     Vec3 lo, hi;
@@ -106,7 +107,8 @@ struct PreparedObstacles::MeshIndex {
   explicit MeshIndex(const std::vector<TriangleMesh>& meshes) {
     std::vector<Triangle> all;
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-    for (const TriangleMesh& m : meshes) {
+    for (std::size_t k = 0; k < meshes.size(); ++k) {
+      const TriangleMesh& m = meshes[k];
       for (const auto& t : m.triangles) {
         const Vec3& a = m.vertices[t[0]];
         const Vec3& b = m.vertices[t[1]];
@@ -125,6 +127,7 @@ struct PreparedObstacles::MeshIndex {
         const double denom = tri.d00 * tri.d11 - tri.d01 * tri.d01;
         if (!(denom > 0)) continue;
         tri.inv_denom = 1.0 / denom;
+        tri.mesh = static_cast<std::uint32_t>(k);
         all.push_back(tri);
         lo = lo.cwiseMin(a).cwiseMin(b).cwiseMin(c);
         hi = hi.cwiseMax(a).cwiseMax(b).cwiseMax(c);
@@ -205,12 +208,40 @@ struct PreparedObstacles::MeshIndex {
     if (!((d0 > 0 && d1 <= 0) || (d0 < 0 && d1 >= 0))) return false;
     t = d0 / (d0 - d1);
     point = from + t * (to - from);
+    return within(tri, point);
+  }
+
+  // Whether `point`, on the triangle's plane, lies in the triangle (edges included, tolerance as cross()).
+  static bool within(const Triangle& tri, const Vec3& point) {
     const Vec3 w = point - tri.v0;
     const double w1 = w.dot(tri.e1), w2 = w.dot(tri.e2);
     const double v = (tri.d11 * w1 - tri.d01 * w2) * tri.inv_denom;
     const double u = (tri.d00 * w2 - tri.d01 * w1) * tri.inv_denom;
     constexpr double tol = 1e-9;
     return v >= -tol && u >= -tol && u + v <= 1 + tol;
+  }
+
+  // The mesh of a triangle that `point` lies on, within `pad` of its plane; the lowest mesh index of those.
+  std::optional<std::size_t> mesh_touched(const Vec3& point) const {
+    std::optional<std::size_t> found;
+    std::vector<std::uint32_t> stack = {0};
+    while (!nodes.empty() && !stack.empty()) {
+      const Node& node = nodes[stack.back()];
+      stack.pop_back();
+      if ((point.array() < node.lo.array()).any() || (point.array() > node.hi.array()).any()) continue;
+      if (node.count == 0) {
+        stack.push_back(node.right);
+        stack.push_back(static_cast<std::uint32_t>(&node - nodes.data()) + 1);
+        continue;
+      }
+      for (std::uint32_t i = node.start; i < node.start + node.count; ++i) {
+        const Triangle& tri = triangles[i];
+        const double d = (point - tri.v0).dot(tri.normal);
+        if (std::abs(d) <= pad && within(tri, point - d * tri.normal) && (!found || tri.mesh < *found))
+          found = tri.mesh;
+      }
+    }
+    return found;
   }
 
   std::optional<Hit> first_crossing(const Vec3& from, const Vec3& to) const {
@@ -432,6 +463,31 @@ void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& position
     refuse_if_inside(obstacles.spheres[i], names.spheres, "sphere", i, "inside it");
   for (std::size_t i = 0; i < obstacles.boxes.size(); ++i)
     refuse_if_inside(obstacles.boxes[i], names.boxes, "box", i, "inside it");
+  // a cell on a wall is on neither side of it, so no move of it crosses the wall: refused, as inside a solid
+  if (std::none_of(obstacles.meshes.begin(), obstacles.meshes.end(),
+                   [](const auto& m) { return !m.triangles.empty(); }))
+    return;
+  const PreparedObstacles prepared(obstacles);
+  std::vector<std::optional<std::size_t>> touched(positions.size());
+  core::parallel_for(positions.size(), 0, [&](std::size_t first, std::size_t last) {
+    for (std::size_t i = first; i < last; ++i) touched[i] = prepared.mesh_touched(positions[i]);
+  });
+  for (std::size_t k = 0; k < obstacles.meshes.size(); ++k) {
+    std::vector<Vec3> on;
+    for (std::size_t i = 0; i < positions.size(); ++i)
+      if (touched[i] == k) on.push_back(positions[i]);
+    if (on.empty()) continue;
+    const std::string name = k < names.meshes.size() ? names.meshes[k] : "mesh " + std::to_string(k);
+    const std::string at = core::point_text(on[0].x(), on[0].y(), on[0].z());
+    throw InvalidInput(name + ": " +
+                       (positions.size() == 1
+                            ? "the cell at " + at + " lies"
+                            : std::to_string(on.size()) + " of the " + std::to_string(positions.size()) +
+                                  (on.size() == 1 ? " cells lies" : " cells lie")) +
+                       " on its surface" + (positions.size() == 1 ? "" : " (the first at " + at + ")") +
+                       "; a cell on a mesh is on neither side of it and could pass through it: start the cells "
+                       "off the mesh (a tenth of a rest length is enough)");
+  }
 }
 
 bool PreparedObstacles::inside_solid(const Vec3& position, double margin) const {
@@ -442,6 +498,10 @@ bool PreparedObstacles::inside_solid(const Vec3& position, double margin) const 
   for (const Box& b : obstacles_.boxes)
     if (inside(position, b, margin)) return true;
   return false;
+}
+
+std::optional<std::size_t> PreparedObstacles::mesh_touched(const Vec3& position) const {
+  return index_ ? index_->mesh_touched(position) : std::nullopt;
 }
 
 bool PreparedObstacles::crosses_mesh(const Vec3& from, const Vec3& to) const {

@@ -4,6 +4,7 @@
 #include <array>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -65,7 +66,9 @@ void validate(const Obstacles& obstacles);
 /// surface is outside. Obstacles only stop cells that cross their surface (and push them out across it), so
 /// cells that start inside would be thrown to the far side of the solid: obstacles must start outside the
 /// cells. The message names the first such obstacle (half spaces, then spheres, then boxes) as `names` does,
-/// how many positions it holds and the first of them. Also throws as validate() does.
+/// how many positions it holds and the first of them. A position on a mesh triangle (within a rounding
+/// tolerance, see PreparedObstacles::mesh_touched) is refused too: it is on neither side of the mesh, so no
+/// move of it would count as crossing. Also throws as validate() does.
 void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& positions, const ObstacleNames& names = {});
 
 /// Obstacles prepared for repeated use: a bounding-volume hierarchy over every mesh triangle.
@@ -84,6 +87,10 @@ class PreparedObstacles {
 
   /// True if `position` lies inside a solid (closer than `margin` minus a rounding tolerance, model units).
   bool inside_solid(const Vec3& position, double margin) const;
+
+  /// The index (in Obstacles::meshes) of a mesh with a triangle that `position` lies on, within a rounding
+  /// tolerance (1e-9 of the meshes' size) of its plane; the lowest such index. None if no triangle is there.
+  std::optional<std::size_t> mesh_touched(const Vec3& position) const;
 
   /// True if the straight move from `from` to `to` crosses (or touches) a mesh triangle.
   bool crosses_mesh(const Vec3& from, const Vec3& to) const;

@@ -221,6 +221,12 @@ TEST_CASE("bad shapes, obstacle meshes and obstacles around the cells exit with 
   r = run("flat.lua", "disc { radius = 2 }\nmesh { file = 'flat.obj' }\n");
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("flat.lua:2: mesh: every triangle of flat.obj is degenerate"));
+  // a disc laid on a floor mesh is on neither side of it: refused at the mesh's line (it fell through)
+  t.write("floor.obj", "v -9 -9 0\nv 9 -9 0\nv 9 9 0\nv -9 9 0\nf 1 2 3 4\n");
+  r = run("floor.lua", "disc { radius = 2 }\nmesh { file = 'floor.obj' }\n");
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("floor.lua:2: mesh{...}: 19 of the 19 cells lie on its surface"));
+  CHECK(run("above.lua", "disc { radius = 2, centre = {0, 0, 0.1} }\nmesh { file = 'floor.obj' }\n").code == 0);
   // a pipe or a device as the mesh: refused, not read for ever (its fingerprint was taken before load_mesh looked)
   REQUIRE(::mkfifo((t.path / "fifo.stl").c_str(), 0600) == 0);
   fs::create_symlink("/dev/zero", t.path / "zero.obj");

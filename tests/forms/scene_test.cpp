@@ -57,6 +57,37 @@ TEST_CASE("a scene does not start with cells inside an obstacle", "[forms][scene
   CHECK_NOTHROW(start_disc(fine));
 }
 
+TEST_CASE("a scene does not start with cells on a mesh obstacle", "[forms][scene]") {
+  // (review of forms/: a disc laid on a floor mesh fell through it, since a move from the plane itself
+  // crosses nothing.) Two floor meshes under the disc of start_disc (z = 0.5, 19 cells), the second at the
+  // disc's height: refused, naming it, how many cells lie on it and the first; 1e-12 above is still on it
+  auto floors = [](double z1) {
+    forms::Obstacles o;
+    for (double z : {-1.0, z1}) {
+      forms::TriangleMesh floor;
+      floor.vertices = {Vec3(-10, -10, z), Vec3(10, -10, z), Vec3(10, 10, z), Vec3(-10, 10, z)};
+      floor.triangles = {{0, 1, 2}, {0, 2, 3}};
+      o.meshes.push_back(floor);
+    }
+    return o;
+  };
+  CHECK_THROWS_WITH(start_disc(floors(0.5)), Contains("mesh 1: 19 of the 19 cells lie on its surface (the first at") &&
+                                                 Contains("start the cells off the mesh"));
+  forms::ObstacleNames names;
+  names.meshes = {"leaf.lua:3: mesh{...}", "leaf.lua:4: mesh{...}"};
+  CHECK_THROWS_WITH(start_disc(floors(0.5 - 1e-12), names), Contains("leaf.lua:4: mesh{...}: 19 of the 19 cells"));
+  // a wall in the plane x = 0, from y = -0.1 up, holds the centre cell and the one at y = sqrt(3) only
+  forms::Obstacles wall;
+  wall.meshes.push_back({{Vec3(0, -0.1, -5), Vec3(0, -0.1, 5), Vec3(0, 5, 0)}, {{0, 1, 2}}});
+  CHECK_THROWS_WITH(start_disc(wall),
+                    Contains("mesh 0: 2 of the 19 cells lie on its surface (the first at {0, 0, 0.5})"));
+  // off the mesh is fine: a floor a tenth of a rest length below, and a triangle beside the cells' plane
+  CHECK_NOTHROW(start_disc(floors(0.4)));
+  forms::Obstacles beside;
+  beside.meshes.push_back({{Vec3(20, 0, 0.5), Vec3(30, 0, 0.5), Vec3(20, 10, 0.5)}, {{0, 1, 2}}});
+  CHECK_NOTHROW(start_disc(beside));
+}
+
 TEST_CASE("a petiole that appears during the run does not start inside an obstacle", "[forms][scene]") {
   // a disc at z = 0.5 on a ground at z = 0 with a ball beside it; petioles due at step 3, each a new cell
   auto run = [](const Vec3& at) {
