@@ -84,13 +84,17 @@ void on_interrupt(int sig, siginfo_t* info, void*) {
        "\ncellform: terminated (SIGTERM): the steps stop after the current one (a printable solid being made is "
        "skipped, once its pass under way ends) and the outputs are written; another SIGTERM or Ctrl-C skips a "
        "printable solid being made, and otherwise quits at once, without outputs\n"}};
-  const char* text = g_reading_script.load() ? kReading[term] : kStop[term][g_print_planned.load() ? 1 : 0];
+  bool reading = true;  // taken from the reading, which stops then (ScriptHost::load sees it at its end, too)
+  const char* text = g_reading_script.compare_exchange_strong(reading, false)
+                         ? kReading[term]
+                         : kStop[term][g_print_planned.load() ? 1 : 0];
   say(text, std::strlen(text));  // strlen is async-signal-safe
 }
 void on_hangup(int) {
   using namespace cellform::app;
   if (g_interrupt.exchange(true)) return;  // never escalates: a hang-up may come more than once
-  if (g_reading_script.load()) {           // stopped at the script's next instruction, which says so
+  bool reading = true;
+  if (g_reading_script.compare_exchange_strong(reading, false)) {  // stopped at its next instruction, or its end
     static const char kReading[] = "\ncellform: hang-up: stopping the script being read\n";
     say(kReading, sizeof kReading - 1);
     return;

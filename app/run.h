@@ -36,7 +36,8 @@ extern std::atomic<bool> g_interrupt;
 /// Set while a print runs that a first Ctrl-C asked for (the steps stopped, the outputs are due): the
 /// next Ctrl-C sets g_print_cancel and cancels that print, keeping the other outputs; one more quits.
 extern std::atomic<bool> g_print_after_interrupt;
-/// Set while a script is read (ScriptHost::load): a first Ctrl-C then stops the reading, and says so.
+/// Set while a script is read (ScriptHost::load): a first Ctrl-C then takes it (clears it) and says it stops
+/// the reading, which ends at the script's next instruction or, in the host's own work, at the reading's end.
 extern std::atomic<bool> g_reading_script;
 extern std::atomic<bool> g_print_cancel;
 /// Set once a run knows it ends with print{}: a Ctrl-C's message then says the printable solid is skipped.

@@ -108,21 +108,34 @@ int api_print(lua_State* L) {
     luaL_tolstring(L, i, nullptr);
     lua_replace(L, i);
   }
-  std::string line;
-  for (int i = 1; i <= n; ++i) {
-    if (i > 1) line += "\t";
-    line += lua_tostring(L, i);
-  }
   // a stopped script goes no further here: an error raised in the count hook runs xpcall's handler with hooks
   // off, and a handler printing in a loop was stopped by nothing (its prints kept the watchdog waiting)
   if (I.stopping) {
     lua_pushstring(L, I.stop_message.c_str());
     return lua_error(L);
   }
-  if (I.print) {  // a terminal or pipe that does not read on blocks here: not the script's time
-    const bool was_script = I.in_script.exchange(false, std::memory_order_acq_rel);
-    I.print(line);
-    I.in_script.store(was_script, std::memory_order_release);
+  // the line lives in this block only, and an exception (out of memory) is caught in it: lua_error longjmps,
+  // and a C++ exception must not unwind through Lua's C frames
+  bool failed = false;
+  const bool was_script = I.in_script.exchange(false, std::memory_order_acq_rel);
+  try {  // a terminal or pipe that does not read on blocks in print: not the script's time
+    std::string line;
+    for (int i = 1; i <= n; ++i) {
+      if (i > 1) line += "\t";
+      line += lua_tostring(L, i);
+    }
+    if (I.print) I.print(line);
+  } catch (const std::bad_alloc&) {
+    I.pending_error = "print: out of memory for the line (print less at once)";
+    failed = true;
+  } catch (const std::exception& e) {
+    I.pending_error = "print: " + core::error_text(e);
+    failed = true;
+  }
+  I.in_script.store(was_script, std::memory_order_release);
+  if (failed) {
+    lua_pushstring(L, I.pending_error.c_str());
+    return lua_error(L);
   }
   return 0;
 }
@@ -203,6 +216,7 @@ ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
   lua_pushnil(L);
   lua_setfield(L, -2, "dump");
   lua_pop(L, 1);
+  install_ordered_pairs(L);  // the same order in every run
   // no finalizers: Lua runs __gc with the hook off, out of reach of the instruction budget and Ctrl-C
   lua_getglobal(L, "setmetatable");
   lua_pushcclosure(L, api_setmetatable, 1);
@@ -291,6 +305,14 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
   I.placements = 0;
   I.first_constraint.clear();
   I.param_names.clear();
+  // the rules of an earlier reading go (a second reading, with a checkpoint's values, sets its own)
+  for (int* ref : {&I.divides_ref, &I.direction_ref, &I.source_ref}) {
+    luaL_unref(L, LUA_REGISTRYINDEX, *ref);
+    *ref = LUA_NOREF;
+  }
+  I.divides_at.clear();
+  I.direction_at.clear();
+  I.source_at.clear();
   luaL_unref(L, LUA_REGISTRYINDEX, I.params_ref);
   luaL_unref(L, LUA_REGISTRYINDEX, I.params_meta_ref);
   I.params_ref = I.params_meta_ref = LUA_NOREF;
@@ -319,7 +341,14 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     lua_pop(L, 1);
     throw InvalidInput(I.describe(msg));
   }
-  std::string err = I.protected_call(0, 0, I.limits.instructions);
+  // math.random from seed 0 at every reading: a second one (with a checkpoint's values) draws what the first did
+  // (protected: the hook of a script stopped before raises at the call until protected_call resets it)
+  const int chunk_at = lua_gettop(L);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, I.randomseed_ref);
+  lua_pushinteger(L, 0);
+  std::string err = I.protected_call(1, 0, I.limits.instructions);
+  lua_settop(L, chunk_at);
+  if (err.empty()) err = I.protected_call(0, 0, I.limits.instructions);
   if (err.empty()) check_knobs_unchanged(I);
   if (!err.empty()) {
     // a misspelt function ("dsic{...}") is a call of nil: name the function meant; one the sandbox leaves
@@ -522,6 +551,10 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
       throw InvalidInput(where + m + (sets.empty() ? "" : " (with " + sets + ")"));
     }
   }
+  // a Ctrl-C that took the reading (g_reading_script) during the host's own work at the end (a large mesh{}
+  // read) stops here, as its message said; one from now on stops the steps instead
+  if (!g_reading_script.exchange(false))
+    throw InvalidInput(I.script_name + ": interrupted while the script was read; nothing was written");
   return cfg;
 }
 

@@ -537,7 +537,8 @@ inline int guarded(lua_State* L, Body&& body) {
   }
   int results = 0;
   bool failed = false;
-  I.in_host = true;  // no Lua memory error inside the body (the script's next allocation fails instead)
+  const bool was_host = I.in_host;  // (a nested call, a __tostring of params{} from a print, restores it)
+  I.in_host = true;                 // no Lua memory error inside the body (the script's next allocation fails instead)
   // and no watchdog: the body is the host's own work (reading a large mesh), not a library call
   const bool was_script = I.in_script.exchange(false, std::memory_order_acq_rel);
   lua_State* const main = I.L;
@@ -549,7 +550,7 @@ inline int guarded(lua_State* L, Body&& body) {
     failed = true;
   }
   I.in_script.store(was_script, std::memory_order_release);
-  I.in_host = false;
+  I.in_host = was_host;
   I.L = main;
   if (failed) {
     lua_pushstring(L, I.pending_error.c_str());
@@ -567,6 +568,11 @@ int api_print_knobs(lua_State* L);
 /// Throws if the script changed a knob of params{} after it was made (run.json records the knobs as made):
 /// while it was read (step 0), or in a rule function during `step`.
 void check_knobs_unchanged(Impl& I, std::uint64_t step = 0);
+
+/// Replaces the global pairs with one that visits a table's keys in a fixed order: numbers ascending, then
+/// strings in byte order, then false and true, then the rest (script_pairs.cpp). Lua's own order follows
+/// string hashes seeded anew in every process.
+void install_ordered_pairs(lua_State* L);
 
 /// __index of the cell table: a misspelt field is an error naming the closest one (script_values.cpp).
 int api_cell_index(lua_State* L);

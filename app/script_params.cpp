@@ -27,6 +27,7 @@ int params_missing(lua_State* L) {
       if (lua_type(L, -2) == LUA_TSTRING) names.push_back(lua_tostring(L, -2));
       lua_pop(L, 1);
     }
+    std::sort(names.begin(), names.end());  // the same suggestion every run, whatever Lua's order
     const std::string near = core::closest_name(key, names);
     throw InvalidInput(at + "params has no knob '" + core::printable(key) + "'" +
                        (near.empty() ? "" : "; did you mean '" + near + "'?") + " (params{...} declares the knobs)");
@@ -104,13 +105,25 @@ int api_params(lua_State* L) {
     nlohmann::json& rec = I.cfg->resolved["params"];
     rec = nlohmann::json::object();
     lua_newtable(L);
+    // the knobs in byte order of their names: Lua's own order changes from run to run, and so would the
+    // message of a script with two bad knobs
+    std::vector<std::string> keys;
     lua_pushnil(L);
     while (lua_next(L, 1) != 0) {
-      if (lua_type(L, -2) != LUA_TSTRING) {
-        lua_pop(L, 2);
+      lua_pop(L, 1);
+      if (lua_type(L, -1) != LUA_TSTRING) {
+        lua_pop(L, 1);
         throw InvalidInput(at + "params{...}: every parameter needs a name (name = default)");
       }
-      const std::string key = lua_tostring(L, -2);
+      std::size_t len = 0;
+      const char* name = lua_tolstring(L, -1, &len);
+      keys.emplace_back(name, len);
+    }
+    std::sort(keys.begin(), keys.end());
+    for (const std::string& key : keys) {
+      lua_pushlstring(L, key.data(), key.size());
+      lua_pushvalue(L, -1);
+      lua_rawget(L, 1);  // key value, as lua_next left them
       // a name --set can give, and only one thing: "cells.spring" would be set with the section's parameter,
       // and "" or "a b" never (a dotted name of no parameter stays: older scripts)
       bool a_parameter = false;  // at any dot: cells.vein.cohesion is section cells.vein's cohesion
@@ -191,6 +204,7 @@ int api_params(lua_State* L) {
       lua_pushvalue(L, -2);  // key
       lua_insert(L, -2);     // key value
       lua_rawset(L, 2);      // result table at index 2
+      lua_pop(L, 1);         // the key
     }
     lua_newtable(L);  // its metatable
     lua_pushcfunction(L, params_missing);

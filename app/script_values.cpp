@@ -110,17 +110,29 @@ Value ScriptHost::Impl::from_lua(const Field& f, int idx, const std::string& at)
       if (t != LUA_TTABLE || lua_rawlen(L, idx) != 3) throw fail(t == LUA_TTABLE ? "a table without 3 numbers" : got);
       {  // {x, y, z} and nothing else: {0.5, 0.5, 0.5, [10] = 1} dropped its extra entry unseen
         const int table = lua_absindex(L, idx);
-        std::string extra;  // the first key beside 1, 2, 3: 'n' of table.pack(x, y, z), say
+        // the key beside 1, 2, 3 ('n' of table.pack(x, y, z), say); of several, the first in byte order of
+        // their texts, as Lua's own order changes from run to run
+        std::string extra;
         lua_pushnil(L);
         while (lua_next(L, table) != 0) {
           lua_pop(L, 1);
-          const bool xyz = lua_isinteger(L, -1) && lua_tointeger(L, -1) >= 1 && lua_tointeger(L, -1) <= 3;
-          if (!xyz && extra.empty() && lua_type(L, -1) == LUA_TSTRING) {
-            extra = "'" + core::printable(lua_tostring(L, -1)) + "'";
-          } else if (!xyz && extra.empty()) {
-            extra = "[" + std::string(luaL_tolstring(L, -1, nullptr)) + "]";
-            lua_pop(L, 1);  // luaL_tolstring's text (the key stays for lua_next)
-          }
+          if (lua_isinteger(L, -1) && lua_tointeger(L, -1) >= 1 && lua_tointeger(L, -1) <= 3) continue;
+          // by its raw value: a __tostring would run the script in here, and an error it raised would
+          // longjmp past this frame's objects and the host's restores
+          const int kt = lua_type(L, -1);
+          std::string text;
+          if (kt == LUA_TSTRING)
+            text = "'" + core::printable(lua_tostring(L, -1)) + "'";
+          else if (kt == LUA_TNUMBER)
+            text =
+                "[" +
+                (lua_isinteger(L, -1) ? std::to_string(lua_tointeger(L, -1)) : core::number_text(lua_tonumber(L, -1))) +
+                "]";
+          else if (kt == LUA_TBOOLEAN)
+            text = lua_toboolean(L, -1) ? "[true]" : "[false]";
+          else
+            text = "[a " + std::string(lua_typename(L, kt)) + "]";
+          if (extra.empty() || text < extra) extra = text;
         }
         if (!extra.empty()) throw fail("a table with an entry beside x, y and z (key " + extra + ")");
       }
@@ -285,29 +297,43 @@ Values ScriptHost::Impl::read_section(const std::string& section, int idx, const
     throw InvalidInput(at + section + "{...} takes a table of named parameters, got " + luaL_typename(L, idx));
   Values values;
   if (t == LUA_TTABLE) {
+    // the names in byte order, so that the same script is refused with the same message every time: Lua's own
+    // order changes from run to run (its string hashes are seeded per process)
+    idx = lua_absindex(L, idx);
+    std::vector<std::string> keys;
+    bool unnamed = false;
     lua_pushnil(L);
     while (lua_next(L, idx) != 0) {
-      if (lua_type(L, -2) != LUA_TSTRING) {
-        lua_pop(L, 2);
-        throw InvalidInput(at + section + "{...}: parameters are named (name = value); got a value without a name" +
-                           (section == "print" ? kPrintTableHint : ""));
+      lua_pop(L, 1);
+      if (lua_type(L, -1) != LUA_TSTRING) {
+        unnamed = true;
+        continue;
       }
-      const std::string key = lua_tostring(L, -2);
+      std::size_t len = 0;
+      const char* text = lua_tolstring(L, -1, &len);  // a string key: read, not converted
+      keys.emplace_back(text, len);
+    }
+    if (unnamed)
+      throw InvalidInput(at + section + "{...}: parameters are named (name = value); got a value without a name" +
+                         (section == "print" ? kPrintTableHint : ""));
+    std::sort(keys.begin(), keys.end());
+    for (const std::string& key : keys) {
       const Field* f = find_field(section, key);
       if (!f) {
-        lua_pop(L, 2);
         std::vector<std::string> names;
         for (const Field* g : fields) names.push_back(g->name);
         const std::string near = core::closest_name(key, names);
         std::string all;
         for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
-        throw InvalidInput(at + section + "{...} has no parameter '" + key + "'" +
+        throw InvalidInput(at + section + "{...} has no parameter '" + core::printable(key) + "'" +
                            (near.empty() ? "" : "; did you mean '" + near + "'?") + " (valid: " + all + ")");
       }
+      lua_pushlstring(L, key.data(), key.size());
+      lua_rawget(L, idx);  // raw: no metamethod runs inside the host
       try {
         values[key] = from_lua(*f, lua_gettop(L), at);
       } catch (...) {
-        lua_pop(L, 2);
+        lua_pop(L, 1);
         throw;
       }
       lua_pop(L, 1);

@@ -3,6 +3,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "app/run.h"
 #include "app/schema.h"
 #include "core/errors.h"
 #include "tests/app/script_test_util.h"
@@ -138,6 +139,47 @@ TEST_CASE("math.randomseed needs a seed: without one Lua seeds from the clock", 
              Contains("test/leaf.lua:2: bad argument #1 to 'math.randomseed' (number has no integer representation)"));
   CHECK_THAT(load_error("local t =\n  setmetatable({}, 5)"),
              Contains("test/leaf.lua:2: bad argument #2 to 'setmetatable'"));
+}
+
+TEST_CASE("a second reading on one host draws what the first did and keeps none of its rules", "[script]") {
+  // a resume reads the script again with its checkpoint's values: math.random went on from the first reading
+  // (a petiole due later moved), and a rule the second reading no longer set stayed in force (review of app/)
+  ScriptHost host;
+  const std::string drawn = "disc { radius = 2 }\npetiole { at = {math.random(), 0, 0}, step = 15 }\nvenation {}\n";
+  const auto first = host.load(drawn, "test/leaf.lua", {});
+  const auto second = host.load(drawn, "test/leaf.lua", {});
+  REQUIRE(first.scene.petioles.size() == 1);
+  CHECK(first.scene.petioles[0].at.x() == second.scene.petioles[0].at.x());
+  host.load("disc { radius = 2 }\ndivision { rule = function(c) return false end }\n", "test/leaf.lua", {});
+  CHECK(host.rules().divides);
+  host.load("disc { radius = 2 }\n", "test/leaf.lua", {});
+  CHECK_FALSE(host.rules().divides);
+}
+
+TEST_CASE("a Ctrl-C that takes the reading during the host's own work stops it at its end", "[script]") {
+  // the signal handler takes g_reading_script and says the reading stops; the script's last call was host work
+  // (a large mesh{} read), so no instruction followed to stop at, and the run wrote step 0 over an earlier
+  // run's outputs (review of app/). Here print() stands for that work, taking the flag as the handler does.
+  struct Reset {
+    ~Reset() { cellform::app::g_interrupt = false; }
+  } reset;
+  ScriptHost host;
+  host.set_print([](const std::string&) {
+    cellform::app::g_interrupt = true;
+    bool reading = true;
+    cellform::app::g_reading_script.compare_exchange_strong(reading, false);
+  });
+  try {
+    host.load("disc { radius = 2 }\nprint('a long mesh read')\n", "test/leaf.lua", {});
+    FAIL("the reading went on");
+  } catch (const cellform::core::InvalidInput& e) {
+    CHECK_THAT(e.what(),
+               Contains("test/leaf.lua") && Contains("interrupted while the script was read; nothing was written"));
+  }
+  // an interrupt after the reading (the flag not taken) is the steps' to see: the reading ends as usual
+  cellform::app::g_interrupt = true;
+  ScriptHost after;
+  CHECK(after.load("disc { radius = 2 }\n", "test/leaf.lua", {}).initial_cells.size() == 19);
 }
 
 TEST_CASE("sections and shapes called inside a coroutine read their own arguments", "[script]") {

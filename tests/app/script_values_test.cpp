@@ -101,6 +101,25 @@ TEST_CASE("numbers are taken exactly or refused: no NaN knob, no rounded seed", 
       Contains("cells.drag must be {x, y, z}") && Contains("got a table with an entry beside x, y and z (key [10])"));
   CHECK_THAT(load_error("disc { radius = 2 }\ncells { drag = table.pack(0.5, 0.5, 0.5) }\n"), Contains("(key 'n')"));
   CHECK(load("disc { radius = 2 }\ncells { drag = {0.5, 0.5, 0.5} }\n").scene.cells.drag.x() == 0.5);
+  CHECK_THAT(load_error("disc { radius = 2 }\ncells { drag = {0.5, 0.5, 0.5, [true] = 1} }\n"),
+             Contains("(key [true])"));
+  // a key is named by its raw value: its __tostring ran script code inside the host, and an error it raised
+  // jumped past the host's restores, so the memory limit and the watchdog were off for the rest of the script,
+  // and in a coroutine the host kept the dead coroutine's state and crashed (review of app/)
+  const std::string raising_key =
+      "local k = setmetatable({}, {__tostring = function() error('boom') end})\n"
+      "local ok, e = pcall(cells, {unary = {0, 0, 0, [k] = 1}})\n"
+      "assert(not ok and e:find('key %[a table%]'), e)\n";
+  cellform::app::ScriptLimits small;
+  small.memory_bytes = 32u << 20;
+  CHECK_THAT(
+      load_error(raising_key + "local t = {}\nfor i = 1, 2000000 do t[i] = string.rep('x', 64) .. i end\n", {}, small),
+      Contains("leaf.lua:5:") && Contains("memory limit of 32 MiB"));
+  const auto in_coroutine = load("local co = coroutine.wrap(function()\n" + raising_key +
+                                 "end)\nco()\nco = nil\n"
+                                 "for i = 1, 300 do local t = {} for j = 1, 20000 do t[j] = {j} end end\n"
+                                 "disc { radius = 2 }\n");
+  CHECK(in_coroutine.initial_cells.size() == 19);
   // --set of a whole knob is taken exactly, beyond 2^53 too
   const auto cfg = load("local P = params { n = 3 }\ndisc { radius = 2 }\n", {{"n", "9007199254740993"}});
   CHECK(cfg.resolved["params"]["n"].get<std::int64_t>() == 9007199254740993LL);

@@ -1,0 +1,59 @@
+// Tests of app/script_pairs.cpp: pairs() visits a table's keys in the same order in every run.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "app/script_host.h"
+#include "tests/app/script_test_util.h"
+
+using Catch::Matchers::Contains;
+using cellform::app::ScriptHost;
+using cellform::test::load;
+using cellform::test::load_error;
+
+TEST_CASE("pairs visits keys in one fixed order in every run, where Lua's next does not", "[script][sandbox]") {
+  // (black-box audit: four runs of a script placing discs in a pairs loop gave four different cells.ply, and a
+  // rule using pairs 142 to 179 cells.) Lua seeds its string hashes anew for every interpreter: eight hosts
+  // alive at once stand for eight runs.
+  const std::string src =
+      "local t = {}\nfor i = 1, 40 do t['k' .. i] = i end\nt[2.5] = 0\nt[-1] = 0\nt[true] = 0\nt[false] = 0\n"
+      "local a, b = {}, {}\nfor k in pairs(t) do a[#a + 1] = tostring(k) end\n"
+      "local k = next(t)\nwhile k ~= nil do b[#b + 1] = tostring(k) k = next(t, k) end\n"
+      "print(table.concat(a, ' '))\nprint(table.concat(b, ' '))\ndisc { radius = 2 }\n";
+  std::vector<std::unique_ptr<ScriptHost>> hosts;
+  std::set<std::string> by_pairs, by_next;
+  for (int i = 0; i < 8; ++i) {
+    hosts.push_back(std::make_unique<ScriptHost>());
+    std::vector<std::string> lines;
+    hosts.back()->set_print([&lines](const std::string& line) { lines.push_back(line); });
+    hosts.back()->load(src, "test/leaf.lua", {});
+    REQUIRE(lines.size() == 2);
+    by_pairs.insert(lines[0]);
+    by_next.insert(lines[1]);
+  }
+  REQUIRE(by_next.size() > 1);  // Lua's own order changed from one interpreter to the next
+  REQUIRE(by_pairs.size() == 1);
+  // numbers ascending, then strings in byte order, then false and true
+  std::vector<std::string> names;
+  for (int i = 1; i <= 40; ++i) names.push_back(std::string("k").append(std::to_string(i)));
+  std::sort(names.begin(), names.end());
+  std::string expected = "-1 2.5";
+  for (const std::string& n : names) (expected += ' ') += n;
+  CHECK(*by_pairs.begin() == expected + " false true");
+}
+
+TEST_CASE("pairs keeps Lua's rules: __pairs, keys cleared while visiting, and a table required", "[script][sandbox]") {
+  CHECK_NOTHROW(load(
+      "local t = setmetatable({}, {__pairs = function(t) return function(_, k) if not k then return 1, 'a' end end, "
+      "t, nil end})\nlocal n = 0\nfor k, v in pairs(t) do assert(k == 1 and v == 'a') n = n + 1 end\nassert(n == 1)\n"
+      "local u = {x = 1, y = 2, z = 3, 10, 20}\nlocal seen = 0\n"
+      "for k in pairs(u) do seen = seen + 1 u[k] = nil end\nassert(seen == 5 and next(u) == nil)\n"
+      "local w = {a = 1, b = 2, c = 3}\nlocal order = ''\n"
+      "for k in pairs(w) do order = order .. k if k == 'a' then w.b = nil end end\nassert(order == 'ac')\n"
+      "disc { radius = 2 }\n"));
+  CHECK_THAT(load_error("for k in pairs(nil) do end\n"),
+             Contains("test/leaf.lua:1: bad argument #1 to") && Contains("table expected, got nil"));
+}
