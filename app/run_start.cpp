@@ -20,10 +20,18 @@ using nlohmann::json;
 
 json physics_of(const json& resolved) {
   json out = json::object();
+  const auto scalar = [](const json& v) {
+    return (v.is_number() || v.is_boolean() || v.is_string()) && v != "<function>";
+  };
   for (const char* section : {"cells", "division", "venation"}) {
     if (!resolved.contains(section) || !resolved[section].is_object()) continue;
-    for (const auto& [k, v] : resolved[section].items())
-      if ((v.is_number() || v.is_boolean() || v.is_string()) && v != "<function>") out[section][k] = v;
+    for (const auto& [k, v] : resolved[section].items()) {
+      if (scalar(v) || (v.is_array() && std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number(); })))
+        out[section][k] = v;   // a value, or a vector such as cells.drag
+      else if (v.is_object())  // the weights of a cell type: cells.vein.cohesion
+        for (const auto& [k2, v2] : v.items())
+          if (scalar(v2)) out[section][k + "." + k2] = v2;
+    }
   }
   return out;
 }
@@ -35,17 +43,24 @@ Overrides with_physics(const Overrides& overrides, const json& physics) {
     for (const auto& [k, v] : values.items()) {
       const std::string key = section + "." + k;
       if (out.count(key)) continue;
+      const auto number = [](const json& x) {
+        if (x.is_number_integer()) return x.dump();
+        char buf[32];  // the shortest text that reads back as the same double
+        const auto r = std::to_chars(buf, buf + sizeof buf, x.get<double>());
+        return std::string(buf, r.ptr);
+      };
       std::string text;
       if (v.is_boolean()) {
         text = v.get<bool>() ? "true" : "false";
       } else if (v.is_string()) {
         text = v.get<std::string>();
-      } else if (v.is_number_integer()) {
-        text = v.dump();
-      } else {  // the shortest text that reads back as the same double
-        char buf[32];
-        const auto r = std::to_chars(buf, buf + sizeof buf, v.get<double>());
-        text.assign(buf, r.ptr);
+      } else if (v.is_array()) {  // x,y,z, as --set takes a vector
+        for (const json& x : v) {
+          if (!text.empty()) text += ',';
+          text += number(x);
+        }
+      } else {
+        text = number(v);
       }
       out[key] = text;
     }
@@ -203,11 +218,15 @@ Start start_from(const RunOptions& o) {
             physics_ok = physics_ok && values.is_object();
             if (values.is_object())
               for (const auto& [k, v] : values.items())
-                physics_ok = physics_ok && (v.is_number() || v.is_boolean() || v.is_string());
+                physics_ok =
+                    physics_ok && (v.is_number() || v.is_boolean() || v.is_string() ||
+                                   (v.is_array() && !v.empty() &&
+                                    std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number(); })));
           }
         if (!physics_ok)
-          throw core::FileError(what +
-                                " is corrupt (metadata 'physics' holds a value that is no number, boolean or text)");
+          throw core::FileError(
+              what +
+              " is corrupt (metadata 'physics' holds a value that is no number, boolean, text or list of numbers)");
         if (meta.contains("veins") && !meta["veins"].is_object())
           throw core::FileError(what + " is corrupt (metadata 'veins')");
         if (meta.contains("obstacle_meshes")) {  // older checkpoints: not recorded

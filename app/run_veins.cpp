@@ -200,9 +200,10 @@ std::string large_svg_note(std::uintmax_t bytes, bool joined) {
 
 void say_sources_left(std::ostream& err, const ColonisationSpec& spec, const std::vector<core::Vec3>& sources_left,
                       const venation::Outline* outline) {
+  const char* const are_left = sources_left.size() == 1 ? " auxin source is left" : " auxin sources are left";
   if (spec.domain.kind == venation::DomainKind::surface)
-    err << "cellform: note: " << sources_left.size()
-        << " auxin sources are left. Besides those on a sheet the veins do not reach, a source behind a wall or fin "
+    err << "cellform: note: " << sources_left.size() << are_left
+        << ". Besides those on a sheet the veins do not reach, a source behind a wall or fin "
            "thinner than about 3 vein segments pulls the vein node straight across it (distances are straight), "
            "whose step lands back where it was: the veins stay on one side. "
         << (spec.on_cells ? "Grow such a sheet larger (cells.rest_length) or seed each side\n"
@@ -225,7 +226,7 @@ void say_sources_left(std::ostream& err, const ColonisationSpec& spec, const std
                   (outside > 0 ? " inside it" : " inside the blade") +
                   ", where no vein can step towards them (the step would leave the blade, across a sinus, or run "
                   "back along a vein)";
-  err << "cellform: note: " << sources_left.size() << " auxin sources are left: " << where_left << "\n";
+  err << "cellform: note: " << sources_left.size() << are_left << ": " << where_left << "\n";
 }
 
 std::vector<exporters::Segment> vein_segments(const venation::VeinTree& tree) {

@@ -366,12 +366,16 @@ venation::GrowthFunction read_growth_function(Impl& I, const Value& given, const
   const std::string field = std::string("colonisation.") + name;
   venation::GrowthFunction f;
   record = nlohmann::json::array();
+  // a function's values are its own: named at its line, as its wrong return types are
+  const std::string fn_at = given.ref != LUA_NOREF ? I.function_at(given.ref, at) : at;
+  const bool along_x = std::string_view(name) == "growth_x";
   auto add = [&](double y0, double rate, const std::string& which) {
     if (!std::isfinite(y0) || !(std::isfinite(rate) && rate > 0))
-      throw InvalidInput(at + field + which +
-                         ": the height y0 must be finite and the rate (REG per step) a finite "
-                         "number > 0 (Appendix A needs REG_y > 0 for y0 -> y_t to be increasing), got {" +
-                         number_text(y0) + ", " + number_text(rate) + "}");
+      throw InvalidInput(fn_at + field + which +
+                         ": the height y0 must be finite and the rate (REG per step) a finite number > 0 (Appendix A " +
+                         (along_x ? "needs REG_x > 0 for x_t = x_0 REG_x^t to keep its side of the midrib"
+                                  : "needs REG_y > 0 for y0 -> y_t to be increasing") +
+                         "), got {" + number_text(y0) + ", " + number_text(rate) + "}");
     if (!f.y.empty() && !(y0 * initial_length > f.y.back()))
       throw InvalidInput(at + field + which + ": heights y0 must increase strictly from one entry to the next, got " +
                          number_text(y0) + " after " + number_text(f.y.back() / initial_length));

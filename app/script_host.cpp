@@ -374,6 +374,8 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
       err += near == global ? "; the script set it to nil before this call"
              : near.empty() ? "; no such function"
                             : "; did you mean '" + near + "'?";
+    } else if (err.find("attempt to call a nil value (field 'dump')") != std::string::npos) {
+      err += "; 'string.dump' is left out of cellform scripts, which refuse precompiled chunks";
     }
     throw InvalidInput(err);
   }

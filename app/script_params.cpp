@@ -259,6 +259,8 @@ int api_cell_index(lua_State* L) {
     if (std::string_view(key) == kCellFields[k]) return 0;
   return guarded(L, [key](Impl& I) {  // (guarded: no Lua error while the message's strings live)
     const std::string near = core::closest_name(std::string(key), kCellFields);
+    if (near == key)  // a field of every cell, set to nil by the rule itself (c.x = nil)
+      throw InvalidInput(I.where(1) + "cell." + near + " is nil: the rule set it to nil before reading it");
     throw InvalidInput(I.where(1) + "cell." + core::printable(key) + ": the cell table has no such field" +
                        (near.empty() ? "" : "; did you mean '" + near + "'?") +
                        " (its fields: id, index, x, y, z, vx, vy, vz, age, generation, type, fixed, neighbours, step, "

@@ -319,8 +319,13 @@ TEST_CASE("a resume steps with the values its run was saved with, though a defau
   cellform::core::ChunkFile saved = cellform::core::read_chunk_file(slurp(out / "checkpoint.cfck"), "CKPT", 1, "test");
   auto meta = nlohmann::json::parse(saved.chunks.at("meta"));
   REQUIRE(meta["physics"]["division"]["radius"] == 1.25);  // recorded, though the script does not set it
-  // as if saved when the default was 1.5
+  // vectors and the weights of a cell type too (they were left out: review of app/)
+  REQUIRE(meta["physics"]["cells"]["drag"] == nlohmann::json::array({0.9, 0.9, 0.9}));
+  REQUIRE(meta["physics"]["cells"]["vein.cohesion"] == 0.05);
+  // as if saved when the default was 1.5, and so were those
   meta["physics"]["division"]["radius"] = 1.5;
+  meta["physics"]["cells"]["drag"] = {0.8, 0.8, 0.5};
+  meta["physics"]["cells"]["vein.cohesion"] = 0.125;
   auto forged = saved.chunks;
   forged["meta"] = meta.dump();
   const fs::path older = t.path / "older" / "checkpoint.cfck";
@@ -340,6 +345,8 @@ TEST_CASE("a resume steps with the values its run was saved with, though a defau
   CHECK(shown(r.err) == 1);
   const auto run = nlohmann::json::parse(slurp(older.parent_path() / "run.json"));
   CHECK(run["parameters"]["division"]["radius"] == 1.5);
+  CHECK(run["parameters"]["cells"]["drag"] == nlohmann::json::array({0.8, 0.8, 0.5}));
+  CHECK(run["parameters"]["cells"]["vein"]["cohesion"] == 0.125);
   const auto again = nlohmann::json::parse(
       cellform::core::read_chunk_file(slurp(older), "CKPT", 1, "test").chunks.at("meta"))["physics"];
   CHECK(again["division"]["radius"] == 1.5);

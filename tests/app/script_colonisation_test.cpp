@@ -249,7 +249,11 @@ TEST_CASE("colonisation{growth = 'nonuniform'} takes growth tables or functions 
   CHECK_THAT(load_error(head + "  growth_x = {},\n" + y_ok), Contains("at least one {y0, rate}"));
   CHECK_THAT(load_error(head + "  growth_x = 3,\n" + y_ok), Contains("a table or a function"));
   CHECK_THAT(load_error(head + "  growth_x = function(y) return y - 0.5 end,\n" + y_ok),
-             Contains("colonisation.growth_x(") && Contains("> 0"));
+             Contains("colonisation.growth_x(") && Contains("> 0") && Contains("REG_x > 0"));
+  // a function's bad value is named at the function's line, as its wrong type is (it said the section's)
+  CHECK_THAT(load_error("local function rate(y)\n  return 0/0\nend\n" + head + "  growth_y = rate,\n" +
+                        "  growth_x = {{0, 1.01}}, growth_steps = 5 }\n"),
+             Contains("test/leaf.lua:1: colonisation.growth_y(-0.5)") && Contains("REG_y > 0"));
   CHECK_THAT(load_error(head + "  growth_x = function(y) return 'fast' end,\n" + y_ok),
              Contains("must return a number"));
   CHECK_THAT(load_error(head + "  growth_x = function(y) error('no rate here') end,\n" + y_ok),

@@ -165,8 +165,15 @@ TEST_CASE("run.json's shapes say how many cells each placed, in whole numbers", 
 }
 
 TEST_CASE("run.json lists the first 1,000 shape calls and counts the rest", "[script]") {
-  // a point cloud placed cell by cell made a run.json of 40 MB (250,000 calls)
-  const auto cfg = cellform::test::load("for i = 1, 1500 do cell { at = {i, 0, 0} } end\ndisc { radius = 2 }\n");
+  // a point cloud placed cell by cell made a run.json of 40 MB (250,000 calls), and 100,000 ball{} calls one
+  // of 14 MB (review of app/)
+  const auto cfg = cellform::test::load(
+      "for i = 1, 1500 do cell { at = {i, 0, 0} } end\ndisc { radius = 2 }\n"
+      "for i = 1, 1200 do ball { centre = {i, 50, 0}, radius = 0.1 } end\n");
+  REQUIRE(cfg.resolved["constraints"].size() == 1000);
+  CHECK(cfg.resolved["constraints"][999]["centre"][0] == 1000.0);
+  CHECK(cfg.resolved["constraints_not_listed"] == 200);
+  CHECK(cfg.scene.obstacles.spheres.size() == 1200);  // all of them stand
   CHECK(cfg.initial_cells.size() > 1500);
   REQUIRE(cfg.resolved["shapes"].size() == 1000);
   CHECK(cfg.resolved["shapes"][999]["at"][0] == 1000.0);

@@ -30,6 +30,9 @@ TEST_CASE("a rule reading a field the cell table does not have is stopped, with 
   CHECK_THROWS_WITH(divides("cell.neighbors < 6", c), Contains("did you mean 'neighbours'?"));
   CHECK_THROWS_WITH(divides("cell.flo > 3", c), Contains("cell.flo:") && Contains("did you mean 'flow'?"));
   CHECK_THROWS_WITH(divides("cell.zzzzzzzz == 1", c), Contains("no such field (its fields: id, index,"));
+  // a field the rule cleared itself is no misspelling ("did you mean 'x'?" of cell.x, audit)
+  CHECK_THROWS_WITH(divides("(function() cell.x = nil return cell.x == 1 end)()", c),
+                    Contains("rule.lua:3: cell.x is nil: the rule set it to nil before reading it"));
   // every documented field reads, and venation's attributes are nil before canalisation made them
   CHECK(divides("cell.type == 'general' and cell.age == 3 and cell.x == 1 and cell.step >= 0 and cell.fixed == false",
                 c));
