@@ -79,6 +79,13 @@ class RuleCall {
   Impl& I_;
 };
 
+/// A rule's error that names no line (error(msg, 0), the memory limit passed inside a library call) gets the
+/// rule function's: "file: msg" becomes "file:line: msg", `rule_at` being where the function is defined.
+std::string with_rule_line(const Impl& I, const std::string& err, const std::string& rule_at) {
+  const std::string bare = I.script_name + ": ";
+  return err.rfind(bare, 0) == 0 && rule_at != bare ? rule_at + err.substr(bare.size()) : err;
+}
+
 }  // namespace
 
 cells::Rules ScriptHost::rules() {
@@ -98,7 +105,7 @@ cells::Rules ScriptHost::rules() {
         const RuleCall call(*I, "division.rule", step_, c.id[i]);
         err = I->protected_call(1, 1, I->limits.rule_instructions, true);
       }
-      if (!err.empty()) throw fail("division.rule", err, c, i);
+      if (!err.empty()) throw fail("division.rule", with_rule_line(*I, err, I->divides_at), c, i);
       if (lua_type(L, -1) != LUA_TBOOLEAN) {
         const std::string got = luaL_typename(L, -1);
         lua_pop(L, 1);
@@ -119,7 +126,7 @@ cells::Rules ScriptHost::rules() {
         const RuleCall call(*I, "division.direction", step_, c.id[i]);
         err = I->protected_call(1, 3, I->limits.rule_instructions, true);
       }
-      if (!err.empty()) throw fail("division.direction", err, c, i);
+      if (!err.empty()) throw fail("division.direction", with_rule_line(*I, err, I->direction_at), c, i);
       Vec3 d;
       bool ok = true;
       if (lua_type(L, -3) == LUA_TTABLE && lua_rawlen(L, -3) == 3) {
@@ -175,7 +182,7 @@ venation::SourceRule ScriptHost::source_rule() {
     auto where = [&] {
       return " (in venation.source at step " + std::to_string(step_) + " for cell " + std::to_string(c.id[i]) + ")";
     };
-    if (!err.empty()) throw InvalidInput(err + where());
+    if (!err.empty()) throw InvalidInput(with_rule_line(*I, err, I->source_at) + where());
     if (lua_type(L, -1) != LUA_TNUMBER) {
       const std::string got = luaL_typename(L, -1);
       lua_pop(L, 1);

@@ -30,6 +30,8 @@ TEST_CASE("a rule reading a field the cell table does not have is stopped, with 
   CHECK_THROWS_WITH(divides("cell.neighbors < 6", c), Contains("did you mean 'neighbours'?"));
   CHECK_THROWS_WITH(divides("cell.flo > 3", c), Contains("cell.flo:") && Contains("did you mean 'flow'?"));
   CHECK_THROWS_WITH(divides("cell.zzzzzzzz == 1", c), Contains("no such field (its fields: id, index,"));
+  // an error that names no line (level 0) is named at the rule's own line, where the function is defined
+  CHECK_THROWS_WITH(divides("error('lvl0', 0)", c), Contains("rule.lua:2: lvl0 (in division.rule at step"));
   // a field the rule cleared itself is no misspelling ("did you mean 'x'?" of cell.x, audit)
   CHECK_THROWS_WITH(divides("(function() cell.x = nil return cell.x == 1 end)()", c),
                     Contains("rule.lua:3: cell.x is nil: the rule set it to nil before reading it"));
