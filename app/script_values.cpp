@@ -326,7 +326,8 @@ Values ScriptHost::Impl::read_section(const std::string& section, int idx, const
         std::string all;
         for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
         throw InvalidInput(at + section + "{...} has no parameter '" + core::printable(key) + "'" +
-                           (near.empty() ? "" : "; did you mean '" + near + "'?") + " (valid: " + all + ")");
+                           (near.empty() ? "" : "; did you mean '" + near + "'?") + " (valid: " + all + ")" +
+                           (section == "print" && near.empty() ? kPrintTableHint : ""));
       }
       lua_pushlstring(L, key.data(), key.size());
       lua_rawget(L, idx);  // raw: no metamethod runs inside the host

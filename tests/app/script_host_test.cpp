@@ -467,6 +467,9 @@ TEST_CASE("print writes a line, print{} is the print section, and no section run
       "p.lua", {});
   CHECK(lines == std::vector<std::string>{"hello\t3", ""});
   CHECK(cfg.print.has_value());
+  // a table of the script's own, printed, is read as the section: the refusal says how to print one
+  CHECK_THAT(load_error("local t = {x = 1}\nprint(t)\n"),
+             Contains(":2: print{...} has no parameter 'x'") && Contains("to show a table, print its fields"));
   cellform::cells::Cells c;
   cellform::cells::add_cell(c, {1, 0, 0});
   CHECK_FALSE(host.rules().divides(c, 0));
