@@ -248,6 +248,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                             "' was replaced by another run while this one started; resume it again");
     }
     if (s.script_replaced) record_replaced_script(s, o, dir);
+    plan_keeping_folder_checkpoint(s, o, dir);
   } catch (const std::exception&) {
     return refuse_outputs(std::current_exception(), dir, created, err);
   }

@@ -60,12 +60,12 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
   json stepped;                    // run.json's steps when that checkpoint holds steps this run took, else null
   std::string checkpoint_failure;  // why the final checkpoint could not be written
   bool no_step = false;            // a resume that runs no step: the checkpoint resumed stays as it was
-  std::string earlier_record;      // its run.json, put back if the outputs fail (the checkpoint's rewrite marked
-                                   // it superseded)
+  std::string earlier_record;      // its run.json, put back if the outputs fail (a checkpoint marked it superseded)
   try {
     check_output_places(dir, output_names(cfg));
     staging = make_staging(dir, lock, &kept_staging);
     if (s.script_replaced) record_replaced_script(s, o, dir);
+    plan_keeping_folder_checkpoint(s, o, dir);
   } catch (const std::exception&) {
     return refuse_outputs(std::current_exception(), dir, created, err);
   }

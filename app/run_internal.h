@@ -80,7 +80,11 @@ struct Start {
   // kept by its checkpoints (run.json's script.replaces)
   nlohmann::json replaced = nlohmann::json::array();
   std::string kept_checkpoint;         // resume --script: the file the resumed checkpoint was copied to, if any
-  bool copy_before_replacing = false;  // resume --script: copy the resumed checkpoint before the first write
+  bool copy_before_replacing = false;  // copy the folder's checkpoint before the first write (keep_resumed_checkpoint)
+  // that copy is of the folder's own checkpoint, not the one resumed (a kept copy, or a file elsewhere, was
+  // resumed into the folder); its step, when it could be read
+  bool copy_is_folders = false;
+  std::optional<std::uint64_t> folders_step;
   nlohmann::json replaced_parameters;  // resume --script: the run's own script's resolved values, if it loads
   bool script_unchanged = false;       // resume --script with the script the checkpoint keeps: a plain resume
   // resume only: the checkpoint's own target and --checkpoint-every (before this command's options)
@@ -109,9 +113,15 @@ Start start_from(const RunOptions& o);
 /// checkpoints will replace (keep_resumed_checkpoint copies it first).
 void record_replaced_script(Start& s, const RunOptions& o, const std::filesystem::path& dir);
 
-/// Before a run resumed with --script first replaces the checkpoint it resumed: copies that one beside it
-/// as checkpoint-stepN.cfck (the first free name), notes the copy in s.replaced and says so on `err`.
-/// Throws core::FileError if the copy cannot be made (then the checkpoint must not be replaced either).
+/// A resume of another checkpoint (a copy kept as checkpoint-stepN.cfck, or a file elsewhere) into a folder
+/// that holds a checkpoint.cfck of its own: plans a copy of that one too (keep_resumed_checkpoint), as --script
+/// keeps the checkpoint it replaces. Call after record_replaced_script.
+void plan_keeping_folder_checkpoint(Start& s, const RunOptions& o, const std::filesystem::path& dir);
+
+/// Before a resumed run first replaces `dir`'s checkpoint.cfck (with --script, the one it resumed; or the
+/// folder's own, see plan_keeping_folder_checkpoint): copies it beside as checkpoint-stepN.cfck (the first free
+/// name), notes a resumed one's copy in s.replaced and says so on `err`. Throws core::FileError if the copy
+/// cannot be made (then the checkpoint must not be replaced either).
 void keep_resumed_checkpoint(Start& s, const std::filesystem::path& dir, std::ostream& err);
 
 /// --checkpoint-every N, of this command or of the run resumed, applies exactly: every N steps, with no

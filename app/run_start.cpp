@@ -369,9 +369,25 @@ void record_replaced_script(Start& s, const RunOptions& o, const fs::path& dir) 
   s.copy_before_replacing = fs::equivalent(o.checkpoint, dir / kCheckpointName, ec);  // else elsewhere
 }
 
+void plan_keeping_folder_checkpoint(Start& s, const RunOptions& o, const fs::path& dir) {
+  std::error_code ec;
+  const fs::path own = dir / kCheckpointName;
+  if (!s.resume || s.copy_before_replacing || !fs::is_regular_file(own, ec) || fs::equivalent(o.checkpoint, own, ec))
+    return;
+  s.copy_before_replacing = s.copy_is_folders = true;
+  try {  // its step names the copy; one that cannot be read is copied all the same, as checkpoint-stepN-other
+    const core::ChunkFile f =
+        core::read_chunk_file(core::read_file(own), kCheckpointKind, kCheckpointVersion, own.string());
+    s.folders_step = json::parse(f.chunks.at("meta")).at("step").get<std::uint64_t>();
+  } catch (const std::exception&) {
+  }
+}
+
 void keep_resumed_checkpoint(Start& s, const fs::path& dir, std::ostream& err) {
   if (!s.copy_before_replacing) return;
-  const std::string stem = "checkpoint-step" + std::to_string(s.step);
+  const std::string stem = "checkpoint-step" + (s.copy_is_folders ? (s.folders_step ? std::to_string(*s.folders_step)
+                                                                                    : std::string("N-other"))
+                                                                  : std::to_string(s.step));
   std::error_code ec;
   std::string name;
   for (int k = 1; name.empty(); ++k) {  // the first free name: an older copy may be another run's
@@ -386,6 +402,12 @@ void keep_resumed_checkpoint(Start& s, const fs::path& dir, std::ostream& err) {
                           "' before this run replaces it: " + ec.message());
   }
   s.copy_before_replacing = false;
+  if (s.copy_is_folders) {
+    err << "cellform: note: the folder's own " << kCheckpointName
+        << (s.folders_step ? " (step " + std::to_string(*s.folders_step) + ")" : std::string()) << " is kept as "
+        << (dir / name).string() << " (this run, resumed from another checkpoint, replaces it)\n";
+    return;
+  }
   s.kept_checkpoint = name;
   s.replaced.back()["checkpoint"] = name;
   err << "cellform: note: the checkpoint resumed is kept as " << (dir / name).string() << " (this run's "

@@ -143,6 +143,17 @@ TEST_CASE("a run stopped by a script error goes on from its checkpoint with the 
   CHECK(other_run["steps"]["completed"] == 50);
   CHECK(other_run["script"]["replaces"][0]["parameters"]["run"]["steps"] == 40);
   CHECK(other_run["script"]["replaces"][0]["until_step"] == 20);
+  // the kept copy resumed into its folder (to undo the --script) keeps the folder's own, later checkpoint too:
+  // it was replaced with no copy and no word (audit)
+  const std::string at46 = slurp(checkpoint);
+  r = cli(
+      {"resume", (out / "checkpoint-step20.cfck").string(), "--script", fixed.string(), "--steps", "25", "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("the folder's own checkpoint.cfck (step 46) is kept as " +
+                             (out / "checkpoint-step46.cfck").string()));
+  CHECK(slurp(out / "checkpoint-step46.cfck") == at46);
+  CHECK(nlohmann::json::parse(slurp(out / "run.json"))["steps"]["completed"] == 25);
 }
 
 TEST_CASE("resume --script is refused clearly where it cannot apply", "[cli][checkpoint]") {
