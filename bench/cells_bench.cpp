@@ -3,6 +3,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <stdexcept>
 
 #include "core/random.h"
 
@@ -122,7 +123,8 @@ double surface_seconds(std::size_t n, int k, bool one_layer) {
   const auto a = std::chrono::steady_clock::now();
   const cells::Surface s = cells::triangulate(sim->cells(), one_layer);
   const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
-  return s.triangles.empty() ? -1 : t;
+  if (s.triangles.empty()) throw std::runtime_error("the triangulation made no triangles");  // no time to report
+  return t;
 }
 
 /// Seconds to triangulate a square lattice of n x n cells `spacing` model units apart, linked to their four
@@ -155,7 +157,10 @@ double quad_lattice_seconds(int n, double spacing) {
   const auto a = std::chrono::steady_clock::now();
   const cells::Surface s = cells::triangulate(c, true);
   const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
-  return s.triangles.size() == static_cast<std::size_t>(2 * (n - 1) * (n - 1) + 1) ? t : -1;
+  if (s.triangles.size() != static_cast<std::size_t>(2 * (n - 1) * (n - 1) + 1))
+    throw std::runtime_error("the lattice gave " + std::to_string(s.triangles.size()) + " triangles, not " +
+                             std::to_string(2 * (n - 1) * (n - 1) + 1));
+  return t;
 }
 
 const Register r7{{"cells.surface.1m", "s", "triangulate 1,000,000 cells in one layer (cells.ply, cells.obj)", 3,

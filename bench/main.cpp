@@ -13,6 +13,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bench/bench.h"
@@ -55,6 +56,12 @@ int main(int argc, char** argv) {
     const std::string a = argv[i];
     if ((a == "--json" || a == "--repetitions") && i + 1 >= argc) {
       std::cerr << "cellform-bench: " << a << " needs a value\n";
+      return 2;
+    }
+    // a value that is an option (--json --list) was taken as the file name, and every benchmark ran
+    if ((a == "--json" || a == "--repetitions") && std::string_view(argv[i + 1]).starts_with("--")) {
+      std::cerr << "cellform-bench: " << a << " needs a value, got the option '" << argv[i + 1]
+                << "' (a file named so: ./" << argv[i + 1] << ")\n";
       return 2;
     }
     if ((a == "--json" && json_given) || (a == "--repetitions" && reps_override > 0)) {
@@ -147,7 +154,11 @@ int main(int argc, char** argv) {
       return false;
     }
   };
-  std::printf("%-34s %14s %14s %14s  %s\n", "benchmark", "median", "min", "max", "unit");
+  // at once: an earlier sweep's file there (complete: true) must not outlive a first benchmark that fails
+  if (!write_json()) return 1;
+  int width = 9;  // the name column, as wide as the longest name chosen
+  for (const Benchmark* b : chosen) width = std::max(width, static_cast<int>(b->name.size()));
+  std::printf("%-*s %14s %14s %14s  %s\n", width, "benchmark", "median", "min", "max", "unit");
   for (const Benchmark* b : chosen) {
     const int reps = reps_override > 0 ? reps_override : b->repetitions;
     std::vector<double> v;
@@ -159,7 +170,8 @@ int main(int argc, char** argv) {
     }
     std::sort(v.begin(), v.end());
     const double median = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-    std::printf("%-34s %14.4g %14.4g %14.4g  %s\n", b->name.c_str(), median, v.front(), v.back(), b->unit.c_str());
+    std::printf("%-*s %14.4g %14.4g %14.4g  %s\n", width, b->name.c_str(), median, v.front(), v.back(),
+                b->unit.c_str());
     std::fflush(stdout);
     results.push_back({{"name", b->name},
                        {"value", median},

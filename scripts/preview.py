@@ -9,15 +9,21 @@ import struct
 import sys
 from pathlib import Path
 
-try:
-    import matplotlib
-except ImportError:
-    sys.exit("preview.py needs Debian's python3-matplotlib, which is not installed: "
-             "sudo apt-get install python3-matplotlib")
+plt = Line3DCollection = Poly3DCollection = None  # matplotlib, imported once the command line is read
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection  # noqa: E402
+
+def load_matplotlib():
+    """Imports matplotlib (after the arguments: --help and a bad command line need none)."""
+    global plt, Line3DCollection, Poly3DCollection
+    try:
+        import matplotlib
+    except ImportError:
+        sys.exit("preview.py needs Debian's python3-matplotlib, which is not installed: "
+                 "sudo apt-get install python3-matplotlib")
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as pyplot
+    from mpl_toolkits.mplot3d import art3d
+    plt, Line3DCollection, Poly3DCollection = pyplot, art3d.Line3DCollection, art3d.Poly3DCollection
 
 TYPES = {"char": "b", "uchar": "B", "short": "h", "ushort": "H", "int": "i", "uint": "I", "float": "f", "double": "d",
          "int8": "b", "uint8": "B", "int32": "i", "uint32": "I", "float32": "f", "float64": "d"}
@@ -128,6 +134,7 @@ def main():
     parser.add_argument("--dpi", type=positive_int, default=100, metavar="N", help="dots per inch of the 8-inch "
                         "square image (default 100)")
     opts = parser.parse_args()
+    load_matplotlib()
     out_dir = Path(opts.out_dir)
     png = Path(opts.png) if opts.png else out_dir / "preview.png"
     # a cell run has cells.ply (and veins.ply with venation{}); space colonisation in a leaf or a volume

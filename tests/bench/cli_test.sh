@@ -1,8 +1,11 @@
 #!/bin/sh
 # cellform-bench's command line: a bad option is refused before any benchmark runs, with exit 2 and a
-# message naming it. Usage: cli_test.sh PATH-TO-cellform-bench
+# message naming it, and no file left; one short benchmark's table row and JSON. Usage: cli_test.sh PATH-TO-cellform-bench
 bench="$1"
 fail=0
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+cd "$dir" || exit 1  # the refusals below name files here: none may be left
 expect() {  # expect EXIT-CODE MESSAGE ARGS...
   code=$1
   msg=$2
@@ -41,4 +44,25 @@ if ! printf '%s\n' "$listed" | grep -q "^cells.step.1m.t1" || printf '%s\n' "$li
   fail=1
 fi
 expect 2 "no benchmark matches" --list no.such.benchmark
+expect 2 "--json needs a value, got the option '--list'" "$one" --json --list
+if [ -n "$(ls -A "$dir")" ]; then
+  echo "FAIL: the refusals left files: $(ls -A "$dir")"
+  fail=1
+fi
+# a real run: the table's row, and the JSON with the median of 2 repetitions (about a second)
+out=$(timeout -s KILL 100 "$bench" 'cells.step.50k.t1$' --repetitions 2 --json "$dir/r.json" 2>&1)
+if [ $? -ne 0 ] || ! printf '%s
+' "$out" | grep -Eq '^cells.step.50k.t1 +[0-9.e+]+ +[0-9.e+]+ +[0-9.e+]+  steps/s$'; then
+  echo "FAIL: cellform-bench cells.step.50k.t1 said: $out"
+  fail=1
+fi
+for field in '"complete": true' '"name": "cells.step.50k.t1"' '"repetitions": 2' '"unit": "steps/s"' '"min":' '"max":' '"value":'; do
+  grep -qF -- "$field" "$dir/r.json" || { echo "FAIL: r.json lacks $field: $(cat "$dir/r.json")"; fail=1; }
+done
+# a sweep stopped before its first result leaves a file that says so, not an earlier sweep's "complete": true
+timeout -s INT 1 "$bench" 'cells.step.1m.t1$' --json "$dir/r.json" >/dev/null 2>&1
+if ! grep -qF '"complete": false' "$dir/r.json" || ! grep -qF '"results": []' "$dir/r.json"; then
+  echo "FAIL: after an interrupted sweep r.json holds: $(cat "$dir/r.json")"
+  fail=1
+fi
 exit $fail

@@ -8,7 +8,7 @@ preview="$2"
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 printf 'run { steps = 0 }\ndisc { radius = 2 }\n' > "$dir/s.lua"
-"$cellform" run "$dir/s.lua" --out "$dir/o" --quiet || exit 1
+"$cellform" run "$dir/s.lua" --out "$dir/o" --quiet || { echo "FAIL: cellform run of the small script failed"; exit 1; }
 fail=0
 expect() {  # expect EXIT-CODE MESSAGE ARGS...
   code=$1
