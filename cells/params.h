@@ -55,7 +55,8 @@ struct DivisionParams {
   /// what makes a cell divide
   DivisionTrigger trigger = DivisionTrigger::age;
   std::uint32_t division_age = 20;  ///< steps between divisions of a cell (trigger = age)
-  double radius = kDivisionRadius;  ///< model units; neighbourhood counted for trigger = neighbours
+  double radius = kDivisionRadius;  ///< model units; neighbourhood counted for trigger = neighbours (the default suits
+                                    ///< rest_length 1: scale it with a rest length of your own, as scripts do)
   int min_neighbours = 6;           ///< divide when fewer cells than this lie within radius
   std::uint32_t min_age = 5;        ///< steps a cell waits after its birth or division before dividing again
   double probability = 1.0;         ///< chance (0..1] that a triggered cell divides this step (seeded)

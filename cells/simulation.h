@@ -82,7 +82,9 @@ class Simulation {
   /// `constrain` may move cells after it (obstacles). Reorders cells in memory (spatially, by
   /// core::spatial_order) at the start of every 32nd step, including the first: indices change, ids do not.
   /// On core::SimulationDiverged the cells keep the positions of the last good step (the step count is
-  /// not advanced; links, accelerations and a reorder of this step may have been applied).
+  /// not advanced; links, accelerations and a reorder of this step may have been applied). Any other
+  /// exception (a rule or a hook that throws) leaves the cells part way through the step: go on from a
+  /// copy or a checkpoint taken before it, as `cellform run` does.
   StepReport step(const std::function<void(Cells&)>& forces = {}, const std::function<void(Cells&)>& constrain = {});
 
  private:
