@@ -140,7 +140,7 @@ void adopt_mesh_files(Start& s, const RunOptions& o, const SceneConfig& cfg, std
 /// Refuses (core::InvalidInput) a resume with an edited script (resume --script) whose obstacles hold some of the
 /// checkpoint's `cells`, as a new run's shapes inside an obstacle are, or whose venation{} has no petiole cell
 /// to drain to: none among `cells` and no petiole{} due after the checkpoint's step and by venation's first pass.
-void check_resumed_cells(const Start& s, const SceneConfig& cfg, const cells::Cells& cells);
+void check_resumed_cells(const Start& s, const SceneConfig& cfg, const cells::Cells& cells, int threads);
 
 void adopt_max_steps(Start& s, const RunOptions& o, const SceneConfig& cfg);
 

@@ -216,7 +216,7 @@ ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
   lua_pushnil(L);
   lua_setfield(L, -2, "dump");
   lua_pop(L, 1);
-  install_ordered_pairs(L);  // the same order in every run
+  install_fixed_orders(L);  // pairs and table.sort: the same order in every run
   // no finalizers: Lua runs __gc with the hook off, out of reach of the instruction budget and Ctrl-C
   lua_getglobal(L, "setmetatable");
   lua_pushcclosure(L, api_setmetatable, 1);

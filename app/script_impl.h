@@ -359,10 +359,14 @@ struct ScriptHost::Impl {
   /// number and a note of its type otherwise (Lua adds the line only to string messages).
   static int error_object_text(lua_State* L) {
     if (lua_type(L, 1) == LUA_TSTRING) {
-      // Lua says a C stack overflow (a recursion through string.gsub, say), or a yield outside a coroutine,
-      // without a line: the line of the innermost script function running is added
-      const bool overflow = std::strcmp(lua_tostring(L, 1), "C stack overflow") == 0;
-      if (!overflow && std::strcmp(lua_tostring(L, 1), "attempt to yield from outside a coroutine") != 0) return 1;
+      // Lua says a C stack overflow (a recursion through string.gsub, say), a yield outside a coroutine, or a
+      // comparison a library function made (table.sort of a number and a string), without a line: the line of
+      // the innermost script function running is added
+      const char* text = lua_tostring(L, 1);
+      const bool overflow = std::strcmp(text, "C stack overflow") == 0;
+      if (!overflow && std::strcmp(text, "attempt to yield from outside a coroutine") != 0 &&
+          std::strncmp(text, "attempt to compare ", 19) != 0)
+        return 1;
       for (int level = 1; level <= 32; ++level) {
         luaL_where(L, level);
         if (lua_rawlen(L, -1) > 0) {
@@ -569,10 +573,10 @@ int api_print_knobs(lua_State* L);
 /// while it was read (step 0), or in a rule function during `step`.
 void check_knobs_unchanged(Impl& I, std::uint64_t step = 0);
 
-/// Replaces the global pairs with one that visits a table's keys in a fixed order: numbers ascending, then
-/// strings in byte order, then false and true, then the rest (script_pairs.cpp). Lua's own order follows
-/// string hashes seeded anew in every process.
-void install_ordered_pairs(lua_State* L);
+/// Replaces pairs with one that visits a table's keys in a fixed order (numbers ascending, then strings in byte
+/// order, then false and true, then the rest), and table.sort with a stable merge sort (script_order.cpp).
+/// Lua's own pairs follows string hashes seeded anew in every process, and its sort picks random pivots.
+void install_fixed_orders(lua_State* L);
 
 /// __index of the cell table: a misspelt field is an error naming the closest one (script_values.cpp).
 int api_cell_index(lua_State* L);

@@ -120,7 +120,8 @@ class LevelSet {
 /// Removes every connected part (through shared vertices) of negative signed volume, i.e. the inner
 /// walls of closed cavities, with every piece lying inside one of them (which would be a surface inside
 /// solid), and the vertices only they used, so the cavities become solid. Returns how many parts were removed.
-std::size_t fill_cavities(PrintableMesh& mesh);
+/// `threads`: 0 = all cores; the result is the same for any value.
+std::size_t fill_cavities(PrintableMesh& mesh, int threads = 0);
 
 /// mm: the automatic voxel size (ThickenParams::voxel_size 0) before any raise for memory: four voxels across a
 /// vein of `min_radius` mm, and with shell triangles (`shell`) at least two across a wall of `shell_thickness`

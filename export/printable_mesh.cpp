@@ -141,7 +141,7 @@ std::size_t remove_parts(PrintableMesh& mesh, Drop drop) {
 
 }  // namespace
 
-std::size_t fill_cavities(PrintableMesh& mesh) {
+std::size_t fill_cavities(PrintableMesh& mesh, int threads) {
   // the parts, their volumes, boxes and triangles
   std::vector<std::uint32_t> root;
   const std::vector<double> volume = part_volumes(mesh, root);
@@ -169,7 +169,7 @@ std::size_t fill_cavities(PrintableMesh& mesh) {
   std::vector<char> drop(nv, 0), inside(islands.size(), 0);
   for (const std::uint32_t c : cavities) drop[c] = 1;
   core::parallel_for(
-      islands.size(), 0,
+      islands.size(), threads,
       [&](std::size_t b0, std::size_t e0) {  // each island writes its own slot
         for (std::size_t k = b0; k < e0; ++k) {
           const Vec3& q = mesh.vertices[islands[k]];
@@ -278,7 +278,7 @@ PrintableMesh mesh_level_set(const LevelSet& level_set, const ThickenParams& par
   std::size_t cavities = 0, pieces = 0;
   count_pieces(mesh, pieces, cavities);
   if (params.fill_cavities && cavities > 0) {
-    fill_cavities(mesh);
+    fill_cavities(mesh, params.threads);
     volume = signed_volume(mesh);
     std::size_t none = 0;
     count_pieces(mesh, pieces, none);  // less the pieces that lay in the pockets

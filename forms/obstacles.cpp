@@ -432,7 +432,8 @@ bool constrain(const Box& box, double margin, const Vec3& prev, Vec3& p, Vec3& v
 
 }  // namespace
 
-void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& positions, const ObstacleNames& names) {
+void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& positions, const ObstacleNames& names,
+                   int threads) {
   validate(obstacles);
   auto refuse_if_inside = [&](const auto& solid, const std::vector<std::string>& given, const char* kind,
                               std::size_t index, const char* where) {
@@ -469,7 +470,7 @@ void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& position
     return;
   const PreparedObstacles prepared(obstacles);
   std::vector<std::optional<std::size_t>> touched(positions.size());
-  core::parallel_for(positions.size(), 0, [&](std::size_t first, std::size_t last) {
+  core::parallel_for(positions.size(), threads, [&](std::size_t first, std::size_t last) {
     for (std::size_t i = first; i < last; ++i) touched[i] = prepared.mesh_touched(positions[i]);
   });
   for (std::size_t k = 0; k < obstacles.meshes.size(); ++k) {

@@ -68,8 +68,10 @@ void validate(const Obstacles& obstacles);
 /// cells. The message names the first such obstacle (half spaces, then spheres, then boxes) as `names` does,
 /// how many positions it holds and the first of them. A position on a mesh triangle (within a rounding
 /// tolerance, see PreparedObstacles::mesh_touched) is refused too: it is on neither side of the mesh, so no
-/// move of it would count as crossing. Also throws as validate() does.
-void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& positions, const ObstacleNames& names = {});
+/// move of it would count as crossing. Also throws as validate() does. `threads` (0 = all cores) search the
+/// meshes; the result is the same for any value.
+void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& positions, const ObstacleNames& names = {},
+                   int threads = 0);
 
 /// Obstacles prepared for repeated use: a bounding-volume hierarchy over every mesh triangle.
 /// Build once per scene and call apply() every step; apply_obstacles() builds one per call.
