@@ -25,28 +25,26 @@ int key_rank(lua_State* L, int i) {
   }
 }
 
-/// table.sort's order of keys: numbers ascending, then strings in byte order (not the locale's), then false
-/// before true, then the rest, all equal.
-int key_before(lua_State* L) {
-  const int a = key_rank(L, 1), b = key_rank(L, 2);
-  bool before = a < b;
-  if (a == b && a == 0) {
-    before = lua_compare(L, 1, 2, LUA_OPLT) != 0;  // numbers: no metamethod, integers and floats exactly
-  } else if (a == b && a == 1) {
+/// pairs' order of keys (the values at stack indices a and b): numbers ascending, then strings in byte
+/// order (not the locale's), then false before true, then the rest, all equal.
+bool key_less(lua_State* L, int a, int b) {
+  const int ra = key_rank(L, a), rb = key_rank(L, b);
+  if (ra != rb) return ra < rb;
+  if (ra == 0) return lua_compare(L, a, b, LUA_OPLT) != 0;  // numbers: no metamethod, integers and floats exactly
+  if (ra == 1) {
     std::size_t la = 0, lb = 0;
-    const char* sa = lua_tolstring(L, 1, &la);
-    const char* sb = lua_tolstring(L, 2, &lb);
+    const char* sa = lua_tolstring(L, a, &la);
+    const char* sb = lua_tolstring(L, b, &lb);
     const int c = std::memcmp(sa, sb, la < lb ? la : lb);
-    before = c < 0 || (c == 0 && la < lb);
-  } else if (a == b && a == 2) {
-    before = !lua_toboolean(L, 1) && lua_toboolean(L, 2);
+    return c < 0 || (c == 0 && la < lb);
   }
-  lua_pushboolean(L, before);
-  return 1;
+  return ra == 2 && !lua_toboolean(L, a) && lua_toboolean(L, b);
 }
 
-/// Whether the value at `a` goes before the one at `b`: the comparator at `cmp` if it is a function, else `<`.
+/// Whether the value at `a` goes before the one at `b`: with `cmp` 0, pairs' key order; else the comparator
+/// at stack index `cmp` if it is a function, or `<` if it is nil.
 bool sort_less(lua_State* L, int cmp, int a, int b) {
+  if (cmp == 0) return key_less(L, a, b);
   if (lua_isnil(L, cmp)) return lua_compare(L, a, b, LUA_OPLT) != 0;
   lua_pushvalue(L, cmp);
   lua_pushvalue(L, a);
@@ -57,7 +55,64 @@ bool sort_less(lua_State* L, int cmp, int a, int b) {
   return less;
 }
 
-/// table.sort(t [, comp]): a merge sort, stable, with the elements read and written as table.sort does
+/// Sorts the array [1, n] of the table at stack index `t` (raw access), stable, by sort_less with `cmp`:
+/// by insertion up to 16 elements, else a merge sort through a scratch table (pushed, then popped; the
+/// sorted elements end in the table at `t`, which may then be the scratch one).
+void stable_sort(lua_State* L, int t, lua_Integer n, int cmp) {
+  if (n <= 16) {
+    for (lua_Integer i = 2; i <= n; ++i) {
+      lua_rawgeti(L, t, i);  // v
+      lua_Integer j = i - 1;
+      for (; j >= 1; --j) {
+        lua_rawgeti(L, t, j);
+        if (!sort_less(L, cmp, lua_gettop(L) - 1, lua_gettop(L))) {  // v before t[j]: t[j] moves up
+          lua_pop(L, 1);
+          break;
+        }
+        lua_rawseti(L, t, j + 1);
+      }
+      lua_rawseti(L, t, j + 1);
+    }
+    return;
+  }
+  lua_createtable(L, static_cast<int>(n), 0);  // the next merge
+  const int next = lua_gettop(L);
+  for (lua_Integer width = 1; width < n; width *= 2) {
+    for (lua_Integer lo = 1; lo <= n; lo += 2 * width) {
+      const lua_Integer mid = lo + width < n + 1 ? lo + width : n + 1;
+      const lua_Integer hi = lo + 2 * width < n + 1 ? lo + 2 * width : n + 1;
+      lua_Integer i = lo, j = mid, k = lo;
+      while (i < mid && j < hi) {
+        lua_rawgeti(L, t, j);
+        lua_rawgeti(L, t, i);
+        const int top = lua_gettop(L);
+        if (sort_less(L, cmp, top - 1, top)) {  // the right one strictly first: equal ones keep their order
+          lua_pop(L, 1);
+          lua_rawseti(L, next, k++);
+          ++j;
+        } else {
+          lua_rawseti(L, next, k++);
+          lua_pop(L, 1);
+          ++i;
+        }
+      }
+      for (; i < mid; ++i) {
+        lua_rawgeti(L, t, i);
+        lua_rawseti(L, next, k++);
+      }
+      for (; j < hi; ++j) {
+        lua_rawgeti(L, t, j);
+        lua_rawseti(L, next, k++);
+      }
+    }
+    lua_pushvalue(L, t);  // the merged runs become the elements: the two tables trade places
+    lua_copy(L, next, t);
+    lua_replace(L, next);
+  }
+  lua_pop(L, 1);
+}
+
+/// table.sort(t [, comp]): stable (stable_sort), with the elements read and written as table.sort does
 /// (lua_geti, lua_seti: metamethods apply). Lua's own sort is not stable either, so a script that relied
 /// on where equal elements went had no order to rely on; now they keep theirs.
 int ordered_sort(lua_State* L) {
@@ -67,42 +122,12 @@ int ordered_sort(lua_State* L) {
   luaL_argcheck(L, n < INT_MAX, 1, "array too big");
   if (!lua_isnoneornil(L, 2)) luaL_checktype(L, 2, LUA_TFUNCTION);
   lua_settop(L, 2);
-  lua_createtable(L, static_cast<int>(n), 0);  // 3: the elements, merged runs of `width` at a time
+  lua_createtable(L, static_cast<int>(n), 0);  // 3: the elements
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_geti(L, 1, i);
     lua_rawseti(L, 3, i);
   }
-  lua_createtable(L, static_cast<int>(n), 0);  // 4: the next merge
-  for (lua_Integer width = 1; width < n; width *= 2) {
-    for (lua_Integer lo = 1; lo <= n; lo += 2 * width) {
-      const lua_Integer mid = lo + width < n + 1 ? lo + width : n + 1,
-                        hi = lo + 2 * width < n + 1 ? lo + 2 * width : n + 1;
-      lua_Integer i = lo, j = mid, k = lo;
-      while (i < mid && j < hi) {
-        lua_rawgeti(L, 3, j);
-        lua_rawgeti(L, 3, i);
-        const int top = lua_gettop(L);
-        if (sort_less(L, 2, top - 1, top)) {  // the right one strictly first: equal ones keep their order
-          lua_pop(L, 1);
-          lua_rawseti(L, 4, k++);
-          ++j;
-        } else {
-          lua_rawseti(L, 4, k++);
-          lua_pop(L, 1);
-          ++i;
-        }
-      }
-      for (; i < mid; ++i) {
-        lua_rawgeti(L, 3, i);
-        lua_rawseti(L, 4, k++);
-      }
-      for (; j < hi; ++j) {
-        lua_rawgeti(L, 3, j);
-        lua_rawseti(L, 4, k++);
-      }
-    }
-    lua_rotate(L, 3, 1);  // the merged runs become the elements
-  }
+  stable_sort(L, 3, n, 2);
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_rawgeti(L, 3, i);
     lua_seti(L, 1, i);
@@ -126,7 +151,7 @@ int ordered_next(lua_State* L) {
   return 2;
 }
 
-/// pairs(t): t's __pairs if it has one, as Lua's; otherwise its keys in key_before's order.
+/// pairs(t): t's __pairs if it has one, as Lua's; otherwise its keys in key_less's order.
 int ordered_pairs(lua_State* L) {
   if (luaL_getmetafield(L, 1, "__pairs") != LUA_TNIL) {
     lua_pushvalue(L, 1);
@@ -143,10 +168,7 @@ int ordered_pairs(lua_State* L) {
     lua_pushvalue(L, -1);
     lua_rawseti(L, 2, ++n);
   }
-  lua_pushcfunction(L, ordered_sort);
-  lua_pushvalue(L, 2);
-  lua_pushcfunction(L, key_before);
-  lua_call(L, 2, 0);
+  stable_sort(L, 2, n, 0);
   lua_pushvalue(L, 2);
   lua_pushvalue(L, 1);
   lua_pushinteger(L, 0);

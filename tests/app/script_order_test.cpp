@@ -63,30 +63,33 @@ TEST_CASE("table.sort sorts as Lua's does, keeps equal elements in their order, 
   // (determinism audit: Lua's sort picks random pivots, from the clock, once a split is badly unbalanced, so
   // 400 points sorted by a rounded distance came out in another order from run to run.) Checked in the script
   // against a sort by insertion, for numbers, strings, a comparator and ties.
-  CHECK_NOTHROW(load(
-      "math.randomseed(3)\n"
-      "local function insertion(t, lt)\n"
-      "  local u = {} for i = 1, #t do u[i] = t[i] end\n"
-      "  for i = 2, #u do local v, j = u[i], i - 1\n"
-      "    while j >= 1 and lt(v, u[j]) do u[j + 1] = u[j] j = j - 1 end u[j + 1] = v end\n"
-      "  return u end\n"
-      "local function same(a, b) assert(#a == #b) for i = 1, #a do assert(a[i] == b[i], i) end end\n"
-      "for _, n in ipairs({0, 1, 2, 3, 7, 64, 257, 1000}) do\n"
-      "  local t, s = {}, {}\n"
-      "  for i = 1, n do t[i] = math.random(1, 50) s[i] = tostring(math.random(1, 50)) end\n"
-      "  local want = insertion(t, function(a, b) return a < b end)\n"
-      "  local down = insertion(t, function(a, b) return a > b end)\n"
-      "  local words = insertion(s, function(a, b) return a < b end)\n"
-      "  local a, b = {table.unpack(t)}, {table.unpack(t)}\n"
-      "  table.sort(a) same(a, want)\n"
-      "  table.sort(b, function(x, y) return x > y end) same(b, down)\n"
-      "  table.sort(s) same(s, words)\n"
-      "end\n"
-      "-- equal keys keep their order (records by a key of 5 values: ties everywhere)\n"
-      "local r = {} for i = 1, 1000 do r[i] = {key = math.random(1, 5), at = i} end\n"
-      "table.sort(r, function(a, b) return a.key < b.key end)\n"
-      "for i = 2, #r do assert(r[i - 1].key < r[i].key or (r[i - 1].key == r[i].key and r[i - 1].at < r[i].at), i) end\n"
-      "disc { radius = 2 }\n"));
+  CHECK_NOTHROW(
+      load("math.randomseed(3)\n"
+           "local function insertion(t, lt)\n"
+           "  local u = {} for i = 1, #t do u[i] = t[i] end\n"
+           "  for i = 2, #u do local v, j = u[i], i - 1\n"
+           "    while j >= 1 and lt(v, u[j]) do u[j + 1] = u[j] j = j - 1 end u[j + 1] = v end\n"
+           "  return u end\n"
+           "local function same(a, b) assert(#a == #b) for i = 1, #a do assert(a[i] == b[i], i) end end\n"
+           "for _, n in ipairs({0, 1, 2, 3, 7, 64, 257, 1000}) do\n"
+           "  local t, s = {}, {}\n"
+           "  for i = 1, n do t[i] = math.random(1, 50) s[i] = tostring(math.random(1, 50)) end\n"
+           "  local want = insertion(t, function(a, b) return a < b end)\n"
+           "  local down = insertion(t, function(a, b) return a > b end)\n"
+           "  local words = insertion(s, function(a, b) return a < b end)\n"
+           "  local a, b = {table.unpack(t)}, {table.unpack(t)}\n"
+           "  table.sort(a) same(a, want)\n"
+           "  table.sort(b, function(x, y) return x > y end) same(b, down)\n"
+           "  table.sort(s) same(s, words)\n"
+           "end\n"
+           "-- equal keys keep their order (records by a key of 5 values: ties everywhere), by insertion and merging\n"
+           "for _, n in ipairs({12, 1000}) do\n"
+           "  local r = {} for i = 1, n do r[i] = {key = math.random(1, 5), at = i} end\n"
+           "  table.sort(r, function(a, b) return a.key < b.key end)\n"
+           "  for i = 2, n do assert(r[i - 1].key < r[i].key or (r[i - 1].key == r[i].key and r[i - 1].at < r[i].at), "
+           "i) end\n"
+           "end\n"
+           "disc { radius = 2 }\n"));
   CHECK_THAT(load_error("local t = {3, 1, 2}\ntable.sort(t, function(a, b) error('no order') end)\n"),
              Contains("test/leaf.lua:2: no order"));
   CHECK_THAT(load_error("table.sort({3, 1, 2}, 5)\n"), Contains("test/leaf.lua:1: bad argument #2 to"));
