@@ -1,7 +1,6 @@
 // Space-colonisation venation (Runions et al. 2005): dart throwing, Eq. 1 growth, open and closed removal.
 // The state is in colonisation_impl.h; new sources (darts, marginal reveal) in colonisation_sources.cpp;
-// checkpoints in colonisation_state.cpp; parameter checks in colonisation_checks.cpp; widths and whole runs
-// in colonisation_tree.cpp.
+// checkpoints in colonisation_state.cpp; parameter checks in colonisation_checks.cpp; widths, runs: _tree.cpp
 #include "venation/colonisation.h"
 
 #include <cmath>
@@ -330,12 +329,10 @@ void Colonisation::Impl::step() {
 
   // influence: S(v) for every vein node (Eq. 1 input); open: nearest node; closed: V(s), Eq. 2 and 3
   const bool closed = p.type == VenationType::closed;
-  // window of Urquhart's neighbours: a few times the blade's size (nonuniform: the blade as grown so far)
-  const double half_extent =
-      nonuniform ? 4 * ((current.hi() - current.lo()).norm() + 1)
-                 : 4 * ((detail::lift(unit.hi()) - detail::lift(unit.lo())).norm() + 1) * frame_scale();
-  // lazy sectors: squared distances of nodes up to 2 half_extent apart round by far less than lazy_tol
-  // times the smallest margin accepted (kLazyRenew D)
+  // Urquhart's window: a few times the blade's size (nonuniform: the blade as grown so far)
+  const Vec3 box = nonuniform ? detail::lift(current.hi() - current.lo()) : detail::lift(unit.hi() - unit.lo());
+  const double half_extent = 4 * (box.norm() + 1) * (nonuniform ? 1.0 : frame_scale());
+  // lazy sectors: squared distances of nodes up to 2 half_extent apart round by far less than lazy_tol x kLazyRenew D
   lazy_tol = 1e-9 * half_extent;
   lazy_ok = p.lazy_sectors && !nonuniform && !region && D > 1e-5 * half_extent;
   infl_start.assign(1, 0);
