@@ -21,14 +21,18 @@ namespace {
 
 /// A blade of 120 x 80 with one seed node at its base and 150 fixed sources scattered over it (no darts):
 /// the sources wait far from the veins at first, so in closed exact runs most are in lazy mode.
+/// `n` sources of `rng` in 0.9 of the ellipse of half-axes a (x) and b (y) centred at (0, b), y from y0 to y1.
+void scatter_sources(v::Leaf& leaf, std::size_t n, core::Rng rng, double a, double b, double y0, double y1) {
+  while (leaf.initial_sources.size() < n) {
+    const double x = rng.uniform(-a, a), y = rng.uniform(y0, y1);
+    if ((x / a) * (x / a) + ((y - b) / b) * ((y - b) / b) < 0.9) leaf.initial_sources.push_back({x, y});
+  }
+}
+
 v::Leaf scattered_sources_leaf() {
   v::Leaf leaf = ellipse_leaf(120, 80);
   leaf.initial_nodes = {{0, 2}};
-  core::Rng rng(23);
-  while (leaf.initial_sources.size() < 150) {
-    const double x = rng.uniform(-40, 40), y = rng.uniform(5, 115);
-    if ((x / 40) * (x / 40) + ((y - 60) / 60) * ((y - 60) / 60) < 0.9) leaf.initial_sources.push_back({x, y});
-  }
+  scatter_sources(leaf, 150, core::Rng(23), 40, 60, 5, 115);
   return leaf;
 }
 
@@ -117,11 +121,7 @@ TEST_CASE("Urquhart's window grows with a blade grown nonuniformly", "[colonisat
   // on every step must follow Eq. 1 with the Urquhart neighbours by brute force.
   v::Leaf leaf = ellipse_leaf(10, 5);
   leaf.initial_nodes = {{0, 0.2}};
-  core::Rng rng(5);
-  while (leaf.initial_sources.size() < 40) {
-    const double x = rng.uniform(-2.5, 2.5), y = rng.uniform(1, 10);
-    if ((x / 2.5) * (x / 2.5) + ((y - 5) / 5) * ((y - 5) / 5) < 0.9) leaf.initial_sources.push_back({x, y});
-  }
+  scatter_sources(leaf, 40, core::Rng(5), 2.5, 5, 1, 10);
   v::ColonisationParams p = params(v::VenationType::closed, 1);
   p.darts_per_area = 0;
   p.neighbourhood = v::Neighbourhood::urquhart;
