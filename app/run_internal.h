@@ -82,9 +82,8 @@ struct Start {
   std::string kept_checkpoint;         // resume --script: the file the resumed checkpoint was copied to, if any
   bool copy_before_replacing = false;  // copy the folder's checkpoint before the first write (keep_resumed_checkpoint)
   // that copy is of the folder's own checkpoint, not the one resumed (a kept copy, or a file elsewhere, was
-  // resumed into the folder); its step, when it could be read
+  // resumed into the folder)
   bool copy_is_folders = false;
-  std::optional<std::uint64_t> folders_step;
   nlohmann::json replaced_parameters;  // resume --script: the run's own script's resolved values, if it loads
   bool script_unchanged = false;       // resume --script with the script the checkpoint keeps: a plain resume
   // resume only: the checkpoint's own target and --checkpoint-every (before this command's options)

@@ -18,15 +18,20 @@ namespace cellform::app {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+namespace {
+/// A vector such as cells.drag, as physics_of records it and --set reads it back (x,y,z).
+bool is_vector(const json& v) {
+  return v.is_array() && v.size() == 3 && std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number(); });
+}
+}  // namespace
+
 json physics_of(const json& resolved) {
   json out = json::object();
-  const auto scalar = [](const json& v) {
-    return (v.is_number() || v.is_boolean() || v.is_string()) && v != "<function>";
-  };
+  const auto scalar = [](const json& v) { return v.is_primitive() && !v.is_null() && v != "<function>"; };
   for (const char* section : {"cells", "division", "venation"}) {
     if (!resolved.contains(section) || !resolved[section].is_object()) continue;
     for (const auto& [k, v] : resolved[section].items()) {
-      if (scalar(v) || (v.is_array() && std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number(); })))
+      if (scalar(v) || is_vector(v))
         out[section][k] = v;   // a value, or a vector such as cells.drag
       else if (v.is_object())  // the weights of a cell type: cells.vein.cohesion
         for (const auto& [k2, v2] : v.items())
@@ -218,15 +223,11 @@ Start start_from(const RunOptions& o) {
             physics_ok = physics_ok && values.is_object();
             if (values.is_object())
               for (const auto& [k, v] : values.items())
-                physics_ok =
-                    physics_ok && (v.is_number() || v.is_boolean() || v.is_string() ||
-                                   (v.is_array() && !v.empty() &&
-                                    std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number(); })));
+                physics_ok = physics_ok && (v.is_number() || v.is_boolean() || v.is_string() || is_vector(v));
           }
         if (!physics_ok)
           throw core::FileError(
-              what +
-              " is corrupt (metadata 'physics' holds a value that is no number, boolean, text or list of numbers)");
+              what + " is corrupt (metadata 'physics' holds a value that is no number, boolean, text or {x, y, z})");
         if (meta.contains("veins") && !meta["veins"].is_object())
           throw core::FileError(what + " is corrupt (metadata 'veins')");
         if (meta.contains("obstacle_meshes")) {  // older checkpoints: not recorded
@@ -375,19 +376,20 @@ void plan_keeping_folder_checkpoint(Start& s, const RunOptions& o, const fs::pat
   if (!s.resume || s.copy_before_replacing || !fs::is_regular_file(own, ec) || fs::equivalent(o.checkpoint, own, ec))
     return;
   s.copy_before_replacing = s.copy_is_folders = true;
-  try {  // its step names the copy; one that cannot be read is copied all the same, as checkpoint-stepN-other
-    const core::ChunkFile f =
-        core::read_chunk_file(core::read_file(own), kCheckpointKind, kCheckpointVersion, own.string());
-    s.folders_step = json::parse(f.chunks.at("meta")).at("step").get<std::uint64_t>();
-  } catch (const std::exception&) {
-  }
 }
 
 void keep_resumed_checkpoint(Start& s, const fs::path& dir, std::ostream& err) {
   if (!s.copy_before_replacing) return;
-  const std::string stem = "checkpoint-step" + (s.copy_is_folders ? (s.folders_step ? std::to_string(*s.folders_step)
-                                                                                    : std::string("N-other"))
-                                                                  : std::to_string(s.step));
+  std::string step = std::to_string(s.step);  // of the checkpoint copied: the folder's own is read for it
+  if (s.copy_is_folders) try {
+      const fs::path own = dir / kCheckpointName;
+      const core::ChunkFile f =
+          core::read_chunk_file(core::read_file(own), kCheckpointKind, kCheckpointVersion, own.string());
+      step = std::to_string(json::parse(f.chunks.at("meta")).at("step").get<std::uint64_t>());
+    } catch (const std::exception&) {  // copied all the same, under a name that says so
+      step.clear();
+    }
+  const std::string stem = step.empty() ? std::string("checkpoint-unknown-step") : "checkpoint-step" + step;
   std::error_code ec;
   std::string name;
   for (int k = 1; name.empty(); ++k) {  // the first free name: an older copy may be another run's
@@ -398,14 +400,15 @@ void keep_resumed_checkpoint(Start& s, const fs::path& dir, std::ostream& err) {
   if (!fs::copy_file(dir / kCheckpointName, part, fs::copy_options::overwrite_existing, ec) ||
       (fs::rename(part, dir / name, ec), ec)) {
     fs::remove(part, ec);
-    throw core::FileError("cannot keep a copy of the checkpoint resumed as '" + (dir / name).string() +
-                          "' before this run replaces it: " + ec.message());
+    throw core::FileError(std::string("cannot keep a copy of ") +
+                          (s.copy_is_folders ? "the folder's own checkpoint" : "the checkpoint resumed") + " as '" +
+                          (dir / name).string() + "' before this run replaces it: " + ec.message());
   }
   s.copy_before_replacing = false;
   if (s.copy_is_folders) {
     err << "cellform: note: the folder's own " << kCheckpointName
-        << (s.folders_step ? " (step " + std::to_string(*s.folders_step) + ")" : std::string()) << " is kept as "
-        << (dir / name).string() << " (this run, resumed from another checkpoint, replaces it)\n";
+        << (step.empty() ? std::string() : " (step " + step + ")") << " is kept as " << (dir / name).string()
+        << " (this run, resumed from another checkpoint, replaces it)\n";
     return;
   }
   s.kept_checkpoint = name;

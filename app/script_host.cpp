@@ -140,6 +140,22 @@ int api_print(lua_State* L) {
   return 0;
 }
 
+/// The line of `text` that a message "NAME:LINE: ..." names, or "" if it names none.
+std::string source_line(const std::string& text, const std::string& message, const std::string& name) {
+  if (message.rfind(name + ":", 0) != 0) return {};
+  const std::size_t at = name.size() + 1;
+  std::size_t line = 0, i = at;
+  for (; i < message.size() && i < at + 9 && message[i] >= '0' && message[i] <= '9'; ++i)
+    line = line * 10 + static_cast<std::size_t>(message[i] - '0');
+  if (i == at || line == 0) return {};
+  std::size_t from = 0;
+  for (std::size_t k = 1; k < line && from != std::string::npos; ++k) {
+    from = text.find('\n', from);
+    if (from != std::string::npos) ++from;
+  }
+  return from == std::string::npos ? std::string() : text.substr(from, text.find('\n', from) - from);
+}
+
 const char* const kSections[] = {"run",    "cells",        "division", "output",   "venation", "print",
                                  "leaf",   "colonisation", "volume",   "surface",  "disc",     "rectangle",
                                  "sphere", "line",         "cell",     "petiole",  "ground",   "half_space",
@@ -347,7 +363,7 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
   lua_rawgeti(L, LUA_REGISTRYINDEX, I.randomseed_ref);
   lua_pushinteger(L, 0);
   std::string err = I.protected_call(1, 0, I.limits.instructions);
-  lua_settop(L, chunk_at);
+  lua_settop(L, err.empty() ? chunk_at : chunk_at - 1);  // (stopped: the chunk goes too)
   if (err.empty()) err = I.protected_call(0, 0, I.limits.instructions);
   if (err.empty()) check_knobs_unchanged(I);
   if (!err.empty()) {
@@ -374,7 +390,8 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
       err += near == global ? "; the script set it to nil before this call"
              : near.empty() ? "; no such function"
                             : "; did you mean '" + near + "'?";
-    } else if (err.find("attempt to call a nil value (field 'dump')") != std::string::npos) {
+    } else if (err.find("attempt to call a nil value (field 'dump')") != std::string::npos &&
+               source_line(text, err, I.script_name).find("string.dump") != std::string::npos) {
       err += "; 'string.dump' is left out of cellform scripts, which refuse precompiled chunks";
     }
     throw InvalidInput(err);

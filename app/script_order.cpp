@@ -55,16 +55,32 @@ bool sort_less(lua_State* L, int cmp, int a, int b) {
   return less;
 }
 
+/// Every 4,096 comparisons of a sort: a beat for the watchdog (the sort is progress, not a stuck library call)
+/// and, while the script is read, a Ctrl-C stops it here, as the hook stops the script's own code.
+void sort_progress(lua_State* L, lua_Integer& compared) {
+  if (++compared % 4096 != 0) return;
+  Impl& I = *self_of(L);
+  I.beats.fetch_add(1, std::memory_order_relaxed);
+  if (!I.stopping && !I.rule_call && g_interrupt.load(std::memory_order_relaxed))
+    I.stop("interrupted while the script was read; nothing was written");
+  if (I.stopping) {
+    lua_pushstring(L, I.stop_message.c_str());
+    lua_error(L);
+  }
+}
+
 /// Sorts the array [1, n] of the table at stack index `t` (raw access), stable, by sort_less with `cmp`:
 /// by insertion up to 16 elements, else a merge sort through a scratch table (pushed, then popped; the
 /// sorted elements end in the table at `t`, which may then be the scratch one).
 void stable_sort(lua_State* L, int t, lua_Integer n, int cmp) {
+  lua_Integer compared = 0;
   if (n <= 16) {
     for (lua_Integer i = 2; i <= n; ++i) {
       lua_rawgeti(L, t, i);  // v
       lua_Integer j = i - 1;
       for (; j >= 1; --j) {
         lua_rawgeti(L, t, j);
+        sort_progress(L, compared);
         if (!sort_less(L, cmp, lua_gettop(L) - 1, lua_gettop(L))) {  // v before t[j]: t[j] moves up
           lua_pop(L, 1);
           break;
@@ -86,6 +102,7 @@ void stable_sort(lua_State* L, int t, lua_Integer n, int cmp) {
         lua_rawgeti(L, t, j);
         lua_rawgeti(L, t, i);
         const int top = lua_gettop(L);
+        sort_progress(L, compared);
         if (sort_less(L, cmp, top - 1, top)) {  // the right one strictly first: equal ones keep their order
           lua_pop(L, 1);
           lua_rawseti(L, next, k++);
@@ -152,10 +169,12 @@ int ordered_next(lua_State* L) {
 }
 
 /// pairs(t): t's __pairs if it has one, as Lua's; otherwise its keys in key_less's order.
+int pairs_continued(lua_State*, int, lua_KContext) { return 3; }
+
 int ordered_pairs(lua_State* L) {
-  if (luaL_getmetafield(L, 1, "__pairs") != LUA_TNIL) {
+  if (luaL_getmetafield(L, 1, "__pairs") != LUA_TNIL) {  // as Lua's: __pairs may yield
     lua_pushvalue(L, 1);
-    lua_call(L, 1, 3);
+    lua_callk(L, 1, 3, 0, pairs_continued);
     return 3;
   }
   luaL_checktype(L, 1, LUA_TTABLE);
@@ -168,7 +187,15 @@ int ordered_pairs(lua_State* L) {
     lua_pushvalue(L, -1);
     lua_rawseti(L, 2, ++n);
   }
-  stable_sort(L, 2, n, 0);
+  // an array's keys come in order already (Lua visits its array part first): no sort, and no scratch table
+  bool in_order = true;
+  for (lua_Integer i = 2; i <= n && in_order; ++i) {
+    lua_rawgeti(L, 2, i - 1);
+    lua_rawgeti(L, 2, i);
+    in_order = key_less(L, -2, -1);
+    lua_pop(L, 2);
+  }
+  if (!in_order) stable_sort(L, 2, n, 0);
   lua_pushvalue(L, 2);
   lua_pushvalue(L, 1);
   lua_pushinteger(L, 0);

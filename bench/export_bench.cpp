@@ -62,8 +62,11 @@ void reset_peak_rss() { std::ofstream("/proc/self/clear_refs") << "5"; }
 
 // The process's peak (VmHWM) counts the forms earlier benchmarks of a sweep keep cached (a 1,000,000-cell
 // simulation of cells.step.1m adds about 160 MB): the figure is the benchmark's own when it runs alone.
-const std::string kAlone =
-    " (the process's peak: run it alone, e.g. NAME$, as what earlier benchmarks keep counts too)";
+/// The note of a peak_mb benchmark `name`: what its figure holds in a sweep.
+std::string alone(const std::string& name) {
+  return " (the process's peak, which counts what earlier benchmarks keep: run it alone, cellform-bench '" + name +
+         "$')";
+}
 
 exporters::ThickenReport thicken_once(double voxel, exporters::PrintableMesh* out = nullptr) {
   exporters::ThickenParams p;
@@ -85,20 +88,21 @@ const Register r1{
      "stress: thicken a synthetic 44k-segment 3-D vein tree to a printable mesh at default settings (120 mm, "
      "voxel 0.2 mm, adaptivity 0.2, intersection repair included)",
      3, [] { return seconds([] { thicken_once(0); }); }}};
-const Register r2{
-    {"export.thicken.tree44k.peak_mb", "MB",
-     std::string("peak resident memory while thickening the 44k-segment synthetic tree at default settings") + kAlone,
-     1, [] {
-       tree50k();
-       reset_peak_rss();
-       thicken_once(0);
-       return peak_rss_bytes() / 1e6;
-     }}};
+const Register r2{{"export.thicken.tree44k.peak_mb", "MB",
+                   "peak resident memory while thickening the 44k-segment synthetic tree at default settings" +
+                       alone("export.thicken.tree44k.peak_mb"),
+                   1, [] {
+                     tree50k();
+                     reset_peak_rss();
+                     thicken_once(0);
+                     return peak_rss_bytes() / 1e6;
+                   }}};
 const Register r3{{"export.thicken.tree44k.fine", "s",
                    "thicken the 44k-segment synthetic tree with 0.16 mm voxels (the finest the 2 GB estimate allows)",
                    1, [] { return seconds([] { thicken_once(0.16); }); }}};
 const Register r4{{"export.thicken.tree44k.fine.peak_mb", "MB",
-                   std::string("peak resident memory thickening with 0.16 mm voxels") + kAlone, 1, [] {
+                   "peak resident memory thickening with 0.16 mm voxels" + alone("export.thicken.tree44k.fine.peak_mb"),
+                   1, [] {
                      tree50k();
                      reset_peak_rss();
                      thicken_once(0.16);
@@ -188,7 +192,7 @@ const Register r6{{"export.thicken.leaf50k", "s",
                    "thicken the veins of a grown 50,000-cell form (cells + canalisation) at default settings", 3,
                    [] { return thicken_leaf(0, false); }}};
 const Register r7{{"export.thicken.leaf50k.peak_mb", "MB",
-                   std::string("peak resident memory of export.thicken.leaf50k") + kAlone, 1, [] {
+                   "peak resident memory of export.thicken.leaf50k" + alone("export.thicken.leaf50k.peak_mb"), 1, [] {
                      leaf50k();
                      reset_peak_rss();
                      thicken_leaf(0, false);
@@ -204,7 +208,9 @@ const Register r9b{{"export.thicken.leaf50k.shell.closed", "s",
                     "the same shell with its gaps closed over half a cell spacing (0.5 model units: 2.8 mm, uncapped)",
                     1, [] { return thicken_leaf(0, true, 0.5); }}};
 const Register r9c{{"export.thicken.leaf50k.shell.closed.peak_mb", "MB",
-                    std::string("peak resident memory of export.thicken.leaf50k.shell.closed") + kAlone, 1, [] {
+                    "peak resident memory of export.thicken.leaf50k.shell.closed" +
+                        alone("export.thicken.leaf50k.shell.closed.peak_mb"),
+                    1, [] {
                       leaf50k();
                       reset_peak_rss();
                       thicken_leaf(0, true, 0.5);

@@ -60,8 +60,8 @@ int main(int argc, char** argv) {
     }
     // a value that is an option (--json --list) was taken as the file name, and every benchmark ran
     if ((a == "--json" || a == "--repetitions") && std::string_view(argv[i + 1]).starts_with("--")) {
-      std::cerr << "cellform-bench: " << a << " needs a value, got the option '" << argv[i + 1]
-                << "' (a file named so: ./" << argv[i + 1] << ")\n";
+      std::cerr << "cellform-bench: " << a << " needs a value, got the option '" << argv[i + 1] << "'"
+                << (a == "--json" ? std::string(" (a file named so: ./") + argv[i + 1] + ")" : std::string()) << "\n";
       return 2;
     }
     if ((a == "--json" && json_given) || (a == "--repetitions" && reps_override > 0)) {

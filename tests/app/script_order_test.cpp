@@ -34,7 +34,9 @@ TEST_CASE("pairs visits keys in one fixed order in every run, where Lua's next d
     by_pairs.insert(lines[0]);
     by_next.insert(lines[1]);
   }
-  REQUIRE(by_next.size() > 1);  // Lua's own order changed from one interpreter to the next
+  // Lua's own order changes from one interpreter to the next (a Lua built with a fixed hash seed would not show
+  // what this test is about)
+  if (by_next.size() == 1) WARN("Lua's next gave one order in all eight interpreters: its hash seed is fixed");
   REQUIRE(by_pairs.size() == 1);
   // numbers ascending, then strings in byte order, then false and true
   std::vector<std::string> names;

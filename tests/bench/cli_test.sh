@@ -51,8 +51,7 @@ if [ -n "$(ls -A "$dir")" ]; then
 fi
 # a real run: the table's row, and the JSON with the median of 2 repetitions (about a second)
 out=$(timeout -s KILL 100 "$bench" 'cells.step.50k.t1$' --repetitions 2 --json "$dir/r.json" 2>&1)
-if [ $? -ne 0 ] || ! printf '%s
-' "$out" | grep -Eq '^cells.step.50k.t1 +[0-9.e+]+ +[0-9.e+]+ +[0-9.e+]+  steps/s$'; then
+if [ $? -ne 0 ] || ! printf '%s\n' "$out" | grep -Eq '^cells.step.50k.t1 +[0-9.e+]+ +[0-9.e+]+ +[0-9.e+]+  steps/s$'; then
   echo "FAIL: cellform-bench cells.step.50k.t1 said: $out"
   fail=1
 fi

@@ -19,8 +19,6 @@ using namespace cellform::test;
 
 namespace {
 
-/// A blade of 120 x 80 with one seed node at its base and 150 fixed sources scattered over it (no darts):
-/// the sources wait far from the veins at first, so in closed exact runs most are in lazy mode.
 /// `n` sources of `rng` in 0.9 of the ellipse of half-axes a (x) and b (y) centred at (0, b), y from y0 to y1.
 void scatter_sources(v::Leaf& leaf, std::size_t n, core::Rng rng, double a, double b, double y0, double y1) {
   while (leaf.initial_sources.size() < n) {
@@ -29,6 +27,8 @@ void scatter_sources(v::Leaf& leaf, std::size_t n, core::Rng rng, double a, doub
   }
 }
 
+/// A blade of 120 x 80 with one seed node at its base and 150 fixed sources scattered over it (no darts):
+/// the sources wait far from the veins at first, so in closed exact runs most are in lazy mode.
 v::Leaf scattered_sources_leaf() {
   v::Leaf leaf = ellipse_leaf(120, 80);
   leaf.initial_nodes = {{0, 2}};
