@@ -433,7 +433,7 @@ bool constrain(const Box& box, double margin, const Vec3& prev, Vec3& p, Vec3& v
 }  // namespace
 
 void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& positions, const ObstacleNames& names,
-                   int threads) {
+                   int threads, const PreparedObstacles* prepared) {
   validate(obstacles);
   auto refuse_if_inside = [&](const auto& solid, const std::vector<std::string>& given, const char* kind,
                               std::size_t index, const char* where) {
@@ -468,10 +468,11 @@ void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& position
   if (std::none_of(obstacles.meshes.begin(), obstacles.meshes.end(),
                    [](const auto& m) { return !m.triangles.empty(); }))
     return;
-  const PreparedObstacles prepared(obstacles);
+  std::optional<PreparedObstacles> own;  // built here only without a scene's
+  const PreparedObstacles& index = prepared ? *prepared : own.emplace(obstacles);
   std::vector<std::optional<std::size_t>> touched(positions.size());
   core::parallel_for(positions.size(), threads, [&](std::size_t first, std::size_t last) {
-    for (std::size_t i = first; i < last; ++i) touched[i] = prepared.mesh_touched(positions[i]);
+    for (std::size_t i = first; i < last; ++i) touched[i] = index.mesh_touched(positions[i]);
   });
   for (std::size_t k = 0; k < obstacles.meshes.size(); ++k) {
     std::vector<Vec3> on;

@@ -16,6 +16,8 @@ namespace cellform::forms {
 using core::Index;
 using core::Vec3;
 
+class PreparedObstacles;
+
 /// The solid side of a plane: cells stay on the side `normal` points to. A ground plane is a half-space.
 struct HalfSpace {
   Vec3 point = Vec3::Zero();    ///< any point of the plane, model units
@@ -69,9 +71,10 @@ void validate(const Obstacles& obstacles);
 /// how many positions it holds and the first of them. A position on a mesh triangle (within a rounding
 /// tolerance, see PreparedObstacles::mesh_touched) is refused too: it is on neither side of the mesh, so no
 /// move of it would count as crossing. Also throws as validate() does. `threads` (0 = all cores) search the
-/// meshes; the result is the same for any value.
+/// meshes; the result is the same for any value. `prepared`, if given, is `obstacles` prepared (a scene's),
+/// whose mesh hierarchy is searched instead of building one.
 void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& positions, const ObstacleNames& names = {},
-                   int threads = 0);
+                   int threads = 0, const PreparedObstacles* prepared = nullptr);
 
 /// Obstacles prepared for repeated use: a bounding-volume hierarchy over every mesh triangle.
 /// Build once per scene and call apply() every step; apply_obstacles() builds one per call.

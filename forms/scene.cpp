@@ -106,7 +106,7 @@ void Scene::apply_petioles(std::uint64_t step) {
         made.emplace_back(i, &p);
         // a new cell inside a solid would stay there (and its daughters): obstacles only stop crossings
         if (sim_.cells().size() > before)
-          check_outside(desc_.obstacles, {sim_.cells().position[i]}, desc_.obstacle_names, sim_.threads());
+          check_outside(desc_.obstacles, {sim_.cells().position[i]}, desc_.obstacle_names, sim_.threads(), &obstacles_);
       } catch (const core::InvalidInput& e) {
         throw core::InvalidInput(p.origin + "petiole (step " + std::to_string(step) + "): " + e.what());
       }
@@ -114,7 +114,7 @@ void Scene::apply_petioles(std::uint64_t step) {
 
 void Scene::start() {
   apply_petioles(sim_.step_count());
-  check_outside(desc_.obstacles, sim_.cells().position, desc_.obstacle_names, sim_.threads());
+  check_outside(desc_.obstacles, sim_.cells().position, desc_.obstacle_names, sim_.threads(), &obstacles_);
   if (desc_.venation) {
     bool any = false;
     for (const cells::CellType t : sim_.cells().type) any = any || t == cells::CellType::petiole;
