@@ -40,7 +40,7 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
     return usage;
   }
   // pieces, pockets, a volume and walls mean something only where the surfaces bound a solid the right way round
-  const bool solid = r.closed_manifold() && r.consistently_oriented && r.nesting_tested && r.misnested_parts == 0;
+  const bool solid = r.solid();
   // --min-wall: the 1st percentile by area (single rays can cut a junction's corner), measured
   const bool thin = min_wall > 0 && !(th.samples > 0 && th.p01 >= min_wall);
   const std::string thin_text =

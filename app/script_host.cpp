@@ -245,10 +245,7 @@ ScriptHost::ScriptHost(ScriptLimits limits) : impl_(std::make_unique<Impl>()) {
   // seed and the step (set_step). The library's own randomseed is kept for that, whatever a script does.
   lua_getglobal(L, LUA_MATHLIBNAME);
   lua_getfield(L, -1, "randomseed");
-  lua_pushvalue(L, -1);
-  I.randomseed_ref = luaL_ref(L, LUA_REGISTRYINDEX);
-  lua_pushinteger(L, 0);
-  lua_call(L, 1, 0);
+  I.randomseed_ref = luaL_ref(L, LUA_REGISTRYINDEX);  // (load() seeds with it)
   lua_getfield(L, -1, "randomseed");
   lua_pushcclosure(L, api_randomseed, 1);
   lua_setfield(L, -2, "randomseed");

@@ -563,6 +563,11 @@ inline int guarded(lua_State* L, Body&& body) {
   return results;
 }
 
+/// The string keys of the table at `idx`, in byte order: Lua's own order changes from run to run (its string
+/// hashes are seeded per process). `unnamed` tells whether the table has other keys too. Raw: no metamethod
+/// runs (script_values.cpp).
+std::vector<std::string> sorted_names(lua_State* L, int idx, bool& unnamed);
+
 /// params{name = default, ...}: the script's knobs, with --set overrides (script_values.cpp).
 int api_params(lua_State* L);
 

@@ -168,9 +168,10 @@ int ordered_next(lua_State* L) {
   return 2;
 }
 
-/// pairs(t): t's __pairs if it has one, as Lua's; otherwise its keys in key_less's order.
+/// The continuation of a __pairs that yielded: its three results.
 int pairs_continued(lua_State*, int, lua_KContext) { return 3; }
 
+/// pairs(t): t's __pairs if it has one, as Lua's; otherwise its keys in key_less's order.
 int ordered_pairs(lua_State* L) {
   if (luaL_getmetafield(L, 1, "__pairs") != LUA_TNIL) {  // as Lua's: __pairs may yield
     lua_pushvalue(L, 1);

@@ -21,13 +21,8 @@ int params_missing(lua_State* L) {
     if (lua_type(L, 2) != LUA_TSTRING)
       throw InvalidInput(at + "params has no knob at a " + luaL_typename(L, 2) + " key (knobs are named: P.name)");
     const std::string key = lua_tostring(L, 2);
-    std::vector<std::string> names;
-    lua_pushnil(L);
-    while (lua_next(L, 1) != 0) {
-      if (lua_type(L, -2) == LUA_TSTRING) names.push_back(lua_tostring(L, -2));
-      lua_pop(L, 1);
-    }
-    std::sort(names.begin(), names.end());  // the same suggestion every run, whatever Lua's order
+    bool unnamed = false;
+    const std::vector<std::string> names = sorted_names(L, 1, unnamed);  // the same suggestion every run
     const std::string near = core::closest_name(key, names);
     throw InvalidInput(at + "params has no knob '" + core::printable(key) + "'" +
                        (near.empty() ? "" : "; did you mean '" + near + "'?") + " (params{...} declares the knobs)");
@@ -107,19 +102,9 @@ int api_params(lua_State* L) {
     lua_newtable(L);
     // the knobs in byte order of their names: Lua's own order changes from run to run, and so would the
     // message of a script with two bad knobs
-    std::vector<std::string> keys;
-    lua_pushnil(L);
-    while (lua_next(L, 1) != 0) {
-      lua_pop(L, 1);
-      if (lua_type(L, -1) != LUA_TSTRING) {
-        lua_pop(L, 1);
-        throw InvalidInput(at + "params{...}: every parameter needs a name (name = default)");
-      }
-      std::size_t len = 0;
-      const char* name = lua_tolstring(L, -1, &len);
-      keys.emplace_back(name, len);
-    }
-    std::sort(keys.begin(), keys.end());
+    bool unnamed = false;
+    const std::vector<std::string> keys = sorted_names(L, 1, unnamed);
+    if (unnamed) throw InvalidInput(at + "params{...}: every parameter needs a name (name = default)");
     for (const std::string& key : keys) {
       lua_pushlstring(L, key.data(), key.size());
       lua_pushvalue(L, -1);

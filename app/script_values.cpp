@@ -289,6 +289,25 @@ void ScriptHost::Impl::check_range(const Field& f, Value& v, const std::string& 
   }
 }
 
+std::vector<std::string> sorted_names(lua_State* L, int idx, bool& unnamed) {
+  idx = lua_absindex(L, idx);
+  std::vector<std::string> names;
+  unnamed = false;
+  lua_pushnil(L);
+  while (lua_next(L, idx) != 0) {
+    lua_pop(L, 1);
+    if (lua_type(L, -1) != LUA_TSTRING) {
+      unnamed = true;
+      continue;
+    }
+    std::size_t len = 0;
+    const char* text = lua_tolstring(L, -1, &len);  // a string key: read, not converted
+    names.emplace_back(text, len);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
 Values ScriptHost::Impl::read_section(const std::string& section, int idx, const std::string& at,
                                       nlohmann::json* record) {
   const auto fields = section_fields(section);
@@ -297,26 +316,13 @@ Values ScriptHost::Impl::read_section(const std::string& section, int idx, const
     throw InvalidInput(at + section + "{...} takes a table of named parameters, got " + luaL_typename(L, idx));
   Values values;
   if (t == LUA_TTABLE) {
-    // the names in byte order, so that the same script is refused with the same message every time: Lua's own
-    // order changes from run to run (its string hashes are seeded per process)
+    // the names in byte order, so that the same script is refused with the same message every time
     idx = lua_absindex(L, idx);
-    std::vector<std::string> keys;
     bool unnamed = false;
-    lua_pushnil(L);
-    while (lua_next(L, idx) != 0) {
-      lua_pop(L, 1);
-      if (lua_type(L, -1) != LUA_TSTRING) {
-        unnamed = true;
-        continue;
-      }
-      std::size_t len = 0;
-      const char* text = lua_tolstring(L, -1, &len);  // a string key: read, not converted
-      keys.emplace_back(text, len);
-    }
+    const std::vector<std::string> keys = sorted_names(L, idx, unnamed);
     if (unnamed)
       throw InvalidInput(at + section + "{...}: parameters are named (name = value); got a value without a name" +
                          (section == "print" ? kPrintTableHint : ""));
-    std::sort(keys.begin(), keys.end());
     for (const std::string& key : keys) {
       const Field* f = find_field(section, key);
       if (!f) {

@@ -359,17 +359,16 @@ std::string MeshReport::summary() const {
   s << triangles << " triangles, " << vertices << " vertices, ";
   // the inner walls of closed pockets are parts too, but not pieces that come apart (a volume's sign means
   // that only on a closed, consistently oriented mesh, and only if it is not inside out)
-  if (cavities > 0 && pieces > 0 && closed_manifold() && consistently_oriented && nesting_tested &&
-      misnested_parts == 0)
+  if (cavities > 0 && pieces > 0 && solid())
     s << pieces << (pieces == 1 ? " solid piece with " : " solid pieces with ") << cavities
       << (cavities == 1 ? " closed cavity" : " closed cavities") << " inside (" << parts << " surfaces)";
-  else if (closed_manifold() && consistently_oriented && nesting_tested && misnested_parts == 0)
+  else if (solid())
     s << parts << (parts == 1 ? " part" : " parts");
   else  // pieces and pockets are not told apart on such a mesh
     s << parts << (parts == 1 ? " connected surface" : " connected surfaces");
   // a volume means something only inside a closed, consistently oriented surface
   s << "; volume ";
-  if (closed_manifold() && consistently_oriented && nesting_tested && misnested_parts == 0)
+  if (solid())
     s << volume;
   else
     s << "none ("

@@ -45,11 +45,12 @@ struct MeshReport {
 
   /// No holes, no non-manifold edges or vertices.
   bool closed_manifold() const { return boundary_edges == 0 && nonmanifold_edges == 0 && nonmanifold_vertices == 0; }
-  /// Closed manifold, consistently oriented (also as nested, and tested so), no self-intersections (tested), no
-  /// degenerate triangles, positive volume.
+  /// Bounds a solid: closed manifold, consistently oriented, also as its parts nest (and that was tested).
+  bool solid() const { return closed_manifold() && consistently_oriented && nesting_tested && misnested_parts == 0; }
+  /// solid(), no self-intersections (tested), no degenerate triangles, positive volume.
   bool printable() const {
-    return triangles > 0 && closed_manifold() && consistently_oriented && nesting_tested && misnested_parts == 0 &&
-           intersections_tested && self_intersections == 0 && degenerate_triangles == 0 && volume > 0;
+    return triangles > 0 && solid() && intersections_tested && self_intersections == 0 && degenerate_triangles == 0 &&
+           volume > 0;
   }
   /// Why the mesh is not printable, one phrase each ("not closed: 12 boundary edges", "inside out: ..."); empty
   /// when printable().

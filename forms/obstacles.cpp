@@ -435,11 +435,12 @@ bool constrain(const Box& box, double margin, const Vec3& prev, Vec3& p, Vec3& v
 void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& positions, const ObstacleNames& names,
                    int threads, const PreparedObstacles* prepared) {
   validate(obstacles);
-  auto refuse_if_inside = [&](const auto& solid, const std::vector<std::string>& given, const char* kind,
-                              std::size_t index, const char* where) {
+  // "NAME: N of the M cells lie WHERE (the first at P); WHY", for the cells `holds` says lie there
+  auto refuse = [&](const std::vector<std::string>& given, const char* kind, std::size_t index, const char* where,
+                    const char* why, const auto& holds) {
     std::size_t count = 0, first = 0;
     for (std::size_t i = positions.size(); i-- > 0;) {
-      if (inside(positions[i], solid, 0.0)) {
+      if (holds(i)) {
         ++count;
         first = i;
       }
@@ -453,7 +454,12 @@ void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& position
                                               : std::to_string(count) + " of the " + std::to_string(positions.size()) +
                                                     (count == 1 ? " cells lies " : " cells lie ") + where +
                                                     " (the first at " + at + ")") +
-                       "; obstacles must start outside the cells (touching them is fine)");
+                       "; " + why);
+  };
+  auto refuse_if_inside = [&](const auto& solid, const std::vector<std::string>& given, const char* kind,
+                              std::size_t index, const char* where) {
+    refuse(given, kind, index, where, "obstacles must start outside the cells (touching them is fine)",
+           [&](std::size_t i) { return inside(positions[i], solid, 0.0); });
   };
   for (std::size_t i = 0; i < obstacles.half_spaces.size(); ++i) {
     HalfSpace h = obstacles.half_spaces[i];
@@ -474,22 +480,11 @@ void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& position
   core::parallel_for(positions.size(), threads, [&](std::size_t first, std::size_t last) {
     for (std::size_t i = first; i < last; ++i) touched[i] = index.mesh_touched(positions[i]);
   });
-  for (std::size_t k = 0; k < obstacles.meshes.size(); ++k) {
-    std::vector<Vec3> on;
-    for (std::size_t i = 0; i < positions.size(); ++i)
-      if (touched[i] == k) on.push_back(positions[i]);
-    if (on.empty()) continue;
-    const std::string name = k < names.meshes.size() ? names.meshes[k] : "mesh " + std::to_string(k);
-    const std::string at = core::point_text(on[0].x(), on[0].y(), on[0].z());
-    throw InvalidInput(name + ": " +
-                       (positions.size() == 1
-                            ? "the cell at " + at + " lies"
-                            : std::to_string(on.size()) + " of the " + std::to_string(positions.size()) +
-                                  (on.size() == 1 ? " cells lies" : " cells lie")) +
-                       " on its surface" + (positions.size() == 1 ? "" : " (the first at " + at + ")") +
-                       "; a cell on a mesh is on neither side of it and could pass through it: start the cells "
-                       "off the mesh (a tenth of a rest length is enough)");
-  }
+  for (std::size_t k = 0; k < obstacles.meshes.size(); ++k)
+    refuse(names.meshes, "mesh", k, "on its surface",
+           "a cell on a mesh is on neither side of it and could pass through it: start the cells off the mesh (a "
+           "tenth of a rest length is enough)",
+           [&](std::size_t i) { return touched[i] == k; });
 }
 
 bool PreparedObstacles::inside_solid(const Vec3& position, double margin) const {

@@ -65,11 +65,12 @@ void validate(const ColonisationParams& p) {
     if (!(p.scale_step > 0 && std::isfinite(p.scale_step)))
       throw InvalidInput(
           "colonisation.scale_step must be a positive increase of the leaf size per step when the leaf grows");
-    // a step below the rounding of the scale would never arrive (the run went on to max_steps, never quiet);
-    // one of more than 10^7 steps, as marginal growth refuses
-    if (p.final_scale > p.initial_scale && !(p.initial_scale + p.scale_step > p.initial_scale))
+    // a step below the rounding of the scale would never arrive (the run went on to max_steps, never quiet):
+    // checked at the largest scale, whose rounding is the coarsest on the way; one of more than 10^7 steps, as
+    // marginal growth refuses
+    if (p.final_scale > p.initial_scale && !(p.final_scale + p.scale_step > p.final_scale))
       throw InvalidInput("colonisation.scale_step (" + number_text(p.scale_step) +
-                         ") is too small to change the leaf's size (" + number_text(p.initial_scale) +
+                         ") is too small to change the leaf's size (up to " + number_text(p.final_scale) +
                          ") in double precision: the growth would never end");
     if (p.final_scale > p.initial_scale && (p.final_scale - p.initial_scale) / p.scale_step > 1e7)
       throw InvalidInput("colonisation.scale_step (" + number_text(p.scale_step) + ") is too small: growth from " +

@@ -82,8 +82,12 @@ TEST_CASE("leaf{} and colonisation{} describe a space-colonisation run", "[scrip
   // a step below the rounding of the size never arrives: isogonic growth ran on to max_steps (a review)
   CHECK_THAT(load_error("leaf {}\ncolonisation { growth = 'isogonic', initial_length = 20, final_length = 40, "
                         "length_step = 1e-17 }\n"),
-             Contains(":2: colonisation.length_step (1e-17) is too small to change the leaf's size (20) in double "
-                      "precision"));
+             Contains(":2: colonisation.length_step (1e-17) is too small to change the leaf's size (up to 40) in "
+                      "double precision"));
+  // the size's rounding is coarser past a power of two: a step that moves it below 2 stuck at 2 (a re-read)
+  CHECK_THAT(load_error("leaf {}\ncolonisation { growth = 'isogonic', initial_length = 1.999999999999, "
+                        "final_length = 2.000000000001, length_step = 1.5e-16 }\n"),
+             Contains("is too small to change the leaf's size (up to 2"));
   CHECK_THAT(load_error("leaf {}\ncolonisation { growth = 'isogonic', initial_length = 20, final_length = 40, "
                         "length_step = 1e-6 }\n"),
              Contains(":2: colonisation.length_step (1e-06) is too small: growth from 20 to 40 would take more "
