@@ -370,22 +370,23 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     fs::remove_all(staging, ec);
     remove_empty_up_to(dir, created);
   });
-  const auto write_frame = [&](const cells::Cells& now, std::uint64_t step) {
+  const auto write_frame = [&](std::uint64_t step) {
     const std::string name = "frames/" + exporters::frame_name("cells", step, "ply");
     core::ensure_directory(staging / "frames");
-    // linked as they lie now, on a copy (the steps link them again from the positions alone); with the
-    // attributes of the later frames, none flowing before canalisation's first pass: one layout for a sequence
-    cells::Cells c = now;
-    core::PointGrid grid;
-    cells::update_links(c, sim.params(), grid, sim.threads());
-    if (cfg.scene.venation) venation::add_attributes(c);
+    // linked as they lie now; with the attributes of the later frames, none flowing before canalisation's
+    // first pass (on a copy: rules must not see them before it): one layout for a sequence
+    sim.relink();
+    const bool bare = cfg.scene.venation && !venation::has_attributes(sim.cells());
+    cells::Cells copy = bare ? sim.cells() : cells::Cells{};
+    if (bare) venation::add_attributes(copy);
+    const cells::Cells& c = bare ? copy : sim.cells();
     exporters::write_cells_ply(staging / name, c, cells::triangulate(c));
     outputs.push_back(name);
     frame_steps.push_back(step);
   };
   try {
     if (cfg.output.every > 0 && sim.step_count() == 0)  // the cells as placed (also when no step runs: --steps 0)
-      write_frame(sim.cells(), 0);
+      write_frame(0);
     // the step at which the cells reached division.max_cells, in this command (a full start is no news)
     std::uint64_t full_at = sim.cells().size() >= sim.params().division.max_cells ? target + 1 : 0;
     while (sim.step_count() < target) {
@@ -427,7 +428,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       if (full_at == 0 && sim.cells().size() >= sim.params().division.max_cells) full_at = step;
       progress.update(step, sim.cells().size());
       if (cfg.output.every > 0 && step % cfg.output.every == 0)  // asked for, whatever output.ply says of the end
-        write_frame(sim.cells(), step);
+        write_frame(step);
       if (step < target && checkpoints.due(step))
         saved = periodic_checkpoint(checkpoint_now, err, checkpoint_warned, checkpoint_seconds) || saved;
     }
@@ -437,13 +438,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
           << full_at << "; no cell divided after it (raise division.max_cells to grow on)\n";
     if (cfg.scene.venation && sim.step_count() > first)  // the notes wait for a finished run (not yet: not news)
       say_vein_findings(err, sim.cells(), scene->venation_report(), *cfg.scene.venation, !g_interrupt.load());
-    {  // The links of the cells as they lie now, for the surface, the print and the checkpoint (the notes above
-      // speak of those canalisation saw): a step links them before it moves and divides them (a daughter holds
-      // a copy of her mother's row, and no row holds her). The next step links them again from the positions
-      // alone, so a resumed run is the same.
-      core::PointGrid grid;
-      cells::update_links(sim.cells(), sim.params(), grid, sim.threads());
-    }
+    // the links of the cells as they lie now, for the surface, the print and the checkpoint (the notes above
+    // speak of those canalisation saw)
+    sim.relink();
     const auto b = std::chrono::steady_clock::now();
     json printed;
     bool print_cancelled = false, printed_first = false;  // (a Ctrl-C of the early print ends the run)

@@ -138,11 +138,7 @@ Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHo
     } catch (const std::exception& e) {  // a full disk: the sheet so far is still written out
       out.checkpoint_error = core::error_text(e);
     }
-  {  // the links of the cells as they lie now, for the sheet's triangles: a step links them before it moves and
-     // divides them (and when no step ran, none are made)
-    core::PointGrid grid;
-    cells::update_links(sim.cells(), sim.params(), grid, sim.threads());
-  }
+  sim.relink();  // for the sheet's triangles (when no step ran, no links are made)
   out.step = sim.step_count();
   out.cells = std::move(sim.cells());
   return out;

@@ -381,17 +381,23 @@ struct ScriptHost::Impl {
       }
       return 1;
     }
-    const std::string type = luaL_typename(L, 1);
+    const char* type = luaL_typename(L, 1);     // (no C++ object here: a failing __tostring longjmps out)
     for (int level = 1; level <= 2; ++level) {  // the caller of error(), past error() itself
       luaL_where(L, level);
       if (lua_rawlen(L, -1) > 0) break;
       lua_pop(L, 1);
       if (level == 2) lua_pushliteral(L, "");
     }
-    if (lua_type(L, 1) == LUA_TNUMBER)  // error(42): the number is the message
-      luaL_tolstring(L, 1, nullptr);    // pushes its text
+    // error(42), or an error object that says what it is (__tostring, as lua.c prints it): its text
+    bool says = lua_type(L, 1) == LUA_TNUMBER;
+    if (!says && luaL_getmetafield(L, 1, "__tostring") != LUA_TNIL) {
+      lua_pop(L, 1);
+      says = true;
+    }
+    if (says)
+      luaL_tolstring(L, 1, nullptr);  // pushes its text
     else
-      lua_pushfstring(L, "error() was raised with a %s value, not a message; give error a string", type.c_str());
+      lua_pushfstring(L, "error() was raised with a %s value, not a message; give error a string", type);
     lua_concat(L, 2);
     return 1;
   }

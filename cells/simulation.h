@@ -87,6 +87,11 @@ class Simulation {
   /// copy or a checkpoint taken before it, as `cellform run` does.
   StepReport step(const std::function<void(Cells&)>& forces = {}, const std::function<void(Cells&)>& constrain = {});
 
+  /// Links the cells as they lie now, for output (surfaces, frames, checkpoints): a step links them before
+  /// it moves and divides them, so after a step a daughter holds a copy of her mother's row and no row holds
+  /// her. Changes no later step: every step links the cells again from their positions alone.
+  void relink() { update_links(cells_, params_, grid_, threads_); }
+
  private:
   Params params_;
   std::uint64_t seed_;

@@ -19,6 +19,12 @@ void add_attributes(cells::Cells& c) {
   for (const char* name : {kFlow, kRadius, kOrder, kFlowX, kFlowY, kFlowZ}) cells::attribute(c, name);
 }
 
+bool has_attributes(const cells::Cells& c) {
+  for (const char* name : {kFlow, kRadius, kOrder, kFlowX, kFlowY, kFlowZ})
+    if (!c.attributes.count(name)) return false;
+  return true;
+}
+
 using cells::CellType;
 
 void validate(const Params& p) {

@@ -74,6 +74,8 @@ inline constexpr const char* kFlowZ = "flow_dz";
 /// Adds the per-cell attributes canalise() writes (the six above), zero where missing: a cell file written
 /// before canalisation's first pass then has the layout of the later ones.
 void add_attributes(cells::Cells& c);
+/// Whether the cells carry all six attributes add_attributes() adds.
+bool has_attributes(const cells::Cells& c);
 
 /// One step of canalisation, in the paper's two phases, in time linear in the number of cells and links.
 ///  1. Towards the veins: starting at the cells adjacent to a vein and moving outward layer by layer

@@ -72,7 +72,7 @@ void validate(const ColonisationParams& p) {
       throw InvalidInput("colonisation.scale_step (" + number_text(p.scale_step) +
                          ") is too small to change the leaf's size (up to " + number_text(p.final_scale) +
                          ") in double precision: the growth would never end");
-    if (p.final_scale > p.initial_scale && (p.final_scale - p.initial_scale) / p.scale_step > 1e7)
+    if (p.final_scale > p.initial_scale && (p.final_scale - p.initial_scale) / p.scale_step > kMaxGrowthSteps)
       throw InvalidInput("colonisation.scale_step (" + number_text(p.scale_step) + ") is too small: growth from " +
                          number_text(p.initial_scale) + " to " + number_text(p.final_scale) +
                          " would take more than 10^7 steps");

@@ -18,7 +18,6 @@ using core::InvalidInput;
 
 namespace {
 
-constexpr std::size_t kMaxSteps = 10'000'000;
 constexpr double kMaxDarts = 1e9;
 constexpr double kMaxSources = 5e7;  // about 2 GB of precomputed sources at their peak (40 bytes each)
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
@@ -156,7 +155,7 @@ std::uint32_t entry_step(const Vec2& q, const Vec2& petiole, const RayIndex& ray
 std::vector<double> marginal_scales(double initial_scale, double final_scale, double scale_step) {
   std::vector<double> s{initial_scale};
   if (!(final_scale > initial_scale)) return s;
-  if (!(scale_step > 0) || (final_scale - initial_scale) / scale_step > static_cast<double>(kMaxSteps))
+  if (!(scale_step > 0) || (final_scale - initial_scale) / scale_step > kMaxGrowthSteps)
     throw InvalidInput("colonisation.scale_step is too small: marginal growth from " + number_text(initial_scale) +
                        " to " + number_text(final_scale) + " would take more than 10^7 steps");
   // the same expression as the simulation's step, so the values are the same bits

@@ -10,6 +10,9 @@
 
 namespace cellform::venation {
 
+/// The most growth steps (from initial_scale to final_scale by scale_step) any growth mode allows.
+inline constexpr double kMaxGrowthSteps = 1e7;
+
 /// The growth scales of marginal growth, one per step: sigma_0 = initial_scale, sigma_{k+1} =
 /// min(final_scale, sigma_k + scale_step) up to the first that equals final_scale (Section 3.3 of
 /// Runions et al. 2005: sigma_{t + Delta t} = sigma_t + Delta sigma). These are the bits Colonisation

@@ -155,6 +155,21 @@ TEST_CASE("every frame of a run with venation has the same properties, the first
   CHECK(slurp(t.path / "zero" / "cells.ply") == slurp(t.path / "zero" / "frames/cells_000000.ply"));
 }
 
+TEST_CASE("the first frame's vein attributes are not seen by the rules before canalisation made them",
+          "[cli][venation]") {
+  // frame 0 gets them on a copy: a rule of step 1 reads nil, as in a run without frames
+  TempDir t("cli-frame-rules");
+  const auto script = t.write("rules.lua",
+                              "run { steps = 3, seed = 1 }\nvenation { threshold = 10 }\ndisc { radius = 4 }\n"
+                              "petiole { at = {0, -4, 0} }\noutput { every = 1 }\n"
+                              "division { rule = function(cell)\n  if cell.step == 1 and cell.flow ~= nil then "
+                              "error('flow seen') end\n  return cell.age > 1\nend }\n");
+  const auto r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet", "--steps", "3"});
+  CHECK_THAT(r.err, !Contains("flow seen"));
+  CHECK(r.code == 0);
+  CHECK(fs::exists(t.path / "o" / "frames/cells_000003.ply"));
+}
+
 TEST_CASE("a petiole that grew no vein is noted, with where it is and why", "[cli][venation]") {
   TempDir t("cli-veinless");
   // the second petiole comes at step 110 onto the vein the first one has grown along the strip: it

@@ -523,6 +523,11 @@ TEST_CASE("errors without a message, runaway loops and file headers name the lin
   CHECK(load_error("error()\n") ==
         "test/leaf.lua:1: error() was raised with a nil value, not a message; give error a string");
   CHECK(load_error("error(42)\n") == "test/leaf.lua:1: 42");
+  // an error object with __tostring (an error class of a Lua library) says its own text
+  CHECK(load_error("error(setmetatable({}, { __tostring = function() return 'bad knot' end }))\n") ==
+        "test/leaf.lua:1: bad knot");
+  CHECK_THAT(load_error("error(setmetatable({}, { __tostring = function() return {} end }))\n"),
+             Contains("'__tostring' must return a string"));
   ScriptLimits tight;
   tight.instructions = 100000;
   CHECK_THAT(load_error("disc { radius = 2 }\nlocal n = 0\nwhile true do\n  n = n + 1\nend\n", {}, tight),
