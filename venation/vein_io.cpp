@@ -65,10 +65,12 @@ SvgPage write_svg(const std::filesystem::path& path, const VeinTree& tree, const
                   const std::vector<Vec3>& sources) {
   const auto [lo, hi] = drawing_bounds(tree, outline);
   const double extent = std::max({hi.x() - lo.x(), hi.y() - lo.y(), 1e-12});
-  const double s = sp.scale > 0 ? sp.scale : sp.size / extent;  // mm per model unit
-  const double w = (hi.x() - lo.x()) * s + 2 * sp.margin, h = (hi.y() - lo.y()) * s + 2 * sp.margin;
-  auto X = [&](double x) { return (x - lo.x()) * s + sp.margin; };
-  auto Y = [&](double y) { return (hi.y() - y) * s + sp.margin; };
+  // the outline's line reaches half its width (in mm, round joins) past its points: inside `size`, not the margin
+  const double half = outline.points.empty() ? 0.0 : sp.outline_stroke / 2, edge = sp.margin + half;
+  const double s = sp.scale > 0 ? sp.scale : std::max(sp.size - 2 * half, sp.size / 2) / extent;  // mm per unit
+  const double w = (hi.x() - lo.x()) * s + 2 * edge, h = (hi.y() - lo.y()) * s + 2 * edge;
+  auto X = [&](double x) { return (x - lo.x()) * s + edge; };
+  auto Y = [&](double y) { return (hi.y() - y) * s + edge; };
 
   // Veins as polylines, so a plotter draws a vein without lifting its pen at every node: a path runs on
   // through a node with one child while the width stays the same (between branch points it does).
@@ -197,7 +199,7 @@ SvgPage write_svg(const std::filesystem::path& path, const VeinTree& tree, const
       // a line, not a filled shape: plotters draw it, laser cutters cut it (a fill they would engrave)
       out += "<g id=\"outline\" inkscape:groupmode=\"layer\" inkscape:label=\"" +
              std::to_string(std::max(kOutlineLayer, number + 1)) + " outline\" stroke=\"" + kOutlineColour +
-             "\" fill=\"none\">\n<path stroke-width=\"";
+             "\" stroke-linejoin=\"round\" fill=\"none\">\n<path stroke-width=\"";
       num(sp.outline_stroke);
       out += "\" d=\"";
       for (std::size_t i = 0; i < outline.points.size(); ++i) {

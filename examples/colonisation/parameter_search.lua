@@ -9,7 +9,7 @@
 -- and Delta L for quick looks.
 -- Made for veins.svg and veins.png: printed 120 mm across, with every vein raised to print.min_radius
 -- (0.4 mm), the veins print as a dense lattice with small holes; `--set scale=0.3` (a smaller leaf,
--- fewer veins) prints its veins apart, with space between them.
+-- fewer veins) prints its veins apart, with space between most of them (veins closer than their widths fuse).
 
 local P = params {
   panel = "c",        -- a, b, c, d, e (d_k search) or f, g, h (rho search)

@@ -9,7 +9,8 @@
 -- 2.5 to 3.5 minutes on 2 cores (the machine's load varies) and the whole run with its print about a
 -- minute more (see docs/benchmarks.md). Made for veins.svg and veins.png: printed 120 mm across, with
 -- every vein raised to print.min_radius (0.4 mm), the veins fuse into a plate; `--set scale=0.05` (a
--- smaller leaf, fewer veins) prints its veins apart, with space between them.
+-- smaller leaf, fewer veins) prints its veins apart, with space between most of them (veins closer than
+-- their widths fuse).
 -- It ends "stalled" with 5 sources left, inside the blade where no vein can step towards them (the step
 -- would leave the blade or run back along a vein); every other source is reached.
 

@@ -10,7 +10,7 @@
 -- growth 3 s, print 4 s); `--set scale=1` gives the paper's size.
 -- Made for veins.svg and veins.png: printed 120 mm across, with every vein raised to print.min_radius
 -- (0.4 mm), the veins fuse into a plate; `--set scale=0.1` (a smaller leaf, fewer veins) prints its veins
--- apart, with space between them.
+-- apart, with space between most of them (veins closer than their widths fuse).
 
 local P = params {
   neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (slower here: up to 25 times in the presets, more in larger leaves; exact keeps sector bests)

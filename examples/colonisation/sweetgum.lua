@@ -8,7 +8,7 @@
 -- growth 0.9 s, print 4.5 s); `--set scale=1` gives the paper's size.
 -- Made for veins.svg and veins.png: printed 120 mm across, with every vein raised to print.min_radius
 -- (0.4 mm), the veins fuse into a plate; `--set scale=0.03` (a smaller leaf, fewer veins) prints its veins
--- apart, with space between them.
+-- apart, with space between most of them (veins closer than their widths fuse).
 -- It ends "stalled" with 5 sources left, between teeth where no vein can step towards them (the step
 -- would leave the blade across the notch); every other source is reached.
 

@@ -9,7 +9,7 @@
 -- growth 0.8 s, print 3.7 s); `--set scale=1` gives the paper's size.
 -- Made for veins.svg and veins.png: printed 120 mm across, with every vein raised to print.min_radius
 -- (0.4 mm), the veins print as a dense lattice with small holes; `--set scale=0.02` (a smaller leaf,
--- fewer veins) prints its veins apart, with space between them.
+-- fewer veins) prints its veins apart, with space between most of them (veins closer than their widths fuse).
 
 local P = params {
   neighbourhood = "exact",  -- or "urquhart", the approximation of Section 5.2 (slower here: up to 25 times in the presets, more in larger leaves; exact keeps sector bests)

@@ -8,7 +8,7 @@
 -- growth 3.5 s, print 6.9 s); `--set scale=1` gives the paper's size.
 -- Made for veins.svg and veins.png: printed 120 mm across, with every vein raised to print.min_radius
 -- (0.4 mm), the veins fuse into a plate; `--set scale=0.03` (a smaller leaf, fewer veins) prints its veins
--- apart, with space between them.
+-- apart, with space between most of them (veins closer than their widths fuse).
 -- It ends "stalled" with 151 sources left outside the grown blade, below the lobes and teeth: the young
 -- blade, growing at its margin, covered them where the grown one leaves a gap (docs/scripting.md, growth).
 

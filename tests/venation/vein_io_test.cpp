@@ -68,21 +68,22 @@ TEST_CASE("the SVG is drawn in millimetres at svg size", "[vein_io]") {
 
   // the page: 120 x 30 mm of drawing plus 5 mm on each side, and one user unit is one millimetre; and 1.5 mm
   // more below, where the midvein's round end (3 mm wide at the outline's edge) reaches (audit: it ran off
-  // the page through the margin)
+  // the page through the margin). The outline's 0.2 mm line is inside the 120 mm (audit: it reached 0.1 mm
+  // into the margin): 2.995 mm per unit
   const std::vector<double> w = captured(svg, "width=\"([0-9.]+)mm\""), h = captured(svg, "height=\"([0-9.]+)mm\"");
   REQUIRE(w.size() == 1);
   REQUIRE(h.size() == 1);
   CHECK(w[0] == Approx(130).margin(1e-9));
-  CHECK(h[0] == Approx(41.5).margin(1e-9));
-  CHECK(svg.find("viewBox=\"0 0 130.000 41.500\"") != std::string::npos);
+  CHECK(h[0] == Approx(10.5 * 2.995 + 10.2).margin(6e-4));  // (3 decimals in the file)
+  CHECK(svg.find("viewBox=\"0 0 130.000 41.648\"") != std::string::npos);
 
-  // the outline's corners land 120 mm apart, inside the 5 mm margin, y up
+  // the outline's corners land 119.8 mm apart, their line inside the 5 mm margin, y up
   const std::vector<double> xs = captured(svg, "[ML]([0-9.]+) [0-9.]+");
   REQUIRE(xs.size() >= 4);
-  CHECK(*std::min_element(xs.begin(), xs.end()) == Approx(5));
-  CHECK(*std::max_element(xs.begin(), xs.end()) == Approx(125));
+  CHECK(*std::min_element(xs.begin(), xs.end()) == Approx(5.1));
+  CHECK(*std::max_element(xs.begin(), xs.end()) == Approx(124.9));
   // the midvein, base (y = 0) below, drawn from its end nearer the page corner where the pen starts
-  CHECK(svg.find("M65.000 20.000 L65.000 35.000") != std::string::npos);
+  CHECK(svg.find("M65.000 20.075 L65.000 35.050") != std::string::npos);
 
   // strokes: 2 r mm per unit for veins, the minimum for the thin branch, then the outline's own width
   const std::vector<double> strokes = captured(svg, "stroke-width=\"([0-9.]+)\"");
@@ -90,9 +91,9 @@ TEST_CASE("the SVG is drawn in millimetres at svg size", "[vein_io]") {
   CHECK(strokes[2] == Approx(sp.outline_stroke));
   // the outline: a line to cut, in a layer of its own colour and its fixed number
   CHECK(svg.find("<g id=\"outline\" inkscape:groupmode=\"layer\" inkscape:label=\"100 outline\" stroke=\"#0000a0\" "
-                 "fill=\"none\">") != std::string::npos);
+                 "stroke-linejoin=\"round\" fill=\"none\">") != std::string::npos);
   CHECK(svg.find("fill=\"#") == std::string::npos);  // nothing filled but the marked sources, of which none here
-  CHECK(strokes[0] == Approx(2 * 0.5 * 3));          // the midvein: 3 mm wide
+  CHECK(strokes[0] == Approx(2 * 0.5 * 2.995));      // the midvein: 2.995 mm wide
   CHECK(strokes[1] == Approx(sp.min_stroke));        // 0.06 mm drawn at the minimum
   // no orders computed: one layer of veins, then the outline's
   CHECK_THAT(svg, Contains("inkscape:label=\"1 veins\"") && Contains("inkscape:label=\"100 outline\""));
@@ -104,7 +105,7 @@ TEST_CASE("the SVG is drawn in millimetres at svg size", "[vein_io]") {
   v::write_svg(dir2 / "leaf.svg", t, outline, sp);
   const std::string scaled = read_text(dir2 / "leaf.svg");
   std::filesystem::remove_all(dir2);
-  CHECK(scaled.find("width=\"90.000mm\" height=\"31.000mm\"") != std::string::npos);  // 40 x 10.5 units at 2 mm
+  CHECK(scaled.find("width=\"90.200mm\" height=\"31.200mm\"") != std::string::npos);  // 40 x 10.5 units at 2 mm
 }
 
 namespace {
@@ -123,6 +124,7 @@ std::vector<std::string> hand_tree_paths(bool join_veins, std::pair<Index, Index
   std::filesystem::create_directories(dir);
   v::SvgParams sp;
   sp.scale = 1;
+  sp.margin = 4.9;  // and half the outline's 0.2 mm line: the points 5 mm in
   sp.join_veins = join_veins;
   v::write_svg(dir / "p.svg", t, outline, sp);
   const std::string svg = read_text(dir / "p.svg");
@@ -188,8 +190,8 @@ TEST_CASE("the SVG has a layer per vein order, each path in the layer of its seg
   std::map<std::string, Index> node_at;
   for (Index i = 0; i < t.size(); ++i) {
     char key[64];
-    std::snprintf(key, sizeof key, "%.3f %.3f", (t.positions[i].x() - lo.x()) * 10 + 5,
-                  (hi.y() - t.positions[i].y()) * 10 + 5);
+    std::snprintf(key, sizeof key, "%.3f %.3f", (t.positions[i].x() - lo.x()) * 10 + 5.1,  // margin, half line
+                  (hi.y() - t.positions[i].y()) * 10 + 5.1);
     REQUIRE(node_at.emplace(key, i).second);
   }
   // every segment once, in the layer of its order: a tree edge's child node's, an anastomosis's higher end
