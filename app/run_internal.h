@@ -365,7 +365,8 @@ nlohmann::json draw_veins_svg(const std::filesystem::path& staging, const Output
                               const std::vector<std::array<core::Vec3, 3>>& shell, const venation::VeinTree& tree,
                               const venation::Outline& outline, std::vector<std::string>& outputs, std::ostream& err);
 
-/// The segments a colonisation run prints: every tree edge with the radii of its two nodes, then each loop's
+/// The segments a colonisation run prints: every tree edge with the radii of its two nodes (a side branch, of
+/// another order than its parent's, with its own radius at both ends), then each loop's
 /// closing edge at the radius of the finer vein it joins, at both ends (it carries no flow of its own; veins.svg
 /// and veins.png draw it so too). Model units.
 std::vector<exporters::Segment> vein_segments(const venation::VeinTree& tree);

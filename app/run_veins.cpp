@@ -235,7 +235,9 @@ std::vector<exporters::Segment> vein_segments(const venation::VeinTree& tree) {
   for (std::size_t k = 0; k < edges.size(); ++k) {
     const auto [p, c] = edges[k];
     const bool closing = k + tree.anastomoses.size() >= edges.size();
-    const double rp = closing ? std::min(tree.radius[p], tree.radius[c]) : tree.radius[p];
+    // a side branch (of the next order) starts at its own width, as veins.svg draws it: not flared
+    const bool side = !closing && tree.order.size() == tree.size() && tree.order[c] != tree.order[p];
+    const double rp = closing ? std::min(tree.radius[p], tree.radius[c]) : side ? tree.radius[c] : tree.radius[p];
     const double rc = closing ? rp : tree.radius[c];
     segments.push_back({tree.positions[p], tree.positions[c], rp, rc});
   }

@@ -6,7 +6,13 @@ namespace cellform::exporters {
 std::vector<Segment> vein_segments(const venation::VeinGraph& g) {
   std::vector<Segment> out;
   out.reserve(g.edges.size());
-  for (const auto& e : g.edges) out.push_back({g.position[e[0]], g.position[e[1]], g.radius[e[0]], g.radius[e[1]]});
+  const bool orders = g.order.size() == g.position.size();
+  for (const auto& [c, p] : g.edges) {
+    // a side branch (of the next order) starts at its own width, as veins.svg draws it, not flared to its
+    // parent's: the vein it leaves is thicker, round the joint; the main child tapers from its parent
+    const bool side = orders && g.order[c] != g.order[p];
+    out.push_back({g.position[c], g.position[p], g.radius[c], side ? g.radius[c] : g.radius[p]});
+  }
   return out;
 }
 

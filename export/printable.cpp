@@ -390,8 +390,9 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
       const Vec3& phi = i < cs.size() ? cs[i].hi : ss[i - cs.size()].hi;
       const Vec3 ilo = ((plo.array() - band) / voxel).ceil(), ihi = ((phi.array() + band) / voxel).floor();
       if (ilo.cwiseAbs().maxCoeff() > max_index || ihi.cwiseAbs().maxCoeff() > max_index)
-        throw core::InvalidInput("thicken: the form spans more than " + fmt("%.0f", max_index) +
-                                 " voxels from the origin; use a larger voxel size or a smaller scale");
+        throw core::InvalidInput("thicken: the form reaches more than " + fmt("%.0f", max_index) +
+                                 " voxels from the origin; move it nearer the origin (the voxels are counted "
+                                 "from there), or use a larger voxel size or a smaller scale");
       boxes[i].lo = openvdb::Coord(static_cast<int>(ilo.x()), static_cast<int>(ilo.y()), static_cast<int>(ilo.z()));
       boxes[i].hi = openvdb::Coord(static_cast<int>(ihi.x()), static_cast<int>(ihi.y()), static_cast<int>(ihi.z()));
       const openvdb::Coord a = boxes[i].lo >> kLeafLog2, b = boxes[i].hi >> kLeafLog2;  // as the gather

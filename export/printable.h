@@ -142,7 +142,8 @@ double print_scale(const std::vector<Segment>& segments, const std::vector<std::
 /// the grid is bitwise identical for any thread count.
 /// Throws core::InvalidInput: no segments and no shell triangles; a non-finite coordinate or radius
 /// (naming the segment or triangle); a negative radius; bad parameters; an estimated memory need above
-/// max_memory_bytes (the message gives the need and a voxel size that fits).
+/// max_memory_bytes (the message gives the need and a voxel size that fits); a form reaching more than about
+/// 8.4 million voxels from the origin, however small (recentre it first, as `cellform` does).
 LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::array<Vec3, 3>>& shell_triangles,
                   const ThickenParams& params, ThickenReport* report = nullptr);
 
@@ -162,8 +163,9 @@ PrintableMesh thicken(const std::vector<Segment>& segments, const std::vector<st
 /// Atomic; core::FileError on failure; core::InvalidInput for an empty level set.
 void write_vdb(const std::filesystem::path& path, const LevelSet& level_set);
 
-/// One segment per vein edge (child node to parent node) with the nodes' radii. A node without an edge (a
-/// petiole no vein has reached yet) is left out: printed, it was a ball apart from the form. Model units.
+/// One segment per vein edge (child node to parent node) with the nodes' radii, but for a side branch (a
+/// child of another order than its parent's), which has its own radius at both ends. A node without an edge
+/// (a petiole no vein has reached yet) is left out: printed, it was a ball apart from the form. Model units.
 std::vector<Segment> vein_segments(const venation::VeinGraph& graph);
 
 /// The surface triangles of the cell sheet as positions (model units), for the shell.

@@ -218,9 +218,17 @@ void validate_outline(const Outline& o, const std::string& what, const OutlineLi
       }
     }
   }
-  double extent = 0;
-  for (const auto& p : o.points) extent = std::max(extent, p.cwiseAbs().maxCoeff());
-  if (!(std::abs(signed_area(o)) > 1e-12 * extent * extent))
+  // the area about the first vertex against the outline's own size: an outline far from the origin is no
+  // flatter than the same outline at it (review: one at 1e6 was refused)
+  Vec2 lo = o.points[0], hi = lo;
+  double twice = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    lo = lo.cwiseMin(o.points[i]);
+    hi = hi.cwiseMax(o.points[i]);
+    twice += cross(o.points[i] - o.points[0], o.points[(i + 1) % n] - o.points[0]);
+  }
+  const double extent = (hi - lo).maxCoeff();
+  if (!(std::abs(twice) > 2e-12 * extent * extent))
     throw InvalidInput(what + ": the outline encloses no area (all vertices on a line?)");
 }
 

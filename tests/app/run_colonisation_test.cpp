@@ -277,14 +277,15 @@ TEST_CASE("a colonisation print gives each loop's closing segment the finer vein
   t.parent = {cellform::core::kNoIndex, 0, 1, 0};
   t.birth_step = {0, 1, 2, 1};
   t.radius = {3, 2, 1, 0.5};
+  t.order = {1, 1, 1, 2};
   t.anastomoses = {{2, 3}};
   const auto s = cellform::app::vein_segments(t);
   REQUIRE(s.size() == 4);
-  for (std::size_t k = 0; k < 3; ++k) {  // tree edges: each end the radius of its node
-    const auto [p, c] = t.edges()[k];
+  for (std::size_t k = 0; k < 3; ++k) {  // tree edges: each end the radius of its node, but a side branch's
+    const auto [p, c] = t.edges()[k];    // (3, of order 2 off an order-1 vein): its own at both, not flared
     CHECK(s[k].a == t.positions[p]);
     CHECK(s[k].b == t.positions[c]);
-    CHECK(s[k].ra == t.radius[p]);
+    CHECK(s[k].ra == (c == 3 ? 0.5 : t.radius[p]));
     CHECK(s[k].rb == t.radius[c]);
   }
   CHECK(s[3].a == t.positions[2]);  // the closing segment: 0.5 at both ends, not 1 at one of them

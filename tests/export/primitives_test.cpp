@@ -23,6 +23,20 @@ TEST_CASE("vein_segments and shell_triangles turn the model into primitives", "[
   CHECK(s[0].rb == 0.3);
   CHECK(s[1].a == g.position[2]);
   CHECK(s[1].rb == 0.2);
+  // a side branch (order 2 off an order-1 vein) starts at its own radius, not flared to its parent's
+  g.position.push_back({1, 1, 0});
+  g.radius.push_back(0.05);
+  g.cell.push_back(4);
+  g.flow.push_back(0.1);
+  g.order.push_back(2);
+  g.edges.push_back({4, 1});
+  const auto b = exporters::vein_segments(g);
+  REQUIRE(b.size() == 3);
+  CHECK(b[2].a == g.position[4]);
+  CHECK(b[2].b == g.position[1]);
+  CHECK(b[2].ra == 0.05);
+  CHECK(b[2].rb == 0.05);
+  CHECK(b[1].rb == 0.2);  // the main child still tapers from its parent
   // a sheet's triangles become their corners' positions, in order
   cells::Cells c;
   for (const Vec3& p : {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 1)}) cells::add_cell(c, p);

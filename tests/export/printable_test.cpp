@@ -350,6 +350,9 @@ TEST_CASE("bad input is refused with a message a user can act on", "[printable]"
   // with a sheet printed too, the sheet is the form (review: a sheet with its first vein cells was refused)
   const std::vector<std::array<Vec3, 3>> sheet{{Vec3(-100, -100, 0), Vec3(100, -100, 0), Vec3(0, 100, 0)}};
   CHECK_NOTHROW(exporters::thicken(y_tree(), sheet, tiny));
+  // a small form far from the origin: the voxels are counted from there, and the message says so (review)
+  const std::vector<Segment> far{{{1e6, 1e6, 0}, {1e6 + 1, 1e6, 0}, 0.1, 0.1}};
+  CHECK_THROWS_WITH(exporters::thicken(far, {}, exact(0.1)), Catch::Contains("move it nearer the origin"));
 }
 
 TEST_CASE("the memory estimate refuses and suggests a voxel size that fits", "[printable]") {

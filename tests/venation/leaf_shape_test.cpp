@@ -335,4 +335,11 @@ TEST_CASE("outline files whose vertex touches a vertical edge, or that fold back
                     Contains("crosses itself"));
   CHECK_THROWS_WITH(v::parse_outline("0 0\n4 0\n2 0\n2 2\n0 0\n", "fold.txt"), Contains("folds back"));
   CHECK_THROWS_WITH(v::parse_outline("0 0\n1 0\n2 1e-13\n0 0\n", "sliver.txt"), Contains("encloses no area"));
+  // the area is measured against the outline's own size: a unit triangle far from the origin has one (review:
+  // 1e-12 of the largest coordinate squared refused it at 1e6), a sliver there has none
+  v::Outline far;
+  far.points = {{1e6, 1e6}, {1e6 + 1, 1e6}, {1e6, 1e6 + 1}};
+  CHECK_NOTHROW(v::validate_outline(far, "far"));
+  far.points = {{1e6, 1e6}, {1.1e6, 1e6}, {1.2e6, 1e6 + 1e-7}};  // 2e5 long, 1e-7 off its line
+  CHECK_THROWS_WITH(v::validate_outline(far, "far"), Contains("encloses no area"));
 }

@@ -350,7 +350,7 @@ TEST_CASE("SVG, PLY and OBJ output", "[colonisation]") {
   const Index last = static_cast<Index>(t.size() - 1);
   double x = 0;
   std::memcpy(&x, ply.data() + body + 36 * last, 8);
-  CHECK(x == t.positions[last].x());  // exact: far from the origin too (a float snapped it to a grid there)
+  CHECK(x == t.positions[last].x());  // exact, a double (a float snapped coordinates far from the origin)
   CHECK(f32(body + 36 * last + 24) == static_cast<float>(t.flow[last]));
   CHECK(f32(body + 36 * last + 28) == static_cast<float>(t.radius[last]));
   CHECK(i32(body + 36 * last + 32) == static_cast<std::int32_t>(t.order[last]));
