@@ -1,5 +1,6 @@
 // Cell proliferation (section "Cell Proliferation"): triggers, split directions, daughters.
 #include <Eigen/Geometry>  // cross products
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -12,10 +13,11 @@ namespace cellform::cells {
 
 namespace {
 
-// Degenerate field directions (a cell at the centre or on the axis) fall back to a random one.
-Vec3 normalised_or_random(const Vec3& v, core::StreamRng& rng) {
+// Degenerate field directions (a cell within 1e-12 rest lengths of the centre or the axis) fall back to a
+// random one.
+Vec3 normalised_or_random(const Vec3& v, double rest_length, core::StreamRng& rng) {
   const double n = v.norm();
-  if (n > 1e-12 && std::isfinite(n)) return v / n;
+  if (n > 1e-12 * rest_length && std::isfinite(n)) return v / n;
   return rng.unit_vector();
 }
 
@@ -34,9 +36,9 @@ Vec3 split_axis(const Cells& cells, const Params& params, const Rules& rules, In
     case SplitDirection::axis:
       return d.axis.normalized();
     case SplitDirection::radial:
-      return normalised_or_random(cells.position[i] - d.centre, rng);
-    case SplitDirection::circumferential:
-      return normalised_or_random(d.axis.cross(cells.position[i] - d.centre), rng);
+      return normalised_or_random(cells.position[i] - d.centre, params.rest_length, rng);
+    case SplitDirection::circumferential:  // (the axis as a unit vector: any length is allowed)
+      return normalised_or_random(d.axis.normalized().cross(cells.position[i] - d.centre), params.rest_length, rng);
     case SplitDirection::rule: {
       if (!rules.split_direction)
         throw core::InvalidInput("cells.division.direction is 'rule' but no split direction rule is set");
@@ -63,10 +65,11 @@ Vec3 random_tangent(const Cells& cells, Index i, core::StreamRng& rng) {
   const Vec3 r = rng.unit_vector();
   const Index* l = cells.links.data() + static_cast<std::size_t>(i) * static_cast<std::size_t>(cells.link_stride);
   if (cells.link_stride < 3 || l[0] == kNoIndex || l[1] == kNoIndex || l[2] == kNoIndex) return r;
-  const Vec3 n = (cells.position[l[1]] - cells.position[l[0]]).cross(cells.position[l[2]] - cells.position[l[0]]);
+  const Vec3 e1 = cells.position[l[1]] - cells.position[l[0]], e2 = cells.position[l[2]] - cells.position[l[0]];
+  const Vec3 n = e1.cross(e2);
   const double len = n.norm();
-  if (!(len > 1e-12)) return r;
-  return normalised_or_random(r - r.dot(n / len) * (n / len), rng);
+  if (!(len > 1e-12 * e1.norm() * e2.norm())) return r;  // (relative: any unit of length)
+  return normalised_or_random(r - r.dot(n / len) * (n / len), 1.0, rng);
 }
 
 std::size_t divide(Cells& cells, const Params& params, const Rules& rules, std::uint64_t seed, std::uint64_t step,
@@ -109,15 +112,39 @@ std::size_t divide(Cells& cells, const Params& params, const Rules& rules, std::
     });
   }
 
-  const std::size_t stride = static_cast<std::size_t>(cells.link_stride);
-  std::size_t divisions = 0;
-  for (std::size_t i = 0; i < n && cells.size() < d.max_cells; ++i) {
+  // the mothers, in index order (a rule sees only its own cell, so calling it for every cell first decides
+  // as calling it between divisions did)
+  thread_local std::vector<Index> mothers_storage;
+  std::vector<Index>& mothers = mothers_storage;
+  mothers.clear();
+  for (std::size_t i = 0; i < n; ++i) {
     const auto mother = static_cast<Index>(i);
     if (cells.age[i] < d.min_age) continue;  // a rule replaces the trigger, not the wait after a division
     if (rules.divides ? !rules.divides(cells, mother) : !fires[i]) continue;
+    if (rules.divides && d.probability < 1 &&
+        !(core::StreamRng(core::stream_key(seed, step, cells.id[i])).uniform() < d.probability))
+      continue;  // (else decided above)
+    mothers.push_back(mother);
+  }
+  // More than max_cells leaves room for: a seeded choice among them, not the first in memory order (the
+  // cells are sorted along a space-filling curve: those lay in one corner of the form)
+  const std::size_t room = static_cast<std::size_t>(d.max_cells - n);
+  if (mothers.size() > room) {
+    auto rank = [&](Index i) {
+      return std::pair(core::mix64(core::stream_key(seed, step, cells.id[i]) ^ 0xc0ffee), i);
+    };
+    std::nth_element(mothers.begin(), mothers.begin() + static_cast<std::ptrdiff_t>(room), mothers.end(),
+                     [&](Index a, Index b) { return rank(a) < rank(b); });
+    mothers.resize(room);
+    std::sort(mothers.begin(), mothers.end());
+  }
+
+  const std::size_t stride = static_cast<std::size_t>(cells.link_stride);
+  std::size_t divisions = 0;
+  for (const Index mother : mothers) {
+    const std::size_t i = mother;
     core::StreamRng rng(core::stream_key(seed, step, cells.id[i]));
-    const double draw = rng.uniform();  // drawn always, so directions do not depend on the probability
-    if (rules.divides && d.probability < 1 && !(draw < d.probability)) continue;  // (else decided above)
+    rng.uniform();  // the chance's draw, taken always, so directions do not depend on the probability
     const Vec3 dir = split_direction(cells, params, rules, mother, rng);
 
     Vec3 pos = cells.position[i] + (0.5 * params.rest_length) * dir;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "core/chunk_file.h"
 
@@ -114,6 +115,16 @@ Cells load(const std::string& bytes, const std::string& what) {
   }
   for (const Index l : c.links)
     if (l != kNoIndex && l >= n) throw bad("link out of range");
+  // the vein parents form a forest, as canalisation makes them: a cell its own ancestor would pull on itself
+  // (the vein forces) and walks from it would never end
+  std::vector<std::uint8_t> state(n, 0);  // 0 unseen, 1 on the walk from the current cell, 2 reaches a root
+  for (std::size_t i = 0; i < n; ++i) {
+    Index j = static_cast<Index>(i);
+    for (; j != kNoIndex && state[j] == 0; j = c.vein_parent[j]) state[j] = 1;
+    if (j != kNoIndex && state[j] == 1)
+      throw bad("the vein parents of cell " + std::to_string(c.id[j]) + " lead back to it");
+    for (j = static_cast<Index>(i); j != kNoIndex && state[j] == 1; j = c.vein_parent[j]) state[j] = 2;
+  }
   return c;
 }
 

@@ -48,10 +48,11 @@ void integrate(Cells& cells, const Params& params, std::uint64_t step, int threa
 /// type divide, vein and petiole cells too (the paper has only general cells divide); their daughters are general,
 /// not fixed, with no vein parent (the vein radius and order they copy are cleared by the next canalisation pass
 /// or, between passes, by forms::Scene), and canalisation may make them vein cells again. Stops at
-/// max_cells. Randomness comes from (seed, step, cell id) only. Returns the number of divisions. `grid` must index the
-/// current positions (trigger = neighbours counts cells within the radius through it); the built-in triggers are
-/// evaluated on up to `threads` threads, the rules serially. Throws core::InvalidInput naming the cell if a split
-/// direction rule returns a zero or non-finite vector.
+/// max_cells: when more cells would divide than it leaves room for, a seeded choice of them (by seed, step and id,
+/// spread over the form) does. Randomness comes from (seed, step, cell id) only. Returns the number of divisions.
+/// `grid` must index the current positions (trigger = neighbours counts cells within the radius through it); the
+/// built-in triggers are evaluated on up to `threads` threads, the rules serially. Throws core::InvalidInput naming the
+/// cell if a split direction rule returns a zero or non-finite vector.
 std::size_t divide(Cells& cells, const Params& params, const Rules& rules, std::uint64_t seed, std::uint64_t step,
                    const core::PointGrid& grid, int threads = 1);
 

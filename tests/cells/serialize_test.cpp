@@ -93,6 +93,15 @@ TEST_CASE("damaged bytes throw FileError naming the source", "[serialize]") {
   CHECK_THROWS_WITH(load(save(parent), "p.bin"), Catch::Matchers::Contains("vein parent out of range"));
   parent.vein_parent[2] = n - 1;  // the last cell: fine
   CHECK(load(save(parent), "p.bin").vein_parent[2] == n - 1);
+  // a cell its own vein parent, or a cycle of them, is no forest (review: it pushed itself); a chain is one
+  parent.vein_parent[n - 1] = 2;
+  CHECK_THROWS_WITH(load(save(parent), "p.bin"), Catch::Matchers::Contains("lead back to it"));
+  parent.vein_parent[n - 1] = kNoIndex;
+  parent.vein_parent[0] = 0;
+  CHECK_THROWS_WITH(load(save(parent), "p.bin"),
+                    Catch::Matchers::Contains("the vein parents of cell " + std::to_string(parent.id[0])));
+  parent.vein_parent[0] = 2;  // 0 -> 2 -> n - 1, a root
+  CHECK(load(save(parent), "p.bin").vein_parent[0] == 2);
   Cells link = c;
   link.links[3] = n;
   CHECK_THROWS_WITH(load(save(link), "l.bin"), Catch::Matchers::Contains("link out of range"));
