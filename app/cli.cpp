@@ -158,7 +158,7 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
                  "or PLY mesh. Exit code 0: printable (watertight, 2-manifold, oriented outward, no\n"
                  "self-intersections; with --min-wall T also no more than 1% of the surface over walls thinner\n"
                  "than T, in the file's units: mm for cellform's prints); 1: not printable; 2: the file cannot\n"
-                 "be read.\n";
+                 "be read, or the report cannot be written.\n";
           return ok;
         } else if (!args[i].empty() && args[i][0] == '-')
           throw UsageError("unknown option '" + args[i] + "' for check");

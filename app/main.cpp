@@ -2,6 +2,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstddef>
@@ -131,7 +132,10 @@ int main(int argc, char** argv) {
   std::cout.flush();
   // a run's product is its files (its lines on stdout only say so); the other commands' is what they print:
   // lost (a full disk, a closed pipe), it is no success
-  const bool prints_product = args.empty() || (args[0] != "run" && args[0] != "resume");
+  const bool helps = std::find_if(args.begin(), args.end(), [](const std::string& a) {
+                       return a == "-h" || a == "--help";
+                     }) != args.end();  // (run --help: its product is the text, as for the others)
+  const bool prints_product = args.empty() || (args[0] != "run" && args[0] != "resume") || helps;
   if (prints_product && (!out || !std::cout)) {
     // a pipe fails only when its reader stopped early (cellform params | head), which knows why: not said
     struct stat st {};
@@ -140,7 +144,8 @@ int main(int argc, char** argv) {
       err << "cellform: cannot write to standard output: it is closed\n";
     else if (!S_ISFIFO(st.st_mode) && !S_ISSOCK(st.st_mode))
       err << "cellform: cannot write to standard output (a full disk?)\n";
-    code = code == 0 ? 1 : code;
+    // check's 1 says "not printable": a report that was not written is 2, as an unread file
+    code = !args.empty() && args[0] == "check" ? 2 : code == 0 ? 1 : code;
   }
   // after a Ctrl-C, even one that came as the work ended, by SIGINT (exit_process says why)
   if (cellform::app::g_interrupt_signal.load() == SIGINT) {

@@ -498,7 +498,9 @@ TEST_CASE("a run killed after a checkpoint keeps its frames up to it: the resume
 
 TEST_CASE("a command whose standard output cannot be written fails instead of saying success", "[cli]") {
   // what params, check --json and --version print is their product: lost on a full disk, it is no success
-  for (const std::vector<std::string>& args : {std::vector<std::string>{"params"}, {"--version"}}) {
+  // (and run --help's, which exited 0: audit)
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"params"}, {"--version"}, {"run", "--help"}, {"resume", "-h"}}) {
     const int full = ::open("/dev/full", O_WRONLY);
     REQUIRE(full >= 0);
     const pid_t pid = spawn_cellform(args, full);
@@ -506,6 +508,21 @@ TEST_CASE("a command whose standard output cannot be written fails instead of sa
     REQUIRE(pid > 0);
     CHECK(exit_within(pid, 60) == 1);
   }
+  // check's report lost is not "not printable" (1): 2, as a file it cannot read
+  TempDir t("cli-check-full");
+  auto facet = [](const char* a, const char* b, const char* c) {
+    return std::string("facet normal 0 0 0\nouter loop\nvertex ") + a + "\nvertex " + b + "\nvertex " + c +
+           "\nendloop\nendfacet\n";
+  };
+  const auto stl = t.write("tetra.stl", std::string("solid t\n") + facet("0 0 0", "0 1 0", "1 0 0") +
+                                            facet("0 0 0", "1 0 0", "0 0 1") + facet("0 0 0", "0 0 1", "0 1 0") +
+                                            facet("1 0 0", "0 1 0", "0 0 1") + "endsolid t\n");
+  REQUIRE(cli({"check", stl.string()}).code == 0);
+  const int full = ::open("/dev/full", O_WRONLY);
+  REQUIRE(full >= 0);
+  const pid_t checked = spawn_cellform({"check", stl.string()}, full);
+  ::close(full);
+  CHECK(exit_within(checked, 60) == 2);
   // written somewhere that takes it, the same commands succeed
   const int null = ::open("/dev/null", O_WRONLY);
   REQUIRE(null >= 0);
