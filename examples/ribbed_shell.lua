@@ -2,8 +2,8 @@
 -- (as examples/shell.lua), then closed space colonisation (Runions et al. 2005) over the grown sheet
 -- draws a net of ribs from the supports across it. The sheet is printed as a thin shell with the ribs
 -- as its thickened veins: one piece.
--- It ends "stalled" with 1 source left behind a fold of the sheet thinner than about 3 vein segments,
--- which no vein on the other side can reach.
+-- Every source is reached. Other seeds (`--seed 1`) can end "stalled" with 1 source left behind a fold of
+-- the sheet thinner than about 3 vein segments, which no vein on the other side can reach.
 
 local P = params {
   size = 3000,       -- cells in the grown sheet
