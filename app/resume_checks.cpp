@@ -56,10 +56,11 @@ void adopt_max_steps(Start& s, const RunOptions& o, const SceneConfig& cfg) {
   s.has_target = true;
 }
 
-void check_resumed_cells(const Start& s, const SceneConfig& cfg, const cells::Cells& cells, int threads) {
+void check_resumed_cells(const Start& s, const SceneConfig& cfg, const forms::Scene& scene, int threads) {
   if (!s.resume || !s.script_replaced) return;  // the run's own script: its cells are as it left them
+  const cells::Cells& cells = scene.simulation().cells();
   try {
-    forms::check_outside(cfg.scene.obstacles, cells.position, cfg.scene.obstacle_names, threads);
+    forms::check_outside(cfg.scene.obstacles, cells.position, cfg.scene.obstacle_names, threads, &scene.obstacles());
   } catch (const core::InvalidInput& e) {
     throw core::InvalidInput(std::string(e.what()) + "; " + s.script_path.string() +
                              " places it over the cells of the checkpoint's step " + std::to_string(s.step) +

@@ -201,7 +201,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     if (s.resume) {
       sim.cells() = cells::load(s.cells_bytes, "checkpoint '" + o.checkpoint.string() + "'");
       sim.set_step_count(s.step);
-      check_resumed_cells(s, cfg, sim.cells(), o.threads);
+      check_resumed_cells(s, cfg, *scene, o.threads);
       cells::Params veins = sim.params();  // vein cells of the checkpoint bound the step with no venation{} now
       veins.vein_trees = std::count(sim.cells().type.begin(), sim.cells().type.end(), cells::CellType::vein) > 0;
       if (veins.vein_trees && !sim.params().vein_trees) cells::validate(veins);

@@ -137,9 +137,10 @@ void apply_checkpoint_every(std::optional<std::uint64_t> every, OutputSpec* outp
 void adopt_mesh_files(Start& s, const RunOptions& o, const SceneConfig& cfg, std::ostream& err);
 
 /// Refuses (core::InvalidInput) a resume with an edited script (resume --script) whose obstacles hold some of the
-/// checkpoint's `cells`, as a new run's shapes inside an obstacle are, or whose venation{} has no petiole cell
-/// to drain to: none among `cells` and no petiole{} due after the checkpoint's step and by venation's first pass.
-void check_resumed_cells(const Start& s, const SceneConfig& cfg, const cells::Cells& cells, int threads);
+/// checkpoint's cells (those of `scene`, made from `cfg`), as a new run's shapes inside an obstacle are, or whose
+/// venation{} has no petiole cell to drain to: none among the cells and no petiole{} due after the checkpoint's
+/// step and by venation's first pass.
+void check_resumed_cells(const Start& s, const SceneConfig& cfg, const forms::Scene& scene, int threads);
 
 void adopt_max_steps(Start& s, const RunOptions& o, const SceneConfig& cfg);
 

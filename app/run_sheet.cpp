@@ -54,7 +54,7 @@ Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHo
   if (s.resume) {
     sim.cells() = cells::load(s.cells_bytes, "checkpoint '" + o.checkpoint.string() + "'");
     sim.set_step_count(s.step);
-    check_resumed_cells(s, cfg, sim.cells(), o.threads);
+    check_resumed_cells(s, cfg, scene, o.threads);
   } else {
     for (const InitialCell& c : cfg.initial_cells)
       cells::add_cell(sim.cells(), c.position, cells::CellType::general, c.fixed);

@@ -434,7 +434,7 @@ bool constrain(const Box& box, double margin, const Vec3& prev, Vec3& p, Vec3& v
 
 void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& positions, const ObstacleNames& names,
                    int threads, const PreparedObstacles* prepared) {
-  validate(obstacles);
+  if (!prepared) validate(obstacles);  // (prepared: validated when it was made)
   // "NAME: N of the M cells lie WHERE (the first at P); WHY", for the cells `holds` says lie there
   auto refuse = [&](const std::vector<std::string>& given, const char* kind, std::size_t index, const char* where,
                     const char* why, const auto& holds) {

@@ -72,7 +72,7 @@ void validate(const Obstacles& obstacles);
 /// tolerance, see PreparedObstacles::mesh_touched) is refused too: it is on neither side of the mesh, so no
 /// move of it would count as crossing. Also throws as validate() does. `threads` (0 = all cores) search the
 /// meshes; the result is the same for any value. `prepared`, if given, is `obstacles` prepared (a scene's),
-/// whose mesh hierarchy is searched instead of building one.
+/// whose mesh hierarchy is searched instead of building one (and which validated them when it was made).
 void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& positions, const ObstacleNames& names = {},
                    int threads = 0, const PreparedObstacles* prepared = nullptr);
 

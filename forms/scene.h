@@ -56,6 +56,8 @@ class Scene {
   cells::Simulation& simulation() { return sim_; }
   const cells::Simulation& simulation() const { return sim_; }
   const SceneDescription& description() const { return desc_; }
+  /// The obstacles as the steps search them (for check_outside of cells placed later).
+  const PreparedObstacles& obstacles() const { return obstacles_; }
 
   /// Makes the petioles due at the current step count (call once after placing the initial cells).
   /// Throws core::InvalidInput if a cell lies inside a solid obstacle (see check_outside), or if venation is
