@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "app/memory.h"
 #include "app/run.h"
 #include "app/run_internal.h"
 #include "cells/surface.h"
@@ -127,6 +128,10 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
                        const std::vector<std::array<core::Vec3, 3>>& shell, int threads,
                        std::vector<std::string>& names, std::ostream& err, bool quiet, double close_holes, bool sheet) {
   exporters::ThickenParams tp = thicken_params(spec, threads, close_holes);
+  // checked before the first voxel: the mesher cannot fail cleanly where the machine has less than the estimate
+  const MemoryHeadroom room = memory_headroom();
+  tp.available_bytes = room.bytes;
+  tp.available_name = room.name;
   // Ctrl-C stops the thickening at the next block; on a terminal the stage shows its percentage. A Ctrl-C
   // that stopped the steps before printing began asked for the outputs, the solid included: it is not one.
   const bool tty = !quiet && ::isatty(2) != 0;
@@ -236,7 +241,9 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
              {"a smaller scale", "a smaller print.size (or print.scale)"},
              {"use a larger scale", "use a larger print.scale"},
              {"2 min_radius", "2 print.min_radius"},
-             {"raise the memory limit", "raise print.max_memory"}})
+             {"raise the memory limit", "raise print.max_memory"},
+             {"lower the memory limit", "lower print.max_memory"},
+             {"a coarser voxel size", "a coarser print.voxel_size"}})
       for (std::size_t at = m.find(from); at != std::string::npos; at = m.find(from, at + to.size()))
         m.replace(at, from.size(), to);
     throw core::InvalidInput(m);

@@ -195,9 +195,4 @@ class StuckHandler {
 /// leaf.initial_nodes -> leaf.seeds, ...): the library names its own fields, the script its parameters.
 std::string script_colonisation_message(const std::string& message);
 
-/// Bytes: the lowest memory limit of the control groups `cgroup` (the text of /proc/self/cgroup) names, from
-/// each group up to the root, read under `root` (/sys/fs/cgroup): memory.max (v2) or memory/.../
-/// memory.limit_in_bytes (v1); infinity if none is set ("max", a missing file).
-double control_group_memory_limit(std::istream& cgroup, const std::filesystem::path& root);
-
 }  // namespace cellform::app

@@ -9,6 +9,7 @@
 #include <limits>
 #include <vector>
 
+#include "app/memory.h"
 #include "app/script_impl.h"
 #include "core/chunk_file.h"
 #include "forms/obstacles.h"
@@ -399,29 +400,6 @@ std::string megabytes_text(double mb) {
 
 /// The memory `cells` take at the peak.
 std::string memory_of(double cells) { return megabytes_text(cells * kBytesPerCell / 1e6); }
-
-double control_group_memory_limit(std::istream& cgroup, const std::filesystem::path& root) {
-  std::vector<std::filesystem::path> limits;
-  for (std::string line; std::getline(cgroup, line);) {  // "0::/path" (v2), "N:memory:/path" (v1)
-    const std::size_t a = line.find(':'), b = a == std::string::npos ? a : line.find(':', a + 1);
-    if (b == std::string::npos) continue;
-    const std::string controllers = line.substr(a + 1, b - a - 1);
-    if (!controllers.empty() && controllers.find("memory") == std::string::npos) continue;
-    const std::filesystem::path base = controllers.empty() ? root : root / "memory";
-    const char* file = controllers.empty() ? "memory.max" : "memory.limit_in_bytes";
-    for (std::filesystem::path at = line.substr(b + 1);; at = at.parent_path()) {
-      limits.push_back(base / at.relative_path() / file);
-      if (at.empty() || at == at.parent_path()) break;
-    }
-  }
-  double lowest = std::numeric_limits<double>::infinity();
-  for (const std::filesystem::path& limit : limits) {
-    std::ifstream in(limit);
-    double bytes = 0;
-    if (in >> bytes && bytes > 0) lowest = std::min(lowest, bytes);  // "max" (no limit) reads as nothing
-  }
-  return lowest;
-}
 
 /// The cells run.max_memory (else the machine's memory) holds, and how that budget is named in a message.
 std::pair<double, std::string> cell_budget(const SceneConfig& cfg) {

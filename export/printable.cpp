@@ -27,6 +27,8 @@
 namespace cellform::exporters {
 
 using detail::auto_scale;
+using detail::bytes_text;
+using detail::check_available;
 using detail::check_params;
 using detail::closing_overlap;
 using detail::closing_radius;
@@ -57,8 +59,6 @@ static_assert(FloatLeaf::DIM == (1 << kLeafLog2));
 // adaptivity (volumeToMesh scratch and output, our triangles); measured on the export benchmarks and rounded up.
 constexpr double kBytesPerActiveVoxel = 14;
 constexpr double kBytesPerQuad = 160;
-
-std::string bytes_text(double b) { return b >= 1e9 ? fmt("%.1f GB", b / 1e9) : fmt("%.0f MB", std::ceil(b / 1e6)); }
 
 // Exact signed distance to a round cone, after Inigo Quilez's sdRoundCone (one square root per voxel);
 // falls back to a sphere when one end sphere contains the other.
@@ -363,6 +363,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
                                bytes_text(params.max_memory_bytes) + "; " + advice);
     }
   }
+  check_available(estimate, voxel, params);
   ThickenReport plan_only, &plan = report ? *report : plan_only;
   plan.scale = scale, plan.voxel_size = voxel;
   plan.voxel_raised_from = voxel_raised_from;

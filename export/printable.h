@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "cells/cells.h"
@@ -43,8 +45,15 @@ struct ThickenParams {
   double shell_thickness = 0.6;  ///< mm: total wall thickness of the shell around shell triangles (half on each side)
   double adaptivity = 0.2;       ///< 0..1: OpenVDB volumeToMesh adaptivity; 0 = uniform quads, higher = fewer triangles
   double max_memory_bytes = 2e9;  ///< refuse (core::InvalidInput) when the estimated peak memory exceeds this
-  int threads = 0;                ///< worker threads; 0 = all cores. Output is bitwise identical for any value
-  bool fill_cavities = false;     ///< fill closed pockets inside the solid (drop their inner walls)
+  /// bytes the process can still get, which the caller measures (an address-space limit, a container's limit, the
+  /// machine's free memory): refused (core::InvalidInput naming `available_name`) when the estimated peak exceeds
+  /// it. Unlike max_memory_bytes it never coarsens the automatic voxel, so the same parameters give the same print
+  /// on any machine, or none. (The mesher cannot fail cleanly: OpenVDB's volumeToMesh aborts the process when an
+  /// allocation fails in it.)
+  double available_bytes = std::numeric_limits<double>::infinity();
+  std::string available_name = "the memory available";
+  int threads = 0;             ///< worker threads; 0 = all cores. Output is bitwise identical for any value
+  bool fill_cavities = false;  ///< fill closed pockets inside the solid (drop their inner walls)
   /// mm: cut this much off the bottom of the solid (its lowest z, after scaling) so that it stands on a
   /// flat face instead of the round end of a vein; 0 = no cut. Must be less than the solid's height.
   double flat_base = 0;

@@ -25,6 +25,22 @@ std::string fmt(const char* f, double x) {
   return b;
 }
 
+std::string bytes_text(double b) { return b >= 1e9 ? fmt("%.1f GB", b / 1e9) : fmt("%.0f MB", std::ceil(b / 1e6)); }
+
+void check_available(double estimate, double voxel, const ThickenParams& params) {
+  if (!(estimate > params.available_bytes)) return;
+  // within max_memory_bytes, which sets the automatic voxel; a limit at most the available memory makes it fit
+  const double fits = std::floor(params.available_bytes / 1e6);  // MB
+  throw core::InvalidInput("thicken: at a voxel size of " + fmt("%.3g", voxel) + " mm the form needs about " +
+                           bytes_text(estimate) + " of memory, more than " + params.available_name + " (" +
+                           bytes_text(params.available_bytes) + "); " +
+                           (params.voxel_size > 0 ? "use a coarser voxel size, or a smaller scale or size"
+                            : fits >= 1           ? "lower the memory limit to " + fmt("%.0f", fits) +
+                                              " MB or less (the automatic voxel size then coarsens to fit), or use "
+                                              "a smaller scale or size"
+                                        : "free some memory"));
+}
+
 void check_params(const ThickenParams& p) {
   const auto bad = [](const std::string& what) { throw core::InvalidInput("thicken: " + what); };
   if (!(std::isfinite(p.scale) && p.scale >= 0))

@@ -1,5 +1,9 @@
 // Tests of the cellform command line's printing (app/print.cpp through run and resume): the printable
 // solid and its checks, print errors, printing again, and prints of a sheet.
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -302,4 +306,36 @@ TEST_CASE("veins printed so small that nearly all are raised to min_radius, over
   r = cli({"run", script.string(), "--out", (t.path / "b").string(), "--quiet", "--set", "print.size=100"});
   REQUIRE(r.code == 0);
   CHECK_THAT(r.err, !Contains("raised to print.min_radius"));
+}
+
+TEST_CASE("a print the process's address-space limit cannot hold is refused, not aborted in the mesher",
+          "[cli][print]") {
+  // audit: under ulimit -v, with print.max_memory raised past it, OpenVDB's mesher ran out and aborted the
+  // process (exit 134): now the print is refused at its plan, naming the limit, and the rest is written
+  TempDir t("cli-print-ulimit");
+  const auto script = t.write("s.lua", std::string(kSmall) + "print { shell = true }\n");
+  const fs::path out = t.path / "o", log = t.path / "err";
+  std::vector<std::string> storage;
+  std::vector<char*> argv = cellform_argv({"run", script.string(), "--out", out.string(), "--quiet", "--set",
+                                           "print.max_memory=1000000", "--set", "print.min_radius=0.01"},
+                                          storage);
+  const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  REQUIRE(fd >= 0);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const rlimit limit{3000000000, 3000000000};  // bytes: ulimit -v 2929688
+    setrlimit(RLIMIT_AS, &limit);
+    dup2(fd, 2);
+    execv(argv[0], argv.data());
+    _exit(99);
+  }
+  close(fd);
+  REQUIRE(pid > 0);
+  CHECK(wait_exit(pid) == 1);
+  const std::string said = slurp(log);
+  INFO(said);
+  CHECK_THAT(said, Contains("ulimit -v") && Contains("lower print.max_memory to ") && Contains(" MB or less"));
+  CHECK_FALSE(fs::exists(out / "printable.stl"));
+  CHECK(fs::exists(out / "checkpoint.cfck"));
+  CHECK(fs::exists(out / "cells.ply"));
 }

@@ -104,3 +104,43 @@ TEST_CASE("a folded sheet's shell fits a memory limit the same sheet unfolded do
   CHECK(near > 0.5 * sum);  // the bands around both squares stay
   CHECK_THROWS_WITH(exporters::thicken({}, apart, p), Catch::Matchers::Contains("more than the limit"));
 }
+
+TEST_CASE("a print the process cannot hold is refused before any voxel, never coarsened to fit", "[printable]") {
+  // an estimate over ThickenParams::available_bytes (what ulimit -v leaves, say) is refused with that bound's name;
+  // the automatic voxel follows max_memory_bytes only, so the same parameters print alike on any machine
+  exporters::ThickenParams p;
+  p.scale = 1;
+  p.min_radius = 0.2;  // the automatic voxel: 0.1 mm
+  double estimate = 0, voxel = 0;
+  p.planned = [&](const exporters::ThickenReport& r) {
+    estimate = r.estimated_bytes;
+    voxel = r.voxel_size;
+    throw core::Cancelled();
+  };
+  Triangles sheet;
+  add_square(sheet, 200, 0);
+  p.shell_thickness = 0.6;
+  CHECK_THROWS_AS(exporters::thicken({}, sheet, p), core::Cancelled);
+  const double need = estimate, fine = voxel;
+  REQUIRE(need > 1e6);
+  p.available_bytes = 1.01 * need;  // just enough: planned as before
+  CHECK_THROWS_AS(exporters::thicken({}, sheet, p), core::Cancelled);
+  CHECK(voxel == fine);
+  p.available_bytes = 0.5 * need;
+  p.available_name = "what the test leaves";
+  voxel = 0;
+  const std::string mb = std::to_string(static_cast<long>(std::floor(0.5 * need / 1e6)));
+  CHECK_THROWS_WITH(exporters::thicken({}, sheet, p),
+                    Catch::Matchers::Contains("more than what the test leaves") &&
+                        Catch::Matchers::Contains("lower the memory limit to " + mb + " MB or less"));
+  CHECK(voxel == 0);  // refused at the plan: nothing was voxelised
+  // a limit at what the message says makes the automatic voxel coarsen to fit, and the print go on
+  p.max_memory_bytes = std::stod(mb) * 1e6;
+  CHECK_THROWS_AS(exporters::thicken({}, sheet, p), core::Cancelled);
+  CHECK(voxel > fine);
+  CHECK(estimate <= p.available_bytes);
+  // a voxel size given is not changed: a coarser one is asked for
+  p.max_memory_bytes = 1e15;
+  p.voxel_size = fine;
+  CHECK_THROWS_WITH(exporters::thicken({}, sheet, p), Catch::Matchers::Contains("use a coarser voxel size"));
+}

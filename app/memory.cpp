@@ -1,0 +1,87 @@
+// How much memory the process may still take (app/memory.h).
+#include "app/memory.h"
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+namespace cellform::app {
+
+double control_group_memory_limit(std::istream& cgroup, const std::filesystem::path& root) {
+  std::vector<std::filesystem::path> limits;
+  for (std::string line; std::getline(cgroup, line);) {  // "0::/path" (v2), "N:memory:/path" (v1)
+    const std::size_t a = line.find(':'), b = a == std::string::npos ? a : line.find(':', a + 1);
+    if (b == std::string::npos) continue;
+    const std::string controllers = line.substr(a + 1, b - a - 1);
+    if (!controllers.empty() && controllers.find("memory") == std::string::npos) continue;
+    const std::filesystem::path base = controllers.empty() ? root : root / "memory";
+    const char* file = controllers.empty() ? "memory.max" : "memory.limit_in_bytes";
+    for (std::filesystem::path at = line.substr(b + 1);; at = at.parent_path()) {
+      limits.push_back(base / at.relative_path() / file);
+      if (at.empty() || at == at.parent_path()) break;
+    }
+  }
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const std::filesystem::path& limit : limits) {
+    std::ifstream in(limit);
+    double bytes = 0;
+    if (in >> bytes && bytes > 0) lowest = std::min(lowest, bytes);  // "max" (no limit) reads as nothing
+  }
+  return lowest;
+}
+
+MemoryHeadroom tightest_headroom(double address_limit, double address_used, double group_limit, double resident,
+                                 double machine_available) {
+  MemoryHeadroom room;
+  const auto bound = [&](double limit, double used, const char* name) {
+    if (!std::isfinite(limit)) return;
+    const double left = std::max(limit - (std::isfinite(used) ? used : 0.0), 0.0);
+    if (left < room.bytes) room = {left, name};
+  };
+  bound(address_limit, address_used, "what the address-space limit (ulimit -v) leaves this process");
+  bound(group_limit, resident, "what this container's memory limit leaves this process");
+  bound(machine_available, 0, "this machine's available memory and swap");
+  return room;
+}
+
+namespace {
+
+/// Bytes of the "Name:  N kB" line of /proc/meminfo; NaN if there is none.
+double meminfo_bytes(const std::string& text, const std::string& name) {
+  const std::size_t at = text.find("\n" + name + ":");
+  if (at == std::string::npos) return std::nan("");
+  try {
+    return std::stod(text.substr(at + name.size() + 2)) * 1024;
+  } catch (const std::exception&) {
+    return std::nan("");
+  }
+}
+
+}  // namespace
+
+MemoryHeadroom memory_headroom() {
+  const double page = static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+  double address_limit = std::numeric_limits<double>::infinity();
+  if (rlimit r{}; ::getrlimit(RLIMIT_AS, &r) == 0 && r.rlim_cur != RLIM_INFINITY)
+    address_limit = static_cast<double>(r.rlim_cur);
+  double size = std::nan(""), resident = std::nan("");
+  if (std::ifstream statm("/proc/self/statm"); statm >> size >> resident) {
+    size *= page;
+    resident *= page;
+  }
+  std::ifstream groups("/proc/self/cgroup");
+  const double group_limit = control_group_memory_limit(groups, "/sys/fs/cgroup");
+  std::ifstream meminfo("/proc/meminfo");
+  std::string text(1, '\n');  // (each name is looked for after a line break)
+  text.append(std::istreambuf_iterator<char>(meminfo), {});
+  const double available = meminfo_bytes(text, "MemAvailable") + meminfo_bytes(text, "SwapFree");
+  return tightest_headroom(address_limit, size, group_limit, resident, available);
+}
+
+}  // namespace cellform::app

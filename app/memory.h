@@ -1,0 +1,31 @@
+// How much memory the process may still take: the limits a print is checked against before it starts.
+#pragma once
+
+#include <filesystem>
+#include <istream>
+#include <limits>
+#include <string>
+
+namespace cellform::app {
+
+/// Bytes: the lowest memory limit of the control groups `cgroup` (the text of /proc/self/cgroup) names, from
+/// each group up to the root, read under `root` (/sys/fs/cgroup): memory.max (v2) or memory/.../
+/// memory.limit_in_bytes (v1); infinity if none is set ("max", a missing file).
+double control_group_memory_limit(std::istream& cgroup, const std::filesystem::path& root);
+
+/// Bytes the process may still take, and how a message names that bound ("what ulimit -v leaves this process").
+struct MemoryHeadroom {
+  double bytes = std::numeric_limits<double>::infinity();
+  std::string name;
+};
+
+/// The tightest of the bounds, each in bytes (infinity or NaN where not known): the address-space limit
+/// (ulimit -v) less the process's address space; a control group's limit less the process's resident memory;
+/// the machine's available memory and free swap.
+MemoryHeadroom tightest_headroom(double address_limit, double address_used, double group_limit, double resident,
+                                 double machine_available);
+
+/// tightest_headroom() of this process now (getrlimit, /proc/self/statm, /proc/self/cgroup, /proc/meminfo).
+MemoryHeadroom memory_headroom();
+
+}  // namespace cellform::app
