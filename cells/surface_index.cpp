@@ -15,7 +15,8 @@ namespace {
 /// the bisector, for two equal angles) of either strictly inside the other. Then neither triangle reaches
 /// over the other: each lies in the cone of its angle, and seen along n the cones meet only at v. (Exactly
 /// so; core::segment_meets_triangle counts points within its rounding tolerance, about 1e-6 of the
-/// coordinates, of a plane as on it, so for a pair that all but touches the two may disagree.)
+/// coordinates (here taken about a corner of the new triangle), of a plane as on it, so for a pair that all but touches
+/// the two may disagree.)
 bool apart(const Vec3& A, const Vec3& B, const Vec3& C, const Vec3& D, const Vec3& n) {
   auto turn = [&](const Vec3& x, const Vec3& y) { return x.cross(y).dot(n); };  // > 0: x to y anticlockwise
   const double sigma = turn(C, D) > 0 ? 1.0 : -1.0;
@@ -99,7 +100,10 @@ bool CornerIndex::stacks(const std::vector<Vec3>& pos, const std::array<Index, 3
 }
 
 bool CornerIndex::crosses_at_corner(const std::vector<Vec3>& pos, const std::array<Index, 3>& t) const {
-  const std::array<Vec3, 3> T{pos[t[0]], pos[t[1]], pos[t[2]]};
+  // about a corner of t: the intersection tests' rounding tolerance grows with the coordinates (for meshes read
+  // through float files), and a sheet far from the origin lost triangles to it (10 of 5,377 at 65,536 units)
+  const Vec3 o = pos[t[0]];
+  const std::array<Vec3, 3> T{Vec3::Zero(), pos[t[1]] - o, pos[t[2]] - o};
   for (int k = 0; k < 3; ++k) {
     const Index v = t[k];
     bool found = false;
@@ -111,7 +115,7 @@ bool CornerIndex::crosses_at_corner(const std::vector<Vec3>& pos, const std::arr
       for (int b = 0; b < 3; ++b)
         if (u[b] == v) at = b;
       if (common != 1) return;
-      const std::array<Vec3, 3> U{pos[u[0]], pos[u[1]], pos[u[2]]};
+      const std::array<Vec3, 3> U{pos[u[0]] - o, pos[u[1]] - o, pos[u[2]] - o};
       const Vec3 A = T[(k + 1) % 3] - T[k], B = T[(k + 2) % 3] - T[k], n = A.cross(B);
       if (n.squaredNorm() > 0 && apart(A, B, U[(at + 1) % 3] - T[k], U[(at + 2) % 3] - T[k], n)) return;
       found = core::segment_meets_triangle(T[(k + 1) % 3], T[(k + 2) % 3], U) ||
@@ -157,9 +161,10 @@ void SheetIndex::add(const std::array<Index, 3>& t) {
 }
 
 bool SheetIndex::crosses(const std::array<Index, 3>& f, const std::vector<std::array<Index, 3>>& others) {
-  const std::array<Vec3, 3> F{pos_[f[0]], pos_[f[1]], pos_[f[2]]};
+  const Vec3 o = pos_[f[0]];  // a local origin, as in crosses_at_corner
+  const std::array<Vec3, 3> F{Vec3::Zero(), pos_[f[1]] - o, pos_[f[2]] - o};
   auto meets = [&](const std::array<Index, 3>& u) {
-    const std::array<Vec3, 3> U{pos_[u[0]], pos_[u[1]], pos_[u[2]]};
+    const std::array<Vec3, 3> U{pos_[u[0]] - o, pos_[u[1]] - o, pos_[u[2]] - o};
     int common = 0, at_f = 0, at_u = 0;
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b)
@@ -179,7 +184,7 @@ bool SheetIndex::crosses(const std::array<Index, 3>& f, const std::vector<std::a
   double radius = 0;
   for (const Vec3& c : F) radius = std::max(radius, (c - centre).norm());
   near_.clear();
-  grid_.within(centre, radius + longest_short_, kNoIndex, near_);
+  grid_.within(centre + o, radius + longest_short_, kNoIndex, near_);
   bool found = false;
   for (const Index v : near_)
     corners_.for_each_at(v, [&](const std::array<Index, 3>& u) { found = found || meets(u); });
