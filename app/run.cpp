@@ -267,7 +267,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   Progress progress(err, ::isatty(2) != 0, o.quiet, first, target, cfg.print ? "the print" : "",
                     sim.params().division.max_cells);
   bar = &progress;
-  CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds);
+  CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds,
+                              cfg.output.checkpoint_minutes);
   std::vector<std::string> outputs;
   const fs::path checkpoint = dir / kCheckpointName;
   std::string status = "complete";
@@ -354,8 +355,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       last = o.checkpoint;
     } else if (stepping > 0) {
       err << "  (no checkpoint of this run was written before step " << stepping
-          << ", so there is nothing to go on from; output.checkpoint_every, or --checkpoint-every N, sets how "
-             "often one is"
+          << ", so there is nothing to go on from; output.checkpoint_every and output.checkpoint_minutes, or "
+             "--checkpoint-every N, set how often one is"
           << (fs::exists(dir / "run.json") ? "; the files in " + dir.string() + "/ are an earlier run's" : "") << ")\n";
     }
     // the same script would stop there again: an edited one can go on from the checkpoint

@@ -244,12 +244,18 @@ void drop_earlier_checkpoint(const std::filesystem::path& dir, const nlohmann::j
 /// written: a run that fails in its first minute keeps it to go on from.
 class CheckpointClock {
  public:
-  CheckpointClock(std::uint64_t every, double seconds) : every_(every), seconds_(seconds) {}
-  /// True if a checkpoint is due after `step`; then counts it as written now.
-  bool due(std::uint64_t step) {
-    if (every_ == 0 || step % every_ != 0) return false;
-    const auto now = std::chrono::steady_clock::now();
-    if (written_ && std::chrono::duration<double>(now - last_).count() < seconds_) return false;
+  using Clock = std::chrono::steady_clock;
+  /// Every `every` steps (0: none), skipped `seconds` (s) after the last one; and `minutes` (min, 0: never) after
+  /// the last one (or this clock's start) at any step, so that a long run between two of `every` is not lost
+  /// to a failure.
+  CheckpointClock(std::uint64_t every, double seconds, double minutes, Clock::time_point start = Clock::now())
+      : every_(every), seconds_(seconds), minutes_(minutes), last_(start) {}
+  /// True if a checkpoint is due after `step` at `now`; then counts it as written now.
+  bool due(std::uint64_t step, Clock::time_point now = Clock::now()) {
+    if (every_ == 0) return false;
+    const double since = std::chrono::duration<double>(now - last_).count();  // s
+    const bool by_steps = step % every_ == 0 && (!written_ || since >= seconds_);
+    if (!by_steps && !(minutes_ > 0 && since >= 60 * minutes_)) return false;
     last_ = now;
     written_ = true;
     return true;
@@ -257,9 +263,9 @@ class CheckpointClock {
 
  private:
   std::uint64_t every_;
-  double seconds_;
-  bool written_ = false;  // one was due (and counted as written) already
-  std::chrono::steady_clock::time_point last_;
+  double seconds_, minutes_;
+  bool written_ = false;    // one was due (and counted as written) already
+  Clock::time_point last_;  // of the last one, or the start
 };
 
 /// Writes the cell outputs (cells.ply/obj, and the vein graph with `veins`, the run's canalisation) of `c` into

@@ -422,10 +422,12 @@ void apply_checkpoint_every(std::optional<std::uint64_t> every, OutputSpec* outp
   if (output) {
     output->checkpoint_every = *every;
     output->checkpoint_seconds = 0;
+    output->checkpoint_minutes = 0;  // exactly every N steps: none between
   }
   if (resolved.contains("output")) {
     resolved["output"]["checkpoint_every"] = *every;
     resolved["output"]["checkpoint_seconds"] = 0;
+    resolved["output"]["checkpoint_minutes"] = 0;
   }
 }
 

@@ -38,8 +38,8 @@ std::vector<Field> build() {
   // run{}
   f.push_back(
       integer("run", "steps", "200", 0, 1e9, "steps",
-              "cell steps to simulate (--steps overrides; a --set of another value beside it is refused); space "
-              "colonisation uses colonisation.max_steps"));
+              "cell steps to simulate (--steps overrides; a --set of another value beside it is refused); refused in a "
+              "space colonisation that grows no cells (it stops at colonisation.max_steps)"));
   // 2^53: every whole number up to it is exact in Lua's numbers (a larger literal would round to another)
   f.push_back(integer("run", "seed", "1", 0, 9007199254740992.0, "", "seed of every random choice (--seed overrides)"));
   f.push_back(
@@ -366,6 +366,10 @@ std::vector<Field> build() {
   f.push_back(num("output", "checkpoint_seconds", "60", 0, 1e9, false, "s",
                   "skip a periodic checkpoint due this soon after the last one (0 = never skip; the first is "
                   "always written); the end of a run and Ctrl-C always write one, a failing step leaves the last"));
+  f.push_back(num("output", "checkpoint_minutes", "10", 0, 1e6, false, "min",
+                  "also write one this long after the last one (or the start of the steps) at any step, so that a "
+                  "failure loses at most this much (0 = never; --checkpoint-every N sets it to 0: exactly every N "
+                  "steps); not with checkpoint_every = 0"));
   f.push_back(boolean("output", "png", "false",
                       "space colonisation: also write veins.png, a raster preview of veins and outline"));
   f.push_back(integer("output", "png_size", "1024", 16, 20000, "pixels", "longer side of veins.png"));

@@ -48,12 +48,14 @@ struct OutputSpec {
   std::uint64_t every = 0;                ///< frame interval in steps (0 = no frames)
   std::uint64_t checkpoint_every = 1000;  ///< checkpoint interval in steps (0 = only at the end)
   double checkpoint_seconds = 60;  ///< s: a periodic checkpoint this soon after the last one is skipped (0: never)
-  bool png = false;                ///< space colonisation: also write veins.png
-  int png_size = 1024;             ///< pixels: longer side of veins.png
-  double svg_size = 0;             ///< mm: longer side of the leaf drawn in veins.svg (0: the print's scale, or 200)
-  std::string svg_size_at;         ///< where svg_size was given ("file:line: " or "--set ...: "), or empty
-  bool svg_join_veins = false;     ///< veins.svg: a path per vein (svg_paths = "veins")
-  std::string svg_paths_at;        ///< where svg_paths was given, or empty
+  double checkpoint_minutes =
+      10;                       ///< min: also one this long after the last one (or the start), at any step (0: never)
+  bool png = false;             ///< space colonisation: also write veins.png
+  int png_size = 1024;          ///< pixels: longer side of veins.png
+  double svg_size = 0;          ///< mm: longer side of the leaf drawn in veins.svg (0: the print's scale, or 200)
+  std::string svg_size_at;      ///< where svg_size was given ("file:line: " or "--set ...: "), or empty
+  bool svg_join_veins = false;  ///< veins.svg: a path per vein (svg_paths = "veins")
+  std::string svg_paths_at;     ///< where svg_paths was given, or empty
 };
 
 /// Space colonisation requested by colonisation{...} in a leaf{...}, volume{...} or surface{...}.

@@ -278,6 +278,7 @@ void section_output(Impl& I, const std::string& at) {
   I.cfg->output.every = static_cast<std::uint64_t>(v["every"].num);
   I.cfg->output.checkpoint_every = static_cast<std::uint64_t>(v["checkpoint_every"].num);
   I.cfg->output.checkpoint_seconds = v["checkpoint_seconds"].num;
+  I.cfg->output.checkpoint_minutes = v["checkpoint_minutes"].num;
   I.cfg->output.png = v["png"].flag;
   I.cfg->output.png_size = static_cast<int>(v["png_size"].num);
   I.cfg->output.svg_size = v["svg_size"].num;

@@ -520,23 +520,41 @@ TEST_CASE("cells and veins are bit-identical for 1 and 2 threads", "[cli][determ
 
 TEST_CASE("periodic checkpoints come every N steps, but not within output.checkpoint_seconds of the last", "[cli]") {
   using cellform::app::CheckpointClock;
-  CheckpointClock exact(4, 0);
-  CHECK_FALSE(exact.due(1));
-  CHECK(exact.due(4));
-  CHECK(exact.due(8));
-  CHECK_FALSE(exact.due(9));
-  CheckpointClock never(0, 0);
-  CHECK_FALSE(never.due(0));
-  CHECK_FALSE(never.due(1000));
-  CheckpointClock slow(2, 30);  // the first is written (a run failing early keeps it), then none within 30 s
-  CHECK(slow.due(2));
-  CHECK_FALSE(slow.due(4));
-  CHECK_FALSE(slow.due(6));
-  CheckpointClock timed(2, 0.001);
-  CHECK(timed.due(2));
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  CHECK_FALSE(timed.due(3));
-  CHECK(timed.due(4));
+  const CheckpointClock::Clock::time_point t0{};
+  const auto at = [&](double s) {
+    return t0 + std::chrono::duration_cast<CheckpointClock::Clock::duration>(std::chrono::duration<double>(s));
+  };
+  CheckpointClock exact(4, 0, 0, t0);
+  CHECK_FALSE(exact.due(1, at(1)));
+  CHECK(exact.due(4, at(2)));
+  CHECK(exact.due(8, at(3)));
+  CHECK_FALSE(exact.due(9, at(1e6)));  // no minutes bound: none between
+  CheckpointClock never(0, 0, 10, t0);
+  CHECK_FALSE(never.due(0, at(0)));
+  CHECK_FALSE(never.due(1000, at(1e6)));  // checkpoint_every = 0: only at the end, whatever the time
+  CheckpointClock slow(2, 30, 0, t0);     // the first is written (a run failing early keeps it), then none within 30 s
+  CHECK(slow.due(2, at(0)));
+  CHECK_FALSE(slow.due(4, at(10)));
+  CHECK_FALSE(slow.due(6, at(29.9)));
+  CHECK(slow.due(8, at(30)));
+}
+
+TEST_CASE("a checkpoint is also due output.checkpoint_minutes after the last one, at any step", "[cli]") {
+  // a rule failing at step 999 of a run checkpointed every 1,000 steps lost every step before it
+  using cellform::app::CheckpointClock;
+  const CheckpointClock::Clock::time_point t0{};
+  const auto at = [&](double s) {
+    return t0 + std::chrono::duration_cast<CheckpointClock::Clock::duration>(std::chrono::duration<double>(s));
+  };
+  CheckpointClock c(1000, 60, 10, t0);
+  CHECK_FALSE(c.due(1, at(10)));
+  CHECK_FALSE(c.due(7, at(599)));
+  CHECK(c.due(8, at(600)));  // ten minutes after the start
+  CHECK_FALSE(c.due(9, at(601)));
+  CHECK_FALSE(c.due(1000, at(620)));  // the step's own, within checkpoint_seconds of the last: skipped
+  CHECK(c.due(2000, at(700)));
+  CHECK_FALSE(c.due(2001, at(1299)));
+  CHECK(c.due(2002, at(1300)));  // ten minutes after the last
 }
 
 TEST_CASE("control bytes from a damaged file reach the terminal escaped", "[cli]") {

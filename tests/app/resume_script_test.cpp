@@ -31,7 +31,8 @@ TEST_CASE("a rule error names the checkpoint of this run, never one left by an e
   CHECK_THAT(first.err, Contains("late.lua:2: division.rule must return true or false"));
   CHECK_THAT(first.err, !Contains("the last checkpoint is"));  // the stale file is not this run's
   CHECK_THAT(first.err, Contains("no checkpoint of this run was written before step 10, so there is nothing to go on "
-                                 "from; output.checkpoint_every, or --checkpoint-every N, sets how often one is"));
+                                 "from; output.checkpoint_every and output.checkpoint_minutes, or --checkpoint-every "
+                                 "N, set how often one is"));
   const CliResult second = cli({"run", script.string(), "--out", out.string(), "--checkpoint-every", "4", "--quiet"});
   CHECK(second.code == 2);
   CHECK_THAT(second.err, Contains("(the last checkpoint is " + (out / "checkpoint.cfck").string() + ")"));
@@ -41,6 +42,14 @@ TEST_CASE("a rule error names the checkpoint of this run, never one left by an e
   const CliResult resumed = cli({"resume", kept.string(), "--out", (t.path / "again").string(), "--quiet"});
   CHECK(resumed.code == 2);
   CHECK_THAT(resumed.err, Contains("(the last checkpoint is " + kept.string() + ", the one resumed)"));
+  // a checkpoint is also due output.checkpoint_minutes after the last one, whatever the step: at a microsecond,
+  // after every step, so the run keeps step 9
+  const fs::path timed = t.path / "timed";
+  const CliResult third = cli(
+      {"run", script.string(), "--out", timed.string(), "--quiet", "--set", "output.checkpoint_minutes=0.00000001"});
+  CHECK(third.code == 2);
+  CHECK_THAT(third.err, Contains("(the last checkpoint is " + (timed / "checkpoint.cfck").string() + ")"));
+  CHECK(nlohmann::json::parse(slurp(timed / "run.json"))["steps"]["completed"] == 9);
 }
 
 TEST_CASE("a run stopped by a script error goes on from its checkpoint with the corrected script",
