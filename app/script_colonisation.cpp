@@ -387,15 +387,19 @@ venation::GrowthFunction read_growth_function(Impl& I, const Value& given, const
     constexpr int kSamples = 257;  // y0 from -0.5 to 1.5 leaf lengths, every 1/128
     for (int k = 0; k < kSamples; ++k) {
       const double y0 = -0.5 + 2.0 * k / (kSamples - 1);
+      // error(42), error({}), a yield: the message handler gives each its text and the script's line
+      lua_pushcfunction(L, &Impl::error_object_text);
+      const int handler = lua_gettop(L);
       lua_rawgeti(L, LUA_REGISTRYINDEX, given.ref);
       lua_pushnumber(L, y0);
-      const LuaRunsHere lua_runs(I);         // the function's allocations count against the memory limit
-      I.sampling = "the function " + field;  // it must not describe the scene
-      const int rc = lua_pcall(L, 1, 1, 0);  // counts against the script's own instruction budget
+      const LuaRunsHere lua_runs(I);               // the function's allocations count against the memory limit
+      I.sampling = "the function " + field;        // it must not describe the scene
+      const int rc = lua_pcall(L, 1, 1, handler);  // counts against the script's own instruction budget
+      lua_remove(L, handler);
       I.sampling.clear();
       I.wait_if_dying();
       if (rc != LUA_OK) {
-        const std::string msg = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "error object is not a string";
+        const std::string msg = lua_type(L, -1) == LUA_TSTRING ? lua_text(L, -1) : "error object is not a string";
         lua_pop(L, 1);
         throw InvalidInput(at + field + " failed at y0 = " + number_text(y0) + ": " + I.describe(msg));
       }

@@ -122,7 +122,7 @@ int api_print(lua_State* L) {
     std::string line;
     for (int i = 1; i <= n; ++i) {
       if (i > 1) line += "\t";
-      line += lua_tostring(L, i);
+      line += lua_text(L, i);
     }
     if (I.print) I.print(line);
   } catch (const std::bad_alloc&) {
@@ -350,7 +350,7 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
   std::string text = source.rfind("\xEF\xBB\xBF", 0) == 0 ? source.substr(3) : source;
   if (!text.empty() && text[0] == '#') text.insert(0, "--");
   if (luaL_loadbufferx(L, text.data(), text.size(), chunk.c_str(), "t") != LUA_OK) {
-    std::string msg = lua_tostring(L, -1);
+    std::string msg = lua_text(L, -1);
     lua_pop(L, 1);
     throw InvalidInput(I.describe(msg));
   }

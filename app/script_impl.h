@@ -29,6 +29,13 @@ using core::InvalidInput;
 using core::Vec3;
 
 inline constexpr int kHookEvery = 1000;  // instructions between budget checks
+
+/// The string at `idx` (a string or a number), all of it: a Lua string may hold zero bytes, where a C string ends.
+inline std::string lua_text(lua_State* L, int idx) {
+  std::size_t n = 0;
+  const char* s = lua_tolstring(L, idx, &n);
+  return s ? std::string(s, n) : std::string();
+}
 // the hook counts instructions (budget, Ctrl-C) and sees every call begin (the watchdog's beats)
 inline constexpr int kHookMask = LUA_MASKCOUNT | LUA_MASKCALL;
 
@@ -282,7 +289,11 @@ struct ScriptHost::Impl {
   /// longer than 4,000 bytes keeps its first 3,000 and its last 1,000 (error(string.rep("x", 1e8)) wrote 100 MB
   /// to the terminal; the end of an error passed up through nested coroutines says what went wrong).
   std::string describe(const std::string& message) const {
-    const std::string lua_message = whole_path(message);
+    std::string lua_message = whole_path(message);
+    // a zero byte (error("a\0b")) would end the message where an exception's text is read (what()), as the
+    // terminal shows it: \x00
+    for (std::size_t at = lua_message.find('\0'); at != std::string::npos; at = lua_message.find('\0', at + 4))
+      lua_message.replace(at, 1, "\\x00");
     constexpr std::size_t kLongest = 4000, kHead = 3000;
     if (lua_message.size() > kLongest) {
       const auto inside = [&](std::size_t at) {  // inside a UTF-8 sequence
@@ -347,8 +358,7 @@ struct ScriptHost::Impl {
     in_script.store(false, std::memory_order_release);
     lua_remove(L, base);
     if (rc == LUA_OK && !stopping) return {};
-    std::string msg =
-        rc != LUA_OK && lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "error object is not a string";
+    std::string msg = rc != LUA_OK && lua_type(L, -1) == LUA_TSTRING ? lua_text(L, -1) : "error object is not a string";
     lua_pop(L, rc != LUA_OK ? 1 : nresults);
     if (stopping && g_interrupt.load()) return stop_message;  // a Ctrl-C, whatever else happened
     if (stopping) msg = stop_message;                         // whatever the script made of it
@@ -359,13 +369,13 @@ struct ScriptHost::Impl {
   /// number and a note of its type otherwise (Lua adds the line only to string messages).
   static int error_object_text(lua_State* L) {
     if (lua_type(L, 1) == LUA_TSTRING) {
-      // Lua says a C stack overflow (a recursion through string.gsub, say), a yield outside a coroutine, or a
-      // comparison a library function made (table.sort of a number and a string), without a line: the line of
-      // the innermost script function running is added
+      // Lua says a C stack overflow (a recursion through string.gsub, say), a yield outside a coroutine, a
+      // comparison a library function made (table.sort of a number and a string), or next() given a key its
+      // table does not hold, without a line: the line of the innermost script function running is added
       const char* text = lua_tostring(L, 1);
       const bool overflow = std::strcmp(text, "C stack overflow") == 0;
       if (!overflow && std::strcmp(text, "attempt to yield from outside a coroutine") != 0 &&
-          std::strncmp(text, "attempt to compare ", 19) != 0)
+          std::strncmp(text, "attempt to compare ", 19) != 0 && std::strcmp(text, "invalid key to 'next'") != 0)
         return 1;
       for (int level = 1; level <= 32; ++level) {
         luaL_where(L, level);

@@ -262,6 +262,13 @@ TEST_CASE("colonisation{growth = 'nonuniform'} takes growth tables or functions 
              Contains("must return a number"));
   CHECK_THAT(load_error(head + "  growth_x = function(y) error('no rate here') end,\n" + y_ok),
              Contains("no rate here") && Contains("colonisation.growth_x failed at y0 = -0.5"));
+  // audit: any other error value, or a yield, said only "error object is not a string" or no line
+  CHECK_THAT(load_error(head + "  growth_x = function(y) error(42) end,\n" + y_ok),
+             Contains("growth_x failed at y0 = -0.5: test/leaf.lua:3: 42"));
+  CHECK_THAT(load_error(head + "  growth_x = function(y) error({}) end,\n" + y_ok),
+             Contains("test/leaf.lua:3: error() was raised with a table value"));
+  CHECK_THAT(load_error(head + "  growth_x = function(y) coroutine.yield() end,\n" + y_ok),
+             Contains("test/leaf.lua:3: attempt to yield from outside a coroutine"));
   // a growth function is called as the script loads, but it is no place to describe the scene
   for (const char* call : {"output { png = true }", "params { zz = 1 }", "cell { at = {0, 0, 0} }"})
     CHECK_THAT(load_error(head + "  growth_x = function(y) " + call + " return 1.1 end,\n" + y_ok),

@@ -76,6 +76,10 @@ TEST_CASE("script errors name the file and line", "[script]") {
     // a yield outside a coroutine (audit), at the top and in a rule
     CHECK(load_error("disc { radius = 2 }\n\ncoroutine.yield(1)\n") ==
           "test/leaf.lua:3: attempt to yield from outside a coroutine");
+    CHECK(load_error("disc { radius = 2 }\nlocal k = next({}, 'nokey')\n") == "test/leaf.lua:2: invalid key to 'next'");
+  }
+  SECTION("a message with a zero byte is said whole") {  // (a C string ended there)
+    CHECK(load_error("disc { radius = 2 }\nerror('bad\\0hidden')\n") == "test/leaf.lua:2: bad\\x00hidden");
   }
   SECTION("misspelt parameter suggests the closest") {
     const std::string e = load_error("\ncells { sprng = 1 }\n");
@@ -265,6 +269,10 @@ TEST_CASE("runaway scripts are stopped", "[script][limits]") {
     expected += std::to_string(i);
   }
   CHECK(printed[0] == expected);
+  printed.clear();
+  many.load("print('x', 'a\\0b', 'y')", "zero.lua", {});  // whole, past a zero byte
+  REQUIRE(printed.size() == 1);
+  CHECK(printed[0] == std::string("x\ta\0b\ty", 7));
   CHECK_THAT(load_error("print('a', setmetatable({}, { __tostring = function() error('tostring boom') end }))"),
              Contains("test/leaf.lua:1") && Contains("tostring boom"));
   // a section called with the memory limit reached: the script's next allocation fails, not the host's

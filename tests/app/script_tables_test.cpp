@@ -64,6 +64,16 @@ TEST_CASE("params{} knobs are read-only, iterate with pairs, next and rawget, an
   // a value set back is no change (a NaN knob is refused: run.json kept null), through nil too
   CHECK_NOTHROW(load("local P = params { n = 3 }\nP.n = 4\nP.n = 3\n"));
   CHECK_NOTHROW(load("local P = params { n = 3 }\nP.n = nil\nP.n = 3\n"));
+  // each kind compared whole (without copying a long text each step): its last byte, an integer made a float,
+  // -0.0 for 0.0, a boolean; an equal text made anew is no change
+  CHECK_THAT(load_error("local P = params { s = string.rep('x', 100000) }\nP.s = string.rep('x', 99999) .. 'y'\n"),
+             Contains("changed the knob s"));
+  CHECK_THAT(load_error("local P = params { n = 3 }\nP.n = 3.0\n"), Contains("knob n from 3 to 3.0"));
+  CHECK_THAT(load_error("local P = params { x = 0.0 }\nP.x = -0.0\n"), Contains("knob x from 0.0 to -0.0"));
+  CHECK_THAT(load_error("local P = params { b = true }\nP.b = false\n"), Contains("knob b from true to false"));
+  CHECK_NOTHROW(
+      load("local P = params { s = string.rep('x', 100000), x = 0.5, b = true }\n"
+           "P.s = string.rep('x', 100000)\nP.x = 0.25 * 2\n"));
   // a new field is refused at once, where it is written (a misspelt assignment passed unseen, and run.json
   // and print(P) did not show it), by rawset too
   CHECK_THAT(load_error("local P = params { vein_spacing = 10 }\n\nP.vein_spacin = 20\n"),
