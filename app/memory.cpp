@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "core/errors.h"
+
 namespace cellform::app {
 
 double control_group_memory_limit(std::istream& cgroup, const std::filesystem::path& root) {
@@ -64,6 +66,22 @@ double meminfo_bytes(const std::string& text, const std::string& name) {
 }
 
 }  // namespace
+
+void check_file_fits(double file_bytes, double per_byte, const MemoryHeadroom& room, const std::string& what) {
+  const double need = file_bytes * per_byte;
+  if (!(need > room.bytes)) return;
+  const auto gb = [](double b) { return core::number_text(std::round(b / 1e8) / 10) + " GB"; };
+  throw core::InvalidInput(what + " is " + gb(file_bytes) + ": reading it takes about " + gb(need) +
+                           " of memory, more than " + room.name + " (" + gb(room.bytes) +
+                           "); give a smaller file (fewer triangles or points)");
+}
+
+void check_file_fits(const std::filesystem::path& path, double per_byte, const std::string& what) {
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec || size < (std::uintmax_t{1} << 26)) return;  // (64 MB: not worth reading the machine's limits for)
+  check_file_fits(static_cast<double>(size), per_byte, memory_headroom(), what);
+}
 
 MemoryHeadroom memory_headroom() {
   const double page = static_cast<double>(::sysconf(_SC_PAGE_SIZE));

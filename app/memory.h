@@ -13,6 +13,11 @@ namespace cellform::app {
 /// memory.limit_in_bytes (v1); infinity if none is set ("max", a missing file).
 double control_group_memory_limit(std::istream& cgroup, const std::filesystem::path& root);
 
+/// Bytes of memory reading a byte of a mesh file (OBJ or STL) takes at the peak, and of an outline file: 3.2 and
+/// 6.3 measured on files of a gigabyte (December 2026), rounded up.
+inline constexpr double kMeshBytesPerByte = 4;
+inline constexpr double kOutlineBytesPerByte = 7;
+
 /// Bytes the process may still take, and how a message names that bound ("what ulimit -v leaves this process").
 struct MemoryHeadroom {
   double bytes = std::numeric_limits<double>::infinity();
@@ -27,5 +32,13 @@ MemoryHeadroom tightest_headroom(double address_limit, double address_used, doub
 
 /// tightest_headroom() of this process now (getrlimit, /proc/self/statm, /proc/self/cgroup, /proc/meminfo).
 MemoryHeadroom memory_headroom();
+
+/// Throws core::InvalidInput when reading a file of `file_bytes` bytes takes more than `room`: about
+/// `per_byte` bytes of memory a byte of it. `what` names the file in the message ("mesh 'site.obj'").
+void check_file_fits(double file_bytes, double per_byte, const MemoryHeadroom& room, const std::string& what);
+
+/// check_file_fits() of the file at `path` (when its size can be read) against memory_headroom(): a file of
+/// gigabytes is refused before it is read, rather than running the machine out of memory a minute later.
+void check_file_fits(const std::filesystem::path& path, double per_byte, const std::string& what);
 
 }  // namespace cellform::app

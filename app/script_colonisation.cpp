@@ -1,5 +1,6 @@
 // The sections of the growth-script API that set up space colonisation (leaf{}, volume{}, surface{},
 // colonisation{}): each reads its table against the schema and fills the colonisation configuration.
+#include "app/memory.h"
 #include "app/script_impl.h"
 #include "venation/domain.h"
 
@@ -72,6 +73,7 @@ venation::Mesh read_domain_mesh(Impl& I, const std::string& section, const Value
   if (file.is_relative()) file = I.script_dir / file;
   venation::Mesh out;
   try {
+    check_file_fits(file, kMeshBytesPerByte, "mesh '" + file.string() + "'");
     forms::TriangleMesh m = forms::load_mesh(file);
     out.vertices = std::move(m.vertices);
     out.triangles = std::move(m.triangles);
@@ -266,6 +268,7 @@ void section_leaf(Impl& I, const std::string& at) {
       }
       std::filesystem::path file = v["file"].str;
       if (file.is_relative()) file = I.script_dir / file;
+      check_file_fits(file, kOutlineBytesPerByte, "leaf.file '" + file.string() + "'");
       leaf.outline = venation::read_outline(file);
       // any drawing unit: the tip (the highest y; the petiole is (0, 0)) is one leaf length, as the built-in
       // shapes' is; an outline not drawn upwards from its petiole by at least half its farthest vertex's

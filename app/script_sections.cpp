@@ -369,6 +369,7 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
     try {
       // its fingerprint, for a resume to compare: the same before and after reading it, or it changed meanwhile
       const std::string before = file_fingerprint(file);
+      check_file_fits(file, kMeshBytesPerByte, "mesh '" + file.string() + "'");
       mesh = forms::load_mesh(file);
       if (file_fingerprint(file) != before)
         throw core::FileError(file.string() + " changed while it was read; run again once it is written");
