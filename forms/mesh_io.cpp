@@ -249,9 +249,11 @@ TriangleMesh read_ascii_stl(std::istream& in, const std::string& name) {
 }
 
 // Lines of an OBJ file that define a vertex position ("v x y z"), to notice ones the reader had to skip.
-/// The number of vertex lines of an OBJ text; refuses face lines OpenMesh would drop without a word (a
-/// bad index, fewer than three corners), naming the line. `polylines`: the number of line ('l') lines.
-std::size_t check_obj_lines(std::istream& in, const std::string& name, std::size_t& polylines) {
+/// The vertex positions of an OBJ text, as written (OpenMesh reads 32-bit floats: 6 cm steps at a site
+/// coordinate of 10^6 mm); refuses face lines OpenMesh would drop without a word (a bad index, fewer than three
+/// corners), naming the line. `polylines`: the number of line ('l') lines.
+std::vector<Vec3> check_obj_lines(std::istream& in, const std::string& name, std::size_t& polylines) {
+  std::vector<Vec3> positions;
   std::size_t count = 0, line_no = 0;
   polylines = 0;
   std::string line;
@@ -274,6 +276,7 @@ std::size_t check_obj_lines(std::istream& in, const std::string& name, std::size
         good = (*end == '\0' || (&c == &xyz[2] && *end == '#')) && std::isfinite(c) &&  // "v 0 0 0#note"
                std::abs(c) <= std::numeric_limits<float>::max();
       }
+      if (good) positions.emplace_back(xyz[0], xyz[1], xyz[2]);
       if (!good)
         throw core::InvalidInput("mesh " + name + " is malformed: line " + std::to_string(line_no) + ": '" +
                                  core::printable(line.substr(0, 60)) + (line.size() > 60 ? "..." : "") +
@@ -298,7 +301,7 @@ std::size_t check_obj_lines(std::istream& in, const std::string& name, std::size
   }
   in.clear();
   in.seekg(0);
-  return count;
+  return positions;
 }
 
 // The mesh if it has triangles and finite vertices; names the file otherwise (`polylines`: its OBJ 'l' lines).
@@ -494,7 +497,9 @@ TriangleMesh load_mesh(const fs::path& path) {
   if (ext == ".stl" && !is_binary_stl(probe, size, name)) return checked(read_ascii_stl(probe, name), name);
   if (ext == ".stl") check_binary_stl_corners(probe, size, name);  // OpenMesh drops such triangles unsaid
   std::size_t polylines = 0;
-  const std::size_t vertex_lines = ext == ".obj" ? check_obj_lines(probe, name, polylines) : 0;
+  std::vector<Vec3> positions;  // an OBJ's, in full
+  if (ext == ".obj") positions = check_obj_lines(probe, name, polylines);
+  const std::size_t vertex_lines = positions.size();
   // OpenMesh takes an OBJ's first line after a UTF-8 byte-order mark for an unknown keyword (a vertex gone,
   // every face shifted): such a file is read without its mark
   std::string text;
@@ -523,6 +528,7 @@ TriangleMesh load_mesh(const fs::path& path) {
                              " vertex lines ('v x y z') are not three numbers (NaN and infinity are not allowed)");
   if (importer.bad_index)
     throw core::InvalidInput("mesh " + name + " is malformed: a face uses a vertex that does not exist");
+  if (ext == ".obj") importer.mesh.vertices = std::move(positions);  // the same vertices, in the same order
   importer.split_faces(name);
   return checked(std::move(importer.mesh), name, polylines);
 }

@@ -384,3 +384,19 @@ TEST_CASE("load_mesh refuses a malformed ASCII STL, naming the file and the line
   refuses("short.stl", short_facet, "line 13", "three vertices");
   fs::remove_all(dir);
 }
+
+TEST_CASE("load_mesh keeps an OBJ's coordinates as written, at site coordinates too", "[forms][mesh_io]") {
+  // OpenMesh reads 32-bit floats: a vertex at 1,000,000.001 mm came back at 1,000,000 (steps of 6.25 cm there)
+  const fs::path dir = temp_dir("site");
+  write_text(dir / "site.obj",
+             "v 1000000.001 2000000.25 3.5\nv 1000010.001 2000000.25 3.5\nv 1000000.001 2000010.75 -0.000123\n"
+             "v 0.1 0.2 0.3 1.0\nf 1 2 3\nf 1 3 4\n");
+  const auto m = cellform::forms::load_mesh(dir / "site.obj");
+  REQUIRE(m.vertices.size() == 4);
+  CHECK(m.vertices[0] == Vec3(1000000.001, 2000000.25, 3.5));
+  CHECK(m.vertices[1] == Vec3(1000010.001, 2000000.25, 3.5));
+  CHECK(m.vertices[2] == Vec3(1000000.001, 2000010.75, -0.000123));
+  CHECK(m.vertices[3] == Vec3(0.1, 0.2, 0.3));  // a weight after x y z is not a coordinate
+  CHECK(m.triangles.size() == 2);
+  fs::remove_all(dir);
+}
