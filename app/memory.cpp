@@ -9,36 +9,61 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/errors.h"
 
 namespace cellform::app {
 
-double control_group_memory_limit(std::istream& cgroup, const std::filesystem::path& root) {
-  std::vector<std::filesystem::path> limits;
+namespace {
+
+/// Of each memory control group `cgroup` names, from its own up to the root: its limit and its usage file.
+std::vector<std::pair<std::filesystem::path, std::filesystem::path>> group_files(std::istream& cgroup,
+                                                                                 const std::filesystem::path& root) {
+  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> files;
   for (std::string line; std::getline(cgroup, line);) {  // "0::/path" (v2), "N:memory:/path" (v1)
     const std::size_t a = line.find(':'), b = a == std::string::npos ? a : line.find(':', a + 1);
     if (b == std::string::npos) continue;
     const std::string controllers = line.substr(a + 1, b - a - 1);
     if (!controllers.empty() && controllers.find("memory") == std::string::npos) continue;
-    const std::filesystem::path base = controllers.empty() ? root : root / "memory";
-    const char* file = controllers.empty() ? "memory.max" : "memory.limit_in_bytes";
+    const bool v2 = controllers.empty();
+    const std::filesystem::path base = v2 ? root : root / "memory";
     for (std::filesystem::path at = line.substr(b + 1);; at = at.parent_path()) {
-      limits.push_back(base / at.relative_path() / file);
+      const std::filesystem::path dir = base / at.relative_path();
+      files.emplace_back(dir / (v2 ? "memory.max" : "memory.limit_in_bytes"),
+                         dir / (v2 ? "memory.current" : "memory.usage_in_bytes"));
       if (at.empty() || at == at.parent_path()) break;
     }
   }
+  return files;
+}
+
+/// The number a control group file holds; 0 if none ("max", a missing file).
+double group_number(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  double bytes = 0;
+  return in >> bytes && bytes > 0 ? bytes : 0.0;
+}
+
+}  // namespace
+
+double control_group_memory_limit(std::istream& cgroup, const std::filesystem::path& root) {
   double lowest = std::numeric_limits<double>::infinity();
-  for (const std::filesystem::path& limit : limits) {
-    std::ifstream in(limit);
-    double bytes = 0;
-    if (in >> bytes && bytes > 0) lowest = std::min(lowest, bytes);  // "max" (no limit) reads as nothing
-  }
+  for (const auto& [limit, usage] : group_files(cgroup, root))
+    if (const double bytes = group_number(limit); bytes > 0) lowest = std::min(lowest, bytes);
   return lowest;
 }
 
-MemoryHeadroom tightest_headroom(double address_limit, double address_used, double group_limit, double resident,
+double control_group_memory_left(std::istream& cgroup, const std::filesystem::path& root) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const auto& [limit, usage] : group_files(cgroup, root))
+    if (const double bytes = group_number(limit); bytes > 0)  // the group's usage: all its processes', cache too
+      lowest = std::min(lowest, std::max(bytes - group_number(usage), 0.0));
+  return lowest;
+}
+
+MemoryHeadroom tightest_headroom(double address_limit, double address_used, double group_left,
                                  double machine_available) {
   MemoryHeadroom room;
   const auto bound = [&](double limit, double used, const char* name) {
@@ -47,7 +72,7 @@ MemoryHeadroom tightest_headroom(double address_limit, double address_used, doub
     if (left < room.bytes) room = {left, name};
   };
   bound(address_limit, address_used, "what the address-space limit (ulimit -v) leaves this process");
-  bound(group_limit, resident, "what this container's memory limit leaves this process");
+  bound(group_left, 0, "what this container's memory limit leaves");
   bound(machine_available, 0, "this machine's available memory and swap");
   return room;
 }
@@ -88,18 +113,15 @@ MemoryHeadroom memory_headroom() {
   double address_limit = std::numeric_limits<double>::infinity();
   if (rlimit r{}; ::getrlimit(RLIMIT_AS, &r) == 0 && r.rlim_cur != RLIM_INFINITY)
     address_limit = static_cast<double>(r.rlim_cur);
-  double size = std::nan(""), resident = std::nan("");
-  if (std::ifstream statm("/proc/self/statm"); statm >> size >> resident) {
-    size *= page;
-    resident *= page;
-  }
+  double size = std::nan("");
+  if (std::ifstream statm("/proc/self/statm"); statm >> size) size *= page;
   std::ifstream groups("/proc/self/cgroup");
-  const double group_limit = control_group_memory_limit(groups, "/sys/fs/cgroup");
+  const double group_left = control_group_memory_left(groups, "/sys/fs/cgroup");
   std::ifstream meminfo("/proc/meminfo");
   std::string text(1, '\n');  // (each name is looked for after a line break)
   text.append(std::istreambuf_iterator<char>(meminfo), {});
   const double available = meminfo_bytes(text, "MemAvailable") + meminfo_bytes(text, "SwapFree");
-  return tightest_headroom(address_limit, size, group_limit, resident, available);
+  return tightest_headroom(address_limit, size, group_left, available);
 }
 
 }  // namespace cellform::app

@@ -13,6 +13,11 @@ namespace cellform::app {
 /// memory.limit_in_bytes (v1); infinity if none is set ("max", a missing file).
 double control_group_memory_limit(std::istream& cgroup, const std::filesystem::path& root);
 
+/// Bytes: the least any of those groups has left below its limit (the limit less the group's usage,
+/// memory.current or memory.usage_in_bytes beside it: every process of the group, and its page cache);
+/// infinity if none is limited.
+double control_group_memory_left(std::istream& cgroup, const std::filesystem::path& root);
+
 /// Bytes of memory reading a byte of a mesh file (OBJ or STL) takes at the peak, and of an outline file: 3.2 and
 /// 6.3 measured on files of a gigabyte (December 2026), rounded up.
 inline constexpr double kMeshBytesPerByte = 4;
@@ -25,9 +30,9 @@ struct MemoryHeadroom {
 };
 
 /// The tightest of the bounds, each in bytes (infinity or NaN where not known): the address-space limit
-/// (ulimit -v) less the process's address space; a control group's limit less the process's resident memory;
-/// the machine's available memory and free swap.
-MemoryHeadroom tightest_headroom(double address_limit, double address_used, double group_limit, double resident,
+/// (ulimit -v) less the process's address space; what the control groups have left; the machine's available
+/// memory and free swap.
+MemoryHeadroom tightest_headroom(double address_limit, double address_used, double group_left,
                                  double machine_available);
 
 /// tightest_headroom() of this process now (getrlimit, /proc/self/statm, /proc/self/cgroup, /proc/meminfo).

@@ -334,7 +334,8 @@ std::vector<Field> build() {
   f.push_back(num("print", "max_memory", "2000", 1, 1e6, false, "MB",
                   "memory limit of the printable grid: an explicit voxel_size that needs more is refused; the "
                   "automatic one is coarsened to fit, up to the thinnest member printed (a vein's radius, at least "
-                  "min_radius; half the shell's wall)"));
+                  "min_radius; half the shell's wall). A print whose estimate exceeds what the process has left "
+                  "(ulimit -v, a container's limit, free memory and swap) is refused, never coarsened"));
   f.push_back(text("print", "formats", "stl", "comma-separated: stl, obj, ply, scad, vdb"));
   f.push_back(boolean("print", "fill_cavities", "false",
                       "fill closed pockets inside the solid (a shell around a closed sheet becomes solid; so do "
@@ -367,9 +368,10 @@ std::vector<Field> build() {
                   "skip a periodic checkpoint due this soon after the last one (0 = never skip; the first is "
                   "always written); the end of a run and Ctrl-C always write one, a failing step leaves the last"));
   f.push_back(num("output", "checkpoint_minutes", "10", 0, 1e6, false, "min",
-                  "also write one this long after the last one (or the start of the steps) at any step, so that a "
-                  "failure loses at most this much (0 = never; --checkpoint-every N sets it to 0: exactly every N "
-                  "steps); not with checkpoint_every = 0"));
+                  "also write one after the first step that ends this long after the last one (or the start of the "
+                  "steps: of the veins' steps, after a grown sheet), so that a failure loses about this much at most "
+                  "(0 = never; --checkpoint-every N sets it to 0: exactly every N steps); not with checkpoint_every "
+                  "= 0"));
   f.push_back(boolean("output", "png", "false",
                       "space colonisation: also write veins.png, a raster preview of veins and outline"));
   f.push_back(integer("output", "png_size", "1024", 16, 20000, "pixels", "longer side of veins.png"));

@@ -363,7 +363,7 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
                                bytes_text(params.max_memory_bytes) + "; " + advice);
     }
   }
-  check_available(estimate, voxel, params);
+  check_available(estimate, voxel, params, estimate_at(thinnest));
   ThickenReport plan_only, &plan = report ? *report : plan_only;
   plan.scale = scale, plan.voxel_size = voxel;
   plan.voxel_raised_from = voxel_raised_from;

@@ -27,18 +27,21 @@ std::string fmt(const char* f, double x) {
 
 std::string bytes_text(double b) { return b >= 1e9 ? fmt("%.1f GB", b / 1e9) : fmt("%.0f MB", std::ceil(b / 1e6)); }
 
-void check_available(double estimate, double voxel, const ThickenParams& params) {
+void check_available(double estimate, double voxel, const ThickenParams& params, double coarsest) {
   if (!(estimate > params.available_bytes)) return;
-  // within max_memory_bytes, which sets the automatic voxel; a limit at most the available memory makes it fit
+  // within max_memory_bytes, which sets the automatic voxel; a limit at most the available memory makes it fit,
+  // where the coarsest voxel it may take fits
   const double fits = std::floor(params.available_bytes / 1e6);  // MB
+  std::string advice = "use a coarser voxel size, or a smaller scale or size";
+  if (params.voxel_size == 0)
+    advice = coarsest <= fits * 1e6 ? "lower the memory limit to " + fmt("%.0f", fits) +
+                                          " MB or less (the automatic voxel size then coarsens to fit), or use a "
+                                          "smaller scale or size"
+                                    : "use a smaller scale or size (no voxel coarse enough fits: the thinnest "
+                                      "members would vanish), or free some memory";
   throw core::InvalidInput("thicken: at a voxel size of " + fmt("%.3g", voxel) + " mm the form needs about " +
                            bytes_text(estimate) + " of memory, more than " + params.available_name + " (" +
-                           bytes_text(params.available_bytes) + "); " +
-                           (params.voxel_size > 0 ? "use a coarser voxel size, or a smaller scale or size"
-                            : fits >= 1           ? "lower the memory limit to " + fmt("%.0f", fits) +
-                                              " MB or less (the automatic voxel size then coarsens to fit), or use "
-                                              "a smaller scale or size"
-                                        : "free some memory"));
+                           bytes_text(params.available_bytes) + "); " + advice);
 }
 
 void check_params(const ThickenParams& p) {

@@ -17,8 +17,10 @@ namespace detail {
 std::string fmt(const char* f, double x);
 /// `b` bytes, in GB from 1 GB on, else in MB (rounded up).
 std::string bytes_text(double b);
-/// Throws core::InvalidInput when the print's `estimate` (bytes, at `voxel` mm) exceeds params.available_bytes.
-void check_available(double estimate, double voxel, const ThickenParams& params);
+/// Throws core::InvalidInput when the print's `estimate` (bytes, at `voxel` mm) exceeds params.available_bytes;
+/// `coarsest` is the estimate at the coarsest voxel the automatic one may take (the thinnest member), which
+/// says whether a lower max_memory_bytes would help.
+void check_available(double estimate, double voxel, const ThickenParams& params, double coarsest);
 /// Throws core::InvalidInput naming the first ThickenParams field out of range.
 void check_params(const ThickenParams& p);
 /// InvalidInput for a given scale (mm per model unit) at which veins printed alone span no more than

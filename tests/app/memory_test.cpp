@@ -16,6 +16,7 @@
 using Catch::Matchers::Contains;
 namespace fs = std::filesystem;
 using cellform::app::check_file_fits;
+using cellform::app::control_group_memory_left;
 using cellform::app::control_group_memory_limit;
 using cellform::app::memory_headroom;
 using cellform::app::tightest_headroom;
@@ -47,21 +48,31 @@ TEST_CASE("the memory limit is the lowest of the run's control groups, from its 
   CHECK(std::isinf(control_group_memory_limit(none, t.path / "v2")));
   std::istringstream junk("garbage\n0::/nowhere/at/all\n");
   CHECK(std::isinf(control_group_memory_limit(junk, t.path / "v2")));
+  // what is left: each limited group's limit less its usage (all its processes'), the least of them
+  put("v2/user.slice/memory.current", "3000000000\n");      // 1 GB left of 4 GB
+  put("v2/user.slice/job/memory.current", "1000000000\n");  // 1.5 GB left of 2.5 GB
+  std::istringstream left("0::/user.slice/job\n");
+  CHECK(control_group_memory_left(left, t.path / "v2") == 1e9);
+  put("v1/memory/docker/abc/memory.usage_in_bytes", "400000000\n");
+  std::istringstream left1("11:memory:/docker/abc\n");
+  CHECK(control_group_memory_left(left1, t.path / "v1") == 6e8);
+  std::istringstream unlimited("0::/\n");
+  CHECK(std::isinf(control_group_memory_left(unlimited, t.path / "v2")));
 }
 
 TEST_CASE("the headroom is the tightest of the address-space limit, the container's and the machine's", "[memory]") {
   const double inf = std::numeric_limits<double>::infinity(), nan = std::nan("");
-  CHECK(std::isinf(tightest_headroom(inf, 1e9, inf, 5e8, nan).bytes));  // nothing known: no bound
-  const auto as = tightest_headroom(2.5e9, 1e9, inf, 5e8, 20e9);        // ulimit -v 2.5 GB, 1 GB mapped
+  CHECK(std::isinf(tightest_headroom(inf, 1e9, inf, nan).bytes));  // nothing known: no bound
+  const auto as = tightest_headroom(2.5e9, 1e9, inf, 20e9);        // ulimit -v 2.5 GB, 1 GB mapped
   CHECK(as.bytes == 1.5e9);
   CHECK_THAT(as.name, Contains("ulimit -v"));
-  const auto group = tightest_headroom(inf, 1e9, 4e9, 5e8, 20e9);  // the container's limit less what is resident
+  const auto group = tightest_headroom(inf, 1e9, 3.5e9, 20e9);  // what the container's groups have left
   CHECK(group.bytes == 3.5e9);
   CHECK_THAT(group.name, Contains("container"));
-  const auto machine = tightest_headroom(inf, nan, 64e9, nan, 3e9);
+  const auto machine = tightest_headroom(inf, nan, 64e9, 3e9);
   CHECK(machine.bytes == 3e9);
   CHECK_THAT(machine.name, Contains("machine"));
-  CHECK(tightest_headroom(1e9, 2e9, inf, 0, inf).bytes == 0);  // over the limit already: nothing left, not negative
+  CHECK(tightest_headroom(1e9, 2e9, inf, inf).bytes == 0);  // over the limit already: nothing left, not negative
 }
 
 TEST_CASE("this process's headroom is positive, and named where it is bounded", "[memory]") {

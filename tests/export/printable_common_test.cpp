@@ -139,6 +139,12 @@ TEST_CASE("a print the process cannot hold is refused before any voxel, never co
   CHECK_THROWS_AS(exporters::thicken({}, sheet, p), core::Cancelled);
   CHECK(voxel > fine);
   CHECK(estimate <= p.available_bytes);
+  // where even the coarsest voxel (the thinnest member) would not fit, a lower limit cannot help: said so
+  p.max_memory_bytes = 2e9;
+  p.available_bytes = 1e6;
+  CHECK_THROWS_WITH(exporters::thicken({}, sheet, p),
+                    Catch::Matchers::Contains("use a smaller scale or size (no voxel coarse enough fits") &&
+                        !Catch::Matchers::Contains("lower the memory limit"));
   // a voxel size given is not changed: a coarser one is asked for
   p.max_memory_bytes = 1e15;
   p.voxel_size = fine;
