@@ -51,6 +51,21 @@ TEST_CASE("spring on coincident cells is finite and pushes them apart symmetrica
   REQUIRE((a + b).norm() == 0.0);
   REQUIRE(cohesion_kernel(pos, 0, kOne).norm() == 0.0);
   REQUIRE(separation_kernel(pos, 0, kOne).norm() == 0.0);
+  // a pile of coincident cells: each pair has its own direction (all along x made a line of them), spread over
+  // the sphere
+  const std::vector<Vec3> pile(64, Vec3(1, 1, 1));
+  Vec3 sum_abs = Vec3::Zero();
+  std::vector<Vec3> seen;
+  for (Index i = 0; i < 64; ++i)
+    for (Index j = i + 1; j < 64; ++j) {
+      const Vec3 d = spring_kernel(pile, i, std::vector<Index>{j}, 1.0);
+      REQUIRE(d.norm() == Approx(1.0));
+      REQUIRE((d + spring_kernel(pile, j, std::vector<Index>{i}, 1.0)).norm() == 0.0);
+      sum_abs += d.cwiseAbs();
+      seen.push_back(d);
+    }
+  const double pairs = static_cast<double>(seen.size());  // 2,016: |component| averages 1/2 on the sphere
+  for (int k = 0; k < 3; ++k) CHECK(sum_abs[k] / pairs == Approx(0.5).margin(0.03));
 }
 
 TEST_CASE("planar: towards the plane of three neighbours with magnitude = height", "[forces]") {
