@@ -18,10 +18,15 @@ namespace cellform::app {
 
 namespace {
 
-/// Of each memory control group `cgroup` names, from its own up to the root: its limit and its usage file.
-std::vector<std::pair<std::filesystem::path, std::filesystem::path>> group_files(std::istream& cgroup,
-                                                                                 const std::filesystem::path& root) {
-  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> files;
+/// A memory control group's files: its limit, its usage, and the statistics that split the usage.
+struct GroupFiles {
+  std::filesystem::path limit, usage, stat;
+  bool v2;
+};
+
+/// Of each memory control group `cgroup` names, from its own up to the root.
+std::vector<GroupFiles> group_files(std::istream& cgroup, const std::filesystem::path& root) {
+  std::vector<GroupFiles> files;
   for (std::string line; std::getline(cgroup, line);) {  // "0::/path" (v2), "N:memory:/path" (v1)
     const std::size_t a = line.find(':'), b = a == std::string::npos ? a : line.find(':', a + 1);
     if (b == std::string::npos) continue;
@@ -31,8 +36,8 @@ std::vector<std::pair<std::filesystem::path, std::filesystem::path>> group_files
     const std::filesystem::path base = v2 ? root : root / "memory";
     for (std::filesystem::path at = line.substr(b + 1);; at = at.parent_path()) {
       const std::filesystem::path dir = base / at.relative_path();
-      files.emplace_back(dir / (v2 ? "memory.max" : "memory.limit_in_bytes"),
-                         dir / (v2 ? "memory.current" : "memory.usage_in_bytes"));
+      files.push_back({dir / (v2 ? "memory.max" : "memory.limit_in_bytes"),
+                       dir / (v2 ? "memory.current" : "memory.usage_in_bytes"), dir / "memory.stat", v2});
       if (at.empty() || at == at.parent_path()) break;
     }
   }
@@ -46,20 +51,34 @@ double group_number(const std::filesystem::path& file) {
   return in >> bytes && bytes > 0 ? bytes : 0.0;
 }
 
+/// Bytes of the file cache in a group's usage (memory.stat: active and inactive files, v1's of the whole
+/// subtree), which the kernel reclaims before it runs out: a build's cache is not memory taken.
+double group_file_cache(const GroupFiles& g) {
+  std::ifstream in(g.stat);
+  double cache = 0;
+  std::string key;
+  for (double bytes = 0; in >> key >> bytes;)
+    if (key == (g.v2 ? "active_file" : "total_active_file") || key == (g.v2 ? "inactive_file" : "total_inactive_file"))
+      cache += bytes;
+  return cache;
+}
+
 }  // namespace
 
 double control_group_memory_limit(std::istream& cgroup, const std::filesystem::path& root) {
   double lowest = std::numeric_limits<double>::infinity();
-  for (const auto& [limit, usage] : group_files(cgroup, root))
-    if (const double bytes = group_number(limit); bytes > 0) lowest = std::min(lowest, bytes);
+  for (const GroupFiles& g : group_files(cgroup, root))
+    if (const double bytes = group_number(g.limit); bytes > 0) lowest = std::min(lowest, bytes);
   return lowest;
 }
 
 double control_group_memory_left(std::istream& cgroup, const std::filesystem::path& root) {
   double lowest = std::numeric_limits<double>::infinity();
-  for (const auto& [limit, usage] : group_files(cgroup, root))
-    if (const double bytes = group_number(limit); bytes > 0)  // the group's usage: all its processes', cache too
-      lowest = std::min(lowest, std::max(bytes - group_number(usage), 0.0));
+  for (const GroupFiles& g : group_files(cgroup, root))
+    if (const double bytes = group_number(g.limit); bytes > 0) {  // all the group's processes, not its file cache
+      const double taken = std::max(group_number(g.usage) - group_file_cache(g), 0.0);
+      lowest = std::min(lowest, std::max(bytes - taken, 0.0));
+    }
   return lowest;
 }
 

@@ -56,6 +56,18 @@ TEST_CASE("the memory limit is the lowest of the run's control groups, from its 
   put("v1/memory/docker/abc/memory.usage_in_bytes", "400000000\n");
   std::istringstream left1("11:memory:/docker/abc\n");
   CHECK(control_group_memory_left(left1, t.path / "v1") == 6e8);
+  // a build's file cache is usage the kernel gives back: not taken (v1 counts its subtree's, total_*)
+  put("v1/memory/docker/abc/memory.stat",
+      "cache 300000000\ninactive_file 5\ntotal_inactive_file 200000000\n"
+      "total_active_file 100000000\nrss 100000000\n");
+  std::istringstream cached("11:memory:/docker/abc\n");
+  CHECK(control_group_memory_left(cached, t.path / "v1") == 9e8);
+  put("v2/user.slice/job/memory.stat",
+      "anon 200000000\nfile 800000000\nactive_file 300000000\n"
+      "inactive_file 500000000\n");
+  put("v2/user.slice/memory.stat", "active_file 0\ninactive_file 2500000000\n");  // 3.5 GB left of 4 GB
+  std::istringstream cached2("0::/user.slice/job\n");
+  CHECK(control_group_memory_left(cached2, t.path / "v2") == 2.3e9);  // the job's 2.5 GB less 0.2 GB taken
   std::istringstream unlimited("0::/\n");
   CHECK(std::isinf(control_group_memory_left(unlimited, t.path / "v2")));
 }
