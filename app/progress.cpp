@@ -8,6 +8,20 @@
 
 namespace cellform::app {
 
+std::string extent_text(const std::vector<core::Vec3>& points) {
+  if (points.empty()) return "";
+  core::Vec3 lo = points.front(), hi = lo;
+  for (const core::Vec3& p : points) {
+    if (!p.allFinite()) return "";
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const core::Vec3 size = hi - lo;
+  char buf[96];
+  std::snprintf(buf, sizeof buf, " across %.3g x %.3g x %.3g model units", size.x(), size.y(), size.z());
+  return buf;
+}
+
 std::string duration_text(double s) {
   char buf[32];
   if (!std::isfinite(s) || s < 0) return "?";

@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/types.h"
+
 namespace cellform::app {
 
 /// Reports step, cells, steps per second and time left; silent when quiet.
@@ -43,6 +45,11 @@ class Progress {
 
 /// "42s", "3m05s", "2h07m" ("?" if not a time).
 std::string duration_text(double seconds);
+
+/// " across 31 x 32 x 8.2 model units": the sides of the points' bounding box, three digits each, for the line
+/// that ends a run (a designer reads the form's size there before opening a file); "" for no point, or one
+/// not finite.
+std::string extent_text(const std::vector<core::Vec3>& points);
 
 /// Cell-steps of the steps after `step` up to `last` for a form of `cells` cells at `step` whose count goes
 /// as step^p (p >= 0) up to `cap` cells (0: no cap): the integral of min(cap, cells * (s / step)^p) ds.

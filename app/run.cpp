@@ -559,7 +559,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       where << (code == interrupted ? "interrupted at step "
                 : code == ok        ? "done: step "
                                     : "stopped with an error at step ")
-            << sim.step_count() << ", " << sim.cells().size() << " cells; outputs in " << dir.string() << "/\n";
+            << sim.step_count() << ", " << sim.cells().size() << " cells" << extent_text(sim.cells().position)
+            << "; outputs in " << dir.string() << "/\n";
       if (code == interrupted && saved)
         err << "continue with: cellform resume " << shell_word(checkpoint.string()) << "\n";
     }

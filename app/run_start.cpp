@@ -324,15 +324,15 @@ Start start_from(const RunOptions& o) {
             throw InputError("--set run.steps=" + v + ": a resume is given its total of steps by --steps " +
                              (whole ? std::to_string(static_cast<long long>(x)) : std::string("N (a whole number)")));
           }
+          // the command that does it: --script with the run's own script takes any --set (an edited copy too)
+          std::string command = "cellform resume " + shell_word(o.checkpoint.string()) + " --script " +
+                                shell_word(absolute_path_text(s.script_path)) + " --set " + shell_word(k + "=" + v);
+          if (o.steps) command += " --steps " + std::to_string(*o.steps);
           throw InputError("--set " + k + "=" + v + ": " + what +
                            " continues with the parameters it was saved with (only output.* and print.* may change "
-                           "when resuming a cell run, or a run stopped while its cell sheet grew); start a new run, "
-                           "or resume with --script and an edited script, to change " +
-                           k +
-                           (s.script_unchanged ? " (--script " + o.replace_script->string() +
-                                                     " is the script the checkpoint keeps, unchanged: this is a "
-                                                     "plain resume)"
-                                               : std::string()));
+                           "when resuming a cell run, or a run stopped while its cell sheet grew); to change " +
+                           k + ", give it a script, the run's own or an edited copy: " + command +
+                           " (or start a new run)");  // (with --script, the same text and a change is "edited")
         }
         if (k == "colonisation.max_steps" && !s.colonisation_bytes.empty() && !s.sheet_partial &&
             (saved_value == s.sets.end() || saved_value->second != v))

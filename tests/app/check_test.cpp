@@ -136,7 +136,9 @@ TEST_CASE("cellform check --min-wall judges the walls too", "[cli][check]") {
   r = cli({"check", plate.string(), "--min-wall", "0.8"});
   CHECK(r.code == 1);
   CHECK(r.out.rfind(plate.string() + ": NOT printable: walls thinner than --min-wall 0.8 over more than 1% of the "
-                                     "surface (1% of it is thinner than 0.05)\n",
+                                     "surface (1% of it is thinner than 0.05; a cellform print's walls are up to "
+                                     "about a voxel, print.voxel_size, thinner than the 2 print.min_radius or "
+                                     "print.shell_thickness it was given)\n",
                     0) == 0);
   r = cli({"check", plate.string(), "--min-wall=0.04", "--json"});
   CHECK(r.code == 0);

@@ -130,3 +130,12 @@ TEST_CASE("a line written beside the terminal bar starts on a line of its own, t
   CHECK(said.rfind("step 10/10 (100%), 5 cells, ", 0) == 0);
   CHECK(std::count(said.begin(), said.end(), '\n') == 1);
 }
+
+TEST_CASE("the line that ends a run gives the form's extent in model units", "[cli]") {
+  using cellform::app::extent_text;
+  using V = cellform::core::Vec3;
+  CHECK(extent_text({V(1, 2, 3), V(-30, 2.5, 3), V(0, 34.25, 11.2)}) == " across 31 x 32.2 x 8.2 model units");
+  CHECK(extent_text({V(5, 5, 5)}) == " across 0 x 0 x 0 model units");
+  CHECK(extent_text({}).empty());
+  CHECK(extent_text({V(0, 0, 0), V(std::nan(""), 0, 0)}).empty());
+}

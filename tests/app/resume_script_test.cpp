@@ -228,7 +228,9 @@ TEST_CASE("resume --script is refused clearly where it cannot apply", "[cli][che
   // a physics value may not change on a plain resume, but may with an edited script
   r = cli({"resume", checkpoint, "--steps", "8", "--set", "cells.spring=2", "--quiet"});
   CHECK(r.code == 2);
-  CHECK_THAT(r.err, Contains("or resume with --script and an edited script"));
+  CHECK_THAT(r.err, Contains("to change cells.spring, give it a script, the run's own or an edited copy: cellform "
+                             "resume ") &&
+                        Contains(" --set cells.spring=2 --steps 8 (or start a new run)"));
   const auto edited = t.write("edited.lua", std::string(kSmall) + "-- springier\n");
   r = cli({"resume", checkpoint, "--steps", "8", "--set", "cells.spring=2", "--script", edited.string(), "--quiet"});
   CHECK(r.code == 0);
