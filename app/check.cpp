@@ -48,8 +48,8 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
       : th.samples > 0
           ? "walls thinner than --min-wall " + core::number_text(min_wall) +
                 " over more than 1% of the surface (1% of it is thinner than " + core::number_text(th.p01) +
-                "; a cellform print's walls are up to about a voxel, print.voxel_size, thinner than the 2 "
-                "print.min_radius or print.shell_thickness it was given)"
+                "; a cellform print's walls are up to about a voxel, print.voxel_size, thinner than twice "
+                "print.min_radius (veins) or print.shell_thickness (a shell))"
           : "walls not measured, so not known to be at least --min-wall " + core::number_text(min_wall);
   const bool printable = r.printable() && !thin;
   std::vector<std::string> problems = r.problems();

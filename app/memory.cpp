@@ -51,15 +51,15 @@ double group_number(const std::filesystem::path& file) {
   return in >> bytes && bytes > 0 ? bytes : 0.0;
 }
 
-/// Bytes of the file cache in a group's usage (memory.stat: active and inactive files, v1's of the whole
-/// subtree), which the kernel reclaims before it runs out: a build's cache is not memory taken.
+/// Bytes of the inactive file cache in a group's usage (memory.stat, v1's of the whole subtree), which the kernel
+/// reclaims before it runs out: a build's cache is not memory taken (as Docker and Kubernetes count; the active
+/// files hold programs' mapped pages too).
 double group_file_cache(const GroupFiles& g) {
   std::ifstream in(g.stat);
   double cache = 0;
   std::string key;
   for (double bytes = 0; in >> key >> bytes;)
-    if (key == (g.v2 ? "active_file" : "total_active_file") || key == (g.v2 ? "inactive_file" : "total_inactive_file"))
-      cache += bytes;
+    if (key == (g.v2 ? "inactive_file" : "total_inactive_file")) cache += bytes;
   return cache;
 }
 

@@ -14,8 +14,8 @@ namespace cellform::app {
 double control_group_memory_limit(std::istream& cgroup, const std::filesystem::path& root);
 
 /// Bytes: the least any of those groups has left below its limit (the limit less the group's usage,
-/// memory.current or memory.usage_in_bytes beside it, which counts every process of the group, less the file
-/// cache memory.stat gives, which the kernel reclaims); infinity if none is limited.
+/// memory.current or memory.usage_in_bytes beside it, which counts every process of the group, less the inactive
+/// file cache memory.stat gives, which the kernel reclaims); infinity if none is limited.
 double control_group_memory_left(std::istream& cgroup, const std::filesystem::path& root);
 
 /// Bytes of memory reading a byte of a mesh file (OBJ or STL) takes at the peak, and of an outline file: 3.2 and

@@ -17,8 +17,12 @@ std::string extent_text(const std::vector<core::Vec3>& points) {
     hi = hi.cwiseMax(p);
   }
   const core::Vec3 size = hi - lo;
-  char buf[96];
-  std::snprintf(buf, sizeof buf, " across %.3g x %.3g x %.3g model units", size.x(), size.y(), size.z());
+  // three significant digits of the largest side, in fixed notation (%g wrote a 1,500 mm form as 1.5e+03)
+  const double largest = size.maxCoeff();
+  const int decimals = largest > 0 ? std::clamp(2 - static_cast<int>(std::floor(std::log10(largest))), 0, 12) : 0;
+  char buf[160];
+  std::snprintf(buf, sizeof buf, " across %.*f x %.*f x %.*f model units", decimals, size.x(), decimals, size.y(),
+                decimals, size.z());
   return buf;
 }
 

@@ -46,7 +46,8 @@ class Progress {
 /// "42s", "3m05s", "2h07m" ("?" if not a time).
 std::string duration_text(double seconds);
 
-/// " across 31 x 32 x 8.2 model units": the sides of the points' bounding box, three digits each, for the line
+/// " across 31.0 x 32.2 x 8.2 model units": the sides of the points' bounding box, to three significant digits of
+/// the largest, for the line
 /// that ends a run (a designer reads the form's size there before opening a file); "" for no point, or one
 /// not finite.
 std::string extent_text(const std::vector<core::Vec3>& points);

@@ -1,7 +1,9 @@
 // What a resume must still agree with, or take over, from the run it continues: the step limits, the obstacle
 // mesh files it grew against, and (with an edited script) obstacles that hold none of its cells and a sink for
-// venation added.
+// venation added; and the commands a message gives to resume.
 #include <algorithm>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -11,6 +13,48 @@
 #include "forms/obstacles.h"
 
 namespace cellform::app {
+
+namespace fs = std::filesystem;
+
+/// `p` as a shell word: quoted when it holds anything but letters, digits and -_./+,:@%=
+std::string shell_word(const std::string& p) {
+  if (!p.empty() && p.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_./+,:@%=") ==
+                        std::string::npos)
+    return p;
+  std::string q = "'";
+  for (const char c : p) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+std::string resume_hint(const RunOptions& o, const fs::path& checkpoint, const fs::path& script) {
+  return "  to go on from it with the script corrected: " + resume_command(o, checkpoint, script);
+}
+
+std::string resume_command(const RunOptions& o, const fs::path& checkpoint, const fs::path& script, bool all) {
+  std::string hint = "cellform resume " + shell_word(checkpoint.string()) + " --script " +
+                     (script.empty() ? std::string("EDITED.lua") : shell_word(absolute_path_text(script)));
+  // a new checkpoint is in this command's folder, where a resume writes anyway; the one resumed may not be
+  if (o.out && checkpoint == o.checkpoint) hint += " --out " + shell_word(o.out->string());
+  if (o.steps) hint += " --steps " + std::to_string(*o.steps);
+  if (all && o.checkpoint_every) hint += " --checkpoint-every " + std::to_string(*o.checkpoint_every);
+  if (all)
+    for (const auto& [k, v] : o.sets) hint += " --set " + shell_word(k + "=" + v);
+  return hint;
+}
+
+fs::path script_as_run(const Start& s) {
+  std::ifstream in(s.script_path, std::ios::binary);
+  const std::string text(std::istreambuf_iterator<char>(in), {});
+  return in && text == s.source ? s.script_path : fs::path();
+}
+
+std::string sets_carry_over(const Overrides& sets) {
+  std::string listed;
+  for (const auto& [k, v] : sets) listed += (listed.empty() ? "" : ", ") + k + "=" + v;
+  return listed.empty()
+             ? listed
+             : "  (the run's --set values carry over: " + listed + "; with --script, --set NAME=VALUE gives another)\n";
+}
 
 void adopt_mesh_files(Start& s, const RunOptions& o, const SceneConfig& cfg, std::ostream& err) {
   std::vector<std::string> meshes;

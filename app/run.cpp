@@ -267,8 +267,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   Progress progress(err, ::isatty(2) != 0, o.quiet, first, target, cfg.print ? "the print" : "",
                     sim.params().division.max_cells);
   bar = &progress;
-  CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds,
-                              cfg.output.checkpoint_minutes);
+  CheckpointClock checkpoints(cfg.output);
   std::vector<std::string> outputs;
   const fs::path checkpoint = dir / kCheckpointName;
   std::string status = "complete";

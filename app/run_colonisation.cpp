@@ -260,8 +260,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     auto last_print_time = std::chrono::steady_clock::now();
     bool saved = false;          // this run wrote checkpoint.cfck (an older one may be there from another run)
     std::size_t saved_step = 0;  // the step of the last checkpoint it wrote
-    CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds,
-                                cfg.output.checkpoint_minutes);
+    CheckpointClock checkpoints(cfg.output);
     bool checkpoint_warned = false;
     double vein_checkpoint_seconds = 0;  // the periodic checkpoints of the veins' steps
     // run.json's timings so far but total_s: the veins' steps without their periodic checkpoints, all of those,

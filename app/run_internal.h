@@ -178,6 +178,12 @@ std::string shell_word(const std::string& p);
 /// resume with --script, and the --out and --steps of this command that still apply.
 std::string resume_hint(const RunOptions& o, const std::filesystem::path& checkpoint,
                         const std::filesystem::path& script);
+/// That command alone: "cellform resume CHECKPOINT --script SCRIPT [--out DIR] [--steps N]", EDITED.lua for an
+/// empty `script`; with `all`, also this command's --checkpoint-every and every --set.
+std::string resume_command(const RunOptions& o, const std::filesystem::path& checkpoint,
+                           const std::filesystem::path& script, bool all = false);
+/// The run's script file if it still holds the text the checkpoint keeps, else empty (gone, or changed since).
+std::filesystem::path script_as_run(const Start& s);
 /// After a divergence's resume_hint: a line saying the run's --set values (`sets`) carry over to the resume
 /// (a value that made it diverge may be one), and that --set gives another; "" when there are none.
 std::string sets_carry_over(const Overrides& sets);
@@ -250,6 +256,9 @@ class CheckpointClock {
   /// to a failure.
   CheckpointClock(std::uint64_t every, double seconds, double minutes, Clock::time_point start = Clock::now())
       : every_(every), seconds_(seconds), minutes_(minutes), last_(start) {}
+  /// output.checkpoint_every, checkpoint_seconds and checkpoint_minutes, from now.
+  explicit CheckpointClock(const OutputSpec& o)
+      : CheckpointClock(o.checkpoint_every, o.checkpoint_seconds, o.checkpoint_minutes) {}
   /// True if a checkpoint is due after `step` at `now`; then counts it as written now.
   bool due(std::uint64_t step, Clock::time_point now = Clock::now()) {
     if (every_ == 0) return false;

@@ -75,8 +75,7 @@ Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHo
     keep_resumed_checkpoint(s, checkpoint.parent_path(), err);  // resume --script: replaced now
     write_checkpoint(checkpoint, sheet_checkpoint_bytes(s, seed, out.target, sim, out.initial, physics));
   };
-  CheckpointClock checkpoints(cfg.output.checkpoint_every, cfg.output.checkpoint_seconds,
-                              cfg.output.checkpoint_minutes);
+  CheckpointClock checkpoints(cfg.output);
   bool& saved = out.checkpointed;
   bool warned = false;
   const std::uint64_t first = sim.step_count();

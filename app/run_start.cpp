@@ -85,33 +85,6 @@ void write_run_json(const fs::path& path, const json& run) {
       path, [&](std::ostream& os) { os << run.dump(2, ' ', false, json::error_handler_t::replace) << "\n"; });
 }
 
-/// `p` as a shell word: quoted when it holds anything but letters, digits and -_./+,:@%=
-std::string shell_word(const std::string& p) {
-  if (!p.empty() && p.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_./+,:@%=") ==
-                        std::string::npos)
-    return p;
-  std::string q = "'";
-  for (const char c : p) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-std::string resume_hint(const RunOptions& o, const fs::path& checkpoint, const fs::path& script) {
-  std::string hint = "  to go on from it with the script corrected: cellform resume " +
-                     shell_word(checkpoint.string()) + " --script " + shell_word(absolute_path_text(script));
-  // a new checkpoint is in this command's folder, where a resume writes anyway; the one resumed may not be
-  if (o.out && checkpoint == o.checkpoint) hint += " --out " + shell_word(o.out->string());
-  if (o.steps) hint += " --steps " + std::to_string(*o.steps);
-  return hint;
-}
-
-std::string sets_carry_over(const Overrides& sets) {
-  std::string listed;
-  for (const auto& [k, v] : sets) listed += (listed.empty() ? "" : ", ") + k + "=" + v;
-  return listed.empty()
-             ? listed
-             : "  (the run's --set values carry over: " + listed + "; with --script, --set NAME=VALUE gives another)\n";
-}
-
 json script_record(const Start& s) {
   json r = {{"path", absolute_path_text(s.script_path)}, {"hash", script_hash(s.source)}};  // wherever run from
   if (!s.replaced.empty()) r["replaces"] = s.replaced;
@@ -325,9 +298,7 @@ Start start_from(const RunOptions& o) {
                              (whole ? std::to_string(static_cast<long long>(x)) : std::string("N (a whole number)")));
           }
           // the command that does it: --script with the run's own script takes any --set (an edited copy too)
-          std::string command = "cellform resume " + shell_word(o.checkpoint.string()) + " --script " +
-                                shell_word(absolute_path_text(s.script_path)) + " --set " + shell_word(k + "=" + v);
-          if (o.steps) command += " --steps " + std::to_string(*o.steps);
+          const std::string command = resume_command(o, o.checkpoint, script_as_run(s), true);
           throw InputError("--set " + k + "=" + v + ": " + what +
                            " continues with the parameters it was saved with (only output.* and print.* may change "
                            "when resuming a cell run, or a run stopped while its cell sheet grew); to change " +

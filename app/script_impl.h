@@ -30,12 +30,8 @@ using core::Vec3;
 
 inline constexpr int kHookEvery = 1000;  // instructions between budget checks
 
-/// The string at `idx` (a string or a number), all of it: a Lua string may hold zero bytes, where a C string ends.
-inline std::string lua_text(lua_State* L, int idx) {
-  std::size_t n = 0;
-  const char* s = lua_tolstring(L, idx, &n);
-  return s ? std::string(s, n) : std::string();
-}
+/// The string (or number) at `idx`, whole: a Lua string may hold zero bytes, where a C string ends.
+std::string lua_text(lua_State* L, int idx);
 // the hook counts instructions (budget, Ctrl-C) and sees every call begin (the watchdog's beats)
 inline constexpr int kHookMask = LUA_MASKCOUNT | LUA_MASKCALL;
 
@@ -290,8 +286,7 @@ struct ScriptHost::Impl {
   /// to the terminal; the end of an error passed up through nested coroutines says what went wrong).
   std::string describe(const std::string& message) const {
     std::string lua_message = whole_path(message);
-    // a zero byte (error("a\0b")) would end the message where an exception's text is read (what()), as the
-    // terminal shows it: \x00
+    // a zero byte (error("a\0b")) would end the message in an exception's what(): as the terminal shows it
     for (std::size_t at = lua_message.find('\0'); at != std::string::npos; at = lua_message.find('\0', at + 4))
       lua_message.replace(at, 1, "\\x00");
     constexpr std::size_t kLongest = 4000, kHead = 3000;

@@ -11,6 +11,12 @@
 
 namespace cellform::app {
 
+std::string lua_text(lua_State* L, int idx) {
+  std::size_t n = 0;
+  const char* s = lua_tolstring(L, idx, &n);
+  return s ? std::string(s, n) : std::string();
+}
+
 namespace {
 
 bool parse_vec(std::string text, Vec3& out) {

@@ -137,8 +137,8 @@ TEST_CASE("cellform check --min-wall judges the walls too", "[cli][check]") {
   CHECK(r.code == 1);
   CHECK(r.out.rfind(plate.string() + ": NOT printable: walls thinner than --min-wall 0.8 over more than 1% of the "
                                      "surface (1% of it is thinner than 0.05; a cellform print's walls are up to "
-                                     "about a voxel, print.voxel_size, thinner than the 2 print.min_radius or "
-                                     "print.shell_thickness it was given)\n",
+                                     "about a voxel, print.voxel_size, thinner than twice print.min_radius (veins) "
+                                     "or print.shell_thickness (a shell))\n",
                     0) == 0);
   r = cli({"check", plate.string(), "--min-wall=0.04", "--json"});
   CHECK(r.code == 0);

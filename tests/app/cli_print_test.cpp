@@ -1,9 +1,5 @@
 // Tests of the cellform command line's printing (app/print.cpp through run and resume): the printable
 // solid and its checks, print errors, printing again, and prints of a sheet.
-#include <fcntl.h>
-#include <sys/resource.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -315,21 +311,9 @@ TEST_CASE("a print the process's address-space limit cannot hold is refused, not
   TempDir t("cli-print-ulimit");
   const auto script = t.write("s.lua", std::string(kSmall) + "print { shell = true }\n");
   const fs::path out = t.path / "o", log = t.path / "err";
-  std::vector<std::string> storage;
-  std::vector<char*> argv = cellform_argv({"run", script.string(), "--out", out.string(), "--quiet", "--set",
+  const pid_t pid = spawn_cellform_logged({"run", script.string(), "--out", out.string(), "--quiet", "--set",
                                            "print.max_memory=1000000", "--set", "print.min_radius=0.01"},
-                                          storage);
-  const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  REQUIRE(fd >= 0);
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const rlimit limit{3000000000, 3000000000};  // bytes: ulimit -v 2929688
-    setrlimit(RLIMIT_AS, &limit);
-    dup2(fd, 2);
-    execv(argv[0], argv.data());
-    _exit(99);
-  }
-  close(fd);
+                                          log, 3000000000);  // bytes: ulimit -v 2929688
   REQUIRE(pid > 0);
   CHECK(wait_exit(pid) == 1);
   const std::string said = slurp(log);

@@ -518,12 +518,17 @@ TEST_CASE("cells and veins are bit-identical for 1 and 2 threads", "[cli][determ
   CHECK(run["veins"]["petiole_inflow"].get<double>() > 5000);
 }
 
+namespace {
+/// The time `s` seconds after the epoch of CheckpointClock's clock (its tests give the times).
+cellform::app::CheckpointClock::Clock::time_point at(double s) {
+  using Clock = cellform::app::CheckpointClock::Clock;
+  return Clock::time_point{} + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
+}
+}  // namespace
+
 TEST_CASE("periodic checkpoints come every N steps, but not within output.checkpoint_seconds of the last", "[cli]") {
   using cellform::app::CheckpointClock;
   const CheckpointClock::Clock::time_point t0{};
-  const auto at = [&](double s) {
-    return t0 + std::chrono::duration_cast<CheckpointClock::Clock::duration>(std::chrono::duration<double>(s));
-  };
   CheckpointClock exact(4, 0, 0, t0);
   CHECK_FALSE(exact.due(1, at(1)));
   CHECK(exact.due(4, at(2)));
@@ -543,9 +548,6 @@ TEST_CASE("a checkpoint is also due output.checkpoint_minutes after the last one
   // a rule failing at step 999 of a run checkpointed every 1,000 steps lost every step before it
   using cellform::app::CheckpointClock;
   const CheckpointClock::Clock::time_point t0{};
-  const auto at = [&](double s) {
-    return t0 + std::chrono::duration_cast<CheckpointClock::Clock::duration>(std::chrono::duration<double>(s));
-  };
   CheckpointClock c(1000, 60, 10, t0);
   CHECK_FALSE(c.due(1, at(10)));
   CHECK_FALSE(c.due(7, at(599)));

@@ -1,10 +1,6 @@
 // Tests of app/memory.cpp: the memory limits a print is checked against.
 #include "app/memory.h"
 
-#include <fcntl.h>
-#include <sys/resource.h>
-#include <unistd.h>
-
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -56,18 +52,19 @@ TEST_CASE("the memory limit is the lowest of the run's control groups, from its 
   put("v1/memory/docker/abc/memory.usage_in_bytes", "400000000\n");
   std::istringstream left1("11:memory:/docker/abc\n");
   CHECK(control_group_memory_left(left1, t.path / "v1") == 6e8);
-  // a build's file cache is usage the kernel gives back: not taken (v1 counts its subtree's, total_*)
+  // a build's inactive file cache is usage the kernel gives back: not taken (v1 counts its subtree's, total_*;
+  // active files, programs' mapped pages among them, stay taken)
   put("v1/memory/docker/abc/memory.stat",
       "cache 300000000\ninactive_file 5\ntotal_inactive_file 200000000\n"
       "total_active_file 100000000\nrss 100000000\n");
   std::istringstream cached("11:memory:/docker/abc\n");
-  CHECK(control_group_memory_left(cached, t.path / "v1") == 9e8);
+  CHECK(control_group_memory_left(cached, t.path / "v1") == 8e8);
   put("v2/user.slice/job/memory.stat",
       "anon 200000000\nfile 800000000\nactive_file 300000000\n"
       "inactive_file 500000000\n");
   put("v2/user.slice/memory.stat", "active_file 0\ninactive_file 2500000000\n");  // 3.5 GB left of 4 GB
   std::istringstream cached2("0::/user.slice/job\n");
-  CHECK(control_group_memory_left(cached2, t.path / "v2") == 2.3e9);  // the job's 2.5 GB less 0.2 GB taken
+  CHECK(control_group_memory_left(cached2, t.path / "v2") == 2e9);  // the job's 2.5 GB less 0.5 GB taken
   std::istringstream unlimited("0::/\n");
   CHECK(std::isinf(control_group_memory_left(unlimited, t.path / "v2")));
 }
@@ -114,20 +111,8 @@ TEST_CASE("a mesh or outline file of a gigabyte under ulimit -v is refused at on
   const auto run = [&](const std::string& name, const std::string& text) {
     const auto script = t.write(name, text);
     const fs::path log = t.path / (name + ".err");
-    std::vector<std::string> storage;
-    std::vector<char*> argv =
-        cellform::test::cellform_argv({"run", script.string(), "--out", (t.path / "o").string(), "--quiet"}, storage);
-    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    REQUIRE(fd >= 0);
-    const pid_t pid = fork();
-    if (pid == 0) {
-      const rlimit limit{2000000000, 2000000000};  // bytes: ulimit -v 1953125
-      setrlimit(RLIMIT_AS, &limit);
-      dup2(fd, 2);
-      execv(argv[0], argv.data());
-      _exit(99);
-    }
-    close(fd);
+    const pid_t pid = cellform::test::spawn_cellform_logged(
+        {"run", script.string(), "--out", (t.path / "o").string(), "--quiet"}, log, 2000000000);  // ulimit -v 1953125
     REQUIRE(pid > 0);
     CHECK(cellform::test::exit_within(pid, 20) == 2);
     return cellform::test::slurp(log);

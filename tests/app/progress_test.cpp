@@ -134,8 +134,10 @@ TEST_CASE("a line written beside the terminal bar starts on a line of its own, t
 TEST_CASE("the line that ends a run gives the form's extent in model units", "[cli]") {
   using cellform::app::extent_text;
   using V = cellform::core::Vec3;
-  CHECK(extent_text({V(1, 2, 3), V(-30, 2.5, 3), V(0, 34.25, 11.2)}) == " across 31 x 32.2 x 8.2 model units");
+  CHECK(extent_text({V(1, 2, 3), V(-30, 2.5, 3), V(0, 34.25, 11.2)}) == " across 31.0 x 32.2 x 8.2 model units");
   CHECK(extent_text({V(5, 5, 5)}) == " across 0 x 0 x 0 model units");
+  CHECK(extent_text({V(0, 0, 0), V(1500, 812.4, 20.6)}) == " across 1500 x 812 x 21 model units");  // not 1.5e+03
+  CHECK(extent_text({V(0, 0, 0), V(0.0123, 0.004, 0)}) == " across 0.0123 x 0.0040 x 0.0000 model units");
   CHECK(extent_text({}).empty());
   CHECK(extent_text({V(0, 0, 0), V(std::nan(""), 0, 0)}).empty());
 }

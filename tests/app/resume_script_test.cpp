@@ -3,6 +3,7 @@
 // goes on from that checkpoint with the corrected script.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "app/run_internal.h"
 #include "core/chunk_file.h"
@@ -230,7 +231,20 @@ TEST_CASE("resume --script is refused clearly where it cannot apply", "[cli][che
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("to change cells.spring, give it a script, the run's own or an edited copy: cellform "
                              "resume ") &&
-                        Contains(" --set cells.spring=2 --steps 8 (or start a new run)"));
+                        Contains(" --steps 8 --set cells.spring=2 (or start a new run)"));
+  {  // the command it gives does it (into another folder here, to keep this one's checkpoint for what follows)
+    const std::string said = r.err, from = "edited copy: cellform ", to = " (or start a new run)";
+    const std::size_t a = said.find(from) + from.size(), b = said.find(to, a);
+    REQUIRE(b != std::string::npos);
+    std::vector<std::string> args;
+    std::istringstream words(said.substr(a, b - a));  // (no quoting: the test's paths are plain)
+    for (std::string w; words >> w;) args.push_back(w);
+    args.insert(args.end(), {"--out", (t.path / "suggested").string(), "--quiet"});
+    const CliResult s = cli(args);
+    INFO(s.err);
+    CHECK(s.code == 0);
+    CHECK(nlohmann::json::parse(slurp(t.path / "suggested" / "run.json"))["parameters"]["cells"]["spring"] == 2.0);
+  }
   const auto edited = t.write("edited.lua", std::string(kSmall) + "-- springier\n");
   r = cli({"resume", checkpoint, "--steps", "8", "--set", "cells.spring=2", "--script", edited.string(), "--quiet"});
   CHECK(r.code == 0);

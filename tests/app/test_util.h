@@ -78,13 +78,18 @@ struct FileSizeLimit {
 
 /// Starts the built cellform binary with `args` as a child process, for tests that send it signals.
 /// SIGHUP is at its default, as from a terminal (ctest may run under nohup); stdout and stderr go to
-/// `output` when it is a descriptor (>= 0). Returns the child's pid.
-inline pid_t spawn_cellform(const std::vector<std::string>& args, int output = -1) {
+/// `output` when it is a descriptor (>= 0); `address_limit` bytes (> 0), its address space, as ulimit -v sets it.
+/// Returns the child's pid.
+inline pid_t spawn_cellform(const std::vector<std::string>& args, int output = -1, rlim_t address_limit = 0) {
   std::vector<std::string> storage;
   std::vector<char*> argv = cellform_argv(args, storage);
   const pid_t pid = fork();
   if (pid == 0) {
     signal(SIGHUP, SIG_DFL);
+    if (address_limit > 0) {
+      const rlimit limit{address_limit, address_limit};
+      setrlimit(RLIMIT_AS, &limit);
+    }
     if (output >= 0) {
       dup2(output, 1);
       dup2(output, 2);
@@ -96,10 +101,11 @@ inline pid_t spawn_cellform(const std::vector<std::string>& args, int output = -
 }
 
 /// spawn_cellform with stdout and stderr into the file `log` (made anew); -1 if it cannot be opened.
-inline pid_t spawn_cellform_logged(const std::vector<std::string>& args, const std::filesystem::path& log) {
+inline pid_t spawn_cellform_logged(const std::vector<std::string>& args, const std::filesystem::path& log,
+                                   rlim_t address_limit = 0) {
   const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   if (fd < 0) return -1;
-  const pid_t pid = spawn_cellform(args, fd);
+  const pid_t pid = spawn_cellform(args, fd, address_limit);
   ::close(fd);
   return pid;
 }
