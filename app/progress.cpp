@@ -19,8 +19,13 @@ std::string extent_text(const std::vector<core::Vec3>& points) {
   const core::Vec3 size = hi - lo;
   // three significant digits of the largest side, in fixed notation (%g wrote a 1,500 mm form as 1.5e+03)
   const double largest = size.maxCoeff();
-  const int decimals = largest > 0 ? std::clamp(2 - static_cast<int>(std::floor(std::log10(largest))), 0, 12) : 0;
+  if (!std::isfinite(largest)) return "";  // (sides past 1.8e308)
   char buf[160];
+  if (largest >= 1e15) {  // (fixed notation would take hundreds of digits)
+    std::snprintf(buf, sizeof buf, " across %.3g x %.3g x %.3g model units", size.x(), size.y(), size.z());
+    return buf;
+  }
+  const int decimals = largest > 0 ? std::clamp(2 - static_cast<int>(std::floor(std::log10(largest))), 0, 12) : 0;
   std::snprintf(buf, sizeof buf, " across %.*f x %.*f x %.*f model units", decimals, size.x(), decimals, size.y(),
                 decimals, size.z());
   return buf;

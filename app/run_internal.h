@@ -264,7 +264,7 @@ class CheckpointClock {
     if (every_ == 0) return false;
     const double since = std::chrono::duration<double>(now - last_).count();  // s
     const bool by_steps = step % every_ == 0 && (!written_ || since >= seconds_);
-    if (!by_steps && !(minutes_ > 0 && since >= 60 * minutes_)) return false;
+    if (!by_steps && !(minutes_ > 0 && since >= std::max(60 * minutes_, seconds_))) return false;
     last_ = now;
     written_ = true;
     return true;

@@ -371,7 +371,7 @@ std::vector<Field> build() {
                   "also write one after the first step that ends this long after the last one (or the start of the "
                   "steps: of the veins' steps, after a grown sheet), so that a failure loses about this much at most "
                   "(0 = never; --checkpoint-every N sets it to 0: exactly every N steps); not with checkpoint_every "
-                  "= 0"));
+                  "= 0, nor within checkpoint_seconds of the last"));
   f.push_back(boolean("output", "png", "false",
                       "space colonisation: also write veins.png, a raster preview of veins and outline"));
   f.push_back(integer("output", "png_size", "1024", 16, 20000, "pixels", "longer side of veins.png"));

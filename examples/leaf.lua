@@ -1,4 +1,4 @@
--- A flat, waving leaf with its veins, printed as a structural lattice (the cell paper's figures 2 and 3;
+-- A flat, waving leaf with its veins, printed as its vein tree in one piece (the cell paper's figures 2 and 3;
 -- docs/papers.md). Marginal growth: cells at the rim have few neighbours nearby and divide within the
 -- sheet. Drag in z (the cell paper's Eq. 7) keeps the blade nearly horizontal while it waves a little
 -- where the rim outgrows the middle.

@@ -248,7 +248,6 @@ TriangleMesh read_ascii_stl(std::istream& in, const std::string& name) {
   return mesh;
 }
 
-// Lines of an OBJ file that define a vertex position ("v x y z"), to notice ones the reader had to skip.
 /// The vertex positions of an OBJ text, as written (OpenMesh reads 32-bit floats: 6 cm steps at a site
 /// coordinate of 10^6 mm); refuses face lines OpenMesh would drop without a word (a bad index, fewer than three
 /// corners), naming the line. `polylines`: the number of line ('l') lines.
@@ -301,6 +300,7 @@ std::vector<Vec3> check_obj_lines(std::istream& in, const std::string& name, std
   }
   in.clear();
   in.seekg(0);
+  positions.shrink_to_fit();  // (kept beside OpenMesh's while it reads)
   return positions;
 }
 

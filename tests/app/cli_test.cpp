@@ -556,7 +556,10 @@ TEST_CASE("a checkpoint is also due output.checkpoint_minutes after the last one
   CHECK_FALSE(c.due(1000, at(620)));  // the step's own, within checkpoint_seconds of the last: skipped
   CHECK(c.due(2000, at(700)));
   CHECK_FALSE(c.due(2001, at(1299)));
-  CHECK(c.due(2002, at(1300)));  // ten minutes after the last
+  CHECK(c.due(2002, at(1300)));                // ten minutes after the last
+  CheckpointClock sparse(1000, 3600, 10, t0);  // none within an hour of the last, whatever the minutes say
+  CHECK_FALSE(sparse.due(5, at(600)));
+  CHECK(sparse.due(6, at(3600)));
 }
 
 TEST_CASE("control bytes from a damaged file reach the terminal escaped", "[cli]") {

@@ -138,6 +138,8 @@ TEST_CASE("the line that ends a run gives the form's extent in model units", "[c
   CHECK(extent_text({V(5, 5, 5)}) == " across 0 x 0 x 0 model units");
   CHECK(extent_text({V(0, 0, 0), V(1500, 812.4, 20.6)}) == " across 1500 x 812 x 21 model units");  // not 1.5e+03
   CHECK(extent_text({V(0, 0, 0), V(0.0123, 0.004, 0)}) == " across 0.0123 x 0.0040 x 0.0000 model units");
+  CHECK(extent_text({V(-1e300, 0, 0), V(1e300, 5, 0)}) == " across 2e+300 x 5 x 0 model units");
+  CHECK(extent_text({V(-1.7e308, 0, 0), V(1.7e308, 0, 0)}).empty());  // a side past the largest double
   CHECK(extent_text({}).empty());
   CHECK(extent_text({V(0, 0, 0), V(std::nan(""), 0, 0)}).empty());
 }

@@ -43,11 +43,11 @@ TEST_CASE("a rule error names the checkpoint of this run, never one left by an e
   const CliResult resumed = cli({"resume", kept.string(), "--out", (t.path / "again").string(), "--quiet"});
   CHECK(resumed.code == 2);
   CHECK_THAT(resumed.err, Contains("(the last checkpoint is " + kept.string() + ", the one resumed)"));
-  // a checkpoint is also due output.checkpoint_minutes after the last one, whatever the step: at a microsecond,
-  // after every step, so the run keeps step 9
+  // a checkpoint is also due output.checkpoint_minutes after the last one (and not within checkpoint_seconds),
+  // whatever the step: at a microsecond and none, after every step, so the run keeps step 9
   const fs::path timed = t.path / "timed";
-  const CliResult third = cli(
-      {"run", script.string(), "--out", timed.string(), "--quiet", "--set", "output.checkpoint_minutes=0.00000001"});
+  const CliResult third = cli({"run", script.string(), "--out", timed.string(), "--quiet", "--set",
+                               "output.checkpoint_minutes=0.00000001", "--set", "output.checkpoint_seconds=0"});
   CHECK(third.code == 2);
   CHECK_THAT(third.err, Contains("(the last checkpoint is " + (timed / "checkpoint.cfck").string() + ")"));
   CHECK(nlohmann::json::parse(slurp(timed / "run.json"))["steps"]["completed"] == 9);
