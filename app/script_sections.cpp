@@ -367,9 +367,10 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
     if (file.is_relative()) file = I.script_dir / file;
     forms::TriangleMesh mesh;
     try {
-      // its fingerprint, for a resume to compare: the same before and after reading it, or it changed meanwhile
-      const std::string before = file_fingerprint(file);
+      // refused before its fingerprint reads it through; that, for a resume to compare, is the same before and
+      // after reading it, or it changed meanwhile
       check_file_fits(file, kMeshBytesPerByte, "mesh '" + file.string() + "'");
+      const std::string before = file_fingerprint(file);
       mesh = forms::load_mesh(file);
       if (file_fingerprint(file) != before)
         throw core::FileError(file.string() + " changed while it was read; run again once it is written");

@@ -35,11 +35,7 @@ Vec3 spring_kernel(std::span<const Vec3> positions, Index self, std::span<const 
       // coincident: pretend P lies along a direction of the pair (the smaller index's way round), so the two
       // cells are pushed apart in opposite directions; a direction differing from pair to pair, as along +x for
       // all a pile of coincident cells spread into a line along x, whatever the sheet's plane
-      const std::uint64_t h = core::mix64(core::mix64(std::min(self, r)) ^ (std::uint64_t{std::max(self, r)} << 32));
-      const double z = 2.0 * static_cast<double>(h >> 11) * 0x1p-53 - 1.0;  // uniform on the sphere: z and an angle
-      const double angle = 2.0 * M_PI * static_cast<double>(core::mix64(h) >> 11) * 0x1p-53;
-      const double s = std::sqrt(std::max(1.0 - z * z, 0.0));
-      const Vec3 towards(s * std::cos(angle), s * std::sin(angle), z);
+      const Vec3 towards = core::StreamRng(core::stream_key(0, std::min(self, r), std::max(self, r))).unit_vector();
       sum -= rest_length * (r > self ? towards : Vec3(-towards));
     }
   }

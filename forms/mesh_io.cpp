@@ -253,7 +253,7 @@ TriangleMesh read_ascii_stl(std::istream& in, const std::string& name) {
 /// corners), naming the line. `polylines`: the number of line ('l') lines.
 std::vector<Vec3> check_obj_lines(std::istream& in, const std::string& name, std::size_t& polylines) {
   std::vector<Vec3> positions;
-  std::size_t count = 0, line_no = 0;
+  std::size_t line_no = 0;
   polylines = 0;
   std::string line;
   while (std::getline(in, line)) {
@@ -262,7 +262,6 @@ std::vector<Vec3> check_obj_lines(std::istream& in, const std::string& name, std
     std::string tag;
     if (!(words >> tag)) continue;
     if (tag == "v") {
-      ++count;
       // OpenMesh reads 32-bit floats and drops a vertex it cannot read: said here with its line
       double xyz[3];
       std::string word;
@@ -275,11 +274,11 @@ std::vector<Vec3> check_obj_lines(std::istream& in, const std::string& name, std
         good = (*end == '\0' || (&c == &xyz[2] && *end == '#')) && std::isfinite(c) &&  // "v 0 0 0#note"
                std::abs(c) <= std::numeric_limits<float>::max();
       }
-      if (good) positions.emplace_back(xyz[0], xyz[1], xyz[2]);
       if (!good)
         throw core::InvalidInput("mesh " + name + " is malformed: line " + std::to_string(line_no) + ": '" +
                                  core::printable(line.substr(0, 60)) + (line.size() > 60 ? "..." : "") +
                                  "' is not a vertex of three finite numbers within +-3.4e38 ('v x y z')");
+      positions.emplace_back(xyz[0], xyz[1], xyz[2]);
     } else if (tag == "l") {
       ++polylines;
     } else if (tag == "f") {
@@ -287,7 +286,7 @@ std::vector<Vec3> check_obj_lines(std::istream& in, const std::string& name, std
       std::size_t corners = 0;
       while (words >> token && token[0] != '#') {  // a comment may end the line
         try {
-          obj_face_vertex(token, count);
+          obj_face_vertex(token, positions.size());
         } catch (const core::InvalidInput& e) {
           throw core::InvalidInput("mesh " + name + " is malformed: line " + std::to_string(line_no) + ": " + e.what());
         }

@@ -162,9 +162,11 @@ Outline add_teeth(const Outline& smooth, const std::vector<TriangularWave>& teet
 }  // namespace
 
 double signed_area(const Outline& o) {
+  // about the first vertex: about the origin, an outline far from it summed huge products that cancel (a thin
+  // one at 1e7 got the wrong sign, and so the wrong winding, in about two of five trials)
   double a = 0;
   const std::size_t n = o.points.size();
-  for (std::size_t i = 0; i < n; ++i) a += cross(o.points[i], o.points[(i + 1) % n]);
+  for (std::size_t i = 1; i + 1 < n; ++i) a += cross(o.points[i] - o.points[0], o.points[i + 1] - o.points[0]);
   return 0.5 * a;
 }
 
@@ -221,14 +223,12 @@ void validate_outline(const Outline& o, const std::string& what, const OutlineLi
   // the area about the first vertex against the outline's own size: an outline far from the origin is no
   // flatter than the same outline at it (review: one at 1e6 was refused)
   Vec2 lo = o.points[0], hi = lo;
-  double twice = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    lo = lo.cwiseMin(o.points[i]);
-    hi = hi.cwiseMax(o.points[i]);
-    twice += cross(o.points[i] - o.points[0], o.points[(i + 1) % n] - o.points[0]);
+  for (const Vec2& q : o.points) {
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
   }
   const double extent = (hi - lo).maxCoeff();
-  if (!(std::abs(twice) > 2e-12 * extent * extent))
+  if (!(std::abs(signed_area(o)) > 1e-12 * extent * extent))
     throw InvalidInput(what + ": the outline encloses no area (all vertices on a line?)");
 }
 

@@ -342,4 +342,13 @@ TEST_CASE("outline files whose vertex touches a vertical edge, or that fold back
   CHECK_NOTHROW(v::validate_outline(far, "far"));
   far.points = {{1e6, 1e6}, {1.1e6, 1e6}, {1.2e6, 1e6 + 1e-7}};  // 2e5 long, 1e-7 off its line
   CHECK_THROWS_WITH(v::validate_outline(far, "far"), Contains("encloses no area"));
+  // and its winding: a thin clockwise outline at 1e7 comes back counter-clockwise with its own area (about the
+  // origin the products cancelled, and the sign came out wrong in about two of five such outlines)
+  for (const double dy : {0.02, 0.03, 0.05, 0.07}) {
+    const std::string y = std::to_string(1e7 + dy);
+    const v::Outline thin = v::parse_outline(
+        "10000000 10000000\n10000000 " + y + "\n10000001 " + y + "\n10000001 10000000\n10000000 10000000\n",
+        "thin.txt");
+    CHECK(v::signed_area(thin) == Approx(dy).epsilon(1e-6));
+  }
 }
