@@ -533,7 +533,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                           "out of memory: raise it to go on, or grow the leaf less or throw fewer darts)"
                     : std::string("stopped at max_steps"))
             << ": " << rep.steps << " steps, " << rep.nodes << " vein nodes, " << venation::independent_cycles(tree)
-            << " loops; outputs in " << dir.string() << "/\n";
+            << " loops" << extent_text(tree.positions) << "; outputs in " << dir.string() << "/\n";
     if (rep.stalled && code != interrupted) {
       const venation::Outline outline = planar ? col.outline() : venation::Outline{};
       say_sources_left(err, spec, col.sources(), planar ? &outline : nullptr);

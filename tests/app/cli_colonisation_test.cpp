@@ -7,8 +7,10 @@
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <sstream>
 #include <thread>
 
+#include "app/progress.h"
 #include "app/run_internal.h"
 #include "core/chunk_file.h"
 #include "tests/app/test_util.h"
@@ -352,6 +354,21 @@ TEST_CASE("a colonisation run stopped by max_nodes says so, and resumes under th
   INFO(r.err);
   REQUIRE(r.code == 0);
   CHECK_THAT(r.out, Contains("stopped at colonisation.max_nodes"));
+  {  // the closing line gives the veins' extent, as veins.obj holds them (a flat leaf: no height)
+    std::istringstream obj(slurp(out / "veins.obj"));
+    std::vector<cellform::core::Vec3> points;
+    for (std::string line; std::getline(obj, line);)
+      if (line.rfind("v ", 0) == 0) {
+        std::istringstream v(line.substr(2));
+        double x = 0, y = 0, z = 0;
+        v >> x >> y >> z;
+        points.emplace_back(x, y, z);
+      }
+    REQUIRE(points.size() > 40);
+    const std::string extent = cellform::app::extent_text(points);
+    CHECK_THAT(extent, Contains(" x 0.0 model units") || Contains(" x 0 model units"));
+    CHECK_THAT(r.out, Contains(" loops" + extent + "; outputs in "));
+  }
   const auto run = nlohmann::json::parse(slurp(out / "run.json"));
   CHECK(run["status"] == "stopped at max_nodes");
   const auto nodes = run["veins"]["nodes"].get<std::size_t>();

@@ -80,6 +80,14 @@ TEST_CASE("a run stopped by a script error goes on from its checkpoint with the 
   REQUIRE(failed.code == 2);
   CHECK_THAT(failed.err, Contains("at step 25"));
   CHECK_THAT(failed.err, Contains("cellform resume " + checkpoint.string() + " --script " + broken.string()));
+  {  // the script's limits are not in the checkpoint: the command given carries those that differ from the defaults
+    const fs::path limited = t.path / "limited";
+    const CliResult l = cli({"run", broken.string(), "--out", limited.string(), "--checkpoint-every", "10", "--quiet",
+                             "--lua-memory", "100", "--lua-seconds", "30", "--lua-instructions", "600000000"});
+    REQUIRE(l.code == 2);
+    CHECK_THAT(l.err, Contains(" --lua-instructions 600000000 --lua-memory 100 --lua-seconds 30"));
+    CHECK_THAT(failed.err, !Contains("--lua-"));
+  }
   // the folder shows the run up to its checkpoint (step 20): the frames so far and a run.json that says why
   auto run = nlohmann::json::parse(slurp(out / "run.json"));
   CHECK(run["status"] == "failed");
