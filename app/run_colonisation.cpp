@@ -44,17 +44,15 @@ std::string colonisation_checkpoint_bytes(const Start& s, std::uint64_t seed, co
 
 }  // namespace
 
-/// A space-colonisation run: sources and veins (Runions et al. 2005) in a leaf outline, a volume or on a
-/// surface (a mesh, or the sheet of cells grown first). Writes checkpoint.cfck every
-/// output.checkpoint_every steps, at the end and on Ctrl-C (which stops it with the pattern so far written
-/// out); `cellform resume` continues it bit-identically (s.colonisation_bytes).
+/// A space-colonisation run (Runions et al. 2005) in a leaf outline, a volume or on a surface (a mesh, or the
+/// sheet of cells grown first). Writes checkpoint.cfck as output{} asks, at the end and on Ctrl-C (which stops
+/// it with the pattern so far written out); `cellform resume` continues it bit-identically.
 int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost& host, std::uint64_t seed,
                      std::ostream& out, std::ostream& err, std::chrono::steady_clock::time_point t0) {
   const fs::path dir = s.out_dir;
   const fs::path created = first_missing(dir);  // made by this run: removed again if it stays empty
   fs::path staging;
-  fs::path kept_staging;           // the frames of the folder's checkpoint (a killed cell run's): kept until
-                                   // this run replaces that checkpoint
+  fs::path kept_staging;           // the frames of the folder's (a killed cell run's) checkpoint, until replaced
   std::optional<FolderLock> lock;  // held until the run has written its last file
   bool resumable = false;          // a checkpoint of this run is in the folder when the outputs are written
   json stepped;                    // run.json's steps when that checkpoint holds steps this run took, else null
@@ -126,7 +124,8 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     // cells when the sheet began to grow, for run.json (a checkpoint that does not say: the script's shapes)
     std::size_t sheet_initial = s.initial_cells > 0 ? s.initial_cells : cfg.initial_cells.size();
     std::optional<std::uint64_t> sheet_steps = s.sheet_partial ? std::nullopt : s.sheet_steps;  // as grown
-    double sheet_seconds = 0;         // growing surface{cells = true}'s sheet in this command
+    double sheet_seconds = 0;                             // growing surface{cells = true}'s sheet in this command
+    auto clock_start = std::chrono::steady_clock::now();  // of the periodic checkpoints: the sheet's go on
     double checkpoint_seconds = 0;    // the periodic checkpoints (of the sheet too; the final one's is not here)
     bool sheet_checkpointed = false;  // a checkpoint written while the sheet grew is in the folder
     if (s.sheet_partial && !spec.on_cells)
@@ -164,6 +163,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         const auto grow_start = std::chrono::steady_clock::now();
         Sheet grown = grow_sheet(o, s, cfg, host, seed, checkpoint, err, failed);
         sheet_seconds = seconds_since(grow_start) - grown.checkpoint_seconds;
+        clock_start = grown.checkpoint_clock;
         checkpoint_seconds += grown.checkpoint_seconds;
         sheet_initial = grown.initial;
         sheet_steps = grown.step;
@@ -260,7 +260,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     auto last_print_time = std::chrono::steady_clock::now();
     bool saved = false;          // this run wrote checkpoint.cfck (an older one may be there from another run)
     std::size_t saved_step = 0;  // the step of the last checkpoint it wrote
-    CheckpointClock checkpoints(cfg.output);
+    CheckpointClock checkpoints(cfg.output, clock_start);
     bool checkpoint_warned = false;
     double vein_checkpoint_seconds = 0;  // the periodic checkpoints of the veins' steps
     // run.json's timings so far but total_s: the veins' steps without their periodic checkpoints, all of those,

@@ -256,9 +256,9 @@ class CheckpointClock {
   /// to a failure.
   CheckpointClock(std::uint64_t every, double seconds, double minutes, Clock::time_point start = Clock::now())
       : every_(every), seconds_(seconds), minutes_(minutes), last_(start) {}
-  /// output.checkpoint_every, checkpoint_seconds and checkpoint_minutes, from now.
-  explicit CheckpointClock(const OutputSpec& o)
-      : CheckpointClock(o.checkpoint_every, o.checkpoint_seconds, o.checkpoint_minutes) {}
+  /// output.checkpoint_every, checkpoint_seconds and checkpoint_minutes, from `start`.
+  explicit CheckpointClock(const OutputSpec& o, Clock::time_point start = Clock::now())
+      : CheckpointClock(o.checkpoint_every, o.checkpoint_seconds, o.checkpoint_minutes, start) {}
   /// True if a checkpoint is due after `step` at `now`; then counts it as written now.
   bool due(std::uint64_t step, Clock::time_point now = Clock::now()) {
     if (every_ == 0) return false;
@@ -269,6 +269,8 @@ class CheckpointClock {
     written_ = true;
     return true;
   }
+  /// When the last checkpoint was due, or this clock's start.
+  Clock::time_point last() const { return last_; }
 
  private:
   std::uint64_t every_;

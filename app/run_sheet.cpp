@@ -131,6 +131,7 @@ Sheet grow_sheet(const RunOptions& o, Start& s, const SceneConfig& cfg, ScriptHo
     throw;
   }
   progress.finish();
+  out.checkpoint_clock = checkpoints.last();
   out.complete = sim.step_count() >= out.target;
   if (!out.complete) try {  // a Ctrl-C: the growth continues from here on resume
       save();

@@ -26,7 +26,9 @@ struct Sheet {
   bool complete = false;
   bool checkpointed = false;      // a sheet checkpoint of this run is in the folder
   double checkpoint_seconds = 0;  // spent on its periodic checkpoints
-  std::string checkpoint_error;   // why the checkpoint on Ctrl-C could not be written
+  // when its last periodic checkpoint was written, or its growth began: the veins' clock goes on from there
+  std::chrono::steady_clock::time_point checkpoint_clock;
+  std::string checkpoint_error;  // why the checkpoint on Ctrl-C could not be written
 };
 
 /// What a colonisation run that a step's error stopped has left: for its run.json and its message.

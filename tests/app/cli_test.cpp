@@ -560,6 +560,13 @@ TEST_CASE("a checkpoint is also due output.checkpoint_minutes after the last one
   CheckpointClock sparse(1000, 3600, 10, t0);  // none within an hour of the last, whatever the minutes say
   CHECK_FALSE(sparse.due(5, at(600)));
   CHECK(sparse.due(6, at(3600)));
+  // the veins grown on a sheet go on from the sheet's last checkpoint (nine minutes of sheet, then one of veins)
+  CheckpointClock sheet(1000, 60, 10, t0);
+  CHECK(sheet.due(7, at(60)));
+  CHECK(sheet.last() == at(60));
+  CheckpointClock veins(1000, 60, 10, sheet.last());
+  CHECK_FALSE(veins.due(1, at(659)));
+  CHECK(veins.due(2, at(660)));
 }
 
 TEST_CASE("control bytes from a damaged file reach the terminal escaped", "[cli]") {
