@@ -109,7 +109,7 @@ void validate(const Params& params) {
   if (!(p.time_step > 0) || !std::isfinite(p.time_step))
     fail("cells.time_step", "positive and finite (time units per step)", str(p.time_step));
   for (std::size_t t = 0; t < p.weights.size(); ++t) {
-    const std::string base = std::string("cells.weights.") + kTypeNames[t] + ".";
+    const std::string base = t == 0 ? std::string("cells.") : std::string("cells.") + kTypeNames[t] + ".";
     check_weight(base + "spring", p.weights[t].spring);
     check_weight(base + "planar", p.weights[t].planar);
     check_weight(base + "cohesion", p.weights[t].cohesion);
@@ -118,8 +118,8 @@ void validate(const Params& params) {
   if (!p.unary.allFinite()) fail("cells.unary", "a finite vector", str(p.unary));
   for (int a = 0; a < 3; ++a)
     if (!(p.drag[a] >= 0 && p.drag[a] <= 1)) fail("cells.drag", "factors in [0, 1] for each axis", str(p.drag));
-  check_weight("cells.vein_cohesion_factor", p.vein_cohesion_factor);
-  check_weight("cells.vein_separation_factor", p.vein_separation_factor);
+  check_weight("cells.vein_cohesion", p.vein_cohesion_factor);
+  check_weight("cells.vein_separation", p.vein_separation_factor);
   if (!(p.max_speed > 0)) fail("cells.max_speed", "positive (model units per time unit)", str(p.max_speed));
 
   const Stiffness stiff = stiffest(p);

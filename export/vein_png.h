@@ -37,8 +37,9 @@ struct PngFrame {
 PngFrame png_frame(const venation::VeinTree& tree, const venation::Outline& outline, const PngParams& params = {});
 
 /// Draws the outline (filled, stroked) and every vein segment as an antialiased line of width 2 * radius
-/// of its child node (tip radius for anastomoses; at least min_stroke) with round caps, in the PngFrame
-/// above, and writes an opaque RGB PNG atomically (temporary name, then rename). core::FileError on failure.
+/// of its child node (an anastomosis: of the finer of the two nodes it joins; at least min_stroke) with round caps, in
+/// the PngFrame above, and writes an opaque RGB PNG atomically (temporary name, then rename). core::FileError on
+/// failure.
 void write_vein_png(const std::filesystem::path& path, const venation::VeinTree& tree, const venation::Outline& outline,
                     const PngParams& params = {});
 

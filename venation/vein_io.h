@@ -55,8 +55,9 @@ SvgPage write_svg(const std::filesystem::path& path, const VeinTree& tree, const
 /// tip-side node, vertex2 = its parent), the anastomoses last. Atomic; core::FileError on failure.
 void write_vein_ply(const std::filesystem::path& path, const VeinTree& tree);
 
-/// OBJ: `v` lines, each followed by "#a flow radius order" (OBJ has no vertex attributes), and one
-/// `l child parent` line per edge (1-based), anastomoses last; as the cell runs' veins.obj. Atomic.
+/// OBJ: `v` lines, each followed by "#a flow radius order" (OBJ has no vertex attributes), and `l` polylines
+/// (1-based) that run through every node of one child, a curve per branch (core::polylines of the edges child
+/// -> parent, then the anastomoses); as the cell runs' veins.obj. Atomic.
 void write_vein_obj(const std::filesystem::path& path, const VeinTree& tree);
 
 }  // namespace cellform::venation

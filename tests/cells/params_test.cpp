@@ -58,10 +58,12 @@ TEST_CASE("validate rejects each bad parameter by name", "[params]") {
         p.time_step = 1.0;
       },
       "cells.time_step");
-  rejects([](Params& p) { p.weights[2].spring = -1; }, "cells.weights.vein.spring");
-  rejects([](Params& p) { p.weights[0].planar = NAN; }, "cells.weights.general.planar");
+  rejects([](Params& p) { p.weights[2].spring = -1; }, "cells.vein.spring");
+  rejects([](Params& p) { p.weights[0].planar = NAN; }, "cells.planar");
   rejects([](Params& p) { p.unary = Vec3(0, NAN, 0); }, "cells.unary");
-  rejects([](Params& p) { p.vein_cohesion_factor = -1; }, "cells.vein_cohesion_factor");
+  rejects([](Params& p) { p.vein_cohesion_factor = -1; }, "cells.vein_cohesion");
+  rejects([](Params& p) { p.vein_separation_factor = NAN; }, "cells.vein_separation");
+  rejects([](Params& p) { p.weights[1].separation = INFINITY; }, "cells.petiole.separation");
   rejects([](Params& p) { p.max_speed = 0; }, "cells.max_speed");
   rejects([](Params& p) { p.division.probability = 0; }, "cells.division.probability");
   rejects([](Params& p) { p.division.probability = 1.5; }, "cells.division.probability");

@@ -380,7 +380,12 @@ TEST_CASE("cells never cross a closed or an open mesh", "[forms][obstacles]") {
           ++corrected;
           // Backed off the surface (by the margin along the crossed triangle's normal; neighbouring
           // triangles on a concave side may come closer).
-          CHECK(distance_to_mesh(p, *mesh) > 0);
+          const double d = distance_to_mesh(p, *mesh);
+          CHECK(d > 0);
+          // from outside a convex mesh the offset plane lies wholly outside it: at least the margin; on the
+          // gently curved sheet (a triangle's neighbours turn by a few degrees) nearly the margin
+          if (mesh == &ball && !inside_closed_mesh(prev[i], *mesh)) CHECK(d >= margin * (1 - 1e-9));
+          if (mesh == &sheet) CHECK(d >= 0.8 * margin);
           CHECK(cells.velocity[i].norm() <= before.velocity[i].norm() + 1e-12);
         } else {
           CHECK(cells.velocity[i] == before.velocity[i]);

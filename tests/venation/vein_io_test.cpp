@@ -157,6 +157,13 @@ TEST_CASE("a loop's closing segment is drawn at the width of the finer vein it j
   CHECK(std::count(paths.begin(), paths.end(), "1.000: M7.000 8.000 L8.000 10.000") +
             std::count(paths.begin(), paths.end(), "1.000: M8.000 10.000 L7.000 8.000") ==
         1);
+  // the finer vein's node listed first or second: 4 - 5 and 5 - 4 both at the 0.5 mm of 3 - 4's tip
+  for (const std::pair<Index, Index>& loop : {std::pair<Index, Index>{4, 5}, std::pair<Index, Index>{5, 4}}) {
+    const auto drawn = hand_tree_paths(false, loop);
+    CHECK(std::count(drawn.begin(), drawn.end(), "0.500: M10.000 10.000 L7.000 8.000") +
+              std::count(drawn.begin(), drawn.end(), "0.500: M7.000 8.000 L10.000 10.000") ==
+          1);
+  }
 }
 
 TEST_CASE("joined, the SVG draws each vein as one path at its length-weighted mean width", "[vein_io]") {
