@@ -124,16 +124,21 @@ TEST_CASE("lengths scale: twice the rest length, positions and radii give twice 
 TEST_CASE("the neighbours trigger counts the cells where the step moved them (brute force)", "[simulation]") {
   // cells thrown about fast between the links' update and the division: a count over the grid of their
   // places before the move would miss some and count others
+  // also over a radius of 3 rest lengths, which the trigger counts in a grid of its own, half the radius wide
+  const auto [radius, min_neighbours] = GENERATE(std::make_pair(kDivisionRadius, 6), std::make_pair(3.0, 24));
   Params p;
   p.division.trigger = DivisionTrigger::neighbours;
   p.division.min_age = 0;
   p.division.probability = 1;
   p.division.max_cells = 100000;
+  p.division.radius = radius;
+  p.division.min_neighbours = min_neighbours;
   Simulation sim(p, 9);
   sim.set_threads(1);
   sim.cells() = cellform::testing::hex_sheet(14, 14);
   cellform::core::Rng rng(9);
   for (Vec3& v : sim.cells().velocity) v = 6.0 * rng.unit_vector();
+  INFO("radius " << radius);
   for (int step = 0; step < 3; ++step) {
     std::size_t expected = 0;
     const StepReport r = sim.step({}, [&](Cells& c) {
@@ -172,11 +177,33 @@ TEST_CASE("step report, hooks and the spatial reorder", "[simulation]") {
   REQUIRE(r.max_speed > 0);
   // the vein chain survives the reorder at step 32 by id
   const Cells& c = sim.cells();
-  std::vector<std::uint64_t> id_of(c.size());
   for (std::size_t i = 0; i < c.size(); ++i) {
     if (c.vein_parent[i] == kNoIndex) continue;
     REQUIRE(c.id[c.vein_parent[i]] + 1 == c.id[i]);
   }
+}
+
+TEST_CASE("a forces hook's acceleration is integrated, and the constrain hook sees the moved cells", "[simulation]") {
+  // one cell alone feels no force of its own: semi-implicit Euler gives v = drag (v0 + a dt), x = x0 + v dt
+  Params p;
+  p.division.trigger = DivisionTrigger::none;
+  p.drag = Vec3(0.9, 0.8, 0.7);
+  p.time_step = 0.25;
+  Simulation sim(p, 1);
+  add_cell(sim.cells(), Vec3(1, 2, 3));
+  sim.cells().velocity[0] = Vec3(0.5, -1, 0.25);
+  const Vec3 a(2, 4, -8), x0(1, 2, 3), v0(0.5, -1, 0.25);
+  const Vec3 v = p.drag.cwiseProduct(v0 + a * p.time_step);
+  Vec3 seen = Vec3::Zero();
+  const StepReport r = sim.step([&](Cells& c) { c.acceleration[0] += a; },
+                                [&](Cells& c) {
+                                  seen = c.position[0];
+                                  c.position[0].z() = 0;  // a floor the hook puts the cell on
+                                });
+  CHECK((seen - (x0 + v * p.time_step)).norm() < 1e-12);
+  CHECK((sim.cells().velocity[0] - v).norm() < 1e-12);
+  CHECK(sim.cells().position[0].z() == 0);  // what the constrain hook did stays
+  CHECK(r.max_speed == Approx(v.norm()).epsilon(1e-12));
 }
 
 TEST_CASE("three cells relax to an equilateral triangle of rest-length sides", "[simulation]") {

@@ -321,6 +321,16 @@ TEST_CASE("triangulate a relaxed simulated sheet: every edge has at most one tri
   const Surface s = triangulate(sim.cells());
   // with the default link range the links are the lattice edges: exactly the lattice's triangles
   REQUIRE(s.triangles.size() == static_cast<std::size_t>(2 * 19 * 19));
+  std::map<std::pair<Index, Index>, int> directed;
+  for (const auto& t : s.triangles)
+    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+  std::size_t one_way = 0;
+  for (const auto& [edge, count] : directed) {
+    REQUIRE(count == 1);
+    one_way += directed.count({edge.second, edge.first}) == 0;
+  }
+  // the sheet is one oriented layer: only its 4 x 19 rim sides are used in one direction alone
+  CHECK(one_way == 4 * 19);
 }
 
 TEST_CASE("a jittered square grid whose links hold both diagonals: one layer of two triangles per square",

@@ -342,6 +342,25 @@ TEST_CASE("bad input is refused with a clear message", "[venation]") {
   p = {};
   p.murray_exponent = 0;
   CHECK_THROWS_WITH(venation::validate(p), Contains("venation.murray_exponent"));
+  // each bound, just past it and just within it
+  const auto refused = [](auto set, const std::string& name) {
+    venation::Params q;
+    set(q);
+    CHECK_THROWS_WITH(venation::validate(q), Contains("venation." + name + " must be "));
+  };
+  refused([](venation::Params& q) { q.source = -1e-9; }, "source");
+  refused([](venation::Params& q) { q.source = std::nan(""); }, "source");
+  refused([](venation::Params& q) { q.radius_scale = 0; }, "radius_scale");
+  refused([](venation::Params& q) { q.radius_scale = HUGE_VAL; }, "radius_scale");
+  refused([](venation::Params& q) { q.murray_exponent = 4.0001; }, "murray_exponent");
+  refused([](venation::Params& q) { q.min_radius = 1e39; }, "min_radius");  // past a float
+  refused([](venation::Params& q) { q.every = 0; }, "every");               // Scene::step takes the step modulo it
+  venation::Params edge;
+  edge.source = 0;
+  edge.murray_exponent = 4;
+  edge.min_radius = 3e38;
+  edge.every = 1;
+  CHECK_NOTHROW(venation::validate(edge));
   cells::Cells c = chain(5);
   c.type[0] = CellType::general;
   venation::Workspace ws;
