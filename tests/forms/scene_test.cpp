@@ -327,3 +327,30 @@ TEST_CASE("division along the auxin flow splits each cell along its flow directi
   CHECK(along > 50);
   CHECK(random > 0);
 }
+
+TEST_CASE("a scene's attractors pull its cells, and obstacles keep them 1% of a rest length off by default",
+          "[forms][scene]") {
+  // one cell alone feels only the attractor: v = drag (strength * unit * dt) after the first step
+  forms::SceneDescription d;
+  d.cells.division.trigger = cells::DivisionTrigger::none;
+  d.cells.rest_length = 2;
+  d.attractors.push_back({Vec3(0, 0, -10), 3.0, 0.0});  // below the cell, unlimited range
+  d.obstacles.half_spaces.push_back({Vec3(0, 0, 0), Vec3::UnitZ()});
+  forms::Scene scene(d, 1);
+  cells::add_cell(scene.simulation().cells(), Vec3(0, 0, 0.5));
+  scene.start();
+  scene.step();
+  const cells::Cells& c = scene.simulation().cells();
+  const double dt = d.cells.time_step;
+  CHECK((c.velocity[0] - d.cells.drag.cwiseProduct(Vec3(0, 0, -3.0 * dt))).norm() < 1e-12);
+  CHECK(c.position[0].z() == Approx(0.5 + c.velocity[0].z() * dt).epsilon(1e-12));
+  // pulled on against the ground: stopped at the default margin, 1% of the rest length (0.02), not below it
+  double lowest = 1;
+  for (int s = 0; s < 200; ++s) {
+    scene.step();
+    lowest = std::min(lowest, c.position[0].z());
+  }
+  CHECK(lowest >= 0.02 - 1e-12);
+  CHECK(c.position[0].z() == Approx(0.02).epsilon(1e-9));
+  CHECK(c.position[0].head<2>().norm() < 1e-12);  // straight down, no drift
+}
