@@ -246,10 +246,11 @@ TEST_CASE("Figure 8: Urquhart keeps v that a non-Delaunay neighbour a excludes",
   CHECK(ur == urquhart_brute_force(pts, s));
 }
 
-TEST_CASE("lune and radius queries", "[point_tree]") {
+TEST_CASE("lune and radius queries equal brute force", "[point_tree]") {
   const auto pts = random_points(21, 300, true);
   const PointTree t = build(pts);
   core::Rng rng(3);
+  int lunes = 0;
   for (int q = 0; q < 100; ++q) {
     const Vec3 s(rng.uniform(0, 10), rng.uniform(0, 10), rng.uniform(0, 10));
     const double r2 = rng.uniform(0, 4);
@@ -260,7 +261,16 @@ TEST_CASE("lune and radius queries", "[point_tree]") {
     t.within(s, r2, w);
     CHECK(w.size() == static_cast<std::size_t>(std::count_if(
                           pts.begin(), pts.end(), [&](const Vec3& p) { return (p - s).squaredNorm() <= r2; })));
+    // the closed lune of s and v, against every point; v near s (lunes mostly empty) or far (mostly not)
+    const Vec3 v = s + rng.uniform(0.1, 3) * rng.unit_vector();
+    const double sv2 = (v - s).squaredNorm();
+    bool lune = false;
+    for (const Vec3& p : pts) lune = lune || ((p - s).squaredNorm() <= sv2 && (p - v).squaredNorm() <= sv2);
+    CHECK(t.any_in_lune(s, v) == lune);
+    lunes += lune;
   }
+  CHECK(lunes > 10);
+  CHECK(lunes < 90);
 }
 
 TEST_CASE("PointBatch queries equal brute force; sector_merge gives the sector nearest of the union", "[point_tree]") {
