@@ -435,9 +435,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     progress.finish();
     if (full_at > 0 && full_at <= target)  // divisions, and the rules that decide them, stopped there
       err << "cellform: note: the cells reached division.max_cells = " << sim.params().division.max_cells << " at step "
-          << full_at
-          << "; no cell divided after it (raise division.max_cells, or the params{} knob the script sets it from, to "
-             "grow on)\n";
+          << full_at << "; no cell divided after it" << (sim.rules().divides ? ", nor was division.rule called" : "")
+          << " (raise division.max_cells, or the params{} knob the script sets it from, to grow on)\n";
     if (cfg.scene.venation && sim.step_count() > first)  // the notes wait for a finished run (not yet: not news)
       say_vein_findings(err, sim.cells(), scene->venation_report(), *cfg.scene.venation, !g_interrupt.load());
     // the links of the cells as they lie now, for the surface, the print and the checkpoint (the notes above

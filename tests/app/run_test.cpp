@@ -15,7 +15,16 @@ TEST_CASE("a run whose cells reach division.max_cells says when, once", "[cli]")
       "full.lua", "run { steps = 60 }\ndivision { trigger = 'age', age = 3, max_cells = 50 }\ndisc { radius = 2 }\n");
   auto r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet"});  // notes: not progress
   REQUIRE(r.code == 0);
-  CHECK_THAT(r.err, Contains("note: the cells reached division.max_cells = 50 at step "));
+  CHECK_THAT(r.err, Contains("note: the cells reached division.max_cells = 50 at step ") &&
+                        Contains("no cell divided after it (raise") && !Contains("division.rule"));
+  // a rule is not called after it either: said, since a run kept small never reaches a rule's late code
+  const auto ruled =
+      t.write("ruled.lua",
+              "run { steps = 60 }\ndivision { max_cells = 50, rule = function(c) return c.age > 2 end }\n"
+              "disc { radius = 2 }\n");
+  r = cli({"run", ruled.string(), "--out", (t.path / "r").string(), "--quiet"});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("no cell divided after it, nor was division.rule called (raise"));
   // resumed full: nothing new to say
   r = cli({"resume", (t.path / "o").string(), "--steps", "70"});
   REQUIRE(r.code == 0);
