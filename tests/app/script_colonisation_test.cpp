@@ -182,6 +182,16 @@ TEST_CASE("volume{} and surface{} give space colonisation a 3-D domain", "[scrip
   REQUIRE(cfg.notes.size() == 1);
   CHECK_THAT(cfg.notes[0], Contains("--set leaf.shape=cordate: leaf.shape has no effect beside leaf.file"));
   CHECK_FALSE(cfg.resolved["leaf"].contains("shape"));
+  // the same fan drawn pointing down: its length is half its farthest vertex's distance, and that is said
+  std::ofstream(dir / "down.txt") << "0 0\n1 -1\n0 -2\n-1 -1\n0 0\n";
+  cfg = load("leaf { file = '" + (dir / "down.txt").string() + "' }\ncolonisation {}\n");
+  REQUIRE(cfg.notes.size() == 1);
+  CHECK_THAT(cfg.notes[0], Contains("test/leaf.lua:1: leaf.file's outline does not point along +y") &&
+                               Contains("its highest y is 0, its farthest vertex (0, -2)") &&
+                               Contains("grows to twice leaf.length"));
+  double lowest = 0;
+  for (const auto& q : cfg.colonisation->leaf.outline.points) lowest = std::min(lowest, q.y());
+  CHECK(lowest == -2.0);  // scaled by 1 / (2 / 2): twice the length
   std::filesystem::remove_all(dir);
   // so are the lobes of an outline without lobes, and a tooth depth without teeth
   cfg = load("leaf { shape = 'ovate', lobes = 2,\n lobe_depth = 0.9, tooth_depth = 0.1 }\ncolonisation {}\n");
