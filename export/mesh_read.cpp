@@ -126,6 +126,9 @@ PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s, 
           corners[3 * t + k] = Vec3(get<float>(s, at), get<float>(s, at + 4), get<float>(s, at + 8));
         }
       if (n == 0) malformed(path, "no facets in the STL file");  // as for an empty ASCII STL
+      for (std::size_t c = 0; c < corners.size(); ++c)           // named by facet: an STL has no vertex numbers
+        if (!corners[c].allFinite())
+          malformed(path, "facet " + std::to_string(c / 3 + 1) + " has a corner that is NaN or infinite");
       if (notes) {
         std::vector<Vec3> stored(n);
         for (std::size_t t = 0; t < n; ++t)

@@ -1,5 +1,5 @@
-// Reading obstacle meshes: ASCII STL with a strict parser of its own, binary STL and OBJ through
-// OpenMesh's readers, into a plain triangle soup.
+// Reading obstacle meshes: ASCII STL and OBJ with strict parsers of their own, binary STL through OpenMesh's
+// reader, into a plain triangle soup.
 #include "forms/mesh_io.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -193,9 +193,12 @@ bool is_binary_stl(std::istream& in, std::uintmax_t size, const std::string& nam
   const std::uintmax_t expected = 84 + 50 * static_cast<std::uintmax_t>(n);
   if (size == expected) return true;
   if (starts_like_ascii_stl(std::string_view(head, got))) return false;
+  // a few bytes after the last facet (some exporters pad the file) are ignored, as slicers and `cellform check`
+  // do; as many as a facet's 50 or more are no padding: the count would leave facets out
+  if (n > 0 && size > expected && size < expected + 50) return true;
   throw core::InvalidInput("mesh " + name + " is a damaged binary STL: its header announces " + std::to_string(n) +
-                           " triangles (" + std::to_string(expected) + " bytes) but the file has " +
-                           std::to_string(size) + " bytes");
+                           (n == 1 ? " triangle (" : " triangles (") + std::to_string(expected) +
+                           " bytes) but the file has " + std::to_string(size) + " bytes");
 }
 
 // Every corner of a binary STL (`size` bytes, its layout checked) finite; names the first that is not.
@@ -248,11 +251,12 @@ TriangleMesh read_ascii_stl(std::istream& in, const std::string& name) {
   return mesh;
 }
 
-/// The vertex positions of an OBJ text, as written (OpenMesh reads 32-bit floats: 6 cm steps at a site
-/// coordinate of 10^6 mm); refuses face lines OpenMesh would drop without a word (a bad index, fewer than three
-/// corners), naming the line. `polylines`: the number of line ('l') lines.
-std::vector<Vec3> check_obj_lines(std::istream& in, const std::string& name, std::size_t& polylines) {
-  std::vector<Vec3> positions;
+/// Reads an OBJ's vertices (as written: OpenMesh's reader kept 32-bit floats, 6 cm steps at a site coordinate of
+/// 10^6 mm) and faces into `soup` (its faces not yet split), naming the line of anything malformed. Only 'v' and
+/// 'f' lines are read; 'l' lines are counted in `polylines`. Not OpenMesh's reader: it opened what an 'mtllib'
+/// line names (a pipe there blocked the run for good) and read a number after a face line's '#' as a corner.
+void read_obj(std::istream& in, const std::string& name, SoupImporter& soup, std::size_t& polylines) {
+  std::vector<Vec3>& positions = soup.mesh.vertices;
   std::size_t line_no = 0;
   polylines = 0;
   std::string line;
@@ -286,7 +290,7 @@ std::vector<Vec3> check_obj_lines(std::istream& in, const std::string& name, std
       std::size_t corners = 0;
       while (words >> token && token[0] != '#') {  // a comment may end the line
         try {
-          obj_face_vertex(token, positions.size());
+          soup.faces.push_back(obj_face_vertex(token, positions.size()));
         } catch (const core::InvalidInput& e) {
           throw core::InvalidInput("mesh " + name + " is malformed: line " + std::to_string(line_no) + ": " + e.what());
         }
@@ -295,12 +299,10 @@ std::vector<Vec3> check_obj_lines(std::istream& in, const std::string& name, std
       if (corners < 3)
         throw core::InvalidInput("mesh " + name + " is malformed: line " + std::to_string(line_no) +
                                  ": a face needs at least three vertices ('f a b c')");
+      soup.face_end.push_back(soup.faces.size());
     }
   }
-  in.clear();
-  in.seekg(0);
-  positions.shrink_to_fit();  // (kept beside OpenMesh's while it reads)
-  return positions;
+  if (in.bad()) throw core::FileError("mesh " + name + " could not be read to its end");
 }
 
 // The mesh if it has triangles and finite vertices; names the file otherwise (`polylines`: its OBJ 'l' lines).
@@ -384,7 +386,8 @@ std::vector<Vec3> parse_ascii_stl(std::string_view text, std::vector<Vec3>* norm
       std::string shown(line.substr(0, 80));
       while (!shown.empty() && std::isspace(static_cast<unsigned char>(shown.back()))) shown.pop_back();
       shown.erase(0, std::min(shown.find_first_not_of(" \t"), shown.size()));
-      return core::InvalidInput("line " + std::to_string(line_no) + ": " + what + " (the line reads '" + shown + "')");
+      return core::InvalidInput("line " + std::to_string(line_no) + ": " + what + " (the line reads '" +
+                                core::printable(shown) + "')");  // (a NUL byte would end the message there)
     };
     // a number, all of the word ("1e-3", "-2", "+0.5"; "5five" is not one); one too small for a double is 0
     // or the nearest, as strtod (the OBJ reader's) reads it, and one too large is refused by name
@@ -495,39 +498,35 @@ TriangleMesh load_mesh(const fs::path& path) {
   // OpenMesh reads ASCII STL leniently (a bad number keeps the previous one, a cut file is a smaller mesh)
   if (ext == ".stl" && !is_binary_stl(probe, size, name)) return checked(read_ascii_stl(probe, name), name);
   if (ext == ".stl") check_binary_stl_corners(probe, size, name);  // OpenMesh drops such triangles unsaid
-  std::size_t polylines = 0;
-  std::vector<Vec3> positions;  // an OBJ's, in full
-  if (ext == ".obj") positions = check_obj_lines(probe, name, polylines);
-  const std::size_t vertex_lines = positions.size();
-  // OpenMesh takes an OBJ's first line after a UTF-8 byte-order mark for an unknown keyword (a vertex gone,
-  // every face shifted): such a file is read without its mark
-  std::string text;
-  if (char mark[3] = {}; ext == ".obj" && probe.read(mark, 3) && std::string_view(mark, 3) == "\xEF\xBB\xBF")
-    text.assign(std::istreambuf_iterator<char>(probe), std::istreambuf_iterator<char>());
-  probe.close();
-
   SoupImporter importer;
-  bool ok = false;
-  {
+  std::size_t polylines = 0;
+  if (ext == ".obj") {
+    read_obj(probe, name, importer, polylines);
+  } else {
+    // OpenMesh tells a binary STL by its size: a padded one is given its facets alone
+    const std::uintmax_t facets = 84 + 50 * ((size - 84) / 50);
+    std::string padded;
+    if (facets != size) {
+      padded.resize(facets);
+      probe.seekg(0);
+      if (!probe.read(padded.data(), static_cast<std::streamsize>(facets)))
+        throw core::FileError("mesh " + name + " could not be read to its end");
+    }
+    probe.close();
+    bool ok = false;
     MuteOpenMesh mute;
-    om::IO::Options options;
+    om::IO::Options options(om::IO::Options::Binary);
     try {
-      std::istringstream in(text);
-      ok = text.empty() ? om::IO::IOManager().read(path.string(), importer, options)
-                        : om::IO::IOManager().read(in, "obj", importer, options);
+      std::istringstream in(padded);
+      ok = padded.empty() ? om::IO::IOManager().read(path.string(), importer, options)
+                          : om::IO::IOManager().read(in, "stl", importer, options);
     } catch (const std::exception& e) {
       throw core::InvalidInput("mesh " + name + " could not be read: " + e.what());
     }
+    if (!ok) throw core::InvalidInput("mesh " + name + " is malformed: OpenMesh could not parse it as a binary STL");
+    if (importer.bad_index)
+      throw core::InvalidInput("mesh " + name + " is malformed: a face uses a vertex that does not exist");
   }
-  if (!ok) throw core::InvalidInput("mesh " + name + " is malformed: OpenMesh could not parse it as " + ext.substr(1));
-  if (ext == ".obj" && importer.mesh.vertices.size() != vertex_lines)
-    throw core::InvalidInput("mesh " + name + " is malformed: " +
-                             std::to_string(vertex_lines - std::min(vertex_lines, importer.mesh.vertices.size())) +
-                             " of " + std::to_string(vertex_lines) +
-                             " vertex lines ('v x y z') are not three numbers (NaN and infinity are not allowed)");
-  if (importer.bad_index)
-    throw core::InvalidInput("mesh " + name + " is malformed: a face uses a vertex that does not exist");
-  if (ext == ".obj") importer.mesh.vertices = std::move(positions);  // the same vertices, in the same order
   importer.split_faces(name);
   return checked(std::move(importer.mesh), name, polylines);
 }

@@ -119,6 +119,9 @@ TEST_CASE("parse_ascii_stl refuses anything else, saying the line", "[forms][mes
              Contains("line 8") && Contains("'endfacet'"));
   CHECK_THAT(error("solid\n" + f + "vertex 0 0 0\nendsolid\n"), Contains("line 9") && Contains("'facet normal"));
   CHECK_THAT(error("solid\n" + f), Contains("line 8") && Contains("without 'endsolid'"));
+  // a line quoted escaped: a NUL byte ended the message at "(the line reads '"
+  CHECK_THAT(error("solid\n" + f + "endsolid\n" + std::string(2, '\0') + "x\n"),
+             Contains("line 10") && Contains("(the line reads '\\x00\\x00x')"));
   CHECK_THAT(error("solid\n" + f.substr(0, f.find("endloop"))), Contains("line 6") && Contains("inside the facet"));
 }
 
@@ -281,11 +284,32 @@ TEST_CASE("load_mesh errors name the file and the problem", "[forms][mesh_io]") 
   CHECK(forms::load_mesh(dir / "slashes.obj").triangles.size() == 2);
   write_text(dir / "comment.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 # the only face\n");
   CHECK(forms::load_mesh(dir / "comment.obj").triangles.size() == 1);
+  // a number in a face line's comment is no corner (OpenMesh's reader made 'f 1 2 3 # 4' a quad)
+  write_text(dir / "comment4.obj", "v 10 10 10\nv 11 10 10\nv 10 11 10\nv 50 50 50\nf 1 2 3 # 4\n");
+  const forms::TriangleMesh commented = forms::load_mesh(dir / "comment4.obj");
+  REQUIRE(commented.triangles.size() == 1);
+  CHECK(commented.triangles[0] == std::array<core::Index, 3>{0, 1, 2});
+  // a material library is not opened (one naming a pipe blocked the run for good, /dev/zero filled memory),
+  // and texture coordinates of any length, as the OBJ format allows, are no matter
+  REQUIRE(::mkfifo((dir / "fifo.mtl").c_str(), 0600) == 0);
+  write_text(dir / "material.obj",
+             "mtllib fifo.mtl\nmtllib /dev/zero\nusemtl x\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+             "vt 0.5\nvt 0.5 0.5 0\nf 1/1 2/2 3/1\n");
+  CHECK(forms::load_mesh(dir / "material.obj").triangles.size() == 1);
   CHECK(forms::obj_face_vertex("-1", 5) == 4);
   CHECK(forms::obj_face_vertex("000000000000000000000002", 5) == 1);  // leading zeros are no digits
   CHECK(forms::obj_face_vertex("2/7/9", 5) == 1);
   CHECK_THROWS_WITH(forms::obj_face_vertex("-6", 5), Catch::Contains("counts back past the first of the 5"));
 
+  {  // a binary STL padded by a few bytes, as some exporters write it, is read as `cellform check` reads it
+    const std::string one = binary_stl({{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}});
+    write_text(dir / "padded.stl", one + std::string(2, '\0'));
+    const forms::TriangleMesh padded = forms::load_mesh(dir / "padded.stl");
+    REQUIRE(padded.triangles.size() == 1);
+    CHECK(padded.vertices[padded.triangles[0][1]] == Vec3(1, 0, 0));
+    write_text(dir / "long.stl", one + std::string(50, '\0'));  // a whole facet more than the count: damaged
+    CHECK_THROWS_WITH(forms::load_mesh(dir / "long.stl"), Catch::Contains("announces 1 triangle (134 bytes)"));
+  }
   const double nan = std::nan("");
   write_text(dir / "nan.stl", binary_stl({{Vec3(0, 0, 0), Vec3(1, nan, 0), Vec3(0, 1, 0)}}));
   CHECK_THROWS_AS(forms::load_mesh(dir / "nan.stl"), core::InvalidInput);
