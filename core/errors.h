@@ -67,13 +67,18 @@ template <class Range>
 std::string closest_name(const std::string& name, const Range& candidates) {
   const std::string key = lower_case(name);
   std::string best;
-  std::size_t best_d = std::max<std::size_t>(name.size() / 3, 1) + 1;
+  std::size_t best_d = std::max<std::size_t>(name.size() / 3, 1) + 1, best_prefix = 0;
   for (const auto& c : candidates) {
     std::string s(c);
-    const std::size_t d = edit_distance(key, lower_case(s));
-    if (d < best_d || (d == best_d && d == 0 && s == name)) {  // the very name before one in other letters
+    const std::string l = lower_case(s);
+    const std::size_t d = edit_distance(key, l);
+    std::size_t prefix = 0;  // letters it shares with `name` from the start: "--steep" is "--steps", not "--seed"
+    while (prefix < l.size() && prefix < key.size() && l[prefix] == key[prefix]) ++prefix;
+    if (d < best_d || (d == best_d && d == 0 && s == name) ||  // the very name before one in other letters
+        (d == best_d && d > 0 && !best.empty() && prefix > best_prefix)) {
       best_d = d;
       best = s;
+      best_prefix = prefix;
     }
   }
   if (!best.empty()) return best;

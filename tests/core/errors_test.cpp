@@ -87,4 +87,9 @@ TEST_CASE("misspelt names are matched by edits and swaps; a name with nothing cl
   CHECK(closest_name("checkpoint", std::vector<std::string>{"run", "check"}).empty());  // half of it: no
   const std::vector<std::string> options{"--lua-instructions", "--lua-memory", "--lua-seconds"};
   CHECK(closest_name("--lua", options).empty());  // begins three: none picked
+  // of two as close, the one that shares more of its beginning (both are two edits from "--steep")
+  const std::vector<std::string> run{"--seed", "--steps", "--set"};
+  CHECK(closest_name("--steep", run) == "--steps");
+  CHECK(closest_name("--steep", std::vector<std::string>{"--steps", "--seed"}) == "--steps");  // in either order
+  CHECK(closest_name("--sede", run) == "--seed");
 }
