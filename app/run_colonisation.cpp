@@ -283,10 +283,10 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
             (r.steps - last_print >= 50 || now - last_print_time >= std::chrono::seconds(5) || col.done())) {
           last_print = r.steps;
           last_print_time = now;
-          err << "step " << r.steps << ": " << r.nodes << " vein nodes, " << r.sources << " sources";
+          err << "step " << r.steps << ": " << r.nodes << " vein nodes, " << r.sources
+              << (r.sources == 1 ? " source" : " sources");
           if (planar) err << (nonuniform ? ", growth step " : ", leaf length ") << r.scale;
-          // every 50 steps or 5 s (a step of millions of sources can take seconds); the end is not known
-          // (sources come until the blade is full); the line shrinks by at most 7 (sources, hours): padded
+          // every 50 steps or 5 s (no end is known); the line shrinks by at most 7 (sources, hours): padded
           err << ", " << duration_text(std::chrono::duration<double>(now - a).count()) << " so far"
               << (::isatty(2) ? "          \r" : "\n") << std::flush;
         }

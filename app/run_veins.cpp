@@ -218,14 +218,15 @@ void say_sources_left(std::ostream& err, const ColonisationSpec& spec, const std
   if (outside > 0)
     where_left = std::to_string(outside) + " outside the grown blade, where no vein grows (" +
                  (spec.params.growth == venation::GrowthMode::marginal
-                      ? "the young blade covered them where the grown one leaves a gap, below a lobe or tooth; "
-                        "growth = \"isogonic\" grows the whole outline from the start, lobes included)"
-                      : "the blade moved off them)");
+                      ? std::string("the young blade covered ") + (outside == 1 ? "it" : "them") +
+                            " where the grown one leaves a gap, below a lobe or tooth; growth = \"isogonic\" grows "
+                            "the whole outline from the start, lobes included)"
+                      : std::string("the blade moved off ") + (outside == 1 ? "it)" : "them)"));
   if (outside < sources_left.size())
     where_left += (outside > 0 ? ", " : "") + std::to_string(sources_left.size() - outside) +
-                  (outside > 0 ? " inside it" : " inside the blade") +
-                  ", where no vein can step towards them (the step would leave the blade, across a sinus, or run "
-                  "back along a vein)";
+                  (outside > 0 ? " inside it" : " inside the blade") + ", where no vein can step towards " +
+                  (sources_left.size() - outside == 1 ? "it" : "them") +
+                  " (the step would leave the blade, across a sinus, or run back along a vein)";
   err << "cellform: note: " << sources_left.size() << are_left << ": " << where_left << "\n";
 }
 
