@@ -50,6 +50,15 @@ std::string resume_command(const RunOptions& o, const fs::path& checkpoint, cons
   return hint;
 }
 
+std::string changed_colonisation_message(const std::string& what, const std::string& changed) {
+  const std::size_t saved = what.find(" was saved with"), only = what.find(": only ");
+  if (saved == std::string::npos || only == std::string::npos) return what + "; changed: " + changed;
+  // the change first, from this resume's side (the checkpoint "saved with other parameters" read backwards)
+  return what.substr(0, saved) + " continues with the colonisation parameters it was saved with, and this resume " +
+         "changes them: " + changed + ". Only the thread count" +
+         what.substr(only + std::string(": only the thread count").size()) + "; start a new run for other values";
+}
+
 fs::path script_as_run(const Start& s) {
   std::ifstream in(s.script_path, std::ios::binary);
   const std::string text(std::istreambuf_iterator<char>(in), {});

@@ -233,7 +233,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         }
         const std::string changed = changed_colonisation_values(s, cfg);
         if (changed.empty() || what.find("other colonisation parameters") == std::string::npos) throw;
-        throw core::InvalidInput(what + "; changed: " + changed);
+        throw core::InvalidInput(changed_colonisation_message(what, changed));
       }
     }();
     const std::size_t first = col.report().steps;

@@ -192,6 +192,9 @@ std::string sets_carry_over(const Overrides& sets);
 nlohmann::json script_record(const Start& s);
 /// What a resume changes of a colonisation run's own values, in words (see run_start.cpp).
 std::string changed_colonisation_values(const Start& s, const SceneConfig& cfg);
+/// The refusal of a colonisation resume whose parameters differ: the loader's message `what` ("checkpoint 'X'
+/// was saved with other colonisation parameters (or another seed): only ...") with what this resume changed.
+std::string changed_colonisation_message(const std::string& what, const std::string& changed);
 /// What a resume changes of the source domain (leaf{}, volume{}, surface{}) a colonisation run grew in, in
 /// words ("leaf.width = 0.7 (was 0.6)"): --set overrides and, with --script, the edited script's values.
 std::string changed_domain_values(const Start& s, const SceneConfig& cfg);

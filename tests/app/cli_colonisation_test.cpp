@@ -236,9 +236,9 @@ TEST_CASE("space colonisation resumes to the bit-identical veins, in a leaf and 
   r = cli({"resume", (out / "checkpoint.cfck").string(), "--set", "colonisation.kill_distance=2", "--set",
            "colonisation.node_flow=0.5", "--quiet"});
   CHECK(r.code == 2);
-  CHECK_THAT(r.err, Contains("other colonisation parameters") &&
-                        Contains("changed: --set colonisation.kill_distance=2") &&
-                        !Contains("--set colonisation.node_flow"));
+  CHECK_THAT(r.err, Contains("continues with the colonisation parameters it was saved with, and this resume "
+                             "changes them: --set colonisation.kill_distance=2. Only the thread count, ") &&
+                        Contains("; start a new run for other values") && !Contains("--set colonisation.node_flow"));
   // an edited script that changes one: named with its old and new value
   const auto edited = t.write("edited.lua", std::regex_replace(volume, std::regex("darts = 3000"), "darts = 2000"));
   r = cli({"resume", (out / "checkpoint.cfck").string(), "--script", edited.string(), "--quiet"});
