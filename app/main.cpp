@@ -19,7 +19,15 @@
 #include "core/errors.h"
 
 namespace {
+// Standard error is a terminal, where a progress line may be half drawn (set before the handlers).
+bool g_err_tty = false;
+
 void say(const char* text, std::size_t size) {
+  // the line break that ends a half-drawn progress line: none in a log, where lines end with theirs
+  if (!g_err_tty && size > 0 && text[0] == '\n') {
+    ++text;
+    --size;
+  }
   const ssize_t written = ::write(2, text, size);  // async-signal-safe, unlike iostreams
   (void)written;
 }
@@ -107,6 +115,7 @@ void on_hangup(int) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  g_err_tty = ::isatty(2) != 0;
   struct sigaction stop {};
   stop.sa_sigaction = on_interrupt;
   stop.sa_flags = SA_SIGINFO | SA_RESTART;

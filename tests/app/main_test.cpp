@@ -40,6 +40,9 @@ TEST_CASE("one stop sent twice at once by one process (GNU timeout: to the proce
     const std::string stop = "the steps stop after the current one";
     CHECK(said.find(stop) != std::string::npos);
     CHECK(said.find(stop) == said.rfind(stop));  // said once: one stop
+    // in a log no progress line is half drawn: the message takes no blank line before it
+    CHECK(said.rfind("cellform: ", 0) == 0);
+    CHECK_THAT(said, !Contains("\n\n"));
     CHECK(fs::exists(out / "checkpoint.cfck"));
     CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "interrupted");
   }
