@@ -86,9 +86,12 @@ std::vector<Field> build() {
           "factor on the vein cells' separation from their grandparent and grandchildren (straightening: it "
           "pushes a vein's cells apart along it, which straightens a zig-zag, but where the sheet holds a "
           "straight vein, one far above vein_cohesion makes it buckle; flat leaves' veins are straightest at 1 to "
-          "1.5: in examples/leaf.lua a mean bend of 11 to 12 degrees between segments, against 17 at 4 and 15 at "
-          "0, over three seeds, but at 1 its sheet folded wider and left 14 holes in cells.ply against 3 (seed 1), "
-          "so the examples keep 4; the 3-D vein_coral.lua's veins are straighter at 4, 23 degrees against 25)"));
+          "1.5: in examples/leaf.lua a mean bend of 11 degrees between segments, against 17 at 4 and 14 at 0, "
+          "over seeds 1 to 3; the holes in cells.ply follow the seed more than this value (boundary loops split "
+          "where two touch at a cell: 23, 1 and 0 at 1; 11, 9 and 19 at 4; 24, 4 and 28 at 0), but at 1 the leaf's own "
+          "seed, 1, leaves holes of 196 and 108 cells "
+          "around, so the examples keep 4; the 3-D vein_coral.lua's veins are straighter at 4, 23 degrees against "
+          "25)"));
   f.push_back(num("cells", "max_speed", "1e6 * cells.rest_length", 0, kInf, true, "units/time",
                   "a faster cell stops the run as diverged (the default scales with the form)"));
   f.push_back(Field{"cells", "petiole", Kind::table, "{}", 0, 0, false, "", "",
