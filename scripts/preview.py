@@ -5,6 +5,7 @@ usage: scripts/preview.py OUT_DIR [PNG] [--top] [--elev DEG] [--azim DEG] [--dpi
 Needs Debian's python3-matplotlib (apt-get install python3-matplotlib).
 """
 import argparse
+import os
 import struct
 import sys
 from pathlib import Path
@@ -18,6 +19,10 @@ def load_matplotlib():
     try:
         import matplotlib
     except ImportError:
+        if os.path.realpath(sys.executable) != os.path.realpath("/usr/bin/python3") and os.path.exists("/usr/bin/python3"):
+            sys.exit("preview.py needs matplotlib, which this Python (" + sys.executable + ") cannot import: "
+                     "run it as scripts/preview.py (it starts Debian's /usr/bin/python3), or install matplotlib "
+                     "for this Python")
         sys.exit("preview.py needs Debian's python3-matplotlib, which is not installed: "
                  "sudo apt-get install python3-matplotlib")
     matplotlib.use("Agg")
