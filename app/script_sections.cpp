@@ -3,10 +3,13 @@
 // The colonisation sections are in script_colonisation.cpp.
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <numeric>
 #include <vector>
 
 #include "app/memory.h"
@@ -426,8 +429,54 @@ std::pair<double, std::string> cell_budget(const SceneConfig& cfg) {
   return {mb * 1e6 / kBytesPerCell, name};
 }
 
+/// Cells placed at the very point of an earlier one (a shape placed twice, a cell{} loop that never moves on): a
+/// note naming the first shape that placed one, and refused beyond kMaxCoincident at one point (all of them are
+/// each other's nearest, so their neighbour search costs the square of their number: 100,000 at one point took
+/// 97 s for 3 steps). `where[k]`: the shape call ("leaf.lua:4: disc") that placed cells from `first[k]` on.
+void check_coincident_cells(SceneConfig& cfg, const std::vector<std::size_t>& first,
+                            const std::vector<std::string>& where) {
+  constexpr std::size_t kMaxCoincident = 1000;
+  const std::vector<InitialCell>& c = cfg.initial_cells;
+  std::vector<std::size_t> order(c.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  auto key = [&](std::size_t i) {
+    return std::array<double, 3>{c[i].position.x(), c[i].position.y(), c[i].position.z()};
+  };
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return std::pair(key(a), a) < std::pair(key(b), b); });
+  std::size_t repeats = 0, group = 1, largest = 1, first_repeat = c.size(), at = 0;
+  for (std::size_t k = 1; k < order.size(); ++k) {
+    if (key(order[k]) != key(order[k - 1])) {
+      group = 1;
+      continue;
+    }
+    ++repeats;
+    first_repeat = std::min(first_repeat, order[k]);  // (the earliest cell of a group is no repeat)
+    if (++group > largest) {
+      largest = group;
+      at = order[k];
+    }
+  }
+  if (repeats == 0) return;
+  const auto shape = [&](std::size_t i) {
+    return where[static_cast<std::size_t>(std::upper_bound(first.begin(), first.end(), i) - first.begin()) - 1];
+  };
+  const Vec3& p = c[at].position;
+  if (largest > kMaxCoincident)
+    throw InvalidInput(shape(at) + ": " + std::to_string(largest) + " cells lie at the very point " +
+                       core::point_text(p.x(), p.y(), p.z()) + ", over " + std::to_string(kMaxCoincident) +
+                       ": each is every other's nearest, so their neighbour search takes the square of their number; "
+                       "place them apart");
+  cfg.notes.push_back(shape(first_repeat) + ": " + std::to_string(repeats) +
+                      (repeats == 1 ? " cell lies" : " cells lie") +
+                      " at the very point of an earlier cell (a shape placed twice?); coincident cells push apart in "
+                      "random directions");
+}
+
 void build_shapes(Impl& I) {
   SceneConfig& cfg = *I.cfg;
+  std::vector<std::size_t> shape_first;  // where each shape call's cells begin, for check_coincident_cells
+  std::vector<std::string> shape_where;
   const double rest = cfg.scene.cells.rest_length;
   nlohmann::json& rec = cfg.resolved["shapes"];
   rec = nlohmann::json::array();
@@ -509,6 +558,10 @@ void build_shapes(Impl& I) {
     if (s.kind != "cell" && s.kind != "petiole") r["spacing"] = spacing();
     // a petiole turns the nearest cell into one or adds a cell, at its step: not known here
     if (s.kind != "petiole") r["cells"] = s.kind == "cell" ? std::size_t{1} : points.size();
+    if (s.kind != "petiole" && (shape_where.empty() || shape_where.back() != s.where + s.kind)) {
+      shape_first.push_back(cfg.initial_cells.size() - (s.kind == "cell" ? 1 : 0));
+      shape_where.push_back(s.where + s.kind);
+    }
     for (const Vec3& p : points) cfg.initial_cells.push_back({p, false});
     if (cfg.initial_cells.size() > cfg.scene.cells.division.max_cells)
       throw InvalidInput(
@@ -527,6 +580,7 @@ void build_shapes(Impl& I) {
       more["cells"] = more["cells"].get<std::size_t>() + (s.kind == "cell" ? 1 : points.size());
     }
   }
+  check_coincident_cells(cfg, shape_first, shape_where);
 }
 
 }  // namespace cellform::app
