@@ -25,6 +25,18 @@ using nlohmann::json;
 
 namespace {
 
+/// What stands at `p` that is not a file: "a folder", "a named pipe", ... (for "'x' is not a file: a folder").
+std::string not_a_file(const fs::path& p) {
+  std::error_code ec;
+  const fs::file_type t = fs::status(p, ec).type();
+  return std::string("not a file but ") + (t == fs::file_type::directory ? "a folder"
+                                           : t == fs::file_type::fifo    ? "a named pipe"
+                                           : t == fs::file_type::socket  ? "a socket"
+                                           : t == fs::file_type::block || t == fs::file_type::character
+                                               ? "a device"
+                                               : "something else");
+}
+
 /// Whether process `pid` is running: a zombie (killed, not yet reaped by its parent) is not.
 bool process_alive(pid_t pid) {
   if (::kill(pid, 0) != 0 && errno == ESRCH) return false;
@@ -217,9 +229,9 @@ fs::path make_staging(const fs::path& dir, std::optional<FolderLock>& lock, fs::
     if (fs::exists(dir / "run.json", ec)) {
       const fs::path file = dir / "run.json";
       if (!fs::is_regular_file(file, ec))
-        throw FolderRefused("'" + file.string() +
-                            "' is not a file (a folder?); a run there writes its run.json in its place: choose "
-                            "another --out folder, or move that away");
+        throw FolderRefused("'" + file.string() + "' is " + not_a_file(file) +
+                            "; a run there writes its run.json in its place: choose another --out folder, or move "
+                            "that away");
       std::ifstream in(file);
       if (!in)
         throw core::FileError("cannot read '" + file.string() + "' (" + std::strerror(errno) +
@@ -530,8 +542,8 @@ void commit_outputs(const fs::path& staging, const fs::path& dir, const std::vec
     std::error_code ec;
     const fs::path to = dir / n;
     if (fs::exists(to, ec) && !fs::is_regular_file(to, ec))
-      throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': '" + to.string() +
-                            "' is not a file (a folder?); move that away, then resume");
+      throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': '" + to.string() + "' is " +
+                            not_a_file(to) + "; move that away, then resume");
     if (to.parent_path() != dir && fs::exists(fs::symlink_status(to.parent_path(), ec)) &&
         !fs::is_directory(to.parent_path(), ec))  // a file, or a link to nothing
       throw core::FileError("cannot move '" + n + "' into '" + dir.string() + "': '" + to.parent_path().string() +

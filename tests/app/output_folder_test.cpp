@@ -2,6 +2,7 @@
 // outputs, what a killed or failed run leaves in its folder.
 
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <catch2/catch.hpp>
@@ -32,8 +33,15 @@ TEST_CASE("a commit stopped between two runs' files leaves no run.json", "[cli]"
   using cellform::app::commit_outputs;
   // b.txt is checked before anything moves: the earlier outputs stay as they were, run.json with them
   CHECK_THROWS_WITH(commit_outputs(staging, dir, {"run.json", "a.txt", "b.txt"}),
-                    Contains("b.txt' is not a file (a folder?); move that away, then resume"));
+                    Contains("b.txt' is not a file but a folder; move that away, then resume"));
   CHECK(slurp(dir / "a.txt") == "old a");
+  {  // a named pipe in an output's place is said as such (it read "(a folder?)")
+    const fs::path pipe_dir = t.path / "pipe";
+    fs::create_directories(pipe_dir);
+    REQUIRE(::mkfifo((pipe_dir / "a.txt").c_str(), 0600) == 0);
+    CHECK_THROWS_WITH(commit_outputs(staging, pipe_dir, {"a.txt"}),
+                      Contains("a.txt' is not a file but a named pipe; move that away"));
+  }
   CHECK(fs::exists(dir / "run.json"));
   // a move that fails all the same (here: its path passes the system's limit, the shorter ones do not)
   // leaves no run.json: the old one would not describe the mix
