@@ -243,7 +243,7 @@ TEST_CASE("space colonisation resumes to the bit-identical veins, in a leaf and 
   const auto edited = t.write("edited.lua", std::regex_replace(volume, std::regex("darts = 3000"), "darts = 2000"));
   r = cli({"resume", (out / "checkpoint.cfck").string(), "--script", edited.string(), "--quiet"});
   CHECK(r.code == 2);
-  CHECK_THAT(r.err, Contains("changed: colonisation.darts = 2000.0 (was 3000.0)"));
+  CHECK_THAT(r.err, Contains("this resume changes them: colonisation.darts = 2000.0 (was 3000.0). Only"));
   // the run's own script with a --set a plain resume takes (a colonisation checkpoint keeps no cell
   // values): a plain resume, not an edit with a copy of the checkpoint
   r = cli({"resume", (out / "checkpoint.cfck").string(), "--script", (t.path / "ball.lua").string(), "--set",
