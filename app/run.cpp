@@ -442,6 +442,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     // the links of the cells as they lie now, for the surface, the print and the checkpoint (the notes above
     // speak of those canalisation saw)
     sim.relink();
+    if (!g_interrupt.load()) say_loose_supports(err, sim.cells());
     const auto b = std::chrono::steady_clock::now();
     json printed;
     bool print_cancelled = false, printed_first = false;  // (a Ctrl-C of the early print ends the run)

@@ -43,6 +43,10 @@ void say_late_starts(std::ostream& err, const forms::SceneDescription& scene, st
 void say_vein_findings(std::ostream& err, const cells::Cells& cells, const venation::Report& last,
                        const venation::Params& params, bool notes);
 
+/// At the end of a cell run (links made for the cells as they lie): a note if fixed cells, a shell's supports,
+/// hold no link to the cells that move, which then came loose from them.
+void say_loose_supports(std::ostream& err, const cells::Cells& cells);
+
 /// An input problem (bad script, parameter or input file): exit code 2.
 struct InputError : std::runtime_error {
   using std::runtime_error::runtime_error;

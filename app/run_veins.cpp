@@ -105,6 +105,28 @@ void say_late_starts(std::ostream& err, const forms::SceneDescription& scene, st
         << "), so no vein grows in this run; lower venation.every or run longer\n";
 }
 
+void say_loose_supports(std::ostream& err, const cells::Cells& c) {
+  // a link either way ties a fixed cell to the moving cells: its own row, or a moving cell's
+  std::vector<std::uint8_t> held(c.size(), 0);
+  std::size_t fixed = 0, moving = 0;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    (c.fixed[i] ? fixed : moving) += 1;
+    for (int k = 0; k < c.link_stride; ++k) {
+      const core::Index j = c.links[i * static_cast<std::size_t>(c.link_stride) + static_cast<std::size_t>(k)];
+      if (j == core::kNoIndex || j >= c.size() || c.fixed[i] == c.fixed[j]) continue;
+      held[c.fixed[i] ? i : j] = 1;
+    }
+  }
+  std::size_t loose = 0;
+  for (std::size_t i = 0; i < c.size(); ++i) loose += c.fixed[i] && !held[i];
+  if (loose == 0 || moving == 0) return;
+  err << "cellform: note: " << loose << " of the " << fixed << " fixed cells " << (loose == 1 ? "holds" : "hold")
+      << " no link to the cells that move: "
+      << "the sheet came loose from " << (loose == 1 ? "it" : "them")
+      << " (a pull such as cells.unary outgrew the springs), so cells.obj's surface and a printed shell leave "
+      << (loose == 1 ? "it" : "them") << " out; a weaker pull or more fixed cells keeps the sheet on its supports\n";
+}
+
 void say_vein_findings(std::ostream& err, const cells::Cells& c, const venation::Report& last,
                        const venation::Params& p, bool notes) {
   if (last.cells == 0) return;  // no canalisation ran in this process

@@ -6,7 +6,8 @@
 
 local P = params {
   size = 6000,
-  lift = 0.02,    -- upward acceleration (model units per time unit squared)
+  lift = 0.008,   -- upward acceleration (model units per time unit squared); at 0.02 the sheet, grown to 6000
+                  -- cells, pulled free of its supports (a note says so) and the print had nothing to stand on
 }
 
 run { steps = 1500, seed = 2 }

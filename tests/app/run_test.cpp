@@ -127,3 +127,22 @@ TEST_CASE("run.json's timings give the periodic checkpoints apart from the steps
           each.at("total_s").get<double>());
   }
 }
+
+TEST_CASE("fixed cells the moving cells came loose from are noted", "[cli]") {
+  TempDir t("cli-loose");
+  // one support in the sheet, two far off it: those two hold no link (the shell example's sheet pulled free)
+  const auto script = t.write("s.lua",
+                              "run { steps = 3 }\ndivision { trigger = 'none' }\ndisc { radius = 2 }\n"
+                              "cell { at = {0, 0, 0.5}, fixed = true }\ncell { at = {20, 0, 0}, fixed = true }\n"
+                              "cell { at = {-20, 0, 0}, fixed = true }\n");
+  auto r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet"});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("note: 2 of the 3 fixed cells hold no link to the cells that move"));
+  // all on the sheet: nothing said
+  const auto held = t.write("h.lua",
+                            "run { steps = 3 }\ndivision { trigger = 'none' }\ndisc { radius = 2 }\n"
+                            "cell { at = {0, 0, 0.5}, fixed = true }\n");
+  r = cli({"run", held.string(), "--out", (t.path / "h").string(), "--quiet"});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, !Contains("fixed cells"));
+}
