@@ -532,7 +532,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                           " auxin sources wait for veins; the limit keeps a leaf that outgrows its veins from running "
                           "out of memory: raise it to go on, or grow the leaf less or throw fewer darts)"
                     : std::string("stopped at max_steps"))
-            << ": " << rep.steps << " steps, " << rep.nodes << " vein nodes, " << venation::independent_cycles(tree)
+            << ": " << rep.steps << " steps, " << tree.size() << " vein nodes, " << venation::independent_cycles(tree)
             << " loops" << extent_text(tree.positions) << "; outputs in " << dir.string() << "/\n";
     if (rep.stalled && code != interrupted) {
       const venation::Outline outline = planar ? col.outline() : venation::Outline{};
