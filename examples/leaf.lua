@@ -7,7 +7,8 @@
 
 local P = params {
   size = 6000,          -- cells when growth stops
-  vertical_drag = 0.3,  -- velocity factor in z per step (1 = free, 0 = perfectly flat)
+  vertical_drag = 0.3,  -- velocity factor in z per step: 0 = perfectly flat, 0.85 (the in-plane drag) buckles
+                        -- freely (16 units high at 3000 cells); 1 damps nothing and the sheet flies apart upwards
   vein_spacing = 30,    -- canalisation threshold: upstream cells needed to make a vein
 }
 
