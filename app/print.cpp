@@ -202,13 +202,15 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
       const auto mid = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
       std::nth_element(lengths.begin(), mid, lengths.end());
       const double segments_per_radius = *mid > 0 ? spec.min_radius / plan.scale / *mid : 0.0;
+      // (99%, not a rounded 100%, while any radius is not raised; one segment, not "1 segments")
+      const double ends = static_cast<double>(2 * segments.size()), shown = std::round(segments_per_radius * 10) / 10;
+      const double percent = std::round(100.0 * static_cast<double>(plan.raised_radii) / ends);
       if (segments_per_radius > 1)
         err << "cellform: note: print: "
-            << core::number_text(std::round(100.0 * static_cast<double>(plan.raised_radii) /
-                                            static_cast<double>(2 * segments.size())))
+            << core::number_text(static_cast<double>(plan.raised_radii) < ends ? std::min(percent, 99.0) : 100.0)
             << "% of the vein radii are raised to print.min_radius (" << core::number_text(spec.min_radius)
-            << " mm), which is " << core::number_text(std::round(segments_per_radius * 10) / 10)
-            << " vein segments at this scale: veins closer than twice that fuse, and closely spaced veins print as a "
+            << " mm), which is " << core::number_text(shown) << (shown == 1 ? " vein segment" : " vein segments")
+            << " at this scale: veins closer than twice that fuse, and closely spaced veins print as a "
                "plate (give a larger "
             << (spec.scale > 0 ? "print.scale" : "print.size")
             << ", or a smaller print.min_radius if the printer allows)\n";

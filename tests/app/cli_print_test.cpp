@@ -294,6 +294,9 @@ TEST_CASE("veins printed so small that nearly all are raised to min_radius, over
   CHECK_THAT(r.err, Contains("of the vein radii are raised to print.min_radius (0.4 mm), which is 1.") &&
                         Contains("vein segments at this scale: veins closer than twice that fuse"));
   CHECK_THAT(r.err, Contains("give a larger print.size"));
+  // 100% only when every radius is (99% while any is not)
+  const bool all = run["print"]["raised_radii"] == 2 * run["print"]["segments"].get<std::size_t>();
+  CHECK_THAT(r.err, Contains(all ? "note: print: 100% of the vein radii" : "note: print: 99% of the vein radii"));
   // a scale given is the one to raise
   r = cli({"run", script.string(), "--out", (t.path / "s").string(), "--quiet", "--set", "print.scale=0.25"});
   REQUIRE(r.code == 0);
