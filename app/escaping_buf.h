@@ -1,6 +1,7 @@
 // The stream buffer of cellform's standard output and error (app/main.cpp).
 #pragma once
 
+#include <atomic>
 #include <streambuf>
 #include <string>
 
@@ -17,6 +18,9 @@ class EscapingBuf : public std::streambuf {
  public:
   explicit EscapingBuf(std::streambuf* to) : to_(to) { setp(buf_, buf_ + sizeof buf_); }
   ~EscapingBuf() override { pass_on(); }
+  /// Keeps `*flag` saying whether what was passed on so far ends a line (for a signal handler's message: it
+  /// breaks a half-written line, and only such a line, first).
+  void track_line_start(std::atomic<bool>* flag) { line_start_ = flag; }
 
  protected:
   int_type overflow(int_type ch) override {
@@ -43,11 +47,14 @@ class EscapingBuf : public std::streambuf {
         text += cellform::core::printable(std::string(1, static_cast<char>(c)));
     }
     setp(buf_, buf_ + sizeof buf_);
-    return to_->sputn(text.data(), static_cast<std::streamsize>(text.size())) ==
-           static_cast<std::streamsize>(text.size());
+    const bool written =
+        to_->sputn(text.data(), static_cast<std::streamsize>(text.size())) == static_cast<std::streamsize>(text.size());
+    if (line_start_) line_start_->store(text.back() == '\n');
+    return written;
   }
 
   std::streambuf* to_;
+  std::atomic<bool>* line_start_ = nullptr;
   char buf_[4096];
 };
 

@@ -19,17 +19,18 @@
 #include "core/errors.h"
 
 namespace {
-// Standard error is a terminal, where a progress line may be half drawn (set before the handlers).
-bool g_err_tty = false;
+// Whether what standard error holds so far ends a line (EscapingBuf keeps it; lock-free, so a handler may read it).
+std::atomic<bool> g_err_line_start{true};
 
 void say(const char* text, std::size_t size) {
-  // the line break that ends a half-drawn progress line: none in a log, where lines end with theirs
-  if (!g_err_tty && size > 0 && text[0] == '\n') {
+  // a message's leading line break ends a half-written line (a progress bar's); after a whole line, none
+  if (g_err_line_start.load() && size > 0 && text[0] == '\n') {
     ++text;
     --size;
   }
   const ssize_t written = ::write(2, text, size);  // async-signal-safe, unlike iostreams
   (void)written;
+  g_err_line_start.store(true);  // (every message ends its line)
 }
 
 // The first stop signal and its sender, claimed in one step (the two copies GNU timeout sends, to the process
@@ -115,7 +116,6 @@ void on_hangup(int) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  g_err_tty = ::isatty(2) != 0;
   struct sigaction stop {};
   stop.sa_sigaction = on_interrupt;
   stop.sa_flags = SA_SIGINFO | SA_RESTART;
@@ -132,7 +132,9 @@ int main(int argc, char** argv) {
   // reported as a full disk is
   std::signal(SIGXFSZ, SIG_IGN);
   std::vector<std::string> args(argv + 1, argv + argc);
+  static_assert(std::atomic<bool>::is_always_lock_free);
   cellform::app::EscapingBuf out_buf(std::cout.rdbuf()), err_buf(std::cerr.rdbuf());
+  err_buf.track_line_start(&g_err_line_start);
   std::ostream out(&out_buf), err(&err_buf);
   err.setf(std::ios::unitbuf);  // as std::cerr: every message at once, after what stdout holds
   err.tie(&out);

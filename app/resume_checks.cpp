@@ -39,15 +39,20 @@ std::string resume_command(const RunOptions& o, const fs::path& checkpoint, cons
   if (all && o.checkpoint_every) hint += " --checkpoint-every " + std::to_string(*o.checkpoint_every);
   if (all)
     for (const auto& [k, v] : o.sets) hint += " --set " + shell_word(k + "=" + v);
+  return hint + limit_options(o.limits);
+}
+
+std::string limit_options(const ScriptLimits& limits) {
   // the script's limits are not kept in the checkpoint: a resume needs them given again
   const ScriptLimits defaults;
-  if (o.limits.instructions != defaults.instructions)
-    hint += " --lua-instructions " + std::to_string(o.limits.instructions);
-  if (o.limits.memory_bytes != defaults.memory_bytes)
-    hint += " --lua-memory " + std::to_string(o.limits.memory_bytes >> 20);
-  if (o.limits.library_seconds != defaults.library_seconds)
-    hint += " --lua-seconds " + std::to_string(static_cast<std::uint64_t>(o.limits.library_seconds));
-  return hint;
+  std::string given;
+  if (limits.instructions != defaults.instructions)
+    given += " --lua-instructions " + std::to_string(limits.instructions);
+  if (limits.memory_bytes != defaults.memory_bytes)
+    given += " --lua-memory " + std::to_string(limits.memory_bytes >> 20);
+  if (limits.library_seconds != defaults.library_seconds)
+    given += " --lua-seconds " + std::to_string(static_cast<std::uint64_t>(limits.library_seconds));
+  return given;
 }
 
 std::string changed_colonisation_message(const std::string& what, const std::string& changed) {

@@ -539,7 +539,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       say_print_failed(err, print_error,
                        checkpoint_error.empty() ? "the other outputs and the checkpoint are written"
                                                 : "the other outputs are written",
-                       print_retry, checkpoint);
+                       print_retry, checkpoint, limit_options(o.limits));
     if (print_cancelled)
       err << (o.quiet || !::isatty(2) ? "" : "\n")
           << "cellform: printing interrupted: no printable files (the other outputs"
@@ -563,7 +563,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
             << sim.step_count() << ", " << sim.cells().size() << " cells" << extent_text(sim.cells().position)
             << "; outputs in " << dir.string() << "/\n";
       if (code == interrupted && saved)
-        err << "continue with: cellform resume " << shell_word(checkpoint.string()) << "\n";
+        err << "continue with: cellform resume " << shell_word(checkpoint.string()) << limit_options(o.limits) << "\n";
     }
     return code;
   } catch (const core::InvalidInput& e) {

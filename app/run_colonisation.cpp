@@ -204,7 +204,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                 << ")\n";
             return failure;
           }
-          err << "continue with: cellform resume " << shell_word(checkpoint.string()) << "\n";
+          err << "continue with: cellform resume " + shell_word(checkpoint.string()) + limit_options(o.limits) + "\n";
           return interrupted;
         }
         sheet = std::move(grown.cells);
@@ -439,7 +439,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         if (reprint) return discard_reprint("cellform: " + m, failure);
         // (after a periodic checkpoint, not the final one, a resume grows the rest again: no quick retry)
         say_print_failed(err, m, "", saved && checkpoint_error.empty() && !dynamic_cast<const NothingToPrint*>(&e),
-                         checkpoint);
+                         checkpoint, limit_options(o.limits));
         printed = {{"error", m}};
         if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
           code = failure;
@@ -544,7 +544,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       auto twice = [](std::size_t limit, std::size_t reached) {
         return std::to_string(std::min<std::size_t>(2 * std::max(limit, reached), 1'000'000'000));
       };
-      where << "continue with: cellform resume " << shell_word(checkpoint.string());
+      where << "continue with: cellform resume " << shell_word(checkpoint.string()) << limit_options(o.limits);
       if (rep.hit_max_nodes) where << " --set colonisation.max_nodes=" << twice(spec.params.max_nodes, rep.nodes);
       if (rep.hit_max_sources)
         where << " --set colonisation.max_sources="
@@ -553,7 +553,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       where << "\n";
     }
     if (code == interrupted && checkpoint_error.empty())
-      err << "continue with: cellform resume " << shell_word(checkpoint.string()) << "\n";
+      err << "continue with: cellform resume " << shell_word(checkpoint.string()) << limit_options(o.limits) << "\n";
     return code;
   } catch (const std::exception& e) {
     const bool input = dynamic_cast<const core::InvalidInput*>(&e) != nullptr;

@@ -196,6 +196,9 @@ std::string sets_carry_over(const Overrides& sets);
 nlohmann::json script_record(const Start& s);
 /// What a resume changes of a colonisation run's own values, in words (see run_start.cpp).
 std::string changed_colonisation_values(const Start& s, const SceneConfig& cfg);
+/// " --lua-memory 2048 ..." for the script limits that differ from the defaults ("" if none), which every resume
+/// command a run suggests carries: a checkpoint does not keep them.
+std::string limit_options(const ScriptLimits& limits);
 /// The refusal of a colonisation resume whose parameters differ: the loader's message `what` ("checkpoint 'X'
 /// was saved with other colonisation parameters (or another seed): only ...") with what this resume changed.
 std::string changed_colonisation_message(const std::string& what, const std::string& changed);
@@ -430,7 +433,7 @@ void say_printed(std::ostream& err, const nlohmann::json& printed);
 /// Says that the print failed with `message` (then `after`, if any, in brackets) and, with `retry` (a checkpoint of
 /// the run is written and the failure was not that nothing grew), how to print it again with other values.
 void say_print_failed(std::ostream& err, const std::string& message, const std::string& after, bool retry,
-                      const std::filesystem::path& checkpoint);
+                      const std::filesystem::path& checkpoint, const std::string& limits = "");
 
 /// print{} for a cell run: the vein graph and, if asked, the cell sheet (print.cpp).
 nlohmann::json write_printable(const std::filesystem::path& dir, const PrintSpec& spec, const cells::Cells& cells,

@@ -106,25 +106,43 @@ void say_late_starts(std::ostream& err, const forms::SceneDescription& scene, st
 }
 
 void say_loose_supports(std::ostream& err, const cells::Cells& c) {
-  // a link either way ties a fixed cell to the moving cells: its own row, or a moving cell's
-  std::vector<std::uint8_t> held(c.size(), 0);
-  std::size_t fixed = 0, moving = 0;
-  for (std::size_t i = 0; i < c.size(); ++i) {
-    (c.fixed[i] ? fixed : moving) += 1;
-    for (int k = 0; k < c.link_stride; ++k) {
-      const core::Index j = c.links[i * static_cast<std::size_t>(c.link_stride) + static_cast<std::size_t>(k)];
-      if (j == core::kNoIndex || j >= c.size() || c.fixed[i] == c.fixed[j]) continue;
-      held[c.fixed[i] ? i : j] = 1;
+  // a support may be many fixed cells: one is held when a link either way, directly or through other fixed
+  // cells, reaches a cell that moves (a search from those that touch one, over the links among fixed cells)
+  const std::size_t n = c.size(), stride = static_cast<std::size_t>(c.link_stride);
+  std::vector<std::vector<core::Index>> among(n);  // links between fixed cells, both ways
+  std::vector<std::uint8_t> held(n, 0);
+  std::vector<core::Index> queue;
+  std::size_t fixed = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    fixed += c.fixed[i] ? 1 : 0;
+    for (std::size_t k = 0; k < stride; ++k) {
+      const core::Index j = c.links[i * stride + k];
+      if (j == core::kNoIndex || j >= n || (!c.fixed[i] && !c.fixed[j])) continue;
+      if (c.fixed[i] && c.fixed[j]) {
+        among[i].push_back(j);
+        among[j].push_back(static_cast<core::Index>(i));
+      } else if (const std::size_t f = c.fixed[i] ? i : j; !held[f]) {
+        held[f] = 1;
+        queue.push_back(static_cast<core::Index>(f));
+      }
     }
   }
+  while (!queue.empty()) {
+    const core::Index f = queue.back();
+    queue.pop_back();
+    for (const core::Index g : among[f])
+      if (!held[g]) {
+        held[g] = 1;
+        queue.push_back(g);
+      }
+  }
   std::size_t loose = 0;
-  for (std::size_t i = 0; i < c.size(); ++i) loose += c.fixed[i] && !held[i];
-  if (loose == 0 || moving == 0) return;
-  err << "cellform: note: " << loose << " of the " << fixed << " fixed cells " << (loose == 1 ? "holds" : "hold")
-      << " no link to the cells that move: "
-      << "the sheet came loose from " << (loose == 1 ? "it" : "them")
-      << " (a pull such as cells.unary outgrew the springs), so cells.obj's surface and a printed shell leave "
-      << (loose == 1 ? "it" : "them") << " out; a weaker pull or more fixed cells keeps the sheet on its supports\n";
+  for (std::size_t i = 0; i < n; ++i) loose += c.fixed[i] && !held[i] ? 1 : 0;
+  if (loose == 0 || fixed == n) return;
+  err << "cellform: note: " << loose << " of the " << fixed << " fixed cells " << (loose == 1 ? "is" : "are")
+      << " linked to no cell that moves, not even through other fixed cells: the sheet is not attached to "
+      << (loose == 1 ? "it" : "them") << " (it came loose, or never reached " << (loose == 1 ? "it" : "them")
+      << "); a weaker pull away from the supports (cells.unary) or more fixed cells keeps a sheet on them\n";
 }
 
 void say_vein_findings(std::ostream& err, const cells::Cells& c, const venation::Report& last,

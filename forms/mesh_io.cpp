@@ -275,13 +275,13 @@ void read_obj(std::istream& in, const std::string& name, SoupImporter& soup, std
         if (!good) break;
         char* end = nullptr;
         c = std::strtod(word.c_str(), &end);
-        good = (*end == '\0' || (&c == &xyz[2] && *end == '#')) && std::isfinite(c) &&  // "v 0 0 0#note"
-               std::abs(c) <= std::numeric_limits<float>::max();
+        // the whole word (a NUL byte ended it early), or "v 0 0 0#note"
+        good = (end == word.c_str() + word.size() || (&c == &xyz[2] && *end == '#')) && std::isfinite(c);
       }
       if (!good)
         throw core::InvalidInput("mesh " + name + " is malformed: line " + std::to_string(line_no) + ": '" +
                                  core::printable(line.substr(0, 60)) + (line.size() > 60 ? "..." : "") +
-                                 "' is not a vertex of three finite numbers within +-3.4e38 ('v x y z')");
+                                 "' is not a vertex of three finite numbers ('v x y z')");
       positions.emplace_back(xyz[0], xyz[1], xyz[2]);
     } else if (tag == "l") {
       ++polylines;

@@ -19,7 +19,8 @@ def load_matplotlib():
     try:
         import matplotlib
     except ImportError:
-        if os.path.realpath(sys.executable) != os.path.realpath("/usr/bin/python3") and os.path.exists("/usr/bin/python3"):
+        other = sys.prefix != sys.base_prefix or os.path.realpath(sys.executable) != os.path.realpath("/usr/bin/python3")
+        if other and os.path.exists("/usr/bin/python3"):  # a virtual environment, or another Python
             sys.exit("preview.py needs matplotlib, which this Python (" + sys.executable + ") cannot import: "
                      "run it as scripts/preview.py (it starts Debian's /usr/bin/python3), or install matplotlib "
                      "for this Python")

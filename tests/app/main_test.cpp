@@ -27,7 +27,8 @@ TEST_CASE("one stop sent twice at once by one process (GNU timeout: to the proce
     INFO(strsignal(sig));
     const std::string n = std::to_string(sig);  // (not "o" + std::to_string(sig): a false GCC 12 warning)
     const fs::path out = t.path / ("o" + n), log = t.path / ("err" + n);
-    const pid_t pid = spawn_cellform_logged({"run", script.string(), "--out", out.string(), "--quiet"}, log);
+    const pid_t pid =
+        spawn_cellform_logged({"run", script.string(), "--out", out.string(), "--quiet", "--lua-memory", "100"}, log);
     REQUIRE(pid > 0);
     std::this_thread::sleep_for(std::chrono::milliseconds(1000));
     kill(pid, sig);
@@ -43,6 +44,8 @@ TEST_CASE("one stop sent twice at once by one process (GNU timeout: to the proce
     // in a log no progress line is half drawn: the message takes no blank line before it
     CHECK(said.rfind("cellform: ", 0) == 0);
     CHECK_THAT(said, !Contains("\n\n"));
+    // the command to go on gives the script limit again (a checkpoint does not keep it)
+    CHECK_THAT(said, Contains("continue with: cellform resume ") && Contains(" --lua-memory 100\n"));
     CHECK(fs::exists(out / "checkpoint.cfck"));
     CHECK(nlohmann::json::parse(slurp(out / "run.json"))["status"] == "interrupted");
   }
