@@ -60,7 +60,7 @@ const char* const kRunUsage =
     "                          a rule error, say): the checkpoint's cells, step and seed are kept, FILE's\n"
     "                          parameters and rules apply (--set still overrides; its run.steps if changed);\n"
     "                          the checkpoint it replaces is kept as checkpoint-stepN.cfck\n"
-    "  --quiet, -q             no progress lines, and no closing line when the run ends well\n"
+    "  --quiet, -q             only notes, warnings and errors: no progress, and no summary when it ends well\n"
     "\n"
     "Outputs: cells.ply, cells.obj (with venation{} also veins.ply, veins.obj; space colonisation instead\n"
     "veins.ply, veins.obj, in a leaf veins.svg, with output{png = true} veins.png, and on the grown cell\n"

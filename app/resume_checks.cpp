@@ -56,10 +56,10 @@ std::string limit_options(const ScriptLimits& limits) {
 }
 
 std::string changed_colonisation_message(const std::string& what, const std::string& changed) {
-  const std::size_t saved = what.find(" was saved with"), only = what.find(": only ");
+  const std::size_t saved = what.find(" was saved with"), only = what.find(": only ", saved);  // (not in the path)
   if (saved == std::string::npos || only == std::string::npos) return what + "; changed: " + changed;
   // the change first, from this resume's side (the checkpoint "saved with other parameters" read backwards)
-  return what.substr(0, saved) + " continues with the colonisation parameters it was saved with, and this resume " +
+  return what.substr(0, saved) + " continues with the parameters it was saved with, and this resume " +
          "changes them: " + changed + ". Only the thread count" +
          what.substr(only + std::string(": only the thread count").size()) + "; start a new run for other values";
 }

@@ -236,7 +236,7 @@ TEST_CASE("space colonisation resumes to the bit-identical veins, in a leaf and 
   r = cli({"resume", (out / "checkpoint.cfck").string(), "--set", "colonisation.kill_distance=2", "--set",
            "colonisation.node_flow=0.5", "--quiet"});
   CHECK(r.code == 2);
-  CHECK_THAT(r.err, Contains("continues with the colonisation parameters it was saved with, and this resume "
+  CHECK_THAT(r.err, Contains("continues with the parameters it was saved with, and this resume "
                              "changes them: --set colonisation.kill_distance=2. Only the thread count, ") &&
                         Contains("; start a new run for other values") && !Contains("--set colonisation.node_flow"));
   // an edited script that changes one: named with its old and new value
