@@ -19,9 +19,9 @@ double control_group_memory_limit(std::istream& cgroup, const std::filesystem::p
 double control_group_memory_left(std::istream& cgroup, const std::filesystem::path& root);
 
 /// Bytes of memory reading a byte of a mesh file (OBJ or STL) takes at the peak, and of an outline file: 3.2 and
-/// 6.3 measured on files of a gigabyte (December 2026), the mesh's raised by the OBJ positions kept beside
-/// OpenMesh's (24 bytes a vertex line of about 30), rounded up.
-inline constexpr double kMeshBytesPerByte = 5;
+/// 6.3 measured on files of a gigabyte (December 2026, the OBJ through OpenMesh's reader; forms::parse_obj, which
+/// reads OBJ now, holds about 1.3: positions, corners and faces of a 132 MB file), rounded up.
+inline constexpr double kMeshBytesPerByte = 4;
 inline constexpr double kOutlineBytesPerByte = 7;
 
 /// Bytes the process may still take, and how a message names that bound ("what ulimit -v leaves this process").

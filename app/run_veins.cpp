@@ -108,6 +108,7 @@ void say_late_starts(std::ostream& err, const forms::SceneDescription& scene, st
 void say_loose_supports(std::ostream& err, const cells::Cells& c) {
   // a support may be many fixed cells: one is held when a link either way, directly or through other fixed
   // cells, reaches a cell that moves (a search from those that touch one, over the links among fixed cells)
+  if (std::none_of(c.fixed.begin(), c.fixed.end(), [](auto f) { return f != 0; })) return;  // most runs: no work
   const std::size_t n = c.size(), stride = static_cast<std::size_t>(c.link_stride);
   std::vector<std::vector<core::Index>> among(n);  // links between fixed cells, both ways
   std::vector<std::uint8_t> held(n, 0);

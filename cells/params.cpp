@@ -28,6 +28,9 @@ void check_weight(const std::string& name, double v) {
 
 const char* const kTypeNames[3] = {"general", "petiole", "vein"};
 
+// How a script names cell type t's force weights: cells.spring for general cells, cells.vein.spring for veins.
+std::string weight_prefix(std::size_t t) { return t == 0 ? "cells." : std::string("cells.") + kTypeNames[t] + "."; }
+
 // The Gershgorin bound of one cell type's linearised force field (1/time^2), and the script's name of its
 // largest term. A spring or planar weight w contributes at most 2w (the cell and its neighbours moving in
 // opposition); cohesion has stiffness w / r^2 beyond a rest length and w / rest^2 within it (it is linear
@@ -43,7 +46,7 @@ struct Stiffness {
 Stiffness stiffness(const Params& p, std::size_t t) {
   const ForceWeights& w = p.weights[t];
   const double d2 = p.rest_length * p.rest_length;
-  const std::string base = t == 0 ? std::string("cells.") : std::string("cells.") + kTypeNames[t] + ".";
+  const std::string base = weight_prefix(t);
   const double vein = p.vein_trees ? 1.0 : 0.0;
   const std::pair<double, std::string> terms[] = {
       {2 * w.spring, base + "spring " + str(w.spring)},
@@ -109,7 +112,7 @@ void validate(const Params& params) {
   if (!(p.time_step > 0) || !std::isfinite(p.time_step))
     fail("cells.time_step", "positive and finite (time units per step)", str(p.time_step));
   for (std::size_t t = 0; t < p.weights.size(); ++t) {
-    const std::string base = t == 0 ? std::string("cells.") : std::string("cells.") + kTypeNames[t] + ".";
+    const std::string base = weight_prefix(t);
     check_weight(base + "spring", p.weights[t].spring);
     check_weight(base + "planar", p.weights[t].planar);
     check_weight(base + "cohesion", p.weights[t].cohesion);

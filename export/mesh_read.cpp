@@ -159,46 +159,19 @@ PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s, 
 }
 
 PrintableMesh read_obj(const std::filesystem::path& path, const std::string& s) {
-  PrintableMesh m;
-  std::istringstream in(s.rfind("\xEF\xBB\xBF", 0) == 0 ? s.substr(3) : s);  // a UTF-8 byte-order mark
-  std::string line;
-  std::size_t line_no = 0;
-  std::vector<std::uint32_t> poly;
-  bool lines = false;
-  while (std::getline(in, line)) {
-    ++line_no;
-    std::istringstream ls(line);
-    std::string tag;
-    if (!(ls >> tag)) continue;
-    if (tag == "v") {
-      Vec3 p;
-      for (int k = 0; k < 3; ++k) {  // strtod, unlike >>, reads "nan" and "inf": said as such
-        std::string word;
-        char* stop = nullptr;
-        if (ls >> word) p[k] = std::strtod(word.c_str(), &stop);
-        if (!stop || stop != word.c_str() + word.size())
-          malformed(path, "line " + std::to_string(line_no) + ": 'v' needs three numbers");
-      }
-      if (!p.allFinite())
-        malformed(path, "line " + std::to_string(line_no) +
-                            ": 'v' needs three finite numbers (NaN and infinity are not allowed)");
-      m.vertices.push_back(p);
-    } else if (tag == "f") {
-      poly.clear();
-      std::string tok;
-      while (ls >> tok && tok[0] != '#') {  // a comment may end the line
-        try {
-          poly.push_back(forms::obj_face_vertex(tok, m.vertices.size()));
-        } catch (const core::InvalidInput& e) {
-          malformed(path, "line " + std::to_string(line_no) + ": " + e.what());
-        }
-      }
-      if (poly.size() < 3) malformed(path, "line " + std::to_string(line_no) + ": a face needs three vertices");
-      add_face(m, poly, path, "line", static_cast<std::size_t>(line_no));
-    } else if (tag == "l") {
-      lines = true;
-    }
+  std::istringstream in(s);
+  forms::ObjData obj;
+  try {
+    obj = forms::parse_obj(in);  // the obstacle loader's reader: a file both read is read the same
+  } catch (const core::InvalidInput& e) {
+    malformed(path, e.what());
   }
+  PrintableMesh m;
+  m.vertices = std::move(obj.positions);
+  for (std::size_t f = 0, from = 0; f < obj.face_end.size(); from = obj.face_end[f++])
+    add_face(m, std::span<const std::uint32_t>(obj.corners).subspan(from, obj.face_end[f] - from), path, "line",
+             obj.face_line[f]);
+  const bool lines = obj.polylines > 0;
   if (m.triangles.empty())
     malformed(path, lines ? "no faces in the OBJ file, only lines ('l'): a polyline graph such as veins.obj, not a "
                             "surface (check the printable.stl made from it)"

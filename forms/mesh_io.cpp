@@ -251,60 +251,6 @@ TriangleMesh read_ascii_stl(std::istream& in, const std::string& name) {
   return mesh;
 }
 
-/// Reads an OBJ's vertices (as written: OpenMesh's reader kept 32-bit floats, 6 cm steps at a site coordinate of
-/// 10^6 mm) and faces into `soup` (its faces not yet split), naming the line of anything malformed. Only 'v' and
-/// 'f' lines are read; 'l' lines are counted in `polylines`. Not OpenMesh's reader: it opened what an 'mtllib'
-/// line names (a pipe there blocked the run for good) and read a number after a face line's '#' as a corner.
-void read_obj(std::istream& in, const std::string& name, SoupImporter& soup, std::size_t& polylines) {
-  std::vector<Vec3>& positions = soup.mesh.vertices;
-  std::size_t line_no = 0;
-  polylines = 0;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (++line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte-order mark
-    std::istringstream words(line);
-    std::string tag;
-    if (!(words >> tag)) continue;
-    if (tag == "v") {
-      // OpenMesh reads 32-bit floats and drops a vertex it cannot read: said here with its line
-      double xyz[3];
-      std::string word;
-      bool good = true;
-      for (double& c : xyz) {
-        good = good && static_cast<bool>(words >> word);
-        if (!good) break;
-        char* end = nullptr;
-        c = std::strtod(word.c_str(), &end);
-        // the whole word (a NUL byte ended it early), or "v 0 0 0#note"
-        good = (end == word.c_str() + word.size() || (&c == &xyz[2] && *end == '#')) && std::isfinite(c);
-      }
-      if (!good)
-        throw core::InvalidInput("mesh " + name + " is malformed: line " + std::to_string(line_no) + ": '" +
-                                 core::printable(line.substr(0, 60)) + (line.size() > 60 ? "..." : "") +
-                                 "' is not a vertex of three finite numbers ('v x y z')");
-      positions.emplace_back(xyz[0], xyz[1], xyz[2]);
-    } else if (tag == "l") {
-      ++polylines;
-    } else if (tag == "f") {
-      std::string token;
-      std::size_t corners = 0;
-      while (words >> token && token[0] != '#') {  // a comment may end the line
-        try {
-          soup.faces.push_back(obj_face_vertex(token, positions.size()));
-        } catch (const core::InvalidInput& e) {
-          throw core::InvalidInput("mesh " + name + " is malformed: line " + std::to_string(line_no) + ": " + e.what());
-        }
-        ++corners;
-      }
-      if (corners < 3)
-        throw core::InvalidInput("mesh " + name + " is malformed: line " + std::to_string(line_no) +
-                                 ": a face needs at least three vertices ('f a b c')");
-      soup.face_end.push_back(soup.faces.size());
-    }
-  }
-  if (in.bad()) throw core::FileError("mesh " + name + " could not be read to its end");
-}
-
 // The mesh if it has triangles and finite vertices; names the file otherwise (`polylines`: its OBJ 'l' lines).
 TriangleMesh checked(TriangleMesh mesh, const std::string& name, std::size_t polylines = 0) {
   if (mesh.triangles.empty() && polylines > 0)
@@ -320,6 +266,56 @@ TriangleMesh checked(TriangleMesh mesh, const std::string& name, std::size_t pol
 }
 
 }  // namespace
+
+ObjData parse_obj(std::istream& in) {
+  ObjData obj;
+  std::size_t line_no = 0;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (++line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte-order mark
+    std::istringstream words(line);
+    std::string tag;
+    if (!(words >> tag)) continue;
+    if (tag == "v") {
+      double xyz[3];
+      std::string word;
+      bool good = true;
+      for (double& c : xyz) {
+        good = good && static_cast<bool>(words >> word);
+        if (!good) break;
+        char* end = nullptr;
+        c = std::strtod(word.c_str(), &end);
+        // the whole word (a NUL byte ended it early), or "v 0 0 0#note"
+        good = (end == word.c_str() + word.size() || (&c == &xyz[2] && *end == '#')) && std::isfinite(c);
+      }
+      if (!good)
+        throw core::InvalidInput("line " + std::to_string(line_no) + ": '" + core::printable(line.substr(0, 60)) +
+                                 (line.size() > 60 ? "..." : "") +
+                                 "' is not a vertex of three finite numbers ('v x y z'; NaN and infinity are not "
+                                 "allowed)");
+      obj.positions.emplace_back(xyz[0], xyz[1], xyz[2]);
+    } else if (tag == "l") {
+      ++obj.polylines;
+    } else if (tag == "f") {
+      std::string token;
+      const std::size_t from = obj.corners.size();
+      while (words >> token && token[0] != '#') {  // a comment may end the line
+        try {
+          obj.corners.push_back(obj_face_vertex(token, obj.positions.size()));
+        } catch (const core::InvalidInput& e) {
+          throw core::InvalidInput("line " + std::to_string(line_no) + ": " + e.what());
+        }
+      }
+      if (obj.corners.size() - from < 3)
+        throw core::InvalidInput("line " + std::to_string(line_no) +
+                                 ": a face needs at least three vertices ('f a b c')");
+      obj.face_end.push_back(obj.corners.size());
+      obj.face_line.push_back(line_no);
+    }
+  }
+  if (in.bad()) throw core::FileError("the file could not be read to its end");
+  return obj;
+}
 
 std::uint32_t obj_face_vertex(std::string_view token, std::size_t vertices) {
   const auto bad = [&](const std::string& why) {
@@ -501,7 +497,18 @@ TriangleMesh load_mesh(const fs::path& path) {
   SoupImporter importer;
   std::size_t polylines = 0;
   if (ext == ".obj") {
-    read_obj(probe, name, importer, polylines);
+    ObjData obj;
+    try {
+      obj = parse_obj(probe);
+    } catch (const core::InvalidInput& e) {
+      throw core::InvalidInput("mesh " + name + " is malformed: " + e.what());
+    } catch (const core::FileError& e) {
+      throw core::FileError("mesh " + name + ": " + e.what());
+    }
+    importer.mesh.vertices = std::move(obj.positions);
+    importer.faces = std::move(obj.corners);
+    importer.face_end = std::move(obj.face_end);
+    polylines = obj.polylines;
   } else {
     // OpenMesh tells a binary STL by its size: a padded one is given its facets alone
     const std::uintmax_t facets = 84 + 50 * ((size - 84) / 50);

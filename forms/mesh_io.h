@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <istream>
 #include <string_view>
 #include <vector>
 
@@ -19,6 +20,22 @@ namespace cellform::forms {
 /// A UTF-8 byte-order mark before the first line is skipped. `normals`, if given, gets each facet's stored
 /// normal, in order (the corners' winding is what the callers go by).
 std::vector<core::Vec3> parse_ascii_stl(std::string_view text, std::vector<core::Vec3>* normals = nullptr);
+
+/// What an OBJ text holds for a mesh: its 'v' positions, in full double precision, its 'f' faces (the corners of
+/// face k are corners[face_end[k-1] .. face_end[k]), from 0; face_line[k] its line number) and the number of its
+/// 'l' (polyline) lines. Nothing else is read (not a material library an 'mtllib' line names).
+struct ObjData {
+  std::vector<core::Vec3> positions;
+  std::vector<std::uint32_t> corners;
+  std::vector<std::size_t> face_end, face_line;
+  std::size_t polylines = 0;
+};
+
+/// Reads an OBJ text (after an optional UTF-8 byte-order mark; CRLF lines too). A vertex is three finite numbers,
+/// each a whole word ("v 0 0 0#note" too), a face three or more obj_face_vertex corners up to an optional '#'
+/// comment. Throws core::InvalidInput "line N: ..." saying what was wrong (the caller adds the file name), and
+/// core::FileError if the stream fails. Shared by the obstacle loader and `cellform check`.
+ObjData parse_obj(std::istream& in);
 
 /// One corner of an OBJ face line: "v", "v/vt", "v//vn" or "v/vt/vn" with whole numbers (negative counts
 /// back from the last vertex read). Returns the vertex index from 0, given the `vertices` read before the
