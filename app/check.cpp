@@ -9,6 +9,7 @@
 #include "core/errors.h"
 #include "export/mesh_check.h"
 #include "export/mesh_read.h"
+#include "export/stand.h"
 #include "export/thickness.h"
 
 namespace cellform::app {
@@ -25,12 +26,20 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
   exporters::MeshReport r;
   exporters::ThicknessReport th;
   exporters::MeshFileNotes notes;
+  exporters::Stand stand;
+  double cut_to_stand = 0;
   try {
     const exporters::PrintableMesh mesh = exporters::read_mesh(file, notes);
     r = exporters::check_mesh(mesh);
     // a wall has an inside only where the surfaces are closed and face one way (an open sheet's rays
     // cross its folds); two solids that touch at a corner still have walls
     if (walled(r)) th = exporters::wall_thickness(mesh);
+    // standing means something for one solid piece (each of several stands or not)
+    if (r.solid() && r.pieces == 1 && r.cavities == 0) {
+      stand = exporters::stand_on_bed(mesh);
+      if (stand.measured && stand.tip_angle < exporters::kSteadyTip)
+        cut_to_stand = exporters::base_cut_to_stand(mesh, exporters::kFootTip);
+    }
   } catch (const std::exception& e) {
     err << "cellform: " << core::error_text(e) << "\n";
     if (json)  // a program reading the report gets one too
@@ -100,7 +109,17 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
           {"missed", th.missed},
           {"given_up", th.given_up},
           // why no ray was cast: the surfaces are open, branch, or face both ways
-          {"not_measured", walled(r) ? nlohmann::json(nullptr) : nlohmann::json("the surfaces bound no solid")}}}};
+          {"not_measured", walled(r) ? nlohmann::json(nullptr) : nlohmann::json("the surfaces bound no solid")}}},
+        // on the plane of its lowest point, as a slicer lays it (null unless one solid piece)
+        {"stand",
+         !stand.measured
+             ? nlohmann::json(nullptr)
+             : nlohmann::json(
+                   {{"footprint_mm2", stand.footprint_area},
+                    {"tip_angle_deg", stand.tip_angle},
+                    {"centre_of_mass_mm",
+                     {stand.centre_of_mass.x(), stand.centre_of_mass.y(), stand.centre_of_mass.z()}},
+                    {"cut_to_stand_mm", cut_to_stand > 0 ? nlohmann::json(cut_to_stand) : nlohmann::json(nullptr)}})}};
     out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
   } else {
     // the verdict, with its reasons, heads the report (summary() ends with it)
@@ -120,6 +139,27 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
       out << "wall thickness: not measured (no ray that was followed left the solid through another wall)\n";
     else
       out << "wall thickness: not measurable (no ray from the surface left the solid through another wall)\n";
+    if (stand.measured) {
+      if (stand.margin > 0)
+        out << "stands on the bed (the plane of its lowest point): tips over when tilted " << stand.tip_angle
+            << " degrees; ";
+      else
+        out << "does NOT stand by itself on the bed (the plane of its lowest point): ";
+      out << "its centre of mass (" << stand.centre_of_mass.x() << ", " << stand.centre_of_mass.y() << ", "
+          << stand.centre_of_mass.z() << ") lies " << std::abs(stand.margin)
+          << (stand.margin > 0 ? " inside" : " beyond") << " the edge of its footprint (area " << stand.footprint_area
+          << ": the convex hull of what lies within " << exporters::kFirstLayer
+          << " of the bed, a first layer in mm)\n";
+      if (stand.tip_angle < exporters::kSteadyTip)
+        out << "  "
+            << (cut_to_stand > 0 ? "a cut of " + core::number_text(cut_to_stand) +
+                                       " off the bottom (print.flat_base in a cellform print) leaves a foot that tips "
+                                       "only past " +
+                                       core::number_text(exporters::kFootTip) + " degrees"
+                                 : "no cut off its lower half leaves, in one piece, a foot that tips only past " +
+                                       core::number_text(exporters::kFootTip) + " degrees")
+            << "\n";
+    }
     if (th.given_up > 0)
       out << "  (" << th.given_up << " of the rays were given up where very many triangles meet at one spot)\n";
     if (notes.stl_padding > 0)

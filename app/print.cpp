@@ -19,6 +19,7 @@
 #include "core/errors.h"
 #include "export/mesh_files.h"
 #include "export/printable.h"
+#include "export/stand.h"
 
 namespace cellform::app {
 
@@ -123,6 +124,50 @@ double planned_print_scale(const PrintSpec& spec, const std::vector<exporters::S
                            const std::vector<std::array<core::Vec3, 3>>& shell) {
   return exporters::print_scale(segments, shell, thicken_params(spec, 1, 0));
 }
+
+namespace {
+
+/// How the printed solid stands on the plane of its lowest point (run.json's print.stand; null for a form of
+/// several parts, each of which stands or not), and a word when it does not stand, or hardly: with the
+/// print.flat_base that would give it a foot.
+json say_stand(std::ostream& err, const exporters::PrintableMesh& mesh, double flat_base, std::size_t pieces,
+               int threads) {
+  if (pieces != 1) return nullptr;
+  const exporters::Stand st = exporters::stand_on_bed(mesh);
+  if (!st.measured) return nullptr;
+  const core::Vec3& g = st.centre_of_mass;
+  json j = {{"footprint_mm2", st.footprint_area},
+            {"tip_angle_deg", st.tip_angle},
+            {"centre_of_mass_mm", {g.x(), g.y(), g.z()}},
+            {"flat_base_to_stand_mm", nullptr}};
+  if (st.tip_angle >= exporters::kSteadyTip) return j;
+  const double cut = exporters::base_cut_to_stand(mesh, exporters::kFootTip, 0.5, 50, threads);
+  const double base = std::ceil((flat_base + cut) * 10) / 10;  // mm, as the user would write it
+  if (cut > 0) j["flat_base_to_stand_mm"] = base;
+  const std::string footprint = "the " + core::number_text(std::round(st.footprint_area * 10) / 10) +
+                                " square mm that touch the bed (the convex hull of its lowest " +
+                                core::number_text(exporters::kFirstLayer) + " mm)";
+  const std::string cure =
+      cut > 0 ? "print.flat_base = " + core::number_text(base) + " gives it a flat foot that tips only past " +
+                    core::number_text(exporters::kFootTip) + " degrees"
+      : st.margin <= 0
+          ? "no cut off its lower half, in one piece, gives it a foot that stands: print it with supports, "
+            "turned, or on a base"
+          : "no cut off its lower half, in one piece, gives it a steadier foot (a brim, or a base, "
+            "steadies it)";
+  if (st.margin <= 0)
+    err << "cellform: warning: the printable solid does not stand by itself: its centre of mass lies "
+        << core::number_text(std::round(-st.margin * 10) / 10) << " mm beyond " << footprint
+        << ", so it needs supports while it prints and falls over after; " << cure << "\n";
+  else
+    err << "cellform: note: print: the printable solid stands, but tips over when tilted "
+        << core::number_text(std::round(st.tip_angle * 10) / 10) << " degrees: its centre of mass lies "
+        << core::number_text(std::round(st.margin * 10) / 10) << " mm inside the edge of " << footprint << "; " << cure
+        << "\n";
+  return j;
+}
+
+}  // namespace
 
 json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::vector<exporters::Segment>& segments,
                        const std::vector<std::array<core::Vec3, 3>>& shell, int threads,
@@ -286,6 +331,7 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
     err << "cellform: warning: printable solid: " << rep.self_intersections
         << " pairs of triangles still cross after meshing without merging around them (cellform check FILE "
            "counts them; a finer print.voxel_size may avoid them)\n";
+  const json stand = say_stand(err, mesh, spec.flat_base, rep.pieces, threads);
   for (const std::string& f : spec.formats) {
     const std::string name = "printable." + f;
     if (f == "vdb")
@@ -309,6 +355,7 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
                   {"volume_mm3", rep.volume},
                   {"area_mm2", rep.area},
                   {"seconds", rep.voxelise_seconds + rep.mesh_seconds}};
+  printed["stand"] = stand;
   if (spec.flat_base > 0) printed["base_z_mm"] = rep.base_z;
   if (moved) {
     const core::Vec3 origin = centre * rep.scale;

@@ -1,6 +1,7 @@
 // Tests of app/check.cpp: `cellform check` on broken and unreadable meshes, as text and as JSON.
 #include <catch2/catch.hpp>
 #include <cctype>
+#include <cmath>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -167,4 +168,36 @@ TEST_CASE("cellform check --min-wall judges the walls too", "[cli][check]") {
   r = cli({"check", plate.string(), "--json", "--json"});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("--json is given twice"));
+}
+
+TEST_CASE("cellform check says whether a solid stands on the plane of its lowest point", "[cli][check]") {
+  TempDir t("cli-check-stand");
+  // a box 2 x 2 x 8 stands on its base and tips over at atan(1 / 4); a box 8 x 2 x 2 turned 30 degrees onto an
+  // edge does not stand, and a cut off its bottom gives it a foot
+  auto box = [&](const char* name, double turn) {
+    std::string obj;
+    const double w = turn == 0 ? 2 : 8, h = turn == 0 ? 8 : 2;
+    for (int i = 0; i < 8; ++i) {
+      const double x = i & 1 ? w : 0, y = i & 2 ? 2 : 0, z = i & 4 ? h : 0;
+      obj += "v " + std::to_string(x * std::cos(turn) - z * std::sin(turn)) + " " + std::to_string(y) + " " +
+             std::to_string(x * std::sin(turn) + z * std::cos(turn)) + "\n";
+    }
+    obj += "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+    return t.write(name, obj);
+  };
+  auto r = cli({"check", box("upright.obj", 0).string()});
+  INFO(r.out);
+  CHECK(r.code == 0);
+  CHECK_THAT(r.out,
+             Contains("stands on the bed (the plane of its lowest point): tips over when tilted 14.0362 degrees;"));
+  CHECK_THAT(r.out, !Contains("a cut of"));
+  r = cli({"check", box("turned.obj", M_PI / 6).string(), "--json"});
+  const auto stand = nlohmann::json::parse(r.out)["stand"];
+  INFO(stand.dump());
+  CHECK(r.code == 0);  // printable: standing is not asked of a solid
+  CHECK(stand["tip_angle_deg"].get<double>() < 0);
+  CHECK(stand["cut_to_stand_mm"].get<double>() > 0);
+  CHECK(stand["centre_of_mass_mm"][1].get<double>() == Approx(1));
+  r = cli({"check", box("turned.obj", M_PI / 6).string()});
+  CHECK_THAT(r.out, Contains("does NOT stand by itself on the bed") && Contains("a cut of "));
 }

@@ -328,3 +328,39 @@ TEST_CASE("a print the process's address-space limit cannot hold is refused, not
   CHECK(fs::exists(out / "checkpoint.cfck"));
   CHECK(fs::exists(out / "cells.ply"));
 }
+
+TEST_CASE("a print that does not stand by itself on the bed is warned of, and one that stands is measured",
+          "[cli][print]") {
+  TempDir t("cli-stand");
+  auto print = [&](const std::string& normal) {
+    t.write("s.lua", "run { steps = 0 }\ndisc { radius = 3, normal = " + normal +
+                         " }\nprint { veins = false, shell = true, size = 30 }\n");
+    return cli({"run", (t.path / "s.lua").string(), "--out", (t.path / "o").string(), "--quiet"});
+  };
+  // a plate 30 mm across lying flat stands on its whole underside: its centre is 15 mm from the edge less a
+  // cell spacing's scallops, and about half the 0.6 mm shell high, so it tips only near 90 degrees
+  auto r = print("{0, 0, 1}");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, !Contains("stand"));
+  auto stand = nlohmann::json::parse(slurp(t.path / "o" / "run.json"))["print"]["stand"];
+  INFO(stand.dump());
+  CHECK(stand["tip_angle_deg"].get<double>() > 85);
+  CHECK(stand["footprint_mm2"].get<double>() > 0.6 * M_PI * 15 * 15);
+  CHECK(stand["flat_base_to_stand_mm"].is_null());
+  // the same plate tilted 45 degrees rests on its rim, its centre over 10 mm out (the lattice disc's corners
+  // reach a little past 15 mm) and as high: tilting it back 45 degrees would stand it on that point; no cut of
+  // a thin plate stands
+  r = print("{1, 0, 1}");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("warning: the printable solid does not stand by itself: its centre of mass lies ") &&
+                        Contains("no cut off its lower half, in one piece, gives it a foot that stands"));
+  const std::size_t at = r.err.find("centre of mass lies ") + 20;
+  CHECK(std::stod(r.err.substr(at, r.err.find(" mm", at) - at)) > 10);
+  stand = nlohmann::json::parse(slurp(t.path / "o" / "run.json"))["print"]["stand"];
+  CHECK(stand["tip_angle_deg"].get<double>() == Approx(-45).margin(3));
+  // cellform check says the same of the file
+  r = cli({"check", (t.path / "o" / "printable.stl").string()});
+  CHECK_THAT(r.out, Contains("does NOT stand by itself on the bed") && Contains("no cut off its lower half leaves"));
+}

@@ -1,0 +1,204 @@
+// Standing on the bed: the footprint's convex hull (Andrew's monotone chain), the centre of mass by signed
+// tetrahedra, and the same for the part above a cut, clipped triangle by triangle.
+#include "export/stand.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "core/parallel.h"
+#include "export/mesh_check.h"
+
+namespace cellform::exporters {
+
+namespace {
+
+using core::Vec3;
+using P2 = Eigen::Vector2d;
+
+double cross(const P2& o, const P2& a, const P2& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+/// The convex hull, counter-clockwise, without points in line; fewer than 3 points for a point or a segment.
+std::vector<P2> convex_hull(std::vector<P2> p) {
+  std::sort(p.begin(), p.end(),
+            [](const P2& a, const P2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
+  p.erase(std::unique(p.begin(), p.end()), p.end());
+  if (p.size() < 3) return p;
+  std::vector<P2> h(2 * p.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {  // lower hull
+    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, lower = k + 1; i-- > 0;) {  // upper hull
+    while (k >= lower && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  h.resize(k - 1);  // the last point is the first
+  return h;
+}
+
+double hull_area(const std::vector<P2>& h) {
+  double a = 0;
+  for (std::size_t i = 0, j = h.size() - 1; i < h.size(); j = i++) a += h[j].x() * h[i].y() - h[i].x() * h[j].y();
+  return h.size() < 3 ? 0.0 : a / 2;
+}
+
+double segment_distance(const P2& p, const P2& a, const P2& b) {
+  const P2 ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (p - a - t * ab).norm();
+}
+
+/// Signed distance from p to the edge of the hull: positive inside, negative outside (a hull of one or two
+/// points has no inside).
+double signed_margin(const std::vector<P2>& h, const P2& p) {
+  if (h.empty()) return -std::numeric_limits<double>::infinity();
+  if (h.size() == 1) return -(p - h[0]).norm();
+  double d = std::numeric_limits<double>::infinity();
+  bool inside = h.size() >= 3;
+  for (std::size_t i = 0, j = h.size() - 1; i < h.size(); j = i++) {
+    d = std::min(d, segment_distance(p, h[j], h[i]));
+    if (cross(h[j], h[i], p) < 0) inside = false;
+  }
+  return inside ? d : -d;
+}
+
+/// The volume and first moment of a closed surface's solid where z >= cut (every triangle clipped to that
+/// half-space; the cap on the cut plane adds nothing, as each tetrahedron's apex lies in that plane), and the
+/// plan points of the section (z = cut) or, with `below` set, of the surface where z <= cut.
+struct Clipped {
+  double volume = 0;
+  Vec3 moment = Vec3::Zero();
+  std::vector<P2> points;
+};
+
+Clipped clip(const PrintableMesh& m, double cut, const P2& apex_plan, bool below) {
+  Clipped c;
+  const Vec3 apex(apex_plan.x(), apex_plan.y(), cut);
+  std::array<Vec3, 4> poly;
+  for (const auto& t : m.triangles) {
+    const std::array<Vec3, 3> v = {m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]};
+    std::size_t n = 0;
+    for (int i = 0; i < 3; ++i) {  // Sutherland-Hodgman against z >= cut (z <= cut if below)
+      const Vec3 &a = v[i], &b = v[(i + 1) % 3];
+      const double da = below ? cut - a.z() : a.z() - cut, db = below ? cut - b.z() : b.z() - cut;
+      if (da >= 0) poly[n++] = a;
+      if ((da < 0 && db > 0) || (da > 0 && db < 0)) {
+        Vec3 x = a + (b - a) * (da / (da - db));
+        x.z() = cut;
+        poly[n++] = x;
+      }
+    }
+    if (below) {
+      for (std::size_t i = 0; i < n; ++i) c.points.emplace_back(poly[i].x(), poly[i].y());
+      continue;
+    }
+    for (std::size_t i = 0; i < n; ++i)
+      if (poly[i].z() == cut) c.points.emplace_back(poly[i].x(), poly[i].y());
+    for (std::size_t i = 1; i + 1 < n; ++i) {
+      const Vec3 a = poly[0] - apex, b = poly[i] - apex, d = poly[i + 1] - apex;
+      const double six = a.dot(b.cross(d));
+      c.volume += six / 6;
+      c.moment += six / 6 * (apex + (a + b + d) / 4);
+    }
+  }
+  return c;
+}
+
+/// Connected surfaces of the part of a mesh above `cut` (all of it for cut = -infinity), through its triangles'
+/// corners above the cut (a triangle's part above the cut joins them); `canon` welds equal positions.
+std::size_t surfaces_above(const PrintableMesh& m, const std::vector<std::uint32_t>& canon, double cut) {
+  std::vector<std::uint32_t> parent(m.vertices.size());
+  for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  const auto root = [&](std::uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (const auto& t : m.triangles) {
+    std::uint32_t first = 0;
+    bool any = false;
+    for (const std::uint32_t i : t)
+      if (m.vertices[i].z() > cut) {
+        const std::uint32_t r = root(canon[i]);
+        if (any)
+          parent[std::max(r, root(first))] = std::min(r, root(first));
+        else
+          first = r, any = true;
+      }
+  }
+  std::size_t n = 0;
+  for (std::uint32_t i = 0; i < parent.size(); ++i) n += canon[i] == i && m.vertices[i].z() > cut && root(i) == i;
+  return n;
+}
+
+/// The tip angle (degrees) of what lies above `cut`, standing on its section there; NaN when it has no volume
+/// or falls apart into more surfaces than the whole has (a branch joined to the rest only below the cut).
+double tip_above(const PrintableMesh& m, const std::vector<std::uint32_t>& canon, std::size_t surfaces, double cut,
+                 const P2& centre) {
+  if (surfaces_above(m, canon, cut) > surfaces) return std::numeric_limits<double>::quiet_NaN();
+  const Clipped c = clip(m, cut, centre, false);
+  if (!(c.volume > 0)) return std::numeric_limits<double>::quiet_NaN();
+  const Vec3 g = c.moment / c.volume;
+  const double margin = signed_margin(convex_hull(c.points), P2(g.x(), g.y()));
+  return std::atan2(margin, g.z() - cut) * 180 / M_PI;
+}
+
+struct Box {
+  Vec3 lo, hi;
+};
+
+Box bounds(const PrintableMesh& m) {
+  Box b{Vec3::Constant(std::numeric_limits<double>::infinity()),
+        Vec3::Constant(-std::numeric_limits<double>::infinity())};
+  for (const auto& t : m.triangles)
+    for (const std::uint32_t i : t) b.lo = b.lo.cwiseMin(m.vertices[i]), b.hi = b.hi.cwiseMax(m.vertices[i]);
+  return b;
+}
+
+}  // namespace
+
+Stand stand_on_bed(const PrintableMesh& m, double first_layer) {
+  Stand s;
+  if (m.triangles.empty()) return s;
+  const Box box = bounds(m);
+  s.bed_z = box.lo.z();
+  const P2 centre((box.lo.x() + box.hi.x()) / 2, (box.lo.y() + box.hi.y()) / 2);
+  const Clipped whole = clip(m, s.bed_z, centre, false);
+  if (!(whole.volume > 0)) return s;
+  s.measured = true;
+  s.centre_of_mass = whole.moment / whole.volume;
+  const std::vector<P2> footprint = convex_hull(clip(m, s.bed_z + first_layer, centre, true).points);
+  s.footprint_area = hull_area(footprint);
+  s.margin = signed_margin(footprint, P2(s.centre_of_mass.x(), s.centre_of_mass.y()));
+  s.tip_angle = std::atan2(s.margin, s.centre_of_mass.z() - s.bed_z) * 180 / M_PI;
+  return s;
+}
+
+double base_cut_to_stand(const PrintableMesh& m, double min_tip_angle, double max_fraction, int heights, int threads) {
+  if (m.triangles.empty() || heights < 1) return 0;
+  const Box box = bounds(m);
+  const P2 centre((box.lo.x() + box.hi.x()) / 2, (box.lo.y() + box.hi.y()) / 2);
+  const double height = box.hi.z() - box.lo.z();
+  const std::vector<std::uint32_t> canon = weld_positions(m.vertices);
+  const std::size_t surfaces = surfaces_above(m, canon, -std::numeric_limits<double>::infinity());
+  std::vector<double> tip(static_cast<std::size_t>(heights), std::numeric_limits<double>::quiet_NaN());
+  core::parallel_for(
+      tip.size(), threads,
+      [&](std::size_t begin, std::size_t end) {
+        for (std::size_t k = begin; k < end; ++k)
+          tip[k] = tip_above(m, canon, surfaces,
+                             box.lo.z() + height * max_fraction * static_cast<double>(k + 1) / heights, centre);
+      },
+      1);
+  for (std::size_t k = 0; k < tip.size(); ++k)
+    if (tip[k] >= min_tip_angle) return height * max_fraction * static_cast<double>(k + 1) / heights;
+  return 0;
+}
+
+}  // namespace cellform::exporters
