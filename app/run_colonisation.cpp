@@ -342,21 +342,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
     const venation::ColonisationReport rep = col.report();
     // stopped by max_sources before a step it would not take: the stop says why nothing grew
     const bool stopped_before_step = rep.hit_max_sources && rep.sources_wanted > 0;
-    if (rep.sources_born == 0 && code == ok && !stopped_before_step) {  // nothing to grow towards: say why
-      err << "cellform: warning: no auxin source was placed in " << rep.steps << " steps, so no vein grew (";
-      if (rep.darts > 0) err << "all " << rep.darts << " darts fell within the birth distances: ";
-      err << (rep.darts == 0 ? "no dart was thrown: raise colonisation.darts"
-              : rep.finished ? "lower colonisation.birth_distance or vein_birth_distance"
-                             : "raise colonisation.darts, lower colonisation.birth_distance or vein_birth_distance")
-          << (planar ? ", or give the leaf room to grow" : "") << (rep.finished ? ")\n" : ", or run more steps)\n");
-    } else if (code == ok && rep.finished && spec.params.type == venation::VenationType::closed &&
-               spec.params.kill_distance >= spec.params.vein_birth_distance &&
-               std::none_of(tree.parent.begin(), tree.parent.end(), [](core::Index q) { return q != core::kNoIndex; }))
-      err << "cellform: warning: " << rep.sources_born
-          << " auxin sources were placed, but no vein grew: each was within colonisation.kill_distance ("
-          << core::number_text(spec.params.kill_distance) << ") of the veins when it came, so it went at once "
-          << "(sources come at least vein_birth_distance, " << core::number_text(spec.params.vein_birth_distance)
-          << ", from the veins: make kill_distance smaller than that)\n";
+    if (code == ok) say_no_veins(err, spec, rep, tree, stopped_before_step, planar);
     double leaf_length = rep.scale;  // the outline is 1 long at scale 1; nonuniform growth reports steps
     if (nonuniform) {
       const venation::Outline grown = col.outline();

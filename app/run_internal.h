@@ -46,6 +46,10 @@ void say_vein_findings(std::ostream& err, const cells::Cells& cells, const venat
 /// At the end of a cell run (links made for the cells as they lie): a note if fixed cells, a shell's supports,
 /// hold no link to the cells that move, which then came loose from them.
 void say_loose_supports(std::ostream& err, const cells::Cells& cells);
+/// Why a colonisation run that ended well grew no vein, if it did not: no source placed (with what to change),
+/// or every source within the kill distance when it came.
+void say_no_veins(std::ostream& err, const ColonisationSpec& spec, const venation::ColonisationReport& rep,
+                  const venation::VeinTree& tree, bool stopped_before_step, bool planar);
 
 /// An input problem (bad script, parameter or input file): exit code 2.
 struct InputError : std::runtime_error {

@@ -249,6 +249,11 @@ void say_sources_left(std::ostream& err, const ColonisationSpec& spec, const std
            "whose step lands back where it was: the veins stay on one side. "
         << (spec.on_cells ? "Grow such a sheet larger (cells.rest_length) or seed each side\n"
                           : "Scale such a mesh up (surface{scale = ...}) or seed each side\n");
+  if (spec.domain.kind == venation::DomainKind::volume)
+    err << "cellform: note: " << sources_left.size() << are_left
+        << ". A vein node that would step out of the volume is moved back to its boundary, so the veins do not "
+           "cross a gap between parts of the mesh, nor pass a neck or bend narrower than a few vein segments: seed "
+           "each part (volume{seeds = ...}) or scale the mesh up (volume{scale = ...})\n";
   if (!outline) return;
   const venation::OutlineIndex blade(*outline);
   const auto outside =
@@ -269,6 +274,33 @@ void say_sources_left(std::ostream& err, const ColonisationSpec& spec, const std
                   (sources_left.size() - outside == 1 ? "it" : "them") +
                   " (the step would leave the blade, across a sinus, or run back along a vein)";
   err << "cellform: note: " << sources_left.size() << are_left << ": " << where_left << "\n";
+}
+
+void say_no_veins(std::ostream& err, const ColonisationSpec& spec, const venation::ColonisationReport& rep,
+                  const venation::VeinTree& tree, bool stopped_before_step, bool planar) {
+  if (rep.sources_born == 0 && !stopped_before_step) {  // nothing to grow towards: say why
+    err << "cellform: warning: no auxin source was placed in " << rep.steps << " steps, so no vein grew (";
+    if (rep.darts > 0) err << "all " << rep.darts << " darts fell within the birth distances: ";
+    // marginal growth throws every step's darts at the start, over the grown blade's box, keeping those
+    // birth_distance apart; none of those the margin reached was (or only one, outside the blade)
+    const bool first = rep.darts == 0 && rep.marginal_darts > 0;
+    if (first)
+      err << "none of the " << rep.marginal_darts
+          << " darts thrown over the grown blade's box at the start (marginal growth) made a source in the blade: ";
+    err << (first ? "lower colonisation.birth_distance (it is " + core::number_text(spec.params.source_birth_distance) +
+                        ")"
+            : rep.darts == 0 ? "no dart was thrown: raise colonisation.darts"
+            : rep.finished   ? "lower colonisation.birth_distance or vein_birth_distance"
+                             : "raise colonisation.darts, lower colonisation.birth_distance or vein_birth_distance")
+        << (planar ? ", or give the leaf room to grow" : "") << (rep.finished ? ")\n" : ", or run more steps)\n");
+  } else if (rep.finished && spec.params.type == venation::VenationType::closed &&
+             spec.params.kill_distance >= spec.params.vein_birth_distance &&
+             std::none_of(tree.parent.begin(), tree.parent.end(), [](core::Index q) { return q != core::kNoIndex; }))
+    err << "cellform: warning: " << rep.sources_born
+        << " auxin sources were placed, but no vein grew: each was within colonisation.kill_distance ("
+        << core::number_text(spec.params.kill_distance) << ") of the veins when it came, so it went at once "
+        << "(sources come at least vein_birth_distance, " << core::number_text(spec.params.vein_birth_distance)
+        << ", from the veins: make kill_distance smaller than that)\n";
 }
 
 std::vector<exporters::Segment> vein_segments(const venation::VeinTree& tree) {

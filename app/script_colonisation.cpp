@@ -281,12 +281,13 @@ void section_leaf(Impl& I, const std::string& at) {
         far = std::max(far, q.norm());
       }
       if (reach < 0.5 * far && std::isfinite(far))  // drawn pointing down or sideways (a walkthrough's was)
-        I.cfg->notes.push_back(I.value_at("leaf.file", at) +
-                               "leaf.file's outline does not point along +y from its petiole (0, 0): its " +
-                               "highest y is " + core::number_text(reach) + ", its farthest vertex " + "(" +
-                               core::number_text(farthest.x()) + ", " + core::number_text(farthest.y()) + ")" +
-                               ", so one leaf length is half that vertex's distance and " +
-                               "the blade grows to twice leaf.length; draw the tip as the highest point");
+        I.cfg->notes.push_back(
+            I.value_at("leaf.file", at) + "leaf.file's outline does not point along +y from its petiole (0, 0): its " +
+            "highest y is " + core::number_text(reach) + ", its farthest vertex " + "(" +
+            core::number_text(farthest.x()) + ", " + core::number_text(farthest.y()) + ")" +
+            ", so one leaf length is half that vertex's distance and " +
+            "the blade reaches twice as far as colonisation.initial_length and final_length say; draw the tip as "
+            "the highest point");
       reach = std::max(reach, 0.5 * far);
       if (!(reach > 0) || !std::isfinite(1 / reach))
         throw InvalidInput("leaf.file: every vertex of the outline is at the petiole (0, 0)");

@@ -49,6 +49,7 @@ Colonisation::Impl::Impl(const Leaf& l, const ColonisationParams& params)
                                                .darts_per_area = p.darts_per_area,
                                                .seed = p.seed,
                                                .threads = p.threads});
+  rep.marginal_darts = precomputed.darts;
   std::vector<Vec2> seeds = leaf.initial_nodes;
   if (seeds.empty()) seeds.push_back(leaf.petiole);
   for (const Vec2& s : seeds) add_node(petiole + p.initial_scale * (detail::lift(s) - petiole), kNoIndex, 0);

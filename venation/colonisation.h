@@ -137,7 +137,8 @@ struct ColonisationReport {
   std::size_t sources = 0;          ///< auxin sources still alive at the end
   std::size_t sources_born = 0;     ///< sources accepted by dart throwing
   std::size_t sources_removed = 0;  ///< sources removed (reached)
-  std::size_t darts = 0;            ///< darts thrown
+  std::size_t darts = 0;            ///< darts thrown (marginal growth: precomputed sources the margin reached)
+  std::size_t marginal_darts = 0;   ///< marginal growth: darts thrown at the start over the grown blade's box
   std::size_t loops = 0;            ///< anastomosis edges added (a join of two seeds' trees closes no cycle)
   double scale = 1;                 ///< growth scale sigma at the end (nonuniform: steps of growth done)
   bool finished = false;            ///< growth over and no source left: the pattern is complete

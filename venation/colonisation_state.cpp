@@ -275,6 +275,7 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
   m.quiet = static_cast<std::size_t>(r.get<std::uint64_t>());
   m.synced = r.get<Index>();
   m.rep = get_report(r);
+  m.rep.marginal_darts = m.precomputed.darts;  // made again with the simulation, not saved
   std::vector<char> lazy;
   std::vector<std::uint8_t> backoff;
   std::vector<std::uint32_t> retry;

@@ -398,6 +398,18 @@ Outline parse_outline(const std::string& text, const std::string& source) {
   // closed when the last vertex repeats the first, up to the rounding of an export (a millionth of the size)
   double size = 0;
   for (const Vec2& p : o.points) size = std::max(size, (p - o.points.front()).cwiseAbs().maxCoeff());
+  // a second contour after the first closed (a hole, an island): one outline only (the first vertex repeated
+  // again at the end, an export that closes a polyline twice, is no contour)
+  const auto at_first = [&](std::size_t k) {
+    return (o.points[k] - o.points.front()).cwiseAbs().maxCoeff() <= 1e-6 * size;
+  };
+  for (std::size_t k = 3; k + 1 < o.points.size(); ++k)
+    if (at_first(k) && !at_first(k + 1))
+      throw InvalidInput(source + ":" + std::to_string(lines.line[k + 1]) + ": the outline closed at line " +
+                         std::to_string(lines.line[k]) + " (its vertex repeats the first), and " +
+                         std::to_string(o.points.size() - k - 1) +
+                         " more lines of coordinates follow: a leaf outline is one closed contour, without holes "
+                         "or a second contour");
   const double gap = (o.points.back() - o.points.front()).cwiseAbs().maxCoeff();
   if (gap > 1e-6 * size)
     throw InvalidInput(source + ":" + std::to_string(last_line) +

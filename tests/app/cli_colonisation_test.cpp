@@ -36,6 +36,16 @@ TEST_CASE("a colonisation that never places a source says so", "[cli][colonisati
   CHECK(r.code == 0);
   CHECK_THAT(r.err, Contains("darts fell within the birth distances: lower colonisation.birth_distance") &&
                         !Contains("more steps") && !Contains("raise colonisation.darts"));
+  // marginal growth throws its darts at the start, b_s apart: with b_s = 60 over a blade 40 long, none made a
+  // source in it (it said that no dart was thrown, to raise the darts)
+  const auto wide = t.write("wide.lua",
+                            "leaf {}\ncolonisation { birth_distance = 60, darts = 20000, initial_length "
+                            "= 30, final_length = 40 }\n");
+  r = cli({"run", wide.string(), "--out", (t.path / "w").string(), "--quiet"});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, Contains("darts thrown over the grown blade's box at the start (marginal growth) made a source "
+                             "in the blade: lower colonisation.birth_distance (it is 60)") &&
+                        !Contains("raise colonisation.darts"));
   // a run that does place sources gives no such warning (marginal growth reveals sources only while the
   // blade grows, here two steps: rho x 10^6 = 20000 puts about 12 darts into the 24 x 12 box)
   const auto dense =

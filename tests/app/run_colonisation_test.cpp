@@ -1,5 +1,6 @@
 // Tests of what a space-colonisation run says at its end (app/run_colonisation.cpp).
 #include <algorithm>
+#include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -233,6 +234,36 @@ TEST_CASE("a stalled leaf says where its sources are left: outside the grown bla
   CHECK_THAT(words, Contains(inside == 1 ? "inside it, where no vein can step towards it (" : "towards them ("));
   CHECK(outside > 0);
   CHECK(outside + inside == left);
+}
+
+TEST_CASE("a stalled volume says its veins do not cross a gap between its parts", "[cli][colonisation]") {
+  TempDir t("cli-volume-stall");
+  // two closed boxes 10 wide, 5 apart, seeded in the first: the sources in the second wait for ever
+  std::string obj;
+  for (const double x0 : {0.0, 15.0}) {
+    for (int i = 0; i < 8; ++i)
+      obj += "v " + std::to_string(x0 + (i & 1 ? 10 : 0)) + (i & 2 ? " 10" : " 0") + (i & 4 ? " 10\n" : " 0\n");
+    const int b = x0 == 0 ? 0 : 8;
+    for (const auto& q : {std::array{1, 3, 4, 2}, {5, 6, 8, 7}, {1, 2, 6, 5}, {3, 7, 8, 4}, {1, 5, 7, 3}, {2, 4, 8, 6}})
+      obj += "f " + std::to_string(b + q[0]) + " " + std::to_string(b + q[1]) + " " + std::to_string(b + q[2]) + " " +
+             std::to_string(b + q[3]) + "\n";
+  }
+  t.write("two.obj", obj);
+  const auto script = t.write("two.lua",
+                              "volume { file = 'two.obj', seeds = {{5, 5, 0}} }\n"
+                              "colonisation { type = 'open', kill_distance = 1, birth_distance = 2.5, "
+                              "darts = 20000 }\n");
+  const auto r = cli({"run", script.string(), "--out", (t.path / "o").string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const auto j = nlohmann::json::parse(slurp(t.path / "o" / "run.json"));
+  REQUIRE(j["status"] == "stalled");
+  const std::size_t left = j["veins"]["sources_left"];
+  CHECK(left > 10);
+  CHECK_THAT(r.err, Contains("note: " + std::to_string(left) +
+                             " auxin sources are left. A vein node that would step "
+                             "out of the volume is moved back") &&
+                        Contains("seed each part (volume{seeds = ...})"));
 }
 
 TEST_CASE("veins.svg is at the print's scale even when the print fails, and run.json gives its scale and size",

@@ -188,7 +188,7 @@ TEST_CASE("volume{} and surface{} give space colonisation a 3-D domain", "[scrip
   REQUIRE(cfg.notes.size() == 1);
   CHECK_THAT(cfg.notes[0], Contains("test/leaf.lua:1: leaf.file's outline does not point along +y") &&
                                Contains("its highest y is 0, its farthest vertex (0, -2)") &&
-                               Contains("grows to twice leaf.length"));
+                               Contains("reaches twice as far as colonisation.initial_length and final_length say"));
   double lowest = 0;
   for (const auto& q : cfg.colonisation->leaf.outline.points) lowest = std::min(lowest, q.y());
   CHECK(lowest == -2.0);  // scaled by 1 / (2 / 2): twice the length

@@ -109,6 +109,11 @@ TEST_CASE("outline files: closed polygons parse, open, malformed and self-inters
                     Contains("dec.txt:1") && Contains("decimals take a point"));
   // closed up to an export's rounding; a real gap is said with its size
   CHECK(venation::parse_outline("0 0\n0 1\n1 1\n1 0\n0 1e-9\n", "near.txt").points == sq.points);
+  // a hole after the blade is a second contour, said as such (it was "open", naming the hole's last line)
+  CHECK_THROWS_WITH(
+      venation::parse_outline("0 0\n0 4\n4 4\n4 0\n0 0\n\n1 1\n1 2\n2 2\n2 1\n1 1\n", "hole.txt"),
+      Contains("hole.txt:7: the outline closed at line 5 (its vertex repeats the first), and 5 more lines"));
+  CHECK(venation::parse_outline("0 0\n0 1\n1 1\n1 0\n0 0\n0 0\n", "twice.txt").points == sq.points);
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n0 1\n1 1\n1 0\n0 0.01\n", "gap.txt"),
                     Contains("gap.txt:5") && Contains("open") && Contains("0.01 apart"));
   CHECK_THROWS_WITH(venation::parse_outline("0 0\n0 1\n1 1\n1 0\n0.03 0.04\n", "gap2.txt"),
