@@ -417,9 +417,8 @@ void Colonisation::Impl::step() {
     }
   std::sort(touched.begin(), touched.end());
   for (Index v : touched) seen[v] = 0;
-  // leaves: the new nodes enter the tree in one batch (nothing below queries it before the batch is in;
-  // each v gets at most one child here, so retraces() needs only the older ones); 3-D: one by one, as
-  // place_3d queries the tree
+  // leaves: the new nodes enter the tree in one batch (nothing below queries it before; each v gets at most
+  // one child here, so retraces() needs only the older ones); 3-D: one by one, as place_3d queries the tree
   const auto step_no = static_cast<std::uint32_t>(rep.steps + 1);
   new_pos.clear();
   new_parent.clear();

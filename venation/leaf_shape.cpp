@@ -410,8 +410,7 @@ Outline parse_outline(const std::string& text, const std::string& source) {
                          std::to_string(o.points.size() - k - 1) +
                          " more lines of coordinates follow: a leaf outline is one closed contour, without holes "
                          "or a second contour");
-  const double gap = (o.points.back() - o.points.front()).cwiseAbs().maxCoeff();
-  if (gap > 1e-6 * size)
+  if (!at_first(o.points.size() - 1))
     throw InvalidInput(source + ":" + std::to_string(last_line) +
                        ": the outline is open: its last vertex must repeat the first one to close it (they are " +
                        core::number_text((o.points.back() - o.points.front()).norm()) + " apart)");
