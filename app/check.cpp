@@ -35,10 +35,9 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
     // cross its folds); two solids that touch at a corner still have walls
     if (walled(r)) th = exporters::wall_thickness(mesh);
     // standing means something for one solid piece (each of several stands or not)
-    if (r.solid() && r.pieces == 1 && r.cavities == 0) {
+    if (r.solid() && r.pieces == 1) {
       stand = exporters::stand_on_bed(mesh);
-      if (stand.measured && stand.tip_angle < exporters::kSteadyTip)
-        cut_to_stand = exporters::base_cut_to_stand(mesh, exporters::kFootTip);
+      if (exporters::falls(stand)) cut_to_stand = exporters::base_cut_to_stand(mesh, exporters::kFootTip);
     }
   } catch (const std::exception& e) {
     err << "cellform: " << core::error_text(e) << "\n";
@@ -117,6 +116,7 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
              : nlohmann::json(
                    {{"footprint_mm2", stand.footprint_area},
                     {"tip_angle_deg", stand.tip_angle},
+                    {"settle_angle_deg", stand.settle_angle},
                     {"centre_of_mass_mm",
                      {stand.centre_of_mass.x(), stand.centre_of_mass.y(), stand.centre_of_mass.z()}},
                     {"cut_to_stand_mm", cut_to_stand > 0 ? nlohmann::json(cut_to_stand) : nlohmann::json(nullptr)}})}};
@@ -140,21 +140,28 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
     else
       out << "wall thickness: not measurable (no ray from the surface left the solid through another wall)\n";
     if (stand.measured) {
+      const bool rocks = stand.margin <= 0 && !exporters::falls(stand);
       if (stand.margin > 0)
         out << "stands on the bed (the plane of its lowest point): tips over when tilted " << stand.tip_angle
             << " degrees; ";
+      else if (rocks)
+        out << "rocks " << stand.settle_angle
+            << " degrees onto more of its underside from the plane of its lowest point, where it does not stand: ";
       else
         out << "does NOT stand by itself on the bed (the plane of its lowest point): ";
       out << "its centre of mass (" << stand.centre_of_mass.x() << ", " << stand.centre_of_mass.y() << ", "
           << stand.centre_of_mass.z() << ") lies " << std::abs(stand.margin)
           << (stand.margin > 0 ? " inside" : " beyond") << " the edge of its footprint (area " << stand.footprint_area
-          << ": the convex hull of what lies within " << exporters::kFirstLayer
-          << " of the bed, a first layer in mm)\n";
-      if (stand.tip_angle < exporters::kSteadyTip)
+          << ": the convex hull of what lies within " << exporters::kFirstLayer << " of the bed, a first layer in mm)"
+          << (rocks ? ""
+                    : "; tipped over that edge it rolls " + core::number_text(stand.settle_angle) +
+                          " degrees before it rests")
+          << "\n";
+      if (exporters::falls(stand))
         out << "  "
-            << (cut_to_stand > 0 ? "a cut of " + core::number_text(cut_to_stand) +
-                                       " off the bottom (print.flat_base in a cellform print) leaves a foot that tips "
-                                       "only past " +
+            << (cut_to_stand > 0 ? "a cut of " + core::number_text(std::ceil(cut_to_stand * 10 - 1e-9) / 10) +
+                                       " off the bottom (in a cellform print, added to its print.flat_base) leaves a "
+                                       "foot that tips only past " +
                                        core::number_text(exporters::kFootTip) + " degrees"
                                  : "no cut off its lower half leaves, in one piece, a foot that tips only past " +
                                        core::number_text(exporters::kFootTip) + " degrees")

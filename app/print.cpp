@@ -128,8 +128,8 @@ double planned_print_scale(const PrintSpec& spec, const std::vector<exporters::S
 namespace {
 
 /// How the printed solid stands on the plane of its lowest point (run.json's print.stand; null for a form of
-/// several parts, each of which stands or not), and a word when it does not stand, or hardly: with the
-/// print.flat_base that would give it a foot.
+/// several parts, each of which stands or not), and a word when it falls over, from where it lies or at a small
+/// tilt (exporters::falls): with the print.flat_base that would give it a foot.
 json say_stand(std::ostream& err, const exporters::PrintableMesh& mesh, double flat_base, std::size_t pieces,
                int threads) {
   if (pieces != 1) return nullptr;
@@ -139,10 +139,11 @@ json say_stand(std::ostream& err, const exporters::PrintableMesh& mesh, double f
   json j = {{"footprint_mm2", st.footprint_area},
             {"tip_angle_deg", st.tip_angle},
             {"centre_of_mass_mm", {g.x(), g.y(), g.z()}},
+            {"settle_angle_deg", st.settle_angle},
             {"flat_base_to_stand_mm", nullptr}};
-  if (st.tip_angle >= exporters::kSteadyTip) return j;
+  if (!exporters::falls(st)) return j;  // stands, or rocks a few degrees onto more of its underside
   const double cut = exporters::base_cut_to_stand(mesh, exporters::kFootTip, 0.5, 50, threads);
-  const double base = std::ceil((flat_base + cut) * 10) / 10;  // mm, as the user would write it
+  const double base = std::ceil((flat_base + cut) * 10 - 1e-9) / 10;  // mm, as the user would write it
   if (cut > 0) j["flat_base_to_stand_mm"] = base;
   const std::string footprint = "the " + core::number_text(std::round(st.footprint_area * 10) / 10) +
                                 " square mm that touch the bed (the convex hull of its lowest " +
@@ -153,15 +154,17 @@ json say_stand(std::ostream& err, const exporters::PrintableMesh& mesh, double f
       : st.margin <= 0
           ? "no cut off its lower half, in one piece, gives it a foot that stands: print it with supports, "
             "turned, or on a base"
-          : "no cut off its lower half, in one piece, gives it a steadier foot (a brim, or a base, "
-            "steadies it)";
+          : "no cut off its lower half, in one piece, gives it a foot that tips only past " +
+                core::number_text(exporters::kFootTip) + " degrees (a brim, or a base, steadies it)";
   if (st.margin <= 0)
     err << "cellform: warning: the printable solid does not stand by itself: its centre of mass lies "
         << core::number_text(std::round(-st.margin * 10) / 10) << " mm beyond " << footprint
-        << ", so it needs supports while it prints and falls over after; " << cure << "\n";
+        << ": only bed adhesion (or supports) holds it while it prints, and off the bed it falls over, turning "
+        << core::number_text(std::round(st.settle_angle)) << " degrees before it rests; " << cure << "\n";
   else
     err << "cellform: note: print: the printable solid stands, but tips over when tilted "
-        << core::number_text(std::round(st.tip_angle * 10) / 10) << " degrees: its centre of mass lies "
+        << core::number_text(std::round(st.tip_angle * 10) / 10) << " degrees, and then falls "
+        << core::number_text(std::round(st.settle_angle)) << " degrees: its centre of mass lies "
         << core::number_text(std::round(st.margin * 10) / 10) << " mm inside the edge of " << footprint << "; " << cure
         << "\n";
   return j;

@@ -36,6 +36,6 @@ ground { height = 0 }
 disc { radius = 3, centre = {0, 0, 0.5} }
 petiole { at = {0, 0, 0.5} }
 
--- 2.5 mm off the bottom: it stands on the flat feet of its lowest veins (cut 1 mm, it stood on one, and tipped
--- over at a tilt of 3 degrees)
+-- 2.5 mm off the bottom: it stands on the flat feet of its lowest veins (cut 1 mm, it stood on one, and rocked
+-- onto the others at a tilt of 2 to 3 degrees)
 print { formats = "stl", pieces = "one", flat_base = 2.5 }

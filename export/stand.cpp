@@ -69,6 +69,74 @@ double signed_margin(const std::vector<P2>& h, const P2& p) {
   return inside ? d : -d;
 }
 
+/// The direction in plan in which a solid with its centre of mass's plan at p tips most easily off the hull:
+/// from the nearest point of the hull's edge, outward (towards p from outside, away from it from inside).
+/// Returns the nearest point; `out` gets the direction.
+P2 tipping_edge(const std::vector<P2>& h, const P2& p, P2& out) {
+  P2 nearest = h.front(), normal = P2(1, 0);
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0, j = h.size() - 1; i < h.size(); j = i++) {
+    const P2 ab = h[i] - h[j];
+    const double len2 = ab.squaredNorm();
+    const P2 q = h[j] + (len2 > 0 ? std::clamp((p - h[j]).dot(ab) / len2, 0.0, 1.0) : 0.0) * ab;
+    if ((p - q).norm() < best) {
+      best = (p - q).norm();
+      nearest = q;
+      normal = len2 > 0 ? P2(ab.y(), -ab.x()).normalized() : P2(1, 0);  // outward: the hull runs counter-clockwise
+    }
+  }
+  const bool inside = signed_margin(h, p) > 0;
+  out = best > 0 ? P2((inside ? nearest - p : p - nearest) / best) : normal;
+  return nearest;
+}
+
+/// Degrees the solid turns, from where it lies (first tilted `tilt` degrees over its footprint's edge nearest the
+/// centre of mass `g`, when it stands), rolling over the edge its centre of mass lies beyond until that is over
+/// what touches the bed (the points within `layer` of it): quasi-static, each turn about that edge until the
+/// next point meets the bed, at most 100 turns.
+double roll_to_rest(const PrintableMesh& m, const Vec3& g, double layer, double tilt) {
+  std::vector<Vec3> p;
+  p.reserve(m.vertices.size() + 1);
+  for (const auto& t : m.triangles)
+    for (const std::uint32_t i : t) p.push_back(m.vertices[i]);
+  std::sort(p.begin(), p.end(), [](const Vec3& a, const Vec3& b) {
+    return a.x() < b.x() || (a.x() == b.x() && (a.y() < b.y() || (a.y() == b.y() && a.z() < b.z())));
+  });
+  p.erase(std::unique(p.begin(), p.end()), p.end());
+  p.push_back(g);  // turned with the rest
+  Eigen::Matrix3d turned = Eigen::Matrix3d::Identity();
+  double extent = 0;
+  for (const Vec3& q : p) extent = std::max(extent, (q - p.front()).norm());
+  for (int turn = 0; turn < 100; ++turn) {
+    double bed = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i + 1 < p.size(); ++i) bed = std::min(bed, p[i].z());
+    std::vector<P2> touching;
+    for (std::size_t i = 0; i + 1 < p.size(); ++i)
+      if (p[i].z() <= bed + layer) touching.emplace_back(p[i].x(), p[i].y());
+    const std::vector<P2> hull = convex_hull(touching);
+    const P2 centre(p.back().x(), p.back().y());
+    if (turn > 0 || tilt <= 0) {
+      if (signed_margin(hull, centre) > 0) break;
+    }
+    P2 out;
+    const P2 edge = tipping_edge(hull, centre, out);
+    double angle = M_PI / 2;  // nothing beyond the edge: onto its side
+    if (turn == 0 && tilt > 0)
+      angle = tilt * M_PI / 180 + 1e-6;  // just past the tip
+    else
+      for (std::size_t i = 0; i + 1 < p.size(); ++i) {
+        const double d = (P2(p[i].x(), p[i].y()) - edge).dot(out);
+        if (d > 1e-12 * extent) angle = std::min(angle, std::atan2(p[i].z() - bed, d));
+      }
+    // turning about the horizontal axis z x out takes `out` down
+    const Eigen::AngleAxisd r(angle, Vec3(-out.y(), out.x(), 0));
+    const Vec3 pivot(edge.x(), edge.y(), bed);
+    for (Vec3& q : p) q = pivot + r * (q - pivot);
+    turned = r.toRotationMatrix() * turned;
+  }
+  return std::acos(std::clamp((turned * Vec3::UnitZ()).z(), -1.0, 1.0)) * 180 / M_PI;
+}
+
 /// The volume and first moment of a closed surface's solid where z >= cut (every triangle clipped to that
 /// half-space; the cap on the cut plane adds nothing, as each tetrahedron's apex lies in that plane), and the
 /// plan points of the section (z = cut) or, with `below` set, of the surface where z <= cut.
@@ -111,37 +179,56 @@ Clipped clip(const PrintableMesh& m, double cut, const P2& apex_plan, bool below
   return c;
 }
 
-/// Connected surfaces of the part of a mesh above `cut` (all of it for cut = -infinity), through its triangles'
-/// corners above the cut (a triangle's part above the cut joins them); `canon` welds equal positions.
-std::size_t surfaces_above(const PrintableMesh& m, const std::vector<std::uint32_t>& canon, double cut) {
-  std::vector<std::uint32_t> parent(m.vertices.size());
-  for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+/// The connected surfaces of the part of a mesh above `cut` (all of it for cut = -infinity), through its
+/// triangles' corners above the cut (a triangle's part above the cut joins them): each welded vertex's root
+/// (`canon` welds equal positions), kNone for one at or below the cut or used by no triangle.
+std::vector<std::uint32_t> roots_above(const PrintableMesh& m, const std::vector<std::uint32_t>& canon, double cut) {
+  std::vector<std::uint32_t> parent(m.vertices.size(), kNone);
   const auto root = [&](std::uint32_t i) {
     while (parent[i] != i) i = parent[i] = parent[parent[i]];
     return i;
   };
   for (const auto& t : m.triangles) {
-    std::uint32_t first = 0;
-    bool any = false;
-    for (const std::uint32_t i : t)
-      if (m.vertices[i].z() > cut) {
-        const std::uint32_t r = root(canon[i]);
-        if (any)
-          parent[std::max(r, root(first))] = std::min(r, root(first));
-        else
-          first = r, any = true;
-      }
+    std::uint32_t first = kNone;
+    for (const std::uint32_t v : t) {
+      const std::uint32_t i = canon[v];
+      if (!(m.vertices[i].z() > cut)) continue;
+      if (parent[i] == kNone) parent[i] = i;
+      if (first == kNone)
+        first = root(i);
+      else if (const std::uint32_t r = root(i); r != root(first))
+        parent[std::max(r, root(first))] = std::min(r, root(first));
+    }
   }
-  std::size_t n = 0;
-  for (std::uint32_t i = 0; i < parent.size(); ++i) n += canon[i] == i && m.vertices[i].z() > cut && root(i) == i;
-  return n;
+  for (std::uint32_t i = 0; i < parent.size(); ++i)
+    if (parent[i] != kNone) parent[i] = root(i);
+  return parent;
+}
+
+/// Whether a cut leaves more pieces above it than there are surfaces of the whole that reach above it (a
+/// branch joined to the rest only below the cut; a shell open downwards, whose outer and inner faces above the
+/// cut join only through its cap, counts as parted too: no such cut is offered).
+bool parts(const PrintableMesh& m, const std::vector<std::uint32_t>& canon, const std::vector<std::uint32_t>& whole,
+           double cut) {
+  const std::vector<std::uint32_t> above = roots_above(m, canon, cut);
+  std::vector<std::uint32_t> reaching;
+  std::size_t pieces = 0;
+  for (std::uint32_t i = 0; i < above.size(); ++i)
+    if (above[i] != kNone) {
+      pieces += above[i] == i;
+      reaching.push_back(whole[i]);
+    }
+  std::sort(reaching.begin(), reaching.end());
+  return pieces > static_cast<std::size_t>(std::unique(reaching.begin(), reaching.end()) - reaching.begin());
 }
 
 /// The tip angle (degrees) of what lies above `cut`, standing on its section there; NaN when it has no volume
-/// or falls apart into more surfaces than the whole has (a branch joined to the rest only below the cut).
-double tip_above(const PrintableMesh& m, const std::vector<std::uint32_t>& canon, std::size_t surfaces, double cut,
-                 const P2& centre) {
-  if (surfaces_above(m, canon, cut) > surfaces) return std::numeric_limits<double>::quiet_NaN();
+/// or parts (see parts()).
+double tip_above(const PrintableMesh& m, const std::vector<std::uint32_t>& canon,
+                 const std::vector<std::uint32_t>& whole, double cut, const P2& centre) {
+  if (parts(m, canon, whole, cut)) return std::numeric_limits<double>::quiet_NaN();
   const Clipped c = clip(m, cut, centre, false);
   if (!(c.volume > 0)) return std::numeric_limits<double>::quiet_NaN();
   const Vec3 g = c.moment / c.volume;
@@ -177,6 +264,7 @@ Stand stand_on_bed(const PrintableMesh& m, double first_layer) {
   s.footprint_area = hull_area(footprint);
   s.margin = signed_margin(footprint, P2(s.centre_of_mass.x(), s.centre_of_mass.y()));
   s.tip_angle = std::atan2(s.margin, s.centre_of_mass.z() - s.bed_z) * 180 / M_PI;
+  s.settle_angle = roll_to_rest(m, s.centre_of_mass, first_layer, s.margin > 0 ? s.tip_angle : 0.0);
   return s;
 }
 
@@ -186,14 +274,14 @@ double base_cut_to_stand(const PrintableMesh& m, double min_tip_angle, double ma
   const P2 centre((box.lo.x() + box.hi.x()) / 2, (box.lo.y() + box.hi.y()) / 2);
   const double height = box.hi.z() - box.lo.z();
   const std::vector<std::uint32_t> canon = weld_positions(m.vertices);
-  const std::size_t surfaces = surfaces_above(m, canon, -std::numeric_limits<double>::infinity());
+  const std::vector<std::uint32_t> whole = roots_above(m, canon, -std::numeric_limits<double>::infinity());
   std::vector<double> tip(static_cast<std::size_t>(heights), std::numeric_limits<double>::quiet_NaN());
   core::parallel_for(
       tip.size(), threads,
       [&](std::size_t begin, std::size_t end) {
         for (std::size_t k = begin; k < end; ++k)
-          tip[k] = tip_above(m, canon, surfaces,
-                             box.lo.z() + height * max_fraction * static_cast<double>(k + 1) / heights, centre);
+          tip[k] = tip_above(m, canon, whole, box.lo.z() + height * max_fraction * static_cast<double>(k + 1) / heights,
+                             centre);
       },
       1);
   for (std::size_t k = 0; k < tip.size(); ++k)

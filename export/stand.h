@@ -30,7 +30,18 @@ struct Stand {
   /// degrees: the tilt of the bed that tips the solid over, atan(margin / height of the centre of mass above
   /// the bed) (negative: it does not stand); tan of it is the share of its weight a sideways push needs
   double tip_angle = 0;
+  /// degrees: how far it turns from where it lies until it rests, rolling over the edge of what touches the bed
+  /// (the hull of its vertices within first_layer of it) while its centre of mass lies beyond it, each turn
+  /// until the next vertex meets the bed (quasi-static, at most 100 turns); when it stands, after a tilt just
+  /// past tip_angle.
+  /// Under a few degrees it rocks onto more of its underside (a flat leaf whose lowest point is a thick vein)
+  /// rather than falling over
+  double settle_angle = 0;
 };
+
+/// Tips over at a tilt under kSteadyTip, or does not stand at all, and then turns kSteadyTip or more before
+/// more of it meets the bed: falls, rather than rocks onto more of its underside.
+inline bool falls(const Stand& s) { return s.measured && s.tip_angle < kSteadyTip && s.settle_angle >= kSteadyTip; }
 
 /// Measures how `mesh`, a closed surface wound outward, stands on the plane z = its lowest z. Deterministic.
 Stand stand_on_bed(const PrintableMesh& mesh, double first_layer = kFirstLayer);

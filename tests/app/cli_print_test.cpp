@@ -360,6 +360,7 @@ TEST_CASE("a print that does not stand by itself on the bed is warned of, and on
   CHECK(std::stod(r.err.substr(at, r.err.find(" mm", at) - at)) > 10);
   stand = nlohmann::json::parse(slurp(t.path / "o" / "run.json"))["print"]["stand"];
   CHECK(stand["tip_angle_deg"].get<double>() == Approx(-45).margin(3));
+  CHECK(stand["settle_angle_deg"].get<double>() == Approx(45).margin(3));  // it falls flat
   // cellform check says the same of the file
   r = cli({"check", (t.path / "o" / "printable.stl").string()});
   CHECK_THAT(r.out, Contains("does NOT stand by itself on the bed") && Contains("no cut off its lower half leaves"));

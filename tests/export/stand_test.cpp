@@ -84,6 +84,8 @@ TEST_CASE("a box stands on its base: the base is the footprint, the centre its m
   CHECK(s.centre_of_mass.z() == Approx(21));
   CHECK(s.margin == Approx(5));  // to the nearer long side
   CHECK(s.tip_angle == Approx(std::atan2(5.0, 20.0) * kDeg));
+  CHECK(s.settle_angle == Approx(90).margin(1e-6));  // tipped past that, it falls onto its side
+  CHECK_FALSE(exporters::falls(s));                  // but stands firm
   // what is left above a cut at z tips at atan(5 / ((40 - z) / 2)): past 10 degrees from the first cut (z = 0.4,
   // a fiftieth of half the height), past 15 degrees from z = 2.68, the seventh
   CHECK(exporters::base_cut_to_stand(box, 10) == Approx(0.4));
@@ -109,6 +111,10 @@ TEST_CASE("a leaning block stands while its centre of mass is over its footprint
     CHECK(s.margin == Approx(margin));
     CHECK((s.margin > 0) == (std::abs(lean) < 10));
     CHECK(s.tip_angle == Approx(std::atan2(margin, 5.0) * kDeg));
+    // leaning over, it turns about its base's far edge until its top corners, |lean| beyond it and 10 up, meet
+    // the bed, and lies on its side (the turns go by the corners within the first layer)
+    if (std::abs(lean) > 10) CHECK(s.settle_angle == Approx(std::atan2(10, std::abs(lean)) * kDeg));
+    CHECK(exporters::falls(s) == (std::abs(lean) > 10));
   }
 }
 
@@ -125,6 +131,9 @@ TEST_CASE("a cube on one edge does not stand, and the lowest cut that makes it i
   CHECK(s.margin == Approx(layer / t - s.centre_of_mass.x()));
   CHECK(s.margin < 0);
   CHECK(s.tip_angle == Approx(std::atan2(s.margin, s.centre_of_mass.z()) * kDeg));
+  // it turns about the edge it stands on until its next lower corner meets the bed: 30 degrees, onto a face
+  CHECK(s.settle_angle == Approx(30));
+  CHECK(exporters::falls(s));
 
   // cuts at k / 50 of 0.35 of the height, all below the lower corners, where the analytic tip angle holds
   const double height = a * (std::sin(theta) + std::cos(theta)), step = 0.35 * height / 50;
@@ -157,6 +166,36 @@ TEST_CASE("a cut that would part the solid into pieces does not count", "[stand]
   CHECK(cut > 0);
   CHECK(cut < crotch);
   CHECK(exporters::base_cut_to_stand(v, 10) == 0);  // only above it, in two
+  // as much with a sealed pocket in its point, or a vertex no triangle uses: the surfaces that reach above a cut
+  // are what it is compared with (the pocket's lies below)
+  PrintableMesh pocket = v;
+  const PrintableMesh hole =
+      hexahedron([](const Vec3& p) { return Vec3(-0.1 + 0.2 * p.x(), 5 + p.y(), 2 + 0.5 * p.z()); });
+  for (const auto& f : hole.triangles)
+    pocket.triangles.push_back({f[0] + 12, f[2] + 12, f[1] + 12});  // wound into the pocket
+  pocket.vertices.insert(pocket.vertices.end(), hole.vertices.begin(), hole.vertices.end());
+  REQUIRE(exporters::check_mesh(pocket).cavities == 1);
+  CHECK(exporters::base_cut_to_stand(pocket, 10) == 0);
+  PrintableMesh stray = v;
+  stray.vertices.emplace_back(0, 10, 1);
+  CHECK(exporters::base_cut_to_stand(stray, 10) == 0);
+}
+
+TEST_CASE("a flat plate lying a degree off the bed rocks onto its underside rather than falling", "[stand]") {
+  // 40 x 40 x 2, turned 1 degree about y: it touches along an edge, its centre 20 mm off, and lies flat after a
+  // turn of about a degree and a half (the first layer reaches 11.5 mm in, 0.2 / tan 1 degree)
+  const double turn = 1 / kDeg;
+  const PrintableMesh plate = hexahedron([&](const Vec3& p) {
+    const Vec3 q(40 * p.x(), 40 * p.y(), 2 * p.z());
+    return Vec3(q.x() * std::cos(turn) - q.z() * std::sin(turn), q.y(),
+                q.x() * std::sin(turn) + q.z() * std::cos(turn));
+  });
+  const exporters::Stand s = exporters::stand_on_bed(plate);
+  REQUIRE(s.measured);
+  CHECK(s.margin < 0);
+  CHECK(s.settle_angle > 0.5);
+  CHECK(s.settle_angle < 2);
+  CHECK_FALSE(exporters::falls(s));
 }
 
 TEST_CASE("a surface that bounds no solid is not measured", "[stand]") {
