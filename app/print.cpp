@@ -159,11 +159,11 @@ json say_stand(std::ostream& err, const exporters::PrintableMesh& mesh, double f
   if (st.margin <= 0)
     err << "cellform: warning: the printable solid does not stand by itself: its centre of mass lies "
         << core::number_text(std::round(-st.margin * 10) / 10) << " mm beyond " << footprint
-        << ": only bed adhesion (or supports) holds it while it prints, and off the bed it falls over, turning "
+        << ": only bed adhesion (or supports) holds it while it prints, and off the bed it rolls "
         << core::number_text(std::round(st.settle_angle)) << " degrees before it rests; " << cure << "\n";
   else
     err << "cellform: note: print: the printable solid stands, but tips over when tilted "
-        << core::number_text(std::round(st.tip_angle * 10) / 10) << " degrees, and then falls "
+        << core::number_text(std::round(st.tip_angle * 10) / 10) << " degrees, and then rolls "
         << core::number_text(std::round(st.settle_angle)) << " degrees: its centre of mass lies "
         << core::number_text(std::round(st.margin * 10) / 10) << " mm inside the edge of " << footprint << "; " << cure
         << "\n";

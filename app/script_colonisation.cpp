@@ -1,5 +1,7 @@
 // The sections of the growth-script API that set up space colonisation (leaf{}, volume{}, surface{},
 // colonisation{}): each reads its table against the schema and fills the colonisation configuration.
+#include <optional>
+
 #include "app/memory.h"
 #include "app/script_impl.h"
 #include "venation/domain.h"
@@ -122,6 +124,37 @@ std::string script_colonisation_message(const std::string& message) {
   return m;
 }
 
+/// Seeds within a vein segment (1 model unit) of a surface file's triangles, but off it by more than the
+/// domain's tolerance (a point on a round shape typed where the mesh has facets), moved onto it, with a note.
+void snap_seeds(Impl& I, const venation::Domain& d, std::vector<Vec3>& seeds, const std::string& at) {
+  if (d.mesh.triangles.empty() || d.mesh.vertices.empty()) return;  // (the domain's check says what is wrong)
+  Vec3 lo = d.mesh.vertices.front(), hi = lo;
+  for (const Vec3& q : d.mesh.vertices) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+  const double tol = 1e-6 * (hi - lo).norm();
+  venation::Domain probe = d;  // seeded on the mesh itself, to be measured against
+  const auto first = static_cast<std::size_t>(d.mesh.triangles.front()[0]);
+  if (first >= d.mesh.vertices.size() || !d.mesh.vertices[first].allFinite()) return;
+  probe.initial_nodes = {d.mesh.vertices[first]};
+  probe.initial_sources.clear();
+  std::optional<venation::PreparedDomain> prepared;
+  try {
+    prepared.emplace(probe);
+  } catch (const InvalidInput&) {
+    return;  // the domain's own check says what is wrong with the mesh
+  }
+  for (std::size_t i = 0; i < seeds.size(); ++i) {
+    if (!seeds[i].allFinite()) continue;
+    const Vec3 on = prepared->project(seeds[i]);
+    const double off = (on - seeds[i]).norm();
+    if (!(off > tol && off <= 1)) continue;
+    I.cfg->notes.push_back(at + "surface.seeds[" + std::to_string(i + 1) + "] " +
+                           core::point_text(seeds[i].x(), seeds[i].y(), seeds[i].z()) + " is " +
+                           core::number_text(off) + " model units off the surface: moved onto it, to " +
+                           core::point_text(on.x(), on.y(), on.z()));
+    seeds[i] = on;
+  }
+}
+
 void section_domain(Impl& I, const std::string& section, const std::string& at) {
   I.once(section, at);
   one_domain(I, section, at);
@@ -198,6 +231,7 @@ void section_domain(Impl& I, const std::string& section, const std::string& at) 
       d.mesh = read_domain_mesh(I, section, v, at);
       if (seeds.empty())
         throw InvalidInput(at + "surface{file = ...} needs seeds = {{x, y, z}, ...}: the seed vein nodes on it");
+      snap_seeds(I, d, seeds, at);
     }
   }
   d.initial_nodes = seeds;

@@ -161,6 +161,16 @@ TEST_CASE("volume{} and surface{} give space colonisation a 3-D domain", "[scrip
              Contains("surface.seeds[1]") && Contains("not on the surface") &&
                  Contains("model units): it is 1.1547") &&  // 2 / sqrt(3) to every face's plane: how far, and where
                  Contains("the nearest point of the surface is {0.666667, 0.666667, 0.666667}"));
+  // within a vein segment of it, a seed is moved onto the surface, with a note (a point on a round shape typed
+  // where the mesh has facets), and run.json records where it was placed
+  cfg = load("surface { file = '" + open + "', seeds = {{0.4, 0.4, 0.4}} }\ncolonisation {}\n");
+  const cellform::core::Vec3 on = cfg.colonisation->domain.initial_nodes.at(0);
+  CHECK(on.x() == Approx(2.0 / 3));
+  CHECK(on.z() == Approx(2.0 / 3));
+  REQUIRE(cfg.notes.size() == 1);
+  CHECK_THAT(cfg.notes[0], Contains("test/leaf.lua:1: surface.seeds[1] {0.4, 0.4, 0.4} is 0.46188 model units off the "
+                                    "surface: moved onto it, to {0.666667, 0.666667, 0.666667}"));
+  CHECK(cfg.resolved["surface"]["seeds"][0][0] == on.x());
   CHECK_THAT(load_error("volume { file = '" + closed + "' }\ncolonisation {}\n"), Contains("needs seeds"));
   // domains are bounded like every script position (1e9 model units)
   CHECK_THAT(load_error("surface { file = '" + open + "', scale = 1e300, seeds = {{2, 0, 0}} }\ncolonisation {}\n"),
