@@ -170,6 +170,52 @@ json say_stand(std::ostream& err, const exporters::PrintableMesh& mesh, double f
   return j;
 }
 
+/// ": the largest W x D x H mm; the others ... at {x, y, z} (model units)" for a printed solid of several
+/// pieces (surfaces of positive volume; cavities are not pieces), the smaller ones where a script places them:
+/// the mesh is in mm, (model - centre) * scale.
+std::string pieces_text(const exporters::PrintableMesh& mesh, double scale, const core::Vec3& centre) {
+  std::vector<std::uint32_t> parent(mesh.vertices.size());
+  for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  const auto root = [&](std::uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (const auto& t : mesh.triangles)
+    for (int k = 1; k < 3; ++k) parent[root(t[k])] = root(t[0]);
+  struct Piece {
+    double volume = 0;
+    core::Vec3 lo = core::Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  };
+  std::vector<Piece> piece(mesh.vertices.size());
+  for (const auto& t : mesh.triangles) {
+    Piece& q = piece[root(t[0])];
+    const core::Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    q.volume += a.dot(b.cross(c)) / 6;
+    for (const core::Vec3* v : {&a, &b, &c}) q.lo = q.lo.cwiseMin(*v), q.hi = q.hi.cwiseMax(*v);
+  }
+  std::vector<Piece> solid;
+  for (const Piece& q : piece)
+    if (q.volume > 0) solid.push_back(q);
+  if (solid.size() < 2) return {};
+  std::stable_sort(solid.begin(), solid.end(), [](const Piece& a, const Piece& b) { return a.volume > b.volume; });
+  auto size = [](const Piece& q) {
+    const core::Vec3 d = q.hi - q.lo;
+    return core::number_text(std::round(d.x() * 10) / 10) + " x " + core::number_text(std::round(d.y() * 10) / 10) +
+           " x " + core::number_text(std::round(d.z() * 10) / 10) + " mm";
+  };
+  std::string text = ": the largest " + size(solid[0]) + "; ";
+  for (std::size_t k = 1; k < solid.size() && k <= 3; ++k) {
+    const core::Vec3 at = (solid[k].lo + solid[k].hi) / 2 / scale + centre;
+    text += (k > 1               ? ", "
+             : solid.size() == 2 ? "the other "
+                                 : "the others ") +
+            size(solid[k]) + " about " +
+            core::point_text(std::round(at.x() * 10) / 10, std::round(at.y() * 10) / 10, std::round(at.z() * 10) / 10);
+  }
+  if (solid.size() > 4) text += " and " + std::to_string(solid.size() - 4) + " more";
+  return text + " (model units)";
+}
+
 }  // namespace
 
 json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::vector<exporters::Segment>& segments,
@@ -316,12 +362,14 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   const bool join_by_shell = sheet && !spec.shell;
   if (rep.pieces > 1 && spec.pieces == "one")
     throw core::InvalidInput(
-        "print{pieces = \"one\"}: the form falls apart into " + std::to_string(rep.pieces) + " parts (" +
+        "print{pieces = \"one\"}: the form falls apart into " + std::to_string(rep.pieces) + " parts" +
+        pieces_text(mesh, rep.scale, moved ? centre : core::Vec3::Zero()) + " (" +
         (join_by_shell ? "print.shell = true adds the cell sheet, which joins the trees it connects; " : "") +
         (spec.flat_base > 0 ? "lower print.flat_base, " : "") +
         "raise print.min_radius, grow longer, or set pieces = \"warn\")");
   if (rep.pieces > 1 && spec.pieces == "warn")
     err << "cellform: warning: the printable form has " << rep.pieces << " separate parts"
+        << pieces_text(mesh, rep.scale, moved ? centre : core::Vec3::Zero())
         << (join_by_shell ? " (print.shell = true adds the cell sheet, which joins the trees it connects)" : "")
         << "\n";
   if (rep.cavities > 0 && !spec.fill_cavities)  // said even when quiet, as the parts: a print problem

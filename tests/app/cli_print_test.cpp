@@ -135,7 +135,15 @@ TEST_CASE("print{} writes a printable solid that cellform check accepts", "[cli]
                              "print { pieces = 'one' }\n");
     r = cli({"run", two.string(), "--out", (t.path / "two").string(), "--quiet"});
     CHECK(r.code == 1);
-    CHECK_THAT(r.err, Contains("falls apart into 2 parts (print.shell = true adds the cell sheet"));
+    CHECK_THAT(r.err, Contains("falls apart into 2 parts: the largest ") &&
+                          Contains(" (model units) (print.shell = true adds the cell sheet"));
+    // the smaller part is placed where the script has it: on one of the lines, 20 to 30 units out
+    const std::size_t about = r.err.find("; the other ");
+    REQUIRE(about != std::string::npos);
+    const std::size_t brace = r.err.find("about {", about) + 7;
+    const double x = std::stod(r.err.substr(brace, r.err.find(',', brace) - brace));
+    CHECK(std::abs(x) >= 20);
+    CHECK(std::abs(x) <= 30);
     CHECK(fs::exists(t.path / "two" / "checkpoint.cfck"));  // nothing else is lost
     // and another try of the print needs no growth again: said how
     CHECK_THAT(r.err, Contains("to print again with other print.* values: cellform resume " +
