@@ -141,21 +141,23 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
       out << "wall thickness: not measurable (no ray from the surface left the solid through another wall)\n";
     if (stand.measured) {
       const bool rocks = stand.margin <= 0 && !exporters::falls(stand);
+      const auto degrees = [](double a) {  // to a tenth
+        const double tenth = std::round(a * 10) / 10;
+        return core::number_text(tenth) + (tenth == 1 ? " degree" : " degrees");
+      };
       if (stand.margin > 0)
-        out << "stands on the bed (the plane of its lowest point): tips over when tilted " << stand.tip_angle
-            << " degrees; ";
+        out << "stands on the bed (the plane of its lowest point): tips over when tilted " << degrees(stand.tip_angle)
+            << "; ";
       else if (rocks)
-        out << "rocks " << stand.settle_angle
-            << " degrees onto more of its underside from the plane of its lowest point, where it does not stand: ";
+        out << "rocks " << degrees(stand.settle_angle)
+            << " onto more of its underside from the plane of its lowest point, where it does not stand: ";
       else
         out << "does NOT stand by itself on the bed (the plane of its lowest point): ";
       out << "its centre of mass (" << stand.centre_of_mass.x() << ", " << stand.centre_of_mass.y() << ", "
           << stand.centre_of_mass.z() << ") lies " << std::abs(stand.margin)
           << (stand.margin > 0 ? " inside" : " beyond") << " the edge of its footprint (area " << stand.footprint_area
           << ": the convex hull of what lies within " << exporters::kFirstLayer << " of the bed, a first layer in mm)"
-          << (rocks ? ""
-                    : "; tipped over that edge it rolls " + core::number_text(stand.settle_angle) +
-                          " degrees before it rests")
+          << (rocks ? "" : "; tipped over that edge it rolls " + degrees(stand.settle_angle) + " before it rests")
           << "\n";
       if (exporters::falls(stand))
         out << "  "

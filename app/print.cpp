@@ -113,6 +113,7 @@ exporters::ThickenParams thicken_params(const PrintSpec& spec, int threads, doub
   tp.threads = threads;
   tp.fill_cavities = spec.fill_cavities;
   tp.flat_base = spec.flat_base;
+  tp.lay_flat = spec.lay_flat;
   tp.close_holes = close_holes;
   tp.close_holes_max = spec.close_holes_max;
   return tp;
@@ -152,8 +153,8 @@ json say_stand(std::ostream& err, const exporters::PrintableMesh& mesh, double f
       cut > 0 ? "print.flat_base = " + core::number_text(base) + " gives it a flat foot that tips only past " +
                     core::number_text(exporters::kFootTip) + " degrees"
       : st.margin <= 0
-          ? "no cut off its lower half, in one piece, gives it a foot that stands: print it with supports, "
-            "turned, or on a base"
+          ? "no cut off its lower half, in one piece, gives it a foot that tips only past " +
+                core::number_text(exporters::kFootTip) + " degrees: print it with supports, turned, or on a base"
           : "no cut off its lower half, in one piece, gives it a foot that tips only past " +
                 core::number_text(exporters::kFootTip) + " degrees (a brim, or a base, steadies it)";
   if (st.margin <= 0)
@@ -170,7 +171,7 @@ json say_stand(std::ostream& err, const exporters::PrintableMesh& mesh, double f
   return j;
 }
 
-/// ": the largest W x D x H mm; the others ... at {x, y, z} (model units)" for a printed solid of several
+/// ": the largest W x D x H mm about {x, y, z}; the others ..., places in model units" for a printed solid of several
 /// pieces (surfaces of positive volume; cavities are not pieces), the smaller ones where a script places them:
 /// the mesh is in mm, (model - centre) * scale.
 std::string pieces_text(const exporters::PrintableMesh& mesh, double scale, const core::Vec3& centre) {
@@ -203,17 +204,16 @@ std::string pieces_text(const exporters::PrintableMesh& mesh, double scale, cons
     return core::number_text(std::round(d.x() * 10) / 10) + " x " + core::number_text(std::round(d.y() * 10) / 10) +
            " x " + core::number_text(std::round(d.z() * 10) / 10) + " mm";
   };
-  std::string text = ": the largest " + size(solid[0]) + "; ";
-  for (std::size_t k = 1; k < solid.size() && k <= 3; ++k) {
-    const core::Vec3 at = (solid[k].lo + solid[k].hi) / 2 / scale + centre;
-    text += (k > 1               ? ", "
-             : solid.size() == 2 ? "the other "
-                                 : "the others ") +
-            size(solid[k]) + " about " +
-            core::point_text(std::round(at.x() * 10) / 10, std::round(at.y() * 10) / 10, std::round(at.z() * 10) / 10);
-  }
+  auto place = [&](const Piece& q) {
+    const core::Vec3 at = (q.lo + q.hi) / 2 / scale + centre;
+    return " about " +
+           core::point_text(std::round(at.x() * 10) / 10, std::round(at.y() * 10) / 10, std::round(at.z() * 10) / 10);
+  };
+  std::string text = ": the largest " + size(solid[0]) + place(solid[0]) + "; ";
+  for (std::size_t k = 1; k < solid.size() && k <= 3; ++k)
+    text += (k > 1 ? ", " : solid.size() == 2 ? "the other " : "the others ") + size(solid[k]) + place(solid[k]);
   if (solid.size() > 4) text += " and " + std::to_string(solid.size() - 4) + " more";
-  return text + " (model units)";
+  return text + ", places in model units";
 }
 
 }  // namespace

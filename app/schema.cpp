@@ -351,6 +351,10 @@ std::vector<Field> build() {
   f.push_back(num("print", "close_holes_max", "2", 0, 100, false, "mm",
                   "shell: the closing's radius r at most this (0 = no cap): at a large print scale half a cell "
                   "spacing is many millimetres, and a closing that large fills the space between nearby folds"));
+  f.push_back(boolean("print", "lay_flat", "false",
+                      "raise each vein by its radius as printed, so that a flat form's veins, thick and thin, all rest "
+                      "on its lowest plane, the printer's bed (centred on the form's surface, thin veins float above "
+                      "the thickest: a colonisation leaf's outer veins up to a few mm); not the shell"));
   f.push_back(num("print", "flat_base", "0", 0, 1e5, false, "mm",
                   "cut this much off the bottom of the form so it stands on a flat face (0 = no cut); the voxels "
                   "within two of the cut are meshed without adaptivity, so that the face stays flat: a wide "

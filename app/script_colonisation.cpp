@@ -128,8 +128,11 @@ std::string script_colonisation_message(const std::string& message) {
 /// domain's tolerance (a point on a round shape typed where the mesh has facets), moved onto it, with a note.
 void snap_seeds(Impl& I, const venation::Domain& d, std::vector<Vec3>& seeds, const std::string& at) {
   if (d.mesh.triangles.empty() || d.mesh.vertices.empty()) return;  // (the domain's check says what is wrong)
-  Vec3 lo = d.mesh.vertices.front(), hi = lo;
-  for (const Vec3& q : d.mesh.vertices) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;  // as the domain's box: of triangles
+  for (const auto& t : d.mesh.triangles)
+    for (const auto i : t)
+      if (static_cast<std::size_t>(i) < d.mesh.vertices.size())
+        lo = lo.cwiseMin(d.mesh.vertices[i]), hi = hi.cwiseMax(d.mesh.vertices[i]);
   const double tol = 1e-6 * (hi - lo).norm();
   venation::Domain probe = d;  // seeded on the mesh itself, to be measured against
   const auto first = static_cast<std::size_t>(d.mesh.triangles.front()[0]);

@@ -86,6 +86,7 @@ struct PrintSpec {
   std::string pieces = "warn";              ///< any, warn, one
   bool fill_cavities = false;               ///< fill closed pockets inside the solid
   double flat_base = 0;                     ///< mm cut off the bottom for a flat base (0 = none)
+  bool lay_flat = false;                    ///< each vein raised by its radius: a flat form's veins rest on its plane
   double close_holes = 1;                   ///< cell spacings: holes in the shell up to this size are filled
   double close_holes_max = 2;               ///< mm: the closing's radius at most (0 = no cap)
 };

@@ -208,6 +208,7 @@ void section_print(Impl& I, const std::string& at) {
   p.pieces = v["pieces"].str;
   p.fill_cavities = v["fill_cavities"].flag;
   p.flat_base = v["flat_base"].num;
+  p.lay_flat = v["lay_flat"].flag;
   p.close_holes = v["close_holes"].num;
   p.close_holes_max = v["close_holes_max"].num;
   if (p.shell && p.scale == 0 && p.shell_thickness >= p.size)  // the auto scale fits the form, not its walls

@@ -262,10 +262,12 @@ LevelSet voxelise(const std::vector<Segment>& segments, const std::vector<std::a
   for (const Segment& s : segments) {
     const double ra = std::max(s.ra * scale, params.min_radius), rb = std::max(s.rb * scale, params.min_radius);
     thinnest = std::min({thinnest, ra, rb});
-    bottom = std::min({bottom, s.a.z() * scale - ra, s.b.z() * scale - rb});
-    top = std::max({top, s.a.z() * scale + ra, s.b.z() * scale + rb});
+    const Vec3 a = s.a * scale + Vec3(0, 0, params.lay_flat ? ra : 0),
+               b = s.b * scale + Vec3(0, 0, params.lay_flat ? rb : 0);
+    bottom = std::min({bottom, a.z() - ra, b.z() - rb});
+    top = std::max({top, a.z() + ra, b.z() + rb});
     raised += (s.ra * scale < params.min_radius) + (s.rb * scale < params.min_radius);
-    caps.emplace_back(s.a * scale, s.b * scale, ra, rb);
+    caps.emplace_back(a, b, ra, rb);
     const double len = (s.b - s.a).norm() * scale;
     area += M_PI * (ra + rb) * std::hypot(len, ra - rb);
     if (free_end(s.a)) area += 2 * M_PI * ra * ra;

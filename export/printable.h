@@ -57,6 +57,9 @@ struct ThickenParams {
   /// mm: cut this much off the bottom of the solid (its lowest z, after scaling) so that it stands on a
   /// flat face instead of the round end of a vein; 0 = no cut. Must be less than the solid's height.
   double flat_base = 0;
+  /// raise each vein end by its radius as printed (mm), so that a flat form's veins, thick and thin, all rest on
+  /// its lowest plane instead of being centred on it (the shell is not moved)
+  bool lay_flat = false;
   /// model units: close the shell (dilate by this radius r, then erode by it), so that gaps in the triangle
   /// soup narrower than 2 sqrt(h^2 + 2 h r) (h = half the shell's thickness, in mm after scaling) are
   /// filled, thinner at their middle; 0 = the shell as given. Veins are not affected.

@@ -95,14 +95,13 @@ P2 tipping_edge(const std::vector<P2>& h, const P2& p, P2& out) {
 /// what touches the bed (the points within `layer` of it): quasi-static, each turn about that edge until the
 /// next point meets the bed, at most 100 turns.
 double roll_to_rest(const PrintableMesh& m, const Vec3& g, double layer, double tilt) {
+  std::vector<char> used(m.vertices.size(), 0);
+  for (const auto& t : m.triangles)
+    for (const std::uint32_t i : t) used[i] = 1;
   std::vector<Vec3> p;
   p.reserve(m.vertices.size() + 1);
-  for (const auto& t : m.triangles)
-    for (const std::uint32_t i : t) p.push_back(m.vertices[i]);
-  std::sort(p.begin(), p.end(), [](const Vec3& a, const Vec3& b) {
-    return a.x() < b.x() || (a.x() == b.x() && (a.y() < b.y() || (a.y() == b.y() && a.z() < b.z())));
-  });
-  p.erase(std::unique(p.begin(), p.end()), p.end());
+  for (std::size_t i = 0; i < m.vertices.size(); ++i)
+    if (used[i]) p.push_back(m.vertices[i]);
   p.push_back(g);  // turned with the rest
   Eigen::Matrix3d turned = Eigen::Matrix3d::Identity();
   double extent = 0;
@@ -264,7 +263,9 @@ Stand stand_on_bed(const PrintableMesh& m, double first_layer) {
   s.footprint_area = hull_area(footprint);
   s.margin = signed_margin(footprint, P2(s.centre_of_mass.x(), s.centre_of_mass.y()));
   s.tip_angle = std::atan2(s.margin, s.centre_of_mass.z() - s.bed_z) * 180 / M_PI;
+  // (standing, the roll after the tilt that tips it)
   s.settle_angle = roll_to_rest(m, s.centre_of_mass, first_layer, s.margin > 0 ? s.tip_angle : 0.0);
+  if (s.margin > 0) s.settle_angle = std::max(0.0, s.settle_angle - s.tip_angle);
   return s;
 }
 

@@ -32,8 +32,8 @@ struct Stand {
   double tip_angle = 0;
   /// degrees: how far it turns from where it lies until it rests, rolling over the edge of what touches the bed
   /// (the hull of its vertices within first_layer of it) while its centre of mass lies beyond it, each turn
-  /// until the next vertex meets the bed (quasi-static, at most 100 turns); when it stands, after a tilt just
-  /// past tip_angle.
+  /// until the next vertex meets the bed (quasi-static, at most 100 turns); when it stands, how far it rolls on
+  /// after a tilt just past tip_angle.
   /// Under a few degrees it rocks onto more of its underside (a flat leaf whose lowest point is a thick vein)
   /// rather than falling over
   double settle_angle = 0;

@@ -67,5 +67,5 @@ colonisation {
   murray_exponent = 3, -- n = 3 for the developmental model
 }
 
-print { formats = "stl" }
+print { formats = "stl", lay_flat = true }
 output { png = true }  -- veins.png, a preview of veins.svg

@@ -31,5 +31,5 @@ colonisation {
   node_flow = 0.05,  -- Section 3.5: main veins widened for the veinlets this open pattern leaves out
 }
 
-print { formats = "stl" }
+print { formats = "stl", lay_flat = true }
 output { png = true }  -- veins.png, a preview of veins.svg

@@ -42,5 +42,5 @@ colonisation {
 -- closed plate with pinholes (a lattice needs a print several times larger, or a smaller leaf: above). At full size
 -- 4.45 million segments thicken in about 47 s with 3 GB at the peak; the estimate before thickening says
 -- 4.5 GB, above the default limit of 2000 MB, hence max_memory.
-print { formats = "stl", max_memory = 5000 }
+print { formats = "stl", lay_flat = true, max_memory = 5000 }
 output { png = true }  -- veins.png, a preview of veins.svg

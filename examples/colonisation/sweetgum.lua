@@ -32,5 +32,5 @@ colonisation {
   murray_exponent = 2,
 }
 
-print { formats = "stl" }
+print { formats = "stl", lay_flat = true }
 output { png = true }  -- veins.png, a preview of veins.svg

@@ -565,3 +565,22 @@ TEST_CASE("the plan is told before any voxel is made, as the report gives it", "
   exporters::thicken({{{0, 0, 0}, {10, 0, 0}, 1, 1}}, {}, p);
   CHECK(told == 1);
 }
+
+TEST_CASE("lay_flat rests a flat form's thick and thin veins on one plane", "[printable]") {
+  // two parallel veins in z = 0, radii 1 and 0.4 mm: centred, the thin one's underside is 0.6 mm above the thick
+  // one's; laid flat, both rest on z = 0
+  const std::vector<exporters::Segment> veins = {{{0, 0, 0}, {10, 0, 0}, 1, 1}, {{0, 5, 0}, {10, 5, 0}, 0.4, 0.4}};
+  for (const bool flat : {false, true}) {
+    CAPTURE(flat);
+    ThickenParams p = exact(0.05);
+    p.lay_flat = flat;
+    ThickenReport rep;
+    const auto m = exporters::thicken(veins, {}, p, &rep);
+    require_printable(m);
+    double thick = 1e9, thin = 1e9;
+    for (const Vec3& v : m.vertices) (v.y() < 2.5 ? thick : thin) = std::min(v.y() < 2.5 ? thick : thin, v.z());
+    CHECK(thick == Approx(flat ? 0 : -1).margin(0.05));
+    CHECK(thin == Approx(flat ? 0 : -0.4).margin(0.05));
+    CHECK(rep.parts == 2);
+  }
+}
