@@ -136,6 +136,8 @@ double roll_to_rest(const PrintableMesh& m, const Vec3& g, double layer, double 
   return std::acos(std::clamp((turned * Vec3::UnitZ()).z(), -1.0, 1.0)) * 180 / M_PI;
 }
 
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
 /// The volume and first moment of a closed surface's solid where z >= cut (every triangle clipped to that
 /// half-space; the cap on the cut plane adds nothing, as each tetrahedron's apex lies in that plane), and the
 /// plan points of the section (z = cut) or, with `below` set, of the surface where z <= cut.
@@ -145,7 +147,11 @@ struct Clipped {
   std::vector<P2> points;
 };
 
-Clipped clip(const PrintableMesh& m, double cut, const P2& apex_plan, bool below) {
+/// With `roots` (per welded vertex, kNone below the cut; `canon` welds) and `volumes`, each triangle's part of
+/// the volume is also added to its surface's root (the corners above a cut of one triangle share a root).
+Clipped clip(const PrintableMesh& m, double cut, const P2& apex_plan, bool below,
+             const std::vector<std::uint32_t>* canon = nullptr, const std::vector<std::uint32_t>* roots = nullptr,
+             std::vector<double>* volumes = nullptr) {
   Clipped c;
   const Vec3 apex(apex_plan.x(), apex_plan.y(), cut);
   std::array<Vec3, 4> poly;
@@ -168,17 +174,23 @@ Clipped clip(const PrintableMesh& m, double cut, const P2& apex_plan, bool below
     }
     for (std::size_t i = 0; i < n; ++i)
       if (poly[i].z() == cut) c.points.emplace_back(poly[i].x(), poly[i].y());
+    double part = 0;
     for (std::size_t i = 1; i + 1 < n; ++i) {
       const Vec3 a = poly[0] - apex, b = poly[i] - apex, d = poly[i + 1] - apex;
       const double six = a.dot(b.cross(d));
-      c.volume += six / 6;
+      part += six / 6;
       c.moment += six / 6 * (apex + (a + b + d) / 4);
     }
+    c.volume += part;
+    if (volumes && n >= 3)
+      for (const std::uint32_t k : t)
+        if (const std::uint32_t r = (*roots)[(*canon)[k]]; r != kNone) {
+          (*volumes)[r] += part;
+          break;
+        }
   }
   return c;
 }
-
-constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
 /// The connected surfaces of the part of a mesh above `cut` (all of it for cut = -infinity), through its
 /// triangles' corners above the cut (a triangle's part above the cut joins them): each welded vertex's root
@@ -206,30 +218,27 @@ std::vector<std::uint32_t> roots_above(const PrintableMesh& m, const std::vector
   return parent;
 }
 
-/// Whether a cut leaves more pieces above it than there are surfaces of the whole that reach above it (a
-/// branch joined to the rest only below the cut; a shell open downwards, whose outer and inner faces above the
-/// cut join only through its cap, counts as parted too: no such cut is offered).
-bool parts(const PrintableMesh& m, const std::vector<std::uint32_t>& canon, const std::vector<std::uint32_t>& whole,
-           double cut) {
+/// The tip angle (degrees) of what lies above `cut`, standing on its section there; NaN when it has no volume,
+/// or falls apart: when more of its surfaces above the cut enclose a positive volume there (pieces; the inner
+/// face of a shell open downwards encloses a negative one, as a pocket does) than there are pieces of the whole
+/// (`whole` roots, `whole_volume` by root) that reach above the cut (a branch joined to the rest only below it).
+double tip_above(const PrintableMesh& m, const std::vector<std::uint32_t>& canon,
+                 const std::vector<std::uint32_t>& whole, const std::vector<double>& whole_volume, double cut,
+                 const P2& centre) {
   const std::vector<std::uint32_t> above = roots_above(m, canon, cut);
+  std::vector<double> volume(m.vertices.size(), 0.0);
+  const Clipped c = clip(m, cut, centre, false, &canon, &above, &volume);
+  if (!(c.volume > 0)) return std::numeric_limits<double>::quiet_NaN();
   std::vector<std::uint32_t> reaching;
   std::size_t pieces = 0;
   for (std::uint32_t i = 0; i < above.size(); ++i)
     if (above[i] != kNone) {
-      pieces += above[i] == i;
-      reaching.push_back(whole[i]);
+      pieces += above[i] == i && volume[i] > 0;
+      if (whole_volume[whole[i]] > 0) reaching.push_back(whole[i]);
     }
   std::sort(reaching.begin(), reaching.end());
-  return pieces > static_cast<std::size_t>(std::unique(reaching.begin(), reaching.end()) - reaching.begin());
-}
-
-/// The tip angle (degrees) of what lies above `cut`, standing on its section there; NaN when it has no volume
-/// or parts (see parts()).
-double tip_above(const PrintableMesh& m, const std::vector<std::uint32_t>& canon,
-                 const std::vector<std::uint32_t>& whole, double cut, const P2& centre) {
-  if (parts(m, canon, whole, cut)) return std::numeric_limits<double>::quiet_NaN();
-  const Clipped c = clip(m, cut, centre, false);
-  if (!(c.volume > 0)) return std::numeric_limits<double>::quiet_NaN();
+  if (pieces > static_cast<std::size_t>(std::unique(reaching.begin(), reaching.end()) - reaching.begin()))
+    return std::numeric_limits<double>::quiet_NaN();
   const Vec3 g = c.moment / c.volume;
   const double margin = signed_margin(convex_hull(c.points), P2(g.x(), g.y()));
   return std::atan2(margin, g.z() - cut) * 180 / M_PI;
@@ -276,13 +285,15 @@ double base_cut_to_stand(const PrintableMesh& m, double min_tip_angle, double ma
   const double height = box.hi.z() - box.lo.z();
   const std::vector<std::uint32_t> canon = weld_positions(m.vertices);
   const std::vector<std::uint32_t> whole = roots_above(m, canon, -std::numeric_limits<double>::infinity());
+  std::vector<double> whole_volume(m.vertices.size(), 0.0);  // by root: pieces > 0, pockets < 0
+  clip(m, box.lo.z() - 1, centre, false, &canon, &whole, &whole_volume);
   std::vector<double> tip(static_cast<std::size_t>(heights), std::numeric_limits<double>::quiet_NaN());
   core::parallel_for(
       tip.size(), threads,
       [&](std::size_t begin, std::size_t end) {
         for (std::size_t k = begin; k < end; ++k)
-          tip[k] = tip_above(m, canon, whole, box.lo.z() + height * max_fraction * static_cast<double>(k + 1) / heights,
-                             centre);
+          tip[k] = tip_above(m, canon, whole, whole_volume,
+                             box.lo.z() + height * max_fraction * static_cast<double>(k + 1) / heights, centre);
       },
       1);
   for (std::size_t k = 0; k < tip.size(); ++k)

@@ -181,6 +181,31 @@ TEST_CASE("a cut that would part the solid into pieces does not count", "[stand]
   CHECK(exporters::base_cut_to_stand(stray, 10) == 0);
 }
 
+TEST_CASE("a cut through a shell open downwards leaves one piece", "[stand]") {
+  // a cup upside down: a box 10 wide and high, hollow 8 wide and 9 high from its open bottom; above a cut its
+  // outer and inner faces join only through the cut's cap, and the inner one encloses a negative volume
+  PrintableMesh cup;
+  for (const double w : {0.0, 1.0})
+    for (int i = 0; i < 8; ++i) cup.vertices.emplace_back(i & 1 ? 10 - w : w, i & 2 ? 10 - w : w, i & 4 ? 10 - w : 0);
+  const std::uint32_t sides[5][4] = {{4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : sides) {
+    cup.triangles.push_back({q[0], q[1], q[2]});
+    cup.triangles.push_back({q[0], q[2], q[3]});
+    cup.triangles.push_back({q[0] + 8, q[2] + 8, q[1] + 8});  // the hollow's faces look into it
+    cup.triangles.push_back({q[0] + 8, q[3] + 8, q[2] + 8});
+  }
+  const std::uint32_t rim[5] = {0, 2, 3, 1, 0};  // the bottom square, facing down
+  for (int k = 0; k < 4; ++k) {
+    const std::uint32_t a = rim[k], b = rim[k + 1];
+    cup.triangles.push_back({a, b, b + 8});
+    cup.triangles.push_back({a, b + 8, a + 8});
+  }
+  const exporters::MeshReport r = exporters::check_mesh(cup);
+  REQUIRE(r.printable());
+  REQUIRE(r.pieces == 1);
+  CHECK(exporters::base_cut_to_stand(cup, 1) == Approx(0.1));  // the first cut tried, a fiftieth of half of 10
+}
+
 TEST_CASE("a flat plate lying a degree off the bed rocks onto its underside rather than falling", "[stand]") {
   // 40 x 40 x 2, turned 1 degree about y: it touches along an edge, its centre 20 mm off, and lies flat after a
   // turn of one degree about its low edge, onto its face
