@@ -157,7 +157,10 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
           << stand.centre_of_mass.z() << ") lies " << std::abs(stand.margin)
           << (stand.margin > 0 ? " inside" : " beyond") << " the edge of its footprint (area " << stand.footprint_area
           << ": the convex hull of what lies within " << exporters::kFirstLayer << " of the bed, a first layer in mm)"
-          << (rocks ? "" : "; tipped over that edge it rolls " + degrees(stand.settle_angle) + " before it rests")
+          << (rocks ? ""
+                    : (std::round(stand.settle_angle * 10) == 0
+                           ? "; tipped over that edge it comes to rest at once"
+                           : "; tipped over that edge it rolls " + degrees(stand.settle_angle) + " before it rests"))
           << "\n";
       if (exporters::falls(stand))
         out << "  "

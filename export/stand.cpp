@@ -90,10 +90,10 @@ P2 tipping_edge(const std::vector<P2>& h, const P2& p, P2& out) {
   return nearest;
 }
 
-/// Degrees the solid turns, from where it lies (first tilted `tilt` degrees over its footprint's edge nearest the
-/// centre of mass `g`, when it stands), rolling over the edge its centre of mass lies beyond until that is over
-/// what touches the bed (the points within `layer` of it): quasi-static, each turn about that edge until the
-/// next point meets the bed, at most 100 turns.
+/// Degrees the solid turns, from where it lies (or, when it stands, from where a tilt of `tilt` degrees over its
+/// footprint's edge nearest the centre of mass `g` leaves it), rolling over the edge its centre of mass lies beyond
+/// until that is over what touches the bed (the points within `layer` of it): quasi-static, each turn about that edge
+/// until the next point meets the bed, at most 100 turns.
 double roll_to_rest(const PrintableMesh& m, const Vec3& g, double layer, double tilt) {
   std::vector<char> used(m.vertices.size(), 0);
   for (const auto& t : m.triangles)
@@ -104,6 +104,7 @@ double roll_to_rest(const PrintableMesh& m, const Vec3& g, double layer, double 
     if (used[i]) p.push_back(m.vertices[i]);
   p.push_back(g);  // turned with the rest
   Eigen::Matrix3d turned = Eigen::Matrix3d::Identity();
+  Vec3 from = Vec3::UnitZ();  // up when the roll begins: after the tilt that tips it, when it stands
   double extent = 0;
   for (const Vec3& q : p) extent = std::max(extent, (q - p.front()).norm());
   for (int turn = 0; turn < 100; ++turn) {
@@ -132,8 +133,9 @@ double roll_to_rest(const PrintableMesh& m, const Vec3& g, double layer, double 
     const Vec3 pivot(edge.x(), edge.y(), bed);
     for (Vec3& q : p) q = pivot + r * (q - pivot);
     turned = r.toRotationMatrix() * turned;
+    if (turn == 0 && tilt > 0) from = turned * Vec3::UnitZ();
   }
-  return std::acos(std::clamp((turned * Vec3::UnitZ()).z(), -1.0, 1.0)) * 180 / M_PI;
+  return std::acos(std::clamp((turned * Vec3::UnitZ()).dot(from), -1.0, 1.0)) * 180 / M_PI;
 }
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
@@ -272,9 +274,7 @@ Stand stand_on_bed(const PrintableMesh& m, double first_layer) {
   s.footprint_area = hull_area(footprint);
   s.margin = signed_margin(footprint, P2(s.centre_of_mass.x(), s.centre_of_mass.y()));
   s.tip_angle = std::atan2(s.margin, s.centre_of_mass.z() - s.bed_z) * 180 / M_PI;
-  // (standing, the roll after the tilt that tips it)
   s.settle_angle = roll_to_rest(m, s.centre_of_mass, first_layer, s.margin > 0 ? s.tip_angle : 0.0);
-  if (s.margin > 0) s.settle_angle = std::max(0.0, s.settle_angle - s.tip_angle);
   return s;
 }
 

@@ -574,6 +574,7 @@ TEST_CASE("lay_flat rests a flat form's thick and thin veins on one plane", "[pr
     CAPTURE(flat);
     ThickenParams p = exact(0.05);
     p.lay_flat = flat;
+    p.min_radius = 0.3;
     ThickenReport rep;
     const auto m = exporters::thicken(veins, {}, p, &rep);
     require_printable(m);
@@ -583,4 +584,16 @@ TEST_CASE("lay_flat rests a flat form's thick and thin veins on one plane", "[pr
     CHECK(thin == Approx(flat ? 0 : -0.4).margin(0.05));
     CHECK(rep.parts == 2);
   }
+  // by its radius as printed: raised to min_radius = 0.6 mm, the thin vein rests on the bed too, and the form is
+  // the thick vein's 2 mm high
+  ThickenParams p = exact(0.05);
+  p.lay_flat = true;
+  p.min_radius = 0.6;
+  ThickenReport rep;
+  const auto m = exporters::thicken(veins, {}, p, &rep);
+  double thin = 1e9;
+  for (const Vec3& v : m.vertices)
+    if (v.y() > 2.5) thin = std::min(thin, v.z());
+  CHECK(thin == Approx(0).margin(0.05));
+  CHECK(rep.height == Approx(2).margin(0.1));
 }

@@ -166,11 +166,10 @@ TEST_CASE("a cut that would part the solid into pieces does not count", "[stand]
   CHECK(cut > 0);
   CHECK(cut < crotch);
   CHECK(exporters::base_cut_to_stand(v, 10) == 0);  // only above it, in two
-  // as much with a sealed pocket in its point, or a vertex no triangle uses: the surfaces that reach above a cut
-  // are what it is compared with (the pocket's lies below)
+  // as much with a sealed pocket in a leg above the crotch (its surface reaches above the cut, but is no piece
+  // of the whole), or a vertex no triangle uses
   PrintableMesh pocket = v;
-  const PrintableMesh hole =
-      hexahedron([](const Vec3& p) { return Vec3(-0.1 + 0.2 * p.x(), 5 + p.y(), 2 + 0.5 * p.z()); });
+  const PrintableMesh hole = hexahedron([](const Vec3& p) { return Vec3(1.2 + 0.6 * p.x(), 5 + p.y(), 15 + p.z()); });
   for (const auto& f : hole.triangles)
     pocket.triangles.push_back({f[0] + 12, f[2] + 12, f[1] + 12});  // wound into the pocket
   pocket.vertices.insert(pocket.vertices.end(), hole.vertices.begin(), hole.vertices.end());
