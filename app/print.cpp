@@ -314,7 +314,8 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
           << " mm) cuts away the lower " << core::number_text(std::round(100 * spec.flat_base / plan.height))
           << "% of the form's " << core::number_text(std::round(plan.height * 10) / 10)
           << " mm height, and what is left may be thinner than print.min_radius promises (a flat form prints "
-             "lying flat: flat_base = 0, or a cut of a millimetre or so)\n";
+             "lying flat: flat_base = 0, or a cut of a millimetre or so, and print.lay_flat = true rests all its veins "
+             "on the bed)\n";
     if (plan.voxel_raised_from > 0)  // said even when quiet: the print is coarser than the default promises
       err << "cellform: note: print: the automatic voxel size " << plan.voxel_raised_from
           << (plan.voxel_raised_from < spec.min_radius / 2 ? " mm (half print.shell_thickness) "
