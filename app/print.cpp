@@ -17,6 +17,7 @@
 #include "app/run_internal.h"
 #include "cells/surface.h"
 #include "core/errors.h"
+#include "export/mesh_check.h"
 #include "export/mesh_files.h"
 #include "export/printable.h"
 #include "export/stand.h"
@@ -175,21 +176,14 @@ json say_stand(std::ostream& err, const exporters::PrintableMesh& mesh, double f
 /// pieces (surfaces of positive volume; cavities are not pieces), the smaller ones where a script places them:
 /// the mesh is in mm, (model - centre) * scale.
 std::string pieces_text(const exporters::PrintableMesh& mesh, double scale, const core::Vec3& centre) {
-  std::vector<std::uint32_t> parent(mesh.vertices.size());
-  for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
-  const auto root = [&](std::uint32_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  for (const auto& t : mesh.triangles)
-    for (int k = 1; k < 3; ++k) parent[root(t[k])] = root(t[0]);
+  const std::vector<std::uint32_t> part = exporters::part_labels(mesh);
   struct Piece {
     double volume = 0;
     core::Vec3 lo = core::Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   };
   std::vector<Piece> piece(mesh.vertices.size());
   for (const auto& t : mesh.triangles) {
-    Piece& q = piece[root(t[0])];
+    Piece& q = piece[part[t[0]]];
     const core::Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
     q.volume += a.dot(b.cross(c)) / 6;
     for (const core::Vec3* v : {&a, &b, &c}) q.lo = q.lo.cwiseMin(*v), q.hi = q.hi.cwiseMax(*v);

@@ -12,29 +12,14 @@
 
 #include "core/errors.h"
 #include "core/parallel.h"
+#include "core/union_find.h"
 
 namespace cellform::exporters {
 
 using core::Vec3;
 using Tri = std::array<std::uint32_t, 3>;
 
-namespace {
-
-struct UnionFind {
-  std::vector<std::uint32_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);  // smallest index is the root: deterministic
-  }
-};
-
-}  // namespace
+using core::UnionFind;
 
 std::vector<std::uint32_t> weld_positions(const std::vector<Vec3>& v) {
   std::vector<std::uint32_t> order(v.size());
@@ -70,16 +55,24 @@ double surface_area(const PrintableMesh& m) {
   return s / 2;
 }
 
-std::size_t count_parts(const PrintableMesh& m) {
+std::vector<std::uint32_t> part_labels(const PrintableMesh& m) {
   UnionFind uf(m.vertices.size());
-  std::vector<char> used(m.vertices.size(), 0);
   for (const Tri& t : m.triangles) {
     uf.unite(t[0], t[1]);
     uf.unite(t[0], t[2]);
-    used[t[0]] = used[t[1]] = used[t[2]] = 1;
   }
+  // a parent's index is never above its child's, so in index order each parent already holds its root
+  std::vector<std::uint32_t> label = std::move(uf.parent);
+  for (std::uint32_t i = 0; i < label.size(); ++i) label[i] = label[label[i]];
+  return label;
+}
+
+std::size_t count_parts(const PrintableMesh& m) {
+  const std::vector<std::uint32_t> label = part_labels(m);
+  std::vector<char> used(m.vertices.size(), 0);
+  for (const Tri& t : m.triangles) used[t[0]] = used[t[1]] = used[t[2]] = 1;
   std::size_t parts = 0;
-  for (std::uint32_t i = 0; i < m.vertices.size(); ++i) parts += used[i] && uf.find(i) == i;
+  for (std::uint32_t i = 0; i < m.vertices.size(); ++i) parts += used[i] && label[i] == i;
   return parts;
 }
 

@@ -97,6 +97,9 @@ double solid_angle(const core::Vec3& a, const core::Vec3& b, const core::Vec3& c
 double signed_volume(const PrintableMesh& mesh);
 /// Sum of triangle areas (units^2).
 double surface_area(const PrintableMesh& mesh);
+/// Each vertex's connected component through shared vertex indices (no welding), named by its smallest vertex
+/// index (a vertex no triangle uses is a component of its own).
+std::vector<std::uint32_t> part_labels(const PrintableMesh& mesh);
 /// Connected components through shared vertex indices (no welding).
 std::size_t count_parts(const PrintableMesh& mesh);
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/parallel.h"
+#include "core/union_find.h"
 #include "export/mesh_check.h"
 
 namespace cellform::exporters {
@@ -48,11 +49,10 @@ double hull_area(const std::vector<P2>& h) {
   return h.size() < 3 ? 0.0 : a / 2;
 }
 
-double segment_distance(const P2& p, const P2& a, const P2& b) {
+P2 closest_on_segment(const P2& p, const P2& a, const P2& b) {
   const P2 ab = b - a;
   const double len2 = ab.squaredNorm();
-  const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (p - a - t * ab).norm();
+  return a + (len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0) * ab;
 }
 
 /// Signed distance from p to the edge of the hull: positive inside, negative outside (a hull of one or two
@@ -63,7 +63,7 @@ double signed_margin(const std::vector<P2>& h, const P2& p) {
   double d = std::numeric_limits<double>::infinity();
   bool inside = h.size() >= 3;
   for (std::size_t i = 0, j = h.size() - 1; i < h.size(); j = i++) {
-    d = std::min(d, segment_distance(p, h[j], h[i]));
+    d = std::min(d, (p - closest_on_segment(p, h[j], h[i])).norm());
     if (cross(h[j], h[i], p) < 0) inside = false;
   }
   return inside ? d : -d;
@@ -76,13 +76,12 @@ P2 tipping_edge(const std::vector<P2>& h, const P2& p, P2& out) {
   P2 nearest = h.front(), normal = P2(1, 0);
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0, j = h.size() - 1; i < h.size(); j = i++) {
-    const P2 ab = h[i] - h[j];
-    const double len2 = ab.squaredNorm();
-    const P2 q = h[j] + (len2 > 0 ? std::clamp((p - h[j]).dot(ab) / len2, 0.0, 1.0) : 0.0) * ab;
+    const P2 ab = h[i] - h[j], q = closest_on_segment(p, h[j], h[i]);
     if ((p - q).norm() < best) {
       best = (p - q).norm();
       nearest = q;
-      normal = len2 > 0 ? P2(ab.y(), -ab.x()).normalized() : P2(1, 0);  // outward: the hull runs counter-clockwise
+      // outward: the hull runs counter-clockwise
+      normal = ab.squaredNorm() > 0 ? P2(ab.y(), -ab.x()).normalized() : P2(1, 0);
     }
   }
   const bool inside = signed_margin(h, p) > 0;
@@ -198,26 +197,23 @@ Clipped clip(const PrintableMesh& m, double cut, const P2& apex_plan, bool below
 /// triangles' corners above the cut (a triangle's part above the cut joins them): each welded vertex's root
 /// (`canon` welds equal positions), kNone for one at or below the cut or used by no triangle.
 std::vector<std::uint32_t> roots_above(const PrintableMesh& m, const std::vector<std::uint32_t>& canon, double cut) {
-  std::vector<std::uint32_t> parent(m.vertices.size(), kNone);
-  const auto root = [&](std::uint32_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
+  core::UnionFind sets(m.vertices.size());
+  std::vector<char> above(m.vertices.size(), 0);
   for (const auto& t : m.triangles) {
     std::uint32_t first = kNone;
-    for (const std::uint32_t v : t) {
-      const std::uint32_t i = canon[v];
-      if (!(m.vertices[i].z() > cut)) continue;
-      if (parent[i] == kNone) parent[i] = i;
-      if (first == kNone)
-        first = root(i);
-      else if (const std::uint32_t r = root(i); r != root(first))
-        parent[std::max(r, root(first))] = std::min(r, root(first));
-    }
+    for (const std::uint32_t v : t)
+      if (const std::uint32_t i = canon[v]; m.vertices[i].z() > cut) {
+        above[i] = 1;
+        if (first == kNone)
+          first = i;
+        else
+          sets.unite(first, i);
+      }
   }
-  for (std::uint32_t i = 0; i < parent.size(); ++i)
-    if (parent[i] != kNone) parent[i] = root(i);
-  return parent;
+  std::vector<std::uint32_t> root(m.vertices.size(), kNone);
+  for (std::uint32_t i = 0; i < root.size(); ++i)
+    if (above[i]) root[i] = sets.find(i);
+  return root;
 }
 
 /// The tip angle (degrees) of what lies above `cut`, standing on its section there; NaN when it has no volume,
