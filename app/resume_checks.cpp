@@ -42,6 +42,10 @@ std::string resume_command(const RunOptions& o, const fs::path& checkpoint, cons
   return hint + limit_options(o.limits);
 }
 
+std::string continue_command(const fs::path& checkpoint, const ScriptLimits& limits) {
+  return "cellform resume " + shell_word(checkpoint.string()) + limit_options(limits);
+}
+
 std::string limit_options(const ScriptLimits& limits) {
   // the script's limits are not kept in the checkpoint: a resume needs them given again
   const ScriptLimits defaults;
@@ -53,15 +57,6 @@ std::string limit_options(const ScriptLimits& limits) {
   if (limits.library_seconds != defaults.library_seconds)
     given += " --lua-seconds " + std::to_string(static_cast<std::uint64_t>(limits.library_seconds));
   return given;
-}
-
-std::string changed_colonisation_message(const std::string& what, const std::string& changed) {
-  const std::size_t saved = what.find(" was saved with"), only = what.find(": only ", saved);  // (not in the path)
-  if (saved == std::string::npos || only == std::string::npos) return what + "; changed: " + changed;
-  // the change first, from this resume's side (the checkpoint "saved with other parameters" read backwards)
-  return what.substr(0, saved) + " continues with the parameters it was saved with, and this resume " +
-         "changes them: " + changed + ". Only the thread count" +
-         what.substr(only + std::string(": only the thread count").size()) + "; start a new run for other values";
 }
 
 fs::path script_as_run(const Start& s) {

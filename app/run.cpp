@@ -156,8 +156,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                                  "' with --script, and the --set overrides of its run)");
       throw core::InvalidInput(std::string(e.what()) + " (resuming checkpoint '" + o.checkpoint.string() +
                                "', which keeps the script and the --set overrides of its run; to go on with a "
-                               "corrected copy: cellform resume " +
-                               o.checkpoint.string() + " --script EDITED.lua)");
+                               "corrected copy: " +
+                               resume_command(o, o.checkpoint, {}) + ")");
     }
     if (s.resume && cfg.colonisation.has_value() != colonisation_checkpoint)
       throw core::InvalidInput("checkpoint '" + o.checkpoint.string() + "' is of a " +
@@ -562,8 +562,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
                                     : "stopped with an error at step ")
             << sim.step_count() << ", " << sim.cells().size() << " cells" << extent_text(sim.cells().position)
             << "; outputs in " << dir.string() << "/\n";
-      if (code == interrupted && saved)
-        err << "continue with: cellform resume " << shell_word(checkpoint.string()) << limit_options(o.limits) << "\n";
+      if (code == interrupted && saved) err << "continue with: " << continue_command(checkpoint, o.limits) << "\n";
     }
     return code;
   } catch (const core::InvalidInput& e) {

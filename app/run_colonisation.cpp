@@ -204,7 +204,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                 << ")\n";
             return failure;
           }
-          err << "continue with: cellform resume " + shell_word(checkpoint.string()) + limit_options(o.limits) + "\n";
+          err << "continue with: " + continue_command(checkpoint, o.limits) + "\n";
           return interrupted;
         }
         sheet = std::move(grown.cells);
@@ -221,6 +221,14 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                                  "checkpoint '" + o.checkpoint.string() + "'");
       } catch (const core::FileError& e) {  // a damaged checkpoint is bad input (exit 2), as for a cell run
         throw core::InvalidInput(e.what());
+      } catch (const venation::ParametersChanged&) {
+        const std::string changed = changed_colonisation_values(s, cfg);
+        if (changed.empty()) throw;
+        // the change first, from this resume's side (the checkpoint "saved with other parameters" read backwards)
+        throw core::InvalidInput(
+            "checkpoint '" + o.checkpoint.string() +
+            "' continues with the parameters it was saved with, and this resume changes them: " + changed + ". Only " +
+            script_colonisation_message(venation::kContinueMayDiffer) + "; start a new run for other values");
       } catch (const core::InvalidInput& e) {
         const std::string what = e.what();
         if (what.find("another source domain") != std::string::npos) {  // not the files: the script's values
@@ -231,9 +239,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
                                      "; a resume goes on in the blade, volume or surface it started in (start a "
                                      "new run for another)");
         }
-        const std::string changed = changed_colonisation_values(s, cfg);
-        if (changed.empty() || what.find("other colonisation parameters") == std::string::npos) throw;
-        throw core::InvalidInput(changed_colonisation_message(what, changed));
+        throw;
       }
     }();
     const std::size_t first = col.report().steps;
@@ -530,7 +536,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       auto twice = [](std::size_t limit, std::size_t reached) {
         return std::to_string(std::min<std::size_t>(2 * std::max(limit, reached), 1'000'000'000));
       };
-      where << "continue with: cellform resume " << shell_word(checkpoint.string()) << limit_options(o.limits);
+      where << "continue with: " << continue_command(checkpoint, o.limits);
       if (rep.hit_max_nodes) where << " --set colonisation.max_nodes=" << twice(spec.params.max_nodes, rep.nodes);
       if (rep.hit_max_sources)
         where << " --set colonisation.max_sources="
@@ -539,7 +545,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
       where << "\n";
     }
     if (code == interrupted && checkpoint_error.empty())
-      err << "continue with: cellform resume " << shell_word(checkpoint.string()) << limit_options(o.limits) << "\n";
+      err << "continue with: " << continue_command(checkpoint, o.limits) << "\n";
     return code;
   } catch (const std::exception& e) {
     const bool input = dynamic_cast<const core::InvalidInput*>(&e) != nullptr;

@@ -203,9 +203,8 @@ std::string changed_colonisation_values(const Start& s, const SceneConfig& cfg);
 /// " --lua-memory 2048 ..." for the script limits that differ from the defaults ("" if none), which every resume
 /// command a run suggests carries: a checkpoint does not keep them.
 std::string limit_options(const ScriptLimits& limits);
-/// The refusal of a colonisation resume whose parameters differ: the loader's message `what` ("checkpoint 'X'
-/// was saved with other colonisation parameters (or another seed): only ...") with what this resume changed.
-std::string changed_colonisation_message(const std::string& what, const std::string& changed);
+/// "cellform resume CHECKPOINT" (quoted for a shell) with limit_options(): the command that goes on with a run.
+std::string continue_command(const std::filesystem::path& checkpoint, const ScriptLimits& limits);
 /// What a resume changes of the source domain (leaf{}, volume{}, surface{}) a colonisation run grew in, in
 /// words ("leaf.width = 0.7 (was 0.6)"): --set overrides and, with --script, the edited script's values.
 std::string changed_domain_values(const Start& s, const SceneConfig& cfg);

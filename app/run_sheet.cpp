@@ -158,7 +158,9 @@ venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cel
     try {
       return state ? venation::Colonisation::load(domain, spec.params, *state, what)
                    : venation::Colonisation(domain, spec.params);
-    } catch (const core::InvalidInput& e) {  // in the script's terms
+    } catch (const venation::ParametersChanged& e) {  // in the script's terms, still telling what it is
+      throw venation::ParametersChanged(script_colonisation_message(e.what()));
+    } catch (const core::InvalidInput& e) {
       throw core::InvalidInput(script_colonisation_message(e.what()));
     }
   };

@@ -8,11 +8,23 @@
 #include <utility>
 #include <vector>
 
+#include "core/errors.h"
 #include "core/types.h"
 #include "venation/leaf_shape.h"
 #include "venation/point_tree.h"
 
 namespace cellform::venation {
+
+/// What may differ when a colonisation checkpoint is continued.
+inline constexpr const char* kContinueMayDiffer =
+    "the thread count, colonisation.max_steps, colonisation.max_nodes and colonisation.max_sources may differ when "
+    "continuing it (and the widths, colonisation.tip_radius, murray_exponent and node_flow, computed at the end)";
+
+/// Thrown when a checkpoint is loaded with other colonisation parameters (or another seed) than it was saved with.
+class ParametersChanged : public core::InvalidInput {
+ public:
+  using core::InvalidInput::InvalidInput;
+};
 
 /// Open (tree-like, Section 3) or closed (with anastomoses, Section 4) venation.
 enum class VenationType { open, closed };

@@ -232,11 +232,8 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
     core::ByteReader r(f.at("setup", what), what);
     const auto ph = r.get<std::uint64_t>(), dh = r.get<std::uint64_t>();
     if (ph != params_hash(m.p))
-      throw InvalidInput(
-          what +
-          " was saved with other colonisation parameters (or another seed): only the thread count, "
-          "colonisation.max_steps, colonisation.max_nodes and colonisation.max_sources may differ when continuing "
-          "it (and the widths, colonisation.tip_radius, murray_exponent and node_flow, computed at the end)");
+      throw ParametersChanged(what + " was saved with other colonisation parameters (or another seed): only " +
+                              kContinueMayDiffer);
     core::ByteWriter scratch;
     if (dh != (m.region ? domain_hash(m.region->domain()) : leaf_hash(m.leaf, scratch)))
       throw InvalidInput(what +

@@ -249,6 +249,13 @@ TEST_CASE("space colonisation resumes to the bit-identical veins, in a leaf and 
   CHECK_THAT(r.err, Contains("continues with the parameters it was saved with, and this resume "
                              "changes them: --set colonisation.kill_distance=2. Only the thread count, ") &&
                         Contains("; start a new run for other values") && !Contains("--set colonisation.node_flow"));
+  // a path that reads like the message itself is quoted whole (the message was once cut from the loader's text)
+  const fs::path odd = t.path / "x was saved with: only q";
+  fs::create_directories(odd);
+  fs::copy_file(out / "checkpoint.cfck", odd / "checkpoint.cfck");
+  r = cli({"resume", (odd / "checkpoint.cfck").string(), "--set", "colonisation.kill_distance=2", "--quiet"});
+  CHECK_THAT(r.err, Contains("checkpoint '" + (odd / "checkpoint.cfck").string() +
+                             "' continues with the parameters it was saved with, and this resume changes them: "));
   // an edited script that changes one: named with its old and new value
   const auto edited = t.write("edited.lua", std::regex_replace(volume, std::regex("darts = 3000"), "darts = 2000"));
   r = cli({"resume", (out / "checkpoint.cfck").string(), "--script", edited.string(), "--quiet"});

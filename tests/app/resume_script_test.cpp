@@ -558,3 +558,19 @@ TEST_CASE("an edited script without venation{} still has the checkpoint's vein c
   // a fresh run of that script has no vein cells: accepted
   CHECK(cli({"run", without.string(), "--out", (t.path / "p").string(), "--quiet", "--steps", "2"}).code == 0);
 }
+
+TEST_CASE("a resume whose script no longer loads suggests the corrected copy's command, quoted, with the limits",
+          "[cli][checkpoint]") {
+  TempDir t("cli-resume-hint");
+  t.write("fan.txt", "0 0\n1 1\n0 2\n-1 1\n0 0\n");
+  const auto script =
+      t.write("s.lua", "leaf { file = 'fan.txt' }\ncolonisation { initial_length = 20, final_length = 24 }\n");
+  const fs::path out = t.path / "o dir";
+  REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "2", "--lua-memory", "64"}).code ==
+          0);
+  fs::remove(t.path / "fan.txt");
+  const auto r = cli({"resume", out.string(), "--lua-memory", "64"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("to go on with a corrected copy: cellform resume '" + (out / "checkpoint.cfck").string() +
+                             "' --script EDITED.lua --lua-memory 64)"));
+}
