@@ -430,7 +430,8 @@ std::pair<double, std::string> cell_budget(const SceneConfig& cfg) {
   return {mb * 1e6 / kBytesPerCell, name};
 }
 
-/// Cells placed at the very point of an earlier one (a shape placed twice, a cell{} loop that never moves on): a
+/// Cells placed at the very point of an earlier one (a shape placed twice, a cell{} loop that never moves on; the
+/// same box of a thousandth of a rest length counts as the same point): a
 /// note naming the first shape that placed one, and refused beyond kMaxCoincident at one point (all of them are
 /// each other's nearest, so their neighbour search costs the square of their number: 100,000 at one point took
 /// 97 s for 3 steps). `where[k]`: the shape call ("leaf.lua:4: disc") that placed cells from `first[k]` on.
@@ -440,8 +441,12 @@ void check_coincident_cells(SceneConfig& cfg, const std::vector<std::size_t>& fi
   const std::vector<InitialCell>& c = cfg.initial_cells;
   std::vector<std::size_t> order(c.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
+  // cells in one box of a thousandth of a rest length count as one point: 60,000 cells 1e-9 apart (a loop that
+  // moves on by a rounding error) cost as many at one point do
+  const double box = 1e-3 * cfg.scene.cells.rest_length;
   auto key = [&](std::size_t i) {
-    return std::array<double, 3>{c[i].position.x(), c[i].position.y(), c[i].position.z()};
+    const Vec3& p = c[i].position;
+    return std::array<double, 3>{std::floor(p.x() / box), std::floor(p.y() / box), std::floor(p.z() / box)};
   };
   std::sort(order.begin(), order.end(),
             [&](std::size_t a, std::size_t b) { return std::pair(key(a), a) < std::pair(key(b), b); });
@@ -464,13 +469,13 @@ void check_coincident_cells(SceneConfig& cfg, const std::vector<std::size_t>& fi
   };
   const Vec3& p = c[at].position;
   if (largest > kMaxCoincident)
-    throw InvalidInput(shape(at) + ": " + std::to_string(largest) + " cells lie at the very point " +
-                       core::point_text(p.x(), p.y(), p.z()) + ", over " + std::to_string(kMaxCoincident) +
+    throw InvalidInput(shape(at) + ": " + std::to_string(largest) + " cells lie at the point " +
+                       core::point_text(p.x(), p.y(), p.z()) + " (within a thousandth of a rest length), over " + std::to_string(kMaxCoincident) +
                        ": each is every other's nearest, so their neighbour search takes the square of their number; "
                        "place them apart");
   cfg.notes.push_back(shape(first_repeat) + ": " + std::to_string(repeats) +
                       (repeats == 1 ? " cell lies" : " cells lie") +
-                      " at the very point of an earlier cell (a shape placed twice?); coincident cells push apart in "
+                      " at the point of an earlier cell (within a thousandth of a rest length; a shape placed twice?); coincident cells push apart in "
                       "random directions");
 }
 
