@@ -76,19 +76,38 @@ std::string sets_carry_over(const Overrides& sets) {
 void adopt_mesh_files(Start& s, const RunOptions& o, const SceneConfig& cfg, std::ostream& err) {
   std::vector<std::string> meshes;
   for (const auto& [path, hash] : cfg.mesh_files) meshes.push_back(hash);
+  s.new_meshes.clear();
+  for (std::size_t k = 0; k < meshes.size(); ++k)
+    if (!s.obstacle_meshes || std::find(s.obstacle_meshes->begin(), s.obstacle_meshes->end(), meshes[k]) ==
+                                  s.obstacle_meshes->end())
+      s.new_meshes.push_back(k);
   if (s.resume && (!cfg.colonisation || s.sheet_partial) && s.obstacle_meshes && *s.obstacle_meshes != meshes) {
-    std::string changed;
-    for (std::size_t k = 0; k < meshes.size(); ++k)
-      if (k >= s.obstacle_meshes->size() || (*s.obstacle_meshes)[k] != meshes[k])
-        changed += (changed.empty() ? "'" : ", '") + cfg.mesh_files[k].first.string() + "'";
-    if (!s.script_replaced)
+    if (!s.script_replaced) {  // the same script names the same files, in the same order: those that differ changed
+      std::string changed;
+      for (std::size_t k = 0; k < meshes.size(); ++k)
+        if (k >= s.obstacle_meshes->size() || (*s.obstacle_meshes)[k] != meshes[k])
+          changed += (changed.empty() ? "'" : ", '") + cfg.mesh_files[k].first.string() + "'";
       throw InputError("checkpoint '" + o.checkpoint.string() +
                        "' grew against other mesh{} obstacles: " + (changed.empty() ? std::string("a file") : changed) +
                        " changed since it was saved; put back the file it was grown with, or start a new run "
                        "(resume --script with an edited script takes the files as they are now)");
-    err << "cellform: note: the mesh{} obstacles differ from those the checkpoint grew against"
-        << (changed.empty() ? std::string(" (fewer of them)") : " (" + changed + " changed)")
-        << "; the run goes on against them as they are now\n";
+    }
+    // an edited script may name other files, in another order: a file is told by its content alone
+    std::string added;
+    for (const std::size_t k : s.new_meshes)
+      added += (added.empty() ? "'" : ", '") + cfg.mesh_files[k].first.string() + "'";
+    const auto gone = std::count_if(s.obstacle_meshes->begin(), s.obstacle_meshes->end(), [&](const std::string& h) {
+      return std::find(meshes.begin(), meshes.end(), h) == meshes.end();
+    });
+    std::string what;
+    if (!added.empty()) what = added + (s.new_meshes.size() == 1 ? " is" : " are") + " not among them";
+    if (gone > 0)
+      what += (what.empty() ? "" : "; ") + std::to_string(gone) + " of the " +
+              std::to_string(s.obstacle_meshes->size()) + (gone == 1 ? " it grew against is" : " it grew against are") +
+              " gone";
+    if (what.empty()) what = "the same files, in another order or repeated";
+    err << "cellform: note: the mesh{} obstacles differ from those the checkpoint grew against (" << what
+        << "); the run goes on against them as they are now\n";
   }
   s.obstacle_meshes = meshes;
 }
@@ -126,6 +145,22 @@ void check_resumed_cells(const Start& s, const SceneConfig& cfg, const forms::Sc
     throw core::InvalidInput(std::string(e.what()) + "; " + s.script_path.string() +
                              " places it over the cells of the checkpoint's step " + std::to_string(s.step) +
                              ", which it would throw to its far side: move it off them, or start a new run");
+  }
+  // a mesh{} not among those the checkpoint grew against, cut through its cells (its own grew with them)
+  if (!s.new_meshes.empty()) {
+    forms::Obstacles added;
+    forms::ObstacleNames names;
+    for (const std::size_t k : s.new_meshes) {
+      added.meshes.push_back(cfg.scene.obstacles.meshes[k]);
+      if (k < cfg.scene.obstacle_names.meshes.size()) names.meshes.push_back(cfg.scene.obstacle_names.meshes[k]);
+    }
+    try {
+      forms::check_links_clear(forms::PreparedObstacles(std::move(added)), cells, names, threads);
+    } catch (const core::InvalidInput& e) {
+      throw core::InvalidInput(std::string(e.what()) + "; " + s.script_path.string() +
+                               " places it across the cells of the checkpoint's step " + std::to_string(s.step) +
+                               ": move it clear of them, or start a new run");
+    }
   }
   // venation{} added by the edited script: its sink must be a cell by its first pass
   if (!cfg.scene.venation || std::count(cells.type.begin(), cells.type.end(), cells::CellType::petiole) > 0) return;

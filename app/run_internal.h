@@ -106,6 +106,10 @@ struct Start {
   // first the checkpoint's (none: an older cellform did not record them), then this run's, which its
   // checkpoints keep
   std::optional<std::vector<std::string>> obstacle_meshes;
+  // resume --script: the mesh{} obstacles of this run (indices in SceneConfig::mesh_files) whose file is none of
+  // those the checkpoint grew against, which check_resumed_cells tests against its cells' links; all of them when
+  // the checkpoint did not record its files
+  std::vector<std::size_t> new_meshes;
 };
 
 /// "fnv1a64:<hex>" of a script's text, as run.json and the checkpoints name it.

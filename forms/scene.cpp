@@ -115,6 +115,12 @@ void Scene::apply_petioles(std::uint64_t step) {
 void Scene::start() {
   apply_petioles(sim_.step_count());
   check_outside(desc_.obstacles, sim_.cells().position, desc_.obstacle_names, sim_.threads(), &obstacles_);
+  if (!desc_.obstacles.meshes.empty()) {  // the links the first step makes, on a copy
+    cells::Cells linked = sim_.cells();
+    core::PointGrid grid;
+    cells::update_links(linked, desc_.cells, grid, sim_.threads());
+    check_links_clear(obstacles_, linked, desc_.obstacle_names, sim_.threads());
+  }
   if (desc_.venation) {
     bool any = false;
     for (const cells::CellType t : sim_.cells().type) any = any || t == cells::CellType::petiole;

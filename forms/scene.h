@@ -60,8 +60,9 @@ class Scene {
   const PreparedObstacles& obstacles() const { return obstacles_; }
 
   /// Makes the petioles due at the current step count (call once after placing the initial cells).
-  /// Throws core::InvalidInput if a cell lies inside a solid obstacle (see check_outside), or if venation is
-  /// on and no petiole exists before the first step.
+  /// Throws core::InvalidInput if a cell lies inside a solid obstacle (see check_outside), if a link the first
+  /// step makes crosses a mesh obstacle (see check_links_clear), or if venation is on and no petiole exists
+  /// before the first step.
   void start();
 
   /// Per-cell auxin source for venation (empty = venation.source for every cell).

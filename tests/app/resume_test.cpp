@@ -535,7 +535,24 @@ TEST_CASE("a cell run's checkpoint refuses to go on against a mesh{} file that c
   INFO(r.err);
   CHECK(r.code == 0);
   CHECK_THAT(r.err, Contains("the mesh{} obstacles differ from those the checkpoint grew against ('" +
-                             (t.path / "mould.obj").string() + "' changed)"));
+                             (t.path / "mould.obj").string() + "' is not among them; 1 of the 1 it grew against is gone)"));
+  // files are told by their content: the first mould under another name is no change (the note named the file
+  // at the same place in the script as changed); a mould smaller than the cells is refused, as in a new run
+  t.write("copy.obj", cube);
+  const auto renamed = t.write("renamed.lua", std::string(kSmall) + "mesh { file = 'copy.obj' }\n");
+  r = cli({"resume", kept.string(), "--out", (t.path / "o5").string(), "--quiet", "--steps", "20", "--script",
+           renamed.string()});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  CHECK_THAT(r.err, !Contains("differ"));
+  t.write("small.obj", mould(1));
+  const auto small = t.write("small.lua", std::string(kSmall) + "mesh { file = 'copy.obj' }\nmesh { file = 'small.obj' }\n");
+  r = cli({"resume", kept.string(), "--out", (t.path / "o6").string(), "--quiet", "--steps", "20", "--script",
+           small.string()});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("small.lua:8: mesh{...}: ") && Contains("links between neighbouring cells cross it") &&
+                        Contains(small.string() + " places it across the cells of the checkpoint's step 12"));
+  CHECK_THAT(r.err, !Contains("copy.obj"));  // the mould it grew in is not new
   // a checkpoint of an older cellform, which kept no fingerprints, resumes as it did
   const auto saved = cellform::core::read_chunk_file(before, "CKPT", 1, "test");
   auto meta = nlohmann::json::parse(saved.chunks.at("meta"));

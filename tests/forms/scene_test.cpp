@@ -88,6 +88,80 @@ TEST_CASE("a scene does not start with cells on a mesh obstacle", "[forms][scene
   CHECK_NOTHROW(start_disc(beside));
 }
 
+// A closed box mesh (12 triangles, normals outwards) from lo to hi.
+forms::TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi) {
+  forms::TriangleMesh m;
+  for (int k = 0; k < 8; ++k) m.vertices.emplace_back(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
+  m.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return m;
+}
+
+TEST_CASE("a scene does not start with a mesh cut through its cells", "[forms][scene]") {
+  // (a designer's walkthrough: a pillar mesh through the starting cells, or a wall through them, was taken
+  // silently, and the sheet grew through it.) 60 cells scattered in a disc (no ties in distance), a wall x = 0.3
+  auto start = [](const forms::Obstacles& o, std::vector<Vec3> at) {
+    forms::SceneDescription d;
+    d.obstacles = o;
+    d.obstacle_names.meshes = {"leaf.lua:2: mesh{...}"};
+    forms::Scene scene(d, 2);
+    for (const Vec3& p : at) cells::add_cell(scene.simulation().cells(), p);
+    scene.start();
+  };
+  std::vector<Vec3> at;
+  std::uint64_t x = 12345;
+  auto uniform = [&x] {
+    x = x * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(x >> 11) / 9007199254740992.0;
+  };
+  while (at.size() < 60) {
+    const Vec3 p(8 * uniform() - 4, 8 * uniform() - 4, 0.5 + 0.01 * uniform());
+    if (p.head<2>().norm() < 4 && std::abs(p.x() - 0.3) > 1e-3) at.push_back(p);
+  }
+  // the oracle: each cell's 6 nearest within 1.5 by brute force, the links (a mutual one once) whose ends lie either side
+  std::size_t across = 0;
+  std::vector<std::vector<std::size_t>> nearest(at.size());
+  for (std::size_t i = 0; i < at.size(); ++i) {
+    std::vector<std::size_t> o;
+    for (std::size_t j = 0; j < at.size(); ++j)
+      if (j != i) o.push_back(j);
+    std::sort(o.begin(), o.end(), [&](std::size_t a, std::size_t b) {
+      return (at[a] - at[i]).squaredNorm() < (at[b] - at[i]).squaredNorm();
+    });
+    for (std::size_t k = 0; k < 6; ++k)  // within cells.link_range, 1.5 rest lengths by default
+      if ((at[o[k]] - at[i]).norm() <= 1.5) nearest[i].push_back(o[k]);
+  }
+  for (std::size_t i = 0; i < at.size(); ++i)
+    for (const std::size_t j : nearest[i]) {
+      const bool mutual = std::count(nearest[j].begin(), nearest[j].end(), i) > 0;
+      if ((at[i].x() < 0.3) != (at[j].x() < 0.3) && (!mutual || i < j)) ++across;
+    }
+  REQUIRE(across > 5);
+  forms::Obstacles wall;
+  wall.meshes.push_back({{Vec3(0.3, -10, -10), Vec3(0.3, 10, -10), Vec3(0.3, 10, 10), Vec3(0.3, -10, 10)},
+                         {{0, 1, 2}, {0, 2, 3}}});
+  CHECK_THROWS_WITH(start(wall, at), Contains("leaf.lua:2: mesh{...}: " + std::to_string(across) +
+                                              " links between neighbouring cells cross it (the first from") &&
+                                         Contains("all of them on one side of each mesh"));
+  // the same wall beside the cells, a mould around all of them, and a pillar beside them: they start
+  forms::Obstacles beside;
+  beside.meshes.push_back(wall.meshes[0]);
+  for (Vec3& v : beside.meshes[0].vertices) v.x() = 4.5;
+  CHECK_NOTHROW(start(beside, at));
+  forms::Obstacles mould;
+  mould.meshes.push_back(box_mesh(Vec3(-5, -5, -1), Vec3(5, 5, 2)));
+  CHECK_NOTHROW(start(mould, at));
+  forms::Obstacles pillar;
+  pillar.meshes.push_back(box_mesh(Vec3(6, -0.5, -5), Vec3(7, 0.5, 5)));
+  CHECK_NOTHROW(start(pillar, at));
+  // a pillar through them holds some cells inside: their links out cross it
+  for (Vec3& v : pillar.meshes[0].vertices) v.x() -= 6.5;
+  CHECK_THROWS_WITH(start(pillar, at), Contains("leaf.lua:2: mesh{...}: ") && Contains("cross it"));
+  // a mould smaller than the cells, as an edited script might put round a grown form
+  mould.meshes[0] = box_mesh(Vec3(-2, -2, -1), Vec3(2, 2, 2));
+  CHECK_THROWS_WITH(start(mould, at), Contains("cross it"));
+}
+
 TEST_CASE("a petiole that appears during the run does not start inside an obstacle", "[forms][scene]") {
   // a disc at z = 0.5 on a ground at z = 0 with a ball beside it; petioles due at step 3, each a new cell
   auto run = [](const Vec3& at) {
