@@ -198,8 +198,10 @@ std::vector<Field> build() {
   f.push_back(vec("box", "min", "", -kFar, kFar, "model units", "lower corner of a solid box cells stay out of"));
   f.push_back(vec("box", "max", "", -kFar, kFar, "model units", "upper corner"));
   f.push_back(text("mesh", "file", "",
-                   "STL or OBJ triangle mesh cells cannot cross from either side (a wall, not a solid: cells inside a "
-                   "closed mesh stay inside, as in a mould; cells must start off it; path relative to the script)"));
+                   "STL (ASCII or binary) or OBJ mesh (polygons are split into triangles), read Z-up as cellform "
+                   "writes, that cells cannot cross from either side (a wall, not a solid: cells inside a closed mesh "
+                   "stay inside, as in a mould; the cells must start off it, all on one side; path relative to the "
+                   "script)"));
   f.push_back(num("mesh", "scale", "1", 0, kInf, true, "factor", "scales the mesh's coordinates into model units"));
   f.push_back(vec("attractor", "position", "", -kFar, kFar, "model units", "point that pulls cells"));
   f.push_back(num("attractor", "strength", "0.1", -kInf, kInf, false, "units/time^2",

@@ -71,8 +71,7 @@ std::vector<Vec3> read_points(Impl& I, const std::string& section, const std::st
 }
 
 venation::Mesh read_domain_mesh(Impl& I, const std::string& section, const Values& v, const std::string& at) {
-  std::filesystem::path file = v.at("file").str;
-  if (file.is_relative()) file = I.script_dir / file;
+  const std::filesystem::path file = script_file(I, v.at("file").str, section + ".file", at);
   venation::Mesh out;
   try {
     check_file_fits(file, kMeshBytesPerByte, "mesh '" + file.string() + "'");
@@ -80,7 +79,7 @@ venation::Mesh read_domain_mesh(Impl& I, const std::string& section, const Value
     out.vertices = std::move(m.vertices);
     out.triangles = std::move(m.triangles);
   } catch (const std::exception& e) {
-    throw InvalidInput(at + section + ".file: " + core::error_text(e));
+    throw InvalidInput(at + section + ".file: " + file_message(e));
   }
   I.scale_mesh(out.vertices, v.at("scale").num, v.at("file").str, at + section + ".file: ");
   return out;
@@ -303,8 +302,7 @@ void section_leaf(Impl& I, const std::string& at) {
                                  "file is used as drawn");
         I.cfg->resolved["leaf"].erase(k);
       }
-      std::filesystem::path file = v["file"].str;
-      if (file.is_relative()) file = I.script_dir / file;
+      const std::filesystem::path file = script_file(I, v["file"].str, "leaf.file", at);
       check_file_fits(file, kOutlineBytesPerByte, "leaf.file '" + file.string() + "'");
       leaf.outline = venation::read_outline(file);
       // any drawing unit: the tip (the highest y; the petiole is (0, 0)) is one leaf length, as the built-in

@@ -537,8 +537,27 @@ void section_print(Impl& I, const std::string& at);
 void section_output(Impl& I, const std::string& at);
 void section_shape(Impl& I, const std::string& kind, const std::string& at);
 void section_constraint(Impl& I, const std::string& kind, const std::string& at);
+/// The file a script's parameter `name` ("mesh.file") names, `given`: a relative path is read from the script's
+/// folder. Throws InvalidInput, `at` first, for an empty name, or one that does not exist, saying where it was
+/// looked for and naming a file of the same name in another case ("Rock.obj" for "rock.obj"), or that '~' is not
+/// expanded.
+std::filesystem::path script_file(const Impl& I, const std::string& given, const std::string& name,
+                                  const std::string& at);
+/// The text of a mesh reader's error after the parameter that names the file ("mesh.file: "), without the word
+/// "mesh" it begins with ("mesh 'rock.obj' is malformed" -> "'rock.obj' is malformed").
+std::string file_message(const std::exception& e);
 /// Turns the recorded shape calls into initial cells and petioles (after the script ran).
 void build_shapes(Impl& I);
+/// Cells placed at the very point of an earlier one (a shape placed twice, a cell{} loop that never moves on; the
+/// same box of a thousandth of a rest length counts as the same point): a note naming the first shape that placed
+/// one, and refused beyond 1,000 at one point. `where[k]`: the shape call ("leaf.lua:4: disc") that placed cells
+/// from `first[k]` on.
+void check_coincident_cells(SceneConfig& cfg, const std::vector<std::size_t>& first,
+                            const std::vector<std::string>& where);
+/// Notes for a mesh{} obstacle less than a rest length across (cells pass it by), or farther from the cells placed
+/// at the start (its bounding box from theirs) than five times their span: both look like a file in other units
+/// than the cells, which mesh.scale converts.
+void note_lost_meshes(SceneConfig& cfg);
 
 /// Runs `body` (which returns the number of Lua results) and turns a C++ exception into a Lua error.
 /// lua_error longjmps, so it is raised only after every C++ object of the body is destroyed.

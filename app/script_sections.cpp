@@ -337,6 +337,44 @@ Vec3 unit_vector(const Vec3& n, const std::string& name) {
 
 }  // namespace
 
+std::string file_message(const std::exception& e) {
+  std::string m = core::error_text(e);
+  if (m.rfind("mesh '", 0) == 0) m.erase(0, 5);
+  return m;
+}
+
+std::filesystem::path script_file(const Impl& I, const std::string& given, const std::string& name,
+                                  const std::string& at) {
+  namespace fs = std::filesystem;
+  const std::string folder = I.script_dir.empty() ? std::string(".") : I.script_dir.string();
+  if (given.empty())
+    throw InvalidInput(at + name + " is empty: give the file's path (a relative one is read from the script's " +
+                       "folder, " + folder + ")");
+  fs::path file = given;
+  if (file.is_relative()) file = I.script_dir / file;
+  std::error_code ec;
+  // (a dangling link, or a folder that cannot be read: the reader says)
+  if (fs::symlink_status(file, ec).type() != fs::file_type::not_found) return file;
+  std::string m = at + name + ": '" + given + "' does not exist";
+  if (given[0] == '~')
+    m += " ('~' is not expanded in a script: give the whole path, or one from the script's folder, " + folder + ")";
+  else if (fs::path(given).is_relative())
+    m += " (read from the script's folder: " + file.string() + ")";
+  auto lower = [](std::string t) {
+    for (char& c : t) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return t;
+  };
+  const std::string want = lower(file.filename().string());
+  std::size_t looked = 0;  // (a folder of a million files is not read through for a hint)
+  for (fs::directory_iterator it(file.parent_path().empty() ? fs::path(".") : file.parent_path(), ec), end;
+       !ec && it != end && ++looked < 10000; it.increment(ec))
+    if (lower(it->path().filename().string()) == want) {
+      m += "; there is '" + it->path().filename().string() + "' (names are case-sensitive)";
+      break;
+    }
+  throw InvalidInput(m);
+}
+
 void section_constraint(Impl& I, const std::string& kind, const std::string& at) {
   count_placement(I, kind, at);
   nlohmann::json rec;
@@ -344,8 +382,9 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
   rec["kind"] = kind;
   // run.json lists the first 1,000, as the shapes: 100,000 ball{} calls made a 14 MB run.json (review)
   nlohmann::json& listed = I.cfg->resolved["constraints"];
+  nlohmann::json* kept = nullptr;  // (a mesh adds what its file held)
   if (listed.size() < 1000)
-    listed.push_back(rec);
+    kept = &listed.emplace_back(rec);
   else
     I.cfg->resolved["constraints_not_listed"] = I.cfg->resolved.value("constraints_not_listed", std::size_t{0}) + 1;
   if (I.first_constraint.empty()) I.first_constraint = at + kind;
@@ -367,8 +406,7 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
     o.boxes.push_back({lo, hi});
     names.boxes.push_back(name);
   } else if (kind == "mesh") {
-    std::filesystem::path file = v["file"].str;
-    if (file.is_relative()) file = I.script_dir / file;
+    const std::filesystem::path file = script_file(I, v["file"].str, "mesh.file", at);
     forms::TriangleMesh mesh;
     try {
       // refused before its fingerprint reads it through; that, for a resume to compare, is the same before and
@@ -380,7 +418,7 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
         throw core::FileError(file.string() + " changed while it was read; run again once it is written");
       I.cfg->mesh_files.emplace_back(file, before);
     } catch (const std::exception& e) {
-      throw InvalidInput(at + "mesh: " + core::error_text(e));
+      throw InvalidInput(at + "mesh.file: " + file_message(e));
     }
     I.scale_mesh(mesh.vertices, v["scale"].num, v["file"].str, at + "mesh: ");
     double area = 0;  // as volume{file} and surface{file}: a wall of no area stops nothing
@@ -389,6 +427,13 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
     if (!(area > 0))
       throw InvalidInput(at + "mesh: every triangle of " + v["file"].str +
                          " is degenerate (zero area), so cells would cross it as if it were not there");
+    if (kept) {  // what was read, in model units: a file in other units shows here (and a changed file)
+      Vec3 lo = mesh.vertices.front(), hi = lo;
+      for (const Vec3& p : mesh.vertices) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+      (*kept)["triangles"] = mesh.triangles.size();
+      (*kept)["bounds"] = {{"min", {lo.x(), lo.y(), lo.z()}}, {"max", {hi.x(), hi.y(), hi.z()}}};
+      (*kept)["fingerprint"] = I.cfg->mesh_files.back().second;
+    }
     o.meshes.push_back(std::move(mesh));
     names.meshes.push_back(name);
   } else if (kind == "attractor") {
@@ -428,55 +473,6 @@ std::pair<double, std::string> cell_budget(const SceneConfig& cfg) {
     name = "three quarters of " + what + megabytes_text(machine);
   }
   return {mb * 1e6 / kBytesPerCell, name};
-}
-
-/// Cells placed at the very point of an earlier one (a shape placed twice, a cell{} loop that never moves on; the
-/// same box of a thousandth of a rest length counts as the same point): a
-/// note naming the first shape that placed one, and refused beyond kMaxCoincident at one point (all of them are
-/// each other's nearest, so their neighbour search costs the square of their number: 100,000 at one point took
-/// 97 s for 3 steps). `where[k]`: the shape call ("leaf.lua:4: disc") that placed cells from `first[k]` on.
-void check_coincident_cells(SceneConfig& cfg, const std::vector<std::size_t>& first,
-                            const std::vector<std::string>& where) {
-  constexpr std::size_t kMaxCoincident = 1000;
-  const std::vector<InitialCell>& c = cfg.initial_cells;
-  std::vector<std::size_t> order(c.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  // cells in one box of a thousandth of a rest length count as one point: 60,000 cells 1e-9 apart (a loop that
-  // moves on by a rounding error) cost as many at one point do
-  const double box = 1e-3 * cfg.scene.cells.rest_length;
-  auto key = [&](std::size_t i) {
-    const Vec3& p = c[i].position;
-    return std::array<double, 3>{std::floor(p.x() / box), std::floor(p.y() / box), std::floor(p.z() / box)};
-  };
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return std::pair(key(a), a) < std::pair(key(b), b); });
-  std::size_t repeats = 0, group = 1, largest = 1, first_repeat = c.size(), at = 0;
-  for (std::size_t k = 1; k < order.size(); ++k) {
-    if (key(order[k]) != key(order[k - 1])) {
-      group = 1;
-      continue;
-    }
-    ++repeats;
-    first_repeat = std::min(first_repeat, order[k]);  // (the earliest cell of a group is no repeat)
-    if (++group > largest) {
-      largest = group;
-      at = order[k];
-    }
-  }
-  if (repeats == 0) return;
-  const auto shape = [&](std::size_t i) {
-    return where[static_cast<std::size_t>(std::upper_bound(first.begin(), first.end(), i) - first.begin()) - 1];
-  };
-  const Vec3& p = c[at].position;
-  if (largest > kMaxCoincident)
-    throw InvalidInput(shape(at) + ": " + std::to_string(largest) + " cells lie at the point " +
-                       core::point_text(p.x(), p.y(), p.z()) + " (within a thousandth of a rest length), over " + std::to_string(kMaxCoincident) +
-                       ": each is every other's nearest, so their neighbour search takes the square of their number; "
-                       "place them apart");
-  cfg.notes.push_back(shape(first_repeat) + ": " + std::to_string(repeats) +
-                      (repeats == 1 ? " cell lies" : " cells lie") +
-                      " at the point of an earlier cell (within a thousandth of a rest length; a shape placed twice?); coincident cells push apart in "
-                      "random directions");
 }
 
 void build_shapes(Impl& I) {
@@ -587,6 +583,7 @@ void build_shapes(Impl& I) {
     }
   }
   check_coincident_cells(cfg, shape_first, shape_where);
+  note_lost_meshes(cfg);
 }
 
 }  // namespace cellform::app

@@ -111,9 +111,9 @@ TEST_CASE("a mesh or outline file of a gigabyte under ulimit -v is refused at on
     return cellform::test::slurp(log);
   };
   CHECK_THAT(run("m.lua", "disc { radius = 2 }\nmesh { file = 'big.obj' }\n"),
-             Contains("m.lua:2: mesh: mesh '") && Contains("big.obj' is 1 GB: reading it takes about 4 GB") &&
+             Contains("m.lua:2: mesh.file: '") && Contains("big.obj' is 1 GB: reading it takes about 4 GB") &&
                  (Contains("ulimit -v") || Contains("container's memory limit") || Contains("machine's available")));
-  CHECK_THAT(run("v.lua", "volume { file = 'big.obj' }\ncolonisation {}\n"), Contains("volume.file: mesh '"));
+  CHECK_THAT(run("v.lua", "volume { file = 'big.obj' }\ncolonisation {}\n"), Contains("volume.file: '"));
   CHECK_THAT(run("l.lua", "leaf { file = 'big.txt' }\ncolonisation {}\n"),
              Contains("leaf.file '") && Contains("reading it takes about 7 GB"));
 }

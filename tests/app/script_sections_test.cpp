@@ -1,4 +1,4 @@
-// Tests of app/script_sections.cpp: print sizes, cells placed on each other.
+// Tests of app/script_sections.cpp: print sizes.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -25,26 +25,23 @@ TEST_CASE("print sizes no printer can make are refused while the script is read"
   CHECK_NOTHROW(load("disc { radius = 2 }\nprint { shell = true, min_radius = 0.0001, voxel_size = 0.0001 }\n"));
 }
 
-TEST_CASE("cells placed at the point of earlier ones are noted, and refused by the thousand", "[script]") {
-  // a shape placed twice: noted, naming the call that placed the repeats
-  auto cfg = load("disc { radius = 2 }\nline { from = {5, 0, 0}, to = {9, 0, 0} }\ndisc { radius = 2 }\n");
-  REQUIRE(cfg.notes.size() == 1);
-  CHECK_THAT(cfg.notes[0], Contains("test/leaf.lua:3: disc: 19 cells lie at the point of an earlier cell"));
-  // a hair apart (within a thousandth of a rest length) is the same point; apart by a hundredth, nothing is said
-  cfg = load("disc { radius = 2 }\ndisc { radius = 2, centre = {0, 0, 1e-9} }\n");
-  REQUIRE(cfg.notes.size() == 1);
-  CHECK_THAT(cfg.notes[0], Contains("test/leaf.lua:2: disc: 19 cells lie at the point of an earlier cell (within a "
-                                    "thousandth of a rest length"));
-  CHECK(load("disc { radius = 2 }\ndisc { radius = 2, centre = {0, 0, 0.01} }\n").notes.empty());
-  // one cell{} loop that never moves on: 100,000 at one point took 97 s for 3 steps (each is every other's
-  // nearest), refused over 1,000 naming the point; 1,000 are noted
-  CHECK_THAT(load_error("for i = 1, 1001 do cell { at = {1, 2, 3} } end\n"),
-             Contains("test/leaf.lua:1: cell: 1001 cells lie at the point {1, 2, 3} (within a thousandth of a rest "
-                      "length), over 1000"));
-  // nor does a loop that moves on by a rounding error: 60,000 cells 1e-9 apart took 28 s for 3 steps
-  CHECK_THAT(load_error("for i = 1, 1001 do cell { at = {1 + i * 1e-9, 2, 3} } end\n"),
-             Contains("test/leaf.lua:1: cell: 1001 cells lie at the point {1, 2, 3}"));
-  cfg = load("cell { at = {0, 0, 0} }\nfor i = 1, 1000 do cell { at = {1, 2, 3} } end\n");
-  REQUIRE(cfg.notes.size() == 1);
-  CHECK_THAT(cfg.notes[0], Contains("test/leaf.lua:2: cell: 999 cells lie at the point of an earlier cell"));
+TEST_CASE("a script's missing file is said once, where it was looked for, with a name in another case", "[script]") {
+  // (a walkthrough: "mesh: mesh './meshes/Rock.obj' does not exist" beside rock.obj, and file = "" read the folder)
+  TempDir t("script-missing-file");
+  const std::string dir = t.path.string();
+  t.write("rock.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  CHECK(load_error("disc { radius = 2 }\nmesh { file = '" + dir + "/Rock.obj' }\n") ==
+        "test/leaf.lua:2: mesh.file: '" + dir + "/Rock.obj' does not exist; there is 'rock.obj' (names are "
+        "case-sensitive)");
+  CHECK(load_error("disc { radius = 2 }\nmesh { file = 'meshes/rock.obj' }\n") ==
+        "test/leaf.lua:2: mesh.file: 'meshes/rock.obj' does not exist (read from the script's folder: "
+        "test/meshes/rock.obj)");
+  CHECK_THAT(load_error("disc { radius = 2 }\nmesh { file = '~/rock.obj' }\n"),
+             Contains("mesh.file: '~/rock.obj' does not exist ('~' is not expanded in a script"));
+  CHECK_THAT(load_error("disc { radius = 2 }\nmesh { file = '' }\n"),
+             Contains("test/leaf.lua:2: mesh.file is empty: give the file's path"));
+  CHECK_THAT(load_error("volume { file = '" + dir + "/ROCK.obj', seeds = {{0, 0, 0}} }\n"),
+             Contains("test/leaf.lua:1: volume.file: '" + dir + "/ROCK.obj' does not exist; there is 'rock.obj'"));
+  CHECK_THAT(load_error("leaf { file = 'outline.svg' }\ncolonisation {}\n"),
+             Contains("test/leaf.lua:1: leaf.file: 'outline.svg' does not exist (read from the script's folder"));
 }
