@@ -93,6 +93,7 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
         {"stl_normals_against_winding",
          notes.normals_checked ? nlohmann::json(notes.normals_against_winding) : nlohmann::json(nullptr)},
         {"stl_padding_bytes", notes.stl_padding},  // binary STL: bytes after the last facet, ignored (0 otherwise)
+        {"stl_count_zero", notes.stl_count_zero},  // binary STL whose header says 0 triangles, read by its size
         {"volume_mm3", solid ? nlohmann::json(r.volume) : nlohmann::json(nullptr)},
         {"area_mm2", r.area},
         {"bbox_min_mm", {r.bbox_min.x(), r.bbox_min.y(), r.bbox_min.z()}},
@@ -176,8 +177,11 @@ int check_command(const std::filesystem::path& file, bool json, double min_wall,
       out << "  (" << th.given_up << " of the rays were given up where very many triangles meet at one spot)\n";
     if (notes.stl_padding > 0)
       out << "note: " << notes.stl_padding << (notes.stl_padding == 1 ? " byte" : " bytes")
-          << " after the last facet of the binary STL were ignored (padding, as most slicers take it; cellform's "
-             "mesh{}, volume{} and surface{} take only an exact binary STL)\n";
+          << " after the last facet of the binary STL were ignored (padding, as most slicers take it)\n";
+    if (notes.stl_count_zero)
+      out << "note: the binary STL's header says 0 triangles: the " << r.triangles
+          << " facets that fill the file were read (some exporters leave the count unset; a program that trusts it "
+             "reads nothing: export it again, or save it from a program that reads it so)\n";
     if (notes.normals_against_winding > 0)
       out << "warning: " << notes.normals_against_winding << " of the " << notes.stored_normals
           << " stored facet normals point against their triangle's winding (the check, and most slicers, go by the "

@@ -113,7 +113,12 @@ void count_stored_normals(const std::vector<Vec3>& corners, const std::vector<Ve
 
 PrintableMesh read_stl(const std::filesystem::path& path, const std::string& s, MeshFileNotes* notes) {
   if (s.size() >= 84) {
-    const std::uint32_t n = get<std::uint32_t>(s, 80);
+    std::uint32_t n = get<std::uint32_t>(s, 80);
+    // a count left at 0 by an exporter that writes as it goes: the facets that fill the file exactly
+    if (n == 0 && s.size() > 84 && (s.size() - 84) % 50 == 0 && (s.size() - 84) / 50 <= 0xFFFFFFFFu) {
+      n = static_cast<std::uint32_t>((s.size() - 84) / 50);
+      if (notes) notes->stl_count_zero = true;
+    }
     // a few bytes after the last facet (some exporters pad the file) are ignored, as slicers do; as many as a
     // facet's 50 or more are no padding: the count would leave facets out
     const std::size_t expected = 84 + 50 * std::size_t{n};

@@ -7,7 +7,8 @@
 
 namespace cellform::exporters {
 
-/// Reads a triangle soup from STL (binary or ASCII; vertices welded at exactly equal positions), OBJ
+/// Reads a triangle soup from STL (binary or ASCII; vertices welded at exactly equal positions; a binary one whose
+/// header says 0 triangles, as some exporters leave it, by the facets that fill it), OBJ
 /// (v and f lines) or PLY (ASCII, binary little-endian or binary big-endian); polygons are split into
 /// triangles where they lie (core::triangulate_polygon: convex ones fanned, concave ones ear-clipped). Nothing
 /// is dropped or repaired, so non-manifold files come back as they are. Throws core::FileError naming the
@@ -22,6 +23,7 @@ struct MeshFileNotes {
   std::size_t normals_against_winding = 0;  ///< STL: of those, the facets whose stored normal points against
                                             ///< the normal of their corners' winding (right-hand rule)
   std::size_t stl_padding = 0;  ///< binary STL: bytes after its last facet (fewer than a facet's 50), ignored
+  bool stl_count_zero = false;  ///< binary STL whose header says 0 triangles: the facets that fill it were read
 };
 
 /// As read_mesh(path), also filling `notes` (STL facet normals are otherwise ignored: the winding decides).

@@ -192,6 +192,7 @@ bool is_binary_stl(std::istream& in, std::uintmax_t size, const std::string& nam
   for (int k = 3; k >= 0; --k) n = (n << 8) | static_cast<unsigned char>(head[80 + k]);
   const std::uintmax_t expected = 84 + 50 * static_cast<std::uintmax_t>(n);
   if (size == expected) return true;
+  if (n == 0 && (size - 84) % 50 == 0) return true;  // a count left at 0 by an exporter: read by the size (load_mesh)
   if (starts_like_ascii_stl(std::string_view(head, got))) return false;
   // a few bytes after the last facet (some exporters pad the file) are ignored, as slicers and `cellform check`
   // do; as many as a facet's 50 or more are no padding: the count would leave facets out
@@ -273,6 +274,13 @@ ObjData parse_obj(std::istream& in) {
   std::string line;
   while (std::getline(in, line)) {
     if (++line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte-order mark
+    // a line ending in a backslash goes on on the next, as the format allows (an error names the last)
+    for (std::string next; !line.empty();) {
+      const std::size_t end = line.back() == '\r' ? line.size() - 1 : line.size();
+      if (end == 0 || line[end - 1] != '\\' || !std::getline(in, next)) break;
+      line.replace(end - 1, std::string::npos, " " + next);
+      ++line_no;
+    }
     std::istringstream words(line);
     std::string tag;
     if (!(words >> tag)) continue;
@@ -510,14 +518,22 @@ TriangleMesh load_mesh(const fs::path& path) {
     importer.face_end = std::move(obj.face_end);
     polylines = obj.polylines;
   } else {
-    // OpenMesh tells a binary STL by its size: a padded one is given its facets alone
+    // OpenMesh tells a binary STL by its size and reads as many facets as its header says: a padded one is given its
+    // facets alone, and one whose count was left at 0 (is_binary_stl) the count they make
     const std::uintmax_t facets = 84 + 50 * ((size - 84) / 50);
+    char count[4] = {};
+    probe.seekg(80);
+    probe.read(count, 4);
+    const bool unset = probe && count[0] == 0 && count[1] == 0 && count[2] == 0 && count[3] == 0 && size > 84;
     std::string padded;
-    if (facets != size) {
+    if (facets != size || unset) {
       padded.resize(facets);
+      probe.clear();
       probe.seekg(0);
       if (!probe.read(padded.data(), static_cast<std::streamsize>(facets)))
         throw core::FileError("mesh " + name + " could not be read to its end");
+      for (std::uintmax_t n = (size - 84) / 50, k = 80; unset && k < 84; ++k, n >>= 8)
+        padded[k] = static_cast<char>(n & 0xFF);
     }
     probe.close();
     bool ok = false;

@@ -100,6 +100,15 @@ TEST_CASE("cellform check warns of STL facet normals that point against the wind
   CHECK_THAT(r.out, Contains("note: 2 bytes after the last facet of the binary STL were ignored"));
   CHECK(nlohmann::json::parse(cli({"check", (t.path / "padded.stl").string(), "--json"}).out)["stl_padding_bytes"] ==
         2);
+  // a count left at 0 by an exporter (a walkthrough's was refused as damaged): the facets that fill it, said so
+  std::string unset = stl(1, false);
+  unset.replace(80, 4, std::string(4, '\0'));
+  r = cli({"check", t.write("unset.stl", unset).string()});
+  CHECK(r.code == 0);
+  CHECK_THAT(r.out, Contains("4 triangles") &&
+                        Contains("note: the binary STL's header says 0 triangles: the 4 facets that fill the file"));
+  CHECK(nlohmann::json::parse(cli({"check", (t.path / "unset.stl").string(), "--json"}).out)["stl_count_zero"] ==
+        true);
   // ASCII: the same from the "facet normal" lines
   const auto ascii =
       t.write("flipped_ascii.stl",
@@ -168,6 +177,13 @@ TEST_CASE("cellform check --min-wall judges the walls too", "[cli][check]") {
   r = cli({"check", plate.string(), "--json", "--json"});
   CHECK(r.code == 2);
   CHECK_THAT(r.err, Contains("--json is given twice"));
+  // an option cut short or misspelt is named with the one meant, as run's are (a walkthrough's --min-wal was not)
+  r = cli({"check", plate.string(), "--min-wal", "3"});
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Contains("unknown option '--min-wal' for check; did you mean '--min-wall'?"));
+  CHECK_THAT(cli({"check", plate.string(), "--jsno"}).err, Contains("did you mean '--json'?"));
+  CHECK_THAT(cli({"check", plate.string(), "--steps=3"}).err, Contains("unknown option '--steps=3' for check") &&
+                                                                  !Contains("did you mean"));
 }
 
 TEST_CASE("cellform check says whether a solid stands on the plane of its lowest point", "[cli][check]") {

@@ -309,6 +309,15 @@ TEST_CASE("load_mesh errors name the file and the problem", "[forms][mesh_io]") 
     CHECK(padded.vertices[padded.triangles[0][1]] == Vec3(1, 0, 0));
     write_text(dir / "long.stl", one + std::string(50, '\0'));  // a whole facet more than the count: damaged
     CHECK_THROWS_WITH(forms::load_mesh(dir / "long.stl"), Catch::Contains("announces 1 triangle (134 bytes)"));
+    // a count left at 0 by an exporter that writes as it goes: the facets that fill the file (refused before)
+    std::string two = binary_stl({{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 2)}});
+    two.replace(80, 4, std::string(4, '\0'));
+    write_text(dir / "unset.stl", two);
+    const forms::TriangleMesh unset = forms::load_mesh(dir / "unset.stl");
+    REQUIRE(unset.triangles.size() == 2);
+    CHECK(unset.vertices[unset.triangles[1][2]] == Vec3(0, 0, 2));
+    write_text(dir / "unset_padded.stl", two + "\r\n");  // not a whole number of facets: damaged
+    CHECK_THROWS_WITH(forms::load_mesh(dir / "unset_padded.stl"), Catch::Contains("announces 0 triangles"));
   }
   const double nan = std::nan("");
   write_text(dir / "nan.stl", binary_stl({{Vec3(0, 0, 0), Vec3(1, nan, 0), Vec3(0, 1, 0)}}));
@@ -344,6 +353,15 @@ TEST_CASE("load_mesh errors name the file and the problem", "[forms][mesh_io]") 
   CHECK(forms::load_mesh(dir / "colours.obj").triangles.size() == 1);
   write_text(dir / "spelt.obj", "v\t+0 0.0 0e0#a\r\nv 1E0 0 0 # b\r\nv 0 1 0 1.0\r\nf 1 2 3\r\n");  // tab, CRLF, w
   CHECK(forms::load_mesh(dir / "spelt.obj").triangles.size() == 1);
+  // a line continued on the next by a backslash, as the format allows (a walkthrough's was refused at '\'), also
+  // with CRLF; an error on a continued line names its last line
+  write_text(dir / "continued.obj", "v 0 0 0\nv 1 0 \\\n 0\nv 1 1 0\r\nv 0 1 0\nf 1 2 \\\r\n3 4\n");
+  const forms::TriangleMesh continued = forms::load_mesh(dir / "continued.obj");
+  CHECK(continued.triangles.size() == 2);
+  CHECK(continued.vertices.size() == 4);
+  CHECK(continued.vertices[1] == Vec3(1, 0, 0));
+  write_text(dir / "continued_bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 \\\n x\n");
+  CHECK_THROWS_WITH(forms::load_mesh(dir / "continued_bad.obj"), Catch::Contains("line 5: bad face vertex 'x'"));
 
   std::string truncated =
       binary_stl({{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}});
