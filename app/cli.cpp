@@ -161,8 +161,16 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
                  "than T, in the file's units: mm for cellform's prints); 1: not printable; 2: the file cannot\n"
                  "be read, or the report cannot be written.\n";
           return ok;
-        } else if (!args[i].empty() && args[i][0] == '-')
-          throw UsageError("unknown option '" + args[i] + "' for check");
+        } else if (!args[i].empty() && args[i][0] == '-') {
+          // cut short (--min-wal) or misspelt, as run's options are said
+          const std::string a = args[i].substr(0, args[i].find('='));
+          const std::vector<std::string> names = {"--json", "--min-wall", "--help"};
+          std::string near = a.size() > 3 && std::string("--min-wall").rfind(a, 0) == 0 ? "--min-wall"
+                             : a.size() > 3 && std::string("--json").rfind(a, 0) == 0   ? "--json"
+                                                                                        : core::closest_name(a, names);
+          throw UsageError("unknown option '" + args[i] + "' for check" +
+                           (near.empty() ? "" : "; did you mean '" + near + "'?"));
+        }
         else
           files.push_back(args[i]);
       }

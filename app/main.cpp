@@ -94,10 +94,15 @@ void on_interrupt(int sig, siginfo_t* info, void*) {
        "\ncellform: terminated (SIGTERM): the steps stop after the current one (a printable solid being made is "
        "skipped, once its pass under way ends) and the outputs are written; another SIGTERM or Ctrl-C skips a "
        "printable solid being made, and otherwise quits at once, without outputs\n"}};
+  static const char* const kPrinting[2] = {
+      "\ncellform: interrupted during the print: the printable solid is skipped once its pass under way ends, and "
+      "the other outputs are kept; Ctrl-C again quits at once, without outputs\n",
+      "\ncellform: terminated (SIGTERM) during the print: the printable solid is skipped once its pass under way "
+      "ends, and the other outputs are kept; another SIGTERM or Ctrl-C quits at once, without outputs\n"};
   bool reading = true;  // taken from the reading, which stops then (ScriptHost::load sees it at its end, too)
-  const char* text = g_reading_script.compare_exchange_strong(reading, false)
-                         ? kReading[term]
-                         : kStop[term][g_print_planned.load() ? 1 : 0];
+  const char* text = g_reading_script.compare_exchange_strong(reading, false) ? kReading[term]
+                     : g_printing.load()                                        ? kPrinting[term]
+                                                                                : kStop[term][g_print_planned.load() ? 1 : 0];
   say(text, std::strlen(text));  // strlen is async-signal-safe
 }
 void on_hangup(int) {

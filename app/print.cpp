@@ -158,16 +158,20 @@ json say_stand(std::ostream& err, const exporters::PrintableMesh& mesh, double f
                 core::number_text(exporters::kFootTip) + " degrees: print it with supports, turned, or on a base"
           : "no cut off its lower half, in one piece, gives it a foot that tips only past " +
                 core::number_text(exporters::kFootTip) + " degrees (a brim, or a base, steadies it)";
+  auto tenths = [](double mm) {  // (a walkthrough's print lay "0 mm beyond" its footprint)
+    const double r = std::round(mm * 10) / 10;
+    return r == 0 && mm > 0 ? std::string("under 0.1") : core::number_text(r);
+  };
   if (st.margin <= 0)
     err << "cellform: warning: the printable solid does not stand by itself: its centre of mass lies "
-        << core::number_text(std::round(-st.margin * 10) / 10) << " mm beyond " << footprint
+        << tenths(-st.margin) << " mm beyond " << footprint
         << ": only bed adhesion (or supports) holds it while it prints, and off the bed it rolls "
         << core::number_text(std::round(st.settle_angle)) << " degrees before it rests; " << cure << "\n";
   else
     err << "cellform: note: print: the printable solid stands, but tips over when tilted "
         << core::number_text(std::round(st.tip_angle * 10) / 10) << " degrees, and then rolls "
         << core::number_text(std::round(st.settle_angle)) << " degrees: its centre of mass lies "
-        << core::number_text(std::round(st.margin * 10) / 10) << " mm inside the edge of " << footprint << "; " << cure
+        << tenths(st.margin) << " mm inside the edge of " << footprint << "; " << cure
         << "\n";
   return j;
 }
@@ -227,8 +231,9 @@ json thicken_and_write(const fs::path& dir, const PrintSpec& spec, const std::ve
   const bool stopped_before = g_interrupt.load();
   g_print_cancel = false;
   g_print_after_interrupt = stopped_before;
+  g_printing = !stopped_before;
   struct PrintDone {
-    ~PrintDone() { g_print_after_interrupt = false; }
+    ~PrintDone() { g_print_after_interrupt = g_printing = false; }
   } print_done;
   // not on a terminal (a log), a stage still running after 10 s says each quarter it passes on a line of its own
   auto stage_progress = [&err, tty, quiet, stopped_before](const char* stage) {

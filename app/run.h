@@ -42,6 +42,9 @@ extern std::atomic<bool> g_reading_script;
 extern std::atomic<bool> g_print_cancel;
 /// Set once a run knows it ends with print{}: a Ctrl-C's message then says the printable solid is skipped.
 extern std::atomic<bool> g_print_planned;
+/// Set while a print runs that no Ctrl-C asked for (the steps ended): a first Ctrl-C's message then says it skips
+/// that print.
+extern std::atomic<bool> g_printing;
 /// The signal of the first interrupt: SIGINT or SIGTERM (0: none, or a hang-up).
 extern std::atomic<int> g_interrupt_signal;
 

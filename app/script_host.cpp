@@ -384,9 +384,13 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
       std::vector<std::string> names(std::begin(kSections), std::end(kSections));
       names.push_back("params");
       const std::string near = global.empty() ? std::string() : core::closest_name(global, names);
+      // none close in spelling: the functions by what they make (obstacle{} and plane{} were met with no more)
       err += near == global ? "; the script set it to nil before this call"
-             : near.empty() ? "; no such function"
-                            : "; did you mean '" + near + "'?";
+             : near.empty()
+                 ? "; no such function (shapes: disc, rectangle, sphere, line, cell, petiole; obstacles: ground, "
+                   "half_space, ball, box, mesh; attractor; settings: run, cells, division, venation, print, output; "
+                   "veins by space colonisation: leaf, volume, surface, colonisation; params)"
+                 : "; did you mean '" + near + "'?";
     } else if (err.find("attempt to call a nil value (field 'dump')") != std::string::npos &&
                source_line(text, err, I.script_name).find("string.dump") != std::string::npos) {
       err += "; 'string.dump' is left out of cellform scripts, which refuse precompiled chunks";
@@ -491,7 +495,13 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
     if (!I.first_constraint.empty())
       throw InvalidInput(I.first_constraint +
                          "{...} acts on cells; this space-colonisation run grows no cells (only surface{cells = "
-                         "true} does). The veins stay inside the leaf{...}, volume{...} or surface{...}");
+                         "true} does). The veins stay inside the leaf{...}, volume{...} or surface{...}" +
+                         (I.first_constraint.ends_with(": mesh") || I.first_constraint.ends_with(": ball") ||
+                                  I.first_constraint.ends_with(": box")
+                              ? ": for veins round an obstacle, give volume{file = ...} a mesh with the obstacle's "
+                                "surface nested inside its own (inside is an odd number of crossings, so nested "
+                                "shells make a hollow)"
+                              : ""));
   }
   if (on_cells && cfg.initial_cells.empty() && cfg.scene.petioles.empty())
     throw InvalidInput(I.sections_seen["surface"] +

@@ -14,6 +14,7 @@ std::atomic<bool> g_reading_script{false};
 std::atomic<bool> g_print_cancel{false};
 std::atomic<int> g_interrupt_signal{0};
 std::atomic<bool> g_print_planned{false};
+std::atomic<bool> g_printing{false};
 
 void exit_process(int code) {
   if (g_interrupt_signal.load() == SIGINT) {
