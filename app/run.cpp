@@ -346,7 +346,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     // left the state half changed, and a file from an earlier run in the folder is not this run's
     fs::path last;
     if (saved) {
-      err << "  (the last checkpoint is " << checkpoint.string() << ")\n";
+      // (of which step: output.checkpoint_seconds may have skipped the ones checkpoint_every asked for since)
+      err << "  (the last checkpoint is " << checkpoint.string() << ", of step " << saved_step << ")\n";
       last = checkpoint;
       keep_failed_run(error);
     } else if (s.resume && fs::exists(o.checkpoint)) {

@@ -60,14 +60,17 @@ void say_veinless_petioles(std::ostream& err, const cells::Cells& c, const venat
              "than cells.link_range from every cell never is (place it nearer the form)\n";
       continue;
     }
+    const double reached = flow != c.attributes.end() ? flow->second[i] : 0.0;
     err << "cellform: note: the petiole at " << at.str() << " (cell " << c.id[i]
-        << ") grew no vein: the auxin reaching it ("
-        << core::number_text(flow != c.attributes.end() ? flow->second[i] : 0.0)
+        << ") grew no vein: the auxin reaching it (" << core::number_text(reached)
         << " in all) never passed venation.threshold (" << core::number_text(p.threshold) << ") in one cell beside it. "
-        << (any_vein ? "A petiole collects only the cells nearer to it than to any vein: one placed (or added at a "
-                       "step) where veins already run gets few\n"
-                     : "No vein has grown anywhere yet: run longer (more cells, more auxin) or lower "
-                       "venation.threshold\n");
+        << (flow != c.attributes.end() && reached == 0
+                ? "No auxin reached it at all: its cells make none (venation.source, or the function given for it, "
+                  "is 0 there), and running longer does not change that\n"
+            : any_vein ? "A petiole collects only the cells nearer to it than to any vein: one placed (or added at a "
+                         "step) where veins already run gets few\n"
+                       : "No vein has grown anywhere yet: run longer (more cells, more auxin) or lower "
+                         "venation.threshold\n");
   }
 }
 

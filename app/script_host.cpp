@@ -336,6 +336,7 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
   struct Reset {
     Impl& I;
     ~Reset() {
+      I.venation_runs = I.cfg && I.cfg->scene.venation.has_value();
       I.cfg = nullptr;
       I.overrides = nullptr;
       g_reading_script = false;

@@ -115,6 +115,7 @@ struct ScriptHost::Impl {
   // "file:line: " of the section that set each rule, for the messages of its calls during the run
   std::string divides_at, direction_at, source_at;
   int cell_table_ref = LUA_NOREF;
+  bool venation_runs = false;  // the script loaded last has venation{}: its attributes come (else they never do)
   int randomseed_ref = LUA_NOREF;  // math.randomseed as the library made it (ScriptHost::set_step)
   int params_ref = LUA_NOREF;      // the table params{} returned (P), and its metatable
   int params_meta_ref = LUA_NOREF;

@@ -96,8 +96,9 @@ int params_assign_new(lua_State* L) {
     key += lua_type(L, 2) == LUA_TSTRING ? core::printable(lua_tostring(L, 2)) + "'"  // "'" + string&&
                                          : std::string(luaL_typename(L, 2)) + " key";
     throw InvalidInput(at + "params: the knobs are read-only, and a new one " + key +
-                       " cannot be added: declare it in params{...} (a value computed from the knobs, or kept "
-                       "between rule calls, goes in a local variable)");
+                       " cannot be added: declare it in params{...} (a value computed from the knobs goes in a local "
+                       "variable; a rule function should keep nothing between calls, which a resume does not "
+                       "restore)");
     return 0;
   });
 }
@@ -263,9 +264,15 @@ constexpr const char* kCellFields[] = {"id",
 int api_cell_index(lua_State* L) {
   if (lua_type(L, 2) != LUA_TSTRING) return 0;
   const char* key = lua_tostring(L, 2);
-  for (std::size_t k = kFixedCellFields; k < std::size(kCellFields); ++k)
-    if (std::string_view(key) == kCellFields[k]) return 0;
-  return guarded(L, [key](Impl& I) {  // (guarded: no Lua error while the message's strings live)
+  const bool attribute = std::find_if(std::begin(kCellFields) + kFixedCellFields, std::end(kCellFields),
+                                      [key](const char* f) { return std::string_view(key) == f; }) !=
+                         std::end(kCellFields);
+  if (attribute && self_of(L)->venation_runs) return 0;
+  return guarded(L, [key, attribute](Impl& I) {  // (guarded: no Lua error while the message's strings live)
+    if (attribute)  // (a walkthrough's rule read cell.flow for good in a script without venation{}: always nil)
+      throw InvalidInput(I.where(1) + "cell." + key +
+                         " is an attribute canalisation computes, and this script has no venation{...}: it would "
+                         "be nil for good; add venation{...} (with a petiole{...}), or read another field");
     const std::string near = core::closest_name(std::string(key), kCellFields);
     if (near == key)  // a field of every cell, set to nil by the rule itself (c.x = nil)
       throw InvalidInput(I.where(1) + "cell." + near + " is nil: the rule set it to nil before reading it");

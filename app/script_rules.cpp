@@ -1,9 +1,12 @@
 // Calling the script's rule functions (division.rule, division.direction, venation.source) on a cell.
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "app/script_host.h"
 #include "app/script_impl.h"
+#include "core/errors.h"
+#include "venation/canalisation.h"
 
 namespace cellform::app {
 
@@ -81,9 +84,41 @@ class RuleCall {
 
 /// A rule's error that names no line (error(msg, 0), the memory limit passed inside a library call) gets the
 /// rule function's: "file: msg" becomes "file:line: msg", `rule_at` being where the function is defined.
+/// Also says why a venation attribute was nil (before the first canalisation pass), and that os and io are left
+/// out of the sandbox, where Lua's message only says "a nil value".
 std::string with_rule_line(const Impl& I, const std::string& err, const std::string& rule_at) {
   const std::string bare = I.script_name + ": ";
-  return err.rfind(bare, 0) == 0 && rule_at != bare ? rule_at + err.substr(bare.size()) : err;
+  std::string m = err.rfind(bare, 0) == 0 && rule_at != bare ? rule_at + err.substr(bare.size()) : err;
+  for (const char* f : {venation::kFlow, venation::kRadius, venation::kOrder, venation::kFlowX, venation::kFlowY,
+                        venation::kFlowZ})
+    if (m.find("a nil value (field '" + std::string(f) + "')") != std::string::npos)
+      return m + "; cell." + f + " is nil until the first canalisation pass (at step venation.every): write (cell." +
+             f + " or 0)";
+  for (const char* g : {"os", "io", "debug", "package"})
+    if (m.find("a nil value (global '" + std::string(g) + "')") != std::string::npos)
+      return m + "; '" + g + "' is left out of cellform scripts (the sandbox keeps Lua's base functions, string, "
+             "table, math, utf8 and coroutine)";
+  return m;
+}
+
+/// What a division.direction rule returned, for its message: "{1, 0}", "nil", "string", "1, 0, nil".
+std::string returned_direction(lua_State* L) {  // its three results on top (nothing here raises a Lua error)
+  auto one = [L](int idx) {
+    return lua_type(L, idx) == LUA_TNUMBER ? core::number_text(lua_tonumber(L, idx)) : std::string(luaL_typename(L, idx));
+  };
+  if (lua_type(L, -3) == LUA_TTABLE) {
+    const auto n = lua_rawlen(L, -3);
+    if (n == 0) return "a table without items 1 to 3 ({x = ...} fields are not read)";
+    std::string t = "{";
+    for (lua_Integer k = 1; k <= static_cast<lua_Integer>(std::min<std::size_t>(n, 4)); ++k) {
+      lua_rawgeti(L, -3, k);
+      t += (k > 1 ? ", " : "") + one(-1);
+      lua_pop(L, 1);
+    }
+    return t + (n > 4 ? ", ...}" : "}");
+  }
+  if (lua_type(L, -3) != LUA_TNUMBER) return one(-3);
+  return one(-3) + ", " + one(-2) + ", " + one(-1);
 }
 
 }  // namespace
@@ -142,10 +177,13 @@ cells::Rules ScriptHost::rules() {
           d[k] = lua_tonumber(L, -3 + k);
         }
       }
+      const std::string got = ok && d.allFinite() ? std::string() : returned_direction(L);
       lua_pop(L, 3);
-      if (!ok || !d.allFinite())
+      if (!got.empty())
         throw fail("division.direction",
-                   I->direction_at + "division.direction must return {x, y, z} (or x, y, z) of finite numbers", c, i);
+                   I->direction_at + "division.direction must return {x, y, z} (or x, y, z) of finite numbers, got " +
+                       got,
+                   c, i);
       // the split plane needs a length to normalise: a vector whose square underflows or overflows ({0, 0,
       // 1e-300}, {1e300, 1e300, 0}) is scaled first (its direction is all that counts); only zero is refused
       if (const double n = d.norm(); !(n > 0) || !std::isfinite(n)) d /= d.cwiseAbs().maxCoeff();

@@ -182,6 +182,15 @@ TEST_CASE("a petiole that grew no vein is noted, with where it is and why", "[cl
   REQUIRE(r.code == 0);
   CHECK_THAT(r.err, Contains("note: the petiole at {2") && Contains("grew no vein") &&
                         Contains("venation.threshold (12)") && !Contains("the petiole at {-8"));
+  // a source rule that gives no auxin: running longer cannot help, which is said (a walkthrough was told to)
+  const auto dry = t.write("dry.lua",
+                           "division { trigger = 'none' }\nrun { steps = 30 }\n"
+                           "venation { threshold = 12, source = function(cell) return 0 end }\n"
+                           "rectangle { width = 16, height = 4 }\npetiole { at = {-8, 0, 0} }\n");
+  r = cli({"run", dry.string(), "--out", (t.path / "dry").string(), "--quiet"});
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("(0 in all)") && Contains("No auxin reached it at all: its cells make none") &&
+                        !Contains("run longer"));
   // placed at the start, it collects its own half of the strip and grows veins: nothing is said
   const auto early = t.write("early.lua",
                              "division { trigger = 'none' }\nrun { steps = 120 }\nvenation { threshold = 12 }\n"

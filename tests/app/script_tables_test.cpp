@@ -1,6 +1,9 @@
 // Tests of the tables a script reads: the cell table of rule functions (a misspelt field is an error naming
 // the closest one) and the knobs of params{} (read-only, printable).
 #include <catch2/catch.hpp>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "app/script_host.h"
 #include "cells/cells.h"
@@ -12,11 +15,13 @@ using cellform::app::ScriptHost;
 
 namespace {
 /// Whether the division rule `body` (a Lua expression of `cell`) holds for the first of two cells.
-bool divides(const std::string& body, const cellform::cells::Cells& c) {
+bool divides(const std::string& body, const cellform::cells::Cells& c, const std::string& more = "") {
   ScriptHost host;
-  host.load("disc { radius = 2 }\ndivision { rule = function(cell)\n  return " + body + "\nend }\n", "rule.lua", {});
+  host.load("disc { radius = 2 }\ndivision { rule = function(cell)\n  return " + body + "\nend }\n" + more, "rule.lua",
+            {});
   return host.rules().divides(c, 0);
 }
+const std::string kVeins = "petiole { at = {0, 0, 0} }\nvenation {}\n";
 }  // namespace
 
 TEST_CASE("a rule reading a field the cell table does not have is stopped, with the closest name", "[script]") {
@@ -42,7 +47,19 @@ TEST_CASE("a rule reading a field the cell table does not have is stopped, with 
       divides("cell.id + cell.index + cell.generation + cell.y + cell.z + cell.vx + cell.vy + cell.vz + "
               "cell.neighbours >= 0",
               c));
-  CHECK(divides("cell.flow == nil and cell.vein_radius == nil and cell.vein_order == nil and cell.flow_dx == nil", c));
+  CHECK(divides("cell.flow == nil and cell.vein_radius == nil and cell.vein_order == nil and cell.flow_dx == nil", c,
+                kVeins));
+  // before that first pass, arithmetic on one says why it is nil (a walkthrough got Lua's bare message)
+  CHECK_THROWS_WITH(divides("cell.flow / 100 > 1", c, kVeins),
+                    Contains("(field 'flow')") &&
+                        Contains("; cell.flow is nil until the first canalisation pass (at step venation.every): "
+                                 "write (cell.flow or 0)"));
+  // without venation{} they would be nil for good: an error (a walkthrough's rule never saw a value)
+  CHECK_THROWS_WITH(divides("(cell.flow or 0) < 5", c),
+                    Contains("rule.lua:3: cell.flow is an attribute canalisation computes, and this script has no "
+                             "venation{...}"));
+  // os and io are said to be left out, as at the script's top level
+  CHECK_THROWS_WITH(divides("os.time() > 0", c), Contains("'os' is left out of cellform scripts"));
   cellform::cells::attribute(c, "flow") = {7, 8};
   CHECK(divides("cell.flow == 7", c));
   cellform::cells::attribute(c, "vein_order") = {2, 0};  // a whole number, as in the files: "2", not "2.0"
@@ -212,6 +229,17 @@ TEST_CASE("rule results out of range are stopped at the rule's line, naming the 
       "d.lua", {});
   for (const char* a : {"flow_dx", "flow_dy", "flow_dz"}) cellform::cells::attribute(c, a) = {1, 0};
   CHECK(host.rules().split_direction(c, 0).x() == 1);
+  // what a bad direction was is said (a walkthrough's was always the same message)
+  for (const auto& [ret, got] : std::vector<std::pair<std::string, std::string>>{
+           {"{1, 0}", "{1, 0}"}, {"nil", "nil"}, {"'x'", "string"}, {"{x = 1, y = 0, z = 0}", "a table without items"},
+           {"{0/0, 0, 0}", "{NaN, 0, 0}"}, {"1, 0", "1, 0, nil"}, {"{1, '0', 0}", "{1, string, 0}"}}) {
+    ScriptHost bad;
+    bad.load("disc { radius = 2 }\ndivision { direction = function(cell)\n  return " + ret + " end }\n", "b.lua", {});
+    INFO(ret);
+    CHECK_THROWS_WITH(bad.rules().split_direction(c, 0),
+                      Contains("b.lua:2: division.direction must return {x, y, z} (or x, y, z) of finite numbers, got " +
+                               got));
+  }
   CHECK_THROWS_WITH(host.rules().split_direction(c, 1),
                     Contains("d.lua:2: division.direction returned a zero vector") &&
                         Contains("flow_dx, flow_dy, flow_dz are all 0: a petiole, or a cell no flow reaches"));
