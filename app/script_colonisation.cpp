@@ -81,7 +81,7 @@ venation::Mesh read_domain_mesh(Impl& I, const std::string& section, const Value
   } catch (const std::exception& e) {
     throw InvalidInput(at + section + ".file: " + file_message(e));
   }
-  I.scale_mesh(out.vertices, v.at("scale").num, v.at("file").str, at + section + ".file: ");
+  I.scale_mesh(out.vertices, v.at("scale").num, v.at("offset").vec, v.at("file").str, at + section + ".file: ");
   return out;
 }
 
@@ -192,6 +192,10 @@ void section_domain(Impl& I, const std::string& section, const std::string& at) 
     if (v["scale"].present && v["scale"].num != 1 && !file)  // (1 changes nothing: accepted)
       throw InvalidInput(I.value_at(section + ".scale", at) + section +
                          ".scale scales the coordinates of a mesh file (" + section + "{file = ...}); " + instead);
+    if (v["offset"].present && !v["offset"].vec.isZero() && !file)
+      throw InvalidInput(I.value_at(section + ".offset", at) + section +
+                         ".offset moves the coordinates of a mesh file (" + section + "{file = ...}), and there is "
+                         "none here");
   };
   if (section == "volume") {
     Values box, ball;

@@ -463,14 +463,16 @@ struct ScriptHost::Impl {
     return where;
   }
 
-  /// Scales a mesh read from `file` (as the script names it) into model units; refuses one that then lies
-  /// beyond kFarthest, like every position a script gives.
-  void scale_mesh(std::vector<Vec3>& vertices, double scale, const std::string& file, const std::string& at) const {
+  /// Scales a mesh read from `file` (as the script names it) into model units and moves it by `offset` (model
+  /// units); refuses one that then lies beyond kFarthest, like every position a script gives.
+  void scale_mesh(std::vector<Vec3>& vertices, double scale, const Vec3& offset, const std::string& file,
+                  const std::string& at) const {
     for (Vec3& p : vertices) {
-      p *= scale;
+      p = p * scale + offset;
       if (!(p.cwiseAbs().maxCoeff() <= kFarthest))
-        throw InvalidInput(at + "with scale = " + core::number_text(scale) + ", a vertex of '" + file +
-                           "' lies beyond " + core::number_text(kFarthest) +
+        throw InvalidInput(at + "with scale = " + core::number_text(scale) +
+                           (offset.isZero() ? std::string() : " and offset " + core::point_text(offset.x(), offset.y(), offset.z())) +
+                           ", a vertex of '" + file + "' lies beyond " + core::number_text(kFarthest) +
                            " model units, farther than any script position may");
     }
   }

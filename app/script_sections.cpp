@@ -420,7 +420,7 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
     } catch (const std::exception& e) {
       throw InvalidInput(at + "mesh.file: " + file_message(e));
     }
-    I.scale_mesh(mesh.vertices, v["scale"].num, v["file"].str, at + "mesh: ");
+    I.scale_mesh(mesh.vertices, v["scale"].num, v["offset"].vec, v["file"].str, at + "mesh: ");
     double area = 0;  // as volume{file} and surface{file}: a wall of no area stops nothing
     for (const auto& t : mesh.triangles)
       area += (mesh.vertices[t[1]] - mesh.vertices[t[0]]).cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]).norm();

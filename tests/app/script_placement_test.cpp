@@ -45,6 +45,8 @@ TEST_CASE("a mesh obstacle in other units than the cells is noted, and run.json 
                              std::to_string(x) + " " + std::to_string(0.8 * size) + " 0\nf 1 2 3\n")
         .string();
   };
+  t.write("cube.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                      "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
   // a disc of radius 2 spans sqrt(4^2 + (2 sqrt 3)^2) = 5.2915; a triangle 0.0005 across, one 98 away, one 8 away
   const std::string disc = "disc { radius = 2 }\n";
   auto cfg = load(disc + "mesh { file = '" + triangle("tiny.obj", 5, 0.0005) + "' }\n");
@@ -64,4 +66,17 @@ TEST_CASE("a mesh obstacle in other units than the cells is noted, and run.json 
   CHECK(rec["bounds"]["min"] == nlohmann::json::array({20.0, 0.0, 0.0}));
   CHECK(rec["bounds"]["max"] == nlohmann::json::array({32.0, 16.0, 0.0}));
   CHECK(rec["fingerprint"].get<std::string>().rfind("fnv1a64:", 0) == 0);
+  // offset moves it after the scale (a site model drawn far from the origin): the far one brought to the cells
+  cfg = load(disc + "mesh { file = '" + triangle("far.obj", 100, 10) + "', scale = 0.5, offset = {-47, 1, 2} }\n");
+  CHECK(cfg.notes.empty());
+  CHECK(cfg.resolved["constraints"][0]["bounds"]["min"] == nlohmann::json::array({3.0, 1.0, 2.0}));
+  CHECK(cfg.scene.obstacles.meshes[0].vertices[1] == cellform::core::Vec3(3 + 0.5 * 6, 1, 2));
+  CHECK(cfg.resolved["constraints"][0]["offset"] == nlohmann::json::array({-47.0, 1.0, 2.0}));
+  // a volume or surface file too; without a file an offset moves nothing, and says so
+  cfg = load("volume { file = '" + (t.path / "cube.obj").string() + "', offset = {10, 0, 0}, seeds = {{10.5, 0.5, 0.5}} }\n"
+             "colonisation {}\n");
+  CHECK(cfg.colonisation->domain.mesh.vertices[0].x() >= 10);
+  CHECK_THAT(load_error("volume { box = {min = {0, 0, 0}, max = {1, 1, 1}}, offset = {1, 0, 0} }\ncolonisation {}\n"),
+             Contains("test/leaf.lua:1: volume.offset moves the coordinates of a mesh file (volume{file = ...}), and "
+                      "there is none here"));
 }
