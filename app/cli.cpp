@@ -165,13 +165,13 @@ int cli_main(const std::vector<std::string>& args, std::ostream& out, std::ostre
           // cut short (--min-wal) or misspelt, as run's options are said
           const std::string a = args[i].substr(0, args[i].find('='));
           const std::vector<std::string> names = {"--json", "--min-wall", "--help"};
+          if (a == "--json" || a == "--help") throw UsageError(a + " takes no value, got '" + args[i] + "'");
           std::string near = a.size() > 3 && std::string("--min-wall").rfind(a, 0) == 0 ? "--min-wall"
                              : a.size() > 3 && std::string("--json").rfind(a, 0) == 0   ? "--json"
                                                                                         : core::closest_name(a, names);
           throw UsageError("unknown option '" + args[i] + "' for check" +
                            (near.empty() ? "" : "; did you mean '" + near + "'?"));
-        }
-        else
+        } else
           files.push_back(args[i]);
       }
       if (files.size() != 1) throw UsageError("cellform check takes one FILE (see cellform check --help)");

@@ -101,8 +101,8 @@ void on_interrupt(int sig, siginfo_t* info, void*) {
       "ends, and the other outputs are kept; another SIGTERM or Ctrl-C quits at once, without outputs\n"};
   bool reading = true;  // taken from the reading, which stops then (ScriptHost::load sees it at its end, too)
   const char* text = g_reading_script.compare_exchange_strong(reading, false) ? kReading[term]
-                     : g_printing.load()                                        ? kPrinting[term]
-                                                                                : kStop[term][g_print_planned.load() ? 1 : 0];
+                     : g_printing.load()                                      ? kPrinting[term]
+                                         : kStop[term][g_print_planned.load() ? 1 : 0];
   say(text, std::strlen(text));  // strlen is async-signal-safe
 }
 void on_hangup(int) {

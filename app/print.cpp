@@ -170,9 +170,8 @@ json say_stand(std::ostream& err, const exporters::PrintableMesh& mesh, double f
   else
     err << "cellform: note: print: the printable solid stands, but tips over when tilted "
         << core::number_text(std::round(st.tip_angle * 10) / 10) << " degrees, and then rolls "
-        << core::number_text(std::round(st.settle_angle)) << " degrees: its centre of mass lies "
-        << tenths(st.margin) << " mm inside the edge of " << footprint << "; " << cure
-        << "\n";
+        << core::number_text(std::round(st.settle_angle)) << " degrees: its centre of mass lies " << tenths(st.margin)
+        << " mm inside the edge of " << footprint << "; " << cure << "\n";
   return j;
 }
 

@@ -9,6 +9,7 @@
 
 #include "app/run_internal.h"
 #include "app/schema.h"
+#include "core/chunk_file.h"
 #include "core/errors.h"
 #include "forms/obstacles.h"
 
@@ -74,13 +75,25 @@ std::string sets_carry_over(const Overrides& sets) {
 }
 
 void adopt_mesh_files(Start& s, const RunOptions& o, const SceneConfig& cfg, std::ostream& err) {
-  std::vector<std::string> meshes;
+  std::vector<std::string> meshes, geometry;
   for (const auto& [path, hash] : cfg.mesh_files) meshes.push_back(hash);
+  for (const forms::TriangleMesh& m : cfg.scene.obstacles.meshes) {
+    const std::uint64_t h = core::fnv1a64(m.vertices.data(), m.vertices.size() * sizeof(core::Vec3));
+    geometry.push_back("fnv1a64:" +
+                       core::hex64(core::fnv1a64(m.triangles.data(), m.triangles.size() * sizeof(m.triangles[0]), h)));
+  }
+  // the walls as the run uses them, scaled and moved: a file scaled otherwise is another wall, one written again
+  // the same is not (its cells grew links across their own walls' corners: those are not tested again)
   s.new_meshes.clear();
-  for (std::size_t k = 0; k < meshes.size(); ++k)
-    if (!s.obstacle_meshes || std::find(s.obstacle_meshes->begin(), s.obstacle_meshes->end(), meshes[k]) ==
-                                  s.obstacle_meshes->end())
+  for (std::size_t k = 0; s.obstacle_geometry && k < geometry.size(); ++k)
+    if (std::find(s.obstacle_geometry->begin(), s.obstacle_geometry->end(), geometry[k]) == s.obstacle_geometry->end())
       s.new_meshes.push_back(k);
+  s.obstacle_geometry = geometry;
+  std::vector<std::size_t> new_files;  // for the note: files the checkpoint did not grow against
+  for (std::size_t k = 0; k < meshes.size(); ++k)
+    if (!s.obstacle_meshes ||
+        std::find(s.obstacle_meshes->begin(), s.obstacle_meshes->end(), meshes[k]) == s.obstacle_meshes->end())
+      new_files.push_back(k);
   if (s.resume && (!cfg.colonisation || s.sheet_partial) && s.obstacle_meshes && *s.obstacle_meshes != meshes) {
     if (!s.script_replaced) {  // the same script names the same files, in the same order: those that differ changed
       std::string changed;
@@ -94,13 +107,13 @@ void adopt_mesh_files(Start& s, const RunOptions& o, const SceneConfig& cfg, std
     }
     // an edited script may name other files, in another order: a file is told by its content alone
     std::string added;
-    for (const std::size_t k : s.new_meshes)
+    for (const std::size_t k : new_files)
       added += (added.empty() ? "'" : ", '") + cfg.mesh_files[k].first.string() + "'";
     const auto gone = std::count_if(s.obstacle_meshes->begin(), s.obstacle_meshes->end(), [&](const std::string& h) {
       return std::find(meshes.begin(), meshes.end(), h) == meshes.end();
     });
     std::string what;
-    if (!added.empty()) what = added + (s.new_meshes.size() == 1 ? " is" : " are") + " not among them";
+    if (!added.empty()) what = added + (new_files.size() == 1 ? " is" : " are") + " not among them";
     if (gone > 0)
       what += (what.empty() ? "" : "; ") + std::to_string(gone) + " of the " +
               std::to_string(s.obstacle_meshes->size()) + (gone == 1 ? " it grew against is" : " it grew against are") +

@@ -103,6 +103,7 @@ json checkpoint_meta(const Start& s, std::uint64_t seed, std::uint64_t target, s
                {"out", absolute_path_text(s.out_dir)},
                {"replaced_scripts", s.replaced}};
   if (s.obstacle_meshes) meta["obstacle_meshes"] = *s.obstacle_meshes;
+  if (s.obstacle_geometry) meta["obstacle_geometry"] = *s.obstacle_geometry;
   // a script path that is not UTF-8 (which JSON holds with U+FFFD) also as its bytes: a resume finds the
   // script's files (a mesh, an outline) beside it
   const std::string path = absolute_path_text(s.script_path);
@@ -209,6 +210,13 @@ Start start_from(const RunOptions& o) {
             for (const json& h : meta["obstacle_meshes"]) hashes = hashes && h.is_string();
           if (!hashes) throw core::FileError(what + " is corrupt (metadata 'obstacle_meshes')");
           s.obstacle_meshes = meta["obstacle_meshes"].get<std::vector<std::string>>();
+        }
+        if (meta.contains("obstacle_geometry")) {  // older checkpoints: not recorded
+          bool hashes = meta["obstacle_geometry"].is_array();
+          if (hashes)
+            for (const json& h : meta["obstacle_geometry"]) hashes = hashes && h.is_string();
+          if (!hashes) throw core::FileError(what + " is corrupt (metadata 'obstacle_geometry')");
+          s.obstacle_geometry = meta["obstacle_geometry"].get<std::vector<std::string>>();
         }
         const std::string mode = meta.value("mode", std::string("cells"));
         if (mode != "cells" && mode != "colonisation" && mode != "sheet")

@@ -35,6 +35,9 @@ void say_veinless_petioles(std::ostream& err, const cells::Cells& c, const venat
     }
   const auto flow = c.attributes.find(venation::kFlow);
   const bool any_vein = std::find(c.type.begin(), c.type.end(), cells::CellType::vein) != c.type.end();
+  // a pass ran and no cell carries any flow: no source at all (a petiole made after the last pass reads 0 too)
+  const bool no_auxin = flow != c.attributes.end() &&
+                        std::all_of(flow->second.begin(), flow->second.end(), [](double f) { return f == 0; });
   for (std::size_t i = 0; i < n; ++i) {
     if (c.type[i] != cells::CellType::petiole || c.vein_parent[i] != core::kNoIndex || has_child[i]) continue;
     const core::Vec3& q = c.position[i];
@@ -64,9 +67,8 @@ void say_veinless_petioles(std::ostream& err, const cells::Cells& c, const venat
     err << "cellform: note: the petiole at " << at.str() << " (cell " << c.id[i]
         << ") grew no vein: the auxin reaching it (" << core::number_text(reached)
         << " in all) never passed venation.threshold (" << core::number_text(p.threshold) << ") in one cell beside it. "
-        << (flow != c.attributes.end() && reached == 0
-                ? "No auxin reached it at all: its cells make none (venation.source, or the function given for it, "
-                  "is 0 there), and running longer does not change that\n"
+        << (no_auxin   ? "No auxin flows anywhere: the cells make none (venation.source, or the function given for "
+                         "it, is 0), and running longer does not change that\n"
             : any_vein ? "A petiole collects only the cells nearer to it than to any vein: one placed (or added at a "
                          "step) where veins already run gets few\n"
                        : "No vein has grown anywhere yet: run longer (more cells, more auxin) or lower "

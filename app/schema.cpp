@@ -245,7 +245,8 @@ std::vector<Field> build() {
   f.push_back(text("volume", "file", "(none)",
                    "sources fill the inside of this closed STL or OBJ mesh (path relative to the script)"));
   f.push_back(num("volume", "scale", "1", 0, kInf, true, "factor", "file: scales the mesh's coordinates"));
-  f.push_back(vec("volume", "offset", "{0, 0, 0}", -kFar, kFar, "model units", "file: added to the scaled coordinates"));
+  f.push_back(
+      vec("volume", "offset", "{0, 0, 0}", -kFar, kFar, "model units", "file: added to the scaled coordinates"));
   f.push_back(Field{"volume", "seeds", Kind::table, "(auto)", 0, 0, false, "", "model units",
                     "seed vein nodes {{x, y, z}, ...} inside the volume; default: box: centre of its floor, ball: "
                     "its lowest point (file: required)"});
@@ -256,7 +257,8 @@ std::vector<Field> build() {
   f.push_back(text("surface", "file", "(none)",
                    "sources lie on the triangles of this STL or OBJ mesh (open or closed; relative to the script)"));
   f.push_back(num("surface", "scale", "1", 0, kInf, true, "factor", "file: scales the mesh's coordinates"));
-  f.push_back(vec("surface", "offset", "{0, 0, 0}", -kFar, kFar, "model units", "file: added to the scaled coordinates"));
+  f.push_back(
+      vec("surface", "offset", "{0, 0, 0}", -kFar, kFar, "model units", "file: added to the scaled coordinates"));
   f.push_back(boolean("surface", "cells", "false",
                       "grow the script's cells first (cells{}, division{}, run{}, shapes); veins grow on their sheet"));
   f.push_back(

@@ -4,6 +4,7 @@
 
 #include "app/memory.h"
 #include "app/script_impl.h"
+#include "app/script_placement.h"
 #include "venation/domain.h"
 
 namespace cellform::app {
@@ -81,7 +82,7 @@ venation::Mesh read_domain_mesh(Impl& I, const std::string& section, const Value
   } catch (const std::exception& e) {
     throw InvalidInput(at + section + ".file: " + file_message(e));
   }
-  I.scale_mesh(out.vertices, v.at("scale").num, v.at("offset").vec, v.at("file").str, at + section + ".file: ");
+  scale_mesh(out.vertices, v.at("scale").num, v.at("offset").vec, v.at("file").str, at + section + ".file: ");
   return out;
 }
 
@@ -194,7 +195,8 @@ void section_domain(Impl& I, const std::string& section, const std::string& at) 
                          ".scale scales the coordinates of a mesh file (" + section + "{file = ...}); " + instead);
     if (v["offset"].present && !v["offset"].vec.isZero() && !file)
       throw InvalidInput(I.value_at(section + ".offset", at) + section +
-                         ".offset moves the coordinates of a mesh file (" + section + "{file = ...}), and there is "
+                         ".offset moves the coordinates of a mesh file (" + section +
+                         "{file = ...}), and there is "
                          "none here");
   };
   if (section == "volume") {

@@ -497,8 +497,9 @@ SceneConfig ScriptHost::load(const std::string& source, const std::filesystem::p
       throw InvalidInput(I.first_constraint +
                          "{...} acts on cells; this space-colonisation run grows no cells (only surface{cells = "
                          "true} does). The veins stay inside the leaf{...}, volume{...} or surface{...}" +
-                         (I.first_constraint.ends_with(": mesh") || I.first_constraint.ends_with(": ball") ||
-                                  I.first_constraint.ends_with(": box")
+                         (cfg.colonisation->domain.kind != venation::DomainKind::leaf &&
+                                  (I.first_constraint.ends_with(": mesh") || I.first_constraint.ends_with(": ball") ||
+                                   I.first_constraint.ends_with(": box"))
                               ? ": for veins round an obstacle, give volume{file = ...} a mesh with the obstacle's "
                                 "surface nested inside its own (inside is an odd number of crossings, so nested "
                                 "shells make a hollow)"

@@ -115,7 +115,7 @@ struct ScriptHost::Impl {
   // "file:line: " of the section that set each rule, for the messages of its calls during the run
   std::string divides_at, direction_at, source_at;
   int cell_table_ref = LUA_NOREF;
-  bool venation_runs = false;  // the script loaded last has venation{}: its attributes come (else they never do)
+  bool venation_runs = false;      // the script loaded last has venation{}: its attributes come (else they never do)
   int randomseed_ref = LUA_NOREF;  // math.randomseed as the library made it (ScriptHost::set_step)
   int params_ref = LUA_NOREF;      // the table params{} returned (P), and its metatable
   int params_meta_ref = LUA_NOREF;
@@ -463,20 +463,6 @@ struct ScriptHost::Impl {
     return where;
   }
 
-  /// Scales a mesh read from `file` (as the script names it) into model units and moves it by `offset` (model
-  /// units); refuses one that then lies beyond kFarthest, like every position a script gives.
-  void scale_mesh(std::vector<Vec3>& vertices, double scale, const Vec3& offset, const std::string& file,
-                  const std::string& at) const {
-    for (Vec3& p : vertices) {
-      p = p * scale + offset;
-      if (!(p.cwiseAbs().maxCoeff() <= kFarthest))
-        throw InvalidInput(at + "with scale = " + core::number_text(scale) +
-                           (offset.isZero() ? std::string() : " and offset " + core::point_text(offset.x(), offset.y(), offset.z())) +
-                           ", a vertex of '" + file + "' lies beyond " + core::number_text(kFarthest) +
-                           " model units, farther than any script position may");
-    }
-  }
-
   /// The scene is described while the script loads; a rule function runs later, during the steps.
   void require_loading(const std::string& section, const std::string& at) const {
     if (!cfg || !sampling.empty())
@@ -540,28 +526,8 @@ void section_print(Impl& I, const std::string& at);
 void section_output(Impl& I, const std::string& at);
 void section_shape(Impl& I, const std::string& kind, const std::string& at);
 void section_constraint(Impl& I, const std::string& kind, const std::string& at);
-/// The file a script's parameter `name` ("mesh.file") names, `given`: a relative path is read from the script's
-/// folder. Throws InvalidInput, `at` first, for an empty name, or one that does not exist, saying where it was
-/// looked for and naming a file of the same name in another case ("Rock.obj" for "rock.obj"), or that '~' is not
-/// expanded.
-std::filesystem::path script_file(const Impl& I, const std::string& given, const std::string& name,
-                                  const std::string& at);
-/// The text of a mesh reader's error after the parameter that names the file ("mesh.file: "), without the word
-/// "mesh" it begins with ("mesh 'rock.obj' is malformed" -> "'rock.obj' is malformed").
-std::string file_message(const std::exception& e);
 /// Turns the recorded shape calls into initial cells and petioles (after the script ran).
 void build_shapes(Impl& I);
-/// Cells placed at the very point of an earlier one (a shape placed twice, a cell{} loop that never moves on; the
-/// same box of a thousandth of a rest length counts as the same point): a note naming the first shape that placed
-/// one, and refused beyond 1,000 at one point. `where[k]`: the shape call ("leaf.lua:4: disc") that placed cells
-/// from `first[k]` on.
-void check_coincident_cells(SceneConfig& cfg, const std::vector<std::size_t>& first,
-                            const std::vector<std::string>& where);
-/// Notes for a mesh{} obstacle less than a rest length across (cells pass it by), or farther from the cells placed
-/// at the start (its bounding box from theirs) than five times their span: both look like a file in other units
-/// than the cells, which mesh.scale converts.
-void note_lost_meshes(SceneConfig& cfg);
-
 /// Runs `body` (which returns the number of Lua results) and turns a C++ exception into a Lua error.
 /// lua_error longjmps, so it is raised only after every C++ object of the body is destroyed.
 template <class Body>

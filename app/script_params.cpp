@@ -260,13 +260,14 @@ constexpr const char* kCellFields[] = {"id",
                                        venation::kFlowZ};
 
 /// cell.k for a k the table does not hold: nil for an attribute not computed yet (flow before the first
-/// canalisation), else an error naming the field and the closest one.
+/// canalisation); an error for an attribute in a script without venation{} (it would be nil for good), and for any
+/// other field, naming the closest one.
 int api_cell_index(lua_State* L) {
   if (lua_type(L, 2) != LUA_TSTRING) return 0;
   const char* key = lua_tostring(L, 2);
-  const bool attribute = std::find_if(std::begin(kCellFields) + kFixedCellFields, std::end(kCellFields),
-                                      [key](const char* f) { return std::string_view(key) == f; }) !=
-                         std::end(kCellFields);
+  const bool attribute =
+      std::find_if(std::begin(kCellFields) + kFixedCellFields, std::end(kCellFields),
+                   [key](const char* f) { return std::string_view(key) == f; }) != std::end(kCellFields);
   if (attribute && self_of(L)->venation_runs) return 0;
   return guarded(L, [key, attribute](Impl& I) {  // (guarded: no Lua error while the message's strings live)
     if (attribute)  // (a walkthrough's rule read cell.flow for good in a script without venation{}: always nil)

@@ -89,14 +89,15 @@ class RuleCall {
 std::string with_rule_line(const Impl& I, const std::string& err, const std::string& rule_at) {
   const std::string bare = I.script_name + ": ";
   std::string m = err.rfind(bare, 0) == 0 && rule_at != bare ? rule_at + err.substr(bare.size()) : err;
-  for (const char* f : {venation::kFlow, venation::kRadius, venation::kOrder, venation::kFlowX, venation::kFlowY,
-                        venation::kFlowZ})
+  for (const char* f :
+       {venation::kFlow, venation::kRadius, venation::kOrder, venation::kFlowX, venation::kFlowY, venation::kFlowZ})
     if (m.find("a nil value (field '" + std::string(f) + "')") != std::string::npos)
-      return m + "; cell." + f + " is nil until the first canalisation pass (at step venation.every): write (cell." +
-             f + " or 0)";
+      return m + "; if that is cell." + f +
+             ", it is nil until the first canalisation pass (at step venation.every): " + "write (cell." + f + " or 0)";
   for (const char* g : {"os", "io", "debug", "package"})
     if (m.find("a nil value (global '" + std::string(g) + "')") != std::string::npos)
-      return m + "; '" + g + "' is left out of cellform scripts (the sandbox keeps Lua's base functions, string, "
+      return m + "; '" + g +
+             "' is left out of cellform scripts (the sandbox keeps Lua's base functions, string, "
              "table, math, utf8 and coroutine)";
   return m;
 }
@@ -104,7 +105,8 @@ std::string with_rule_line(const Impl& I, const std::string& err, const std::str
 /// What a division.direction rule returned, for its message: "{1, 0}", "nil", "string", "1, 0, nil".
 std::string returned_direction(lua_State* L) {  // its three results on top (nothing here raises a Lua error)
   auto one = [L](int idx) {
-    return lua_type(L, idx) == LUA_TNUMBER ? core::number_text(lua_tonumber(L, idx)) : std::string(luaL_typename(L, idx));
+    return lua_type(L, idx) == LUA_TNUMBER ? core::number_text(lua_tonumber(L, idx))
+                                           : std::string(luaL_typename(L, idx));
   };
   if (lua_type(L, -3) == LUA_TTABLE) {
     const auto n = lua_rawlen(L, -3);
@@ -180,10 +182,10 @@ cells::Rules ScriptHost::rules() {
       const std::string got = ok && d.allFinite() ? std::string() : returned_direction(L);
       lua_pop(L, 3);
       if (!got.empty())
-        throw fail("division.direction",
-                   I->direction_at + "division.direction must return {x, y, z} (or x, y, z) of finite numbers, got " +
-                       got,
-                   c, i);
+        throw fail(
+            "division.direction",
+            I->direction_at + "division.direction must return {x, y, z} (or x, y, z) of finite numbers, got " + got, c,
+            i);
       // the split plane needs a length to normalise: a vector whose square underflows or overflows ({0, 0,
       // 1e-300}, {1e300, 1e300, 0}) is scaled first (its direction is all that counts); only zero is refused
       if (const double n = d.norm(); !(n > 0) || !std::isfinite(n)) d /= d.cwiseAbs().maxCoeff();

@@ -14,6 +14,7 @@
 
 #include "app/memory.h"
 #include "app/script_impl.h"
+#include "app/script_placement.h"
 #include "core/chunk_file.h"
 #include "forms/obstacles.h"
 #include "forms/shapes.h"
@@ -337,44 +338,6 @@ Vec3 unit_vector(const Vec3& n, const std::string& name) {
 
 }  // namespace
 
-std::string file_message(const std::exception& e) {
-  std::string m = core::error_text(e);
-  if (m.rfind("mesh '", 0) == 0) m.erase(0, 5);
-  return m;
-}
-
-std::filesystem::path script_file(const Impl& I, const std::string& given, const std::string& name,
-                                  const std::string& at) {
-  namespace fs = std::filesystem;
-  const std::string folder = I.script_dir.empty() ? std::string(".") : I.script_dir.string();
-  if (given.empty())
-    throw InvalidInput(at + name + " is empty: give the file's path (a relative one is read from the script's " +
-                       "folder, " + folder + ")");
-  fs::path file = given;
-  if (file.is_relative()) file = I.script_dir / file;
-  std::error_code ec;
-  // (a dangling link, or a folder that cannot be read: the reader says)
-  if (fs::symlink_status(file, ec).type() != fs::file_type::not_found) return file;
-  std::string m = at + name + ": '" + given + "' does not exist";
-  if (given[0] == '~')
-    m += " ('~' is not expanded in a script: give the whole path, or one from the script's folder, " + folder + ")";
-  else if (fs::path(given).is_relative())
-    m += " (read from the script's folder: " + file.string() + ")";
-  auto lower = [](std::string t) {
-    for (char& c : t) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return t;
-  };
-  const std::string want = lower(file.filename().string());
-  std::size_t looked = 0;  // (a folder of a million files is not read through for a hint)
-  for (fs::directory_iterator it(file.parent_path().empty() ? fs::path(".") : file.parent_path(), ec), end;
-       !ec && it != end && ++looked < 10000; it.increment(ec))
-    if (lower(it->path().filename().string()) == want) {
-      m += "; there is '" + it->path().filename().string() + "' (names are case-sensitive)";
-      break;
-    }
-  throw InvalidInput(m);
-}
-
 void section_constraint(Impl& I, const std::string& kind, const std::string& at) {
   count_placement(I, kind, at);
   nlohmann::json rec;
@@ -420,7 +383,7 @@ void section_constraint(Impl& I, const std::string& kind, const std::string& at)
     } catch (const std::exception& e) {
       throw InvalidInput(at + "mesh.file: " + file_message(e));
     }
-    I.scale_mesh(mesh.vertices, v["scale"].num, v["offset"].vec, v["file"].str, at + "mesh: ");
+    scale_mesh(mesh.vertices, v["scale"].num, v["offset"].vec, v["file"].str, at + "mesh: ");
     double area = 0;  // as volume{file} and surface{file}: a wall of no area stops nothing
     for (const auto& t : mesh.triangles)
       area += (mesh.vertices[t[1]] - mesh.vertices[t[0]]).cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]).norm();

@@ -274,8 +274,9 @@ ObjData parse_obj(std::istream& in) {
   std::string line;
   while (std::getline(in, line)) {
     if (++line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte-order mark
-    // a line ending in a backslash goes on on the next, as the format allows (an error names the last)
-    for (std::string next; !line.empty();) {
+    // a line ending in a backslash goes on on the next, as the format allows (an error names the last); not one
+    // ending in a comment ("# from C:\\models\\" took the next line with it)
+    for (std::string next; !line.empty() && line.find('#') == std::string::npos;) {
       const std::size_t end = line.back() == '\r' ? line.size() - 1 : line.size();
       if (end == 0 || line[end - 1] != '\\' || !std::getline(in, next)) break;
       line.replace(end - 1, std::string::npos, " " + next);

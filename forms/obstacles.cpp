@@ -94,9 +94,9 @@ struct PreparedObstacles::MeshIndex {
     std::uint32_t right = 0;             // inner node: left child is this + 1
   };
   struct Hit {
-    double t;     // along the segment, in [0, 1]
-    Vec3 point;   // on the triangle plane
-    Vec3 normal;  // unit normal of the triangle
+    double t;            // along the segment, in [0, 1]
+    Vec3 point;          // on the triangle plane
+    Vec3 normal;         // unit normal of the triangle
     std::uint32_t mesh;  // index in Obstacles::meshes
   };
 
@@ -506,44 +506,11 @@ bool PreparedObstacles::crosses_mesh(const Vec3& from, const Vec3& to) const {
   return index_ && index_->first_crossing(from, to).has_value();
 }
 
-std::optional<std::size_t> PreparedObstacles::mesh_crossed(const Vec3& from, const Vec3& to) const {
+std::optional<std::pair<double, std::size_t>> PreparedObstacles::first_mesh_crossing(const Vec3& from,
+                                                                                     const Vec3& to) const {
   if (!index_) return std::nullopt;
   const auto hit = index_->first_crossing(from, to);
-  return hit ? std::optional<std::size_t>(hit->mesh) : std::nullopt;
-}
-
-void check_links_clear(const PreparedObstacles& obstacles, const cells::Cells& cells, const ObstacleNames& names,
-                       int threads) {
-  const std::size_t n = cells.size(), k = static_cast<std::size_t>(std::max(cells.link_stride, 0));
-  if (obstacles.obstacles().meshes.empty() || k == 0 || cells.links.size() != n * k) return;
-  constexpr std::uint32_t kClear = ~std::uint32_t{0};
-  std::vector<std::uint32_t> crossed(n * k, kClear);  // per link slot: the mesh it crosses first
-  core::parallel_for(n, threads, [&](std::size_t first, std::size_t last) {
-    for (std::size_t i = first; i < last; ++i)
-      for (std::size_t s = 0; s < k; ++s) {
-        const std::size_t j = cells.links[i * k + s];
-        if (j >= n) continue;
-        const auto row = cells.links.begin() + static_cast<std::ptrdiff_t>(j * k);
-        if (j < i && std::find(row, row + static_cast<std::ptrdiff_t>(k), static_cast<Index>(i)) != row + k)
-          continue;  // a mutual link, tested from j
-        if (const auto m = obstacles.mesh_crossed(cells.position[i], cells.position[j]))
-          crossed[i * k + s] = static_cast<std::uint32_t>(*m);
-      }
-  });
-  for (std::size_t m = 0; m < obstacles.obstacles().meshes.size(); ++m) {
-    const auto first = std::find(crossed.begin(), crossed.end(), static_cast<std::uint32_t>(m));
-    if (first == crossed.end()) continue;
-    const auto count = std::count(first, crossed.end(), static_cast<std::uint32_t>(m));
-    const auto slot = static_cast<std::size_t>(first - crossed.begin());
-    const Vec3 &a = cells.position[slot / k], &b = cells.position[cells.links[slot]];
-    const std::string name = m < names.meshes.size() ? names.meshes[m] : "mesh " + std::to_string(m);
-    throw InvalidInput(name + ": " + std::to_string(count) + (count == 1 ? " link" : " links") +
-                       " between neighbouring cells " + (count == 1 ? "crosses" : "cross") + " it (the first from " +
-                       core::point_text(a.x(), a.y(), a.z()) + " to " + core::point_text(b.x(), b.y(), b.z()) +
-                       "): neighbours on the two sides of a mesh are pulled onto it from both and grow through its "
-                       "edges; obstacles must start clear of the cells, with all of them on one side of each mesh "
-                       "(inside a mould, or beside a wall)");
-  }
+  return hit ? std::optional<std::pair<double, std::size_t>>({hit->t, hit->mesh}) : std::nullopt;
 }
 
 Vec3 PreparedObstacles::stop_at_mesh(const Vec3& from, const Vec3& to, double margin) const {

@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cells/cells.h"
@@ -76,12 +77,13 @@ void validate(const Obstacles& obstacles);
 void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& positions, const ObstacleNames& names = {},
                    int threads = 0, const PreparedObstacles* prepared = nullptr);
 
-/// Throws core::InvalidInput if a link of `cells` (its neighbourhood, cells::Cells::links) crosses or touches a
-/// triangle of a mesh obstacle of `obstacles`: neighbours on the two sides of a wall are pulled onto it from both,
-/// and the sheet they make grows through its edges (a mesh cut through the cells, a mould smaller than the form).
-/// Cells all on one side of each mesh, as inside a mould or beside a wall, pass. The message names the first such
-/// mesh (as `names` does), how many links cross it (a mutual link once) and the first of them, by its cells'
-/// positions. `threads` (0 = all cores) test the links; the result is the same for any value.
+/// Throws core::InvalidInput if a link of `cells` (its neighbourhood, cells::Cells::links) joins cells on the two
+/// sides of a mesh obstacle of `obstacles` (it crosses the mesh's triangles an odd number of times; crossings at one
+/// point, through an edge, count once): such neighbours are pulled onto it from both sides, and the sheet they make
+/// grows through it (a mesh cut through the cells, a mould smaller than the form). Cells all on one side of each
+/// mesh pass, as inside a mould, beside a wall or hugging a rock (a link that dips into it and out again). The
+/// message names the first such mesh (as `names` does), how many links cross it (a mutual link once) and the first
+/// of them, by its cells' positions. `threads` (0 = all cores) test the links; the result is the same for any value.
 void check_links_clear(const PreparedObstacles& obstacles, const cells::Cells& cells, const ObstacleNames& names = {},
                        int threads = 0);
 
@@ -108,9 +110,9 @@ class PreparedObstacles {
 
   /// True if the straight move from `from` to `to` crosses (or touches) a mesh triangle.
   bool crosses_mesh(const Vec3& from, const Vec3& to) const;
-  /// The index (in Obstacles::meshes) of the mesh whose triangle the straight move from `from` to `to` crosses (or
-  /// touches) first; none if it crosses none.
-  std::optional<std::size_t> mesh_crossed(const Vec3& from, const Vec3& to) const;
+  /// Where the straight move from `from` to `to` first crosses (or touches) a mesh triangle: its fraction of the
+  /// way, in [0, 1], and the index of its mesh (in Obstacles::meshes); none if it crosses none.
+  std::optional<std::pair<double, std::size_t>> first_mesh_crossing(const Vec3& from, const Vec3& to) const;
 
   /// `to`, or where the straight move from `from` first crosses a mesh triangle, `margin` (model units)
   /// back on the side of `from`: a new cell placed at `to` by a cell at `from` stays on its mother's side.

@@ -115,7 +115,7 @@ void Scene::apply_petioles(std::uint64_t step) {
 void Scene::start() {
   apply_petioles(sim_.step_count());
   check_outside(desc_.obstacles, sim_.cells().position, desc_.obstacle_names, sim_.threads(), &obstacles_);
-  if (!desc_.obstacles.meshes.empty()) {  // the links the first step makes, on a copy
+  if (!desc_.obstacles.meshes.empty()) {  // the cells' links, on a copy (the first step's, but for ties in distance)
     cells::Cells linked = sim_.cells();
     core::PointGrid grid;
     cells::update_links(linked, desc_.cells, grid, sim_.threads());

@@ -189,7 +189,7 @@ TEST_CASE("a petiole that grew no vein is noted, with where it is and why", "[cl
                            "rectangle { width = 16, height = 4 }\npetiole { at = {-8, 0, 0} }\n");
   r = cli({"run", dry.string(), "--out", (t.path / "dry").string(), "--quiet"});
   REQUIRE(r.code == 0);
-  CHECK_THAT(r.err, Contains("(0 in all)") && Contains("No auxin reached it at all: its cells make none") &&
+  CHECK_THAT(r.err, Contains("(0 in all)") && Contains("No auxin flows anywhere: the cells make none") &&
                         !Contains("run longer"));
   // placed at the start, it collects its own half of the strip and grows veins: nothing is said
   const auto early = t.write("early.lua",

@@ -144,8 +144,8 @@ TEST_CASE("a first Ctrl-C during the print says it skips the print, and a second
   const int code = wait_exit(pid);
   INFO(slurp(log));
   CHECK(code == 130);
-  CHECK_THAT(slurp(log), Contains("interrupted during the print: the printable solid is skipped") &&
-                             !Contains("the steps stop"));
+  CHECK_THAT(slurp(log),
+             Contains("interrupted during the print: the printable solid is skipped") && !Contains("the steps stop"));
   CHECK(fs::exists(out / "cells.ply"));
   CHECK_FALSE(fs::exists(out / "printable.stl"));
   CHECK(nlohmann::json::parse(slurp(out / "run.json"))["print"]["error"] == "interrupted");

@@ -17,17 +17,17 @@ TEST_CASE("cells placed at the point of earlier ones are noted, and refused by t
   auto cfg = load("disc { radius = 2 }\nline { from = {5, 0, 0}, to = {9, 0, 0} }\ndisc { radius = 2 }\n");
   REQUIRE(cfg.notes.size() == 1);
   CHECK_THAT(cfg.notes[0], Contains("test/leaf.lua:3: disc: 19 cells lie at the point of an earlier cell"));
-  // a hair apart (within a thousandth of a rest length) is the same point; apart by a hundredth, nothing is said
+  // a hair apart (in one box of a thousandth of a rest length) is the same point; a hundredth apart, nothing is said
   cfg = load("disc { radius = 2 }\ndisc { radius = 2, centre = {0, 0, 1e-9} }\n");
   REQUIRE(cfg.notes.size() == 1);
-  CHECK_THAT(cfg.notes[0], Contains("test/leaf.lua:2: disc: 19 cells lie at the point of an earlier cell (within a "
-                                    "thousandth of a rest length"));
+  CHECK_THAT(cfg.notes[0], Contains("test/leaf.lua:2: disc: 19 cells lie at the point of an earlier cell (rounded to "
+                                    "a thousandth of a rest length"));
   CHECK(load("disc { radius = 2 }\ndisc { radius = 2, centre = {0, 0, 0.01} }\n").notes.empty());
   // one cell{} loop that never moves on: 100,000 at one point took 97 s for 3 steps (each is every other's
   // nearest), refused over 1,000 naming the point; 1,000 are noted
   CHECK_THAT(load_error("for i = 1, 1001 do cell { at = {1, 2, 3} } end\n"),
-             Contains("test/leaf.lua:1: cell: 1001 cells lie at the point {1, 2, 3} (within a thousandth of a rest "
-                      "length), over 1000"));
+             Contains("test/leaf.lua:1: cell: 1001 cells lie at the point {1, 2, 3} (rounded to a thousandth of a "
+                      "rest length), over 1000"));
   // nor does a loop that moves on by a rounding error: 60,000 cells 1e-9 apart took 28 s for 3 steps
   CHECK_THAT(load_error("for i = 1, 1001 do cell { at = {1 + i * 1e-9, 2, 3} } end\n"),
              Contains("test/leaf.lua:1: cell: 1001 cells lie at the point {1, 2, 3}"));
@@ -41,12 +41,14 @@ TEST_CASE("a mesh obstacle in other units than the cells is noted, and run.json 
   // units were taken without a word, and run.json held only the file's name)
   TempDir t("script-lost-meshes");
   auto triangle = [&](const std::string& name, double x, double size) {
-    return t.write(name, "v " + std::to_string(x) + " 0 0\nv " + std::to_string(x + 0.6 * size) + " 0 0\nv " +
-                             std::to_string(x) + " " + std::to_string(0.8 * size) + " 0\nf 1 2 3\n")
+    return t
+        .write(name, "v " + std::to_string(x) + " 0 0\nv " + std::to_string(x + 0.6 * size) + " 0 0\nv " +
+                         std::to_string(x) + " " + std::to_string(0.8 * size) + " 0\nf 1 2 3\n")
         .string();
   };
-  t.write("cube.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
-                      "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
+  t.write("cube.obj",
+          "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+          "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
   // a disc of radius 2 spans sqrt(4^2 + (2 sqrt 3)^2) = 5.2915; a triangle 0.0005 across, one 98 away, one 8 away
   const std::string disc = "disc { radius = 2 }\n";
   auto cfg = load(disc + "mesh { file = '" + triangle("tiny.obj", 5, 0.0005) + "' }\n");
@@ -73,7 +75,8 @@ TEST_CASE("a mesh obstacle in other units than the cells is noted, and run.json 
   CHECK(cfg.scene.obstacles.meshes[0].vertices[1] == cellform::core::Vec3(3 + 0.5 * 6, 1, 2));
   CHECK(cfg.resolved["constraints"][0]["offset"] == nlohmann::json::array({-47.0, 1.0, 2.0}));
   // a volume or surface file too; without a file an offset moves nothing, and says so
-  cfg = load("volume { file = '" + (t.path / "cube.obj").string() + "', offset = {10, 0, 0}, seeds = {{10.5, 0.5, 0.5}} }\n"
+  cfg = load("volume { file = '" + (t.path / "cube.obj").string() +
+             "', offset = {10, 0, 0}, seeds = {{10.5, 0.5, 0.5}} }\n"
              "colonisation {}\n");
   CHECK(cfg.colonisation->domain.mesh.vertices[0].x() >= 10);
   CHECK_THAT(load_error("volume { box = {min = {0, 0, 0}, max = {1, 1, 1}}, offset = {1, 0, 0} }\ncolonisation {}\n"),

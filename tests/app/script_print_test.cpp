@@ -14,8 +14,9 @@ TEST_CASE("print values that contradict each other are refused before the run: v
              Contains(":1: attempt to call a nil value (global 'dsic'); did you mean 'disc'?"));
   CHECK_THAT(load_error("disc { radius = 3 }\nfrobnicate()\n"), Contains(":2:") && Contains("; no such function"));
   // what a designer reaches for first, named by what the functions make (a walkthrough's obstacle{} got no more)
-  CHECK_THAT(load_error("disc { radius = 3 }\nobstacle { file = 'rock.obj' }\n"),
-             Contains("no such function (shapes: disc,") && Contains("obstacles: ground, half_space, ball, box, mesh;"));
+  CHECK_THAT(
+      load_error("disc { radius = 3 }\nobstacle { file = 'rock.obj' }\n"),
+      Contains("no such function (shapes: disc,") && Contains("obstacles: ground, half_space, ball, box, mesh;"));
   // a section's own name is not suggested for itself
   CHECK_THAT(load_error("run = nil\nrun { steps = 3 }\n"),
              Contains(":2:") && Contains("; the script set it to nil before this call") && !Contains("did you mean"));

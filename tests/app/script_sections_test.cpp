@@ -31,8 +31,9 @@ TEST_CASE("a script's missing file is said once, where it was looked for, with a
   const std::string dir = t.path.string();
   t.write("rock.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   CHECK(load_error("disc { radius = 2 }\nmesh { file = '" + dir + "/Rock.obj' }\n") ==
-        "test/leaf.lua:2: mesh.file: '" + dir + "/Rock.obj' does not exist; there is 'rock.obj' (names are "
-        "case-sensitive)");
+        "test/leaf.lua:2: mesh.file: '" + dir +
+            "/Rock.obj' does not exist; there is 'rock.obj' (names are "
+            "case-sensitive)");
   CHECK(load_error("disc { radius = 2 }\nmesh { file = 'meshes/rock.obj' }\n") ==
         "test/leaf.lua:2: mesh.file: 'meshes/rock.obj' does not exist (read from the script's folder: "
         "test/meshes/rock.obj)");
