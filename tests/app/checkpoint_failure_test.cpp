@@ -47,7 +47,8 @@ TEST_CASE("a checkpoint that cannot be written still leaves the outputs, and say
     REQUIRE(run_into(first, "1").code == 0);
     REQUIRE(run_into(whole, "5").code == 0);
     const std::size_t limit = fs::file_size(first / "checkpoint.cfck") - 1;
-    for (const auto& name : nlohmann::json::parse(slurp(whole / "run.json"))["outputs"])
+    // (a copy of the list: the parsed document is a temporary, gone before a C++20 loop body runs; ASan)
+    for (const auto& name : nlohmann::json(nlohmann::json::parse(slurp(whole / "run.json"))["outputs"]))
       REQUIRE(fs::file_size(whole / name.get<std::string>()) + 100 < limit);
     const fs::path out = t.path / (script.stem().string() + "L");  // a name as long: checkpoints record it
     CliResult r;
@@ -108,7 +109,7 @@ TEST_CASE("a re-run that can write no checkpoint leaves the folder's earlier run
     REQUIRE(cli({"run", script.string(), "--out", out.string(), "--quiet", "--steps", "30"}).code == 0);
     const std::string record = slurp(out / "run.json"), checkpoint = slurp(out / "checkpoint.cfck");
     std::size_t largest_other = 0;
-    for (const auto& name : nlohmann::json::parse(record)["outputs"])
+    for (const auto& name : nlohmann::json(nlohmann::json::parse(record)["outputs"]))
       largest_other = std::max<std::size_t>(largest_other, fs::file_size(out / name.get<std::string>()));
     const std::size_t limit = checkpoint.size() - 1;  // the same run again: the other files fit, the checkpoint not
     REQUIRE(largest_other + 1000 < limit);
@@ -122,7 +123,7 @@ TEST_CASE("a re-run that can write no checkpoint leaves the folder's earlier run
     CHECK_THAT(r.err, Contains("checkpoint.cfck") && Contains("nothing in " + out.string() + "/ changed"));
     CHECK(slurp(out / "run.json") == record);
     CHECK(slurp(out / "checkpoint.cfck") == checkpoint);
-    for (const auto& name : nlohmann::json::parse(record)["outputs"])
+    for (const auto& name : nlohmann::json(nlohmann::json::parse(record)["outputs"]))
       CHECK(fs::is_regular_file(out / name.get<std::string>()));
     std::size_t entries = 0;  // no staging folder or temporary left
     for ([[maybe_unused]] const auto& e : fs::directory_iterator(out)) ++entries;
@@ -182,7 +183,7 @@ TEST_CASE("a resume into another run's folder that can write no checkpoint leave
     REQUIRE(cli({"run", script.string(), "--out", b.string(), "--quiet", "--steps", "30", "--seed", "7"}).code == 0);
     const std::string record = slurp(b / "run.json"), checkpoint = slurp(b / "checkpoint.cfck");
     const std::size_t limit = fs::file_size(a / "checkpoint.cfck") - 1;  // A's state, written into B
-    for (const auto& name : nlohmann::json::parse(slurp(a / "run.json"))["outputs"])
+    for (const auto& name : nlohmann::json(nlohmann::json::parse(slurp(a / "run.json"))["outputs"]))
       REQUIRE(fs::file_size(a / name.get<std::string>()) + 1000 < limit);
     CliResult r;
     {
@@ -247,7 +248,7 @@ TEST_CASE("a resume whose checkpoint fails in its own folder names the checkpoin
   REQUIRE(cli({"run", script.string(), "--out", part.string(), "--quiet", "--steps", "20"}).code == 0);
   const std::string resumed = slurp(part / "checkpoint.cfck");
   const std::size_t limit = fs::file_size(whole / "checkpoint.cfck") - 1;
-  for (const auto& name : nlohmann::json::parse(slurp(whole / "run.json"))["outputs"])
+  for (const auto& name : nlohmann::json(nlohmann::json::parse(slurp(whole / "run.json"))["outputs"]))
     REQUIRE(fs::file_size(whole / name.get<std::string>()) + 1000 < limit);
   CliResult r;
   {

@@ -319,6 +319,10 @@ TEST_CASE("a print the process's address-space limit cannot hold is refused, not
           "[cli][print]") {
   // audit: under ulimit -v, with print.max_memory raised past it, OpenVDB's mesher ran out and aborted the
   // process (exit 134): now the print is refused at its plan, naming the limit, and the rest is written
+#ifdef __SANITIZE_ADDRESS__  // (CELLFORM_SANITIZE: AddressSanitizer cannot start under an address-space limit)
+  WARN("not run under AddressSanitizer");
+  return;
+#endif
   TempDir t("cli-print-ulimit");
   const auto script = t.write("s.lua", std::string(kSmall) + "print { shell = true }\n");
   const fs::path out = t.path / "o", log = t.path / "err";
