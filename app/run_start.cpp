@@ -204,19 +204,15 @@ Start start_from(const RunOptions& o) {
               what + " is corrupt (metadata 'physics' holds a value that is no number, boolean, text or {x, y, z})");
         if (meta.contains("veins") && !meta["veins"].is_object())
           throw core::FileError(what + " is corrupt (metadata 'veins')");
-        if (meta.contains("obstacle_meshes")) {  // older checkpoints: not recorded
-          bool hashes = meta["obstacle_meshes"].is_array();
+        // lists of "fnv1a64:<hex>" (older checkpoints recorded neither, or only the first)
+        for (const auto& [key, out] :
+             {std::pair{"obstacle_meshes", &s.obstacle_meshes}, std::pair{"obstacle_geometry", &s.obstacle_geometry}}) {
+          if (!meta.contains(key)) continue;
+          bool hashes = meta[key].is_array();
           if (hashes)
-            for (const json& h : meta["obstacle_meshes"]) hashes = hashes && h.is_string();
-          if (!hashes) throw core::FileError(what + " is corrupt (metadata 'obstacle_meshes')");
-          s.obstacle_meshes = meta["obstacle_meshes"].get<std::vector<std::string>>();
-        }
-        if (meta.contains("obstacle_geometry")) {  // older checkpoints: not recorded
-          bool hashes = meta["obstacle_geometry"].is_array();
-          if (hashes)
-            for (const json& h : meta["obstacle_geometry"]) hashes = hashes && h.is_string();
-          if (!hashes) throw core::FileError(what + " is corrupt (metadata 'obstacle_geometry')");
-          s.obstacle_geometry = meta["obstacle_geometry"].get<std::vector<std::string>>();
+            for (const json& h : meta[key]) hashes = hashes && h.is_string();
+          if (!hashes) throw core::FileError(what + " is corrupt (metadata '" + key + "')");
+          *out = meta[key].get<std::vector<std::string>>();
         }
         const std::string mode = meta.value("mode", std::string("cells"));
         if (mode != "cells" && mode != "colonisation" && mode != "sheet")
