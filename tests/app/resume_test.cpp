@@ -574,6 +574,17 @@ TEST_CASE("a cell run's checkpoint refuses to go on against a mesh{} file that c
   r = cli({"resume", old_path.string(), "--out", (t.path / "o4").string(), "--quiet", "--steps", "20"});
   INFO(r.err);
   CHECK(r.code == 0);
+  // a list that is not one of fingerprints is a damaged checkpoint
+  for (const char* key : {"obstacle_meshes", "obstacle_geometry"}) {
+    auto bad = saved.chunks;
+    auto broken = nlohmann::json::parse(saved.chunks.at("meta"));
+    broken[key] = {1, 2};
+    bad["meta"] = broken.dump();
+    const auto path = t.write("bad.cfck", cellform::core::write_chunk_file("CKPT", 1, bad));
+    r = cli({"resume", path.string(), "--out", (t.path / "o9").string(), "--quiet", "--steps", "20"});
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains("is corrupt (metadata '" + std::string(key) + "')"));
+  }
   // which walls it grew against is unknown: none is tested against its links (they may cross its own walls)
   r = cli({"resume", old_path.string(), "--out", (t.path / "o8").string(), "--quiet", "--steps", "20", "--script",
            scaled.string()});
