@@ -88,12 +88,14 @@ void adopt_mesh_files(Start& s, const RunOptions& o, const SceneConfig& cfg, std
   for (std::size_t k = 0; s.obstacle_geometry && k < geometry.size(); ++k)
     if (std::find(s.obstacle_geometry->begin(), s.obstacle_geometry->end(), geometry[k]) == s.obstacle_geometry->end())
       s.new_meshes.push_back(k);
-  s.obstacle_geometry = geometry;
-  std::vector<std::size_t> new_files;  // for the note: files the checkpoint did not grow against
+  std::vector<std::size_t> new_files;  // files the checkpoint did not grow against
   for (std::size_t k = 0; k < meshes.size(); ++k)
     if (!s.obstacle_meshes ||
         std::find(s.obstacle_meshes->begin(), s.obstacle_meshes->end(), meshes[k]) == s.obstacle_meshes->end())
       new_files.push_back(k);
+  // a checkpoint that kept its files' fingerprints but not the walls' (the release before): the new files
+  if (!s.obstacle_geometry && s.obstacle_meshes) s.new_meshes = new_files;
+  s.obstacle_geometry = geometry;
   if (s.resume && (!cfg.colonisation || s.sheet_partial) && s.obstacle_meshes && *s.obstacle_meshes != meshes) {
     if (!s.script_replaced) {  // the same script names the same files, in the same order: those that differ changed
       std::string changed;

@@ -109,9 +109,10 @@ struct Start {
   // "fnv1a64:<hex>" of each mesh{} obstacle as the run uses it (scaled and moved: its vertices and triangles), in
   // script order: on a resume first the checkpoint's (none: an older cellform did not record them), then this run's
   std::optional<std::vector<std::string>> obstacle_geometry;
-  // resume --script: the mesh{} obstacles of this run (indices in SceneConfig::mesh_files) that are none of those
-  // the checkpoint grew against (by obstacle_geometry), which check_resumed_cells tests against its cells' links;
-  // none when the checkpoint did not record them (its cells may have grown links across its own meshes)
+  // resume --script: the mesh{} obstacles of this run (indices in SceneConfig::scene.obstacles.meshes, which
+  // mesh_files follows) that are none of those the checkpoint grew against (by obstacle_geometry, or by
+  // obstacle_meshes for a checkpoint that kept only those), which check_resumed_cells tests against its cells'
+  // links; none when it kept neither (its cells may have grown links across its own meshes)
   std::vector<std::size_t> new_meshes;
 };
 

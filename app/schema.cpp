@@ -261,12 +261,12 @@ std::vector<Field> build() {
       vec("surface", "offset", "{0, 0, 0}", -kFar, kFar, "model units", "file: added to the scaled coordinates"));
   f.push_back(boolean("surface", "cells", "false",
                       "grow the script's cells first (cells{}, division{}, run{}, shapes); veins grow on their sheet"));
-  f.push_back(
-      Field{"surface", "seeds", Kind::table, "(auto)", 0, 0, false, "", "model units",
-            "seed vein nodes {{x, y, z}, ...}; file: required, on the surface (after surface.scale; one within a "
-            "vein segment of it, but farther than 1e-6 of its box's diagonal, is moved onto it with a note); cells: "
-            "moved to the nearest point of "
-            "the grown sheet, from at most half its size or 3 cell spacings away (default: the petiole cells)"});
+  f.push_back(Field{
+      "surface", "seeds", Kind::table, "(auto)", 0, 0, false, "", "model units",
+      "seed vein nodes {{x, y, z}, ...}; file: required, on the surface (after surface.scale and offset; one within a "
+      "vein segment of it, but farther than 1e-6 of its box's diagonal, is moved onto it with a note); cells: "
+      "moved to the nearest point of "
+      "the grown sheet, from at most half its size or 3 cell spacings away (default: the petiole cells)"});
   f.push_back(choice("colonisation", "type", Kind::choice, "open", "open|closed",
                      "open: trees; closed: veins join into loops"));
   f.push_back(choice(

@@ -138,10 +138,11 @@ void note_lost_meshes(SceneConfig& cfg) {
     if (cells.isEmpty()) continue;
     const double span = std::max(cells.diagonal().norm(), rest), gap = std::sqrt(box.squaredExteriorDistance(cells));
     if (gap > 5 * span)
-      cfg.notes.push_back(name + ":" + file + " lies " + core::number_text(gap) +
-                          " model units from the cells placed at the start, which span " + core::number_text(span) +
-                          " (it spans " + core::number_text(across) +
-                          "): is it drawn in other units than the cells (mesh.scale), or away from them?");
+      cfg.notes.push_back(
+          name + ":" + file + " lies " + core::number_text(gap) +
+          " model units from the cells placed at the start, which span " + core::number_text(span) + " (it spans " +
+          core::number_text(across) +
+          "): is it drawn in other units than the cells (mesh.scale), or away from them (mesh.offset)?");
   }
 }
 

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/errors.h"
@@ -16,24 +17,24 @@ using core::InvalidInput;
 namespace {
 
 // The lowest index of a mesh that the segment from `a` to `b` crosses an odd number of times: its ends lie on the
-// two sides of it. Each crossing is found from just past the one before (a millionth of a millionth of what is left
-// of the segment), so the two triangles of an edge it passes through count once; it counts
-// 64 crossings at most.
-std::optional<std::size_t> mesh_between(const PreparedObstacles& obstacles, Vec3 a, const Vec3& b) {
-  std::vector<std::size_t> odd;  // meshes crossed an odd number of times so far
-  for (int crossings = 0; crossings < 64; ++crossings) {
-    const auto hit = obstacles.first_mesh_crossing(a, b);
-    if (!hit) return odd.empty() ? std::nullopt : std::optional(*std::min_element(odd.begin(), odd.end()));
-    const auto seen = std::find(odd.begin(), odd.end(), hit->second);
-    if (seen == odd.end())
-      odd.push_back(hit->second);
-    else
-      odd.erase(seen);
-    const double past = hit->first + 1e-12;
-    if (past >= 1) break;
-    a += past * (b - a);
+// two sides of it. All crossings are found along the segment itself (no stepping from one to the next, which lost
+// its way far from the origin); per mesh, crossings within a millionth of the segment of each other count once:
+// the two triangles of an edge it passes through, a vertex's fan.
+std::optional<std::size_t> mesh_between(const PreparedObstacles& obstacles, const Vec3& a, const Vec3& b,
+                                        std::vector<std::pair<double, std::size_t>>& hits) {
+  constexpr double kSame = 1e-6;
+  obstacles.mesh_crossings(a, b, hits);
+  std::sort(hits.begin(), hits.end(), [](const auto& x, const auto& y) {
+    return x.second != y.second ? x.second < y.second : x.first < y.first;
+  });
+  for (std::size_t k = 0; k < hits.size();) {
+    std::size_t count = 0, end = k;
+    for (double last = -1; end < hits.size() && hits[end].second == hits[k].second; last = hits[end++].first)
+      if (hits[end].first - last > kSame) ++count;
+    if (count % 2 == 1) return hits[k].second;
+    k = end;
   }
-  return odd.empty() ? std::nullopt : std::optional(*std::min_element(odd.begin(), odd.end()));
+  return std::nullopt;
 }
 
 }  // namespace
@@ -45,6 +46,7 @@ void check_links_clear(const PreparedObstacles& obstacles, const cells::Cells& c
   constexpr std::uint32_t kClear = ~std::uint32_t{0};
   std::vector<std::uint32_t> crossed(n * k, kClear);  // per link slot: the mesh it crosses first
   core::parallel_for(n, threads, [&](std::size_t first, std::size_t last) {
+    std::vector<std::pair<double, std::size_t>> hits;  // (scratch of mesh_between)
     for (std::size_t i = first; i < last; ++i)
       for (std::size_t s = 0; s < k; ++s) {
         const std::size_t j = cells.links[i * k + s];
@@ -52,7 +54,7 @@ void check_links_clear(const PreparedObstacles& obstacles, const cells::Cells& c
         const auto row = cells.links.begin() + static_cast<std::ptrdiff_t>(j * k);
         if (j < i && std::find(row, row + static_cast<std::ptrdiff_t>(k), static_cast<Index>(i)) != row + k)
           continue;  // a mutual link, tested from j
-        if (const auto m = mesh_between(obstacles, cells.position[i], cells.position[j]))
+        if (const auto m = mesh_between(obstacles, cells.position[i], cells.position[j], hits))
           crossed[i * k + s] = static_cast<std::uint32_t>(*m);
       }
   });

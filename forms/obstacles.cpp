@@ -245,26 +245,24 @@ struct PreparedObstacles::MeshIndex {
     return found;
   }
 
-  std::optional<Hit> first_crossing(const Vec3& from, const Vec3& to) const {
-    if (nodes.empty()) return std::nullopt;
+  // Calls visit(i, t, point) for each triangle i the segment from `from` to `to` crosses (or touches) at t <= limit,
+  // in the hierarchy's order; visit may lower `limit` to prune what lies beyond.
+  template <class Visit>
+  void crossings(const Vec3& from, const Vec3& to, double& limit, Visit&& visit) const {
+    if (nodes.empty()) return;
     const Vec3 d = to - from;
     const Vec3 inv = d.cwiseInverse();
-    std::optional<Hit> best;
-    double best_t = 1.0;
     std::uint32_t stack[64];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
       const Node& node = nodes[stack[--top]];
-      if (!segment_box(from, d, inv, node.lo, node.hi, best_t)) continue;
+      if (!segment_box(from, d, inv, node.lo, node.hi, limit)) continue;
       if (node.count > 0) {
         for (std::uint32_t i = node.start; i < node.start + node.count; ++i) {
           double t;
           Vec3 p;
-          if (cross(triangles[i], from, to, t, p) && (!best || t < best->t)) {
-            best = Hit{t, p, triangles[i].normal, triangles[i].mesh};
-            best_t = t;
-          }
+          if (cross(triangles[i], from, to, t, p)) visit(i, t, p);
         }
       } else {
         const auto self = static_cast<std::uint32_t>(&node - nodes.data());
@@ -273,6 +271,17 @@ struct PreparedObstacles::MeshIndex {
         stack[top++] = self + 1;
       }
     }
+  }
+
+  std::optional<Hit> first_crossing(const Vec3& from, const Vec3& to) const {
+    std::optional<Hit> best;
+    double best_t = 1.0;
+    crossings(from, to, best_t, [&](std::uint32_t i, double t, const Vec3& p) {
+      if (!best || t < best->t) {
+        best = Hit{t, p, triangles[i].normal, triangles[i].mesh};
+        best_t = t;
+      }
+    });
     return best;
   }
 };
@@ -506,11 +515,13 @@ bool PreparedObstacles::crosses_mesh(const Vec3& from, const Vec3& to) const {
   return index_ && index_->first_crossing(from, to).has_value();
 }
 
-std::optional<std::pair<double, std::size_t>> PreparedObstacles::first_mesh_crossing(const Vec3& from,
-                                                                                     const Vec3& to) const {
-  if (!index_) return std::nullopt;
-  const auto hit = index_->first_crossing(from, to);
-  return hit ? std::optional<std::pair<double, std::size_t>>({hit->t, hit->mesh}) : std::nullopt;
+void PreparedObstacles::mesh_crossings(const Vec3& from, const Vec3& to,
+                                       std::vector<std::pair<double, std::size_t>>& out) const {
+  out.clear();
+  double limit = 1.0;
+  if (index_)
+    index_->crossings(from, to, limit,
+                      [&](std::uint32_t i, double t, const Vec3&) { out.emplace_back(t, index_->triangles[i].mesh); });
 }
 
 Vec3 PreparedObstacles::stop_at_mesh(const Vec3& from, const Vec3& to, double margin) const {

@@ -78,12 +78,13 @@ void check_outside(const Obstacles& obstacles, const std::vector<Vec3>& position
                    int threads = 0, const PreparedObstacles* prepared = nullptr);
 
 /// Throws core::InvalidInput if a link of `cells` (its neighbourhood, cells::Cells::links) joins cells on the two
-/// sides of a mesh obstacle of `obstacles` (it crosses the mesh's triangles an odd number of times; crossings at one
-/// point, through an edge, count once): such neighbours are pulled onto it from both sides, and the sheet they make
-/// grows through it (a mesh cut through the cells, a mould smaller than the form). Cells all on one side of each
-/// mesh pass, as inside a mould, beside a wall or hugging a rock (a link that dips into it and out again). The
-/// message names the first such mesh (as `names` does), how many links cross it (a mutual link once) and the first
-/// of them, by its cells' positions. `threads` (0 = all cores) test the links; the result is the same for any value.
+/// sides of a mesh obstacle of `obstacles` (it crosses the mesh's triangles an odd number of times; crossings within
+/// a millionth of the link of each other, as through an edge, count once): such neighbours are pulled onto it from both
+/// sides, and the sheet they make grows through it (a mesh cut through the cells, a mould smaller than the form). Cells
+/// all on one side of each mesh pass, as inside a mould, beside a wall or hugging a rock (a link that dips into it and
+/// out again). The message names the first such mesh (as `names` does), how many links cross it (a mutual link once)
+/// and the first of them, by its cells' positions. `threads` (0 = all cores) test the links; the result is the same for
+/// any value.
 void check_links_clear(const PreparedObstacles& obstacles, const cells::Cells& cells, const ObstacleNames& names = {},
                        int threads = 0);
 
@@ -110,9 +111,10 @@ class PreparedObstacles {
 
   /// True if the straight move from `from` to `to` crosses (or touches) a mesh triangle.
   bool crosses_mesh(const Vec3& from, const Vec3& to) const;
-  /// Where the straight move from `from` to `to` first crosses (or touches) a mesh triangle: its fraction of the
-  /// way, in [0, 1], and the index of its mesh (in Obstacles::meshes); none if it crosses none.
-  std::optional<std::pair<double, std::size_t>> first_mesh_crossing(const Vec3& from, const Vec3& to) const;
+  /// Every crossing (or touch) of a mesh triangle by the straight move from `from` to `to`, into `out` (cleared
+  /// first): its fraction of the way, in [0, 1], and the index of its mesh (in Obstacles::meshes), one per triangle
+  /// (a move through an edge crosses two), in the hierarchy's order.
+  void mesh_crossings(const Vec3& from, const Vec3& to, std::vector<std::pair<double, std::size_t>>& out) const;
 
   /// `to`, or where the straight move from `from` first crosses a mesh triangle, `margin` (model units)
   /// back on the side of `from`: a new cell placed at `to` by a cell at `from` stays on its mother's side.

@@ -585,6 +585,18 @@ TEST_CASE("a cell run's checkpoint refuses to go on against a mesh{} file that c
     CHECK(r.code == 2);
     CHECK_THAT(r.err, Contains("is corrupt (metadata '" + std::string(key) + "')"));
   }
+  // one of the release before, which kept its files' fingerprints but not the walls': the new files are tested
+  {
+    auto kept_files = saved.chunks;
+    auto m = nlohmann::json::parse(saved.chunks.at("meta"));
+    m.erase("obstacle_geometry");
+    kept_files["meta"] = m.dump();
+    const auto path = t.write("files_only.cfck", cellform::core::write_chunk_file("CKPT", 1, kept_files));
+    r = cli({"resume", path.string(), "--out", (t.path / "o10").string(), "--quiet", "--steps", "20", "--script",
+             small.string()});
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Contains("small.lua:8: mesh{...}: ") && Contains("links between neighbouring cells cross it"));
+  }
   // which walls it grew against is unknown: none is tested against its links (they may cross its own walls)
   r = cli({"resume", old_path.string(), "--out", (t.path / "o8").string(), "--quiet", "--steps", "20", "--script",
            scaled.string()});
