@@ -93,10 +93,9 @@ struct PreparedObstacles::MeshIndex {
     std::uint32_t start = 0, count = 0;  // leaf: triangles [start, start + count)
     std::uint32_t right = 0;             // inner node: left child is this + 1
   };
-  struct Hit {
+  struct Hit {           // where a segment crosses a triangle:
     double t;            // along the segment, in [0, 1]
-    Vec3 point;          // on the triangle plane
-    Vec3 normal;         // unit normal of the triangle
+    Vec3 point, normal;  // on the triangle plane; unit normal of the triangle
     std::uint32_t mesh;  // index in Obstacles::meshes
   };
 
@@ -245,8 +244,7 @@ struct PreparedObstacles::MeshIndex {
     return found;
   }
 
-  // Calls visit(i, t, point) for each triangle i the segment from `from` to `to` crosses (or touches) at t <= limit,
-  // in the hierarchy's order; visit may lower `limit` to prune what lies beyond.
+  // visit(i, t, point) for each triangle i crossed (or touched) at t <= limit; visit may lower `limit` to prune.
   template <class Visit>
   void crossings(const Vec3& from, const Vec3& to, double& limit, Visit&& visit) const {
     if (nodes.empty()) return;
@@ -277,10 +275,7 @@ struct PreparedObstacles::MeshIndex {
     std::optional<Hit> best;
     double best_t = 1.0;
     crossings(from, to, best_t, [&](std::uint32_t i, double t, const Vec3& p) {
-      if (!best || t < best->t) {
-        best = Hit{t, p, triangles[i].normal, triangles[i].mesh};
-        best_t = t;
-      }
+      if (!best || t < best->t) best = Hit{t, p, triangles[i].normal, triangles[i].mesh}, best_t = t;
     });
     return best;
   }
