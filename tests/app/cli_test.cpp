@@ -438,23 +438,13 @@ TEST_CASE("Ctrl-C while a script is read stops it there", "[cli][signal]") {
 
 TEST_CASE("after a first Ctrl-C, a second during the print skips only the print", "[cli][signal]") {
   TempDir t("cli-signal-print");
-  const auto script = t.write("long.lua",
-                              "cells { time_step = 0.2, drag = {0.8, 0.8, 0.5} }\n"
-                              "division { trigger = 'none' }\n"
-                              "run { steps = 1000000 }\n"
-                              "disc { radius = 30 }\n"
-                              "print { veins = false, shell = true }\n");  // about 4 s: closing the shell
+  const auto script = t.write("long.lua", slow_print_script("1000000"));
   const fs::path out = t.path / "o", log = t.path / "err.txt";
   const pid_t pid = spawn_cellform_logged({"run", script.string(), "--out", out.string()}, log);
   REQUIRE(pid > 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(800));
-  kill(pid, SIGINT);  // stop the steps: the outputs, the print among them, follow
-  bool printing = false;
-  for (int i = 0; i < 300 && !printing; ++i) {  // up to 30 s for the print to start
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    printing = slurp(log).find("thickening") != std::string::npos;
-  }
-  REQUIRE(printing);
+  kill(pid, SIGINT);                              // stop the steps: the outputs, the print among them, follow
+  REQUIRE(wait_for_text(log, "thickening", 30));  // the print has started
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   kill_from_another_process(pid, SIGINT);  // the second: skips the print
   const int code = wait_exit(pid);

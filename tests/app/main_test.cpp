@@ -125,21 +125,11 @@ TEST_CASE("a second Ctrl-C quits at once, says what the folder keeps, and the ne
 TEST_CASE("a first Ctrl-C during the print says it skips the print, and a second quits", "[cli][signal]") {
   // (a walkthrough: the message said the steps stop, and that a second Ctrl-C would skip the print it skipped)
   TempDir t("cli-int-print");
-  const auto script = t.write("shell.lua",
-                              "cells { time_step = 0.2, drag = {0.8, 0.8, 0.5} }\n"
-                              "division { trigger = 'none' }\n"
-                              "run { steps = 3 }\n"
-                              "disc { radius = 30 }\n"
-                              "print { veins = false, shell = true }\n");  // about 4 s: closing the shell
+  const auto script = t.write("shell.lua", slow_print_script("3"));
   const fs::path out = t.path / "o", log = t.path / "err.txt";
   const pid_t pid = spawn_cellform_logged({"run", script.string(), "--out", out.string()}, log);
   REQUIRE(pid > 0);
-  bool printing = false;
-  for (int i = 0; i < 300 && !printing; ++i) {  // up to 30 s for the print to start
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    printing = slurp(log).find("thickening") != std::string::npos;
-  }
-  REQUIRE(printing);
+  REQUIRE(wait_for_text(log, "thickening", 30));  // the print has started
   kill(pid, SIGINT);
   const int code = wait_exit(pid);
   INFO(slurp(log));

@@ -101,6 +101,22 @@ inline pid_t spawn_cellform(const std::vector<std::string>& args, int output = -
 }
 
 /// spawn_cellform with stdout and stderr into the file `log` (made anew); -1 if it cannot be opened.
+/// A cell run of `steps` steps whose print takes seconds (closing the shell of a disc of radius 30: about 4 s), to
+/// signal while it prints.
+inline std::string slow_print_script(const std::string& steps) {
+  return "cells { time_step = 0.2, drag = {0.8, 0.8, 0.5} }\ndivision { trigger = 'none' }\nrun { steps = " + steps +
+         " }\ndisc { radius = 30 }\nprint { veins = false, shell = true }\n";
+}
+
+/// Whether `text` appears in the file `log` within `seconds` (read every 0.1 s).
+inline bool wait_for_text(const std::filesystem::path& log, const std::string& text, int seconds) {
+  for (int i = 0; i < 10 * seconds; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (slurp(log).find(text) != std::string::npos) return true;
+  }
+  return false;
+}
+
 inline pid_t spawn_cellform_logged(const std::vector<std::string>& args, const std::filesystem::path& log,
                                    rlim_t address_limit = 0) {
   const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
