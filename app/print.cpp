@@ -441,10 +441,10 @@ void say_printed(std::ostream& err, const nlohmann::json& printed) {
 }
 
 void say_print_failed(std::ostream& err, const std::string& message, const std::string& after, bool retry,
-                      const std::filesystem::path& checkpoint, const std::string& limits) {
+                      const std::filesystem::path& checkpoint, const ScriptLimits& limits) {
   err << "cellform: " << message << (after.empty() ? "" : "\n  (" + after + ")") << "\n";
   if (retry)  // a retry need not grow the cells or veins again
-    err << "  to print again with other print.* values: cellform resume " << shell_word(checkpoint.string()) << limits
+    err << "  to print again with other print.* values: " << continue_command(checkpoint, limits)
         << " --set print.NAME=VALUE\n";
 }
 

@@ -540,7 +540,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       say_print_failed(err, print_error,
                        checkpoint_error.empty() ? "the other outputs and the checkpoint are written"
                                                 : "the other outputs are written",
-                       print_retry, checkpoint, limit_options(o.limits));
+                       print_retry, checkpoint, o.limits);
     if (print_cancelled)
       err << (o.quiet || !::isatty(2) ? "" : "\n")
           << "cellform: printing interrupted: no printable files (the other outputs"

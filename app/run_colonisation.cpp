@@ -229,16 +229,13 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
             "checkpoint '" + o.checkpoint.string() +
             "' continues with the parameters it was saved with, and this resume changes them: " + changed + ". Only " +
             script_colonisation_message(venation::kContinueMayDiffer) + "; start a new run for other values");
-      } catch (const core::InvalidInput& e) {
-        const std::string what = e.what();
-        if (what.find("another source domain") != std::string::npos) {  // not the files: the script's values
-          const std::string domain = changed_domain_values(s, cfg);
-          if (!domain.empty())
-            throw core::InvalidInput("checkpoint '" + o.checkpoint.string() +
-                                     "' grew its veins in another source domain: changed: " + domain +
-                                     "; a resume goes on in the blade, volume or surface it started in (start a "
-                                     "new run for another)");
-        }
+      } catch (const venation::DomainChanged&) {  // told by its type (the message holds the checkpoint's path)
+        const std::string domain = changed_domain_values(s, cfg);  // the script's values changed, not the files
+        if (!domain.empty())
+          throw core::InvalidInput("checkpoint '" + o.checkpoint.string() +
+                                   "' grew its veins in another source domain: changed: " + domain +
+                                   "; a resume goes on in the blade, volume or surface it started in (start a "
+                                   "new run for another)");
         throw;
       }
     }();
@@ -431,7 +428,7 @@ int run_colonisation(const RunOptions& o, Start& s, SceneConfig& cfg, ScriptHost
         if (reprint) return discard_reprint("cellform: " + m, failure);
         // (after a periodic checkpoint, not the final one, a resume grows the rest again: no quick retry)
         say_print_failed(err, m, "", saved && checkpoint_error.empty() && !dynamic_cast<const NothingToPrint*>(&e),
-                         checkpoint, limit_options(o.limits));
+                         checkpoint, o.limits);
         printed = {{"error", m}};
         if (code != interrupted) {  // a Ctrl-C that came first stays the reason the run ended
           code = failure;

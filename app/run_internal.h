@@ -444,7 +444,7 @@ void say_printed(std::ostream& err, const nlohmann::json& printed);
 /// Says that the print failed with `message` (then `after`, if any, in brackets) and, with `retry` (a checkpoint of
 /// the run is written and the failure was not that nothing grew), how to print it again with other values.
 void say_print_failed(std::ostream& err, const std::string& message, const std::string& after, bool retry,
-                      const std::filesystem::path& checkpoint, const std::string& limits = "");
+                      const std::filesystem::path& checkpoint, const ScriptLimits& limits = {});
 
 /// print{} for a cell run: the vein graph and, if asked, the cell sheet (print.cpp).
 nlohmann::json write_printable(const std::filesystem::path& dir, const PrintSpec& spec, const cells::Cells& cells,

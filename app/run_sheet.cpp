@@ -160,6 +160,8 @@ venation::Colonisation make_colonisation(const ColonisationSpec& spec, const cel
                    : venation::Colonisation(domain, spec.params);
     } catch (const venation::ParametersChanged& e) {  // in the script's terms, still telling what it is
       throw venation::ParametersChanged(script_colonisation_message(e.what()));
+    } catch (const venation::DomainChanged& e) {
+      throw venation::DomainChanged(script_colonisation_message(e.what()));
     } catch (const core::InvalidInput& e) {
       throw core::InvalidInput(script_colonisation_message(e.what()));
     }

@@ -291,7 +291,8 @@ void say_no_veins(std::ostream& err, const ColonisationSpec& spec, const venatio
     const bool first = rep.darts == 0 && rep.marginal_darts > 0;
     if (first)
       err << (rep.marginal_darts == 1 ? "the 1 dart" : "none of the " + std::to_string(rep.marginal_darts) + " darts")
-          << " thrown over the grown blade's box at the start (marginal growth) made a source in the blade: ";
+          << " thrown over the grown blade's box at the start (marginal growth) made "
+          << (rep.marginal_darts == 1 ? "no source" : "a source") << " in the blade: ";
     err << (first ? "lower colonisation.birth_distance (it is " + core::number_text(spec.params.source_birth_distance) +
                         ")"
             : rep.darts == 0 ? "no dart was thrown: raise colonisation.darts"

@@ -128,13 +128,7 @@ std::string script_colonisation_message(const std::string& message) {
 /// domain's tolerance (a point on a round shape typed where the mesh has facets), moved onto it, with a note.
 void snap_seeds(Impl& I, const venation::Domain& d, std::vector<Vec3>& seeds, const std::string& at) {
   if (d.mesh.triangles.empty() || d.mesh.vertices.empty()) return;  // (the domain's check says what is wrong)
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;  // as the domain's box: of triangles
-  for (const auto& t : d.mesh.triangles)
-    for (const auto i : t)
-      if (static_cast<std::size_t>(i) < d.mesh.vertices.size())
-        lo = lo.cwiseMin(d.mesh.vertices[i]), hi = hi.cwiseMax(d.mesh.vertices[i]);
-  const double tol = 1e-6 * (hi - lo).norm();
-  venation::Domain probe = d;  // seeded on the mesh itself, to be measured against
+  venation::Domain probe = d;                                       // seeded on the mesh itself, to be measured against
   const auto first = static_cast<std::size_t>(d.mesh.triangles.front()[0]);
   if (first >= d.mesh.vertices.size() || !d.mesh.vertices[first].allFinite()) return;
   probe.initial_nodes = {d.mesh.vertices[first]};
@@ -145,6 +139,7 @@ void snap_seeds(Impl& I, const venation::Domain& d, std::vector<Vec3>& seeds, co
   } catch (const InvalidInput&) {
     return;  // the domain's own check says what is wrong with the mesh
   }
+  const double tol = 1e-6 * (prepared->hi() - prepared->lo()).norm();  // the domain's own tolerance
   for (std::size_t i = 0; i < seeds.size(); ++i) {
     if (!seeds[i].allFinite()) continue;
     const Vec3 on = prepared->project(seeds[i]);

@@ -26,6 +26,12 @@ class ParametersChanged : public core::InvalidInput {
   using core::InvalidInput::InvalidInput;
 };
 
+/// Thrown when a checkpoint is loaded for another source domain (leaf, volume or surface) than it was saved for.
+class DomainChanged : public core::InvalidInput {
+ public:
+  using core::InvalidInput::InvalidInput;
+};
+
 /// Open (tree-like, Section 3) or closed (with anastomoses, Section 4) venation.
 enum class VenationType { open, closed };
 

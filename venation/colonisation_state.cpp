@@ -236,11 +236,11 @@ void Colonisation::restore(const std::string& bytes, const std::string& what) {
                               kContinueMayDiffer);
     core::ByteWriter scratch;
     if (dh != (m.region ? domain_hash(m.region->domain()) : leaf_hash(m.leaf, scratch)))
-      throw InvalidInput(what +
-                         " was saved for another source domain (leaf, volume or surface): the outline or mesh "
-                         "files changed since, or the cellform that saved it made its outlines or cell surface "
-                         "differently (a toothed outline, an outline file's scale, a sheet's orientation); continue "
-                         "it with the files and the cellform it was grown with");
+      throw DomainChanged(what +
+                          " was saved for another source domain (leaf, volume or surface): the outline or mesh "
+                          "files changed since, or the cellform that saved it made its outlines or cell surface "
+                          "differently (a toothed outline, an outline file's scale, a sheet's orientation); continue "
+                          "it with the files and the cellform it was grown with");
   }
   core::ByteReader r(f.at("state", what), what);
   const std::vector<Vec3> points = get_vec3s(r);
